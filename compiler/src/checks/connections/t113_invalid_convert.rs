@@ -1,0 +1,22 @@
+//! T113 `invalid-convert`: A `<convert>` step that cannot apply to the value.
+
+use crate::checks::CheckInfo;
+use crate::diagnostic::Severity;
+
+pub static CHECK: CheckInfo = CheckInfo {
+    code: "T113",
+    name: "invalid-convert",
+    severity: Severity::Error,
+    summary: "A `<convert>` step that cannot apply to the value.",
+    explanation: "Each `<convert>` step transforms the value: `index` takes an element of an array or
+sequence, `field` a field of a library struct type, `scale`/`offset` need numbers, `to-type`
+casts between numeric types. A step that does not fit the value's type, or more than four
+steps, is an error.
+
+Bad:
+    <connect from=\"a/speed\" to=\"b/x\"><convert index=\"0\"/></connect>   <!-- speed is f64, not an array -->
+
+Fix: remove the step or apply it to a port of the right type.",
+    pass: None,
+    fixtures: "connections/t113_invalid_convert",
+};

@@ -1,0 +1,21 @@
+//! M103 `unknown-attribute`: An attribute the element does not take.
+
+use crate::checks::CheckInfo;
+use crate::diagnostic::Severity;
+
+pub static CHECK: CheckInfo = CheckInfo {
+    code: "M103",
+    name: "unknown-attribute",
+    severity: Severity::Error,
+    summary: "An attribute the element does not take.",
+    explanation: "Unknown attributes are errors: `<connect queu=\"4\">` would otherwise silently give a
+latest-value connection instead of a queue. The message lists the attribute the element
+takes that is closest to what was written.
+
+Bad:
+    <connect from=\"a/out\" to=\"b/in\" queu=\"4\"/>
+
+Fix: correct the name (`queue=\"4\"`) or remove the attribute.",
+    pass: None,
+    fixtures: "model/m103_unknown_attribute",
+};

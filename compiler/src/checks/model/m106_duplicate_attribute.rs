@@ -1,0 +1,19 @@
+//! M106 `duplicate-attribute`: The same attribute appears twice on one element.
+
+use crate::checks::CheckInfo;
+use crate::diagnostic::Severity;
+
+pub static CHECK: CheckInfo = CheckInfo {
+    code: "M106",
+    name: "duplicate-attribute",
+    severity: Severity::Error,
+    summary: "The same attribute appears twice on one element.",
+    explanation: "XML forbids an attribute twice on one element and tools disagree about which value wins.
+
+Bad:
+    <thread name=\"main\" period=\"10ms\" period=\"20ms\"/>
+
+Fix: keep one of them.",
+    pass: None,
+    fixtures: "model/m106_duplicate_attribute",
+};

@@ -1,0 +1,21 @@
+//! M116 `limit-exceeded`: A file is too large, too deeply nested, or includes nest too deeply.
+
+use crate::checks::CheckInfo;
+use crate::diagnostic::Severity;
+
+pub static CHECK: CheckInfo = CheckInfo {
+    code: "M116",
+    name: "limit-exceeded",
+    severity: Severity::Error,
+    summary: "A file is too large, too deeply nested, or includes nest too deeply.",
+    explanation: "The checker refuses input that would exhaust memory or the stack instead of crashing: files
+over 256 MiB, elements nested more than 256 deep, includes nested more than 32 deep,
+group types instantiated more than 64 deep.
+
+Bad:
+    <group name=\"g\"><group name=\"g\"><group name=\"g\"> ... (300 levels)
+
+Fix: flatten the structure; real models are far below these limits.",
+    pass: None,
+    fixtures: "model/m116_limit_exceeded",
+};

@@ -1,0 +1,20 @@
+//! P103 `unparsable-value`: A parameter value does not parse as its declared type.
+
+use crate::checks::CheckInfo;
+use crate::diagnostic::Severity;
+
+pub static CHECK: CheckInfo = CheckInfo {
+    code: "P103",
+    name: "unparsable-value",
+    severity: Severity::Error,
+    summary: "A parameter value does not parse as its declared type.",
+    explanation: "Values are parsed by the declared type: numbers (with optional unit), `true`/`false`,
+durations (`10ms`, `PT0.04S`), arrays (`1, 2, 3`), or one of the declared `choices`.
+
+Bad:
+    <param name=\"rate\">fast</param>
+
+Fix: write a value of the declared type (`20 Hz`).",
+    pass: None,
+    fixtures: "parameters/p103_unparsable_value",
+};

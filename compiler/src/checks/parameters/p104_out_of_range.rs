@@ -1,0 +1,20 @@
+//! P104 `out-of-range`: A parameter value lies outside the declared `min`/`max`.
+
+use crate::checks::CheckInfo;
+use crate::diagnostic::Severity;
+
+pub static CHECK: CheckInfo = CheckInfo {
+    code: "P104",
+    name: "out-of-range",
+    severity: Severity::Error,
+    summary: "A parameter value lies outside the declared `min`/`max`.",
+    explanation: "Module types declare the range their logic supports; values outside it would be clamped
+or crash at run time. The comparison is made after unit conversion.
+
+Bad:
+    <param name=\"rate\">500 Hz</param>   <!-- declared max=\"100\" -->
+
+Fix: use a value within the range.",
+    pass: None,
+    fixtures: "parameters/p104_out_of_range",
+};

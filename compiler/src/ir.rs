@@ -1,0 +1,272 @@
+//! The resolved application: the element tree (part → thread → group → module) and a
+//! petgraph graph of ports and connections. Every node carries its source span; nodes
+//! made from a group type also carry the span of the instance that created them.
+
+use crate::library::{LibraryId, LibrarySet, ModuleType, PortDecl, PortDir, PortRole};
+use crate::library::module_type::PortType;
+use crate::source::Span;
+use crate::types::Type;
+use crate::units::Unit;
+use petgraph::graph::{DiGraph, NodeIndex};
+use std::collections::HashMap;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ElementId(pub u32);
+
+#[derive(Debug)]
+pub enum ElementKind {
+    Application,
+    Part { host: Option<(String, Span)> },
+    /// `period` in seconds; `None` for data-triggered containers.
+    Thread { period: Option<f64> },
+    Group,
+    Module(ModuleInstance),
+}
+
+#[derive(Debug)]
+pub struct ModuleInstance {
+    pub library: LibraryId,
+    pub type_index: usize,
+    pub type_span: Span,
+    /// Ports that exist only for this instance: flexible ports, `inhibition/k`, channels.
+    pub extra_ports: Vec<PortDecl>,
+    /// Types of the instance's flexible port groups, for `$group` port types.
+    pub flexible_types: Vec<(String, Type, Option<Unit>)>,
+    pub params: Vec<ParamValue>,
+}
+
+/// Where a parameter's value comes from.
+#[derive(Debug)]
+pub enum ParamSource {
+    Inline,
+    /// `config="file#/a/b"`: the entry's text and span, or why it is missing.
+    Config(Result<(String, Span), String>),
+    /// `cmdline=` without inline text: given at start-up.
+    Cmdline,
+}
+
+#[derive(Debug)]
+pub struct ParamValue {
+    pub name: String,
+    pub name_span: Span,
+    pub text: String,
+    /// The text's span (or the element's, for config and command-line values).
+    pub span: Span,
+    pub source: ParamSource,
+    pub source_span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub struct GroupPort {
+    pub name: String,
+    pub dir: PortDir,
+    pub ty: Type,
+    pub unit: Option<Unit>,
+    pub span: Span,
+}
+
+#[derive(Debug)]
+pub struct ElementNode {
+    pub kind: ElementKind,
+    pub name: String,
+    pub parent: Option<ElementId>,
+    pub name_span: Span,
+    /// The whole element in its (possibly group type) definition.
+    pub span: Span,
+    /// The `<group type=…>` that instantiated the definition this element comes from.
+    pub instantiated_at: Option<Span>,
+    pub group_ports: Vec<GroupPort>,
+    /// The nearest thread container above (or the element itself for threads).
+    pub thread: Option<ElementId>,
+    pub part: Option<ElementId>,
+}
+
+/// One end of a connection.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Endpoint {
+    Port { element: ElementId, port: u32 },
+    GroupPort { element: ElementId, port: u32 },
+    Param { element: ElementId, param: u32 },
+}
+
+impl Endpoint {
+    pub fn element(&self) -> ElementId {
+        match *self {
+            Endpoint::Port { element, .. } | Endpoint::GroupPort { element, .. } | Endpoint::Param { element, .. } => element,
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct ConvertStep {
+    pub span: Span,
+    pub index: Option<u32>,
+    pub field: Option<(String, Span)>,
+    pub scale: Option<(f64, Span)>,
+    pub offset: Option<(f64, Span)>,
+    pub to_type: Option<(Type, Span)>,
+}
+
+#[derive(Debug)]
+pub struct Connection {
+    pub from: Endpoint,
+    pub to: Endpoint,
+    /// `port[i]`: element `i` of an array or sequence port.
+    pub from_index: Option<u32>,
+    pub to_index: Option<u32>,
+    /// The `<connect>` tag name.
+    pub span: Span,
+    pub from_span: Span,
+    pub to_span: Span,
+    pub queue: Option<u32>,
+    pub on_full: Option<String>,
+    pub delay: bool,
+    pub sharing: Option<(String, Span)>,
+    pub min_interval: Option<Span>,
+    pub period: Option<Span>,
+    pub reliability: Option<Span>,
+    pub converts: Vec<ConvertStep>,
+    pub instantiated_at: Option<Span>,
+    /// The element whose `<connect>` this is (the application or a group).
+    pub scope: ElementId,
+}
+
+/// What a check needs to know about one end of a connection.
+#[derive(Debug, Clone)]
+pub struct PortView<'a> {
+    pub name: &'a str,
+    /// Whether this endpoint can send data into a connection (as seen from the connection's scope).
+    pub ty: Type,
+    pub unit: Option<&'a Unit>,
+    pub span: Span,
+    pub required: bool,
+    pub merge: bool,
+    pub role: PortRole,
+    pub dir: PortDir,
+}
+
+#[derive(Debug)]
+pub struct Application {
+    pub name: String,
+    pub span: Span,
+    pub elements: Vec<ElementNode>,
+    pub connections: Vec<Connection>,
+    /// Ports that take part in connections, with connections as edges (weight: index).
+    pub graph: DiGraph<Endpoint, usize>,
+    pub nodes: HashMap<Endpoint, NodeIndex>,
+    pub children: HashMap<(ElementId, String), ElementId>,
+}
+
+impl Application {
+    pub fn element(&self, id: ElementId) -> &ElementNode {
+        &self.elements[id.0 as usize]
+    }
+
+    /// `robot/control/laser` for messages.
+    pub fn path(&self, id: ElementId) -> String {
+        let mut names = Vec::new();
+        let mut cur = Some(id);
+        while let Some(c) = cur {
+            let e = self.element(c);
+            if e.parent.is_none() {
+                break;
+            }
+            names.push(e.name.as_str());
+            cur = e.parent;
+        }
+        names.reverse();
+        names.join("/")
+    }
+
+    pub fn module_type<'l>(&self, libs: &'l LibrarySet, id: ElementId) -> Option<&'l ModuleType> {
+        match &self.element(id).kind {
+            ElementKind::Module(m) => Some(&libs.get(m.library).module_types[m.type_index]),
+            _ => None,
+        }
+    }
+
+    /// All ports of a module instance: its type's, then the instance's own.
+    pub fn module_ports<'a>(&'a self, libs: &'a LibrarySet, id: ElementId) -> impl Iterator<Item = (u32, &'a PortDecl)> + 'a {
+        let (type_ports, extra): (&[PortDecl], &[PortDecl]) = match &self.element(id).kind {
+            ElementKind::Module(m) => (&libs.get(m.library).module_types[m.type_index].ports, &m.extra_ports),
+            _ => (&[], &[]),
+        };
+        type_ports.iter().chain(extra.iter()).enumerate().map(|(i, p)| (i as u32, p))
+    }
+
+    /// The port or parameter behind an endpoint, with its type resolved.
+    pub fn view<'a>(&'a self, libs: &'a LibrarySet, endpoint: Endpoint) -> Option<PortView<'a>> {
+        match endpoint {
+            Endpoint::Port { element, port } => {
+                let (_, decl) = self.module_ports(libs, element).nth(port as usize)?;
+                let ElementKind::Module(m) = &self.element(element).kind else { return None };
+                let (ty, unit) = match &decl.ty {
+                    PortType::Fixed(t) => (t.clone(), decl.unit.as_ref()),
+                    PortType::SameAs(group) => {
+                        let (_, t, u) = m.flexible_types.iter().find(|(g, _, _)| g == group)?;
+                        (t.clone(), decl.unit.as_ref().or(u.as_ref()))
+                    }
+                };
+                Some(PortView {
+                    name: &decl.name,
+                    ty,
+                    unit,
+                    span: decl.span,
+                    required: decl.required,
+                    merge: decl.merge,
+                    role: decl.role,
+                    dir: decl.dir,
+                })
+            }
+            Endpoint::GroupPort { element, port } => {
+                let p = self.element(element).group_ports.get(port as usize)?;
+                Some(PortView {
+                    name: &p.name,
+                    ty: p.ty.clone(),
+                    unit: p.unit.as_ref(),
+                    span: p.span,
+                    required: false,
+                    merge: false,
+                    role: PortRole::Plain,
+                    dir: p.dir,
+                })
+            }
+            Endpoint::Param { element, param } => {
+                let mt = self.module_type(libs, element)?;
+                let p = mt.params.get(param as usize)?;
+                Some(PortView {
+                    name: &p.name,
+                    ty: p.ty.clone(),
+                    unit: p.unit.as_ref(),
+                    span: p.span,
+                    required: false,
+                    merge: false,
+                    role: PortRole::Plain,
+                    dir: PortDir::In,
+                })
+            }
+        }
+    }
+
+    /// Connections into an endpoint.
+    pub fn incoming(&self, endpoint: Endpoint) -> impl Iterator<Item = &Connection> + '_ {
+        self.nodes
+            .get(&endpoint)
+            .into_iter()
+            .flat_map(move |n| self.graph.edges_directed(*n, petgraph::Direction::Incoming))
+            .map(move |e| &self.connections[*e.weight()])
+    }
+
+    pub fn has_outgoing(&self, endpoint: Endpoint) -> bool {
+        self.nodes
+            .get(&endpoint)
+            .is_some_and(|n| self.graph.edges_directed(*n, petgraph::Direction::Outgoing).next().is_some())
+    }
+
+    pub fn modules(&self) -> impl Iterator<Item = (ElementId, &ModuleInstance)> {
+        self.elements.iter().enumerate().filter_map(|(i, e)| match &e.kind {
+            ElementKind::Module(m) => Some((ElementId(i as u32), m)),
+            _ => None,
+        })
+    }
+}

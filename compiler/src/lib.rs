@@ -1,0 +1,110 @@
+//! ferroc's compiler: parse → resolve → IR → checks → reports.
+//!
+//! The entry point is [`check_model`]: one model file in, its findings (and the IR, when
+//! it could be built) out. See `ARCHITECTURE.md` for the pipeline.
+
+pub mod checks;
+pub mod diagnostic;
+pub mod ir;
+pub mod library;
+pub mod load;
+pub mod report;
+pub mod resolve;
+pub mod source;
+pub mod syntax;
+pub mod types;
+pub mod units;
+pub mod values;
+
+use diagnostic::{Diagnostic, Diagnostics, Severity};
+use load::{Loader, Options};
+use source::SourceMap;
+use std::path::Path;
+
+/// The outcome of checking one model.
+pub struct CheckResult {
+    pub sources: SourceMap,
+    pub diagnostics: Vec<Diagnostic>,
+    pub app: Option<ir::Application>,
+    pub libraries: library::LibrarySet,
+}
+
+/// How users promote or silence findings.
+#[derive(Clone, Debug, Default)]
+pub struct Policy {
+    /// Codes silenced everywhere (`--allow`).
+    pub allow: Vec<String>,
+    /// Warnings become errors (`--deny warnings`).
+    pub deny_warnings: bool,
+}
+
+/// Checks one model. `Err` only when the model file itself cannot be read (exit code 2).
+pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<CheckResult, String> {
+    let mut sources = SourceMap::default();
+    let mut diags = Diagnostics::default();
+    let mut loader = Loader::new(&mut sources, &mut diags, options);
+    let model = loader.load_model(path)?;
+    let mut app = None;
+    let mut libraries = library::LibrarySet::default();
+    if let Some(model) = &model {
+        let requests = model
+            .root
+            .children_named("use")
+            .filter_map(|u| {
+                Some(library::LibraryRequest {
+                    name: u.value("library")?.to_string(),
+                    manifest: u.value("manifest").map(str::to_string),
+                    span: u.value_span("library"),
+                    from_file: model.file,
+                })
+            })
+            .collect();
+        let (set, used) = library::load_libraries(&mut loader, requests);
+        libraries = set;
+        let used: Vec<_> = used.into_iter().flatten().collect();
+        let resolved = resolve::resolve(&mut loader, model, &libraries, &used);
+        let allows = std::mem::take(&mut loader.allows);
+        let ctx = checks::PassContext {
+            app: &resolved,
+            libraries: &libraries,
+            sources: loader.sources,
+        };
+        checks::run_passes(&ctx, loader.diags);
+        loader.allows = allows;
+        app = Some(resolved);
+    }
+    let allows = std::mem::take(&mut loader.allows);
+    let mut items = std::mem::take(&mut diags.items);
+    for allow in &allows {
+        if checks::find(&allow.code).is_none() {
+            items.push(
+                Diagnostic::new(&checks::model::m118_unknown_code_in_allow::CHECK, allow.span, format!("no check has the code `{}`", allow.code))
+                    .label("unknown code")
+                    .help("see `ferroc explain --list` for the codes"),
+            );
+        }
+    }
+    items.retain(|d| {
+        !policy.allow.iter().any(|a| a.eq_ignore_ascii_case(d.code()) || a == d.check.name)
+            && !allows.iter().any(|a| a.code.eq_ignore_ascii_case(d.code()) && a.region.contains(&d.primary.span))
+    });
+    if policy.deny_warnings {
+        for d in &mut items {
+            if d.severity == Severity::Warning {
+                d.severity = Severity::Error;
+            }
+        }
+    }
+    // Stable order: by file, position, code. Identical findings (one group type used
+    // many times) are reported once.
+    items.sort_by(|a, b| {
+        (a.primary.span.file, a.primary.span.start, a.code(), &a.message).cmp(&(b.primary.span.file, b.primary.span.start, b.code(), &b.message))
+    });
+    items.dedup_by(|a, b| a.code() == b.code() && a.primary.span == b.primary.span && a.message == b.message);
+    Ok(CheckResult {
+        sources,
+        diagnostics: items,
+        app,
+        libraries,
+    })
+}

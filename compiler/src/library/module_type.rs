@@ -1,0 +1,433 @@
+//! Module types as declared in manifests: ports, parameters, flexible port groups and the
+//! ports and parameters each kind implies (iB2C meta ports, fusion channels).
+
+use super::{unit_attr, LibraryId, LibrarySet};
+use crate::checks::model::{m105_misplaced_element, m109_duplicate_name};
+use crate::checks::parameters::{p103_unparsable_value, p104_out_of_range};
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::source::Span;
+use crate::syntax::Element;
+use crate::types::{Meta, Type};
+use crate::units::Unit;
+use crate::values::{parse_value, Value};
+use std::collections::HashMap;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModuleKind {
+    Module,
+    SenseControl,
+    Behaviour,
+    Fusion,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortDir {
+    In,
+    Out,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortRole {
+    Plain,
+    Sensor,
+    Controller,
+    /// iB2C meta port generated from the kind (stimulation, activity, …).
+    Meta,
+}
+
+/// A port's type: fixed, or the type of an instance-declared flexible port group (`$in`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum PortType {
+    Fixed(Type),
+    SameAs(String),
+}
+
+#[derive(Clone, Debug)]
+pub struct PortDecl {
+    pub name: String,
+    pub dir: PortDir,
+    pub role: PortRole,
+    pub ty: PortType,
+    pub unit: Option<Unit>,
+    pub required: bool,
+    pub blocking_read: bool,
+    pub merge: bool,
+    pub span: Span,
+}
+
+#[derive(Clone, Debug)]
+pub struct ParamDecl {
+    pub name: String,
+    pub ty: Type,
+    pub unit: Option<Unit>,
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub default: Option<String>,
+    pub required: bool,
+    pub choices: Vec<String>,
+    pub span: Span,
+}
+
+/// `<flexible port dir same-type min-count max-count>`: instances declare this port group.
+#[derive(Clone, Debug)]
+pub struct FlexibleDecl {
+    pub port: String,
+    pub dir: PortDir,
+    pub same_type: bool,
+    pub min_count: u32,
+    pub max_count: Option<u32>,
+    pub span: Span,
+}
+
+#[derive(Clone, Debug)]
+pub struct ModuleType {
+    pub name: String,
+    pub qualified: String,
+    pub library: LibraryId,
+    pub kind: ModuleKind,
+    pub rust: String,
+    pub ports: Vec<PortDecl>,
+    pub port_index: HashMap<String, usize>,
+    pub params: Vec<ParamDecl>,
+    pub param_index: HashMap<String, usize>,
+    pub flexible: Vec<FlexibleDecl>,
+    /// Fusion: the data ports of one channel.
+    pub channel_in: Vec<PortDecl>,
+    /// Behaviour: declared derived activities.
+    pub derived_activities: Vec<String>,
+    pub span: Span,
+}
+
+impl ModuleType {
+    pub fn param(&self, name: &str) -> Option<&ParamDecl> {
+        self.param_index.get(name).map(|i| &self.params[*i])
+    }
+
+    pub fn port(&self, name: &str) -> Option<&PortDecl> {
+        self.port_index.get(name).map(|i| &self.ports[*i])
+    }
+
+    pub fn is_behaviour(&self) -> bool {
+        matches!(self.kind, ModuleKind::Behaviour | ModuleKind::Fusion)
+    }
+}
+
+pub fn build_all(set: &LibrarySet, id: LibraryId, diags: &mut Diagnostics) -> Vec<ModuleType> {
+    let lib = set.get(id);
+    let mut out: Vec<ModuleType> = Vec::new();
+    for element in lib.root.children_named("module-type") {
+        let Some(name) = element.value("name") else { continue };
+        if let Some(first) = out.iter().find(|m| m.name == name) {
+            diags.push(
+                Diagnostic::new(&m109_duplicate_name::CHECK, element.value_span("name"), format!("module type `{name}` is defined twice"))
+                    .label("second definition")
+                    .secondary(first.span, "first definition")
+                    .help("rename or remove one of them"),
+            );
+            continue;
+        }
+        out.push(build(set, id, element, diags));
+    }
+    out
+}
+
+fn build(set: &LibrarySet, id: LibraryId, element: &Element, diags: &mut Diagnostics) -> ModuleType {
+    let lib = set.get(id);
+    let name = element.value("name").unwrap_or("").to_string();
+    let kind = match element.value("kind") {
+        Some("sense-control") => ModuleKind::SenseControl,
+        Some("behaviour") => ModuleKind::Behaviour,
+        Some("fusion") => ModuleKind::Fusion,
+        _ => ModuleKind::Module,
+    };
+    let mut mt = ModuleType {
+        qualified: format!("{}.{name}", lib.name),
+        name,
+        library: id,
+        kind,
+        rust: element.value("rust").unwrap_or("").to_string(),
+        ports: Vec::new(),
+        port_index: HashMap::new(),
+        params: Vec::new(),
+        param_index: HashMap::new(),
+        flexible: Vec::new(),
+        channel_in: Vec::new(),
+        derived_activities: Vec::new(),
+        span: element.value_span("name"),
+    };
+    // Ports share one namespace across directions; parameters (addressed as `param/x`) another.
+    let mut names: HashMap<String, Span> = HashMap::new();
+    let mut param_names: HashMap<String, Span> = HashMap::new();
+    for child in &element.children {
+        let (dir, role) = match child.name.as_str() {
+            "in" => (PortDir::In, PortRole::Plain),
+            "out" => (PortDir::Out, PortRole::Plain),
+            "sensor-in" => (PortDir::In, PortRole::Sensor),
+            "sensor-out" => (PortDir::Out, PortRole::Sensor),
+            "controller-in" => (PortDir::In, PortRole::Controller),
+            "controller-out" => (PortDir::Out, PortRole::Controller),
+            "param" => {
+                if let Some(p) = param_decl(set, &lib.visible, child, diags) {
+                    if unique(&mut param_names, &p.name, p.span, diags) {
+                        mt.params.push(p);
+                    }
+                }
+                continue;
+            }
+            "flexible" => {
+                if let Some(port) = child.value("port") {
+                    mt.flexible.push(FlexibleDecl {
+                        port: port.to_string(),
+                        dir: if child.value("dir") == Some("out") { PortDir::Out } else { PortDir::In },
+                        same_type: child.value("same-type") != Some("false"),
+                        min_count: child.value("min-count").and_then(|v| v.parse().ok()).unwrap_or(0),
+                        max_count: child.value("max-count").and_then(|v| v.parse().ok()),
+                        span: child.value_span("port"),
+                    });
+                }
+                continue;
+            }
+            "derived-activity" => {
+                if !mt.is_behaviour() {
+                    misplaced(child, "only behaviour and fusion module types have derived activities", diags);
+                } else if let Some(n) = child.value("name") {
+                    mt.derived_activities.push(n.to_string());
+                }
+                continue;
+            }
+            "channel-in" => {
+                if mt.kind != ModuleKind::Fusion {
+                    misplaced(child, "only fusion module types have channels", diags);
+                } else if let Some(p) = port_decl(set, &lib.visible, child, PortDir::In, PortRole::Plain, diags) {
+                    mt.channel_in.push(p);
+                }
+                continue;
+            }
+            _ => continue,
+        };
+        let sensor_or_controller = matches!(role, PortRole::Sensor | PortRole::Controller);
+        if sensor_or_controller != (mt.kind == ModuleKind::SenseControl) {
+            misplaced(
+                child,
+                if sensor_or_controller {
+                    "sensor and controller ports belong to kind=\"sense-control\" module types"
+                } else {
+                    "a sense-control module type declares sensor-/controller- ports, not plain in/out"
+                },
+                diags,
+            );
+            continue;
+        }
+        if let Some(p) = port_decl(set, &lib.visible, child, dir, role, diags) {
+            if unique(&mut names, &p.name, p.span, diags) {
+                mt.ports.push(p);
+            }
+        }
+    }
+    if mt.is_behaviour() {
+        add_behaviour_interface(&mut mt);
+    }
+    mt.port_index = mt.ports.iter().enumerate().map(|(i, p)| (p.name.clone(), i)).collect();
+    mt.param_index = mt.params.iter().enumerate().map(|(i, p)| (p.name.clone(), i)).collect();
+    mt
+}
+
+fn misplaced(child: &Element, why: &str, diags: &mut Diagnostics) {
+    diags.push(
+        Diagnostic::new(&m105_misplaced_element::CHECK, child.name_span, format!("<{}> does not fit this module type", child.name))
+            .label("misplaced here")
+            .help(why.to_string()),
+    );
+}
+
+fn unique(names: &mut HashMap<String, Span>, name: &str, span: Span, diags: &mut Diagnostics) -> bool {
+    if let Some(first) = names.get(name) {
+        diags.push(
+            Diagnostic::new(&m109_duplicate_name::CHECK, span, format!("`{name}` is declared twice in this module type"))
+                .label("second declaration")
+                .secondary(*first, "first declaration")
+                .help("port and parameter names are unique within a module type, across all directions"),
+        );
+        return false;
+    }
+    names.insert(name.to_string(), span);
+    true
+}
+
+/// The iB2C interface every behaviour has (model-language.md §4). Instance-sized ports
+/// (`inhibition/k`, fusion channels) are added per instance by the resolver.
+fn add_behaviour_interface(mt: &mut ModuleType) {
+    let span = mt.span;
+    let meta = |name: &str, dir, m| PortDecl {
+        name: name.to_string(),
+        dir,
+        role: PortRole::Meta,
+        ty: PortType::Fixed(Type::Meta(m)),
+        unit: None,
+        required: false,
+        blocking_read: false,
+        merge: false,
+        span,
+    };
+    mt.ports.push(meta("stimulation", PortDir::In, Meta::Stimulation));
+    mt.ports.push(meta("activity", PortDir::Out, Meta::Activity));
+    mt.ports.push(meta("target_rating", PortDir::Out, Meta::TargetRating));
+    for d in &mt.derived_activities {
+        mt.ports.push(meta(&format!("activity/{d}"), PortDir::Out, Meta::Activity));
+    }
+    let param = |name: &str, ty: Type, default: &str, choices: &[&str]| ParamDecl {
+        name: name.to_string(),
+        ty,
+        unit: None,
+        min: None,
+        max: None,
+        default: Some(default.to_string()),
+        required: false,
+        choices: choices.iter().map(|c| c.to_string()).collect(),
+        span,
+    };
+    let u32t = Type::Int { signed: false, bits: 32 };
+    mt.params.push(param("stimulation_mode", Type::String, "auto", &["auto", "enabled", "disabled"]));
+    mt.params.push(param("inhibitions", u32t.clone(), "1", &[]));
+    if mt.kind == ModuleKind::Fusion {
+        mt.params.push(param("channels", u32t, "2", &[]));
+        mt.params.push(param("method", Type::String, "max", &["max", "weighted_average", "weighted_sum"]));
+    }
+}
+
+fn port_decl(
+    set: &LibrarySet,
+    visible: &[LibraryId],
+    e: &Element,
+    dir: PortDir,
+    role: PortRole,
+    diags: &mut Diagnostics,
+) -> Option<PortDecl> {
+    let name = e.value("name")?;
+    let ty_text = e.value("type")?;
+    let ty = match ty_text.strip_prefix('$') {
+        Some(group) => PortType::SameAs(group.to_string()),
+        None => PortType::Fixed(set.resolve_type(ty_text, e.value_span("type"), visible, diags)?),
+    };
+    Some(PortDecl {
+        name: name.to_string(),
+        dir,
+        role,
+        ty,
+        unit: unit_attr(e, diags),
+        required: e.value("required") == Some("true"),
+        blocking_read: e.value("read") == Some("blocking"),
+        merge: e.value("fan-in") == Some("merge"),
+        span: e.value_span("name"),
+    })
+}
+
+fn param_decl(set: &LibrarySet, visible: &[LibraryId], e: &Element, diags: &mut Diagnostics) -> Option<ParamDecl> {
+    let name = e.value("name")?;
+    let ty = set.resolve_type(e.value("type")?, e.value_span("type"), visible, diags)?;
+    let unit = unit_attr(e, diags);
+    // Bounds are values of the parameter's type: `15 cm`, `10ms` and plain numbers work.
+    let mut bound = |attr: &str| -> Option<f64> {
+        let a = e.attr(attr)?;
+        match parse_value(&a.value, &ty, unit.as_ref()) {
+            Ok(Value::Int(i)) => Some(i as f64),
+            Ok(Value::Float(f)) => Some(f),
+            Ok(Value::Duration(s)) => Some(s),
+            _ => {
+                diags.push(
+                    Diagnostic::new(&p103_unparsable_value::CHECK, a.value_span, format!("`{}` is not a number of type `{ty}`", a.value))
+                        .label(format!("`{attr}` must be a number in the parameter's type and unit"))
+                        .help("write a plain number, or a number with a unit of the parameter's dimension"),
+                );
+                None
+            }
+        }
+    };
+    let min = bound("min");
+    let max = bound("max");
+    let decl = ParamDecl {
+        name: name.to_string(),
+        ty,
+        unit,
+        min,
+        max,
+        default: e.value("default").map(str::to_string),
+        required: e.value("required") == Some("true"),
+        choices: e.value("choices").map(|c| c.split_whitespace().map(str::to_string).collect()).unwrap_or_default(),
+        span: e.value_span("name"),
+    };
+    if let Some(default) = e.attr("default") {
+        check_value(&decl, &default.value, default.value_span, None, diags);
+    }
+    Some(decl)
+}
+
+/// Parses a value for a parameter and checks choices and range. Shared by defaults in
+/// manifests and `<param>` values in models. Returns the value when it is acceptable.
+pub fn check_value(decl: &ParamDecl, text: &str, span: Span, context: Option<Span>, diags: &mut Diagnostics) -> Option<Value> {
+    use crate::checks::parameters::p105_wrong_unit_dimension;
+    let with_context = |d: Diagnostic| match context {
+        Some(c) => d.secondary(c, "the parameter is declared here"),
+        None => d,
+    };
+    if !decl.choices.is_empty() && !decl.choices.iter().any(|c| c == text.trim()) {
+        diags.push(with_context(
+            Diagnostic::new(&p103_unparsable_value::CHECK, span, format!("`{}` is not one of the choices of `{}`", text.trim(), decl.name))
+                .label("not a valid choice")
+                .help(format!("use one of: {}", decl.choices.join(", "))),
+        ));
+        return None;
+    }
+    match parse_value(text, &decl.ty, decl.unit.as_ref()) {
+        Ok(value) => {
+            let number = match &value {
+                Value::Int(i) => Some(*i as f64),
+                Value::Float(f) => Some(*f),
+                Value::Duration(s) => Some(*s),
+                _ => None,
+            };
+            if let Some(n) = number {
+                let below = decl.min.filter(|m| n < *m);
+                let above = decl.max.filter(|m| n > *m);
+                if below.is_some() || above.is_some() {
+                    let unit = decl.unit.as_ref().map(|u| format!(" {u}")).unwrap_or_default();
+                    let range = match (decl.min, decl.max) {
+                        (Some(a), Some(b)) => format!("{a}{unit} ..= {b}{unit}"),
+                        (Some(a), None) => format!(">= {a}{unit}"),
+                        (None, Some(b)) => format!("<= {b}{unit}"),
+                        _ => String::new(),
+                    };
+                    diags.push(with_context(
+                        Diagnostic::new(&p104_out_of_range::CHECK, span, format!("{n}{unit} is outside the range of `{}` ({range})", decl.name))
+                            .label(if below.is_some() { "too small" } else { "too large" })
+                            .help(format!("use a value in {range}")),
+                    ));
+                    return None;
+                }
+            }
+            Some(value)
+        }
+        Err(crate::values::ValueError::Syntax(msg)) => {
+            diags.push(with_context(
+                Diagnostic::new(&p103_unparsable_value::CHECK, span, format!("invalid value for `{}`: {msg}", decl.name))
+                    .label(format!("expected a `{}`", decl.ty))
+                    .help(match &decl.unit {
+                        Some(u) => format!("write a `{}` value, optionally with a unit of the same dimension as `{u}`", decl.ty),
+                        None => format!("write a `{}` value", decl.ty),
+                    }),
+            ));
+            None
+        }
+        Err(crate::values::ValueError::WrongDimension(msg)) => {
+            diags.push(with_context(
+                Diagnostic::new(&p105_wrong_unit_dimension::CHECK, span, format!("wrong unit for `{}`: {msg}", decl.name))
+                    .label("unit of another dimension")
+                    .help(match &decl.unit {
+                        Some(u) => format!("write the value in `{u}` or a unit of the same dimension"),
+                        None => "write the value without a unit".to_string(),
+                    }),
+            ));
+            None
+        }
+    }
+}

@@ -1,0 +1,268 @@
+//! Reading files: models, includes, manifests and config files, with limits, root
+//! confinement and cycle detection. All I/O of a check run happens here.
+
+use crate::checks::model::*;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::source::{FileId, SourceMap, Span};
+use crate::syntax::validate::validate;
+use crate::syntax::xml::{self, Element};
+use crate::syntax::AllowRegion;
+use std::path::{Path, PathBuf};
+
+/// Bounds that keep hostile input from exhausting memory or the stack.
+#[derive(Clone, Debug)]
+pub struct Limits {
+    pub max_file_bytes: u64,
+    pub max_depth: usize,
+    pub max_include_depth: usize,
+    pub max_instance_depth: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_file_bytes: 256 << 20,
+            max_depth: 256,
+            max_include_depth: 32,
+            max_instance_depth: 64,
+        }
+    }
+}
+
+/// A library whose manifest is compiled into the tool (`ferroc_std`).
+#[derive(Clone, Debug)]
+pub struct BuiltinLibrary {
+    pub name: String,
+    pub text: String,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// Folders searched for `NAME.lib.xml`.
+    pub lib_path: Vec<PathBuf>,
+    pub builtins: Vec<BuiltinLibrary>,
+    pub allow_outside_includes: bool,
+    pub limits: Limits,
+}
+
+/// A model file and the fragments it includes.
+pub struct ModelFiles {
+    pub file: FileId,
+    pub root: Element,
+    /// Included `<fragment>` roots, in include order.
+    pub fragments: Vec<(FileId, Element)>,
+}
+
+pub struct Loader<'a> {
+    pub sources: &'a mut SourceMap,
+    pub diags: &'a mut Diagnostics,
+    pub allows: Vec<AllowRegion>,
+    pub options: &'a Options,
+    root_dir: PathBuf,
+}
+
+/// Why a file could not be read.
+pub fn read_text(path: &Path, limits: &Limits) -> Result<String, String> {
+    let meta = std::fs::metadata(path).map_err(|e| io_reason(&e))?;
+    if meta.is_dir() {
+        return Err("it is a directory".into());
+    }
+    if meta.len() > limits.max_file_bytes {
+        return Err(format!(
+            "it is {} MiB, over the limit of {} MiB",
+            meta.len() >> 20,
+            limits.max_file_bytes >> 20
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(|e| io_reason(&e))?;
+    String::from_utf8(bytes).map_err(|e| format!("it is not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()))
+}
+
+fn io_reason(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+        _ => e.to_string(),
+    }
+}
+
+impl<'a> Loader<'a> {
+    pub fn new(sources: &'a mut SourceMap, diags: &'a mut Diagnostics, options: &'a Options) -> Self {
+        Loader {
+            sources,
+            diags,
+            allows: Vec::new(),
+            options,
+            root_dir: PathBuf::new(),
+        }
+    }
+
+    /// Adds text as a file and parses it as an element of context `key` with root `tag`.
+    /// Reports malformed XML and vocabulary problems; `None` when there is no usable tree.
+    pub fn parse(&mut self, name: String, path: PathBuf, text: String, key: &str) -> (FileId, Option<Element>) {
+        let file = self.sources.add(name, path, text);
+        let text = &self.sources.get(file).text;
+        let root = match xml::parse(file, text, self.options.limits.max_depth) {
+            Ok(root) => root,
+            Err(e) => {
+                let check = if e.too_deep { &m116_limit_exceeded::CHECK } else { &m101_malformed_xml::CHECK };
+                let help = if e.too_deep {
+                    "flatten the structure; the limit protects the checker's stack"
+                } else {
+                    "fix the XML syntax at this place; nothing else in this file was checked"
+                };
+                self.diags.push(Diagnostic::new(check, e.span, e.message).label("here").help(help));
+                return (file, None);
+            }
+        };
+        let expected = crate::syntax::vocabulary::spec(key).tag;
+        if root.name != expected {
+            let finroc = matches!(root.name.as_str(), "Finstructable" | "FinstructableGroup");
+            self.diags.push(
+                Diagnostic::new(
+                    &m119_wrong_root_element::CHECK,
+                    root.name_span,
+                    format!("expected a <{expected}> file, found <{}>", root.name),
+                )
+                .label("root element")
+                .help(if finroc {
+                    "this is a FINROC file; FINROC import is not supported yet".to_string()
+                } else {
+                    format!("the root element of this file must be <{expected}>")
+                }),
+            );
+            return (file, None);
+        }
+        validate(&root, key, self.diags, &mut self.allows);
+        (file, Some(root))
+    }
+
+    /// Loads a model and its includes. `Err` when the model file itself cannot be read.
+    pub fn load_model(&mut self, path: &Path) -> Result<Option<ModelFiles>, String> {
+        let text = read_text(path, &self.options.limits).map_err(|r| format!("cannot read {}: {r}", path.display()))?;
+        let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        self.root_dir = canonical.parent().map(Path::to_path_buf).unwrap_or_default();
+        let (file, root) = self.parse(path.display().to_string(), canonical.clone(), text, "application");
+        let Some(root) = root else { return Ok(None) };
+        let mut fragments = Vec::new();
+        let mut chain = vec![(canonical, None)];
+        self.load_includes(&root, file, &mut chain, &mut fragments);
+        Ok(Some(ModelFiles { file, root, fragments }))
+    }
+
+    fn load_includes(
+        &mut self,
+        parent: &Element,
+        parent_file: FileId,
+        chain: &mut Vec<(PathBuf, Option<Span>)>,
+        fragments: &mut Vec<(FileId, Element)>,
+    ) {
+        for include in parent.children_named("include") {
+            let Some(href) = include.attr("href") else { continue };
+            let span = href.value_span;
+            if chain.len() > self.options.limits.max_include_depth {
+                self.diags.push(
+                    Diagnostic::new(&m116_limit_exceeded::CHECK, span, format!("includes nest more than {} deep", self.options.limits.max_include_depth))
+                        .label("one include too many")
+                        .help("flatten the include structure"),
+                );
+                continue;
+            }
+            let Some(target) = self.resolve_relative(parent_file, &href.value, span, "include") else { continue };
+            if !self.options.allow_outside_includes && !target.starts_with(&self.root_dir) {
+                self.diags.push(
+                    Diagnostic::new(&m113_include_outside_root::CHECK, span, format!("`{}` lies outside the model's directory", href.value))
+                        .label("resolves outside the model root")
+                        .help(format!(
+                            "keep included fragments under {}, or pass --allow-outside-includes if you trust this model",
+                            self.root_dir.display()
+                        )),
+                );
+                continue;
+            }
+            if let Some(pos) = chain.iter().position(|(p, _)| *p == target) {
+                let mut d = Diagnostic::new(&m114_include_cycle::CHECK, span, format!("including `{}` closes a cycle", href.value))
+                    .label("this include leads back to a file that is being included");
+                for (_, from) in chain[pos + 1..].iter() {
+                    if let Some(from) = from {
+                        d = d.secondary(*from, "part of the cycle");
+                    }
+                }
+                self.diags.push(d.help("move the shared group types into a fragment that both files include"));
+                continue;
+            }
+            if let Some(existing) = self.sources.find(&target) {
+                // Included twice without a cycle (a diamond): read once.
+                let _ = existing;
+                continue;
+            }
+            let text = match read_text(&target, &self.options.limits) {
+                Ok(t) => t,
+                Err(reason) => {
+                    self.diags.push(
+                        Diagnostic::new(&m115_file_not_found::CHECK, span, format!("cannot read `{}`: {reason}", href.value))
+                            .label("named here")
+                            .help("the path is relative to the file that holds the <include>"),
+                    );
+                    continue;
+                }
+            };
+            let (file, root) = self.parse(self.display_name(&target), target.clone(), text, "fragment");
+            if let Some(root) = root {
+                chain.push((target, Some(span)));
+                self.load_includes(&root, file, chain, fragments);
+                chain.pop();
+                fragments.push((file, root));
+            }
+        }
+    }
+
+    /// A path named in `file`, resolved against that file's folder and made canonical.
+    /// Reports a missing file (as M115) and returns `None`.
+    pub fn resolve_relative(&mut self, file: FileId, rel: &str, span: Span, what: &str) -> Option<PathBuf> {
+        let base = self.sources.get(file).path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let joined = base.join(rel);
+        match joined.canonicalize() {
+            Ok(p) => Some(p),
+            Err(e) => {
+                self.diags.push(
+                    Diagnostic::new(&m115_file_not_found::CHECK, span, format!("cannot read {what} `{rel}`: {}", io_reason(&e)))
+                        .label("named here")
+                        .help(format!("the path is relative to {}", base.display())),
+                );
+                None
+            }
+        }
+    }
+
+    /// A path as users should see it: relative to the current directory when possible.
+    pub fn display_name(&self, path: &Path) -> String {
+        let cwd = std::env::current_dir().ok().and_then(|c| c.canonicalize().ok());
+        match cwd.as_deref().and_then(|c| path.strip_prefix(c).ok()) {
+            Some(rel) => rel.display().to_string(),
+            None => path.display().to_string(),
+        }
+    }
+
+    /// Reads a file that is not XML-validated against the vocabulary (config files).
+    pub fn read_plain(&mut self, path: &Path) -> Result<(FileId, Option<Element>), String> {
+        if let Some(id) = self.sources.find(path) {
+            let text = &self.sources.get(id).text;
+            return Ok((id, xml::parse(id, text, self.options.limits.max_depth).ok()));
+        }
+        let text = read_text(path, &self.options.limits)?;
+        let file = self.sources.add(self.display_name(path), path.to_path_buf(), text);
+        let text = &self.sources.get(file).text;
+        match xml::parse(file, text, self.options.limits.max_depth) {
+            Ok(root) => Ok((file, Some(root))),
+            Err(e) => {
+                self.diags.push(
+                    Diagnostic::new(&m101_malformed_xml::CHECK, e.span, e.message)
+                        .label("here")
+                        .help("fix the XML syntax of this config file"),
+                );
+                Ok((file, None))
+            }
+        }
+    }
+}

@@ -1,0 +1,106 @@
+//! `--format sarif`: SARIF 2.1.0 as GitHub code scanning reads it.
+
+use super::ModelReport;
+use crate::checks::REGISTRY;
+use crate::diagnostic::Severity;
+use crate::source::{SourceMap, Span};
+use serde_json::{json, Value};
+
+fn uri(name: &str) -> String {
+    let mut out = String::new();
+    for c in name.replace('\\', "/").chars() {
+        match c {
+            'A'..='Z' | 'a'..='z' | '0'..='9' | '-' | '_' | '.' | '~' | '/' | ':' => out.push(c),
+            other => {
+                let mut buf = [0u8; 4];
+                for b in other.encode_utf8(&mut buf).bytes() {
+                    out.push_str(&format!("%{b:02X}"));
+                }
+            }
+        }
+    }
+    out
+}
+
+fn physical(sources: &SourceMap, span: Span) -> Value {
+    let file = sources.get(span.file);
+    let (line, col) = file.line_col(span.start);
+    let (end_line, end_col) = file.line_col(span.end.max(span.start + 1));
+    json!({
+        "artifactLocation": { "uri": uri(&file.name) },
+        "region": { "startLine": line, "startColumn": col, "endLine": end_line, "endColumn": end_col }
+    })
+}
+
+fn level(s: Severity) -> &'static str {
+    match s {
+        Severity::Error => "error",
+        Severity::Warning => "warning",
+        Severity::Note => "note",
+    }
+}
+
+/// One SARIF log with one run covering every checked model.
+pub fn document(reports: &[ModelReport<'_>]) -> Value {
+    let rules: Vec<Value> = REGISTRY
+        .iter()
+        .map(|c| {
+            json!({
+                "id": c.code,
+                "name": c.name,
+                "shortDescription": { "text": c.summary },
+                "fullDescription": { "text": c.explanation },
+                "help": { "text": c.explanation },
+                "defaultConfiguration": { "level": level(c.severity) },
+            })
+        })
+        .collect();
+    let mut results = Vec::new();
+    for report in reports {
+        for d in report.diagnostics {
+            let rule_index = REGISTRY.iter().position(|c| c.code == d.code()).unwrap_or(0);
+            let mut text = d.message.clone();
+            if let Some(h) = &d.help {
+                text.push_str("\nhelp: ");
+                text.push_str(h);
+            }
+            let related: Vec<Value> = d
+                .secondary
+                .iter()
+                .enumerate()
+                .map(|(i, s)| {
+                    json!({
+                        "id": i,
+                        "physicalLocation": physical(report.sources, s.span),
+                        "message": { "text": if s.message.is_empty() { "related location" } else { &s.message } },
+                    })
+                })
+                .collect();
+            let mut result = json!({
+                "ruleId": d.code(),
+                "ruleIndex": rule_index,
+                "level": level(d.severity),
+                "message": { "text": text },
+                "locations": [{ "physicalLocation": physical(report.sources, d.primary.span) }],
+            });
+            if !related.is_empty() {
+                result["relatedLocations"] = Value::Array(related);
+            }
+            results.push(result);
+        }
+    }
+    json!({
+        "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
+        "version": "2.1.0",
+        "runs": [{
+            "tool": { "driver": {
+                "name": "ferroc",
+                "version": env!("CARGO_PKG_VERSION"),
+                "informationUri": "https://github.com/ferroc/ferroc",
+                "rules": rules,
+            }},
+            "columnKind": "unicodeCodePoints",
+            "results": results,
+        }]
+    })
+}

@@ -1,0 +1,8 @@
+//! Text to spanned trees: the XML reader and the language's vocabulary.
+
+pub mod validate;
+pub mod vocabulary;
+pub mod xml;
+
+pub use validate::AllowRegion;
+pub use xml::{Attr, Element};

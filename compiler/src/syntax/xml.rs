@@ -1,0 +1,300 @@
+//! A spanned XML tree built in one pass with quick-xml.
+//!
+//! The tree keeps the byte span of every element, attribute name and attribute value so
+//! that any later stage can point a diagnostic at the exact place. It knows nothing about
+//! the model language: vocabulary checks live in `vocabulary.rs`.
+
+use crate::source::{FileId, Span};
+use quick_xml::events::{BytesStart, Event};
+use quick_xml::Reader;
+
+/// An attribute with the spans of its name and of its value (without quotes).
+#[derive(Clone, Debug)]
+pub struct Attr {
+    pub name: String,
+    pub value: String,
+    pub name_span: Span,
+    pub value_span: Span,
+}
+
+/// An element: its start tag, attributes, child elements and text content.
+#[derive(Clone, Debug)]
+pub struct Element {
+    pub name: String,
+    /// The tag name inside the start tag.
+    pub name_span: Span,
+    /// From `<` of the start tag to `>` of the end tag.
+    pub span: Span,
+    pub attrs: Vec<Attr>,
+    pub children: Vec<Element>,
+    /// Concatenated character data (entities resolved), untrimmed.
+    pub text: String,
+    /// Span of the character data (first to last text byte), or the element's span.
+    pub text_span: Span,
+}
+
+impl Element {
+    pub fn attr(&self, name: &str) -> Option<&Attr> {
+        self.attrs.iter().find(|a| a.name == name)
+    }
+
+    pub fn value(&self, name: &str) -> Option<&str> {
+        self.attr(name).map(|a| a.value.as_str())
+    }
+
+    /// Span of an attribute's value, or of the tag name when the attribute is absent.
+    pub fn value_span(&self, name: &str) -> Span {
+        self.attr(name).map_or(self.name_span, |a| a.value_span)
+    }
+
+    pub fn children_named<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a Element> + 'a {
+        self.children.iter().filter(move |c| c.name == name)
+    }
+}
+
+/// Why a file could not be read as an XML tree.
+#[derive(Debug)]
+pub struct XmlError {
+    pub span: Span,
+    pub message: String,
+    pub too_deep: bool,
+}
+
+/// Parses one document. `max_depth` bounds element nesting.
+pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlError> {
+    let mut reader = Reader::from_str(text);
+    let config = reader.config_mut();
+    config.check_end_names = true;
+    config.expand_empty_elements = false;
+    config.trim_text(false);
+    let base = text.as_ptr() as usize;
+    let offset_of = |slice: &[u8]| (slice.as_ptr() as usize).saturating_sub(base);
+    let malformed = |start: usize, end: usize, message: String| XmlError {
+        span: Span::new(file, start, end.max(start + 1).min(text.len().max(start))),
+        message,
+        too_deep: false,
+    };
+
+    let mut stack: Vec<Element> = Vec::new();
+    let mut root: Option<Element> = None;
+    loop {
+        let before = reader.buffer_position() as usize;
+        let event = match reader.read_event() {
+            Ok(e) => e,
+            Err(err) => {
+                let at = reader.error_position() as usize;
+                return Err(malformed(at, at + 1, describe(&err)));
+            }
+        };
+        let after = reader.buffer_position() as usize;
+        match event {
+            Event::Start(tag) | Event::Empty(tag) if root.is_some() => {
+                let _ = tag;
+                return Err(malformed(before, after, "content after the root element: an XML file has exactly one root element".into()));
+            }
+            Event::Start(tag) => {
+                if stack.len() >= max_depth {
+                    return Err(XmlError {
+                        span: Span::new(file, before, after),
+                        message: format!("elements are nested more than {max_depth} deep"),
+                        too_deep: true,
+                    });
+                }
+                stack.push(start_element(file, &tag, before, after, offset_of)?);
+            }
+            Event::Empty(tag) => {
+                let element = start_element(file, &tag, before, after, offset_of)?;
+                attach(&mut stack, &mut root, element);
+            }
+            Event::End(_) => {
+                let Some(mut element) = stack.pop() else {
+                    return Err(malformed(before, after, "closing tag without an opening tag".into()));
+                };
+                element.span.end = after as u32;
+                attach(&mut stack, &mut root, element);
+            }
+            Event::Text(t) => {
+                let raw = t.into_inner();
+                let Ok(s) = std::str::from_utf8(&raw) else {
+                    return Err(malformed(before, after, "text is not valid UTF-8".into()));
+                };
+                add_text(&mut stack, s, file, before, after, &malformed)?;
+            }
+            Event::CData(t) => {
+                let raw = t.into_inner();
+                let s = String::from_utf8_lossy(&raw).into_owned();
+                add_text(&mut stack, &s, file, before, after, &malformed)?;
+            }
+            Event::GeneralRef(r) => {
+                let resolved = if r.is_char_ref() {
+                    match r.resolve_char_ref() {
+                        Ok(Some(c)) => c.to_string(),
+                        _ => return Err(malformed(before, after, "invalid character reference".into())),
+                    }
+                } else {
+                    let name = String::from_utf8_lossy(&r).into_owned();
+                    match predefined_entity(&name) {
+                        Some(s) => s.to_string(),
+                        None => {
+                            return Err(malformed(
+                                before,
+                                after,
+                                format!("unknown entity `&{name};`: only &amp; &lt; &gt; &quot; &apos; and character references are allowed"),
+                            ))
+                        }
+                    }
+                };
+                add_text(&mut stack, &resolved, file, before, after, &malformed)?;
+            }
+            Event::Eof => break,
+            Event::Decl(_) | Event::PI(_) | Event::Comment(_) | Event::DocType(_) => {}
+        }
+    }
+    if let Some(open) = stack.last() {
+        return Err(XmlError {
+            span: open.name_span,
+            message: format!("element <{}> is never closed", open.name),
+            too_deep: false,
+        });
+    }
+    root.ok_or_else(|| malformed(0, 0, "the file holds no XML element".into()))
+}
+
+fn attach(stack: &mut [Element], root: &mut Option<Element>, element: Element) {
+    match stack.last_mut() {
+        Some(parent) => parent.children.push(element),
+        None => *root = Some(element),
+    }
+}
+
+fn add_text(
+    stack: &mut [Element],
+    s: &str,
+    file: FileId,
+    start: usize,
+    end: usize,
+    malformed: &dyn Fn(usize, usize, String) -> XmlError,
+) -> Result<(), XmlError> {
+    match stack.last_mut() {
+        Some(parent) => {
+            if parent.text.is_empty() && parent.text_span == parent.span {
+                parent.text_span = Span::new(file, start, end);
+            } else {
+                parent.text_span.end = end as u32;
+            }
+            parent.text.push_str(s);
+            Ok(())
+        }
+        None if s.trim().is_empty() => Ok(()),
+        None => Err(malformed(start, end, "text outside the root element".into())),
+    }
+}
+
+fn start_element(
+    file: FileId,
+    tag: &BytesStart<'_>,
+    start: usize,
+    end: usize,
+    offset_of: impl Fn(&[u8]) -> usize,
+) -> Result<Element, XmlError> {
+    let raw_name = tag.name().into_inner();
+    let name_start = offset_of(raw_name);
+    let name = std::str::from_utf8(raw_name).unwrap_or("?").to_string();
+    let span = Span::new(file, start, end);
+    let mut element = Element {
+        name,
+        name_span: Span::new(file, name_start, name_start + raw_name.len()),
+        span,
+        attrs: Vec::new(),
+        children: Vec::new(),
+        text: String::new(),
+        text_span: span,
+    };
+    let mut attributes = tag.attributes();
+    // Duplicates are reported by the vocabulary check with both places, not here.
+    attributes.with_checks(false);
+    for attr in attributes {
+        let attr = attr.map_err(|e| XmlError {
+            span,
+            message: format!("malformed attribute: {e}"),
+            too_deep: false,
+        })?;
+        let key = attr.key.into_inner();
+        let key_start = offset_of(key);
+        let value_start = offset_of(&attr.value);
+        let value_len = attr.value.len();
+        let value = attr.unescape_value().map_err(|e| XmlError {
+            span: Span::new(file, value_start, value_start + value_len),
+            message: format!("malformed attribute value: {e}"),
+            too_deep: false,
+        })?;
+        element.attrs.push(Attr {
+            name: String::from_utf8_lossy(key).into_owned(),
+            value: value.into_owned(),
+            name_span: Span::new(file, key_start, key_start + key.len()),
+            value_span: Span::new(file, value_start, value_start + value_len),
+        });
+    }
+    Ok(element)
+}
+
+fn predefined_entity(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "amp" => "&",
+        "lt" => "<",
+        "gt" => ">",
+        "quot" => "\"",
+        "apos" => "'",
+        _ => return None,
+    })
+}
+
+/// quick-xml's error text, reworded where it helps a person.
+fn describe(err: &quick_xml::Error) -> String {
+    use quick_xml::errors::SyntaxError;
+    match err {
+        quick_xml::Error::IllFormed(e) => format!("ill-formed XML: {e}"),
+        quick_xml::Error::Syntax(SyntaxError::UnclosedTag) => "a tag is not closed with `>`".into(),
+        quick_xml::Error::Syntax(e) => format!("XML syntax error: {e}"),
+        other => format!("XML error: {other}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse_ok(text: &str) -> Element {
+        parse(FileId(0), text, 64).expect("well-formed")
+    }
+
+    #[test]
+    fn spans_point_at_names_and_values() {
+        let text = "<a x=\"1\">\n  <b y='two' />t&amp;u</a>";
+        let a = parse_ok(text);
+        let x = a.attr("x").unwrap();
+        assert_eq!(&text[x.name_span.start as usize..x.name_span.end as usize], "x");
+        assert_eq!(&text[x.value_span.start as usize..x.value_span.end as usize], "1");
+        let b = &a.children[0];
+        assert_eq!(&text[b.name_span.start as usize..b.name_span.end as usize], "b");
+        assert_eq!(b.value("y"), Some("two"));
+        assert_eq!(a.text.trim(), "t&u");
+        assert_eq!(a.span.end as usize, text.len());
+    }
+
+    #[test]
+    fn malformed_input_is_an_error_with_a_place() {
+        for bad in ["<a><b></a>", "<a", "<a x=1/>", "", "<a/><b/>", "<a>&foo;</a>", "text"] {
+            let err = parse(FileId(0), bad, 64).unwrap_err();
+            assert!(!err.message.is_empty(), "{bad}");
+            assert!(err.span.start as usize <= bad.len(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn depth_is_limited() {
+        let text = "<a>".repeat(100) + &"</a>".repeat(100);
+        assert!(parse(FileId(0), &text, 50).unwrap_err().too_deep);
+        assert!(parse(FileId(0), &text, 200).is_ok());
+    }
+}

@@ -1,0 +1,224 @@
+//! Physical units: SI symbols with prefixes, plus `deg`, `rpm`, `Hz`, `min`, `h`.
+//!
+//! A unit is a dimension vector and a scale to the coherent SI unit. Angle is kept as its
+//! own dimension (not dimensionless, as strict SI has it) so that `rad` fed into `m`
+//! is caught: in robot software that is nearly always a bug.
+
+use std::fmt;
+
+/// Exponents of m, kg, s, A, K, mol, cd, rad.
+pub type Dimension = [i8; 8];
+
+const NAMES: [&str; 8] = ["m", "kg", "s", "A", "K", "mol", "cd", "rad"];
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unit {
+    pub dimension: Dimension,
+    /// Multiply a value in this unit by `scale` to get coherent SI (`mm` → 0.001).
+    pub scale: f64,
+    /// The text as written, for messages.
+    pub text: String,
+}
+
+impl fmt::Display for Unit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.text)
+    }
+}
+
+/// Names the dimension the way an engineer reads it: `m·s^-1`.
+pub fn describe_dimension(d: &Dimension) -> String {
+    let parts: Vec<String> = d
+        .iter()
+        .zip(NAMES)
+        .filter(|(e, _)| **e != 0)
+        .map(|(e, n)| if *e == 1 { n.to_string() } else { format!("{n}^{e}") })
+        .collect();
+    if parts.is_empty() {
+        "dimensionless".into()
+    } else {
+        parts.join("·")
+    }
+}
+
+fn dim(m: i8, kg: i8, s: i8, a: i8, k: i8, rad: i8) -> Dimension {
+    [m, kg, s, a, k, 0, 0, rad]
+}
+
+/// Unprefixed symbols: (symbol, dimension, scale, accepts SI prefixes).
+fn symbol(sym: &str) -> Option<(Dimension, f64, bool)> {
+    use std::f64::consts::PI;
+    Some(match sym {
+        "m" => (dim(1, 0, 0, 0, 0, 0), 1.0, true),
+        "g" => (dim(0, 1, 0, 0, 0, 0), 1e-3, true),
+        "s" => (dim(0, 0, 1, 0, 0, 0), 1.0, true),
+        "A" => (dim(0, 0, 0, 1, 0, 0), 1.0, true),
+        "K" => (dim(0, 0, 0, 0, 1, 0), 1.0, true),
+        "mol" => ([0, 0, 0, 0, 0, 1, 0, 0], 1.0, true),
+        "cd" => ([0, 0, 0, 0, 0, 0, 1, 0], 1.0, true),
+        "rad" => (dim(0, 0, 0, 0, 0, 1), 1.0, true),
+        "deg" | "°" => (dim(0, 0, 0, 0, 0, 1), PI / 180.0, false),
+        "rpm" => (dim(0, 0, -1, 0, 0, 1), 2.0 * PI / 60.0, false),
+        "Hz" => (dim(0, 0, -1, 0, 0, 0), 1.0, true),
+        "N" => (dim(1, 1, -2, 0, 0, 0), 1.0, true),
+        "Pa" => (dim(-1, 1, -2, 0, 0, 0), 1.0, true),
+        "J" => (dim(2, 1, -2, 0, 0, 0), 1.0, true),
+        "W" => (dim(2, 1, -3, 0, 0, 0), 1.0, true),
+        "V" => (dim(2, 1, -3, -1, 0, 0), 1.0, true),
+        "C" => (dim(0, 0, 1, 1, 0, 0), 1.0, true),
+        "Ohm" | "Ω" => (dim(2, 1, -3, -2, 0, 0), 1.0, true),
+        "min" => (dim(0, 0, 1, 0, 0, 0), 60.0, false),
+        "h" => (dim(0, 0, 1, 0, 0, 0), 3600.0, false),
+        "L" | "l" => (dim(3, 0, 0, 0, 0, 0), 1e-3, true),
+        "bar" => (dim(-1, 1, -2, 0, 0, 0), 1e5, true),
+        "%" => ([0; 8], 0.01, false),
+        _ => return None,
+    })
+}
+
+fn prefix(p: &str) -> Option<f64> {
+    Some(match p {
+        "G" => 1e9,
+        "M" => 1e6,
+        "k" => 1e3,
+        "h" => 1e2,
+        "da" => 1e1,
+        "d" => 1e-1,
+        "c" => 1e-2,
+        "m" => 1e-3,
+        "u" | "µ" | "μ" => 1e-6,
+        "n" => 1e-9,
+        "p" => 1e-12,
+        _ => return None,
+    })
+}
+
+fn atom(text: &str) -> Option<(Dimension, f64)> {
+    if let Some((d, s, _)) = symbol(text) {
+        return Some((d, s));
+    }
+    // Longest prefix first: `da` before `d`.
+    for split in (1..text.len()).rev() {
+        if !text.is_char_boundary(split) {
+            continue;
+        }
+        let (p, rest) = text.split_at(split);
+        if let (Some(factor), Some((d, s, true))) = (prefix(p), symbol(rest)) {
+            return Some((d, s * factor));
+        }
+    }
+    None
+}
+
+/// Parses `m`, `mm/s`, `m/s^2`, `m/s2`, `N*m`, `N.m`, `rad/s`, `km/h`, `1/s`.
+pub fn parse_unit(text: &str) -> Result<Unit, String> {
+    let t = text.trim();
+    if t.is_empty() {
+        return Err("empty unit".into());
+    }
+    let mut dimension = [0i8; 8];
+    let mut scale = 1.0;
+    let mut sign = 1i8;
+    let mut rest = t;
+    loop {
+        let end = rest.find(['*', '/', '.', '·']).unwrap_or(rest.len());
+        let factor = rest[..end].trim();
+        let (sym, exp) = split_exponent(factor).ok_or_else(|| format!("`{factor}` is not a unit"))?;
+        if !(sym == "1" && sign == 1 && exp == 1) {
+            let (d, s) = atom(sym).ok_or_else(|| format!("unknown unit `{sym}`"))?;
+            let e = exp.checked_mul(sign).ok_or("exponent too large")?;
+            for (acc, x) in dimension.iter_mut().zip(d) {
+                *acc = acc.checked_add(x.checked_mul(e).ok_or("exponent too large")?).ok_or("exponent too large")?;
+            }
+            scale *= s.powi(e as i32);
+        }
+        if end == rest.len() {
+            break;
+        }
+        sign = if rest[end..].starts_with('/') { -1 } else { 1 };
+        rest = &rest[end + rest[end..].chars().next().map_or(1, char::len_utf8)..];
+    }
+    Ok(Unit {
+        dimension,
+        scale,
+        text: t.to_string(),
+    })
+}
+
+/// `s^2` → (`s`, 2); `s2` → (`s`, 2); `s^-1` → (`s`, -1); `m` → (`m`, 1).
+fn split_exponent(factor: &str) -> Option<(&str, i8)> {
+    if factor.is_empty() {
+        return None;
+    }
+    if let Some((sym, exp)) = factor.split_once('^') {
+        return Some((sym, exp.trim().parse().ok()?));
+    }
+    let digits = factor.trim_end_matches(|c: char| c.is_ascii_digit());
+    if digits.is_empty() || digits.len() == factor.len() {
+        return Some((factor, 1));
+    }
+    Some((digits, factor[digits.len()..].parse().ok()?))
+}
+
+/// How a value in `from` relates to `to`.
+#[derive(Debug, PartialEq)]
+pub enum UnitRelation {
+    Same,
+    /// Same dimension; multiply by the factor.
+    Scaled(f64),
+    DifferentDimension,
+}
+
+pub fn relate(from: &Unit, to: &Unit) -> UnitRelation {
+    if from.dimension != to.dimension {
+        return UnitRelation::DifferentDimension;
+    }
+    let factor = from.scale / to.scale;
+    if (factor - 1.0).abs() < 1e-12 {
+        UnitRelation::Same
+    } else {
+        UnitRelation::Scaled(factor)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn u(s: &str) -> Unit {
+        parse_unit(s).unwrap()
+    }
+
+    #[test]
+    fn prefixes_and_compounds() {
+        assert_eq!(relate(&u("m"), &u("mm")), UnitRelation::Scaled(1000.0));
+        assert_eq!(relate(&u("m/s"), &u("m*s^-1")), UnitRelation::Same);
+        assert_eq!(relate(&u("m/s2"), &u("m/s^2")), UnitRelation::Same);
+        assert_eq!(relate(&u("Hz"), &u("1/s")), UnitRelation::Same);
+        assert_eq!(relate(&u("kg"), &u("g")), UnitRelation::Scaled(1000.0));
+        assert_eq!(relate(&u("min"), &u("s")), UnitRelation::Scaled(60.0));
+        match relate(&u("km/h"), &u("m/s")) {
+            UnitRelation::Scaled(f) => assert!((f - 1.0 / 3.6).abs() < 1e-12),
+            other => panic!("{other:?}"),
+        }
+        match relate(&u("rpm"), &u("rad/s")) {
+            UnitRelation::Scaled(f) => assert!((f - 0.10471975511965977).abs() < 1e-12),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn dimensions_differ() {
+        assert_eq!(relate(&u("m"), &u("s")), UnitRelation::DifferentDimension);
+        assert_eq!(relate(&u("rad"), &u("m")), UnitRelation::DifferentDimension);
+        assert_eq!(relate(&u("Hz"), &u("rad/s")), UnitRelation::DifferentDimension);
+        assert_eq!(describe_dimension(&u("m/s").dimension), "m·s^-1");
+    }
+
+    #[test]
+    fn rejects_nonsense() {
+        for bad in ["", "furlong", "m/", "m^x", "xm", "m^100000", "/"] {
+            assert!(parse_unit(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,265 @@
+//! `ferroc`: the command line. Subcommands parse arguments and call the compiler.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use ferroc_compiler::checks::REGISTRY;
+use ferroc_compiler::diagnostic::Severity;
+use ferroc_compiler::load::{BuiltinLibrary, Options};
+use ferroc_compiler::report::{self, ModelReport};
+use ferroc_compiler::{check_model, CheckResult, Policy};
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// The standard library's manifest, built into the tool.
+const FERROC_STD: &str = include_str!("../components/ferroc_std.lib.xml");
+
+#[derive(Parser)]
+#[command(
+    name = "ferroc",
+    version,
+    about = "Model compiler for robot control software",
+    long_about = "ferroc checks XML application models of robot control software the way a compiler \
+checks a program: structure, types and units, parameters, libraries, deployment.\n\n\
+Examples:\n  ferroc check models/crash_course.xml\n  ferroc check models/ --format sarif > ferroc.sarif\n  ferroc explain T102"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Check models and report findings (exit 0 clean, 1 findings that fail, 2 could not run)
+    #[command(long_about = "Check one or more application models. Folders are searched for `*.xml` files \
+whose root is <application> (manifests `*.lib.xml` and fragments are skipped).\n\n\
+Exit codes: 0 no errors (warnings allowed), 1 errors (or warnings with --deny warnings), 2 ferroc could not run.")]
+    Check(CheckArgs),
+    /// Explain a finding code: what it protects, a bad example, the fix
+    Explain {
+        /// A code (`T102`) or a check name (`incompatible-types`)
+        code: Option<String>,
+        /// List every code with its severity and summary
+        #[arg(long)]
+        list: bool,
+    },
+}
+
+#[derive(clap::Args)]
+struct CheckArgs {
+    /// Model files or folders to check
+    #[arg(required = true)]
+    paths: Vec<PathBuf>,
+    /// Output format
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    format: Format,
+    /// Treat warnings as errors: `--deny warnings`
+    #[arg(long, value_name = "warnings")]
+    deny: Vec<DenyLevel>,
+    /// Silence a code everywhere (repeatable): `--allow T110`
+    #[arg(long, value_name = "CODE")]
+    allow: Vec<String>,
+    /// Extra folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH, `:`-separated)
+    #[arg(long, value_name = "DIR")]
+    lib_path: Vec<PathBuf>,
+    /// Permit <include href> outside the model's folder
+    #[arg(long)]
+    allow_outside_includes: bool,
+    /// Colour in human output: auto, always, never
+    #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
+    color: ColorChoice,
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq)]
+enum Format {
+    /// rustc-style, with source excerpts
+    Human,
+    /// FILE:LINE:COL: SEVERITY[CODE]: message
+    Short,
+    /// documented in docs/json-format.md
+    Json,
+    /// SARIF 2.1.0 for code scanning
+    Sarif,
+    /// JUnit XML, one test case per check
+    Junit,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum DenyLevel {
+    Warnings,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ColorChoice {
+    Auto,
+    Always,
+    Never,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Check(args) => check(args),
+        Command::Explain { code, list } => explain(code, list),
+    }
+}
+
+fn explain(code: Option<String>, list: bool) -> ExitCode {
+    if list || code.is_none() {
+        for c in REGISTRY {
+            println!("{}  {:<8} {:<34} {}", c.code, c.severity.as_str(), c.name, c.summary);
+        }
+        return ExitCode::SUCCESS;
+    }
+    let code = code.unwrap_or_default();
+    match ferroc_compiler::checks::find(&code) {
+        Some(c) => {
+            println!("{} {} ({})\n\n{}\n\n{}", c.code, c.name, c.severity.as_str(), c.summary, c.explanation);
+            ExitCode::SUCCESS
+        }
+        None => {
+            eprintln!("error: no check has the code `{code}`\nhelp: `ferroc explain --list` shows every code");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Model files under the given paths: files as given, folders searched recursively
+/// for `*.xml` files whose root element is <application>.
+fn collect_models(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let mut found = Vec::new();
+            walk(p, &mut found, 0);
+            found.sort();
+            if found.is_empty() {
+                return Err(format!("{} holds no application model (*.xml with root <application>)", p.display()));
+            }
+            out.extend(found);
+        } else if p.exists() {
+            out.push(p.clone());
+        } else {
+            return Err(format!("{}: no such file or folder", p.display()));
+        }
+    }
+    Ok(out)
+}
+
+fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        let Ok(kind) = entry.file_type() else { continue };
+        if kind.is_dir() && depth < 16 {
+            walk(&path, out, depth + 1);
+        } else if kind.is_file() && path.extension().is_some_and(|e| e == "xml") && !path.to_string_lossy().ends_with(".lib.xml") && is_application(&path) {
+            out.push(path);
+        }
+    }
+}
+
+fn is_application(path: &Path) -> bool {
+    let mut head = vec![0u8; 4096];
+    let Ok(mut f) = std::fs::File::open(path) else { return false };
+    let n = std::io::Read::read(&mut f, &mut head).unwrap_or(0);
+    String::from_utf8_lossy(&head[..n]).contains("<application")
+}
+
+fn check(args: CheckArgs) -> ExitCode {
+    let mut lib_path = args.lib_path.clone();
+    if let Ok(env) = std::env::var("FERROC_LIB_PATH") {
+        lib_path.extend(std::env::split_paths(&env));
+    }
+    let options = Options {
+        lib_path,
+        builtins: vec![BuiltinLibrary { name: "ferroc_std".into(), text: FERROC_STD.into() }],
+        allow_outside_includes: args.allow_outside_includes,
+        ..Options::default()
+    };
+    for code in &args.allow {
+        if ferroc_compiler::checks::find(code).is_none() {
+            eprintln!("error: --allow {code}: no check has this code\nhelp: `ferroc explain --list` shows every code");
+            return ExitCode::from(2);
+        }
+    }
+    let policy = Policy { allow: args.allow.clone(), deny_warnings: !args.deny.is_empty() };
+    let models = match collect_models(&args.paths) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let progress = models.len() > 1 && args.format == Format::Human && std::io::stderr().is_terminal();
+    let mut results: Vec<(String, CheckResult)> = Vec::new();
+    let mut tool_errors = Vec::new();
+    for (i, path) in models.iter().enumerate() {
+        if progress {
+            eprint!("\r[{}/{}] {}\x1b[K", i + 1, models.len(), path.display());
+        }
+        match check_model(path, &options, &policy) {
+            Ok(r) => results.push((path.display().to_string(), r)),
+            Err(e) => tool_errors.push(e),
+        }
+    }
+    if progress {
+        eprint!("\r\x1b[K");
+    }
+    let reports: Vec<(String, ModelReport<'_>)> = results
+        .iter()
+        .map(|(p, r)| (p.clone(), ModelReport { sources: &r.sources, diagnostics: &r.diagnostics }))
+        .collect();
+    let mut out = String::new();
+    match args.format {
+        Format::Human => {
+            let color = match args.color {
+                ColorChoice::Always => true,
+                ColorChoice::Never => false,
+                ColorChoice::Auto => std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none(),
+            };
+            for (_, r) in &reports {
+                report::human::render(r, color, &mut out);
+            }
+            let count = |s| reports.iter().map(|(_, r)| r.diagnostics.iter().filter(|d| d.severity == s).count()).sum::<usize>();
+            out.push_str(&format!(
+                "checked {} model(s): {} error(s), {} warning(s), {} note(s)\n",
+                reports.len(),
+                count(Severity::Error),
+                count(Severity::Warning),
+                count(Severity::Note)
+            ));
+        }
+        Format::Short => reports.iter().for_each(|(_, r)| report::short(r, &mut out)),
+        Format::Json => {
+            let models = reports.iter().map(|(p, r)| report::json::model(p, r)).collect();
+            let errors = tool_errors.iter().map(|e| serde_json::Value::String(e.clone())).collect();
+            out = serde_json_pretty(&report::json::document(models, errors));
+        }
+        Format::Sarif => {
+            let rs: Vec<ModelReport<'_>> = reports.iter().map(|(_, r)| ModelReport { sources: r.sources, diagnostics: r.diagnostics }).collect();
+            out = serde_json_pretty(&report::sarif::document(&rs));
+        }
+        Format::Junit => out = report::junit::document(&reports),
+    }
+    let mut stdout = std::io::stdout().lock();
+    let _ = stdout.write_all(out.as_bytes());
+    let _ = stdout.flush();
+    for e in &tool_errors {
+        eprintln!("error: {e}");
+    }
+    if !tool_errors.is_empty() {
+        return ExitCode::from(2);
+    }
+    let failed = reports.iter().any(|(_, r)| r.diagnostics.iter().any(|d| d.severity == Severity::Error));
+    if failed {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+fn serde_json_pretty(v: &serde_json::Value) -> String {
+    let mut s = serde_json::to_string_pretty(v).unwrap_or_default();
+    s.push('\n');
+    s
+}
