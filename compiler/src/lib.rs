@@ -95,12 +95,12 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
             }
         }
     }
-    // Stable order: by file, position, code. Identical findings (one group type used
-    // many times) are reported once.
+    // Stable order: by file, position, code. One finding per code and place: a group type
+    // used many times reports a problem in its definition once.
     items.sort_by(|a, b| {
         (a.primary.span.file, a.primary.span.start, a.code(), &a.message).cmp(&(b.primary.span.file, b.primary.span.start, b.code(), &b.message))
     });
-    items.dedup_by(|a, b| a.code() == b.code() && a.primary.span == b.primary.span && a.message == b.message);
+    items.dedup_by(|a, b| a.code() == b.code() && a.primary.span == b.primary.span);
     Ok(CheckResult {
         sources,
         diagnostics: items,

@@ -2,6 +2,8 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T101",
@@ -16,6 +18,27 @@ Bad:
     <connect from=\"robot/main/controller/velocity_in\" to=\"robot/main/motor/speed\"/>
 
 Fix: swap `from` and `to`, or correct the port name.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t101_wrong_direction",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for c in &ctx.app.connections {
+        let Some((from, to)) = super::ends(ctx, c) else { continue };
+        if !super::emits(c, c.from, &from) {
+            out.push(
+                Diagnostic::new(&CHECK, c.from_span, format!("`{}` does not send data: it is an input here", ctx.sources.text(c.from_span)))
+                    .label("`from` must be an output (or a group input, seen from inside the group)")
+                    .secondary(from.span, "declared here")
+                    .help(if super::emits(c, c.to, &to) { "swap `from` and `to`" } else { "connect from an output port" }),
+            );
+        } else if !super::accepts(c, c.to, &to) {
+            out.push(
+                Diagnostic::new(&CHECK, c.to_span, format!("`{}` does not accept data: it is an output here", ctx.sources.text(c.to_span)))
+                    .label("`to` must be an input (or a group output, seen from inside the group)")
+                    .secondary(to.span, "declared here")
+                    .help("connect to an input port"),
+            );
+        }
+    }
+}

@@ -2,6 +2,10 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::units::{relate, UnitRelation};
+use crate::units::describe_dimension;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T103",
@@ -16,6 +20,21 @@ Bad:
     <connect from=\"robot/main/odom/distance\" to=\"robot/main/ctrl/velocity\"/>  <!-- m → m/s -->
 
 Fix: connect the port that carries the right quantity.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t103_unit_dimension_mismatch",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for c in &ctx.app.connections {
+        let Some((from, to)) = super::ends(ctx, c) else { continue };
+        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else { continue };
+        if relate(a, b) == UnitRelation::DifferentDimension {
+            out.push(
+                Diagnostic::new(&CHECK, c.to_span, format!("`{a}` cannot flow into `{b}`: {} is not {}", describe_dimension(&a.dimension), describe_dimension(&b.dimension)))
+                    .label(format!("expects `{b}`"))
+                    .secondary(c.from_span, format!("sends `{a}`"))
+                    .help("connect a port that carries the same physical quantity"),
+            );
+        }
+    }
+}

@@ -2,6 +2,9 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::units::{relate, UnitRelation};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T104",
@@ -16,6 +19,22 @@ Example:
     <connect from=\"robot/main/sim/ir_front\" to=\"robot/main/viz/distance_cm\"/>  <!-- m → cm: ×100 -->
 
 Nothing to fix; `--allow T104` hides these notes.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t104_implicit_unit_scale",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for c in &ctx.app.connections {
+        let Some((from, to)) = super::ends(ctx, c) else { continue };
+        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else { continue };
+        if let UnitRelation::Scaled(f) = relate(a, b) {
+            out.push(
+                Diagnostic::new(&CHECK, c.span, format!("values are scaled by {f} from `{a}` to `{b}`"))
+                    .label("scale inserted on this connection")
+                    .secondary(c.from_span, format!("in `{a}`"))
+                    .secondary(c.to_span, format!("in `{b}`"))
+                    .help("nothing to do; `--allow T104` hides these notes"),
+            );
+        }
+    }
+}

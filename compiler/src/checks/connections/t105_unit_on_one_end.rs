@@ -2,6 +2,8 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T105",
@@ -15,6 +17,27 @@ Bad:
     <connect from=\"robot/main/sim/ir_front\" to=\"robot/main/dump/in/0\"/>  <!-- m → unit-less -->
 
 Fix: declare the unit on the other port, or add an `<allow code=\"T105\" reason=\"...\"/>`.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t105_unit_on_one_end",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for c in &ctx.app.connections {
+        let Some((from, to)) = super::ends(ctx, c) else { continue };
+        if !from.ty.is_numeric() || !to.ty.is_numeric() {
+            continue;
+        }
+        let a = super::source_unit(ctx, c, &from);
+        let (unitless, with) = match (a, to.unit) {
+            (Some(u), None) => ((c.to_span, &to), (c.from_span, u)),
+            (None, Some(u)) => ((c.from_span, &from), (c.to_span, u)),
+            _ => continue,
+        };
+        out.push(
+            Diagnostic::new(&CHECK, unitless.0, format!("`{}` declares no unit, the other end is in `{}`", unitless.1.name, with.1))
+                .label("no unit")
+                .secondary(with.0, format!("in `{}`", with.1))
+                .help(format!("declare unit=\"{}\" (or the intended unit) on `{}`", with.1, unitless.1.name)),
+        );
+    }
+}

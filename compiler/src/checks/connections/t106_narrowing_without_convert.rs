@@ -2,6 +2,9 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::types::{compat, Compat};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T106",
@@ -18,6 +21,21 @@ Fix:
     <connect from=\"robot/main/nav/speed\" to=\"robot/main/motor/speed_mm\">
       <convert to-type=\"i32\"/>
     </connect>",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t106_narrowing_without_convert",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for c in &ctx.app.connections {
+        let Some((from, to)) = super::ends(ctx, c) else { continue };
+        let Ok((value, dest)) = super::flow_types(ctx, c, &from, &to) else { continue };
+        if compat(&value, &dest) == Compat::NeedsConvert {
+            out.push(
+                Diagnostic::new(&CHECK, c.to_span, format!("`{value}` into `{dest}` can lose data"))
+                    .label(format!("expects `{dest}`"))
+                    .secondary(c.from_span, format!("sends `{value}`"))
+                    .help(format!("make the conversion explicit: <convert to-type=\"{dest}\"/> inside this <connect>")),
+            );
+        }
+    }
+}

@@ -2,6 +2,9 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use std::collections::HashMap;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T107",
@@ -16,6 +19,29 @@ Bad:
     <connect from=\"robot/main/a/out\" to=\"robot/main/b/in\"/>
 
 Fix: delete one, or correct the port it was meant for.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t107_duplicate_connection",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    let mut seen = HashMap::new();
+    for c in &ctx.app.connections {
+        let key = (c.from, c.from_index, c.to, c.to_index);
+        match seen.get(&key) {
+            None => {
+                seen.insert(key, c);
+            }
+            Some(first) => {
+                if first.span == c.span {
+                    continue; // the same <connect> of a group type, in another instance
+                }
+                out.push(
+                    Diagnostic::new(&CHECK, c.span, format!("`{}` is connected twice", super::describe(ctx, c)))
+                        .label("duplicate")
+                        .secondary(first.span, "first connection")
+                        .help("delete one, or correct the port it was meant for"),
+                );
+            }
+        }
+    }
+}

@@ -2,6 +2,8 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T108",
@@ -17,6 +19,31 @@ Bad:
     <connect from=\"robot/main/planner/speed\" to=\"robot/main/motor/speed\"/>
 
 Fix: add an arbitration module (e.g. `ferroc_std.FlexiSelect`) or make the input a queue.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t108_multiple_writers",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for (&endpoint, _) in &ctx.app.nodes {
+        let Some(view) = ctx.app.view(ctx.libraries, endpoint) else { continue };
+        if view.merge {
+            continue;
+        }
+        let mut writers: Vec<_> = ctx.app.incoming(endpoint).filter(|c| c.queue.is_none()).collect();
+        if writers.len() < 2 {
+            continue;
+        }
+        writers.sort_by_key(|c| (c.span.file, c.span.start));
+        writers.dedup_by_key(|c| (c.from, c.from_index));
+        if writers.len() < 2 {
+            continue;
+        }
+        let mut d = Diagnostic::new(&CHECK, writers[1].to_span, format!("{} connections write into the latest-value input `{}`; the last writer wins", writers.len(), view.name))
+            .label("another writer")
+            .secondary(writers[0].to_span, "first writer");
+        for w in &writers[2..] {
+            d = d.secondary(w.to_span, "another writer");
+        }
+        out.push(d.help("arbitrate with a selector module (ferroc_std.FlexiSelect), make the input a queue (queue=\"N\"), or declare fan-in=\"merge\" on the port"));
+    }
+}

@@ -2,6 +2,10 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::ir::Endpoint;
+use crate::library::PortDir;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T109",
@@ -15,6 +19,29 @@ Bad:
     <module name=\"loc\" type=\"nav.Localizer\"/>   <!-- its required input `scan` is never connected -->
 
 Fix: connect the input.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t109_required_input_unconnected",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for (id, m) in ctx.app.modules() {
+        for (k, port) in ctx.app.module_ports(ctx.libraries, id) {
+            if !port.required || port.dir != PortDir::In {
+                continue;
+            }
+            let ep = Endpoint::Port { element: id, port: k };
+            if ctx.app.nodes.contains_key(&ep) && ctx.app.incoming(ep).next().is_some() {
+                continue;
+            }
+            let element = ctx.app.element(id);
+            let mut d = Diagnostic::new(&CHECK, element.name_span, format!("required input `{}` of `{}` is not connected", port.name, ctx.app.path(id)))
+                .label(format!("`{}` needs `{}`", element.name, port.name))
+                .secondary(port.span, "declared required here");
+            if let Some(at) = element.instantiated_at {
+                d = d.secondary(at, "in this instance");
+            }
+            let _ = m;
+            out.push(d.help(format!("add <connect from=\"…\" to=\"{}/{}\"/>", element.name, port.name)));
+        }
+    }
+}

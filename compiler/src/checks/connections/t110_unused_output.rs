@@ -2,6 +2,10 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::ir::Endpoint;
+use crate::library::{PortDir, PortRole};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T110",
@@ -15,6 +19,27 @@ Example:
     <module name=\"odom\" type=\"nav.Odometry\"/>   <!-- its output `pose` is not connected -->
 
 Nothing to fix when intended; `--allow T110` hides these notes.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t110_unused_output",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for (id, _) in ctx.app.modules() {
+        let unused: Vec<&str> = ctx
+            .app
+            .module_ports(ctx.libraries, id)
+            .filter(|(k, p)| p.dir == PortDir::Out && p.role != PortRole::Meta && !ctx.app.has_outgoing(Endpoint::Port { element: id, port: *k }))
+            .map(|(_, p)| p.name.as_str())
+            .collect();
+        if unused.is_empty() {
+            continue;
+        }
+        let element = ctx.app.element(id);
+        let list = unused.iter().map(|u| format!("`{u}`")).collect::<Vec<_>>().join(", ");
+        out.push(
+            Diagnostic::new(&CHECK, element.name_span, format!("output(s) {list} of `{}` are not connected", ctx.app.path(id)))
+                .label("computed for nobody")
+                .help("connect them, or `--allow T110` when unused outputs are intended"),
+        );
+    }
+}

@@ -2,6 +2,8 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T111",
@@ -15,6 +17,26 @@ Bad:
     <connect from=\"robot/main/cam/image_view\" to=\"station/ui/viewer/image\"/>  <!-- type has serde=\"false\" -->
 
 Fix: connect a serialisable type, or move both modules into one part.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t111_not_serialisable_across_parts",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for c in &ctx.app.connections {
+        let a = ctx.app.element(c.from.element()).part;
+        let b = ctx.app.element(c.to.element()).part;
+        if a == b || a.is_none() || b.is_none() {
+            continue;
+        }
+        let Some((from, _)) = super::ends(ctx, c) else { continue };
+        if ctx.libraries.serialisable(&from.ty) {
+            continue;
+        }
+        out.push(
+            Diagnostic::new(&CHECK, c.span, format!("`{}` crosses from part `{}` to part `{}`, but `{}` cannot be serialised", super::describe(ctx, c), ctx.app.path(a.unwrap_or(c.scope)), ctx.app.path(b.unwrap_or(c.scope)), from.ty))
+                .label("between two processes")
+                .secondary(from.span, format!("`{}` has type `{}`", from.name, from.ty))
+                .help("declare the type with serde=\"true\" in its manifest (and implement serde for it), or keep both modules in one part"),
+        );
+    }
+}

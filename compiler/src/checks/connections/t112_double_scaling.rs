@@ -2,6 +2,9 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::units::{relate, UnitRelation};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T112",
@@ -15,6 +18,24 @@ Bad:
     <connect from=\"a/dist_m\" to=\"b/dist_mm\"><convert scale=\"1000\"/></connect>
 
 Fix: remove the `scale`; declared units do the conversion.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t112_double_scaling",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for c in &ctx.app.connections {
+        let Some((from, to)) = super::ends(ctx, c) else { continue };
+        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else { continue };
+        let UnitRelation::Scaled(f) = relate(a, b) else { continue };
+        for step in &c.converts {
+            if let Some((_, span)) = step.scale {
+                out.push(
+                    Diagnostic::new(&CHECK, span, format!("this scale comes on top of the automatic `{a}` → `{b}` factor {f}"))
+                        .label("second scaling")
+                        .secondary(c.span, "units already scaled on this connection")
+                        .help("remove `scale`; the declared units convert the value"),
+                );
+            }
+        }
+    }
+}

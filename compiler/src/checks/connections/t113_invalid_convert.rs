@@ -2,6 +2,8 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T113",
@@ -17,6 +19,20 @@ Bad:
     <connect from=\"a/speed\" to=\"b/x\"><convert index=\"0\"/></connect>   <!-- speed is f64, not an array -->
 
 Fix: remove the step or apply it to a port of the right type.",
-    pass: None,
+    pass: Some(run),
     fixtures: "connections/t113_invalid_convert",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for c in &ctx.app.connections {
+        let Some((from, to)) = super::ends(ctx, c) else { continue };
+        if let Err(e) = super::flow_types(ctx, c, &from, &to) {
+            out.push(
+                Diagnostic::new(&CHECK, e.span, e.message)
+                    .label("does not apply to this value")
+                    .secondary(from.span, format!("the source `{}` is `{}`", from.name, from.ty))
+                    .help("remove the step, or change it to fit the value's type"),
+            );
+        }
+    }
+}

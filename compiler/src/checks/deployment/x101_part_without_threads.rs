@@ -2,6 +2,9 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::ir::ElementKind;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "X101",
@@ -14,6 +17,24 @@ Bad:
     <part name=\"station\" host=\"base-pc\"/>
 
 Fix: add a `<thread>` with the modules it should run, or remove the part.",
-    pass: None,
+    pass: Some(run),
     fixtures: "deployment/x101_part_without_threads",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    let mut has_thread = vec![false; ctx.app.elements.len()];
+    for e in &ctx.app.elements {
+        if let (ElementKind::Thread { .. }, Some(part)) = (&e.kind, e.part) {
+            has_thread[part.0 as usize] = true;
+        }
+    }
+    for (i, e) in ctx.app.elements.iter().enumerate() {
+        if matches!(e.kind, ElementKind::Part { .. }) && !has_thread[i] {
+            out.push(
+                Diagnostic::new(&CHECK, e.name_span, format!("part `{}` has no thread container; its process would execute nothing", e.name))
+                    .label("no <thread> in this part")
+                    .help("add a <thread> holding the modules it should run, or remove the part"),
+            );
+        }
+    }
+}

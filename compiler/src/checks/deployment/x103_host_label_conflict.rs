@@ -2,6 +2,11 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::ir::ElementKind;
+use crate::source::Span;
+use std::collections::HashMap;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "X103",
@@ -16,6 +21,25 @@ Bad:
     <part name=\"b\" host=\"robot-pc\"/>
 
 Fix: write the host label the same way everywhere.",
-    pass: None,
+    pass: Some(run),
     fixtures: "deployment/x103_host_label_conflict",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    let mut seen: HashMap<String, (&str, Span)> = HashMap::new();
+    for e in &ctx.app.elements {
+        let ElementKind::Part { host: Some((host, span)) } = &e.kind else { continue };
+        match seen.get(&host.to_ascii_lowercase()) {
+            Some((first, first_span)) if *first != host.as_str() => out.push(
+                Diagnostic::new(&CHECK, *span, format!("host `{host}` differs from `{first}` only in letter case"))
+                    .label("same host, other spelling")
+                    .secondary(*first_span, "first spelling")
+                    .help(format!("write `{first}` here too (host names are case-insensitive)")),
+            ),
+            Some(_) => {}
+            None => {
+                seen.insert(host.to_ascii_lowercase(), (host.as_str(), *span));
+            }
+        }
+    }
+}

@@ -2,6 +2,9 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::source::Span;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "X104",
@@ -16,6 +19,36 @@ Bad:
     <connect from=\"robot/a/x/out\" to=\"robot/b/y/in\" reliability=\"reliable\"/>  <!-- same part -->
 
 Fix: remove the setting, or correct the sharing mode.",
-    pass: None,
+    pass: Some(run),
     fixtures: "deployment/x104_pointless_connection_settings",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for c in &ctx.app.connections {
+        let a = ctx.app.element(c.from.element()).part;
+        let b = ctx.app.element(c.to.element()).part;
+        let mut report = |span: Span, msg: String, help: &str| {
+            out.push(Diagnostic::new(&CHECK, span, msg).label("has no effect").help(help.to_string()));
+        };
+        if a == b {
+            let settings = [("sharing", c.sharing.as_ref().map(|s| s.1)), ("reliability", c.reliability), ("min-interval", c.min_interval), ("period", c.period)];
+            for (name, span) in settings {
+                if let Some(span) = span {
+                    report(span, format!("`{name}` configures transport between parts, but both ends are in one part"), "remove it, or move one end into another part");
+                }
+            }
+            continue;
+        }
+        let sharing = c.sharing.as_ref().map(|s| s.0.as_str()).unwrap_or("on-change");
+        if let Some(span) = c.period {
+            if sharing != "periodic" {
+                report(span, "`period` only applies with sharing=\"periodic\"".into(), "add sharing=\"periodic\" or remove `period`");
+            } else if c.queue.is_some() {
+                report(span, "a periodic sample of a queue would drop queued items".into(), "use sharing=\"on-change\" for queues");
+            }
+        }
+        if let (Some(span), "periodic") = (c.min_interval, sharing) {
+            report(span, "`min-interval` only applies with sharing=\"on-change\"".into(), "remove `min-interval`, or use sharing=\"on-change\"");
+        }
+    }
+}

@@ -2,6 +2,11 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::ir::ElementKind;
+use crate::source::Span;
+use std::collections::HashMap;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "X105",
@@ -15,6 +20,27 @@ Bad:
     <part name=\"Robot\"/> <part name=\"robot\"/>
 
 Fix: give the parts names that differ in more than case.",
-    pass: None,
+    pass: Some(run),
     fixtures: "deployment/x105_bundle_output_collision",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    let mut seen: HashMap<String, (&str, Span)> = HashMap::new();
+    for e in &ctx.app.elements {
+        if !matches!(e.kind, ElementKind::Part { .. }) {
+            continue;
+        }
+        let key = e.name.to_ascii_lowercase();
+        match seen.get(&key) {
+            Some((first, span)) => out.push(
+                Diagnostic::new(&CHECK, e.name_span, format!("part `{}` and part `{first}` would write the same bundle files", e.name))
+                    .label("collides")
+                    .secondary(*span, "the other part")
+                    .help("give the parts names that differ in more than letter case"),
+            ),
+            None => {
+                seen.insert(key, (e.name.as_str(), e.name_span));
+            }
+        }
+    }
+}

@@ -2,6 +2,8 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "M112",
@@ -17,6 +19,21 @@ Bad:
     </part>
 
 Fix: put it in a thread container: `<thread name=\"main\" period=\"10ms\"> ... </thread>`.",
-    pass: None,
+    pass: Some(run),
     fixtures: "model/m112_module_not_executed",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for (id, _) in ctx.app.modules() {
+        let element = ctx.app.element(id);
+        if element.thread.is_some() {
+            continue;
+        }
+        let mut d = Diagnostic::new(&CHECK, element.name_span, format!("module `{}` is not inside any thread container, so it never runs", ctx.app.path(id)))
+            .label("no <thread> above this module");
+        if let Some(at) = element.instantiated_at {
+            d = d.secondary(at, "in this instance");
+        }
+        out.push(d.help("move it (or its group) into a <thread name=\"…\" period=\"10ms\"> of its part"));
+    }
+}

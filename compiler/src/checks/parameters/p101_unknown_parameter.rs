@@ -2,6 +2,8 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{did_you_mean, Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "P101",
@@ -15,6 +17,25 @@ Bad:
     <module name=\"laser\" type=\"nav.LaserDriver\"><param name=\"rte\">20 Hz</param></module>
 
 Fix: use a declared name (the message suggests the closest).",
-    pass: None,
+    pass: Some(run),
     fixtures: "parameters/p101_unknown_parameter",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for (id, m) in ctx.app.modules() {
+        let Some(mt) = ctx.app.module_type(ctx.libraries, id) else { continue };
+        for p in &m.params {
+            if mt.param(&p.name).is_some() {
+                continue;
+            }
+            let d = Diagnostic::new(&CHECK, p.name_span, format!("module type `{}` has no parameter `{}`", mt.qualified, p.name))
+                .label("unknown parameter")
+                .secondary(mt.span, "module type declared here");
+            out.push(match did_you_mean(&p.name, mt.params.iter().map(|d| d.name.as_str())) {
+                Some(s) => d.help(format!("did you mean `{s}`?")),
+                None if mt.params.is_empty() => d.help("this module type has no parameters"),
+                None => d.help(format!("its parameters are: {}", mt.params.iter().map(|d| d.name.as_str()).collect::<Vec<_>>().join(", "))),
+            });
+        }
+    }
+}

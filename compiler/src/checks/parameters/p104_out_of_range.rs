@@ -1,4 +1,6 @@
 //! P104 `out-of-range`: A parameter value lies outside the declared `min`/`max`.
+//!
+//! Raised by the value pass in `p103_unparsable_value.rs` (one parse, three verdicts).
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;

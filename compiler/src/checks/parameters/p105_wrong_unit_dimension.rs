@@ -1,4 +1,6 @@
 //! P105 `wrong-unit-dimension`: A parameter value carries a unit of another dimension.
+//!
+//! Raised by the value pass in `p103_unparsable_value.rs` (one parse, three verdicts).
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;

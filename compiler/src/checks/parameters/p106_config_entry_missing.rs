@@ -1,4 +1,6 @@
 //! P106 `config-entry-missing`: A `config=` reference points to a missing file or entry.
+//!
+//! Raised by the resolver when it reads the config file (`resolve/module.rs`).
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;

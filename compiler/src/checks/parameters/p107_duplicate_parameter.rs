@@ -2,6 +2,8 @@
 
 use crate::checks::CheckInfo;
 use crate::diagnostic::Severity;
+use crate::checks::PassContext;
+use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "P107",
@@ -15,6 +17,21 @@ Bad:
     <param name=\"rate\">20 Hz</param>
 
 Fix: keep one.",
-    pass: None,
+    pass: Some(run),
     fixtures: "parameters/p107_duplicate_parameter",
 };
+
+fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for (_, m) in ctx.app.modules() {
+        for (i, p) in m.params.iter().enumerate() {
+            if let Some(first) = m.params[..i].iter().find(|q| q.name == p.name) {
+                out.push(
+                    Diagnostic::new(&CHECK, p.name_span, format!("parameter `{}` is set twice", p.name))
+                        .label("second value")
+                        .secondary(first.name_span, "first value")
+                        .help("keep one <param> per parameter"),
+                );
+            }
+        }
+    }
+}
