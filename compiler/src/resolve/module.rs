@@ -85,6 +85,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 .label("unknown library");
             self.loader.diags.push(match did_you_mean(lib, names) {
                 Some(s) => d.help(format!("did you mean `{s}.{short}`?")),
+                None if self.loader.options.builtins.iter().any(|b| b.name == lib) => d.help(format!("add <use library=\"{lib}\"/>")),
                 None => d.help(format!("add <use library=\"{lib}\" manifest=\"…\"/>")),
             });
             return None;

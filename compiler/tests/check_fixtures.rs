@@ -1,0 +1,116 @@
+//! Every registered check has fixtures next to its file (see `checks/mod.rs`):
+//! `fires*.xml` must raise the check at each `<!-- expect: CODE at LINE:COL -->`, and
+//! `silent*.xml` must not raise it at all. The rendered findings of each fixture are
+//! snapshot-tested against `NAME.out`; `FERROC_BLESS=1 cargo test` rewrites snapshots.
+
+use ferroc_compiler::checks::REGISTRY;
+use ferroc_compiler::load::{BuiltinLibrary, Options};
+use ferroc_compiler::report::{self, ModelReport};
+use ferroc_compiler::{check_model, Policy};
+use std::path::{Path, PathBuf};
+
+fn options() -> Options {
+    Options {
+        builtins: vec![BuiltinLibrary {
+            name: "ferroc_std".into(),
+            text: include_str!("../../components/ferroc_std.lib.xml").into(),
+        }],
+        ..Options::default()
+    }
+}
+
+/// `<!-- expect: T102 at 12:7 -->` markers.
+fn expectations(text: &str) -> Vec<(String, usize, usize)> {
+    text.match_indices("<!-- expect:")
+        .filter_map(|(i, _)| {
+            let rest = &text[i + 12..];
+            let body = rest[..rest.find("-->")?].trim();
+            let (code, at) = body.split_once(" at ")?;
+            let (line, col) = at.trim().split_once(':')?;
+            Some((code.trim().to_string(), line.parse().ok()?, col.parse().ok()?))
+        })
+        .collect()
+}
+
+fn render(path: &Path) -> (Vec<(String, usize, usize)>, String) {
+    let result = check_model(path, &options(), &Policy::default()).expect("fixture readable");
+    let report = ModelReport { sources: &result.sources, diagnostics: &result.diagnostics };
+    let mut out = String::new();
+    report::short(&report, &mut out);
+    out.push('\n');
+    report::human::render(&report, false, &mut out);
+    let found = result
+        .diagnostics
+        .iter()
+        .map(|d| {
+            let (_, l, c) = result.sources.location(d.primary.span);
+            (d.code().to_string(), l, c)
+        })
+        .collect();
+    (found, out)
+}
+
+fn fixtures(dir: &Path, prefix: &str) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|rd| rd.flatten().map(|e| e.path()).collect())
+        .unwrap_or_default();
+    v.retain(|p| {
+        let name = p.file_name().unwrap().to_string_lossy();
+        name.starts_with(prefix) && name.ends_with(".xml")
+    });
+    v.sort();
+    v
+}
+
+#[test]
+fn every_check_fires_and_stays_silent_where_it_should() {
+    let bless = std::env::var_os("FERROC_BLESS").is_some();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/checks");
+    // Paths in rendered output are relative to the compiler crate.
+    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).unwrap();
+    let mut failures = Vec::new();
+    for check in REGISTRY {
+        let dir = root.join(check.fixtures);
+        let fires = fixtures(&dir, "fires");
+        let silent = fixtures(&dir, "silent");
+        if fires.is_empty() || silent.is_empty() {
+            failures.push(format!("{}: needs fires*.xml and silent*.xml in {}", check.code, dir.display()));
+            continue;
+        }
+        for f in &fires {
+            let text = std::fs::read_to_string(f).unwrap();
+            let expected = expectations(&text);
+            if !expected.iter().any(|(c, _, _)| c == check.code) {
+                failures.push(format!("{}: {} has no `<!-- expect: {} at L:C -->`", check.code, f.display(), check.code));
+            }
+            let (found, rendered) = render(f);
+            for e in &expected {
+                if !found.contains(e) {
+                    failures.push(format!("{}: expected {} at {}:{} not found in {}; found {:?}", check.code, e.0, e.1, e.2, f.display(), found));
+                }
+            }
+            snapshot(f, &rendered, bless, &mut failures);
+        }
+        for s in &silent {
+            let (found, rendered) = render(s);
+            if found.iter().any(|(c, _, _)| c == check.code) {
+                failures.push(format!("{}: must stay silent on {}, but:\n{rendered}", check.code, s.display()));
+            }
+            snapshot(s, &rendered, bless, &mut failures);
+        }
+    }
+    assert!(failures.is_empty(), "{} fixture failure(s):\n{}", failures.len(), failures.join("\n"));
+}
+
+fn snapshot(fixture: &Path, rendered: &str, bless: bool, failures: &mut Vec<String>) {
+    let out = fixture.with_extension("out");
+    if bless {
+        std::fs::write(&out, rendered).unwrap();
+        return;
+    }
+    match std::fs::read_to_string(&out) {
+        Ok(expected) if expected == rendered => {}
+        Ok(expected) => failures.push(format!("snapshot {} differs (FERROC_BLESS=1 to update):\n--- expected\n{expected}\n--- actual\n{rendered}", out.display())),
+        Err(_) => failures.push(format!("snapshot {} missing (run with FERROC_BLESS=1)", out.display())),
+    }
+}

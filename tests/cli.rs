@@ -1,0 +1,114 @@
+//! End-to-end tests of the `ferroc` command line on the real models in `models/`.
+
+use std::path::Path;
+use std::process::Command;
+
+fn ferroc(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("ferroc runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn every_bundled_model_checks_clean() {
+    let (code, out, err) = ferroc(&["check", "models", "--format", "short"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(!out.contains("error["), "{out}");
+    assert!(!out.contains("warning["), "{out}");
+}
+
+#[test]
+fn a_broken_model_exits_1_with_location() {
+    let dir = tempdir("broken");
+    let model = dir.join("m.xml");
+    std::fs::write(
+        &model,
+        "<application name=\"a\" version=\"1\">\n  <use library=\"ferroc_std\"/>\n  <part name=\"p\">\n    <thread name=\"t\" period=\"10ms\">\n      <module name=\"c\" type=\"ferroc_std.Constnt\"/>\n    </thread>\n  </part>\n</application>\n",
+    )
+    .unwrap();
+    let (code, out, _) = ferroc(&["check", model.to_str().unwrap(), "--format", "short"]);
+    assert_eq!(code, 1);
+    assert!(out.contains("m.xml:5:30: error[M111]"), "{out}");
+    assert!(out.contains("M111"), "{out}");
+    let (_, human, _) = ferroc(&["check", model.to_str().unwrap(), "--color", "never"]);
+    assert!(human.contains("help: did you mean `ferroc_std.Constant`?"), "{human}");
+}
+
+#[test]
+fn unreadable_input_and_bad_arguments_exit_2() {
+    assert_eq!(ferroc(&["check", "no/such/model.xml"]).0, 2);
+    assert_eq!(ferroc(&["check", "models", "--allow", "Q999"]).0, 2);
+    assert_eq!(ferroc(&["explain", "Q999"]).0, 2);
+    assert_eq!(ferroc(&["check"]).0, 2);
+}
+
+#[test]
+fn deny_warnings_and_allow() {
+    let dir = tempdir("deny");
+    let model = dir.join("m.xml");
+    // A part without threads is a warning (X101).
+    std::fs::write(&model, "<application name=\"a\" version=\"1\">\n  <part name=\"idle\"/>\n</application>\n").unwrap();
+    let m = model.to_str().unwrap();
+    assert_eq!(ferroc(&["check", m]).0, 0);
+    assert_eq!(ferroc(&["check", m, "--deny", "warnings"]).0, 1);
+    let (code, out, _) = ferroc(&["check", m, "--deny", "warnings", "--allow", "X101", "--format", "short"]);
+    assert_eq!((code, out.as_str()), (0, ""));
+}
+
+#[test]
+fn explain_covers_every_code() {
+    let (code, list, _) = ferroc(&["explain", "--list"]);
+    assert_eq!(code, 0);
+    let codes: Vec<&str> = list.lines().map(|l| l.split_whitespace().next().unwrap()).collect();
+    assert!(codes.len() >= 40, "{list}");
+    for c in codes {
+        let (code, text, _) = ferroc(&["explain", c]);
+        assert_eq!(code, 0);
+        assert!(text.contains("Fix") || text.contains("fix") || text.contains("Nothing to fix"), "{c}: {text}");
+    }
+}
+
+#[test]
+fn machine_formats_are_well_formed() {
+    let dir = tempdir("formats");
+    let model = dir.join("m.xml");
+    std::fs::write(&model, "<application name=\"a\" version=\"1\">\n  <part name=\"idle\" host=\"bad host\"/>\n</application>\n").unwrap();
+    let m = model.to_str().unwrap();
+    let (_, json, _) = ferroc(&["check", m, "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).expect("json");
+    assert_eq!(v["format_version"], 1);
+    let d = &v["models"][0]["diagnostics"];
+    assert!(d.as_array().unwrap().iter().any(|d| d["code"] == "X102" && d["primary"]["location"]["line"] == 2));
+    let (_, sarif, _) = ferroc(&["check", m, "--format", "sarif"]);
+    let s: serde_json::Value = serde_json::from_str(&sarif).expect("sarif");
+    assert_eq!(s["version"], "2.1.0");
+    let result = &s["runs"][0]["results"][0];
+    assert_eq!(result["ruleId"], "X101");
+    assert_eq!(result["locations"][0]["physicalLocation"]["region"]["startLine"], 2);
+    let (_, junit, _) = ferroc(&["check", m, "--format", "junit"]);
+    assert!(junit.contains("<testcase classname=") && junit.contains("<failure"), "{junit}");
+}
+
+#[test]
+fn hostile_include_is_a_diagnostic() {
+    let dir = tempdir("hostile");
+    let model = dir.join("m.xml");
+    std::fs::write(&model, "<application name=\"a\" version=\"1\">\n  <include href=\"../../../../../etc/passwd\"/>\n</application>\n").unwrap();
+    let (code, out, _) = ferroc(&["check", model.to_str().unwrap(), "--format", "short"]);
+    assert_eq!(code, 1);
+    assert!(out.contains(":2:18: error[M113]"), "{out}");
+}
+
+fn tempdir(name: &str) -> std::path::PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
