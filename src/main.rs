@@ -150,6 +150,9 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
     for entry in entries.flatten() {
         let path = entry.path();
         let Ok(kind) = entry.file_type() else { continue };
+        if entry.file_name().to_string_lossy().starts_with('.') {
+            continue; // hidden files and folders (.git, editor backups)
+        }
         if kind.is_dir() && depth < 16 {
             walk(&path, out, depth + 1);
         } else if kind.is_file() && path.extension().is_some_and(|e| e == "xml") && !path.to_string_lossy().ends_with(".lib.xml") && is_application(&path) {
