@@ -30,9 +30,11 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Check models and report findings (exit 0 clean, 1 findings that fail, 2 could not run)
-    #[command(long_about = "Check one or more application models. Folders are searched for `*.xml` files \
+    #[command(
+        long_about = "Check one or more application models. Folders are searched for `*.xml` files \
 whose root is <application> (manifests `*.lib.xml` and fragments are skipped).\n\n\
-Exit codes: 0 no errors (warnings allowed), 1 errors (or warnings with --deny warnings), 2 ferroc could not run.")]
+Exit codes: 0 no errors (warnings allowed), 1 errors (or warnings with --deny warnings), 2 ferroc could not run."
+    )]
     Check(CheckArgs),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
@@ -106,14 +108,27 @@ fn main() -> ExitCode {
 fn explain(code: Option<String>, list: bool) -> ExitCode {
     if list || code.is_none() {
         for c in REGISTRY {
-            println!("{}  {:<8} {:<34} {}", c.code, c.severity.as_str(), c.name, c.summary);
+            println!(
+                "{}  {:<8} {:<34} {}",
+                c.code,
+                c.severity.as_str(),
+                c.name,
+                c.summary
+            );
         }
         return ExitCode::SUCCESS;
     }
     let code = code.unwrap_or_default();
     match ferroc_compiler::checks::find(&code) {
         Some(c) => {
-            println!("{} {} ({})\n\n{}\n\n{}", c.code, c.name, c.severity.as_str(), c.summary, c.explanation);
+            println!(
+                "{} {} ({})\n\n{}\n\n{}",
+                c.code,
+                c.name,
+                c.severity.as_str(),
+                c.summary,
+                c.explanation
+            );
             ExitCode::SUCCESS
         }
         None => {
@@ -133,7 +148,10 @@ fn collect_models(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
             walk(p, &mut found, 0);
             found.sort();
             if found.is_empty() {
-                return Err(format!("{} holds no application model (*.xml with root <application>)", p.display()));
+                return Err(format!(
+                    "{} holds no application model (*.xml with root <application>)",
+                    p.display()
+                ));
             }
             out.extend(found);
         } else if p.exists() {
@@ -146,16 +164,24 @@ fn collect_models(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
 }
 
 fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
     for entry in entries.flatten() {
         let path = entry.path();
-        let Ok(kind) = entry.file_type() else { continue };
+        let Ok(kind) = entry.file_type() else {
+            continue;
+        };
         if entry.file_name().to_string_lossy().starts_with('.') {
             continue; // hidden files and folders (.git, editor backups)
         }
         if kind.is_dir() && depth < 16 {
             walk(&path, out, depth + 1);
-        } else if kind.is_file() && path.extension().is_some_and(|e| e == "xml") && !path.to_string_lossy().ends_with(".lib.xml") && is_application(&path) {
+        } else if kind.is_file()
+            && path.extension().is_some_and(|e| e == "xml")
+            && !path.to_string_lossy().ends_with(".lib.xml")
+            && is_application(&path)
+        {
             out.push(path);
         }
     }
@@ -163,7 +189,9 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
 
 fn is_application(path: &Path) -> bool {
     let mut head = vec![0u8; 4096];
-    let Ok(mut f) = std::fs::File::open(path) else { return false };
+    let Ok(mut f) = std::fs::File::open(path) else {
+        return false;
+    };
     let n = std::io::Read::read(&mut f, &mut head).unwrap_or(0);
     String::from_utf8_lossy(&head[..n]).contains("<application")
 }
@@ -175,7 +203,10 @@ fn check(args: CheckArgs) -> ExitCode {
     }
     let options = Options {
         lib_path,
-        builtins: vec![BuiltinLibrary { name: "ferroc_std".into(), text: FERROC_STD.into() }],
+        builtins: vec![BuiltinLibrary {
+            name: "ferroc_std".into(),
+            text: FERROC_STD.into(),
+        }],
         allow_outside_includes: args.allow_outside_includes,
         ..Options::default()
     };
@@ -185,7 +216,10 @@ fn check(args: CheckArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     }
-    let policy = Policy { allow: args.allow.clone(), deny_warnings: !args.deny.is_empty() };
+    let policy = Policy {
+        allow: args.allow.clone(),
+        deny_warnings: !args.deny.is_empty(),
+    };
     let models = match collect_models(&args.paths) {
         Ok(m) => m,
         Err(e) => {
@@ -193,7 +227,8 @@ fn check(args: CheckArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let progress = models.len() > 1 && args.format == Format::Human && std::io::stderr().is_terminal();
+    let progress =
+        models.len() > 1 && args.format == Format::Human && std::io::stderr().is_terminal();
     let mut results: Vec<(String, CheckResult)> = Vec::new();
     let mut tool_errors = Vec::new();
     for (i, path) in models.iter().enumerate() {
@@ -210,7 +245,15 @@ fn check(args: CheckArgs) -> ExitCode {
     }
     let reports: Vec<(String, ModelReport<'_>)> = results
         .iter()
-        .map(|(p, r)| (p.clone(), ModelReport { sources: &r.sources, diagnostics: &r.diagnostics }))
+        .map(|(p, r)| {
+            (
+                p.clone(),
+                ModelReport {
+                    sources: &r.sources,
+                    diagnostics: &r.diagnostics,
+                },
+            )
+        })
         .collect();
     let mut out = String::new();
     match args.format {
@@ -218,12 +261,19 @@ fn check(args: CheckArgs) -> ExitCode {
             let color = match args.color {
                 ColorChoice::Always => true,
                 ColorChoice::Never => false,
-                ColorChoice::Auto => std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none(),
+                ColorChoice::Auto => {
+                    std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none()
+                }
             };
             for (_, r) in &reports {
                 report::human::render(r, color, &mut out);
             }
-            let count = |s| reports.iter().map(|(_, r)| r.diagnostics.iter().filter(|d| d.severity == s).count()).sum::<usize>();
+            let count = |s| {
+                reports
+                    .iter()
+                    .map(|(_, r)| r.diagnostics.iter().filter(|d| d.severity == s).count())
+                    .sum::<usize>()
+            };
             out.push_str(&format!(
                 "checked {} model(s): {} error(s), {} warning(s), {} note(s)\n",
                 reports.len(),
@@ -234,12 +284,24 @@ fn check(args: CheckArgs) -> ExitCode {
         }
         Format::Short => reports.iter().for_each(|(_, r)| report::short(r, &mut out)),
         Format::Json => {
-            let models = reports.iter().map(|(p, r)| report::json::model(p, r)).collect();
-            let errors = tool_errors.iter().map(|e| serde_json::Value::String(e.clone())).collect();
+            let models = reports
+                .iter()
+                .map(|(p, r)| report::json::model(p, r))
+                .collect();
+            let errors = tool_errors
+                .iter()
+                .map(|e| serde_json::Value::String(e.clone()))
+                .collect();
             out = serde_json_pretty(&report::json::document(models, errors));
         }
         Format::Sarif => {
-            let rs: Vec<ModelReport<'_>> = reports.iter().map(|(_, r)| ModelReport { sources: r.sources, diagnostics: r.diagnostics }).collect();
+            let rs: Vec<ModelReport<'_>> = reports
+                .iter()
+                .map(|(_, r)| ModelReport {
+                    sources: r.sources,
+                    diagnostics: r.diagnostics,
+                })
+                .collect();
             out = serde_json_pretty(&report::sarif::document(&rs));
         }
         Format::Junit => out = report::junit::document(&reports),
@@ -253,7 +315,9 @@ fn check(args: CheckArgs) -> ExitCode {
     if !tool_errors.is_empty() {
         return ExitCode::from(2);
     }
-    let failed = reports.iter().any(|(_, r)| r.diagnostics.iter().any(|d| d.severity == Severity::Error));
+    let failed = reports
+        .iter()
+        .any(|(_, r)| r.diagnostics.iter().any(|d| d.severity == Severity::Error));
     if failed {
         ExitCode::from(1)
     } else {

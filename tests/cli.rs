@@ -38,7 +38,10 @@ fn a_broken_model_exits_1_with_location() {
     assert!(out.contains("m.xml:5:30: error[M111]"), "{out}");
     assert!(out.contains("M111"), "{out}");
     let (_, human, _) = ferroc(&["check", model.to_str().unwrap(), "--color", "never"]);
-    assert!(human.contains("help: did you mean `ferroc_std.Constant`?"), "{human}");
+    assert!(
+        human.contains("help: did you mean `ferroc_std.Constant`?"),
+        "{human}"
+    );
 }
 
 #[test]
@@ -54,11 +57,17 @@ fn deny_warnings_and_allow() {
     let dir = tempdir("deny");
     let model = dir.join("m.xml");
     // A part without threads is a warning (X101).
-    std::fs::write(&model, "<application name=\"a\" version=\"1\">\n  <part name=\"idle\"/>\n</application>\n").unwrap();
+    std::fs::write(
+        &model,
+        "<application name=\"a\" version=\"1\">\n  <part name=\"idle\"/>\n</application>\n",
+    )
+    .unwrap();
     let m = model.to_str().unwrap();
     assert_eq!(ferroc(&["check", m]).0, 0);
     assert_eq!(ferroc(&["check", m, "--deny", "warnings"]).0, 1);
-    let (code, out, _) = ferroc(&["check", m, "--deny", "warnings", "--allow", "X101", "--format", "short"]);
+    let (code, out, _) = ferroc(&[
+        "check", m, "--deny", "warnings", "--allow", "X101", "--format", "short",
+    ]);
     assert_eq!((code, out.as_str()), (0, ""));
 }
 
@@ -66,12 +75,18 @@ fn deny_warnings_and_allow() {
 fn explain_covers_every_code() {
     let (code, list, _) = ferroc(&["explain", "--list"]);
     assert_eq!(code, 0);
-    let codes: Vec<&str> = list.lines().map(|l| l.split_whitespace().next().unwrap()).collect();
+    let codes: Vec<&str> = list
+        .lines()
+        .map(|l| l.split_whitespace().next().unwrap())
+        .collect();
     assert!(codes.len() >= 40, "{list}");
     for c in codes {
         let (code, text, _) = ferroc(&["explain", c]);
         assert_eq!(code, 0);
-        assert!(text.contains("Fix") || text.contains("fix") || text.contains("Nothing to fix"), "{c}: {text}");
+        assert!(
+            text.contains("Fix") || text.contains("fix") || text.contains("Nothing to fix"),
+            "{c}: {text}"
+        );
     }
 }
 
@@ -85,15 +100,25 @@ fn machine_formats_are_well_formed() {
     let v: serde_json::Value = serde_json::from_str(&json).expect("json");
     assert_eq!(v["format_version"], 1);
     let d = &v["models"][0]["diagnostics"];
-    assert!(d.as_array().unwrap().iter().any(|d| d["code"] == "X102" && d["primary"]["location"]["line"] == 2));
+    assert!(d
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|d| d["code"] == "X102" && d["primary"]["location"]["line"] == 2));
     let (_, sarif, _) = ferroc(&["check", m, "--format", "sarif"]);
     let s: serde_json::Value = serde_json::from_str(&sarif).expect("sarif");
     assert_eq!(s["version"], "2.1.0");
     let result = &s["runs"][0]["results"][0];
     assert_eq!(result["ruleId"], "X101");
-    assert_eq!(result["locations"][0]["physicalLocation"]["region"]["startLine"], 2);
+    assert_eq!(
+        result["locations"][0]["physicalLocation"]["region"]["startLine"],
+        2
+    );
     let (_, junit, _) = ferroc(&["check", m, "--format", "junit"]);
-    assert!(junit.contains("<testcase classname=") && junit.contains("<failure"), "{junit}");
+    assert!(
+        junit.contains("<testcase classname=") && junit.contains("<failure"),
+        "{junit}"
+    );
 }
 
 #[test]

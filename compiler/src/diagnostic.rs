@@ -108,11 +108,19 @@ impl Diagnostics {
 }
 
 /// "did you mean `x`?" — the closest candidate within a small edit distance.
-pub fn did_you_mean<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+pub fn did_you_mean<'a>(
+    word: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
     let limit = (word.chars().count() / 3).max(1) + 1;
     candidates
         .into_iter()
-        .map(|c| (edit_distance(&word.to_ascii_lowercase(), &c.to_ascii_lowercase()), c))
+        .map(|c| {
+            (
+                edit_distance(&word.to_ascii_lowercase(), &c.to_ascii_lowercase()),
+                c,
+            )
+        })
         .filter(|(d, _)| *d <= limit)
         .min_by_key(|(d, c)| (*d, *c))
         .map(|(_, c)| c)
@@ -143,7 +151,10 @@ mod tests {
 
     #[test]
     fn suggests_close_names_only() {
-        assert_eq!(did_you_mean("conect", ["connect", "module"]), Some("connect"));
+        assert_eq!(
+            did_you_mean("conect", ["connect", "module"]),
+            Some("connect")
+        );
         assert_eq!(did_you_mean("Modul", ["connect", "module"]), Some("module"));
         assert_eq!(did_you_mean("zzzzzz", ["connect", "module"]), None);
     }

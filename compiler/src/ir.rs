@@ -2,8 +2,8 @@
 //! petgraph graph of ports and connections. Every node carries its source span; nodes
 //! made from a group type also carry the span of the instance that created them.
 
-use crate::library::{LibraryId, LibrarySet, ModuleType, PortDecl, PortDir, PortRole};
 use crate::library::module_type::PortType;
+use crate::library::{LibraryId, LibrarySet, ModuleType, PortDecl, PortDir, PortRole};
 use crate::source::Span;
 use crate::types::Type;
 use crate::units::Unit;
@@ -16,9 +16,13 @@ pub struct ElementId(pub u32);
 #[derive(Debug)]
 pub enum ElementKind {
     Application,
-    Part { host: Option<(String, Span)> },
+    Part {
+        host: Option<(String, Span)>,
+    },
     /// `period` in seconds; `None` for data-triggered containers.
-    Thread { period: Option<f64> },
+    Thread {
+        period: Option<f64>,
+    },
     Group,
     Module(ModuleInstance),
 }
@@ -92,7 +96,9 @@ pub enum Endpoint {
 impl Endpoint {
     pub fn element(&self) -> ElementId {
         match *self {
-            Endpoint::Port { element, .. } | Endpoint::GroupPort { element, .. } | Endpoint::Param { element, .. } => element,
+            Endpoint::Port { element, .. }
+            | Endpoint::GroupPort { element, .. }
+            | Endpoint::Param { element, .. } => element,
         }
     }
 }
@@ -186,12 +192,23 @@ impl Application {
     }
 
     /// All ports of a module instance: its type's, then the instance's own.
-    pub fn module_ports<'a>(&'a self, libs: &'a LibrarySet, id: ElementId) -> impl Iterator<Item = (u32, &'a PortDecl)> + 'a {
+    pub fn module_ports<'a>(
+        &'a self,
+        libs: &'a LibrarySet,
+        id: ElementId,
+    ) -> impl Iterator<Item = (u32, &'a PortDecl)> + 'a {
         let (type_ports, extra): (&[PortDecl], &[PortDecl]) = match &self.element(id).kind {
-            ElementKind::Module(m) => (&libs.get(m.library).module_types[m.type_index].ports, &m.extra_ports),
+            ElementKind::Module(m) => (
+                &libs.get(m.library).module_types[m.type_index].ports,
+                &m.extra_ports,
+            ),
             _ => (&[], &[]),
         };
-        type_ports.iter().chain(extra.iter()).enumerate().map(|(i, p)| (i as u32, p))
+        type_ports
+            .iter()
+            .chain(extra.iter())
+            .enumerate()
+            .map(|(i, p)| (i as u32, p))
     }
 
     /// The port or parameter behind an endpoint, with its type resolved.
@@ -199,7 +216,9 @@ impl Application {
         match endpoint {
             Endpoint::Port { element, port } => {
                 let (_, decl) = self.module_ports(libs, element).nth(port as usize)?;
-                let ElementKind::Module(m) = &self.element(element).kind else { return None };
+                let ElementKind::Module(m) = &self.element(element).kind else {
+                    return None;
+                };
                 let (ty, unit) = match &decl.ty {
                     PortType::Fixed(t) => (t.clone(), decl.unit.as_ref()),
                     PortType::SameAs(group) => {
@@ -258,15 +277,21 @@ impl Application {
     }
 
     pub fn has_outgoing(&self, endpoint: Endpoint) -> bool {
-        self.nodes
-            .get(&endpoint)
-            .is_some_and(|n| self.graph.edges_directed(*n, petgraph::Direction::Outgoing).next().is_some())
+        self.nodes.get(&endpoint).is_some_and(|n| {
+            self.graph
+                .edges_directed(*n, petgraph::Direction::Outgoing)
+                .next()
+                .is_some()
+        })
     }
 
     pub fn modules(&self) -> impl Iterator<Item = (ElementId, &ModuleInstance)> {
-        self.elements.iter().enumerate().filter_map(|(i, e)| match &e.kind {
-            ElementKind::Module(m) => Some((ElementId(i as u32), m)),
-            _ => None,
-        })
+        self.elements
+            .iter()
+            .enumerate()
+            .filter_map(|(i, e)| match &e.kind {
+                ElementKind::Module(m) => Some((ElementId(i as u32), m)),
+                _ => None,
+            })
     }
 }

@@ -78,15 +78,24 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
     for allow in &allows {
         if checks::find(&allow.code).is_none() {
             items.push(
-                Diagnostic::new(&checks::model::m118_unknown_code_in_allow::CHECK, allow.span, format!("no check has the code `{}`", allow.code))
-                    .label("unknown code")
-                    .help("see `ferroc explain --list` for the codes"),
+                Diagnostic::new(
+                    &checks::model::m118_unknown_code_in_allow::CHECK,
+                    allow.span,
+                    format!("no check has the code `{}`", allow.code),
+                )
+                .label("unknown code")
+                .help("see `ferroc explain --list` for the codes"),
             );
         }
     }
     items.retain(|d| {
-        !policy.allow.iter().any(|a| a.eq_ignore_ascii_case(d.code()) || a == d.check.name)
-            && !allows.iter().any(|a| a.code.eq_ignore_ascii_case(d.code()) && a.region.contains(&d.primary.span))
+        !policy
+            .allow
+            .iter()
+            .any(|a| a.eq_ignore_ascii_case(d.code()) || a == d.check.name)
+            && !allows.iter().any(|a| {
+                a.code.eq_ignore_ascii_case(d.code()) && a.region.contains(&d.primary.span)
+            })
     });
     if policy.deny_warnings {
         for d in &mut items {
@@ -98,7 +107,18 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
     // Stable order: by file, position, code. One finding per code and place: a group type
     // used many times reports a problem in its definition once.
     items.sort_by(|a, b| {
-        (a.primary.span.file, a.primary.span.start, a.code(), &a.message).cmp(&(b.primary.span.file, b.primary.span.start, b.code(), &b.message))
+        (
+            a.primary.span.file,
+            a.primary.span.start,
+            a.code(),
+            &a.message,
+        )
+            .cmp(&(
+                b.primary.span.file,
+                b.primary.span.start,
+                b.code(),
+                &b.message,
+            ))
     });
     items.dedup_by(|a, b| a.code() == b.code() && a.primary.span == b.primary.span);
     Ok(CheckResult {

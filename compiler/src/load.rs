@@ -75,7 +75,12 @@ pub fn read_text(path: &Path, limits: &Limits) -> Result<String, String> {
         ));
     }
     let bytes = std::fs::read(path).map_err(|e| io_reason(&e))?;
-    String::from_utf8(bytes).map_err(|e| format!("it is not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()))
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "it is not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
 }
 
 fn io_reason(e: &std::io::Error) -> String {
@@ -87,7 +92,11 @@ fn io_reason(e: &std::io::Error) -> String {
 }
 
 impl<'a> Loader<'a> {
-    pub fn new(sources: &'a mut SourceMap, diags: &'a mut Diagnostics, options: &'a Options) -> Self {
+    pub fn new(
+        sources: &'a mut SourceMap,
+        diags: &'a mut Diagnostics,
+        options: &'a Options,
+    ) -> Self {
         Loader {
             sources,
             diags,
@@ -99,19 +108,33 @@ impl<'a> Loader<'a> {
 
     /// Adds text as a file and parses it as an element of context `key` with root `tag`.
     /// Reports malformed XML and vocabulary problems; `None` when there is no usable tree.
-    pub fn parse(&mut self, name: String, path: PathBuf, text: String, key: &str) -> (FileId, Option<Element>) {
+    pub fn parse(
+        &mut self,
+        name: String,
+        path: PathBuf,
+        text: String,
+        key: &str,
+    ) -> (FileId, Option<Element>) {
         let file = self.sources.add(name, path, text);
         let text = &self.sources.get(file).text;
         let root = match xml::parse(file, text, self.options.limits.max_depth) {
             Ok(root) => root,
             Err(e) => {
-                let check = if e.too_deep { &m116_limit_exceeded::CHECK } else { &m101_malformed_xml::CHECK };
+                let check = if e.too_deep {
+                    &m116_limit_exceeded::CHECK
+                } else {
+                    &m101_malformed_xml::CHECK
+                };
                 let help = if e.too_deep {
                     "flatten the structure; the limit protects the checker's stack"
                 } else {
                     "fix the XML syntax at this place; nothing else in this file was checked"
                 };
-                self.diags.push(Diagnostic::new(check, e.span, e.message).label("here").help(help));
+                self.diags.push(
+                    Diagnostic::new(check, e.span, e.message)
+                        .label("here")
+                        .help(help),
+                );
                 return (file, None);
             }
         };
@@ -139,15 +162,28 @@ impl<'a> Loader<'a> {
 
     /// Loads a model and its includes. `Err` when the model file itself cannot be read.
     pub fn load_model(&mut self, path: &Path) -> Result<Option<ModelFiles>, String> {
-        let text = read_text(path, &self.options.limits).map_err(|r| format!("cannot read {}: {r}", path.display()))?;
+        let text = read_text(path, &self.options.limits)
+            .map_err(|r| format!("cannot read {}: {r}", path.display()))?;
         let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
-        self.root_dir = canonical.parent().map(Path::to_path_buf).unwrap_or_default();
-        let (file, root) = self.parse(path.display().to_string(), canonical.clone(), text, "application");
+        self.root_dir = canonical
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default();
+        let (file, root) = self.parse(
+            path.display().to_string(),
+            canonical.clone(),
+            text,
+            "application",
+        );
         let Some(root) = root else { return Ok(None) };
         let mut fragments = Vec::new();
         let mut chain = vec![(canonical, None)];
         self.load_includes(&root, file, &mut chain, &mut fragments);
-        Ok(Some(ModelFiles { file, root, fragments }))
+        Ok(Some(ModelFiles {
+            file,
+            root,
+            fragments,
+        }))
     }
 
     fn load_includes(
@@ -158,17 +194,29 @@ impl<'a> Loader<'a> {
         fragments: &mut Vec<(FileId, Element)>,
     ) {
         for include in parent.children_named("include") {
-            let Some(href) = include.attr("href") else { continue };
+            let Some(href) = include.attr("href") else {
+                continue;
+            };
             let span = href.value_span;
             if chain.len() > self.options.limits.max_include_depth {
                 self.diags.push(
-                    Diagnostic::new(&m116_limit_exceeded::CHECK, span, format!("includes nest more than {} deep", self.options.limits.max_include_depth))
-                        .label("one include too many")
-                        .help("flatten the include structure"),
+                    Diagnostic::new(
+                        &m116_limit_exceeded::CHECK,
+                        span,
+                        format!(
+                            "includes nest more than {} deep",
+                            self.options.limits.max_include_depth
+                        ),
+                    )
+                    .label("one include too many")
+                    .help("flatten the include structure"),
                 );
                 continue;
             }
-            let Some(target) = self.resolve_relative(parent_file, &href.value, span, "include") else { continue };
+            let Some(target) = self.resolve_relative(parent_file, &href.value, span, "include")
+            else {
+                continue;
+            };
             if !self.options.allow_outside_includes && !target.starts_with(&self.root_dir) {
                 self.diags.push(
                     Diagnostic::new(&m113_include_outside_root::CHECK, span, format!("`{}` lies outside the model's directory", href.value))
@@ -181,14 +229,20 @@ impl<'a> Loader<'a> {
                 continue;
             }
             if let Some(pos) = chain.iter().position(|(p, _)| *p == target) {
-                let mut d = Diagnostic::new(&m114_include_cycle::CHECK, span, format!("including `{}` closes a cycle", href.value))
-                    .label("this include leads back to a file that is being included");
+                let mut d = Diagnostic::new(
+                    &m114_include_cycle::CHECK,
+                    span,
+                    format!("including `{}` closes a cycle", href.value),
+                )
+                .label("this include leads back to a file that is being included");
                 for (_, from) in chain[pos + 1..].iter() {
                     if let Some(from) = from {
                         d = d.secondary(*from, "part of the cycle");
                     }
                 }
-                self.diags.push(d.help("move the shared group types into a fragment that both files include"));
+                self.diags.push(
+                    d.help("move the shared group types into a fragment that both files include"),
+                );
                 continue;
             }
             if let Some(existing) = self.sources.find(&target) {
@@ -200,14 +254,19 @@ impl<'a> Loader<'a> {
                 Ok(t) => t,
                 Err(reason) => {
                     self.diags.push(
-                        Diagnostic::new(&m115_file_not_found::CHECK, span, format!("cannot read `{}`: {reason}", href.value))
-                            .label("named here")
-                            .help("the path is relative to the file that holds the <include>"),
+                        Diagnostic::new(
+                            &m115_file_not_found::CHECK,
+                            span,
+                            format!("cannot read `{}`: {reason}", href.value),
+                        )
+                        .label("named here")
+                        .help("the path is relative to the file that holds the <include>"),
                     );
                     continue;
                 }
             };
-            let (file, root) = self.parse(self.display_name(&target), target.clone(), text, "fragment");
+            let (file, root) =
+                self.parse(self.display_name(&target), target.clone(), text, "fragment");
             if let Some(root) = root {
                 chain.push((target, Some(span)));
                 self.load_includes(&root, file, chain, fragments);
@@ -219,16 +278,32 @@ impl<'a> Loader<'a> {
 
     /// A path named in `file`, resolved against that file's folder and made canonical.
     /// Reports a missing file (as M115) and returns `None`.
-    pub fn resolve_relative(&mut self, file: FileId, rel: &str, span: Span, what: &str) -> Option<PathBuf> {
-        let base = self.sources.get(file).path.parent().map(Path::to_path_buf).unwrap_or_default();
+    pub fn resolve_relative(
+        &mut self,
+        file: FileId,
+        rel: &str,
+        span: Span,
+        what: &str,
+    ) -> Option<PathBuf> {
+        let base = self
+            .sources
+            .get(file)
+            .path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default();
         let joined = base.join(rel);
         match joined.canonicalize() {
             Ok(p) => Some(p),
             Err(e) => {
                 self.diags.push(
-                    Diagnostic::new(&m115_file_not_found::CHECK, span, format!("cannot read {what} `{rel}`: {}", io_reason(&e)))
-                        .label("named here")
-                        .help(format!("the path is relative to {}", base.display())),
+                    Diagnostic::new(
+                        &m115_file_not_found::CHECK,
+                        span,
+                        format!("cannot read {what} `{rel}`: {}", io_reason(&e)),
+                    )
+                    .label("named here")
+                    .help(format!("the path is relative to {}", base.display())),
                 );
                 None
             }
@@ -237,7 +312,9 @@ impl<'a> Loader<'a> {
 
     /// A path as users should see it: relative to the current directory when possible.
     pub fn display_name(&self, path: &Path) -> String {
-        let cwd = std::env::current_dir().ok().and_then(|c| c.canonicalize().ok());
+        let cwd = std::env::current_dir()
+            .ok()
+            .and_then(|c| c.canonicalize().ok());
         match cwd.as_deref().and_then(|c| path.strip_prefix(c).ok()) {
             Some(rel) => rel.display().to_string(),
             None => path.display().to_string(),
@@ -251,7 +328,9 @@ impl<'a> Loader<'a> {
             return Ok((id, xml::parse(id, text, self.options.limits.max_depth).ok()));
         }
         let text = read_text(path, &self.options.limits)?;
-        let file = self.sources.add(self.display_name(path), path.to_path_buf(), text);
+        let file = self
+            .sources
+            .add(self.display_name(path), path.to_path_buf(), text);
         let text = &self.sources.get(file).text;
         match xml::parse(file, text, self.options.limits.max_depth) {
             Ok(root) => Ok((file, Some(root))),

@@ -18,8 +18,13 @@ pub struct NamedTypeId(pub u32);
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Type {
     Bool,
-    Int { signed: bool, bits: u8 },
-    Float { bits: u8 },
+    Int {
+        signed: bool,
+        bits: u8,
+    },
+    Float {
+        bits: u8,
+    },
     String,
     Duration,
     Timestamp,
@@ -65,14 +70,38 @@ impl Type {
 pub fn builtin(name: &str) -> Option<Type> {
     Some(match name {
         "bool" => Type::Bool,
-        "i8" => Type::Int { signed: true, bits: 8 },
-        "i16" => Type::Int { signed: true, bits: 16 },
-        "i32" => Type::Int { signed: true, bits: 32 },
-        "i64" => Type::Int { signed: true, bits: 64 },
-        "u8" => Type::Int { signed: false, bits: 8 },
-        "u16" => Type::Int { signed: false, bits: 16 },
-        "u32" => Type::Int { signed: false, bits: 32 },
-        "u64" => Type::Int { signed: false, bits: 64 },
+        "i8" => Type::Int {
+            signed: true,
+            bits: 8,
+        },
+        "i16" => Type::Int {
+            signed: true,
+            bits: 16,
+        },
+        "i32" => Type::Int {
+            signed: true,
+            bits: 32,
+        },
+        "i64" => Type::Int {
+            signed: true,
+            bits: 64,
+        },
+        "u8" => Type::Int {
+            signed: false,
+            bits: 8,
+        },
+        "u16" => Type::Int {
+            signed: false,
+            bits: 16,
+        },
+        "u32" => Type::Int {
+            signed: false,
+            bits: 32,
+        },
+        "u64" => Type::Int {
+            signed: false,
+            bits: 64,
+        },
         "f32" => Type::Float { bits: 32 },
         "f64" => Type::Float { bits: 64 },
         "string" => Type::String,
@@ -87,8 +116,24 @@ pub fn builtin(name: &str) -> Option<Type> {
 }
 
 pub const BUILTIN_NAMES: &[&str] = &[
-    "bool", "i8", "i16", "i32", "i64", "u8", "u16", "u32", "u64", "f32", "f64", "string",
-    "duration", "timestamp", "Stimulation", "Inhibition", "Activity", "TargetRating",
+    "bool",
+    "i8",
+    "i16",
+    "i32",
+    "i64",
+    "u8",
+    "u16",
+    "u32",
+    "u64",
+    "f32",
+    "f64",
+    "string",
+    "duration",
+    "timestamp",
+    "Stimulation",
+    "Inhibition",
+    "Activity",
+    "TargetRating",
 ];
 
 /// Why a type expression did not resolve.
@@ -115,7 +160,9 @@ pub fn parse_type(
                 .parse()
                 .ok()
                 .filter(|n| *n > 0)
-                .ok_or_else(|| TypeError::Syntax(format!("array length `{count}` is not a positive number")))?;
+                .ok_or_else(|| {
+                    TypeError::Syntax(format!("array length `{count}` is not a positive number"))
+                })?;
             return Ok(Type::Array(Box::new(parse_type(&t[..open], lookup)?), n));
         }
     }
@@ -211,9 +258,18 @@ mod tests {
         assert_eq!(t("[nav.Pose2D]").to_string(), "[nav.Pose2D]");
         assert_eq!(t("[u8[4]]").to_string(), "[u8[4]]");
         let mut none = |_: &str| None;
-        assert_eq!(parse_type("nav.Map", &mut none), Err(TypeError::Unknown("nav.Map".into())));
-        assert!(matches!(parse_type("f64[0]", &mut none), Err(TypeError::Syntax(_))));
-        assert!(matches!(parse_type("double", &mut none), Err(TypeError::Unknown(_))));
+        assert_eq!(
+            parse_type("nav.Map", &mut none),
+            Err(TypeError::Unknown("nav.Map".into()))
+        );
+        assert!(matches!(
+            parse_type("f64[0]", &mut none),
+            Err(TypeError::Syntax(_))
+        ));
+        assert!(matches!(
+            parse_type("double", &mut none),
+            Err(TypeError::Unknown(_))
+        ));
     }
 
     #[test]

@@ -32,7 +32,13 @@ pub fn describe_dimension(d: &Dimension) -> String {
         .iter()
         .zip(NAMES)
         .filter(|(e, _)| **e != 0)
-        .map(|(e, n)| if *e == 1 { n.to_string() } else { format!("{n}^{e}") })
+        .map(|(e, n)| {
+            if *e == 1 {
+                n.to_string()
+            } else {
+                format!("{n}^{e}")
+            }
+        })
         .collect();
     if parts.is_empty() {
         "dimensionless".into()
@@ -123,12 +129,15 @@ pub fn parse_unit(text: &str) -> Result<Unit, String> {
     loop {
         let end = rest.find(['*', '/', '.', '·']).unwrap_or(rest.len());
         let factor = rest[..end].trim();
-        let (sym, exp) = split_exponent(factor).ok_or_else(|| format!("`{factor}` is not a unit"))?;
+        let (sym, exp) =
+            split_exponent(factor).ok_or_else(|| format!("`{factor}` is not a unit"))?;
         if !(sym == "1" && sign == 1 && exp == 1) {
             let (d, s) = atom(sym).ok_or_else(|| format!("unknown unit `{sym}`"))?;
             let e = exp.checked_mul(sign).ok_or("exponent too large")?;
             for (acc, x) in dimension.iter_mut().zip(d) {
-                *acc = acc.checked_add(x.checked_mul(e).ok_or("exponent too large")?).ok_or("exponent too large")?;
+                *acc = acc
+                    .checked_add(x.checked_mul(e).ok_or("exponent too large")?)
+                    .ok_or("exponent too large")?;
             }
             scale *= s.powi(e as i32);
         }
@@ -211,7 +220,10 @@ mod tests {
     fn dimensions_differ() {
         assert_eq!(relate(&u("m"), &u("s")), UnitRelation::DifferentDimension);
         assert_eq!(relate(&u("rad"), &u("m")), UnitRelation::DifferentDimension);
-        assert_eq!(relate(&u("Hz"), &u("rad/s")), UnitRelation::DifferentDimension);
+        assert_eq!(
+            relate(&u("Hz"), &u("rad/s")),
+            UnitRelation::DifferentDimension
+        );
         assert_eq!(describe_dimension(&u("m/s").dimension), "m·s^-1");
     }
 

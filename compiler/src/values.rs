@@ -42,7 +42,9 @@ pub fn split_number(text: &str) -> (&str, &str) {
             || ((c == b'e' || c == b'E')
                 && !seen_e
                 && end > 0
-                && bytes.get(end + 1).is_some_and(|n| n.is_ascii_digit() || *n == b'-' || *n == b'+'));
+                && bytes
+                    .get(end + 1)
+                    .is_some_and(|n| n.is_ascii_digit() || *n == b'-' || *n == b'+'));
         if !ok {
             break;
         }
@@ -59,12 +61,16 @@ pub fn parse_value(text: &str, ty: &Type, unit: Option<&Unit>) -> Result<Value, 
         Type::Bool => match t {
             "true" => Ok(Value::Bool(true)),
             "false" => Ok(Value::Bool(false)),
-            _ => Err(ValueError::Syntax(format!("`{t}` is not a bool (write `true` or `false`)"))),
+            _ => Err(ValueError::Syntax(format!(
+                "`{t}` is not a bool (write `true` or `false`)"
+            ))),
         },
         Type::String => Ok(Value::Str(text.to_string())),
         Type::Named(..) => Ok(Value::Opaque(text.to_string())),
         Type::Duration => parse_duration(t).map(Value::Duration),
-        Type::Timestamp => Err(ValueError::Syntax("timestamps cannot be given as parameter values".into())),
+        Type::Timestamp => Err(ValueError::Syntax(
+            "timestamps cannot be given as parameter values".into(),
+        )),
         Type::Array(elem, _) | Type::Seq(elem) => {
             let items: Vec<&str> = t
                 .split([',', ' ', '\t', '\n', ';'])
@@ -77,7 +83,11 @@ pub fn parse_value(text: &str, ty: &Type, unit: Option<&Unit>) -> Result<Value, 
                 .collect::<Result<Vec<_>, _>>()?;
             if let Type::Array(_, n) = ty {
                 if values.len() != *n as usize {
-                    return Err(ValueError::Syntax(format!("expected {} elements, found {}", n, values.len())));
+                    return Err(ValueError::Syntax(format!(
+                        "expected {} elements, found {}",
+                        n,
+                        values.len()
+                    )));
                 }
             }
             Ok(Value::List(values))
@@ -89,7 +99,9 @@ pub fn parse_value(text: &str, ty: &Type, unit: Option<&Unit>) -> Result<Value, 
 fn parse_number(t: &str, ty: &Type, unit: Option<&Unit>) -> Result<Value, ValueError> {
     let (num, unit_text) = split_number(t);
     if num.is_empty() {
-        return Err(ValueError::Syntax(format!("`{t}` is not a number of type `{ty}`")));
+        return Err(ValueError::Syntax(format!(
+            "`{t}` is not a number of type `{ty}`"
+        )));
     }
     let mut factor = 1.0;
     if !unit_text.is_empty() {
@@ -116,20 +128,30 @@ fn parse_number(t: &str, ty: &Type, unit: Option<&Unit>) -> Result<Value, ValueE
     match ty {
         Type::Int { signed, bits } => {
             if factor != 1.0 || num.contains(['.', 'e', 'E']) {
-                let f: f64 = num.parse().map_err(|_| ValueError::Syntax(format!("`{num}` is not a number")))?;
+                let f: f64 = num
+                    .parse()
+                    .map_err(|_| ValueError::Syntax(format!("`{num}` is not a number")))?;
                 let scaled = f * factor;
                 if scaled.fract() != 0.0 {
-                    return Err(ValueError::Syntax(format!("`{t}` is not a whole number of `{ty}`")));
+                    return Err(ValueError::Syntax(format!(
+                        "`{t}` is not a whole number of `{ty}`"
+                    )));
                 }
                 return check_int(scaled as i128, *signed, *bits, ty);
             }
-            let i: i128 = num.parse().map_err(|_| ValueError::Syntax(format!("`{num}` is not an integer")))?;
+            let i: i128 = num
+                .parse()
+                .map_err(|_| ValueError::Syntax(format!("`{num}` is not an integer")))?;
             check_int(i, *signed, *bits, ty)
         }
         _ => {
-            let f: f64 = num.parse().map_err(|_| ValueError::Syntax(format!("`{num}` is not a number")))?;
+            let f: f64 = num
+                .parse()
+                .map_err(|_| ValueError::Syntax(format!("`{num}` is not a number")))?;
             if !f.is_finite() {
-                return Err(ValueError::Syntax(format!("`{num}` is not a finite number")));
+                return Err(ValueError::Syntax(format!(
+                    "`{num}` is not a finite number"
+                )));
             }
             Ok(Value::Float(f * factor))
         }
@@ -143,7 +165,9 @@ fn check_int(i: i128, signed: bool, bits: u8, ty: &Type) -> Result<Value, ValueE
         (0, (1i128 << bits) - 1)
     };
     if i < lo || i > hi {
-        return Err(ValueError::Syntax(format!("{i} does not fit in `{ty}` ({lo}..={hi})")));
+        return Err(ValueError::Syntax(format!(
+            "{i} does not fit in `{ty}` ({lo}..={hi})"
+        )));
     }
     Ok(Value::Int(i))
 }
@@ -152,22 +176,31 @@ fn check_int(i: i128, signed: bool, bits: u8, ty: &Type) -> Result<Value, ValueE
 pub fn parse_duration(text: &str) -> Result<f64, ValueError> {
     let t = text.trim();
     if let Some(iso) = t.strip_prefix('P') {
-        return parse_iso_duration(iso).ok_or_else(|| ValueError::Syntax(format!("`{t}` is not an ISO 8601 duration")));
+        return parse_iso_duration(iso)
+            .ok_or_else(|| ValueError::Syntax(format!("`{t}` is not an ISO 8601 duration")));
     }
     let (num, unit) = split_number(t);
-    let n: f64 = num
-        .parse()
-        .map_err(|_| ValueError::Syntax(format!("`{t}` is not a duration (write e.g. `10ms`, `1.5s` or `PT0.04S`)")))?;
+    let n: f64 = num.parse().map_err(|_| {
+        ValueError::Syntax(format!(
+            "`{t}` is not a duration (write e.g. `10ms`, `1.5s` or `PT0.04S`)"
+        ))
+    })?;
     if unit.is_empty() {
-        return Err(ValueError::Syntax(format!("`{t}` needs a unit (`ms`, `s`, `us`, …)")));
+        return Err(ValueError::Syntax(format!(
+            "`{t}` needs a unit (`ms`, `s`, `us`, …)"
+        )));
     }
     let u = parse_unit(unit).map_err(|e| ValueError::Syntax(format!("`{t}`: {e}")))?;
     if u.dimension != [0, 0, 1, 0, 0, 0, 0, 0] {
-        return Err(ValueError::WrongDimension(format!("`{unit}` is not a unit of time")));
+        return Err(ValueError::WrongDimension(format!(
+            "`{unit}` is not a unit of time"
+        )));
     }
     let s = n * u.scale;
     if !s.is_finite() || s < 0.0 {
-        return Err(ValueError::Syntax(format!("`{t}` is not a non-negative duration")));
+        return Err(ValueError::Syntax(format!(
+            "`{t}` is not a non-negative duration"
+        )));
     }
     Ok(s)
 }
@@ -217,16 +250,34 @@ mod tests {
     #[test]
     fn numbers_with_units_convert() {
         let f64t = builtin("f64").unwrap();
-        assert_eq!(parse_value("15 cm", &f64t, Some(&unit("m"))), Ok(Value::Float(0.15000000000000002)));
-        assert_eq!(parse_value("2", &f64t, Some(&unit("m"))), Ok(Value::Float(2.0)));
-        assert!(matches!(parse_value("2 s", &f64t, Some(&unit("m"))), Err(ValueError::WrongDimension(_))));
-        assert!(matches!(parse_value("fast", &f64t, None), Err(ValueError::Syntax(_))));
-        assert!(matches!(parse_value("1e400", &f64t, None), Err(ValueError::Syntax(_))));
+        assert_eq!(
+            parse_value("15 cm", &f64t, Some(&unit("m"))),
+            Ok(Value::Float(0.15000000000000002))
+        );
+        assert_eq!(
+            parse_value("2", &f64t, Some(&unit("m"))),
+            Ok(Value::Float(2.0))
+        );
+        assert!(matches!(
+            parse_value("2 s", &f64t, Some(&unit("m"))),
+            Err(ValueError::WrongDimension(_))
+        ));
+        assert!(matches!(
+            parse_value("fast", &f64t, None),
+            Err(ValueError::Syntax(_))
+        ));
+        assert!(matches!(
+            parse_value("1e400", &f64t, None),
+            Err(ValueError::Syntax(_))
+        ));
         let u8t = builtin("u8").unwrap();
         assert_eq!(parse_value("255", &u8t, None), Ok(Value::Int(255)));
         assert!(parse_value("256", &u8t, None).is_err());
         assert!(parse_value("-1", &u8t, None).is_err());
-        assert_eq!(parse_value("1.5 m", &builtin("i32").unwrap(), Some(&unit("mm"))), Ok(Value::Int(1500)));
+        assert_eq!(
+            parse_value("1.5 m", &builtin("i32").unwrap(), Some(&unit("mm"))),
+            Ok(Value::Int(1500))
+        );
     }
 
     #[test]

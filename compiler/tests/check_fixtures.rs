@@ -27,14 +27,21 @@ fn expectations(text: &str) -> Vec<(String, usize, usize)> {
             let body = rest[..rest.find("-->")?].trim();
             let (code, at) = body.split_once(" at ")?;
             let (line, col) = at.trim().split_once(':')?;
-            Some((code.trim().to_string(), line.parse().ok()?, col.parse().ok()?))
+            Some((
+                code.trim().to_string(),
+                line.parse().ok()?,
+                col.parse().ok()?,
+            ))
         })
         .collect()
 }
 
 fn render(path: &Path) -> (Vec<(String, usize, usize)>, String) {
     let result = check_model(path, &options(), &Policy::default()).expect("fixture readable");
-    let report = ModelReport { sources: &result.sources, diagnostics: &result.diagnostics };
+    let report = ModelReport {
+        sources: &result.sources,
+        diagnostics: &result.diagnostics,
+    };
     let mut out = String::new();
     report::short(&report, &mut out);
     out.push('\n');
@@ -74,19 +81,36 @@ fn every_check_fires_and_stays_silent_where_it_should() {
         let fires = fixtures(&dir, "fires");
         let silent = fixtures(&dir, "silent");
         if fires.is_empty() || silent.is_empty() {
-            failures.push(format!("{}: needs fires*.xml and silent*.xml in {}", check.code, dir.display()));
+            failures.push(format!(
+                "{}: needs fires*.xml and silent*.xml in {}",
+                check.code,
+                dir.display()
+            ));
             continue;
         }
         for f in &fires {
             let text = std::fs::read_to_string(f).unwrap();
             let expected = expectations(&text);
             if !expected.iter().any(|(c, _, _)| c == check.code) {
-                failures.push(format!("{}: {} has no `<!-- expect: {} at L:C -->`", check.code, f.display(), check.code));
+                failures.push(format!(
+                    "{}: {} has no `<!-- expect: {} at L:C -->`",
+                    check.code,
+                    f.display(),
+                    check.code
+                ));
             }
             let (found, rendered) = render(f);
             for e in &expected {
                 if !found.contains(e) {
-                    failures.push(format!("{}: expected {} at {}:{} not found in {}; found {:?}", check.code, e.0, e.1, e.2, f.display(), found));
+                    failures.push(format!(
+                        "{}: expected {} at {}:{} not found in {}; found {:?}",
+                        check.code,
+                        e.0,
+                        e.1,
+                        e.2,
+                        f.display(),
+                        found
+                    ));
                 }
             }
             snapshot(f, &rendered, bless, &mut failures);
@@ -94,12 +118,21 @@ fn every_check_fires_and_stays_silent_where_it_should() {
         for s in &silent {
             let (found, rendered) = render(s);
             if found.iter().any(|(c, _, _)| c == check.code) {
-                failures.push(format!("{}: must stay silent on {}, but:\n{rendered}", check.code, s.display()));
+                failures.push(format!(
+                    "{}: must stay silent on {}, but:\n{rendered}",
+                    check.code,
+                    s.display()
+                ));
             }
             snapshot(s, &rendered, bless, &mut failures);
         }
     }
-    assert!(failures.is_empty(), "{} fixture failure(s):\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} fixture failure(s):\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }
 
 fn snapshot(fixture: &Path, rendered: &str, bless: bool, failures: &mut Vec<String>) {

@@ -42,10 +42,25 @@ fn check_bytes(bytes: &[u8], name: &str) {
 /// Small edits that keep most of a model intact, so the checker gets past the parser.
 fn mutate(model: &str, edits: &[(usize, u8, u8)]) -> Vec<u8> {
     const SNIPPETS: &[&str] = &[
-        "<", ">", "/>", "\"", "&", "&amp;", "<module name=\"x\" type=\"ferroc_std.Scale\"/>",
-        "<connect from=\"a/b\" to=\"../c\"/>", "<group name=\"g\" type=\"local.G\"/>",
-        "<include href=\"../../x.xml\"/>", "ü", "\u{202e}", "\0", "[9999]", "/param/", " queue=\"0\"",
-        "<thread name=\"t\" period=\"0s\">", "</thread>", "<port name=\"in\" dir=\"in\" type=\"f64[0]\" count=\"99999\"/>",
+        "<",
+        ">",
+        "/>",
+        "\"",
+        "&",
+        "&amp;",
+        "<module name=\"x\" type=\"ferroc_std.Scale\"/>",
+        "<connect from=\"a/b\" to=\"../c\"/>",
+        "<group name=\"g\" type=\"local.G\"/>",
+        "<include href=\"../../x.xml\"/>",
+        "ü",
+        "\u{202e}",
+        "\0",
+        "[9999]",
+        "/param/",
+        " queue=\"0\"",
+        "<thread name=\"t\" period=\"0s\">",
+        "</thread>",
+        "<port name=\"in\" dir=\"in\" type=\"f64[0]\" count=\"99999\"/>",
     ];
     let mut bytes = model.as_bytes().to_vec();
     for &(pos, kind, pick) in edits {
@@ -87,7 +102,11 @@ proptest! {
 
 #[test]
 fn deep_nesting_and_huge_counts_are_bounded() {
-    let deep = format!("<application name=\"a\" version=\"1\">{}{}</application>", "<group name=\"g\">".repeat(10_000), "</group>".repeat(10_000));
+    let deep = format!(
+        "<application name=\"a\" version=\"1\">{}{}</application>",
+        "<group name=\"g\">".repeat(10_000),
+        "</group>".repeat(10_000)
+    );
     check_bytes(deep.as_bytes(), "deep");
     let recursive = "<application name=\"a\" version=\"1\"><group-type name=\"G\"><group name=\"g\" type=\"local.G\"/></group-type>\
 <part name=\"p\"><thread name=\"t\" period=\"1s\"><group name=\"g\" type=\"local.G\"/></thread></part></application>";

@@ -22,7 +22,10 @@ use crate::types::Type;
 
 /// Both ends of a connection, when they resolve.
 pub fn ends<'a>(ctx: &'a PassContext<'a>, c: &Connection) -> Option<(PortView<'a>, PortView<'a>)> {
-    Some((ctx.app.view(ctx.libraries, c.from)?, ctx.app.view(ctx.libraries, c.to)?))
+    Some((
+        ctx.app.view(ctx.libraries, c.from)?,
+        ctx.app.view(ctx.libraries, c.to)?,
+    ))
 }
 
 /// Whether an endpoint sends data into a connection declared in `scope`.
@@ -51,22 +54,36 @@ pub struct ConvertError {
 
 /// The value's type after source indexing and every `<convert>` step, and the type the
 /// destination takes (after destination indexing).
-pub fn flow_types(ctx: &PassContext<'_>, c: &Connection, from: &PortView<'_>, to: &PortView<'_>) -> Result<(Type, Type), ConvertError> {
+pub fn flow_types(
+    ctx: &PassContext<'_>,
+    c: &Connection,
+    from: &PortView<'_>,
+    to: &PortView<'_>,
+) -> Result<(Type, Type), ConvertError> {
     let index = |t: &Type, i: Option<u32>, span: Span| -> Result<Type, ConvertError> {
         match i {
             None => Ok(t.clone()),
             Some(k) => match t {
                 Type::Array(e, n) if k < *n => Ok((**e).clone()),
-                Type::Array(_, n) => Err(ConvertError { span, message: format!("index {k} is out of bounds for `{t}` (length {n})") }),
+                Type::Array(_, n) => Err(ConvertError {
+                    span,
+                    message: format!("index {k} is out of bounds for `{t}` (length {n})"),
+                }),
                 Type::Seq(e) => Ok((**e).clone()),
-                _ => Err(ConvertError { span, message: format!("`{t}` is not an array or sequence; it cannot be indexed") }),
+                _ => Err(ConvertError {
+                    span,
+                    message: format!("`{t}` is not an array or sequence; it cannot be indexed"),
+                }),
             },
         }
     };
     let mut t = index(&from.ty, c.from_index, c.from_span)?;
     let dest = index(&to.ty, c.to_index, c.to_span)?;
     if c.converts.len() > 4 {
-        return Err(ConvertError { span: c.converts[4].span, message: "more than four <convert> steps".into() });
+        return Err(ConvertError {
+            span: c.converts[4].span,
+            message: "more than four <convert> steps".into(),
+        });
     }
     for step in &c.converts {
         if step.index.is_some() {
@@ -74,28 +91,46 @@ pub fn flow_types(ctx: &PassContext<'_>, c: &Connection, from: &PortView<'_>, to
         }
         if let Some((field, span)) = &step.field {
             let Type::Named(id, name) = &t else {
-                return Err(ConvertError { span: *span, message: format!("`{t}` has no fields") });
+                return Err(ConvertError {
+                    span: *span,
+                    message: format!("`{t}` has no fields"),
+                });
             };
             let nt = ctx.libraries.named_type(*id);
             match nt.fields.iter().find(|(f, _, _)| f == field) {
                 Some((_, ft, _)) => t = ft.clone(),
                 None => {
                     let names: Vec<&str> = nt.fields.iter().map(|(f, _, _)| f.as_str()).collect();
-                    return Err(ConvertError { span: *span, message: format!("`{name}` has no field `{field}` (fields: {})", names.join(", ")) });
+                    return Err(ConvertError {
+                        span: *span,
+                        message: format!(
+                            "`{name}` has no field `{field}` (fields: {})",
+                            names.join(", ")
+                        ),
+                    });
                 }
             }
         }
         for (what, s) in [("scale", step.scale), ("offset", step.offset)] {
             if let Some((_, span)) = s {
                 if !t.is_numeric() {
-                    return Err(ConvertError { span, message: format!("`{what}` needs a number, but the value is `{t}`") });
+                    return Err(ConvertError {
+                        span,
+                        message: format!("`{what}` needs a number, but the value is `{t}`"),
+                    });
                 }
             }
         }
         if let Some((target, span)) = &step.to_type {
-            let castable = (t.is_numeric() || t == Type::Bool) && (target.is_numeric() || *target == Type::Bool);
+            let castable = (t.is_numeric() || t == Type::Bool)
+                && (target.is_numeric() || *target == Type::Bool);
             if !castable && t != *target {
-                return Err(ConvertError { span: *span, message: format!("`{t}` cannot be cast to `{target}`: casts convert between numbers") });
+                return Err(ConvertError {
+                    span: *span,
+                    message: format!(
+                        "`{t}` cannot be cast to `{target}`: casts convert between numbers"
+                    ),
+                });
             }
             t = target.clone();
         }
@@ -104,7 +139,11 @@ pub fn flow_types(ctx: &PassContext<'_>, c: &Connection, from: &PortView<'_>, to
 }
 
 /// The unit of the value at the source, after a `field` step (fields carry units).
-pub fn source_unit<'a>(ctx: &'a PassContext<'a>, c: &Connection, from: &PortView<'a>) -> Option<&'a crate::units::Unit> {
+pub fn source_unit<'a>(
+    ctx: &'a PassContext<'a>,
+    c: &Connection,
+    from: &PortView<'a>,
+) -> Option<&'a crate::units::Unit> {
     let mut unit = from.unit;
     let mut t = from.ty.clone();
     for step in &c.converts {
@@ -121,5 +160,9 @@ pub fn source_unit<'a>(ctx: &'a PassContext<'a>, c: &Connection, from: &PortView
 
 /// `a/b/c → x/y/z` for messages.
 pub fn describe(ctx: &PassContext<'_>, c: &Connection) -> String {
-    format!("{} → {}", ctx.sources.text(c.from_span), ctx.sources.text(c.to_span))
+    format!(
+        "{} → {}",
+        ctx.sources.text(c.from_span),
+        ctx.sources.text(c.to_span)
+    )
 }

@@ -137,10 +137,24 @@ mod tests {
             assert!(seen.insert(c.name), "duplicate name {}", c.name);
             let mut chars = c.code.chars();
             assert!("MTPLBDSX".contains(chars.next().unwrap()), "{}", c.code);
-            assert!(c.code.len() == 4 && chars.all(|d| d.is_ascii_digit()), "{}", c.code);
-            assert!(c.explanation.len() > 200, "{} explanation too short", c.code);
-            assert!(c.explanation.contains("<"), "{} explanation shows no model", c.code);
+            assert!(
+                c.code.len() == 4 && chars.all(|d| d.is_ascii_digit()),
+                "{}",
+                c.code
+            );
+            assert!(
+                c.explanation.len() > 200,
+                "{} explanation too short",
+                c.code
+            );
+            assert!(
+                c.explanation.contains("<"),
+                "{} explanation shows no model",
+                c.code
+            );
         }
-        assert!(REGISTRY.windows(2).all(|w| w[0].code < w[1].code || w[0].code.as_bytes()[0] != w[1].code.as_bytes()[0]));
+        assert!(REGISTRY
+            .windows(2)
+            .all(|w| w[0].code < w[1].code || w[0].code.as_bytes()[0] != w[1].code.as_bytes()[0]));
     }
 }

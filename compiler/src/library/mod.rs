@@ -94,7 +94,10 @@ impl LibrarySet {
         let (lib, name) = qualified.split_once('.')?;
         let id = *self.by_name.get(lib)?;
         let library = self.get(id);
-        library.module_index.get(name).map(|i| (id, &library.module_types[*i]))
+        library
+            .module_index
+            .get(name)
+            .map(|i| (id, &library.module_types[*i]))
     }
 
     /// Parses a type expression written in a file that may use `visible` libraries.
@@ -117,18 +120,28 @@ impl LibrarySet {
         if let Some(q) = not_visible {
             let lib = q.split_once('.').map_or("", |(l, _)| l);
             diags.push(
-                Diagnostic::new(&l104_library_not_used::CHECK, span, format!("type `{q}` comes from library `{lib}`, which this file does not use"))
-                    .label("library not in scope")
-                    .help(format!("add <use library=\"{lib}\"/> (or <depends library=\"{lib}\"/> in a manifest)")),
+                Diagnostic::new(
+                    &l104_library_not_used::CHECK,
+                    span,
+                    format!("type `{q}` comes from library `{lib}`, which this file does not use"),
+                )
+                .label("library not in scope")
+                .help(format!(
+                    "add <use library=\"{lib}\"/> (or <depends library=\"{lib}\"/> in a manifest)"
+                )),
             );
         }
         match result {
             Ok(t) => Some(t),
             Err(TypeError::Syntax(msg)) => {
                 diags.push(
-                    Diagnostic::new(&m111_unknown_type::CHECK, span, format!("`{text}` is not a type: {msg}"))
-                        .label("invalid type")
-                        .help("types are built-in (`f64`, `u8[4]`, `[f64]`) or `library.Type`"),
+                    Diagnostic::new(
+                        &m111_unknown_type::CHECK,
+                        span,
+                        format!("`{text}` is not a type: {msg}"),
+                    )
+                    .label("invalid type")
+                    .help("types are built-in (`f64`, `u8[4]`, `[f64]`) or `library.Type`"),
                 );
                 None
             }
@@ -140,16 +153,26 @@ impl LibrarySet {
     }
 
     fn unknown_type_diagnostic(&self, q: &str, span: Span) -> Diagnostic {
-        let d = Diagnostic::new(&m111_unknown_type::CHECK, span, format!("unknown data type `{q}`")).label("no such type");
+        let d = Diagnostic::new(
+            &m111_unknown_type::CHECK,
+            span,
+            format!("unknown data type `{q}`"),
+        )
+        .label("no such type");
         match q.split_once('.') {
             Some((lib, name)) if self.by_name.contains_key(lib) => {
-                let names = self.types.iter().filter_map(|t| t.qualified.strip_prefix(lib)?.strip_prefix('.'));
+                let names = self
+                    .types
+                    .iter()
+                    .filter_map(|t| t.qualified.strip_prefix(lib)?.strip_prefix('.'));
                 match did_you_mean(name, names) {
                     Some(s) => d.help(format!("did you mean `{lib}.{s}`?")),
                     None => d.help(format!("library `{lib}` defines no type `{name}`")),
                 }
             }
-            Some((lib, _)) => d.help(format!("library `{lib}` is not loaded; add <use library=\"{lib}\"/>")),
+            Some((lib, _)) => d.help(format!(
+                "library `{lib}` is not loaded; add <use library=\"{lib}\"/>"
+            )),
             None => match did_you_mean(q, crate::types::BUILTIN_NAMES.iter().copied()) {
                 Some(s) => d.help(format!("did you mean `{s}`?")),
                 None => d.help("types are built-in (`f64`, `u8[4]`, `[f64]`) or `library.Type`"),
@@ -197,13 +220,22 @@ pub fn load_libraries(
     for i in 0..set.libraries.len() {
         let module_types = module_type::build_all(&set, LibraryId(i as u32), loader.diags);
         let lib = &mut set.libraries[i];
-        lib.module_index = module_types.iter().enumerate().map(|(k, m)| (m.name.clone(), k)).collect();
+        lib.module_index = module_types
+            .iter()
+            .enumerate()
+            .map(|(k, m)| (m.name.clone(), k))
+            .collect();
         lib.module_types = module_types;
     }
     (set, roots)
 }
 
-fn load_one(loader: &mut Loader<'_>, set: &mut LibrarySet, request: LibraryRequest, depth: usize) -> Option<LibraryId> {
+fn load_one(
+    loader: &mut Loader<'_>,
+    set: &mut LibrarySet,
+    request: LibraryRequest,
+    depth: usize,
+) -> Option<LibraryId> {
     let (path, text) = locate(loader, &request)?;
     if let Some(&existing) = set.by_name.get(&request.name) {
         let lib = set.get(existing);
@@ -212,7 +244,10 @@ fn load_one(loader: &mut Loader<'_>, set: &mut LibrarySet, request: LibraryReque
                 Diagnostic::new(
                     &l105_conflicting_library::CHECK,
                     request.span,
-                    format!("library `{}` is already loaded from another manifest", request.name),
+                    format!(
+                        "library `{}` is already loaded from another manifest",
+                        request.name
+                    ),
                 )
                 .label(format!("this names {}", path.display()))
                 .secondary(lib.name_span, "the manifest loaded first")
@@ -229,9 +264,13 @@ fn load_one(loader: &mut Loader<'_>, set: &mut LibrarySet, request: LibraryReque
     let (file, root) = loader.parse(display, path.clone(), text, "library");
     let Some(root) = root else {
         loader.diags.push(
-            Diagnostic::new(&l102_invalid_manifest::CHECK, request.span, format!("the manifest of `{}` could not be read", request.name))
-                .label("named here")
-                .help("fix the manifest (see the findings in it)"),
+            Diagnostic::new(
+                &l102_invalid_manifest::CHECK,
+                request.span,
+                format!("the manifest of `{}` could not be read", request.name),
+            )
+            .label("named here")
+            .help("fix the manifest (see the findings in it)"),
         );
         return None;
     };
@@ -241,7 +280,10 @@ fn load_one(loader: &mut Loader<'_>, set: &mut LibrarySet, request: LibraryReque
             Diagnostic::new(
                 &l102_invalid_manifest::CHECK,
                 request.span,
-                format!("the manifest defines library `{declared}`, not `{}`", request.name),
+                format!(
+                    "the manifest defines library `{declared}`, not `{}`",
+                    request.name
+                ),
             )
             .label("asks for this library")
             .secondary(root.value_span("name"), "the manifest's name")
@@ -271,7 +313,9 @@ fn load_one(loader: &mut Loader<'_>, set: &mut LibrarySet, request: LibraryReque
     });
     let mut depends = Vec::new();
     for dep in root.children_named("depends") {
-        let Some(name) = dep.value("library") else { continue };
+        let Some(name) = dep.value("library") else {
+            continue;
+        };
         let target = if depth >= loader.options.limits.max_include_depth {
             None
         } else {
@@ -300,29 +344,47 @@ fn load_one(loader: &mut Loader<'_>, set: &mut LibrarySet, request: LibraryReque
 fn load_group_type(loader: &mut Loader<'_>, file: FileId, gt: &Element) -> Option<GroupTypeDecl> {
     let name = gt.value("name")?.to_string();
     let Some(rel) = gt.attr("file") else {
-        return Some(GroupTypeDecl { name, file, element: gt.clone() });
+        return Some(GroupTypeDecl {
+            name,
+            file,
+            element: gt.clone(),
+        });
     };
     let path = loader.resolve_relative(file, &rel.value, rel.value_span, "group type file")?;
     let text = match crate::load::read_text(&path, &loader.options.limits) {
         Ok(t) => t,
         Err(reason) => {
             loader.diags.push(
-                Diagnostic::new(&crate::checks::model::m115_file_not_found::CHECK, rel.value_span, format!("cannot read `{}`: {reason}", rel.value))
-                    .label("named here"),
+                Diagnostic::new(
+                    &crate::checks::model::m115_file_not_found::CHECK,
+                    rel.value_span,
+                    format!("cannot read `{}`: {reason}", rel.value),
+                )
+                .label("named here"),
             );
             return None;
         }
     };
     let (gfile, root) = loader.parse(loader.display_name(&path), path, text, "fragment");
     let root = root?;
-    let found = root.children_named("group-type").find(|g| g.value("name") == Some(name.as_str()));
+    let found = root
+        .children_named("group-type")
+        .find(|g| g.value("name") == Some(name.as_str()));
     match found {
-        Some(element) => Some(GroupTypeDecl { name, file: gfile, element: element.clone() }),
+        Some(element) => Some(GroupTypeDecl {
+            name,
+            file: gfile,
+            element: element.clone(),
+        }),
         None => {
             loader.diags.push(
-                Diagnostic::new(&m111_unknown_type::CHECK, rel.value_span, format!("`{}` defines no group type `{name}`", rel.value))
-                    .label("named here")
-                    .help(format!("add <group-type name=\"{name}\"> to that fragment")),
+                Diagnostic::new(
+                    &m111_unknown_type::CHECK,
+                    rel.value_span,
+                    format!("`{}` defines no group type `{name}`", rel.value),
+                )
+                .label("named here")
+                .help(format!("add <group-type name=\"{name}\"> to that fragment")),
             );
             None
         }
@@ -332,16 +394,29 @@ fn load_group_type(loader: &mut Loader<'_>, file: FileId, gt: &Element) -> Optio
 /// Finds a manifest: the `manifest` path, else the library path, else the built-ins.
 fn locate(loader: &mut Loader<'_>, request: &LibraryRequest) -> Option<(PathBuf, String)> {
     if let Some(rel) = &request.manifest {
-        let base = loader.sources.get(request.from_file).path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let base = loader
+            .sources
+            .get(request.from_file)
+            .path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default();
         let joined = base.join(rel);
         let path = joined.canonicalize().unwrap_or(joined);
         return match crate::load::read_text(&path, &loader.options.limits) {
             Ok(text) => Some((path, text)),
             Err(reason) => {
                 loader.diags.push(
-                    Diagnostic::new(&l102_invalid_manifest::CHECK, request.span, format!("cannot read the manifest of `{}` at `{rel}`: {reason}", request.name))
-                        .label("library named here")
-                        .help(format!("manifest paths are relative to {}", base.display())),
+                    Diagnostic::new(
+                        &l102_invalid_manifest::CHECK,
+                        request.span,
+                        format!(
+                            "cannot read the manifest of `{}` at `{rel}`: {reason}",
+                            request.name
+                        ),
+                    )
+                    .label("library named here")
+                    .help(format!("manifest paths are relative to {}", base.display())),
                 );
                 None
             }
@@ -356,12 +431,26 @@ fn locate(loader: &mut Loader<'_>, request: &LibraryRequest) -> Option<(PathBuf,
             }
         }
     }
-    if let Some(b) = loader.options.builtins.iter().find(|b| b.name == request.name) {
+    if let Some(b) = loader
+        .options
+        .builtins
+        .iter()
+        .find(|b| b.name == request.name)
+    {
         return Some((PathBuf::new(), b.text.clone()));
     }
-    let known: Vec<&str> = loader.options.builtins.iter().map(|b| b.name.as_str()).collect();
-    let d = Diagnostic::new(&l101_unknown_library::CHECK, request.span, format!("library `{}` not found", request.name))
-        .label("no manifest for this library");
+    let known: Vec<&str> = loader
+        .options
+        .builtins
+        .iter()
+        .map(|b| b.name.as_str())
+        .collect();
+    let d = Diagnostic::new(
+        &l101_unknown_library::CHECK,
+        request.span,
+        format!("library `{}` not found", request.name),
+    )
+    .label("no manifest for this library");
     loader.diags.push(match did_you_mean(&request.name, known) {
         Some(s) => d.help(format!("did you mean `{s}`? Otherwise give manifest=\"path/to/{}.lib.xml\" or add its folder with --lib-path", request.name)),
         None => d.help(format!("give manifest=\"path/to/{}.lib.xml\" or add its folder with --lib-path / FERROC_LIB_PATH", request.name)),
@@ -374,13 +463,19 @@ fn register_types(set: &mut LibrarySet, diags: &mut crate::diagnostic::Diagnosti
     let mut pending = Vec::new();
     for (i, lib) in set.libraries.iter().enumerate() {
         for t in lib.root.children_named("type") {
-            let Some(name) = t.value("name") else { continue };
+            let Some(name) = t.value("name") else {
+                continue;
+            };
             let qualified = format!("{}.{name}", lib.name);
             if set.type_index.contains_key(&qualified) {
                 diags.push(
-                    Diagnostic::new(&crate::checks::model::m109_duplicate_name::CHECK, t.value_span("name"), format!("type `{name}` is defined twice"))
-                        .label("second definition")
-                        .help("rename or remove one of them"),
+                    Diagnostic::new(
+                        &crate::checks::model::m109_duplicate_name::CHECK,
+                        t.value_span("name"),
+                        format!("type `{name}` is defined twice"),
+                    )
+                    .label("second definition")
+                    .help("rename or remove one of them"),
                 );
                 continue;
             }
@@ -402,8 +497,12 @@ fn register_types(set: &mut LibrarySet, diags: &mut crate::diagnostic::Diagnosti
         let visible = set.libraries[lib].visible.clone();
         let mut fields = Vec::new();
         for f in element.children_named("field") {
-            let (Some(name), Some(ty)) = (f.value("name"), f.value("type")) else { continue };
-            let Some(t) = set.resolve_type(ty, f.value_span("type"), &visible, diags) else { continue };
+            let (Some(name), Some(ty)) = (f.value("name"), f.value("type")) else {
+                continue;
+            };
+            let Some(t) = set.resolve_type(ty, f.value_span("type"), &visible, diags) else {
+                continue;
+            };
             let unit = unit_attr(f, diags);
             fields.push((name.to_string(), t, unit));
         }
@@ -418,9 +517,13 @@ pub fn unit_attr(element: &Element, diags: &mut crate::diagnostic::Diagnostics) 
         Ok(u) => Some(u),
         Err(e) => {
             diags.push(
-                Diagnostic::new(&crate::checks::model::m108_invalid_attribute_value::CHECK, attr.value_span, format!("`{}` is not a unit: {e}", attr.value))
-                    .label("invalid unit")
-                    .help("use SI symbols with prefixes (`m`, `mm/s`, `m/s^2`), `deg`, `rpm` or `Hz`"),
+                Diagnostic::new(
+                    &crate::checks::model::m108_invalid_attribute_value::CHECK,
+                    attr.value_span,
+                    format!("`{}` is not a unit: {e}", attr.value),
+                )
+                .label("invalid unit")
+                .help("use SI symbols with prefixes (`m`, `mm/s`, `m/s^2`), `deg`, `rpm` or `Hz`"),
             );
             None
         }

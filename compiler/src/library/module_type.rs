@@ -116,13 +116,19 @@ pub fn build_all(set: &LibrarySet, id: LibraryId, diags: &mut Diagnostics) -> Ve
     let lib = set.get(id);
     let mut out: Vec<ModuleType> = Vec::new();
     for element in lib.root.children_named("module-type") {
-        let Some(name) = element.value("name") else { continue };
+        let Some(name) = element.value("name") else {
+            continue;
+        };
         if let Some(first) = out.iter().find(|m| m.name == name) {
             diags.push(
-                Diagnostic::new(&m109_duplicate_name::CHECK, element.value_span("name"), format!("module type `{name}` is defined twice"))
-                    .label("second definition")
-                    .secondary(first.span, "first definition")
-                    .help("rename or remove one of them"),
+                Diagnostic::new(
+                    &m109_duplicate_name::CHECK,
+                    element.value_span("name"),
+                    format!("module type `{name}` is defined twice"),
+                )
+                .label("second definition")
+                .secondary(first.span, "first definition")
+                .help("rename or remove one of them"),
             );
             continue;
         }
@@ -131,7 +137,12 @@ pub fn build_all(set: &LibrarySet, id: LibraryId, diags: &mut Diagnostics) -> Ve
     out
 }
 
-fn build(set: &LibrarySet, id: LibraryId, element: &Element, diags: &mut Diagnostics) -> ModuleType {
+fn build(
+    set: &LibrarySet,
+    id: LibraryId,
+    element: &Element,
+    diags: &mut Diagnostics,
+) -> ModuleType {
     let lib = set.get(id);
     let name = element.value("name").unwrap_or("").to_string();
     let kind = match element.value("kind") {
@@ -178,9 +189,16 @@ fn build(set: &LibrarySet, id: LibraryId, element: &Element, diags: &mut Diagnos
                 if let Some(port) = child.value("port") {
                     mt.flexible.push(FlexibleDecl {
                         port: port.to_string(),
-                        dir: if child.value("dir") == Some("out") { PortDir::Out } else { PortDir::In },
+                        dir: if child.value("dir") == Some("out") {
+                            PortDir::Out
+                        } else {
+                            PortDir::In
+                        },
                         same_type: child.value("same-type") != Some("false"),
-                        min_count: child.value("min-count").and_then(|v| v.parse().ok()).unwrap_or(0),
+                        min_count: child
+                            .value("min-count")
+                            .and_then(|v| v.parse().ok())
+                            .unwrap_or(0),
                         max_count: child.value("max-count").and_then(|v| v.parse().ok()),
                         span: child.value_span("port"),
                     });
@@ -189,7 +207,11 @@ fn build(set: &LibrarySet, id: LibraryId, element: &Element, diags: &mut Diagnos
             }
             "derived-activity" => {
                 if !mt.is_behaviour() {
-                    misplaced(child, "only behaviour and fusion module types have derived activities", diags);
+                    misplaced(
+                        child,
+                        "only behaviour and fusion module types have derived activities",
+                        diags,
+                    );
                 } else if let Some(n) = child.value("name") {
                     mt.derived_activities.push(n.to_string());
                 }
@@ -198,7 +220,14 @@ fn build(set: &LibrarySet, id: LibraryId, element: &Element, diags: &mut Diagnos
             "channel-in" => {
                 if mt.kind != ModuleKind::Fusion {
                     misplaced(child, "only fusion module types have channels", diags);
-                } else if let Some(p) = port_decl(set, &lib.visible, child, PortDir::In, PortRole::Plain, diags) {
+                } else if let Some(p) = port_decl(
+                    set,
+                    &lib.visible,
+                    child,
+                    PortDir::In,
+                    PortRole::Plain,
+                    diags,
+                ) {
                     mt.channel_in.push(p);
                 }
                 continue;
@@ -227,26 +256,51 @@ fn build(set: &LibrarySet, id: LibraryId, element: &Element, diags: &mut Diagnos
     if mt.is_behaviour() {
         add_behaviour_interface(&mut mt);
     }
-    mt.port_index = mt.ports.iter().enumerate().map(|(i, p)| (p.name.clone(), i)).collect();
-    mt.param_index = mt.params.iter().enumerate().map(|(i, p)| (p.name.clone(), i)).collect();
+    mt.port_index = mt
+        .ports
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p.name.clone(), i))
+        .collect();
+    mt.param_index = mt
+        .params
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p.name.clone(), i))
+        .collect();
     mt
 }
 
 fn misplaced(child: &Element, why: &str, diags: &mut Diagnostics) {
     diags.push(
-        Diagnostic::new(&m105_misplaced_element::CHECK, child.name_span, format!("<{}> does not fit this module type", child.name))
-            .label("misplaced here")
-            .help(why.to_string()),
+        Diagnostic::new(
+            &m105_misplaced_element::CHECK,
+            child.name_span,
+            format!("<{}> does not fit this module type", child.name),
+        )
+        .label("misplaced here")
+        .help(why.to_string()),
     );
 }
 
-fn unique(names: &mut HashMap<String, Span>, name: &str, span: Span, diags: &mut Diagnostics) -> bool {
+fn unique(
+    names: &mut HashMap<String, Span>,
+    name: &str,
+    span: Span,
+    diags: &mut Diagnostics,
+) -> bool {
     if let Some(first) = names.get(name) {
         diags.push(
-            Diagnostic::new(&m109_duplicate_name::CHECK, span, format!("`{name}` is declared twice in this module type"))
-                .label("second declaration")
-                .secondary(*first, "first declaration")
-                .help("port and parameter names are unique within a module type, across all directions"),
+            Diagnostic::new(
+                &m109_duplicate_name::CHECK,
+                span,
+                format!("`{name}` is declared twice in this module type"),
+            )
+            .label("second declaration")
+            .secondary(*first, "first declaration")
+            .help(
+                "port and parameter names are unique within a module type, across all directions",
+            ),
         );
         return false;
     }
@@ -269,11 +323,15 @@ fn add_behaviour_interface(mt: &mut ModuleType) {
         merge: false,
         span,
     };
-    mt.ports.push(meta("stimulation", PortDir::In, Meta::Stimulation));
-    mt.ports.push(meta("activity", PortDir::Out, Meta::Activity));
-    mt.ports.push(meta("target_rating", PortDir::Out, Meta::TargetRating));
+    mt.ports
+        .push(meta("stimulation", PortDir::In, Meta::Stimulation));
+    mt.ports
+        .push(meta("activity", PortDir::Out, Meta::Activity));
+    mt.ports
+        .push(meta("target_rating", PortDir::Out, Meta::TargetRating));
     for d in &mt.derived_activities {
-        mt.ports.push(meta(&format!("activity/{d}"), PortDir::Out, Meta::Activity));
+        mt.ports
+            .push(meta(&format!("activity/{d}"), PortDir::Out, Meta::Activity));
     }
     let param = |name: &str, ty: Type, default: &str, choices: &[&str]| ParamDecl {
         name: name.to_string(),
@@ -286,12 +344,25 @@ fn add_behaviour_interface(mt: &mut ModuleType) {
         choices: choices.iter().map(|c| c.to_string()).collect(),
         span,
     };
-    let u32t = Type::Int { signed: false, bits: 32 };
-    mt.params.push(param("stimulation_mode", Type::String, "auto", &["auto", "enabled", "disabled"]));
+    let u32t = Type::Int {
+        signed: false,
+        bits: 32,
+    };
+    mt.params.push(param(
+        "stimulation_mode",
+        Type::String,
+        "auto",
+        &["auto", "enabled", "disabled"],
+    ));
     mt.params.push(param("inhibitions", u32t.clone(), "1", &[]));
     if mt.kind == ModuleKind::Fusion {
         mt.params.push(param("channels", u32t, "2", &[]));
-        mt.params.push(param("method", Type::String, "max", &["max", "weighted_average", "weighted_sum"]));
+        mt.params.push(param(
+            "method",
+            Type::String,
+            "max",
+            &["max", "weighted_average", "weighted_sum"],
+        ));
     }
 }
 
@@ -322,7 +393,12 @@ fn port_decl(
     })
 }
 
-fn param_decl(set: &LibrarySet, visible: &[LibraryId], e: &Element, diags: &mut Diagnostics) -> Option<ParamDecl> {
+fn param_decl(
+    set: &LibrarySet,
+    visible: &[LibraryId],
+    e: &Element,
+    diags: &mut Diagnostics,
+) -> Option<ParamDecl> {
     let name = e.value("name")?;
     let ty = set.resolve_type(e.value("type")?, e.value_span("type"), visible, diags)?;
     let unit = unit_attr(e, diags);
@@ -353,7 +429,10 @@ fn param_decl(set: &LibrarySet, visible: &[LibraryId], e: &Element, diags: &mut 
         max,
         default: e.value("default").map(str::to_string),
         required: e.value("required") == Some("true"),
-        choices: e.value("choices").map(|c| c.split_whitespace().map(str::to_string).collect()).unwrap_or_default(),
+        choices: e
+            .value("choices")
+            .map(|c| c.split_whitespace().map(str::to_string).collect())
+            .unwrap_or_default(),
         span: e.value_span("name"),
     };
     if let Some(default) = e.attr("default") {
@@ -364,7 +443,13 @@ fn param_decl(set: &LibrarySet, visible: &[LibraryId], e: &Element, diags: &mut 
 
 /// Parses a value for a parameter and checks choices and range. Shared by defaults in
 /// manifests and `<param>` values in models. Returns the value when it is acceptable.
-pub fn check_value(decl: &ParamDecl, text: &str, span: Span, context: Option<Span>, diags: &mut Diagnostics) -> Option<Value> {
+pub fn check_value(
+    decl: &ParamDecl,
+    text: &str,
+    span: Span,
+    context: Option<Span>,
+    diags: &mut Diagnostics,
+) -> Option<Value> {
     use crate::checks::parameters::p105_wrong_unit_dimension;
     let with_context = |d: Diagnostic| match context {
         Some(c) => d.secondary(c, "the parameter is declared here"),
@@ -372,9 +457,17 @@ pub fn check_value(decl: &ParamDecl, text: &str, span: Span, context: Option<Spa
     };
     if !decl.choices.is_empty() && !decl.choices.iter().any(|c| c == text.trim()) {
         diags.push(with_context(
-            Diagnostic::new(&p103_unparsable_value::CHECK, span, format!("`{}` is not one of the choices of `{}`", text.trim(), decl.name))
-                .label("not a valid choice")
-                .help(format!("use one of: {}", decl.choices.join(", "))),
+            Diagnostic::new(
+                &p103_unparsable_value::CHECK,
+                span,
+                format!(
+                    "`{}` is not one of the choices of `{}`",
+                    text.trim(),
+                    decl.name
+                ),
+            )
+            .label("not a valid choice")
+            .help(format!("use one of: {}", decl.choices.join(", "))),
         ));
         return None;
     }
@@ -390,7 +483,11 @@ pub fn check_value(decl: &ParamDecl, text: &str, span: Span, context: Option<Spa
                 let below = decl.min.filter(|m| n < *m);
                 let above = decl.max.filter(|m| n > *m);
                 if below.is_some() || above.is_some() {
-                    let unit = decl.unit.as_ref().map(|u| format!(" {u}")).unwrap_or_default();
+                    let unit = decl
+                        .unit
+                        .as_ref()
+                        .map(|u| format!(" {u}"))
+                        .unwrap_or_default();
                     let range = match (decl.min, decl.max) {
                         (Some(a), Some(b)) => format!("{a}{unit} ..= {b}{unit}"),
                         (Some(a), None) => format!(">= {a}{unit}"),
@@ -398,9 +495,20 @@ pub fn check_value(decl: &ParamDecl, text: &str, span: Span, context: Option<Spa
                         _ => String::new(),
                     };
                     diags.push(with_context(
-                        Diagnostic::new(&p104_out_of_range::CHECK, span, format!("{n}{unit} is outside the range of `{}` ({range})", decl.name))
-                            .label(if below.is_some() { "too small" } else { "too large" })
-                            .help(format!("use a value in {range}")),
+                        Diagnostic::new(
+                            &p104_out_of_range::CHECK,
+                            span,
+                            format!(
+                                "{n}{unit} is outside the range of `{}` ({range})",
+                                decl.name
+                            ),
+                        )
+                        .label(if below.is_some() {
+                            "too small"
+                        } else {
+                            "too large"
+                        })
+                        .help(format!("use a value in {range}")),
                     ));
                     return None;
                 }
@@ -409,23 +517,34 @@ pub fn check_value(decl: &ParamDecl, text: &str, span: Span, context: Option<Spa
         }
         Err(crate::values::ValueError::Syntax(msg)) => {
             diags.push(with_context(
-                Diagnostic::new(&p103_unparsable_value::CHECK, span, format!("invalid value for `{}`: {msg}", decl.name))
-                    .label(format!("expected a `{}`", decl.ty))
-                    .help(match &decl.unit {
-                        Some(u) => format!("write a `{}` value, optionally with a unit of the same dimension as `{u}`", decl.ty),
-                        None => format!("write a `{}` value", decl.ty),
-                    }),
+                Diagnostic::new(
+                    &p103_unparsable_value::CHECK,
+                    span,
+                    format!("invalid value for `{}`: {msg}", decl.name),
+                )
+                .label(format!("expected a `{}`", decl.ty))
+                .help(match &decl.unit {
+                    Some(u) => format!(
+                        "write a `{}` value, optionally with a unit of the same dimension as `{u}`",
+                        decl.ty
+                    ),
+                    None => format!("write a `{}` value", decl.ty),
+                }),
             ));
             None
         }
         Err(crate::values::ValueError::WrongDimension(msg)) => {
             diags.push(with_context(
-                Diagnostic::new(&p105_wrong_unit_dimension::CHECK, span, format!("wrong unit for `{}`: {msg}", decl.name))
-                    .label("unit of another dimension")
-                    .help(match &decl.unit {
-                        Some(u) => format!("write the value in `{u}` or a unit of the same dimension"),
-                        None => "write the value without a unit".to_string(),
-                    }),
+                Diagnostic::new(
+                    &p105_wrong_unit_dimension::CHECK,
+                    span,
+                    format!("wrong unit for `{}`: {msg}", decl.name),
+                )
+                .label("unit of another dimension")
+                .help(match &decl.unit {
+                    Some(u) => format!("write the value in `{u}` or a unit of the same dimension"),
+                    None => "write the value without a unit".to_string(),
+                }),
             ));
             None
         }

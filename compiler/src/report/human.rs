@@ -5,7 +5,10 @@
 use super::ModelReport;
 use crate::diagnostic::{Diagnostic, Severity};
 use crate::source::{FileId, SourceMap};
-use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, MietteError, MietteSpanContents, SourceCode, SourceSpan, SpanContents};
+use miette::{
+    GraphicalReportHandler, GraphicalTheme, LabeledSpan, MietteError, MietteSpanContents,
+    SourceCode, SourceSpan, SpanContents,
+};
 use std::fmt;
 
 /// A file's text with its name, as miette wants it.
@@ -16,7 +19,12 @@ struct NamedText<'a> {
 }
 
 impl SourceCode for NamedText<'_> {
-    fn read_span<'b>(&'b self, span: &SourceSpan, before: usize, after: usize) -> Result<Box<dyn SpanContents<'b> + 'b>, MietteError> {
+    fn read_span<'b>(
+        &'b self,
+        span: &SourceSpan,
+        before: usize,
+        after: usize,
+    ) -> Result<Box<dyn SpanContents<'b> + 'b>, MietteError> {
         let inner = self.text.read_span(span, before, after)?;
         Ok(Box::new(MietteSpanContents::new_named(
             self.name.to_string(),
@@ -68,14 +76,25 @@ impl miette::Diagnostic for Rendered<'_> {
         if self.related.is_empty() {
             return None;
         }
-        Some(Box::new(self.related.iter().map(|r| r as &dyn miette::Diagnostic)))
+        Some(Box::new(
+            self.related.iter().map(|r| r as &dyn miette::Diagnostic),
+        ))
     }
 }
 
 fn labeled(sources: &SourceMap, label: &crate::diagnostic::Label, primary: bool) -> LabeledSpan {
     let len = (label.span.end - label.span.start).max(1) as usize;
     let text = (!label.message.is_empty()).then(|| label.message.clone());
-    let span = SourceSpan::new((label.span.start as usize).into(), len.min(sources.get(label.span.file).text.len().saturating_sub(label.span.start as usize).max(0)));
+    let span = SourceSpan::new(
+        (label.span.start as usize).into(),
+        len.min(
+            sources
+                .get(label.span.file)
+                .text
+                .len()
+                .saturating_sub(label.span.start as usize),
+        ),
+    );
     if primary {
         LabeledSpan::new_primary_with_span(text, span)
     } else {
@@ -87,14 +106,20 @@ fn build<'a>(sources: &'a SourceMap, d: &'a Diagnostic) -> Rendered<'a> {
     let file = d.primary.span.file;
     let named = |f: FileId| {
         let src = sources.get(f);
-        NamedText { name: &src.name, text: &src.text }
+        NamedText {
+            name: &src.name,
+            text: &src.text,
+        }
     };
     let mut labels = vec![labeled(sources, &d.primary, true)];
     let mut related: Vec<Rendered<'a>> = Vec::new();
     for s in &d.secondary {
         if s.span.file == file {
             labels.push(labeled(sources, s, false));
-        } else if let Some(r) = related.iter_mut().find(|r| std::ptr::eq(r.source.text, sources.get(s.span.file).text.as_str())) {
+        } else if let Some(r) = related
+            .iter_mut()
+            .find(|r| std::ptr::eq(r.source.text, sources.get(s.span.file).text.as_str()))
+        {
             r.labels.push(labeled(sources, s, false));
         } else {
             related.push(Rendered {
@@ -125,13 +150,24 @@ fn build<'a>(sources: &'a SourceMap, d: &'a Diagnostic) -> Rendered<'a> {
 
 /// Renders every finding; `color` for terminals.
 pub fn render(report: &ModelReport<'_>, color: bool, out: &mut String) {
-    let theme = if color { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
-    let handler = GraphicalReportHandler::new_themed(theme).with_width(100).with_links(false);
+    let theme = if color {
+        GraphicalTheme::unicode()
+    } else {
+        GraphicalTheme::unicode_nocolor()
+    };
+    let handler = GraphicalReportHandler::new_themed(theme)
+        .with_width(100)
+        .with_links(false);
     for d in report.diagnostics {
         let rendered = build(report.sources, d);
         if handler.render_report(out, &rendered).is_err() {
             let (f, l, c) = report.sources.location(d.primary.span);
-            out.push_str(&format!("{}[{}]: {} at {f}:{l}:{c}\n", d.severity.as_str(), d.code(), d.message));
+            out.push_str(&format!(
+                "{}[{}]: {} at {f}:{l}:{c}\n",
+                d.severity.as_str(),
+                d.code(),
+                d.message
+            ));
         }
         out.push('\n');
     }

@@ -28,7 +28,13 @@ fn label(sources: &SourceMap, l: &Label) -> Value {
 }
 
 pub fn model(path: &str, report: &ModelReport<'_>) -> Value {
-    let count = |s| report.diagnostics.iter().filter(|d| d.severity == s).count();
+    let count = |s| {
+        report
+            .diagnostics
+            .iter()
+            .filter(|d| d.severity == s)
+            .count()
+    };
     let diagnostics: Vec<Value> = report
         .diagnostics
         .iter()

@@ -26,13 +26,29 @@ pub fn document(models: &[(String, ModelReport<'_>)]) -> String {
     let total = models.len() * REGISTRY.len();
     let failures: usize = models
         .iter()
-        .map(|(_, r)| REGISTRY.iter().filter(|c| r.diagnostics.iter().any(|d| d.code() == c.code && d.severity == Severity::Error)).count())
+        .map(|(_, r)| {
+            REGISTRY
+                .iter()
+                .filter(|c| {
+                    r.diagnostics
+                        .iter()
+                        .any(|d| d.code() == c.code && d.severity == Severity::Error)
+                })
+                .count()
+        })
         .sum();
-    out.push_str(&format!("<testsuites name=\"ferroc check\" tests=\"{total}\" failures=\"{failures}\">\n"));
+    out.push_str(&format!(
+        "<testsuites name=\"ferroc check\" tests=\"{total}\" failures=\"{failures}\">\n"
+    ));
     for (path, report) in models {
         let fails = REGISTRY
             .iter()
-            .filter(|c| report.diagnostics.iter().any(|d| d.code() == c.code && d.severity == Severity::Error))
+            .filter(|c| {
+                report
+                    .diagnostics
+                    .iter()
+                    .any(|d| d.code() == c.code && d.severity == Severity::Error)
+            })
             .count();
         out.push_str(&format!(
             "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{fails}\">\n",
@@ -40,22 +56,38 @@ pub fn document(models: &[(String, ModelReport<'_>)]) -> String {
             REGISTRY.len()
         ));
         for check in REGISTRY {
-            let found: Vec<_> = report.diagnostics.iter().filter(|d| d.code() == check.code).collect();
+            let found: Vec<_> = report
+                .diagnostics
+                .iter()
+                .filter(|d| d.code() == check.code)
+                .collect();
             let lines: Vec<String> = found
                 .iter()
                 .map(|d| {
                     let (f, l, c) = report.sources.location(d.primary.span);
-                    format!("{f}:{l}:{c}: {}[{}]: {}", d.severity.as_str(), d.code(), d.message)
+                    format!(
+                        "{f}:{l}:{c}: {}[{}]: {}",
+                        d.severity.as_str(),
+                        d.code(),
+                        d.message
+                    )
                 })
                 .collect();
             let name = format!("{} {}", check.code, check.name);
-            out.push_str(&format!("    <testcase classname=\"{}\" name=\"{}\"", escape(path), escape(&name)));
+            out.push_str(&format!(
+                "    <testcase classname=\"{}\" name=\"{}\"",
+                escape(path),
+                escape(&name)
+            ));
             if found.is_empty() {
                 out.push_str("/>\n");
                 continue;
             }
             out.push_str(">\n");
-            let errors = found.iter().filter(|d| d.severity == Severity::Error).count();
+            let errors = found
+                .iter()
+                .filter(|d| d.severity == Severity::Error)
+                .count();
             if errors > 0 {
                 out.push_str(&format!(
                     "      <failure message=\"{} error(s)\" type=\"{}\">{}</failure>\n",
@@ -64,7 +96,10 @@ pub fn document(models: &[(String, ModelReport<'_>)]) -> String {
                     escape(&lines.join("\n"))
                 ));
             } else {
-                out.push_str(&format!("      <system-out>{}</system-out>\n", escape(&lines.join("\n"))));
+                out.push_str(&format!(
+                    "      <system-out>{}</system-out>\n",
+                    escape(&lines.join("\n"))
+                ));
             }
             out.push_str("    </testcase>\n");
         }

@@ -18,6 +18,11 @@ pub struct ModelReport<'a> {
 pub fn short(report: &ModelReport<'_>, out: &mut String) {
     for d in report.diagnostics {
         let (file, line, col) = report.sources.location(d.primary.span);
-        out.push_str(&format!("{file}:{line}:{col}: {}[{}]: {}\n", d.severity.as_str(), d.code(), d.message));
+        out.push_str(&format!(
+            "{file}:{line}:{col}: {}[{}]: {}\n",
+            d.severity.as_str(),
+            d.code(),
+            d.message
+        ));
     }
 }

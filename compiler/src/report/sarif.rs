@@ -58,7 +58,10 @@ pub fn document(reports: &[ModelReport<'_>]) -> Value {
     let mut results = Vec::new();
     for report in reports {
         for d in report.diagnostics {
-            let rule_index = REGISTRY.iter().position(|c| c.code == d.code()).unwrap_or(0);
+            let rule_index = REGISTRY
+                .iter()
+                .position(|c| c.code == d.code())
+                .unwrap_or(0);
             let mut text = d.message.clone();
             if let Some(h) = &d.help {
                 text.push_str("\nhelp: ");

@@ -12,10 +12,14 @@ type Resolved = (Endpoint, Option<u32>);
 impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     pub(super) fn resolve_connect(&mut self, p: PendingConnect<'t>) {
         let e = p.element;
-        let (Some(from), Some(to)) = (e.attr("from"), e.attr("to")) else { return };
+        let (Some(from), Some(to)) = (e.attr("from"), e.attr("to")) else {
+            return;
+        };
         let from_r = self.resolve_path(p.scope, &from.value, from.value_span);
         let to_r = self.resolve_path(p.scope, &to.value, to.value_span);
-        let (Some((from_ep, from_index)), Some((to_ep, to_index))) = (from_r, to_r) else { return };
+        let (Some((from_ep, from_index)), Some((to_ep, to_index))) = (from_r, to_r) else {
+            return;
+        };
         let mut converts = Vec::new();
         for c in e.children_named("convert") {
             let number = |name: &str, this: &mut Self| -> Option<(f64, Span)> {
@@ -24,9 +28,13 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                     Ok(v) if v.is_finite() => Some((v, a.value_span)),
                     _ => {
                         this.loader.diags.push(
-                            Diagnostic::new(&crate::checks::model::m108_invalid_attribute_value::CHECK, a.value_span, format!("`{}` is not a number", a.value))
-                                .label("expected a number")
-                                .help(format!("write {name}=\"1000\" or similar")),
+                            Diagnostic::new(
+                                &crate::checks::model::m108_invalid_attribute_value::CHECK,
+                                a.value_span,
+                                format!("`{}` is not a number", a.value),
+                            )
+                            .label("expected a number")
+                            .help(format!("write {name}=\"1000\" or similar")),
                         );
                         None
                     }
@@ -85,9 +93,13 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
 
     fn unresolved(&mut self, span: Span, path: &str, msg: String, help: String) {
         self.loader.diags.push(
-            Diagnostic::new(&m110_unresolved_path::CHECK, span, format!("`{path}` does not resolve: {msg}"))
-                .label("unresolved path")
-                .help(help),
+            Diagnostic::new(
+                &m110_unresolved_path::CHECK,
+                span,
+                format!("`{path}` does not resolve: {msg}"),
+            )
+            .label("unresolved path")
+            .help(help),
         );
     }
 
@@ -95,7 +107,12 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     fn resolve_path(&mut self, scope: ElementId, path: &str, span: Span) -> Option<Resolved> {
         let segments: Vec<&str> = path.split('/').collect();
         if path.is_empty() || segments.iter().any(|s| s.is_empty()) {
-            self.unresolved(span, path, "empty path segment".into(), "write names joined by single `/`, without leading or trailing `/`".into());
+            self.unresolved(
+                span,
+                path,
+                "empty path segment".into(),
+                "write names joined by single `/`, without leading or trailing `/`".into(),
+            );
             return None;
         }
         let mut current = scope;
@@ -104,8 +121,22 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             let (name, index) = split_index(seg);
             if rest.len() == 1 {
                 // Bare name: a port of the current group (or of the scope itself).
-                if let Some(k) = self.app.element(current).group_ports.iter().position(|p| p.name == name) {
-                    return self.indexed(Endpoint::GroupPort { element: current, port: k as u32 }, index, span, path);
+                if let Some(k) = self
+                    .app
+                    .element(current)
+                    .group_ports
+                    .iter()
+                    .position(|p| p.name == name)
+                {
+                    return self.indexed(
+                        Endpoint::GroupPort {
+                            element: current,
+                            port: k as u32,
+                        },
+                        index,
+                        span,
+                        path,
+                    );
                 }
             }
             if let Some(child) = self.app.children.get(&(current, seg.to_string())) {
@@ -123,53 +154,115 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 .filter(|(p, _)| *p == current)
                 .map(|(_, n)| n.clone())
                 .collect();
-            candidates.extend(self.app.element(current).group_ports.iter().map(|p| p.name.clone()));
+            candidates.extend(
+                self.app
+                    .element(current)
+                    .group_ports
+                    .iter()
+                    .map(|p| p.name.clone()),
+            );
             candidates.sort();
             let hint = did_you_mean(name, candidates.iter().map(String::as_str));
-            let where_ = if here.is_empty() { "the top level".to_string() } else { format!("`{here}`") };
+            let where_ = if here.is_empty() {
+                "the top level".to_string()
+            } else {
+                format!("`{here}`")
+            };
             let help = match hint {
                 Some(h) => format!("did you mean `{h}`?"),
                 None if candidates.is_empty() => format!("{where_} contains nothing of that name"),
                 None => format!("{where_} contains: {}", candidates.join(", ")),
             };
-            self.unresolved(span, path, format!("{where_} has no element or port `{name}`"), help);
+            self.unresolved(
+                span,
+                path,
+                format!("{where_} has no element or port `{name}`"),
+                help,
+            );
             return None;
         }
         let what = self.app.path(current);
-        self.unresolved(span, path, format!("`{what}` is an element, not a port"), "name a port of a module, or a group's interface port".into());
+        self.unresolved(
+            span,
+            path,
+            format!("`{what}` is an element, not a port"),
+            "name a port of a module, or a group's interface port".into(),
+        );
         None
     }
 
-    fn module_endpoint(&mut self, module: ElementId, rest: &[&str], span: Span, path: &str) -> Option<Resolved> {
+    fn module_endpoint(
+        &mut self,
+        module: ElementId,
+        rest: &[&str],
+        span: Span,
+        path: &str,
+    ) -> Option<Resolved> {
         let libs = self.libs;
         let module_path = self.app.path(module);
         if rest.is_empty() {
-            self.unresolved(span, path, format!("`{module_path}` is a module, not a port"), "append the port name, e.g. `…/module/port`".into());
+            self.unresolved(
+                span,
+                path,
+                format!("`{module_path}` is a module, not a port"),
+                "append the port name, e.g. `…/module/port`".into(),
+            );
             return None;
         }
         if rest[0] == "param" && rest.len() == 2 {
             let mt = self.app.module_type(libs, module)?;
             if let Some(k) = mt.params.iter().position(|p| p.name == rest[1]) {
-                return Some((Endpoint::Param { element: module, param: k as u32 }, None));
+                return Some((
+                    Endpoint::Param {
+                        element: module,
+                        param: k as u32,
+                    },
+                    None,
+                ));
             }
             let hint = did_you_mean(rest[1], mt.params.iter().map(|p| p.name.as_str()));
             self.unresolved(
                 span,
                 path,
-                format!("module type `{}` has no parameter `{}`", mt.qualified, rest[1]),
-                hint.map_or("see the module type's parameters in its manifest".into(), |h| format!("did you mean `param/{h}`?")),
+                format!(
+                    "module type `{}` has no parameter `{}`",
+                    mt.qualified, rest[1]
+                ),
+                hint.map_or(
+                    "see the module type's parameters in its manifest".into(),
+                    |h| format!("did you mean `param/{h}`?"),
+                ),
             );
             return None;
         }
         let joined = rest.join("/");
         let (name, index) = split_index(&joined);
-        let found = self.app.module_ports(libs, module).find(|(_, p)| p.name == name).map(|(k, _)| k);
+        let found = self
+            .app
+            .module_ports(libs, module)
+            .find(|(_, p)| p.name == name)
+            .map(|(k, _)| k);
         match found {
-            Some(k) => self.indexed(Endpoint::Port { element: module, port: k }, index, span, path),
+            Some(k) => self.indexed(
+                Endpoint::Port {
+                    element: module,
+                    port: k,
+                },
+                index,
+                span,
+                path,
+            ),
             None => {
-                let names: Vec<String> = self.app.module_ports(libs, module).map(|(_, p)| p.name.clone()).collect();
+                let names: Vec<String> = self
+                    .app
+                    .module_ports(libs, module)
+                    .map(|(_, p)| p.name.clone())
+                    .collect();
                 let hint = did_you_mean(name, names.iter().map(String::as_str));
-                let type_name = self.app.module_type(libs, module).map_or(String::new(), |m| m.qualified.clone());
+                let type_name = self
+                    .app
+                    .module_type(libs, module)
+                    .map_or(String::new(), |m| m.qualified.clone());
                 self.unresolved(
                     span,
                     path,
@@ -184,12 +277,23 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         }
     }
 
-    fn indexed(&mut self, ep: Endpoint, index: Option<Result<u32, ()>>, span: Span, path: &str) -> Option<Resolved> {
+    fn indexed(
+        &mut self,
+        ep: Endpoint,
+        index: Option<Result<u32, ()>>,
+        span: Span,
+        path: &str,
+    ) -> Option<Resolved> {
         match index {
             None => Some((ep, None)),
             Some(Ok(i)) => Some((ep, Some(i))),
             Some(Err(())) => {
-                self.unresolved(span, path, "the index in `[…]` is not a number".into(), "write `port[2]` to address element 2".into());
+                self.unresolved(
+                    span,
+                    path,
+                    "the index in `[…]` is not a number".into(),
+                    "write `port[2]` to address element 2".into(),
+                );
                 None
             }
         }

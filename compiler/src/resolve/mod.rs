@@ -37,7 +37,12 @@ pub(crate) struct Resolver<'r, 'l, 't> {
 }
 
 /// Resolves a loaded model. `used` are the libraries the application `<use>`s.
-pub fn resolve(loader: &mut Loader<'_>, model: &ModelFiles, libs: &LibrarySet, used: &[LibraryId]) -> Application {
+pub fn resolve(
+    loader: &mut Loader<'_>,
+    model: &ModelFiles,
+    libs: &LibrarySet,
+    used: &[LibraryId],
+) -> Application {
     let root = &model.root;
     let app = Application {
         name: root.value("name").unwrap_or("").to_string(),
@@ -71,18 +76,30 @@ pub fn resolve(loader: &mut Loader<'_>, model: &ModelFiles, libs: &LibrarySet, u
     let mut resources: HashMap<&str, Span> = HashMap::new();
     for (file, element) in &files {
         for gt in element.children_named("group-type") {
-            let Some(name) = gt.value("name") else { continue };
+            let Some(name) = gt.value("name") else {
+                continue;
+            };
             if let Some((_, first)) = r.local_group_types.get(name) {
                 let first = first.value_span("name");
-                r.duplicate(gt.value_span("name"), first, &format!("group type `{name}`"));
+                r.duplicate(
+                    gt.value_span("name"),
+                    first,
+                    &format!("group type `{name}`"),
+                );
             } else {
                 r.local_group_types.insert(name, (*file, gt));
             }
         }
         for res in element.children_named("resource") {
-            let Some(name) = res.value("name") else { continue };
+            let Some(name) = res.value("name") else {
+                continue;
+            };
             if let Some(first) = resources.get(name) {
-                r.duplicate(res.value_span("name"), *first, &format!("resource `{name}`"));
+                r.duplicate(
+                    res.value_span("name"),
+                    *first,
+                    &format!("resource `{name}`"),
+                );
             } else {
                 resources.insert(name, res.value_span("name"));
             }
@@ -98,14 +115,24 @@ pub fn resolve(loader: &mut Loader<'_>, model: &ModelFiles, libs: &LibrarySet, u
 impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     fn duplicate(&mut self, span: Span, first: Span, what: &str) {
         self.loader.diags.push(
-            Diagnostic::new(&m109_duplicate_name::CHECK, span, format!("{what} is defined twice"))
-                .label("second definition")
-                .secondary(first, "first definition")
-                .help("rename one of them; names are unique within their scope"),
+            Diagnostic::new(
+                &m109_duplicate_name::CHECK,
+                span,
+                format!("{what} is defined twice"),
+            )
+            .label("second definition")
+            .secondary(first, "first definition")
+            .help("rename one of them; names are unique within their scope"),
         );
     }
 
-    fn add_element(&mut self, parent: ElementId, element: &Element, kind: ElementKind, instantiated_at: Option<Span>) -> Option<ElementId> {
+    fn add_element(
+        &mut self,
+        parent: ElementId,
+        element: &Element,
+        kind: ElementKind,
+        instantiated_at: Option<Span>,
+    ) -> Option<ElementId> {
         let name = element.value("name")?.to_string();
         let id = ElementId(self.app.elements.len() as u32);
         let name_span = element.value_span("name");
@@ -136,24 +163,40 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         Some(id)
     }
 
-    fn walk(&mut self, scope: ElementId, element: &'t Element, visible: &'t [LibraryId], inst: Option<Span>, depth: usize) {
+    fn walk(
+        &mut self,
+        scope: ElementId,
+        element: &'t Element,
+        visible: &'t [LibraryId],
+        inst: Option<Span>,
+        depth: usize,
+    ) {
         for child in &element.children {
             match child.name.as_str() {
                 "part" => {
                     let host = child.attr("host").map(|a| (a.value.clone(), a.value_span));
-                    if let Some(id) = self.add_element(scope, child, ElementKind::Part { host }, inst) {
+                    if let Some(id) =
+                        self.add_element(scope, child, ElementKind::Part { host }, inst)
+                    {
                         self.walk(id, child, visible, inst, depth);
                     }
                 }
                 "thread" => {
                     let period = self.thread_period(child);
-                    if let Some(id) = self.add_element(scope, child, ElementKind::Thread { period }, inst) {
+                    if let Some(id) =
+                        self.add_element(scope, child, ElementKind::Thread { period }, inst)
+                    {
                         self.walk(id, child, visible, inst, depth);
                     }
                 }
                 "group" => self.group(scope, child, visible, inst, depth),
                 "module" => self.module(scope, child, visible, inst),
-                "connect" => self.pending.push(PendingConnect { scope, element: child, instantiated_at: inst, visible }),
+                "connect" => self.pending.push(PendingConnect {
+                    scope,
+                    element: child,
+                    instantiated_at: inst,
+                    visible,
+                }),
                 _ => {}
             }
         }
@@ -163,7 +206,9 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         let period = thread.attr("period");
         let trigger = thread.attr("trigger");
         let bad = |msg: String, span: Span, help: &str| {
-            Diagnostic::new(&m108_invalid_attribute_value::CHECK, span, msg).label("here").help(help.to_string())
+            Diagnostic::new(&m108_invalid_attribute_value::CHECK, span, msg)
+                .label("here")
+                .help(help.to_string())
         };
         match (period, trigger) {
             (Some(_), Some(t)) => {
@@ -205,7 +250,14 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         }
     }
 
-    fn group(&mut self, scope: ElementId, child: &'t Element, visible: &'t [LibraryId], inst: Option<Span>, depth: usize) {
+    fn group(
+        &mut self,
+        scope: ElementId,
+        child: &'t Element,
+        visible: &'t [LibraryId],
+        inst: Option<Span>,
+        depth: usize,
+    ) {
         let Some(type_attr) = child.attr("type") else {
             if let Some(id) = self.add_element(scope, child, ElementKind::Group, inst) {
                 self.walk(id, child, visible, inst, depth);
@@ -213,34 +265,54 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             }
             return;
         };
-        let Some((def, def_visible)) = self.find_group_type(&type_attr.value, type_attr.value_span, visible) else {
+        let Some((def, def_visible)) =
+            self.find_group_type(&type_attr.value, type_attr.value_span, visible)
+        else {
             // Keep the group so paths into it report the unknown type, not a missing name.
             self.add_element(scope, child, ElementKind::Group, inst);
             return;
         };
         let use_span = type_attr.value_span;
-        if let Some(pos) = self.instantiating.iter().position(|(d, _)| std::ptr::eq(*d, def)) {
+        if let Some(pos) = self
+            .instantiating
+            .iter()
+            .position(|(d, _)| std::ptr::eq(*d, def))
+        {
             let mut d = Diagnostic::new(
                 &m117_recursive_group_type::CHECK,
                 use_span,
-                format!("group type `{}` contains an instance of itself", type_attr.value),
+                format!(
+                    "group type `{}` contains an instance of itself",
+                    type_attr.value
+                ),
             )
             .label("instantiated again here");
             for (_, span) in &self.instantiating[pos..] {
                 d = d.secondary(*span, "instantiated here");
             }
-            self.loader.diags.push(d.help("break the recursion: a group type cannot contain itself"));
+            self.loader
+                .diags
+                .push(d.help("break the recursion: a group type cannot contain itself"));
             return;
         }
         if depth >= self.loader.options.limits.max_instance_depth {
             self.loader.diags.push(
-                Diagnostic::new(&m116_limit_exceeded::CHECK, use_span, format!("group types nest more than {} deep", self.loader.options.limits.max_instance_depth))
-                    .label("one level too many")
-                    .help("flatten the group structure"),
+                Diagnostic::new(
+                    &m116_limit_exceeded::CHECK,
+                    use_span,
+                    format!(
+                        "group types nest more than {} deep",
+                        self.loader.options.limits.max_instance_depth
+                    ),
+                )
+                .label("one level too many")
+                .help("flatten the group structure"),
             );
             return;
         }
-        let Some(id) = self.add_element(scope, child, ElementKind::Group, inst) else { return };
+        let Some(id) = self.add_element(scope, child, ElementKind::Group, inst) else {
+            return;
+        };
         self.instantiating.push((def as *const Element, use_span));
         // Elements of the definition point into it and remember this use.
         let inner_inst = Some(inst.unwrap_or(use_span));
@@ -250,7 +322,12 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     }
 
     /// `local.Name` or `lib.Name`: the definition and the libraries its content may use.
-    fn find_group_type(&mut self, name: &str, span: Span, visible: &'t [LibraryId]) -> Option<(&'t Element, &'t [LibraryId])> {
+    fn find_group_type(
+        &mut self,
+        name: &str,
+        span: Span,
+        visible: &'t [LibraryId],
+    ) -> Option<(&'t Element, &'t [LibraryId])> {
         let libs = self.libs;
         let (lib, short) = name.split_once('.').unwrap_or(("", name));
         if lib == "local" {
@@ -258,7 +335,11 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 return Some((def, visible));
             }
             let names: Vec<&str> = self.local_group_types.keys().copied().collect();
-            self.unknown_group_type(name, span, did_you_mean(short, names).map(|s| format!("local.{s}")));
+            self.unknown_group_type(
+                name,
+                span,
+                did_you_mean(short, names).map(|s| format!("local.{s}")),
+            );
             return None;
         }
         if let Some(id) = libs.by_name.get(lib) {
@@ -279,10 +360,17 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     }
 
     fn unknown_group_type(&mut self, name: &str, span: Span, hint: Option<String>) {
-        let d = Diagnostic::new(&m111_unknown_type::CHECK, span, format!("unknown group type `{name}`")).label("no such group type");
+        let d = Diagnostic::new(
+            &m111_unknown_type::CHECK,
+            span,
+            format!("unknown group type `{name}`"),
+        )
+        .label("no such group type");
         self.loader.diags.push(match hint {
             Some(h) => d.help(format!("did you mean `{h}`?")),
-            None => d.help("group types are `local.Name` (this file and its includes) or `library.Name`"),
+            None => d.help(
+                "group types are `local.Name` (this file and its includes) or `library.Name`",
+            ),
         });
     }
 
@@ -301,16 +389,27 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     fn group_ports(&mut self, id: ElementId, def: &'t Element, visible: &'t [LibraryId]) {
         let mut ports = Vec::new();
         for p in def.children_named("port") {
-            let (Some(name), Some(ty)) = (p.value("name"), p.value("type")) else { continue };
+            let (Some(name), Some(ty)) = (p.value("name"), p.value("type")) else {
+                continue;
+            };
             if let Some(first) = ports.iter().find(|x: &&GroupPort| x.name == name) {
                 let first = first.span;
                 self.duplicate(p.value_span("name"), first, &format!("port `{name}`"));
                 continue;
             }
-            let Some(ty) = self.libs.resolve_type(ty, p.value_span("type"), visible, self.loader.diags) else { continue };
+            let Some(ty) =
+                self.libs
+                    .resolve_type(ty, p.value_span("type"), visible, self.loader.diags)
+            else {
+                continue;
+            };
             ports.push(GroupPort {
                 name: name.to_string(),
-                dir: if p.value("dir") == Some("out") { PortDir::Out } else { PortDir::In },
+                dir: if p.value("dir") == Some("out") {
+                    PortDir::Out
+                } else {
+                    PortDir::In
+                },
                 ty,
                 unit: crate::library::unit_attr(p, self.loader.diags),
                 span: p.value_span("name"),

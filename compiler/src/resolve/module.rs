@@ -12,14 +12,27 @@ use crate::syntax::Element;
 use crate::types::{Meta, Type};
 
 impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
-    pub(super) fn module(&mut self, scope: ElementId, e: &'t Element, visible: &'t [LibraryId], inst: Option<Span>) {
-        let Some(type_attr) = e.attr("type") else { return };
+    pub(super) fn module(
+        &mut self,
+        scope: ElementId,
+        e: &'t Element,
+        visible: &'t [LibraryId],
+        inst: Option<Span>,
+    ) {
+        let Some(type_attr) = e.attr("type") else {
+            return;
+        };
         let type_span = type_attr.value_span;
-        let Some((library, type_index)) = self.find_module_type(&type_attr.value, type_span, visible) else {
+        let Some((library, type_index)) =
+            self.find_module_type(&type_attr.value, type_span, visible)
+        else {
             return;
         };
         let mt = &self.libs.get(library).module_types[type_index];
-        let params = e.children_named("param").filter_map(|p| self.param_value(p)).collect::<Vec<_>>();
+        let params = e
+            .children_named("param")
+            .filter_map(|p| self.param_value(p))
+            .collect::<Vec<_>>();
         let mut instance = ModuleInstance {
             library,
             type_index,
@@ -52,12 +65,24 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 span: mt.span,
             };
             for k in 0..inhibitions {
-                instance.extra_ports.push(meta(format!("inhibition/{k}"), PortDir::In, Meta::Inhibition));
+                instance.extra_ports.push(meta(
+                    format!("inhibition/{k}"),
+                    PortDir::In,
+                    Meta::Inhibition,
+                ));
             }
             if mt.kind == ModuleKind::Fusion {
                 for k in 0..channels {
-                    instance.extra_ports.push(meta(format!("in/{k}/activity"), PortDir::In, Meta::Activity));
-                    instance.extra_ports.push(meta(format!("in/{k}/target_rating"), PortDir::In, Meta::TargetRating));
+                    instance.extra_ports.push(meta(
+                        format!("in/{k}/activity"),
+                        PortDir::In,
+                        Meta::Activity,
+                    ));
+                    instance.extra_ports.push(meta(
+                        format!("in/{k}/target_rating"),
+                        PortDir::In,
+                        Meta::TargetRating,
+                    ));
                     for c in &mt.channel_in {
                         let mut p = c.clone();
                         p.name = format!("in/{k}/{}", c.name);
@@ -69,23 +94,38 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         self.add_element(scope, e, ElementKind::Module(instance), inst);
     }
 
-    fn find_module_type(&mut self, name: &str, span: Span, visible: &[LibraryId]) -> Option<(LibraryId, usize)> {
+    fn find_module_type(
+        &mut self,
+        name: &str,
+        span: Span,
+        visible: &[LibraryId],
+    ) -> Option<(LibraryId, usize)> {
         let libs = self.libs;
         let Some((lib, short)) = name.split_once('.') else {
             self.loader.diags.push(
-                Diagnostic::new(&m111_unknown_type::CHECK, span, format!("`{name}` is not a qualified module type"))
-                    .label("missing library prefix")
-                    .help("module types are written `library.Type`, e.g. `ferroc_std.Constant`"),
+                Diagnostic::new(
+                    &m111_unknown_type::CHECK,
+                    span,
+                    format!("`{name}` is not a qualified module type"),
+                )
+                .label("missing library prefix")
+                .help("module types are written `library.Type`, e.g. `ferroc_std.Constant`"),
             );
             return None;
         };
         let Some(&id) = libs.by_name.get(lib) else {
             let names = libs.by_name.keys().map(String::as_str);
-            let d = Diagnostic::new(&crate::checks::libraries::l101_unknown_library::CHECK, span, format!("library `{lib}` is not loaded"))
-                .label("unknown library");
+            let d = Diagnostic::new(
+                &crate::checks::libraries::l101_unknown_library::CHECK,
+                span,
+                format!("library `{lib}` is not loaded"),
+            )
+            .label("unknown library");
             self.loader.diags.push(match did_you_mean(lib, names) {
                 Some(s) => d.help(format!("did you mean `{s}.{short}`?")),
-                None if self.loader.options.builtins.iter().any(|b| b.name == lib) => d.help(format!("add <use library=\"{lib}\"/>")),
+                None if self.loader.options.builtins.iter().any(|b| b.name == lib) => {
+                    d.help(format!("add <use library=\"{lib}\"/>"))
+                }
                 None => d.help(format!("add <use library=\"{lib}\" manifest=\"…\"/>")),
             });
             return None;
@@ -93,10 +133,18 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         let library = libs.get(id);
         let Some(&index) = library.module_index.get(short) else {
             let names = library.module_types.iter().map(|m| m.name.as_str());
-            let d = Diagnostic::new(&m111_unknown_type::CHECK, span, format!("library `{lib}` has no module type `{short}`")).label("unknown module type");
+            let d = Diagnostic::new(
+                &m111_unknown_type::CHECK,
+                span,
+                format!("library `{lib}` has no module type `{short}`"),
+            )
+            .label("unknown module type");
             self.loader.diags.push(match did_you_mean(short, names) {
                 Some(s) => d.help(format!("did you mean `{lib}.{s}`?")),
-                None => d.help(format!("see the module types in {}", self.loader.sources.get(library.file).name)),
+                None => d.help(format!(
+                    "see the module types in {}",
+                    self.loader.sources.get(library.file).name
+                )),
             });
             return None;
         };
@@ -107,14 +155,29 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     }
 
     /// `<port name dir type count>` on an instance of a flexible module type.
-    fn flexible_ports(&mut self, e: &Element, mt: &crate::library::ModuleType, instance: &mut ModuleInstance, visible: &[LibraryId]) {
+    fn flexible_ports(
+        &mut self,
+        e: &Element,
+        mt: &crate::library::ModuleType,
+        instance: &mut ModuleInstance,
+        visible: &[LibraryId],
+    ) {
         for p in e.children_named("port") {
-            let (Some(name), Some(ty_text)) = (p.value("name"), p.value("type")) else { continue };
+            let (Some(name), Some(ty_text)) = (p.value("name"), p.value("type")) else {
+                continue;
+            };
             let Some(flex) = mt.flexible.iter().find(|f| f.port == name) else {
                 let groups: Vec<&str> = mt.flexible.iter().map(|f| f.port.as_str()).collect();
-                let d = Diagnostic::new(&m105_misplaced_element::CHECK, p.value_span("name"), format!("module type `{}` has no flexible port group `{name}`", mt.qualified))
-                    .label("not declarable here")
-                    .secondary(mt.span, "module type declared here");
+                let d = Diagnostic::new(
+                    &m105_misplaced_element::CHECK,
+                    p.value_span("name"),
+                    format!(
+                        "module type `{}` has no flexible port group `{name}`",
+                        mt.qualified
+                    ),
+                )
+                .label("not declarable here")
+                .secondary(mt.span, "module type declared here");
                 self.loader.diags.push(if groups.is_empty() {
                     d.help("only flexible module types take <port> declarations; this type's interface is fixed")
                 } else {
@@ -122,25 +185,50 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 });
                 continue;
             };
-            let dir = if p.value("dir") == Some("out") { PortDir::Out } else { PortDir::In };
+            let dir = if p.value("dir") == Some("out") {
+                PortDir::Out
+            } else {
+                PortDir::In
+            };
             if dir != flex.dir {
                 self.loader.diags.push(
-                    Diagnostic::new(&m108_invalid_attribute_value::CHECK, p.value_span("dir"), format!("port group `{name}` is declared with the wrong direction"))
-                        .label("wrong direction")
-                        .secondary(flex.span, "declared by the module type here")
-                        .help(format!("use dir=\"{}\"", if flex.dir == PortDir::In { "in" } else { "out" })),
+                    Diagnostic::new(
+                        &m108_invalid_attribute_value::CHECK,
+                        p.value_span("dir"),
+                        format!("port group `{name}` is declared with the wrong direction"),
+                    )
+                    .label("wrong direction")
+                    .secondary(flex.span, "declared by the module type here")
+                    .help(format!(
+                        "use dir=\"{}\"",
+                        if flex.dir == PortDir::In { "in" } else { "out" }
+                    )),
                 );
                 continue;
             }
-            let Some(ty) = self.libs.resolve_type(ty_text, p.value_span("type"), visible, self.loader.diags) else { continue };
+            let Some(ty) =
+                self.libs
+                    .resolve_type(ty_text, p.value_span("type"), visible, self.loader.diags)
+            else {
+                continue;
+            };
             let unit = crate::library::unit_attr(p, self.loader.diags);
             let count: Option<u32> = p.value("count").and_then(|c| c.parse().ok());
             let n = count.unwrap_or(1);
             if n < flex.min_count || flex.max_count.is_some_and(|m| n > m) {
                 self.loader.diags.push(
-                    Diagnostic::new(&m108_invalid_attribute_value::CHECK, p.value_span("count"), format!("port group `{name}` needs between {} and {} ports", flex.min_count, flex.max_count.map_or("any number".into(), |m| m.to_string())))
-                        .label("count out of range")
-                        .secondary(flex.span, "constraint declared here"),
+                    Diagnostic::new(
+                        &m108_invalid_attribute_value::CHECK,
+                        p.value_span("count"),
+                        format!(
+                            "port group `{name}` needs between {} and {} ports",
+                            flex.min_count,
+                            flex.max_count
+                                .map_or("any number".into(), |m| m.to_string())
+                        ),
+                    )
+                    .label("count out of range")
+                    .secondary(flex.span, "constraint declared here"),
                 );
             }
             let decl = |port_name: String| PortDecl {
@@ -155,11 +243,15 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 span: p.value_span("name"),
             };
             match count {
-                Some(c) => instance.extra_ports.extend((0..c.min(4096)).map(|k| decl(format!("{name}/{k}")))),
+                Some(c) => instance
+                    .extra_ports
+                    .extend((0..c.min(4096)).map(|k| decl(format!("{name}/{k}")))),
                 None => instance.extra_ports.push(decl(name.to_string())),
             }
             if flex.same_type {
-                if let Some((_, first, _)) = instance.flexible_types.iter().find(|(g, _, _)| g == name) {
+                if let Some((_, first, _)) =
+                    instance.flexible_types.iter().find(|(g, _, _)| g == name)
+                {
                     if *first != ty {
                         self.loader.diags.push(
                             Diagnostic::new(&crate::checks::connections::t102_incompatible_types::CHECK, p.value_span("type"), format!("all ports of group `{name}` must have one type; `{ty}` differs from `{first}`"))
@@ -190,23 +282,56 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 Ok((t, s)) => (t.clone(), *s),
                 Err(_) => (String::new(), config.value_span),
             };
-            return Some(ParamValue { name, name_span, text, span, source: ParamSource::Config(entry), source_span: config.value_span });
+            return Some(ParamValue {
+                name,
+                name_span,
+                text,
+                span,
+                source: ParamSource::Config(entry),
+                source_span: config.value_span,
+            });
         }
         let has_text = !p.text.trim().is_empty();
         if !has_text {
             if let Some(cmd) = p.attr("cmdline") {
-                return Some(ParamValue { name, name_span, text: String::new(), span: cmd.value_span, source: ParamSource::Cmdline, source_span: cmd.value_span });
+                return Some(ParamValue {
+                    name,
+                    name_span,
+                    text: String::new(),
+                    span: cmd.value_span,
+                    source: ParamSource::Cmdline,
+                    source_span: cmd.value_span,
+                });
             }
         }
-        Some(ParamValue { name, name_span, text: p.text.clone(), span: p.text_span, source: ParamSource::Inline, source_span: p.text_span })
+        Some(ParamValue {
+            name,
+            name_span,
+            text: p.text.clone(),
+            span: p.text_span,
+            source: ParamSource::Inline,
+            source_span: p.text_span,
+        })
     }
 
     /// Reads `file.xml#/a/b` from a FINROC-style config file.
     fn config_entry(&mut self, reference: &str, span: Span) -> Result<(String, Span), String> {
-        let (file, pointer) = reference.split_once('#').ok_or("no `#/entry` pointer in the reference")?;
+        let (file, pointer) = reference
+            .split_once('#')
+            .ok_or("no `#/entry` pointer in the reference")?;
         let model_file = span.file;
-        let base = self.loader.sources.get(model_file).path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
-        let path = base.join(file).canonicalize().map_err(|_| format!("cannot read `{file}`"))?;
+        let base = self
+            .loader
+            .sources
+            .get(model_file)
+            .path
+            .parent()
+            .map(|p| p.to_path_buf())
+            .unwrap_or_default();
+        let path = base
+            .join(file)
+            .canonicalize()
+            .map_err(|_| format!("cannot read `{file}`"))?;
         let (_, root) = self.loader.read_plain(&path)?;
         let root = root.ok_or_else(|| format!("`{file}` is not well-formed XML"))?;
         let mut node = &root;
@@ -218,7 +343,12 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 .children
                 .iter()
                 .find(|c| c.name == tag && c.value("name") == Some(seg))
-                .ok_or_else(|| format!("`{file}` has no <{tag} name=\"{seg}\"> at `/{}`", segments[..i].join("/")))?;
+                .ok_or_else(|| {
+                    format!(
+                        "`{file}` has no <{tag} name=\"{seg}\"> at `/{}`",
+                        segments[..i].join("/")
+                    )
+                })?;
         }
         Ok((node.text.trim().to_string(), node.text_span))
     }

@@ -23,16 +23,21 @@ pub fn validate(root: &Element, key: &str, out: &mut Diagnostics, allows: &mut V
         check_attributes(element, spec, is_root, out);
         if !spec.text && !element.text.trim().is_empty() {
             out.push(
-                Diagnostic::new(&m105_misplaced_element::CHECK, element.text_span, format!("<{}> holds no text", element.name))
-                    .label("unexpected text")
-                    .help("remove the text, or put it in a `doc` attribute"),
+                Diagnostic::new(
+                    &m105_misplaced_element::CHECK,
+                    element.text_span,
+                    format!("<{}> holds no text", element.name),
+                )
+                .label("unexpected text")
+                .help("remove the text, or put it in a `doc` attribute"),
             );
         }
         for child in &element.children {
             match vocabulary::child_key(spec, &child.name) {
                 Some(child_key) => {
                     if child.name == "allow" {
-                        if let (Some(code), Some(_)) = (child.value("code"), child.value("reason")) {
+                        if let (Some(code), Some(_)) = (child.value("code"), child.value("reason"))
+                        {
                             allows.push(AllowRegion {
                                 code: code.to_string(),
                                 region: element.span,
@@ -49,11 +54,23 @@ pub fn validate(root: &Element, key: &str, out: &mut Diagnostics, allows: &mut V
 }
 
 fn unplaced(parent: &Element, spec: &ElementSpec, child: &Element) -> Diagnostic {
-    let allowed: Vec<&str> = spec.children.iter().map(|k| vocabulary::spec(k).tag).collect();
+    let allowed: Vec<&str> = spec
+        .children
+        .iter()
+        .map(|k| vocabulary::spec(k).tag)
+        .collect();
     let list = if allowed.is_empty() {
         format!("<{}> takes no child elements", parent.name)
     } else {
-        format!("<{}> may contain {}", parent.name, allowed.iter().map(|t| format!("<{t}>")).collect::<Vec<_>>().join(", "))
+        format!(
+            "<{}> may contain {}",
+            parent.name,
+            allowed
+                .iter()
+                .map(|t| format!("<{t}>"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
     };
     if vocabulary::all_tags().any(|t| t == child.name) {
         Diagnostic::new(
@@ -65,8 +82,12 @@ fn unplaced(parent: &Element, spec: &ElementSpec, child: &Element) -> Diagnostic
         .secondary(parent.name_span, "in this element")
         .help(list)
     } else {
-        let d = Diagnostic::new(&m102_unknown_element::CHECK, child.name_span, format!("unknown element <{}>", child.name))
-            .label("not an element of the model language");
+        let d = Diagnostic::new(
+            &m102_unknown_element::CHECK,
+            child.name_span,
+            format!("unknown element <{}>", child.name),
+        )
+        .label("not an element of the model language");
         match did_you_mean(&child.name, allowed.iter().copied()) {
             Some(s) => d.help(format!("did you mean <{s}>?")),
             None => d.help(list),
@@ -78,19 +99,29 @@ fn check_attributes(element: &Element, spec: &ElementSpec, is_root: bool, out: &
     for (i, attr) in element.attrs.iter().enumerate() {
         if let Some(first) = element.attrs[..i].iter().find(|a| a.name == attr.name) {
             out.push(
-                Diagnostic::new(&m106_duplicate_attribute::CHECK, attr.name_span, format!("attribute `{}` appears twice", attr.name))
-                    .label("second occurrence")
-                    .secondary(first.name_span, "first occurrence")
-                    .help("keep one of them"),
+                Diagnostic::new(
+                    &m106_duplicate_attribute::CHECK,
+                    attr.name_span,
+                    format!("attribute `{}` appears twice", attr.name),
+                )
+                .label("second occurrence")
+                .secondary(first.name_span, "first occurrence")
+                .help("keep one of them"),
             );
             continue;
         }
         let known = spec.attrs.iter().find(|a| a.name == attr.name);
         let Some(known) = known else {
             let free = COMMON_ATTRS.contains(&attr.name.as_str())
-                || (is_root && (ROOT_ATTRS.contains(&attr.name.as_str()) || attr.name.starts_with("xmlns")));
+                || (is_root
+                    && (ROOT_ATTRS.contains(&attr.name.as_str())
+                        || attr.name.starts_with("xmlns")));
             if !free {
-                let names = spec.attrs.iter().map(|a| a.name).chain(COMMON_ATTRS.iter().copied());
+                let names = spec
+                    .attrs
+                    .iter()
+                    .map(|a| a.name)
+                    .chain(COMMON_ATTRS.iter().copied());
                 let d = Diagnostic::new(
                     &m103_unknown_attribute::CHECK,
                     attr.name_span,
@@ -138,28 +169,46 @@ fn check_value(element: &Element, attr: &super::xml::Attr, kind: AttrKind, out: 
                     fixed
                 };
                 out.push(
-                    Diagnostic::new(&m107_invalid_name::CHECK, attr.value_span, format!("`{v}` is not a valid name"))
-                        .label("names are identifiers: letters, digits and `_`, not starting with a digit")
-                        .help(format!("use `{fixed}`")),
+                    Diagnostic::new(
+                        &m107_invalid_name::CHECK,
+                        attr.value_span,
+                        format!("`{v}` is not a valid name"),
+                    )
+                    .label(
+                        "names are identifiers: letters, digits and `_`, not starting with a digit",
+                    )
+                    .help(format!("use `{fixed}`")),
                 );
             }
             None
         }
         AttrKind::Bool => (!matches!(v, "true" | "false")).then(|| "`true` or `false`".to_string()),
-        AttrKind::Count => v.parse::<u32>().is_err().then(|| "a non-negative whole number".to_string()),
+        AttrKind::Count => v
+            .parse::<u32>()
+            .is_err()
+            .then(|| "a non-negative whole number".to_string()),
         AttrKind::Choice(options) => (!options.contains(&v)).then(|| {
-            options.iter().map(|o| format!("`{o}`")).collect::<Vec<_>>().join(", ")
+            options
+                .iter()
+                .map(|o| format!("`{o}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
         }),
     };
     if let Some(expected) = problem {
         let d = Diagnostic::new(
             &m108_invalid_attribute_value::CHECK,
             attr.value_span,
-            format!("`{v}` is not a valid value for `{}` of <{}>", attr.name, element.name),
+            format!(
+                "`{v}` is not a valid value for `{}` of <{}>",
+                attr.name, element.name
+            ),
         )
         .label("invalid value");
         let suggestion = match kind {
-            AttrKind::Choice(options) => did_you_mean(v, options.iter().copied()).map(|s| format!("did you mean `{s}`?")),
+            AttrKind::Choice(options) => {
+                did_you_mean(v, options.iter().copied()).map(|s| format!("did you mean `{s}`?"))
+            }
             _ => None,
         };
         out.push(d.help(suggestion.unwrap_or(format!("expected {expected}"))));

@@ -38,22 +38,41 @@ pub struct ElementSpec {
 }
 
 const fn req(name: &'static str, kind: AttrKind) -> AttrSpec {
-    AttrSpec { name, required: true, kind }
+    AttrSpec {
+        name,
+        required: true,
+        kind,
+    }
 }
 const fn opt(name: &'static str, kind: AttrKind) -> AttrSpec {
-    AttrSpec { name, required: false, kind }
+    AttrSpec {
+        name,
+        required: false,
+        kind,
+    }
 }
 
 /// Allowed on every element.
 pub const COMMON_ATTRS: &[&str] = &["doc"];
 /// Allowed on root elements (schema binding).
-pub const ROOT_ATTRS: &[&str] = &["xmlns:xsi", "xsi:noNamespaceSchemaLocation", "xsi:schemaLocation"];
+pub const ROOT_ATTRS: &[&str] = &[
+    "xmlns:xsi",
+    "xsi:noNamespaceSchemaLocation",
+    "xsi:schemaLocation",
+];
 
 pub const ON_FULL: &[&str] = &["block", "drop-oldest", "drop-newest"];
 pub const DIRECTIONS: &[&str] = &["in", "out"];
 pub const MODULE_KINDS: &[&str] = &["module", "sense-control", "behaviour", "fusion"];
 
-const GROUP_CONTENT: &[&str] = &["group-port", "group", "thread", "module", "connect", "allow"];
+const GROUP_CONTENT: &[&str] = &[
+    "group-port",
+    "group",
+    "thread",
+    "module",
+    "connect",
+    "allow",
+];
 
 pub static ELEMENTS: &[ElementSpec] = &[
     // ----- application models -----
@@ -61,7 +80,16 @@ pub static ELEMENTS: &[ElementSpec] = &[
         key: "application",
         tag: "application",
         attrs: &[req("name", Ident), req("version", Choice(&["1"]))],
-        children: &["use", "include", "resource", "group-type", "part", "connect", "flow", "allow"],
+        children: &[
+            "use",
+            "include",
+            "resource",
+            "group-type",
+            "part",
+            "connect",
+            "flow",
+            "allow",
+        ],
         text: false,
     },
     ElementSpec {
@@ -149,7 +177,11 @@ pub static ELEMENTS: &[ElementSpec] = &[
     ElementSpec {
         key: "param",
         tag: "param",
-        attrs: &[req("name", Ident), opt("config", Text), opt("cmdline", Text)],
+        attrs: &[
+            req("name", Ident),
+            opt("config", Text),
+            opt("cmdline", Text),
+        ],
         children: &[],
         text: true,
     },
@@ -200,7 +232,12 @@ pub static ELEMENTS: &[ElementSpec] = &[
     ElementSpec {
         key: "flow",
         tag: "flow",
-        attrs: &[req("name", Ident), req("from", Text), req("to", Text), req("max-latency", Text)],
+        attrs: &[
+            req("name", Ident),
+            req("from", Text),
+            req("to", Text),
+            req("max-latency", Text),
+        ],
         children: &["allow"],
         text: false,
     },
@@ -222,7 +259,11 @@ pub static ELEMENTS: &[ElementSpec] = &[
     ElementSpec {
         key: "library",
         tag: "library",
-        attrs: &[req("name", Ident), opt("version", Text), opt("rust-crate", Text)],
+        attrs: &[
+            req("name", Ident),
+            opt("version", Text),
+            opt("rust-crate", Text),
+        ],
         children: &["depends", "type", "module-type", "lib-group-type"],
         text: false,
     },
@@ -263,18 +304,64 @@ pub static ELEMENTS: &[ElementSpec] = &[
             opt("budget", Text),
         ],
         children: &[
-            "in", "out", "sensor-in", "sensor-out", "controller-in", "controller-out",
-            "param-decl", "service", "client", "locks", "derived-activity", "channel-in",
+            "in",
+            "out",
+            "sensor-in",
+            "sensor-out",
+            "controller-in",
+            "controller-out",
+            "param-decl",
+            "service",
+            "client",
+            "locks",
+            "derived-activity",
+            "channel-in",
             "flexible",
         ],
         text: false,
     },
-    ElementSpec { key: "in", tag: "in", attrs: INPUT_ATTRS, children: &[], text: false },
-    ElementSpec { key: "sensor-in", tag: "sensor-in", attrs: INPUT_ATTRS, children: &[], text: false },
-    ElementSpec { key: "controller-in", tag: "controller-in", attrs: INPUT_ATTRS, children: &[], text: false },
-    ElementSpec { key: "out", tag: "out", attrs: OUTPUT_ATTRS, children: &[], text: false },
-    ElementSpec { key: "sensor-out", tag: "sensor-out", attrs: OUTPUT_ATTRS, children: &[], text: false },
-    ElementSpec { key: "controller-out", tag: "controller-out", attrs: OUTPUT_ATTRS, children: &[], text: false },
+    ElementSpec {
+        key: "in",
+        tag: "in",
+        attrs: INPUT_ATTRS,
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "sensor-in",
+        tag: "sensor-in",
+        attrs: INPUT_ATTRS,
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "controller-in",
+        tag: "controller-in",
+        attrs: INPUT_ATTRS,
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "out",
+        tag: "out",
+        attrs: OUTPUT_ATTRS,
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "sensor-out",
+        tag: "sensor-out",
+        attrs: OUTPUT_ATTRS,
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "controller-out",
+        tag: "controller-out",
+        attrs: OUTPUT_ATTRS,
+        children: &[],
+        text: false,
+    },
     ElementSpec {
         key: "param-decl",
         tag: "param",
@@ -316,7 +403,13 @@ pub static ELEMENTS: &[ElementSpec] = &[
         children: &[],
         text: false,
     },
-    ElementSpec { key: "locks", tag: "locks", attrs: &[req("order", Text)], children: &[], text: false },
+    ElementSpec {
+        key: "locks",
+        tag: "locks",
+        attrs: &[req("order", Text)],
+        children: &[],
+        text: false,
+    },
     ElementSpec {
         key: "derived-activity",
         tag: "derived-activity",
@@ -375,11 +468,7 @@ pub fn spec(key: &str) -> &'static ElementSpec {
 
 /// The context key of child `tag` under `parent`, if it may appear there.
 pub fn child_key(parent: &ElementSpec, tag: &str) -> Option<&'static str> {
-    parent
-        .children
-        .iter()
-        .copied()
-        .find(|k| spec(k).tag == tag)
+    parent.children.iter().copied().find(|k| spec(k).tag == tag)
 }
 
 /// Every tag name the language knows (for "did you mean").
@@ -403,7 +492,12 @@ mod tests {
             let mut tags = Vec::new();
             for k in e.children {
                 let child = spec(k);
-                assert!(!tags.contains(&child.tag), "{} has two children tagged {}", e.key, child.tag);
+                assert!(
+                    !tags.contains(&child.tag),
+                    "{} has two children tagged {}",
+                    e.key,
+                    child.tag
+                );
                 tags.push(child.tag);
             }
         }

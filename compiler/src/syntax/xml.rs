@@ -90,7 +90,12 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
         match event {
             Event::Start(tag) | Event::Empty(tag) if root.is_some() => {
                 let _ = tag;
-                return Err(malformed(before, after, "content after the root element: an XML file has exactly one root element".into()));
+                return Err(malformed(
+                    before,
+                    after,
+                    "content after the root element: an XML file has exactly one root element"
+                        .into(),
+                ));
             }
             Event::Start(tag) => {
                 if stack.len() >= max_depth {
@@ -108,7 +113,11 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
             }
             Event::End(_) => {
                 let Some(mut element) = stack.pop() else {
-                    return Err(malformed(before, after, "closing tag without an opening tag".into()));
+                    return Err(malformed(
+                        before,
+                        after,
+                        "closing tag without an opening tag".into(),
+                    ));
                 };
                 element.span.end = after as u32;
                 attach(&mut stack, &mut root, element);
@@ -129,7 +138,13 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
                 let resolved = if r.is_char_ref() {
                     match r.resolve_char_ref() {
                         Ok(Some(c)) => c.to_string(),
-                        _ => return Err(malformed(before, after, "invalid character reference".into())),
+                        _ => {
+                            return Err(malformed(
+                                before,
+                                after,
+                                "invalid character reference".into(),
+                            ))
+                        }
                     }
                 } else {
                     let name = String::from_utf8_lossy(&r).into_owned();
@@ -186,7 +201,11 @@ fn add_text(
             Ok(())
         }
         None if s.trim().is_empty() => Ok(()),
-        None => Err(malformed(start, end, "text outside the root element".into())),
+        None => Err(malformed(
+            start,
+            end,
+            "text outside the root element".into(),
+        )),
     }
 }
 
@@ -273,10 +292,19 @@ mod tests {
         let text = "<a x=\"1\">\n  <b y='two' />t&amp;u</a>";
         let a = parse_ok(text);
         let x = a.attr("x").unwrap();
-        assert_eq!(&text[x.name_span.start as usize..x.name_span.end as usize], "x");
-        assert_eq!(&text[x.value_span.start as usize..x.value_span.end as usize], "1");
+        assert_eq!(
+            &text[x.name_span.start as usize..x.name_span.end as usize],
+            "x"
+        );
+        assert_eq!(
+            &text[x.value_span.start as usize..x.value_span.end as usize],
+            "1"
+        );
         let b = &a.children[0];
-        assert_eq!(&text[b.name_span.start as usize..b.name_span.end as usize], "b");
+        assert_eq!(
+            &text[b.name_span.start as usize..b.name_span.end as usize],
+            "b"
+        );
         assert_eq!(b.value("y"), Some("two"));
         assert_eq!(a.text.trim(), "t&u");
         assert_eq!(a.span.end as usize, text.len());
@@ -284,7 +312,15 @@ mod tests {
 
     #[test]
     fn malformed_input_is_an_error_with_a_place() {
-        for bad in ["<a><b></a>", "<a", "<a x=1/>", "", "<a/><b/>", "<a>&foo;</a>", "text"] {
+        for bad in [
+            "<a><b></a>",
+            "<a",
+            "<a x=1/>",
+            "",
+            "<a/><b/>",
+            "<a>&foo;</a>",
+            "text",
+        ] {
             let err = parse(FileId(0), bad, 64).unwrap_err();
             assert!(!err.message.is_empty(), "{bad}");
             assert!(err.span.start as usize <= bad.len(), "{bad}");

@@ -1,16 +1,18 @@
 //! T101 `wrong-direction`: A connection goes from something that does not emit to something that does not accept.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T101",
     name: "wrong-direction",
     severity: Severity::Error,
-    summary: "A connection goes from something that does not emit to something that does not accept.",
-    explanation: "Data flows from an output (or a group's input, seen from inside) to an input (or a group's
+    summary:
+        "A connection goes from something that does not emit to something that does not accept.",
+    explanation:
+        "Data flows from an output (or a group's input, seen from inside) to an input (or a group's
 output, seen from inside). Connecting two inputs or two outputs is a mistake in the path or
 in the direction of the `<connect>`.
 
@@ -24,20 +26,40 @@ Fix: swap `from` and `to`, or correct the port name.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else { continue };
+        let Some((from, to)) = super::ends(ctx, c) else {
+            continue;
+        };
         if !super::emits(c, c.from, &from) {
             out.push(
-                Diagnostic::new(&CHECK, c.from_span, format!("`{}` does not send data: it is an input here", ctx.sources.text(c.from_span)))
-                    .label("`from` must be an output (or a group input, seen from inside the group)")
-                    .secondary(from.span, "declared here")
-                    .help(if super::emits(c, c.to, &to) { "swap `from` and `to`" } else { "connect from an output port" }),
+                Diagnostic::new(
+                    &CHECK,
+                    c.from_span,
+                    format!(
+                        "`{}` does not send data: it is an input here",
+                        ctx.sources.text(c.from_span)
+                    ),
+                )
+                .label("`from` must be an output (or a group input, seen from inside the group)")
+                .secondary(from.span, "declared here")
+                .help(if super::emits(c, c.to, &to) {
+                    "swap `from` and `to`"
+                } else {
+                    "connect from an output port"
+                }),
             );
         } else if !super::accepts(c, c.to, &to) {
             out.push(
-                Diagnostic::new(&CHECK, c.to_span, format!("`{}` does not accept data: it is an output here", ctx.sources.text(c.to_span)))
-                    .label("`to` must be an input (or a group output, seen from inside the group)")
-                    .secondary(to.span, "declared here")
-                    .help("connect to an input port"),
+                Diagnostic::new(
+                    &CHECK,
+                    c.to_span,
+                    format!(
+                        "`{}` does not accept data: it is an output here",
+                        ctx.sources.text(c.to_span)
+                    ),
+                )
+                .label("`to` must be an input (or a group output, seen from inside the group)")
+                .secondary(to.span, "declared here")
+                .help("connect to an input port"),
             );
         }
     }

@@ -1,8 +1,8 @@
 //! T102 `incompatible-types`: The types of the two ends are incompatible.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::types::{compat, Compat, Type};
 
@@ -11,7 +11,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "incompatible-types",
     severity: Severity::Error,
     summary: "The types of the two ends are incompatible.",
-    explanation: "A connection is accepted when the types are identical, losslessly widening (`i32`→`i64`,
+    explanation:
+        "A connection is accepted when the types are identical, losslessly widening (`i32`→`i64`,
 `f32`→`f64`, `u16`→`f32`), or made compatible by an explicit `<convert>` chain. Anything else
 would reinterpret data. The message names both types and suggests the conversion that
 would work.
@@ -26,17 +27,25 @@ Fix: connect the right ports, or add a conversion module.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else { continue };
-        let Ok((value, dest)) = super::flow_types(ctx, c, &from, &to) else { continue };
+        let Some((from, to)) = super::ends(ctx, c) else {
+            continue;
+        };
+        let Ok((value, dest)) = super::flow_types(ctx, c, &from, &to) else {
+            continue;
+        };
         if compat(&value, &dest) != Compat::Incompatible {
             continue;
         }
         out.push(
-            Diagnostic::new(&CHECK, c.to_span, format!("cannot connect `{value}` to `{dest}`"))
-                .label(format!("expects `{dest}`"))
-                .secondary(c.from_span, format!("sends `{value}`"))
-                .secondary(to.span, format!("`{}` declared as `{}`", to.name, to.ty))
-                .help(suggestion(ctx, &value, &dest)),
+            Diagnostic::new(
+                &CHECK,
+                c.to_span,
+                format!("cannot connect `{value}` to `{dest}`"),
+            )
+            .label(format!("expects `{dest}`"))
+            .secondary(c.from_span, format!("sends `{value}`"))
+            .secondary(to.span, format!("`{}` declared as `{}`", to.name, to.ty))
+            .help(suggestion(ctx, &value, &dest)),
         );
     }
 }
@@ -45,13 +54,18 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
 fn suggestion(ctx: &PassContext<'_>, value: &Type, dest: &Type) -> String {
     if let Type::Named(id, name) = value {
         let fields = &ctx.libraries.named_type(*id).fields;
-        if let Some((f, _, _)) = fields.iter().find(|(_, t, _)| compat(t, dest) != Compat::Incompatible) {
-            return format!("take a field: <convert field=\"{f}\"/> (`{name}.{f}` is compatible with `{dest}`)");
+        if let Some((f, _, _)) = fields
+            .iter()
+            .find(|(_, t, _)| compat(t, dest) != Compat::Incompatible)
+        {
+            return format!(
+                "take a field: <convert field=\"{f}\"/> (`{name}.{f}` is compatible with `{dest}`)"
+            );
         }
     }
     if let Some(e) = value.element() {
         if compat(e, dest) != Compat::Incompatible {
-            return format!("take one element: <convert index=\"0\"/>, or connect `port[i]`");
+            return "take one element: <convert index=\"0\"/>, or connect `port[i]`".to_string();
         }
     }
     if let Some(e) = dest.element() {

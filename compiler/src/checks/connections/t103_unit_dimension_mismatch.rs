@@ -1,18 +1,19 @@
 //! T103 `unit-dimension-mismatch`: The two ends carry units of different physical dimensions.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
-use crate::units::{relate, UnitRelation};
 use crate::units::describe_dimension;
+use crate::units::{relate, UnitRelation};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T103",
     name: "unit-dimension-mismatch",
     severity: Severity::Error,
     summary: "The two ends carry units of different physical dimensions.",
-    explanation: "Units of the same dimension are scaled automatically (`m`→`mm`). Units of different
+    explanation:
+        "Units of the same dimension are scaled automatically (`m`→`mm`). Units of different
 dimensions (`m` and `m/s`, `rad` and `m`) mean the connection is wrong: a distance fed into
 a speed input.
 
@@ -26,14 +27,26 @@ Fix: connect the port that carries the right quantity.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else { continue };
-        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else { continue };
+        let Some((from, to)) = super::ends(ctx, c) else {
+            continue;
+        };
+        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else {
+            continue;
+        };
         if relate(a, b) == UnitRelation::DifferentDimension {
             out.push(
-                Diagnostic::new(&CHECK, c.to_span, format!("`{a}` cannot flow into `{b}`: {} is not {}", describe_dimension(&a.dimension), describe_dimension(&b.dimension)))
-                    .label(format!("expects `{b}`"))
-                    .secondary(c.from_span, format!("sends `{a}`"))
-                    .help("connect a port that carries the same physical quantity"),
+                Diagnostic::new(
+                    &CHECK,
+                    c.to_span,
+                    format!(
+                        "`{a}` cannot flow into `{b}`: {} is not {}",
+                        describe_dimension(&a.dimension),
+                        describe_dimension(&b.dimension)
+                    ),
+                )
+                .label(format!("expects `{b}`"))
+                .secondary(c.from_span, format!("sends `{a}`"))
+                .help("connect a port that carries the same physical quantity"),
             );
         }
     }

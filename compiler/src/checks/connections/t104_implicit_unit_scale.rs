@@ -1,8 +1,8 @@
 //! T104 `implicit-unit-scale`: A scale between compatible units is inserted.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::units::{relate, UnitRelation};
 
@@ -25,15 +25,23 @@ Nothing to fix; `--allow T104` hides these notes.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else { continue };
-        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else { continue };
+        let Some((from, to)) = super::ends(ctx, c) else {
+            continue;
+        };
+        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else {
+            continue;
+        };
         if let UnitRelation::Scaled(f) = relate(a, b) {
             out.push(
-                Diagnostic::new(&CHECK, c.span, format!("values are scaled by {f} from `{a}` to `{b}`"))
-                    .label("scale inserted on this connection")
-                    .secondary(c.from_span, format!("in `{a}`"))
-                    .secondary(c.to_span, format!("in `{b}`"))
-                    .help("nothing to do; `--allow T104` hides these notes"),
+                Diagnostic::new(
+                    &CHECK,
+                    c.span,
+                    format!("values are scaled by {f} from `{a}` to `{b}`"),
+                )
+                .label("scale inserted on this connection")
+                .secondary(c.from_span, format!("in `{a}`"))
+                .secondary(c.to_span, format!("in `{b}`"))
+                .help("nothing to do; `--allow T104` hides these notes"),
             );
         }
     }

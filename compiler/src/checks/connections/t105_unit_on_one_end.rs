@@ -1,8 +1,8 @@
 //! T105 `unit-on-one-end`: Only one end of a connection declares a unit.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
@@ -10,7 +10,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "unit-on-one-end",
     severity: Severity::Warning,
     summary: "Only one end of a connection declares a unit.",
-    explanation: "When one end says `m` and the other says nothing, the checker cannot tell whether the
+    explanation:
+        "When one end says `m` and the other says nothing, the checker cannot tell whether the
 consumer expects metres. Usually the unit-less port was declared carelessly.
 
 Bad:
@@ -23,7 +24,9 @@ Fix: declare the unit on the other port, or add an `<allow code=\"T105\" reason=
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else { continue };
+        let Some((from, to)) = super::ends(ctx, c) else {
+            continue;
+        };
         if !from.ty.is_numeric() || !to.ty.is_numeric() {
             continue;
         }
@@ -34,10 +37,20 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             _ => continue,
         };
         out.push(
-            Diagnostic::new(&CHECK, unitless.0, format!("`{}` declares no unit, the other end is in `{}`", unitless.1.name, with.1))
-                .label("no unit")
-                .secondary(with.0, format!("in `{}`", with.1))
-                .help(format!("declare unit=\"{}\" (or the intended unit) on `{}`", with.1, unitless.1.name)),
+            Diagnostic::new(
+                &CHECK,
+                unitless.0,
+                format!(
+                    "`{}` declares no unit, the other end is in `{}`",
+                    unitless.1.name, with.1
+                ),
+            )
+            .label("no unit")
+            .secondary(with.0, format!("in `{}`", with.1))
+            .help(format!(
+                "declare unit=\"{}\" (or the intended unit) on `{}`",
+                with.1, unitless.1.name
+            )),
         );
     }
 }

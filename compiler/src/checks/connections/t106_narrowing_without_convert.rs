@@ -1,8 +1,8 @@
 //! T106 `narrowing-without-convert`: A lossy conversion needs an explicit `<convert to-type>`.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::types::{compat, Compat};
 
@@ -11,7 +11,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "narrowing-without-convert",
     severity: Severity::Error,
     summary: "A lossy conversion needs an explicit `<convert to-type>`.",
-    explanation: "Narrowing (`f64`→`f32`, `i64`→`i32`), float to integer and sign changes can lose data, so
+    explanation:
+        "Narrowing (`f64`→`f32`, `i64`→`i32`), float to integer and sign changes can lose data, so
 they must be written down.
 
 Bad:
@@ -27,8 +28,12 @@ Fix:
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else { continue };
-        let Ok((value, dest)) = super::flow_types(ctx, c, &from, &to) else { continue };
+        let Some((from, to)) = super::ends(ctx, c) else {
+            continue;
+        };
+        let Ok((value, dest)) = super::flow_types(ctx, c, &from, &to) else {
+            continue;
+        };
         if compat(&value, &dest) == Compat::NeedsConvert {
             out.push(
                 Diagnostic::new(&CHECK, c.to_span, format!("`{value}` into `{dest}` can lose data"))

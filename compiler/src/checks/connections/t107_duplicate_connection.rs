@@ -1,8 +1,8 @@
 //! T107 `duplicate-connection`: The same two ports are connected twice.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use std::collections::HashMap;
 
@@ -11,7 +11,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "duplicate-connection",
     severity: Severity::Warning,
     summary: "The same two ports are connected twice.",
-    explanation: "A second identical connection adds nothing and usually is a copy-paste slip where another
+    explanation:
+        "A second identical connection adds nothing and usually is a copy-paste slip where another
 port was meant.
 
 Bad:
@@ -36,10 +37,14 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                     continue; // the same <connect> of a group type, in another instance
                 }
                 out.push(
-                    Diagnostic::new(&CHECK, c.span, format!("`{}` is connected twice", super::describe(ctx, c)))
-                        .label("duplicate")
-                        .secondary(first.span, "first connection")
-                        .help("delete one, or correct the port it was meant for"),
+                    Diagnostic::new(
+                        &CHECK,
+                        c.span,
+                        format!("`{}` is connected twice", super::describe(ctx, c)),
+                    )
+                    .label("duplicate")
+                    .secondary(first.span, "first connection")
+                    .help("delete one, or correct the port it was meant for"),
                 );
             }
         }

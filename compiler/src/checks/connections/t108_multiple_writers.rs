@@ -1,8 +1,8 @@
 //! T108 `multiple-writers`: Several connections write into one latest-value input.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
@@ -10,7 +10,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "multiple-writers",
     severity: Severity::Warning,
     summary: "Several connections write into one latest-value input.",
-    explanation: "A latest-value input keeps only the newest value; with two writers the last writer wins and
+    explanation:
+        "A latest-value input keeps only the newest value; with two writers the last writer wins and
 the consumer sees an arbitrary interleaving. Queues (`queue=\"N\"`) and inputs declared
 `fan-in=\"merge\"` accept several writers by design.
 
@@ -24,12 +25,18 @@ Fix: add an arbitration module (e.g. `ferroc_std.FlexiSelect`) or make the input
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for (&endpoint, _) in &ctx.app.nodes {
-        let Some(view) = ctx.app.view(ctx.libraries, endpoint) else { continue };
+    for &endpoint in ctx.app.nodes.keys() {
+        let Some(view) = ctx.app.view(ctx.libraries, endpoint) else {
+            continue;
+        };
         if view.merge {
             continue;
         }
-        let mut writers: Vec<_> = ctx.app.incoming(endpoint).filter(|c| c.queue.is_none()).collect();
+        let mut writers: Vec<_> = ctx
+            .app
+            .incoming(endpoint)
+            .filter(|c| c.queue.is_none())
+            .collect();
         if writers.len() < 2 {
             continue;
         }
@@ -38,9 +45,17 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         if writers.len() < 2 {
             continue;
         }
-        let mut d = Diagnostic::new(&CHECK, writers[1].to_span, format!("{} connections write into the latest-value input `{}`; the last writer wins", writers.len(), view.name))
-            .label("another writer")
-            .secondary(writers[0].to_span, "first writer");
+        let mut d = Diagnostic::new(
+            &CHECK,
+            writers[1].to_span,
+            format!(
+                "{} connections write into the latest-value input `{}`; the last writer wins",
+                writers.len(),
+                view.name
+            ),
+        )
+        .label("another writer")
+        .secondary(writers[0].to_span, "first writer");
         for w in &writers[2..] {
             d = d.secondary(w.to_span, "another writer");
         }

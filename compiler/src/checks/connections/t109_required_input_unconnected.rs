@@ -1,8 +1,8 @@
 //! T109 `required-input-unconnected`: An input declared `required="true"` has no connection.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::ir::Endpoint;
 use crate::library::PortDir;
@@ -29,19 +29,33 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             if !port.required || port.dir != PortDir::In {
                 continue;
             }
-            let ep = Endpoint::Port { element: id, port: k };
+            let ep = Endpoint::Port {
+                element: id,
+                port: k,
+            };
             if ctx.app.nodes.contains_key(&ep) && ctx.app.incoming(ep).next().is_some() {
                 continue;
             }
             let element = ctx.app.element(id);
-            let mut d = Diagnostic::new(&CHECK, element.name_span, format!("required input `{}` of `{}` is not connected", port.name, ctx.app.path(id)))
-                .label(format!("`{}` needs `{}`", element.name, port.name))
-                .secondary(port.span, "declared required here");
+            let mut d = Diagnostic::new(
+                &CHECK,
+                element.name_span,
+                format!(
+                    "required input `{}` of `{}` is not connected",
+                    port.name,
+                    ctx.app.path(id)
+                ),
+            )
+            .label(format!("`{}` needs `{}`", element.name, port.name))
+            .secondary(port.span, "declared required here");
             if let Some(at) = element.instantiated_at {
                 d = d.secondary(at, "in this instance");
             }
             let _ = m;
-            out.push(d.help(format!("add <connect from=\"…\" to=\"{}/{}\"/>", element.name, port.name)));
+            out.push(d.help(format!(
+                "add <connect from=\"…\" to=\"{}/{}\"/>",
+                element.name, port.name
+            )));
         }
     }
 }

@@ -1,8 +1,8 @@
 //! T110 `unused-output`: An output nobody reads.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::ir::Endpoint;
 use crate::library::{PortDir, PortRole};
@@ -12,7 +12,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "unused-output",
     severity: Severity::Note,
     summary: "An output nobody reads.",
-    explanation: "An output with no connection is computed for nobody. Often that is fine (debug outputs);
+    explanation:
+        "An output with no connection is computed for nobody. Often that is fine (debug outputs);
 sometimes a connection was forgotten.
 
 Example:
@@ -28,18 +29,36 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         let unused: Vec<&str> = ctx
             .app
             .module_ports(ctx.libraries, id)
-            .filter(|(k, p)| p.dir == PortDir::Out && p.role != PortRole::Meta && !ctx.app.has_outgoing(Endpoint::Port { element: id, port: *k }))
+            .filter(|(k, p)| {
+                p.dir == PortDir::Out
+                    && p.role != PortRole::Meta
+                    && !ctx.app.has_outgoing(Endpoint::Port {
+                        element: id,
+                        port: *k,
+                    })
+            })
             .map(|(_, p)| p.name.as_str())
             .collect();
         if unused.is_empty() {
             continue;
         }
         let element = ctx.app.element(id);
-        let list = unused.iter().map(|u| format!("`{u}`")).collect::<Vec<_>>().join(", ");
+        let list = unused
+            .iter()
+            .map(|u| format!("`{u}`"))
+            .collect::<Vec<_>>()
+            .join(", ");
         out.push(
-            Diagnostic::new(&CHECK, element.name_span, format!("output(s) {list} of `{}` are not connected", ctx.app.path(id)))
-                .label("computed for nobody")
-                .help("connect them, or `--allow T110` when unused outputs are intended"),
+            Diagnostic::new(
+                &CHECK,
+                element.name_span,
+                format!(
+                    "output(s) {list} of `{}` are not connected",
+                    ctx.app.path(id)
+                ),
+            )
+            .label("computed for nobody")
+            .help("connect them, or `--allow T110` when unused outputs are intended"),
         );
     }
 }

@@ -1,8 +1,8 @@
 //! T111 `not-serialisable-across-parts`: A connection between parts carries a type that cannot be serialised.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
@@ -28,7 +28,9 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         if a == b || a.is_none() || b.is_none() {
             continue;
         }
-        let Some((from, _)) = super::ends(ctx, c) else { continue };
+        let Some((from, _)) = super::ends(ctx, c) else {
+            continue;
+        };
         if ctx.libraries.serialisable(&from.ty) {
             continue;
         }

@@ -1,8 +1,8 @@
 //! T112 `double-scaling`: A `<convert scale>` on a connection whose units are scaled already.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::units::{relate, UnitRelation};
 
@@ -11,7 +11,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "double-scaling",
     severity: Severity::Warning,
     summary: "A `<convert scale>` on a connection whose units are scaled already.",
-    explanation: "Between `m` and `mm` the checker already inserts the factor 1000. A `<convert scale>` on
+    explanation:
+        "Between `m` and `mm` the checker already inserts the factor 1000. A `<convert scale>` on
 the same connection would scale a second time.
 
 Bad:
@@ -24,16 +25,28 @@ Fix: remove the `scale`; declared units do the conversion.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else { continue };
-        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else { continue };
-        let UnitRelation::Scaled(f) = relate(a, b) else { continue };
+        let Some((from, to)) = super::ends(ctx, c) else {
+            continue;
+        };
+        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else {
+            continue;
+        };
+        let UnitRelation::Scaled(f) = relate(a, b) else {
+            continue;
+        };
         for step in &c.converts {
             if let Some((_, span)) = step.scale {
                 out.push(
-                    Diagnostic::new(&CHECK, span, format!("this scale comes on top of the automatic `{a}` → `{b}` factor {f}"))
-                        .label("second scaling")
-                        .secondary(c.span, "units already scaled on this connection")
-                        .help("remove `scale`; the declared units convert the value"),
+                    Diagnostic::new(
+                        &CHECK,
+                        span,
+                        format!(
+                            "this scale comes on top of the automatic `{a}` → `{b}` factor {f}"
+                        ),
+                    )
+                    .label("second scaling")
+                    .secondary(c.span, "units already scaled on this connection")
+                    .help("remove `scale`; the declared units convert the value"),
                 );
             }
         }

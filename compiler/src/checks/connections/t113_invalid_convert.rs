@@ -1,8 +1,8 @@
 //! T113 `invalid-convert`: A `<convert>` step that cannot apply to the value.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
@@ -25,12 +25,17 @@ Fix: remove the step or apply it to a port of the right type.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else { continue };
+        let Some((from, to)) = super::ends(ctx, c) else {
+            continue;
+        };
         if let Err(e) = super::flow_types(ctx, c, &from, &to) {
             out.push(
                 Diagnostic::new(&CHECK, e.span, e.message)
                     .label("does not apply to this value")
-                    .secondary(from.span, format!("the source `{}` is `{}`", from.name, from.ty))
+                    .secondary(
+                        from.span,
+                        format!("the source `{}` is `{}`", from.name, from.ty),
+                    )
                     .help("remove the step, or change it to fit the value's type"),
             );
         }

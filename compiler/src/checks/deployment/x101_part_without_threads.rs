@@ -1,8 +1,8 @@
 //! X101 `part-without-threads`: A part (process) has no thread container.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::ir::ElementKind;
 
@@ -31,9 +31,16 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for (i, e) in ctx.app.elements.iter().enumerate() {
         if matches!(e.kind, ElementKind::Part { .. }) && !has_thread[i] {
             out.push(
-                Diagnostic::new(&CHECK, e.name_span, format!("part `{}` has no thread container; its process would execute nothing", e.name))
-                    .label("no <thread> in this part")
-                    .help("add a <thread> holding the modules it should run, or remove the part"),
+                Diagnostic::new(
+                    &CHECK,
+                    e.name_span,
+                    format!(
+                        "part `{}` has no thread container; its process would execute nothing",
+                        e.name
+                    ),
+                )
+                .label("no <thread> in this part")
+                .help("add a <thread> holding the modules it should run, or remove the part"),
             );
         }
     }

@@ -1,8 +1,8 @@
 //! X102 `invalid-host-label`: A `host` is not a valid host name.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::ir::ElementKind;
 
@@ -11,7 +11,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "invalid-host-label",
     severity: Severity::Error,
     summary: "A `host` is not a valid host name.",
-    explanation: "`host` labels become host names in launch scripts and the distributed transport: letters,
+    explanation:
+        "`host` labels become host names in launch scripts and the distributed transport: letters,
 digits and `-`, dot-separated labels of at most 63 characters, not starting or ending
 with `-`.
 
@@ -25,12 +26,21 @@ Fix: `host=\"robot-pc\"`.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for e in &ctx.app.elements {
-        let ElementKind::Part { host: Some((host, span)) } = &e.kind else { continue };
+        let ElementKind::Part {
+            host: Some((host, span)),
+        } = &e.kind
+        else {
+            continue;
+        };
         if let Err(why) = valid_host(host) {
             out.push(
-                Diagnostic::new(&CHECK, *span, format!("`{host}` is not a valid host name: {why}"))
-                    .label("invalid host")
-                    .help("use letters, digits and `-` in dot-separated labels, e.g. `robot-pc`"),
+                Diagnostic::new(
+                    &CHECK,
+                    *span,
+                    format!("`{host}` is not a valid host name: {why}"),
+                )
+                .label("invalid host")
+                .help("use letters, digits and `-` in dot-separated labels, e.g. `robot-pc`"),
             );
         }
     }
@@ -48,7 +58,10 @@ pub fn valid_host(host: &str) -> Result<(), String> {
         if label.starts_with('-') || label.ends_with('-') {
             return Err(format!("label `{label}` starts or ends with `-`"));
         }
-        if let Some(c) = label.chars().find(|c| !(c.is_ascii_alphanumeric() || *c == '-')) {
+        if let Some(c) = label
+            .chars()
+            .find(|c| !(c.is_ascii_alphanumeric() || *c == '-'))
+        {
             return Err(format!("`{}` is not allowed", c.escape_default()));
         }
     }

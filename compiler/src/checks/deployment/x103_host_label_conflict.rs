@@ -1,8 +1,8 @@
 //! X103 `host-label-conflict`: Host labels that differ only in letter case.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::ir::ElementKind;
 use crate::source::Span;
@@ -13,7 +13,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "host-label-conflict",
     severity: Severity::Warning,
     summary: "Host labels that differ only in letter case.",
-    explanation: "Host names are case-insensitive, so `Robot-PC` and `robot-pc` are one machine, yet the
+    explanation:
+        "Host names are case-insensitive, so `Robot-PC` and `robot-pc` are one machine, yet the
 bundle would treat them as two. Usually one of them is a typo.
 
 Bad:
@@ -28,13 +29,24 @@ Fix: write the host label the same way everywhere.",
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     let mut seen: HashMap<String, (&str, Span)> = HashMap::new();
     for e in &ctx.app.elements {
-        let ElementKind::Part { host: Some((host, span)) } = &e.kind else { continue };
+        let ElementKind::Part {
+            host: Some((host, span)),
+        } = &e.kind
+        else {
+            continue;
+        };
         match seen.get(&host.to_ascii_lowercase()) {
             Some((first, first_span)) if *first != host.as_str() => out.push(
-                Diagnostic::new(&CHECK, *span, format!("host `{host}` differs from `{first}` only in letter case"))
-                    .label("same host, other spelling")
-                    .secondary(*first_span, "first spelling")
-                    .help(format!("write `{first}` here too (host names are case-insensitive)")),
+                Diagnostic::new(
+                    &CHECK,
+                    *span,
+                    format!("host `{host}` differs from `{first}` only in letter case"),
+                )
+                .label("same host, other spelling")
+                .secondary(*first_span, "first spelling")
+                .help(format!(
+                    "write `{first}` here too (host names are case-insensitive)"
+                )),
             ),
             Some(_) => {}
             None => {

@@ -1,8 +1,8 @@
 //! X104 `pointless-connection-settings`: Connection settings that have no effect where they are used.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::source::Span;
 
@@ -28,10 +28,19 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         let a = ctx.app.element(c.from.element()).part;
         let b = ctx.app.element(c.to.element()).part;
         let mut report = |span: Span, msg: String, help: &str| {
-            out.push(Diagnostic::new(&CHECK, span, msg).label("has no effect").help(help.to_string()));
+            out.push(
+                Diagnostic::new(&CHECK, span, msg)
+                    .label("has no effect")
+                    .help(help.to_string()),
+            );
         };
         if a == b {
-            let settings = [("sharing", c.sharing.as_ref().map(|s| s.1)), ("reliability", c.reliability), ("min-interval", c.min_interval), ("period", c.period)];
+            let settings = [
+                ("sharing", c.sharing.as_ref().map(|s| s.1)),
+                ("reliability", c.reliability),
+                ("min-interval", c.min_interval),
+                ("period", c.period),
+            ];
             for (name, span) in settings {
                 if let Some(span) = span {
                     report(span, format!("`{name}` configures transport between parts, but both ends are in one part"), "remove it, or move one end into another part");
@@ -39,16 +48,32 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             }
             continue;
         }
-        let sharing = c.sharing.as_ref().map(|s| s.0.as_str()).unwrap_or("on-change");
+        let sharing = c
+            .sharing
+            .as_ref()
+            .map(|s| s.0.as_str())
+            .unwrap_or("on-change");
         if let Some(span) = c.period {
             if sharing != "periodic" {
-                report(span, "`period` only applies with sharing=\"periodic\"".into(), "add sharing=\"periodic\" or remove `period`");
+                report(
+                    span,
+                    "`period` only applies with sharing=\"periodic\"".into(),
+                    "add sharing=\"periodic\" or remove `period`",
+                );
             } else if c.queue.is_some() {
-                report(span, "a periodic sample of a queue would drop queued items".into(), "use sharing=\"on-change\" for queues");
+                report(
+                    span,
+                    "a periodic sample of a queue would drop queued items".into(),
+                    "use sharing=\"on-change\" for queues",
+                );
             }
         }
         if let (Some(span), "periodic") = (c.min_interval, sharing) {
-            report(span, "`min-interval` only applies with sharing=\"on-change\"".into(), "remove `min-interval`, or use sharing=\"on-change\"");
+            report(
+                span,
+                "`min-interval` only applies with sharing=\"on-change\"".into(),
+                "remove `min-interval`, or use sharing=\"on-change\"",
+            );
         }
     }
 }

@@ -1,8 +1,8 @@
 //! X105 `bundle-output-collision`: Two parts would write the same files in a bundle.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::ir::ElementKind;
 use crate::source::Span;
@@ -13,7 +13,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "bundle-output-collision",
     severity: Severity::Error,
     summary: "Two parts would write the same files in a bundle.",
-    explanation: "Each part becomes a binary crate, a systemd unit and a launch entry named after it. Names
+    explanation:
+        "Each part becomes a binary crate, a systemd unit and a launch entry named after it. Names
 that differ only in letter case collide on case-insensitive file systems and in unit names.
 
 Bad:
@@ -33,10 +34,17 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         let key = e.name.to_ascii_lowercase();
         match seen.get(&key) {
             Some((first, span)) => out.push(
-                Diagnostic::new(&CHECK, e.name_span, format!("part `{}` and part `{first}` would write the same bundle files", e.name))
-                    .label("collides")
-                    .secondary(*span, "the other part")
-                    .help("give the parts names that differ in more than letter case"),
+                Diagnostic::new(
+                    &CHECK,
+                    e.name_span,
+                    format!(
+                        "part `{}` and part `{first}` would write the same bundle files",
+                        e.name
+                    ),
+                )
+                .label("collides")
+                .secondary(*span, "the other part")
+                .help("give the parts names that differ in more than letter case"),
             ),
             None => {
                 seen.insert(key, (e.name.as_str(), e.name_span));

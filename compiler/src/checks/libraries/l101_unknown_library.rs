@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "unknown-library",
     severity: Severity::Error,
     summary: "A library is named that cannot be found.",
-    explanation: "`<use library>` and `<depends library>` without `manifest` are looked up on the library
+    explanation:
+        "`<use library>` and `<depends library>` without `manifest` are looked up on the library
 path (`--lib-path`, `FERROC_LIB_PATH`, then the built-in libraries). A type `lib.Name`
 whose `lib` is not loaded at all is reported the same way.
 

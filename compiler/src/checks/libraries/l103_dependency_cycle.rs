@@ -30,7 +30,9 @@ use std::collections::VecDeque;
 /// shortest cycle, every hop pointing at the `<depends>` that creates it.
 pub fn report_cycles(set: &LibrarySet, out: &mut Diagnostics) {
     let mut graph: DiGraph<LibraryId, usize> = DiGraph::new();
-    let nodes: Vec<NodeIndex> = (0..set.libraries.len()).map(|i| graph.add_node(LibraryId(i as u32))).collect();
+    let nodes: Vec<NodeIndex> = (0..set.libraries.len())
+        .map(|i| graph.add_node(LibraryId(i as u32)))
+        .collect();
     for (i, lib) in set.libraries.iter().enumerate() {
         for (k, dep) in lib.depends.iter().enumerate() {
             if let Some(t) = dep.target {
@@ -44,26 +46,46 @@ pub fn report_cycles(set: &LibrarySet, out: &mut Diagnostics) {
         if component.len() < 2 && !self_loop {
             continue;
         }
-        let Some(cycle) = shortest_cycle(&graph, start, &component) else { continue };
+        let Some(cycle) = shortest_cycle(&graph, start, &component) else {
+            continue;
+        };
         let hops: Vec<(LibraryId, usize)> = cycle;
-        let names: Vec<&str> = hops.iter().map(|(l, _)| set.get(*l).name.as_str()).chain([set.get(hops[0].0).name.as_str()]).collect();
+        let names: Vec<&str> = hops
+            .iter()
+            .map(|(l, _)| set.get(*l).name.as_str())
+            .chain([set.get(hops[0].0).name.as_str()])
+            .collect();
         let (first_lib, first_dep) = hops[0];
         let dep_span = |l: LibraryId, k: usize| set.get(l).depends[k].span;
-        let mut d = Diagnostic::new(&CHECK, dep_span(first_lib, first_dep), format!("library dependency cycle: {}", names.join(" → ")))
-            .label(format!("`{}` depends on `{}`", names[0], names[1]));
+        let mut d = Diagnostic::new(
+            &CHECK,
+            dep_span(first_lib, first_dep),
+            format!("library dependency cycle: {}", names.join(" → ")),
+        )
+        .label(format!("`{}` depends on `{}`", names[0], names[1]));
         for (i, (l, k)) in hops.iter().enumerate().skip(1) {
-            d = d.secondary(dep_span(*l, *k), format!("`{}` depends on `{}`", names[i], names[i + 1]));
+            d = d.secondary(
+                dep_span(*l, *k),
+                format!("`{}` depends on `{}`", names[i], names[i + 1]),
+            );
         }
         out.push(d.help("dependencies must go one way: move what these libraries share into a library that depends on none of them"));
     }
 }
 
 /// BFS from `start` back to itself inside the component: the hops as (library, depends index).
-fn shortest_cycle(graph: &DiGraph<LibraryId, usize>, start: NodeIndex, component: &[NodeIndex]) -> Option<Vec<(LibraryId, usize)>> {
+fn shortest_cycle(
+    graph: &DiGraph<LibraryId, usize>,
+    start: NodeIndex,
+    component: &[NodeIndex],
+) -> Option<Vec<(LibraryId, usize)>> {
     let mut prev: std::collections::HashMap<NodeIndex, (NodeIndex, usize)> = Default::default();
     let mut queue = VecDeque::from([start]);
     while let Some(n) = queue.pop_front() {
-        let mut edges: Vec<_> = graph.edges(n).map(|e| (petgraph::visit::EdgeRef::target(&e), *e.weight())).collect();
+        let mut edges: Vec<_> = graph
+            .edges(n)
+            .map(|e| (petgraph::visit::EdgeRef::target(&e), *e.weight()))
+            .collect();
         edges.sort();
         for (t, k) in edges {
             if !component.contains(&t) {

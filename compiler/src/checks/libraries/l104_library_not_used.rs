@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "library-not-used",
     severity: Severity::Error,
     summary: "A type comes from a library the file does not `<use>` (or depend on).",
-    explanation: "An application may use types only from libraries it `<use>`s; a library only from itself
+    explanation:
+        "An application may use types only from libraries it `<use>`s; a library only from itself
 and what it `<depends>` on. Relying on a library that is loaded only because some other
 library depends on it breaks when that dependency changes.
 

@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "conflicting-library",
     severity: Severity::Error,
     summary: "Two different manifests define the same library name.",
-    explanation: "A library name must mean one manifest in one check run; otherwise which types a model
+    explanation:
+        "A library name must mean one manifest in one check run; otherwise which types a model
 gets depends on load order.
 
 Bad:

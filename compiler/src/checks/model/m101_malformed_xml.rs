@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "malformed-xml",
     severity: Severity::Error,
     summary: "The file is not well-formed XML.",
-    explanation: "A model, include or manifest that is not well-formed XML cannot be read at all: an unclosed
+    explanation:
+        "A model, include or manifest that is not well-formed XML cannot be read at all: an unclosed
 tag, a mismatched end tag, an attribute without quotes, an unknown entity, text after the root.
 
 Bad:

@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "unknown-element",
     severity: Severity::Error,
     summary: "An element the model language does not know.",
-    explanation: "Unknown elements are errors, never silently ignored: a misspelt `<conect>` would otherwise
+    explanation:
+        "Unknown elements are errors, never silently ignored: a misspelt `<conect>` would otherwise
 drop a connection without a word. The message suggests the closest known element.
 
 Bad:

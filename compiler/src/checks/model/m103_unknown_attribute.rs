@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "unknown-attribute",
     severity: Severity::Error,
     summary: "An attribute the element does not take.",
-    explanation: "Unknown attributes are errors: `<connect queu=\"4\">` would otherwise silently give a
+    explanation:
+        "Unknown attributes are errors: `<connect queu=\"4\">` would otherwise silently give a
 latest-value connection instead of a queue. The message lists the attribute the element
 takes that is closest to what was written.
 

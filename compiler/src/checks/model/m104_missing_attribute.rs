@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "missing-attribute",
     severity: Severity::Error,
     summary: "A required attribute is missing.",
-    explanation: "Some attributes carry the meaning of an element: a `<module>` without `type` cannot be
+    explanation:
+        "Some attributes carry the meaning of an element: a `<module>` without `type` cannot be
 instantiated, a `<connect>` without `to` connects nothing, an `<allow>` without `reason`
 would silence a finding without telling the next reader why.
 

@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "misplaced-element",
     severity: Severity::Error,
     summary: "A known element where it may not appear, or text where none is allowed.",
-    explanation: "Elements of the language have fixed places: `<param>` belongs in a `<module>`, `<thread>`
+    explanation:
+        "Elements of the language have fixed places: `<param>` belongs in a `<module>`, `<thread>`
 in a `<part>` or a group, `<use>` at the top of the application. An element elsewhere is a
 structural mistake (often a missing closing tag earlier).
 

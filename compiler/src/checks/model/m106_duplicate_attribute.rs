@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "duplicate-attribute",
     severity: Severity::Error,
     summary: "The same attribute appears twice on one element.",
-    explanation: "XML forbids an attribute twice on one element and tools disagree about which value wins.
+    explanation:
+        "XML forbids an attribute twice on one element and tools disagree about which value wins.
 
 Bad:
     <thread name=\"main\" period=\"10ms\" period=\"20ms\"/>

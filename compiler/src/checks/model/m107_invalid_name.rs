@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "invalid-name",
     severity: Severity::Error,
     summary: "A name is not an identifier.",
-    explanation: "Names of parts, threads, groups, modules, ports, parameters and libraries are identifiers
+    explanation:
+        "Names of parts, threads, groups, modules, ports, parameters and libraries are identifiers
 (`[A-Za-z_][A-Za-z0-9_]*`): they become path segments, Rust identifiers in bundles and file
 names on deployment hosts. Spaces, dashes, slashes or non-ASCII letters break one of those.
 

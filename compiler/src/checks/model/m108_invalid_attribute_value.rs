@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "invalid-attribute-value",
     severity: Severity::Error,
     summary: "An attribute value outside what the attribute allows.",
-    explanation: "Attributes with a fixed set of values (`on-full`, `dir`, `kind`, booleans, counts) and
+    explanation:
+        "Attributes with a fixed set of values (`on-full`, `dir`, `kind`, booleans, counts) and
 attributes with a syntax (`period`, `timeout`) are checked when read. A thread container
 needs exactly one of `period` (0 < period <= 60 s) or `trigger=\"data\"`.
 

@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "duplicate-name",
     severity: Severity::Error,
     summary: "Two elements with the same name in one scope.",
-    explanation: "Every named element opens a scope and its name is a path segment, so two children of one
+    explanation:
+        "Every named element opens a scope and its name is a path segment, so two children of one
 scope with the same name make paths ambiguous. Within one module, port names are unique
 across all directions. Group types, resources and flows have one namespace each.
 

@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "unresolved-path",
     severity: Severity::Error,
     summary: "A path names no element, port or parameter.",
-    explanation: "Paths in `<connect>` and `<flow>` are names from the enclosing scope down to a port,
+    explanation:
+        "Paths in `<connect>` and `<flow>` are names from the enclosing scope down to a port,
 joined by `/` (threads are segments too); inside a group they are relative to the group and
 the group's own ports are bare names. A path that does not resolve would leave the
 connection out of the running system.

@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "unknown-type",
     severity: Severity::Error,
     summary: "A module type, group type or data type that no library defines.",
-    explanation: "Types are referred to as `library.Type` (`local.Name` for group types of this file and its
+    explanation:
+        "Types are referred to as `library.Type` (`local.Name` for group types of this file and its
 includes); data types are built-in (`f64`, `u8[4]`, `[f64]`, …) or come from a library.
 
 Bad:

@@ -1,8 +1,8 @@
 //! M112 `module-not-executed`: A module with no thread container above it never runs.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
@@ -29,11 +29,20 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         if element.thread.is_some() {
             continue;
         }
-        let mut d = Diagnostic::new(&CHECK, element.name_span, format!("module `{}` is not inside any thread container, so it never runs", ctx.app.path(id)))
-            .label("no <thread> above this module");
+        let mut d = Diagnostic::new(
+            &CHECK,
+            element.name_span,
+            format!(
+                "module `{}` is not inside any thread container, so it never runs",
+                ctx.app.path(id)
+            ),
+        )
+        .label("no <thread> above this module");
         if let Some(at) = element.instantiated_at {
             d = d.secondary(at, "in this instance");
         }
-        out.push(d.help("move it (or its group) into a <thread name=\"…\" period=\"10ms\"> of its part"));
+        out.push(
+            d.help("move it (or its group) into a <thread name=\"…\" period=\"10ms\"> of its part"),
+        );
     }
 }

@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "include-outside-root",
     severity: Severity::Error,
     summary: "An include points outside the model root directory.",
-    explanation: "`<include href>` is resolved relative to the including file and must stay inside the
+    explanation:
+        "`<include href>` is resolved relative to the including file and must stay inside the
 directory of the model being checked, so a model from elsewhere cannot make the checker or
 the bundler read `../../etc/passwd` or a file on another mount. Absolute paths and `..` that
 climb out are refused; symbolic links are followed before the test.

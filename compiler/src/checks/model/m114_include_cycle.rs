@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "include-cycle",
     severity: Severity::Error,
     summary: "Files include each other in a cycle.",
-    explanation: "An include cycle would be read forever. The finding names the include that closes the
+    explanation:
+        "An include cycle would be read forever. The finding names the include that closes the
 cycle and the include where the cycle started.
 
 Bad (a.xml):

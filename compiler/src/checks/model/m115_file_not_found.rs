@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "file-not-found",
     severity: Severity::Error,
     summary: "A referenced file cannot be read.",
-    explanation: "Includes and config files are read relative to the file that names them. A missing file
+    explanation:
+        "Includes and config files are read relative to the file that names them. A missing file
 or one that is not UTF-8 text is reported at the attribute that names it.
 
 Bad:

@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "limit-exceeded",
     severity: Severity::Error,
     summary: "A file is too large, too deeply nested, or includes nest too deeply.",
-    explanation: "The checker refuses input that would exhaust memory or the stack instead of crashing: files
+    explanation:
+        "The checker refuses input that would exhaust memory or the stack instead of crashing: files
 over 256 MiB, elements nested more than 256 deep, includes nested more than 32 deep,
 group types instantiated more than 64 deep.
 

@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "recursive-group-type",
     severity: Severity::Error,
     summary: "A group type contains an instance of itself.",
-    explanation: "A group type that instantiates itself, directly or through other group types, would expand
+    explanation:
+        "A group type that instantiates itself, directly or through other group types, would expand
 forever.
 
 Bad:

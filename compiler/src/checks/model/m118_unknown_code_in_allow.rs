@@ -8,7 +8,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "unknown-code-in-allow",
     severity: Severity::Warning,
     summary: "An `<allow>` names a code no check has.",
-    explanation: "`<allow code reason>` silences one finding on the element that holds it and everything
+    explanation:
+        "`<allow code reason>` silences one finding on the element that holds it and everything
 inside. A code that no check has silences nothing; usually it is a typo.
 
 Bad:

@@ -1,8 +1,8 @@
 //! P102 `missing-required-parameter`: A required parameter has no value.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
@@ -23,15 +23,25 @@ Fix: add `<param name=\"device\">/dev/ttyUSB0</param>`, or give it from a config
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for (id, m) in ctx.app.modules() {
-        let Some(mt) = ctx.app.module_type(ctx.libraries, id) else { continue };
+        let Some(mt) = ctx.app.module_type(ctx.libraries, id) else {
+            continue;
+        };
         for decl in mt.params.iter().filter(|d| d.required) {
             if m.params.iter().any(|p| p.name == decl.name) {
                 continue;
             }
             let element = ctx.app.element(id);
-            let mut d = Diagnostic::new(&CHECK, element.name_span, format!("`{}` needs a value for its required parameter `{}`", ctx.app.path(id), decl.name))
-                .label(format!("`{}` missing", decl.name))
-                .secondary(decl.span, "declared required here");
+            let mut d = Diagnostic::new(
+                &CHECK,
+                element.name_span,
+                format!(
+                    "`{}` needs a value for its required parameter `{}`",
+                    ctx.app.path(id),
+                    decl.name
+                ),
+            )
+            .label(format!("`{}` missing", decl.name))
+            .secondary(decl.span, "declared required here");
             if let Some(at) = element.instantiated_at {
                 d = d.secondary(at, "in this instance");
             }

@@ -10,7 +10,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "out-of-range",
     severity: Severity::Error,
     summary: "A parameter value lies outside the declared `min`/`max`.",
-    explanation: "Module types declare the range their logic supports; values outside it would be clamped
+    explanation:
+        "Module types declare the range their logic supports; values outside it would be clamped
 or crash at run time. The comparison is made after unit conversion.
 
 Bad:

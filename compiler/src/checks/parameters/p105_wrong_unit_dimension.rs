@@ -10,7 +10,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "wrong-unit-dimension",
     severity: Severity::Error,
     summary: "A parameter value carries a unit of another dimension.",
-    explanation: "A value in a compatible unit is converted (`15 cm` for a parameter in `m`). A value in
+    explanation:
+        "A value in a compatible unit is converted (`15 cm` for a parameter in `m`). A value in
 another dimension is wrong, and so is a unit on a parameter that declares none.
 
 Bad:

@@ -10,7 +10,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "config-entry-missing",
     severity: Severity::Error,
     summary: "A `config=` reference points to a missing file or entry.",
-    explanation: "`config=\"etc/robot.xml#/noise/level\"` reads the value from a FINROC-style config file
+    explanation:
+        "`config=\"etc/robot.xml#/noise/level\"` reads the value from a FINROC-style config file
 (`<root>`, `<node name>` branches, `<value name>` leaves), relative to the model file. A
 missing file or entry would leave the parameter unset at start-up.
 

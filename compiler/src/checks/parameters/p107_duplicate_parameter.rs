@@ -1,8 +1,8 @@
 //! P107 `duplicate-parameter`: The same parameter is set twice on one module.
 
 use crate::checks::CheckInfo;
-use crate::diagnostic::Severity;
 use crate::checks::PassContext;
+use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 
 pub static CHECK: CheckInfo = CheckInfo {
@@ -10,7 +10,8 @@ pub static CHECK: CheckInfo = CheckInfo {
     name: "duplicate-parameter",
     severity: Severity::Error,
     summary: "The same parameter is set twice on one module.",
-    explanation: "Two `<param>` elements with the same name leave the reader guessing which applies.
+    explanation:
+        "Two `<param>` elements with the same name leave the reader guessing which applies.
 
 Bad:
     <param name=\"rate\">10 Hz</param>
@@ -26,10 +27,14 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         for (i, p) in m.params.iter().enumerate() {
             if let Some(first) = m.params[..i].iter().find(|q| q.name == p.name) {
                 out.push(
-                    Diagnostic::new(&CHECK, p.name_span, format!("parameter `{}` is set twice", p.name))
-                        .label("second value")
-                        .secondary(first.name_span, "first value")
-                        .help("keep one <param> per parameter"),
+                    Diagnostic::new(
+                        &CHECK,
+                        p.name_span,
+                        format!("parameter `{}` is set twice", p.name),
+                    )
+                    .label("second value")
+                    .secondary(first.name_span, "first value")
+                    .help("keep one <param> per parameter"),
                 );
             }
         }
