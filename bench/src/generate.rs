@@ -63,7 +63,11 @@ impl Layout {
         let groups = n_modules.div_ceil(GROUP_SIZE).max(1);
         let threads = (groups / 10).max(1);
         let parts = (n_modules / 5000).clamp(1, threads);
-        Layout { groups, threads, parts }
+        Layout {
+            groups,
+            threads,
+            parts,
+        }
     }
 
     fn thread_of(&self, group: usize) -> usize {
@@ -119,7 +123,10 @@ impl Generator {
         );
         self.out.push_str(&intro);
         // Future: <resource> declarations for the lock benchmark go here.
-        self.line(1, "<group-type name=\"Filter\" doc=\"a small signal chain with monitoring\">");
+        self.line(
+            1,
+            "<group-type name=\"Filter\" doc=\"a small signal chain with monitoring\">",
+        );
         self.group_body(2, &GroupParams::of_type());
         self.line(1, "</group-type>");
     }
@@ -153,7 +160,10 @@ impl Generator {
 
     fn group(&mut self, group: usize, local: usize) {
         match self.layout.kind(group) {
-            GroupKind::Instance => self.line(3, &format!("<group name=\"g{local}\" type=\"local.Filter\"/>")),
+            GroupKind::Instance => self.line(
+                3,
+                &format!("<group name=\"g{local}\" type=\"local.Filter\"/>"),
+            ),
             GroupKind::Inline => {
                 self.line(3, &format!("<group name=\"g{local}\">"));
                 self.group_body(4, &GroupParams::inline(group));
@@ -164,11 +174,20 @@ impl Generator {
 
     /// Ten modules, four interface ports, 18 connections (paths relative to the group).
     fn group_body(&mut self, i: usize, p: &GroupParams) {
-        for (name, dir) in [("in", "in"), ("aux", "in"), ("out", "out"), ("level", "out")] {
-            self.line(i, &format!("<port name=\"{name}\" dir=\"{dir}\" type=\"f64\"/>"));
+        for (name, dir) in [
+            ("in", "in"),
+            ("aux", "in"),
+            ("out", "out"),
+            ("level", "out"),
+        ] {
+            self.line(
+                i,
+                &format!("<port name=\"{name}\" dir=\"{dir}\" type=\"f64\"/>"),
+            );
         }
         let param = |name: &str, value: &str| format!("<param name=\"{name}\">{value}</param>");
-        let inputs = |count: usize| format!("<port name=\"in\" dir=\"in\" type=\"f64\" count=\"{count}\"/>");
+        let inputs =
+            |count: usize| format!("<port name=\"in\" dir=\"in\" type=\"f64\" count=\"{count}\"/>");
         let modules: [(&str, &str, Vec<String>); 10] = [
             ("gain", "Scale", vec![param("factor", &p.gain)]),
             ("bias", "Constant", vec![param("value", &p.bias)]),
@@ -177,7 +196,11 @@ impl Generator {
             ("limit", "Scale", vec![param("factor", "0.5")]),
             ("fallback", "Constant", vec![]),
             ("pick", "FlexiSelect", vec![inputs(3)]),
-            ("log", p.log_type, [vec![inputs(4)], p.log_params.clone()].concat()),
+            (
+                "log",
+                p.log_type,
+                [vec![inputs(4)], p.log_params.clone()].concat(),
+            ),
             ("watch", "Dump", vec![inputs(2), param("label", &p.label)]),
             ("drive", "Scale", vec![param("factor", "2")]),
         ];
@@ -234,15 +257,28 @@ impl Generator {
             // A queue decouples thread containers; a ring inside one container is an
             // intended feedback loop.
             let (data, meta) = if tp != tc {
-                let sharing = if l.part_of(tp) != l.part_of(tc) { " sharing=\"on-change\"" } else { "" };
-                (format!(" queue=\"8\" on-full=\"drop-oldest\"{sharing}"), sharing.to_string())
+                let sharing = if l.part_of(tp) != l.part_of(tc) {
+                    " sharing=\"on-change\""
+                } else {
+                    ""
+                };
+                (
+                    format!(" queue=\"8\" on-full=\"drop-oldest\"{sharing}"),
+                    sharing.to_string(),
+                )
             } else if cur == 0 {
                 (" delay=\"1\"".to_string(), " delay=\"1\"".to_string())
             } else {
                 (String::new(), String::new())
             };
-            let _ = writeln!(text, "  <connect from=\"{from}/out\" to=\"{to}/in\"{data}/>");
-            let _ = writeln!(text, "  <connect from=\"{from}/level\" to=\"{to}/aux\"{meta}/>");
+            let _ = writeln!(
+                text,
+                "  <connect from=\"{from}/out\" to=\"{to}/in\"{data}/>"
+            );
+            let _ = writeln!(
+                text,
+                "  <connect from=\"{from}/level\" to=\"{to}/aux\"{meta}/>"
+            );
         }
         self.out.push_str(&text);
     }
@@ -278,7 +314,10 @@ impl GroupParams {
             log_type: "Logger",
             log_params: vec![
                 format!("<param name=\"file\">/var/log/ferroc/g{group}.log</param>"),
-                format!("<param name=\"period\">{}</param>", PERIODS[group % PERIODS.len()]),
+                format!(
+                    "<param name=\"period\">{}</param>",
+                    PERIODS[group % PERIODS.len()]
+                ),
             ],
         }
     }
@@ -305,9 +344,16 @@ mod tests {
         let text = generate(1_000);
         // The group type's body is written once and counts once per instance.
         let instances = text.matches("type=\"local.Filter\"").count();
-        let per_instance = |written: usize, per_group: usize| written - per_group + instances * per_group;
-        assert_eq!(per_instance(text.matches("<module ").count(), GROUP_SIZE), 1_000);
-        assert_eq!(per_instance(text.matches("<connect ").count(), 18), 2 * 1_000);
+        let per_instance =
+            |written: usize, per_group: usize| written - per_group + instances * per_group;
+        assert_eq!(
+            per_instance(text.matches("<module ").count(), GROUP_SIZE),
+            1_000
+        );
+        assert_eq!(
+            per_instance(text.matches("<connect ").count(), 18),
+            2 * 1_000
+        );
     }
 
     /// The generated model checks clean: no errors, no warnings (notes allowed).

@@ -47,13 +47,22 @@ pub fn run_once(cmd: &mut Command, log: &Path) -> std::io::Result<Run> {
     let code = libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status));
     // Linux reports ru_maxrss in KiB.
     let peak_rss = (usage.ru_maxrss.max(0) as u64) * 1024;
-    Ok(Run { wall, code, peak_rss })
+    Ok(Run {
+        wall,
+        code,
+        peak_rss,
+    })
 }
 
 /// Best (shortest) wall time and highest peak RSS over up to `max_runs` runs; stops
 /// early once the runs have taken `budget` in total (slow cases get fewer repeats).
 /// Returns the first failing run (non-zero exit) as soon as it happens.
-pub fn best_of(make: impl Fn() -> Command, log: &Path, max_runs: usize, budget: Duration) -> std::io::Result<Run> {
+pub fn best_of(
+    make: impl Fn() -> Command,
+    log: &Path,
+    max_runs: usize,
+    budget: Duration,
+) -> std::io::Result<Run> {
     let mut best: Option<Run> = None;
     let mut spent = Duration::ZERO;
     for _ in 0..max_runs.max(1) {

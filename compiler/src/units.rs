@@ -26,8 +26,25 @@ impl fmt::Display for Unit {
     }
 }
 
-/// Names the dimension the way an engineer reads it: `m·s^-1`.
+/// Names the dimension the way an engineer reads it: `velocity (m·s^-1)`.
 pub fn describe_dimension(d: &Dimension) -> String {
+    let symbols = dimension_symbols(d);
+    let name = match d {
+        [1, 0, 0, 0, 0, 0, 0, 0] => "length",
+        [0, 0, 1, 0, 0, 0, 0, 0] => "time",
+        [0, 1, 0, 0, 0, 0, 0, 0] => "mass",
+        [0, 0, 0, 0, 0, 0, 0, 1] => "angle",
+        [1, 0, -1, 0, 0, 0, 0, 0] => "velocity",
+        [1, 0, -2, 0, 0, 0, 0, 0] => "acceleration",
+        [0, 0, -1, 0, 0, 0, 0, 1] => "angular velocity",
+        [0, 0, -1, 0, 0, 0, 0, 0] => "frequency",
+        [1, 1, -2, 0, 0, 0, 0, 0] => "force",
+        _ => return symbols,
+    };
+    format!("{name} ({symbols})")
+}
+
+fn dimension_symbols(d: &Dimension) -> String {
     let parts: Vec<String> = d
         .iter()
         .zip(NAMES)
@@ -224,7 +241,8 @@ mod tests {
             relate(&u("Hz"), &u("rad/s")),
             UnitRelation::DifferentDimension
         );
-        assert_eq!(describe_dimension(&u("m/s").dimension), "m·s^-1");
+        assert_eq!(describe_dimension(&u("m/s").dimension), "velocity (m·s^-1)");
+        assert_eq!(describe_dimension(&u("kg*m^2").dimension), "m^2·kg");
     }
 
     #[test]

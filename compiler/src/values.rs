@@ -117,7 +117,7 @@ fn parse_number(t: &str, ty: &Type, unit: Option<&Unit>) -> Result<Value, ValueE
                 UnitRelation::Scaled(f) => factor = f,
                 UnitRelation::DifferentDimension => {
                     return Err(ValueError::WrongDimension(format!(
-                        "`{given}` is a {} but the parameter is in `{declared}` ({})",
+                        "`{given}` measures {}, but the parameter is in `{declared}`, which measures {}",
                         describe_dimension(&given.dimension),
                         describe_dimension(&declared.dimension)
                     )))
