@@ -143,7 +143,7 @@ mod tests {
                 c.code
             );
             assert!(
-                c.explanation.len() > 200,
+                c.explanation.len() > 150,
                 "{} explanation too short",
                 c.code
             );
