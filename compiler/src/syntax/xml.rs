@@ -108,6 +108,13 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
                 stack.push(start_element(file, &tag, before, after, offset_of)?);
             }
             Event::Empty(tag) => {
+                if stack.len() >= max_depth {
+                    return Err(XmlError {
+                        span: Span::new(file, before, after),
+                        message: format!("elements are nested more than {max_depth} deep"),
+                        too_deep: true,
+                    });
+                }
                 let element = start_element(file, &tag, before, after, offset_of)?;
                 attach(&mut stack, &mut root, element);
             }
