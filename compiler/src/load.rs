@@ -223,7 +223,7 @@ impl<'a> Loader<'a> {
                         .label("resolves outside the model root")
                         .help(format!(
                             "keep included fragments under {}, or pass --allow-outside-includes if you trust this model",
-                            self.root_dir.display()
+                            self.display_name(&self.root_dir)
                         )),
                 );
                 continue;
@@ -303,7 +303,10 @@ impl<'a> Loader<'a> {
                         format!("cannot read {what} `{rel}`: {}", io_reason(&e)),
                     )
                     .label("named here")
-                    .help(format!("the path is relative to {}", base.display())),
+                    .help(format!(
+                        "the path is relative to {}",
+                        self.display_name(&base)
+                    )),
                 );
                 None
             }

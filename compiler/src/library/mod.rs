@@ -249,7 +249,7 @@ fn load_one(
                         request.name
                     ),
                 )
-                .label(format!("this names {}", path.display()))
+                .label(format!("this names {}", loader.display_name(&path)))
                 .secondary(lib.name_span, "the manifest loaded first")
                 .help("point every <use>/<depends> of this library at the same manifest"),
             );
@@ -416,7 +416,10 @@ fn locate(loader: &mut Loader<'_>, request: &LibraryRequest) -> Option<(PathBuf,
                         ),
                     )
                     .label("library named here")
-                    .help(format!("manifest paths are relative to {}", base.display())),
+                    .help(format!(
+                        "manifest paths are relative to {}",
+                        loader.display_name(&base)
+                    )),
                 );
                 None
             }
