@@ -158,6 +158,15 @@ pub fn source_unit<'a>(
     unit
 }
 
+/// The units of both ends when both declare one: (source after `field` steps, destination).
+pub fn unit_pair<'a>(
+    ctx: &'a PassContext<'a>,
+    c: &Connection,
+) -> Option<(&'a crate::units::Unit, &'a crate::units::Unit)> {
+    let (from, to) = ends(ctx, c)?;
+    Some((source_unit(ctx, c, &from)?, to.unit?))
+}
+
 /// `a/b/c → x/y/z` for messages.
 pub fn describe(ctx: &PassContext<'_>, c: &Connection) -> String {
     format!(

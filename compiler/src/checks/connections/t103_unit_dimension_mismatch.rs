@@ -27,10 +27,7 @@ Fix: connect the port that carries the right quantity.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else {
-            continue;
-        };
-        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else {
+        let Some((a, b)) = super::unit_pair(ctx, c) else {
             continue;
         };
         if relate(a, b) == UnitRelation::DifferentDimension {

@@ -25,10 +25,7 @@ Nothing to fix; `--allow T104` hides these notes.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else {
-            continue;
-        };
-        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else {
+        let Some((a, b)) = super::unit_pair(ctx, c) else {
             continue;
         };
         if let UnitRelation::Scaled(f) = relate(a, b) {

@@ -25,10 +25,7 @@ Fix: remove the `scale`; declared units do the conversion.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else {
-            continue;
-        };
-        let (Some(a), Some(b)) = (super::source_unit(ctx, c, &from), to.unit) else {
+        let Some((a, b)) = super::unit_pair(ctx, c) else {
             continue;
         };
         let UnitRelation::Scaled(f) = relate(a, b) else {
