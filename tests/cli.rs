@@ -125,10 +125,20 @@ fn machine_formats_are_well_formed() {
 fn hostile_include_is_a_diagnostic() {
     let dir = tempdir("hostile");
     let model = dir.join("m.xml");
-    std::fs::write(&model, "<application name=\"a\" version=\"1\">\n  <include href=\"../../../../../etc/passwd\"/>\n</application>\n").unwrap();
+    // Line 2 reaches the real /etc/passwd from any depth; line 3 names a file that
+    // does not exist: both must be refused for where they point, not for whether
+    // the target can be read.
+    let up = "../".repeat(40);
+    std::fs::write(
+        &model,
+        format!("<application name=\"a\" version=\"1\">\n  <include href=\"{up}etc/passwd\"/>\n  <include href=\"../no/such/fragment.xml\"/>\n</application>\n"),
+    )
+    .unwrap();
     let (code, out, _) = ferroc(&["check", model.to_str().unwrap(), "--format", "short"]);
     assert_eq!(code, 1);
     assert!(out.contains(":2:18: error[M113]"), "{out}");
+    assert!(out.contains(":3:18: error[M113]"), "{out}");
+    assert!(!out.contains("M115"), "{out}");
 }
 
 fn tempdir(name: &str) -> std::path::PathBuf {

@@ -213,11 +213,22 @@ impl<'a> Loader<'a> {
                 );
                 continue;
             }
-            let Some(target) = self.resolve_relative(parent_file, &href.value, span, "include")
-            else {
-                continue;
+            // Confinement is judged on the written path first, so that a hostile
+            // `../../etc/passwd` is refused whether or not that file exists, and then
+            // again on the canonical path, so that a symlink cannot escape either.
+            let root_dir = self.root_dir.clone();
+            let outside = |p: &Path| !p.starts_with(&root_dir);
+            let lexical = lexical_join(&self.folder_of(parent_file), &href.value);
+            let escapes = !self.options.allow_outside_includes && outside(&lexical);
+            let target = if escapes {
+                lexical
+            } else {
+                match self.resolve_relative(parent_file, &href.value, span, "include") {
+                    Some(t) => t,
+                    None => continue,
+                }
             };
-            if !self.options.allow_outside_includes && !target.starts_with(&self.root_dir) {
+            if !self.options.allow_outside_includes && outside(&target) {
                 self.diags.push(
                     Diagnostic::new(&m113_include_outside_root::CHECK, span, format!("`{}` lies outside the model's directory", href.value))
                         .label("resolves outside the model root")
@@ -285,13 +296,7 @@ impl<'a> Loader<'a> {
         span: Span,
         what: &str,
     ) -> Option<PathBuf> {
-        let base = self
-            .sources
-            .get(file)
-            .path
-            .parent()
-            .map(Path::to_path_buf)
-            .unwrap_or_default();
+        let base = self.folder_of(file);
         let joined = base.join(rel);
         match joined.canonicalize() {
             Ok(p) => Some(p),
@@ -311,6 +316,16 @@ impl<'a> Loader<'a> {
                 None
             }
         }
+    }
+
+    /// The folder that relative paths written in `file` start from.
+    fn folder_of(&self, file: FileId) -> PathBuf {
+        self.sources
+            .get(file)
+            .path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default()
     }
 
     /// A path as users should see it: relative to the current directory when possible.
@@ -346,5 +361,42 @@ impl<'a> Loader<'a> {
                 Ok((file, None))
             }
         }
+    }
+}
+
+/// `base` joined with `rel`, with `.` and `..` resolved on the text alone (no file
+/// system access), so that a path can be judged before anything is read.
+fn lexical_join(base: &Path, rel: &str) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for part in base.join(rel).components() {
+        match part {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod lexical_tests {
+    use super::lexical_join;
+    use std::path::Path;
+
+    #[test]
+    fn parent_components_are_resolved_without_the_file_system() {
+        let base = Path::new("/a/b/c");
+        assert_eq!(
+            lexical_join(base, "../../../../../etc/passwd"),
+            Path::new("/etc/passwd")
+        );
+        assert_eq!(
+            lexical_join(base, "./d/../e.xml"),
+            Path::new("/a/b/c/e.xml")
+        );
+        assert_eq!(lexical_join(base, "/abs/x.xml"), Path::new("/abs/x.xml"));
     }
 }
