@@ -7,8 +7,10 @@ use crate::library::{LibraryId, LibrarySet, ModuleType, PortDecl, PortDir, PortR
 use crate::source::Span;
 use crate::types::Type;
 use crate::units::Unit;
+use compact_str::CompactString;
+use hashbrown::HashMap;
 use petgraph::graph::{DiGraph, NodeIndex};
-use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ElementId(pub u32);
@@ -141,8 +143,8 @@ pub struct Connection {
 #[derive(Debug, Clone)]
 pub struct PortView<'a> {
     pub name: &'a str,
-    /// Whether this endpoint can send data into a connection (as seen from the connection's scope).
-    pub ty: Type,
+    /// The declared type; for a flexible port, the type the instance fixed.
+    pub ty: &'a Type,
     pub unit: Option<&'a Unit>,
     pub span: Span,
     pub required: bool,
@@ -160,10 +162,52 @@ pub struct Application {
     /// Ports that take part in connections, with connections as edges (weight: index).
     pub graph: DiGraph<Endpoint, usize>,
     pub nodes: HashMap<Endpoint, NodeIndex>,
-    pub children: HashMap<(ElementId, String), ElementId>,
+    /// Named children of each element (the scope of path segments); see [`Application::child`].
+    pub children: HashMap<ChildKey, ElementId>,
+}
+
+/// Key of [`Application::children`]. Looked up with a borrowed name (no allocation per
+/// path segment) through [`ChildLookup`], which hashes the same way.
+#[derive(Debug, PartialEq, Eq)]
+pub struct ChildKey {
+    pub parent: ElementId,
+    pub name: CompactString,
+}
+
+impl Hash for ChildKey {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        (self.parent, self.name.as_str()).hash(state)
+    }
+}
+
+struct ChildLookup<'a>(ElementId, &'a str);
+
+impl Hash for ChildLookup<'_> {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        (self.0, self.1).hash(state)
+    }
+}
+
+impl hashbrown::Equivalent<ChildKey> for ChildLookup<'_> {
+    fn equivalent(&self, key: &ChildKey) -> bool {
+        self.0 == key.parent && self.1 == key.name
+    }
 }
 
 impl Application {
+    /// The child of `parent` called `name`.
+    pub fn child(&self, parent: ElementId, name: &str) -> Option<ElementId> {
+        self.children.get(&ChildLookup(parent, name)).copied()
+    }
+
+    /// The names of `parent`'s children (for "did you mean"; not on a hot path).
+    pub fn child_names(&self, parent: ElementId) -> impl Iterator<Item = &str> + '_ {
+        self.children
+            .keys()
+            .filter(move |k| k.parent == parent)
+            .map(|k| k.name.as_str())
+    }
+
     pub fn element(&self, id: ElementId) -> &ElementNode {
         &self.elements[id.0 as usize]
     }
@@ -215,15 +259,21 @@ impl Application {
     pub fn view<'a>(&'a self, libs: &'a LibrarySet, endpoint: Endpoint) -> Option<PortView<'a>> {
         match endpoint {
             Endpoint::Port { element, port } => {
-                let (_, decl) = self.module_ports(libs, element).nth(port as usize)?;
                 let ElementKind::Module(m) = &self.element(element).kind else {
                     return None;
                 };
+                // Direct indexing: the type's ports first, then the instance's own.
+                let type_ports = &libs.get(m.library).module_types[m.type_index].ports;
+                let port = port as usize;
+                let decl = match type_ports.get(port) {
+                    Some(d) => d,
+                    None => m.extra_ports.get(port - type_ports.len())?,
+                };
                 let (ty, unit) = match &decl.ty {
-                    PortType::Fixed(t) => (t.clone(), decl.unit.as_ref()),
+                    PortType::Fixed(t) => (t, decl.unit.as_ref()),
                     PortType::SameAs(group) => {
                         let (_, t, u) = m.flexible_types.iter().find(|(g, _, _)| g == group)?;
-                        (t.clone(), decl.unit.as_ref().or(u.as_ref()))
+                        (t, decl.unit.as_ref().or(u.as_ref()))
                     }
                 };
                 Some(PortView {
@@ -241,7 +291,7 @@ impl Application {
                 let p = self.element(element).group_ports.get(port as usize)?;
                 Some(PortView {
                     name: &p.name,
-                    ty: p.ty.clone(),
+                    ty: &p.ty,
                     unit: p.unit.as_ref(),
                     span: p.span,
                     required: false,
@@ -255,7 +305,7 @@ impl Application {
                 let p = mt.params.get(param as usize)?;
                 Some(PortView {
                     name: &p.name,
-                    ty: p.ty.clone(),
+                    ty: &p.ty,
                     unit: p.unit.as_ref(),
                     span: p.span,
                     required: false,

@@ -27,6 +27,9 @@ pub struct CheckResult {
     pub diagnostics: Vec<Diagnostic>,
     pub app: Option<ir::Application>,
     pub libraries: library::LibrarySet,
+    /// The syntax trees, handed back rather than dropped here: for a large model freeing
+    /// them is a noticeable part of the run, and a short-lived caller (the CLI) can skip it.
+    pub syntax: Option<load::ModelFiles>,
 }
 
 /// How users promote or silence findings.
@@ -64,11 +67,7 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
         let used: Vec<_> = used.into_iter().flatten().collect();
         let resolved = resolve::resolve(&mut loader, model, &libraries, &used);
         let allows = std::mem::take(&mut loader.allows);
-        let ctx = checks::PassContext {
-            app: &resolved,
-            libraries: &libraries,
-            sources: loader.sources,
-        };
+        let ctx = checks::PassContext::new(&resolved, &libraries, loader.sources);
         checks::run_passes(&ctx, loader.diags);
         loader.allows = allows;
         app = Some(resolved);
@@ -126,5 +125,6 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
         diagnostics: items,
         app,
         libraries,
+        syntax: model,
     })
 }

@@ -19,13 +19,15 @@ use crate::ir::{Connection, Endpoint, PortView};
 use crate::library::PortDir;
 use crate::source::Span;
 use crate::types::Type;
+use std::borrow::Cow;
 
 /// Both ends of a connection, when they resolve.
-pub fn ends<'a>(ctx: &'a PassContext<'a>, c: &Connection) -> Option<(PortView<'a>, PortView<'a>)> {
-    Some((
-        ctx.app.view(ctx.libraries, c.from)?,
-        ctx.app.view(ctx.libraries, c.to)?,
-    ))
+pub fn ends<'a>(
+    app: &'a crate::ir::Application,
+    libraries: &'a crate::library::LibrarySet,
+    c: &Connection,
+) -> Option<(PortView<'a>, PortView<'a>)> {
+    Some((app.view(libraries, c.from)?, app.view(libraries, c.to)?))
 }
 
 /// Whether an endpoint sends data into a connection declared in `scope`.
@@ -53,32 +55,36 @@ pub struct ConvertError {
 }
 
 /// The value's type after source indexing and every `<convert>` step, and the type the
-/// destination takes (after destination indexing).
-pub fn flow_types(
-    ctx: &PassContext<'_>,
+/// destination takes (after destination indexing). Borrowed unless a step changes it.
+pub fn flow_types<'a>(
+    ctx: &'a PassContext<'a>,
     c: &Connection,
-    from: &PortView<'_>,
-    to: &PortView<'_>,
-) -> Result<(Type, Type), ConvertError> {
-    let index = |t: &Type, i: Option<u32>, span: Span| -> Result<Type, ConvertError> {
-        match i {
-            None => Ok(t.clone()),
-            Some(k) => match t {
-                Type::Array(e, n) if k < *n => Ok((**e).clone()),
-                Type::Array(_, n) => Err(ConvertError {
-                    span,
-                    message: format!("index {k} is out of bounds for `{t}` (length {n})"),
-                }),
-                Type::Seq(e) => Ok((**e).clone()),
-                _ => Err(ConvertError {
-                    span,
-                    message: format!("`{t}` is not an array or sequence; it cannot be indexed"),
-                }),
-            },
+    from: &PortView<'a>,
+    to: &PortView<'a>,
+) -> Result<(Cow<'a, Type>, Cow<'a, Type>), ConvertError> {
+    // Element type of `t[k]`, or why `t` cannot be indexed there.
+    let element = |t: &Type, k: u32, span: Span| -> Result<Type, ConvertError> {
+        match t {
+            Type::Array(e, n) if k < *n => Ok((**e).clone()),
+            Type::Array(_, n) => Err(ConvertError {
+                span,
+                message: format!("index {k} is out of bounds for `{t}` (length {n})"),
+            }),
+            Type::Seq(e) => Ok((**e).clone()),
+            _ => Err(ConvertError {
+                span,
+                message: format!("`{t}` is not an array or sequence; it cannot be indexed"),
+            }),
         }
     };
-    let mut t = index(&from.ty, c.from_index, c.from_span)?;
-    let dest = index(&to.ty, c.to_index, c.to_span)?;
+    let mut t = match c.from_index {
+        None => Cow::Borrowed(from.ty),
+        Some(k) => Cow::Owned(element(from.ty, k, c.from_span)?),
+    };
+    let dest = match c.to_index {
+        None => Cow::Borrowed(to.ty),
+        Some(k) => Cow::Owned(element(to.ty, k, c.to_span)?),
+    };
     if c.converts.len() > 4 {
         return Err(ConvertError {
             span: c.converts[4].span,
@@ -86,11 +92,11 @@ pub fn flow_types(
         });
     }
     for step in &c.converts {
-        if step.index.is_some() {
-            t = index(&t, step.index, step.span)?;
+        if let Some(k) = step.index {
+            t = Cow::Owned(element(&t, k, step.span)?);
         }
         if let Some((field, span)) = &step.field {
-            let Type::Named(id, name) = &t else {
+            let Type::Named(id, name) = &*t else {
                 return Err(ConvertError {
                     span: *span,
                     message: format!("`{t}` has no fields"),
@@ -98,7 +104,7 @@ pub fn flow_types(
             };
             let nt = ctx.libraries.named_type(*id);
             match nt.fields.iter().find(|(f, _, _)| f == field) {
-                Some((_, ft, _)) => t = ft.clone(),
+                Some((_, ft, _)) => t = Cow::Borrowed(ft),
                 None => {
                     let names: Vec<&str> = nt.fields.iter().map(|(f, _, _)| f.as_str()).collect();
                     return Err(ConvertError {
@@ -122,9 +128,9 @@ pub fn flow_types(
             }
         }
         if let Some((target, span)) = &step.to_type {
-            let castable = (t.is_numeric() || t == Type::Bool)
+            let castable = (t.is_numeric() || *t == Type::Bool)
                 && (target.is_numeric() || *target == Type::Bool);
-            if !castable && t != *target {
+            if !castable && *t != *target {
                 return Err(ConvertError {
                     span: *span,
                     message: format!(
@@ -132,7 +138,7 @@ pub fn flow_types(
                     ),
                 });
             }
-            t = target.clone();
+            t = Cow::Owned(target.clone());
         }
     }
     Ok((t, dest))
@@ -145,13 +151,13 @@ pub fn source_unit<'a>(
     from: &PortView<'a>,
 ) -> Option<&'a crate::units::Unit> {
     let mut unit = from.unit;
-    let mut t = from.ty.clone();
+    let mut t: &Type = from.ty;
     for step in &c.converts {
-        if let (Some((field, _)), Type::Named(id, _)) = (&step.field, &t) {
+        if let (Some((field, _)), Type::Named(id, _)) = (&step.field, t) {
             let nt = ctx.libraries.named_type(*id);
             if let Some((_, ft, fu)) = nt.fields.iter().find(|(f, _, _)| f == field) {
                 unit = fu.as_ref();
-                t = ft.clone();
+                t = ft;
             }
         }
     }
@@ -162,9 +168,10 @@ pub fn source_unit<'a>(
 pub fn unit_pair<'a>(
     ctx: &'a PassContext<'a>,
     c: &Connection,
+    from: &PortView<'a>,
+    to: &PortView<'a>,
 ) -> Option<(&'a crate::units::Unit, &'a crate::units::Unit)> {
-    let (from, to) = ends(ctx, c)?;
-    Some((source_unit(ctx, c, &from)?, to.unit?))
+    Some((source_unit(ctx, c, from)?, to.unit?))
 }
 
 /// `a/b/c → x/y/z` for messages.

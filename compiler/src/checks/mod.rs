@@ -12,7 +12,7 @@
 //! documentation and fixtures only.
 
 use crate::diagnostic::{Diagnostics, Severity};
-use crate::ir::Application;
+use crate::ir::{Application, Connection, PortView};
 use crate::library::LibrarySet;
 use crate::source::SourceMap;
 
@@ -27,6 +27,36 @@ pub struct PassContext<'a> {
     pub app: &'a Application,
     pub libraries: &'a LibrarySet,
     pub sources: &'a SourceMap,
+    /// Both ends of each connection (by index), looked up once for all passes: a dozen
+    /// passes look at every connection, and resolving a port is not free.
+    ends: Vec<Option<(PortView<'a>, PortView<'a>)>>,
+}
+
+impl<'a> PassContext<'a> {
+    pub fn new(app: &'a Application, libraries: &'a LibrarySet, sources: &'a SourceMap) -> Self {
+        let ends = app
+            .connections
+            .iter()
+            .map(|c| connections::ends(app, libraries, c))
+            .collect();
+        PassContext {
+            app,
+            libraries,
+            sources,
+            ends,
+        }
+    }
+
+    /// The connections whose two ends resolve, with those ends.
+    pub fn connections_with_ends(
+        &self,
+    ) -> impl Iterator<Item = (&'a Connection, &PortView<'a>, &PortView<'a>)> + '_ {
+        self.app
+            .connections
+            .iter()
+            .zip(&self.ends)
+            .filter_map(|(c, e)| e.as_ref().map(|(from, to)| (c, from, to)))
+    }
 }
 
 pub type Pass = fn(&PassContext<'_>, &mut Diagnostics);

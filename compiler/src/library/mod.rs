@@ -9,7 +9,7 @@ use crate::source::{FileId, Span};
 use crate::syntax::Element;
 use crate::types::{parse_type, NamedTypeId, Type, TypeError};
 use crate::units::{parse_unit, Unit};
-use std::collections::HashMap;
+use hashbrown::HashMap;
 use std::path::{Path, PathBuf};
 
 pub mod module_type;

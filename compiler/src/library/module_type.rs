@@ -10,7 +10,7 @@ use crate::syntax::Element;
 use crate::types::{Meta, Type};
 use crate::units::Unit;
 use crate::values::{parse_value, Value};
-use std::collections::HashMap;
+use hashbrown::HashMap;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ModuleKind {

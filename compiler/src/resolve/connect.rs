@@ -50,7 +50,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             converts.push(ConvertStep {
                 span: c.name_span,
                 index: c.value("index").and_then(|v| v.parse().ok()),
-                field: c.attr("field").map(|a| (a.value.clone(), a.value_span)),
+                field: c.attr("field").map(|a| (a.value.to_string(), a.value_span)),
                 scale,
                 offset,
                 to_type,
@@ -69,7 +69,9 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             queue: e.value("queue").and_then(|q| q.parse().ok()),
             on_full: e.value("on-full").map(str::to_string),
             delay: e.value("delay") == Some("1"),
-            sharing: e.attr("sharing").map(|a| (a.value.clone(), a.value_span)),
+            sharing: e
+                .attr("sharing")
+                .map(|a| (a.value.to_string(), a.value_span)),
             min_interval: attr_span("min-interval"),
             period: attr_span("period"),
             reliability: attr_span("reliability"),
@@ -139,21 +141,16 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                     );
                 }
             }
-            if let Some(child) = self.app.children.get(&(current, seg.to_string())) {
-                current = *child;
+            if let Some(child) = self.app.child(current, seg) {
+                current = child;
                 if let ElementKind::Module(_) = self.app.element(current).kind {
                     return self.module_endpoint(current, &segments[i + 1..], span, path);
                 }
                 continue;
             }
             let here = self.app.path(current);
-            let mut candidates: Vec<String> = self
-                .app
-                .children
-                .keys()
-                .filter(|(p, _)| *p == current)
-                .map(|(_, n)| n.clone())
-                .collect();
+            let mut candidates: Vec<String> =
+                self.app.child_names(current).map(str::to_string).collect();
             candidates.extend(
                 self.app
                     .element(current)

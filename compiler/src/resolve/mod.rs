@@ -12,8 +12,8 @@ use crate::load::{Loader, ModelFiles};
 use crate::source::{FileId, Span};
 use crate::syntax::Element;
 use crate::values::parse_duration;
+use hashbrown::HashMap;
 use petgraph::graph::DiGraph;
-use std::collections::HashMap;
 
 mod connect;
 mod module;
@@ -136,7 +136,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         let name = element.value("name")?.to_string();
         let id = ElementId(self.app.elements.len() as u32);
         let name_span = element.value_span("name");
-        if let Some(existing) = self.app.children.get(&(parent, name.clone())) {
+        if let Some(existing) = self.app.child(parent, &name).as_ref() {
             let first = self.app.element(*existing).name_span;
             self.duplicate(name_span, first, &format!("`{name}`"));
             return None;
@@ -148,7 +148,13 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             ElementKind::Part { .. } => part = Some(id),
             _ => {}
         }
-        self.app.children.insert((parent, name.clone()), id);
+        self.app.children.insert(
+            crate::ir::ChildKey {
+                parent,
+                name: name.as_str().into(),
+            },
+            id,
+        );
         self.app.elements.push(ElementNode {
             kind,
             name,
@@ -174,7 +180,9 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         for child in &element.children {
             match child.name.as_str() {
                 "part" => {
-                    let host = child.attr("host").map(|a| (a.value.clone(), a.value_span));
+                    let host = child
+                        .attr("host")
+                        .map(|a| (a.value.to_string(), a.value_span));
                     if let Some(id) =
                         self.add_element(scope, child, ElementKind::Part { host }, inst)
                     {
@@ -416,7 +424,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             });
         }
         for port in &ports {
-            if let Some(child) = self.app.children.get(&(id, port.name.clone())) {
+            if let Some(child) = self.app.child(id, &port.name).as_ref() {
                 let first = self.app.element(*child).name_span;
                 self.duplicate(port.span, first, &format!("`{}`", port.name));
             }

@@ -5,14 +5,18 @@
 //! the model language: vocabulary checks live in `vocabulary.rs`.
 
 use crate::source::{FileId, Span};
+use compact_str::CompactString;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 
 /// An attribute with the spans of its name and of its value (without quotes).
+///
+/// Names and values are `CompactString`s: almost all of them fit inline (24 bytes), so a
+/// model of 100,000 modules is read without millions of small allocations.
 #[derive(Clone, Debug)]
 pub struct Attr {
-    pub name: String,
-    pub value: String,
+    pub name: CompactString,
+    pub value: CompactString,
     pub name_span: Span,
     pub value_span: Span,
 }
@@ -20,14 +24,15 @@ pub struct Attr {
 /// An element: its start tag, attributes, child elements and text content.
 #[derive(Clone, Debug)]
 pub struct Element {
-    pub name: String,
+    pub name: CompactString,
     /// The tag name inside the start tag.
     pub name_span: Span,
     /// From `<` of the start tag to `>` of the end tag.
     pub span: Span,
     pub attrs: Vec<Attr>,
     pub children: Vec<Element>,
-    /// Concatenated character data (entities resolved), untrimmed.
+    /// Concatenated character data (entities resolved); whitespace before the first
+    /// non-blank piece is not kept (it only separates child elements).
     pub text: String,
     /// Span of the character data (first to last text byte), or the element's span.
     pub text_span: Span,
@@ -204,7 +209,11 @@ fn add_text(
             } else {
                 parent.text_span.end = end as u32;
             }
-            parent.text.push_str(s);
+            // Indentation between child elements is not content; skipping it saves an
+            // allocation for every element that has children.
+            if !(parent.text.is_empty() && s.trim().is_empty()) {
+                parent.text.push_str(s);
+            }
             Ok(())
         }
         None if s.trim().is_empty() => Ok(()),
@@ -225,7 +234,7 @@ fn start_element(
 ) -> Result<Element, XmlError> {
     let raw_name = tag.name().into_inner();
     let name_start = offset_of(raw_name);
-    let name = std::str::from_utf8(raw_name).unwrap_or("?").to_string();
+    let name = CompactString::from(std::str::from_utf8(raw_name).unwrap_or("?"));
     let span = Span::new(file, start, end);
     let mut element = Element {
         name,
@@ -255,8 +264,8 @@ fn start_element(
             too_deep: false,
         })?;
         element.attrs.push(Attr {
-            name: String::from_utf8_lossy(key).into_owned(),
-            value: value.into_owned(),
+            name: CompactString::from_utf8_lossy(key),
+            value: CompactString::from(value),
             name_span: Span::new(file, key_start, key_start + key.len()),
             value_span: Span::new(file, value_start, value_start + value_len),
         });

@@ -25,10 +25,7 @@ Fix: swap `from` and `to`, or correct the port name.",
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else {
-            continue;
-        };
+    for (c, from, to) in ctx.connections_with_ends() {
         if !super::emits(c, c.from, &from) {
             out.push(
                 Diagnostic::new(

@@ -26,8 +26,8 @@ Fix: connect the port that carries the right quantity.",
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for c in &ctx.app.connections {
-        let Some((a, b)) = super::unit_pair(ctx, c) else {
+    for (c, from, to) in ctx.connections_with_ends() {
+        let Some((a, b)) = super::unit_pair(ctx, c, from, to) else {
             continue;
         };
         if relate(a, b) == UnitRelation::DifferentDimension {

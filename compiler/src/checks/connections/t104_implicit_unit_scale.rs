@@ -24,8 +24,8 @@ Nothing to fix; `--allow T104` hides these notes.",
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for c in &ctx.app.connections {
-        let Some((a, b)) = super::unit_pair(ctx, c) else {
+    for (c, from, to) in ctx.connections_with_ends() {
+        let Some((a, b)) = super::unit_pair(ctx, c, from, to) else {
             continue;
         };
         if let UnitRelation::Scaled(f) = relate(a, b) {

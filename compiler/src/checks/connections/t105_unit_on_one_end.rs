@@ -23,14 +23,11 @@ Fix: declare the unit on the other port, or add an `<allow code=\"T105\" reason=
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else {
-            continue;
-        };
+    for (c, from, to) in ctx.connections_with_ends() {
         if !from.ty.is_numeric() || !to.ty.is_numeric() {
             continue;
         }
-        let a = super::source_unit(ctx, c, &from);
+        let a = super::source_unit(ctx, c, from);
         let (unitless, with) = match (a, to.unit) {
             (Some(u), None) => ((c.to_span, &to), (c.from_span, u)),
             (None, Some(u)) => ((c.from_span, &from), (c.to_span, u)),

@@ -27,11 +27,8 @@ Fix:
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else {
-            continue;
-        };
-        let Ok((value, dest)) = super::flow_types(ctx, c, &from, &to) else {
+    for (c, from, to) in ctx.connections_with_ends() {
+        let Ok((value, dest)) = super::flow_types(ctx, c, from, to) else {
             continue;
         };
         if compat(&value, &dest) == Compat::NeedsConvert {

@@ -4,7 +4,7 @@ use crate::checks::CheckInfo;
 use crate::checks::PassContext;
 use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
-use std::collections::HashMap;
+use hashbrown::HashMap;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T107",

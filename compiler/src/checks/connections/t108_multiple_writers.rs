@@ -25,16 +25,22 @@ Fix: add an arbitration module (e.g. `ferroc_std.FlexiSelect`) or make the input
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for &endpoint in ctx.app.nodes.keys() {
-        let Some(view) = ctx.app.view(ctx.libraries, endpoint) else {
+    use petgraph::Direction::Incoming;
+    let graph = &ctx.app.graph;
+    for node in graph.node_indices() {
+        // Cheap test first: most inputs have one writer.
+        if graph.edges_directed(node, Incoming).nth(1).is_none() {
+            continue;
+        }
+        let Some(view) = ctx.app.view(ctx.libraries, graph[node]) else {
             continue;
         };
         if view.merge {
             continue;
         }
-        let mut writers: Vec<_> = ctx
-            .app
-            .incoming(endpoint)
+        let mut writers: Vec<_> = graph
+            .edges_directed(node, Incoming)
+            .map(|e| &ctx.app.connections[*e.weight()])
             .filter(|c| c.queue.is_none())
             .collect();
         if writers.len() < 2 {

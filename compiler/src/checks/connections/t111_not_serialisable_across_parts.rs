@@ -22,16 +22,13 @@ Fix: connect a serialisable type, or move both modules into one part.",
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for c in &ctx.app.connections {
+    for (c, from, _) in ctx.connections_with_ends() {
         let a = ctx.app.element(c.from.element()).part;
         let b = ctx.app.element(c.to.element()).part;
         if a == b || a.is_none() || b.is_none() {
             continue;
         }
-        let Some((from, _)) = super::ends(ctx, c) else {
-            continue;
-        };
-        if ctx.libraries.serialisable(&from.ty) {
+        if ctx.libraries.serialisable(from.ty) {
             continue;
         }
         out.push(

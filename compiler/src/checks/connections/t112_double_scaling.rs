@@ -24,8 +24,8 @@ Fix: remove the `scale`; declared units do the conversion.",
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for c in &ctx.app.connections {
-        let Some((a, b)) = super::unit_pair(ctx, c) else {
+    for (c, from, to) in ctx.connections_with_ends() {
+        let Some((a, b)) = super::unit_pair(ctx, c, from, to) else {
             continue;
         };
         let UnitRelation::Scaled(f) = relate(a, b) else {

@@ -24,11 +24,8 @@ Fix: remove the step or apply it to a port of the right type.",
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for c in &ctx.app.connections {
-        let Some((from, to)) = super::ends(ctx, c) else {
-            continue;
-        };
-        if let Err(e) = super::flow_types(ctx, c, &from, &to) {
+    for (c, from, to) in ctx.connections_with_ends() {
+        if let Err(e) = super::flow_types(ctx, c, from, to) {
             out.push(
                 Diagnostic::new(&CHECK, e.span, e.message)
                     .label("does not apply to this value")

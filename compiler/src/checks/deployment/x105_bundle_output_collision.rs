@@ -6,7 +6,7 @@ use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::ir::ElementKind;
 use crate::source::Span;
-use std::collections::HashMap;
+use hashbrown::HashMap;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "X105",
