@@ -26,7 +26,7 @@ Fix: swap `from` and `to`, or correct the port name.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for (c, from, to) in ctx.connections_with_ends() {
-        if !super::emits(c, c.from, &from) {
+        if !super::emits(c, c.from, from) {
             out.push(
                 Diagnostic::new(
                     &CHECK,
@@ -38,13 +38,13 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                 )
                 .label("`from` must be an output (or a group input, seen from inside the group)")
                 .secondary(from.span, "declared here")
-                .help(if super::emits(c, c.to, &to) {
+                .help(if super::emits(c, c.to, to) {
                     "swap `from` and `to`"
                 } else {
                     "connect from an output port"
                 }),
             );
-        } else if !super::accepts(c, c.to, &to) {
+        } else if !super::accepts(c, c.to, to) {
             out.push(
                 Diagnostic::new(
                     &CHECK,
