@@ -108,7 +108,8 @@ impl Endpoint {
 #[derive(Debug, Clone)]
 pub struct ConvertStep {
     pub span: Span,
-    pub index: Option<u32>,
+    /// `index="k"` with the span of its value.
+    pub index: Option<(u32, Span)>,
     pub field: Option<(String, Span)>,
     pub scale: Option<(f64, Span)>,
     pub offset: Option<(f64, Span)>,

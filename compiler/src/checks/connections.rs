@@ -92,8 +92,8 @@ pub fn flow_types<'a>(
         });
     }
     for step in &c.converts {
-        if let Some(k) = step.index {
-            t = Cow::Owned(element(&t, k, step.span)?);
+        if let Some((k, span)) = step.index {
+            t = Cow::Owned(element(&t, k, span)?);
         }
         if let Some((field, span)) = &step.field {
             let Type::Named(id, name) = &*t else {

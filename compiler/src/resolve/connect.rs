@@ -49,7 +49,9 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             });
             converts.push(ConvertStep {
                 span: c.name_span,
-                index: c.value("index").and_then(|v| v.parse().ok()),
+                index: c
+                    .attr("index")
+                    .and_then(|a| Some((a.value.parse().ok()?, a.value_span))),
                 field: c.attr("field").map(|a| (a.value.to_string(), a.value_span)),
                 scale,
                 offset,
