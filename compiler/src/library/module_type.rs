@@ -483,11 +483,18 @@ pub fn check_value(
                 let below = decl.min.filter(|m| n < *m);
                 let above = decl.max.filter(|m| n > *m);
                 if below.is_some() || above.is_some() {
-                    let unit = decl
-                        .unit
-                        .as_ref()
-                        .map(|u| format!(" {u}"))
-                        .unwrap_or_default();
+                    // Durations are compared in seconds; say so.
+                    let unit = match (&decl.unit, &decl.ty) {
+                        (Some(u), _) => format!(" {u}"),
+                        (None, Type::Duration) => " s".to_string(),
+                        _ => String::new(),
+                    };
+                    let written = text.trim();
+                    let value = if written == format!("{n}{unit}") || written == n.to_string() {
+                        format!("{n}{unit}")
+                    } else {
+                        format!("`{written}` (= {n}{unit})")
+                    };
                     let range = match (decl.min, decl.max) {
                         (Some(a), Some(b)) => format!("{a}{unit} ..= {b}{unit}"),
                         (Some(a), None) => format!(">= {a}{unit}"),
@@ -499,7 +506,7 @@ pub fn check_value(
                             &p104_out_of_range::CHECK,
                             span,
                             format!(
-                                "{n}{unit} is outside the range of `{}` ({range})",
+                                "{value} is outside the range of `{}` ({range})",
                                 decl.name
                             ),
                         )
