@@ -69,6 +69,9 @@ pub struct LibrarySet {
     pub by_name: HashMap<String, LibraryId>,
     pub types: Vec<NamedType>,
     pub type_index: HashMap<String, NamedTypeId>,
+    /// Libraries that were asked for but could not be loaded. Their failure is reported
+    /// once (L101/L102); references to their types stay silent instead of repeating it.
+    pub failed: hashbrown::HashSet<String>,
 }
 
 impl LibrarySet {
@@ -146,7 +149,12 @@ impl LibrarySet {
                 None
             }
             Err(TypeError::Unknown(q)) => {
-                diags.push(self.unknown_type_diagnostic(&q, span));
+                let from_failed = q
+                    .split_once('.')
+                    .is_some_and(|(lib, _)| self.failed.contains(lib));
+                if !from_failed {
+                    diags.push(self.unknown_type_diagnostic(&q, span));
+                }
                 None
             }
         }
@@ -231,6 +239,21 @@ pub fn load_libraries(
 }
 
 fn load_one(
+    loader: &mut Loader<'_>,
+    set: &mut LibrarySet,
+    request: LibraryRequest,
+    depth: usize,
+) -> Option<LibraryId> {
+    let name = request.name.clone();
+    let loaded = load_manifest(loader, set, request, depth);
+    if loaded.is_none() {
+        set.failed.insert(name);
+    }
+    loaded
+}
+
+/// Finds, parses and registers one library; `None` (after reporting why) when it fails.
+fn load_manifest(
     loader: &mut Loader<'_>,
     set: &mut LibrarySet,
     request: LibraryRequest,

@@ -114,6 +114,9 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             return None;
         };
         let Some(&id) = libs.by_name.get(lib) else {
+            if libs.failed.contains(lib) {
+                return None; // its manifest's failure is already reported
+            }
             let names = libs.by_name.keys().map(String::as_str);
             let d = Diagnostic::new(
                 &crate::checks::libraries::l101_unknown_library::CHECK,
