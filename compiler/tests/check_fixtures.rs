@@ -19,24 +19,41 @@ fn options() -> Options {
     }
 }
 
-/// `<!-- expect: T102 at 12:7 -->` markers.
-fn expectations(text: &str) -> Vec<(String, usize, usize)> {
+/// A finding as the harness compares it: code, file (as displayed), line, column.
+type Finding = (String, String, usize, usize);
+
+/// `<!-- expect: T102 at 12:7 -->` markers (in the fixture itself), or
+/// `<!-- expect: L102 at ../x.lib.xml:3:5 -->` for a finding in another file, named
+/// relative to the fixture's folder.
+fn expectations(fixture: &Path, text: &str) -> Vec<Finding> {
     text.match_indices("<!-- expect:")
         .filter_map(|(i, _)| {
             let rest = &text[i + 12..];
             let body = rest[..rest.find("-->")?].trim();
             let (code, at) = body.split_once(" at ")?;
-            let (line, col) = at.trim().split_once(':')?;
-            Some((
-                code.trim().to_string(),
-                line.parse().ok()?,
-                col.parse().ok()?,
-            ))
+            let mut parts = at.trim().rsplitn(3, ':');
+            let col = parts.next()?.parse().ok()?;
+            let line = parts.next()?.parse().ok()?;
+            let file = match parts.next() {
+                Some(rel) => display(&fixture.parent()?.join(rel)),
+                None => display(fixture),
+            };
+            Some((code.trim().to_string(), file, line, col))
         })
         .collect()
 }
 
-fn render(path: &Path) -> (Vec<(String, usize, usize)>, String) {
+/// A path the way diagnostics show it: relative to the working directory.
+fn display(path: &Path) -> String {
+    let cwd = std::env::current_dir().unwrap();
+    let full = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+    full.strip_prefix(cwd.canonicalize().unwrap_or(cwd))
+        .unwrap_or(&full)
+        .display()
+        .to_string()
+}
+
+fn render(path: &Path) -> (Vec<Finding>, String) {
     let result = check_model(path, &options(), &Policy::default()).expect("fixture readable");
     let report = ModelReport {
         sources: &result.sources,
@@ -50,8 +67,8 @@ fn render(path: &Path) -> (Vec<(String, usize, usize)>, String) {
         .diagnostics
         .iter()
         .map(|d| {
-            let (_, l, c) = result.sources.location(d.primary.span);
-            (d.code().to_string(), l, c)
+            let (file, l, c) = result.sources.location(d.primary.span);
+            (d.code().to_string(), file.to_string(), l, c)
         })
         .collect();
     (found, out)
@@ -91,8 +108,8 @@ fn every_check_fires_and_stays_silent_where_it_should() {
         }
         for f in &fires {
             let text = std::fs::read_to_string(f).unwrap();
-            let expected = expectations(&text);
-            if !expected.iter().any(|(c, _, _)| c == check.code) {
+            let expected = expectations(f, &text);
+            if !expected.iter().any(|(c, _, _, _)| c == check.code) {
                 failures.push(format!(
                     "{}: {} has no `<!-- expect: {} at L:C -->`",
                     check.code,
@@ -104,11 +121,12 @@ fn every_check_fires_and_stays_silent_where_it_should() {
             for e in &expected {
                 if !found.contains(e) {
                     failures.push(format!(
-                        "{}: expected {} at {}:{} not found in {}; found {:?}",
+                        "{}: expected {} at {}:{}:{} not found (checking {}); found {:?}",
                         check.code,
                         e.0,
                         e.1,
                         e.2,
+                        e.3,
                         f.display(),
                         found
                     ));
@@ -118,7 +136,7 @@ fn every_check_fires_and_stays_silent_where_it_should() {
         }
         for s in &silent {
             let (found, rendered) = render(s);
-            if found.iter().any(|(c, _, _)| c == check.code) {
+            if found.iter().any(|(c, _, _, _)| c == check.code) {
                 failures.push(format!(
                     "{}: must stay silent on {}, but:\n{rendered}",
                     check.code,

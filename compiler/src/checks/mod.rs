@@ -3,7 +3,8 @@
 //! Every check is one file under an area folder holding its code, name, severity,
 //! explanation and — for checks that are passes over the IR — its logic. Next to the file,
 //! a folder of the same name holds its fixtures: `fires*.xml` (models where it must fire,
-//! each with an `<!-- expect: CODE at LINE:COL -->` comment) and `silent*.xml` (look-alikes
+//! each with an `<!-- expect: CODE at LINE:COL -->` comment, or `at FILE:LINE:COL` for a
+//! finding in another file of the fixture folder) and `silent*.xml` (look-alikes
 //! where it must stay silent). Adding a check means adding one file, one fixture folder
 //! and one line in [`REGISTRY`].
 //!
