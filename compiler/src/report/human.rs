@@ -40,7 +40,8 @@ impl SourceCode for NamedText<'_> {
 #[derive(Debug)]
 struct Rendered<'a> {
     message: String,
-    code: Option<&'static str>,
+    /// `error[T106]`, as rustc heads its diagnostics.
+    code: Option<String>,
     severity: miette::Severity,
     help: Option<&'a str>,
     source: NamedText<'a>,
@@ -58,7 +59,9 @@ impl std::error::Error for Rendered<'_> {}
 
 impl miette::Diagnostic for Rendered<'_> {
     fn code<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
-        self.code.map(|c| Box::new(c) as Box<dyn fmt::Display>)
+        self.code
+            .as_ref()
+            .map(|c| Box::new(c) as Box<dyn fmt::Display + 'b>)
     }
     fn severity(&self) -> Option<miette::Severity> {
         Some(self.severity)
@@ -135,7 +138,7 @@ fn build<'a>(sources: &'a SourceMap, d: &'a Diagnostic) -> Rendered<'a> {
     }
     Rendered {
         message: d.message.clone(),
-        code: Some(d.check.code),
+        code: Some(format!("{}[{}]", d.severity.as_str(), d.check.code)),
         severity: match d.severity {
             Severity::Error => miette::Severity::Error,
             Severity::Warning => miette::Severity::Warning,
