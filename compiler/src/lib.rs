@@ -5,6 +5,7 @@
 
 pub mod checks;
 pub mod diagnostic;
+pub mod finroc;
 pub mod ir;
 pub mod library;
 pub mod load;
@@ -46,7 +47,13 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
     let mut sources = SourceMap::default();
     let mut diags = Diagnostics::default();
     let mut loader = Loader::new(&mut sources, &mut diags, options);
-    let model = loader.load_model(path)?;
+    // A FINROC build description (make.xml) is checked as such: there is no model.
+    let model = if finroc::is_make_file(path) {
+        finroc::check_make_file(&mut loader, path)?;
+        None
+    } else {
+        loader.load_model(path)?
+    };
     let mut app = None;
     let mut libraries = library::LibrarySet::default();
     if let Some(model) = &model {

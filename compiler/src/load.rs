@@ -83,6 +83,26 @@ pub fn read_text(path: &Path, limits: &Limits) -> Result<String, String> {
     })
 }
 
+/// The name of a file's first element, reading no further than that (at most 1 MiB);
+/// `None` when the file cannot be read or holds no element there.
+pub fn root_element(path: &Path) -> Option<String> {
+    use quick_xml::events::Event;
+    const LOOK_AT_MOST: u64 = 1 << 20;
+    let file = std::fs::File::open(path).ok()?;
+    let input = std::io::BufReader::new(std::io::Read::take(file, LOOK_AT_MOST));
+    let mut reader = quick_xml::Reader::from_reader(input);
+    let mut buf = Vec::new();
+    loop {
+        match reader.read_event_into(&mut buf).ok()? {
+            Event::Start(tag) | Event::Empty(tag) => {
+                return Some(String::from_utf8_lossy(tag.name().into_inner()).into_owned())
+            }
+            Event::Eof => return None,
+            _ => buf.clear(),
+        }
+    }
+}
+
 fn io_reason(e: &std::io::Error) -> String {
     match e.kind() {
         std::io::ErrorKind::NotFound => "no such file".into(),
@@ -116,27 +136,8 @@ impl<'a> Loader<'a> {
         key: &str,
     ) -> (FileId, Option<Element>) {
         let file = self.sources.add(name, path, text);
-        let text = &self.sources.get(file).text;
-        let root = match xml::parse(file, text, self.options.limits.max_depth) {
-            Ok(root) => root,
-            Err(e) => {
-                let check = if e.too_deep {
-                    &m116_limit_exceeded::CHECK
-                } else {
-                    &m101_malformed_xml::CHECK
-                };
-                let help = if e.too_deep {
-                    "flatten the structure; the limit protects the checker's stack"
-                } else {
-                    "fix the XML syntax at this place; nothing else in this file was checked"
-                };
-                self.diags.push(
-                    Diagnostic::new(check, e.span, e.message)
-                        .label("here")
-                        .help(help),
-                );
-                return (file, None);
-            }
+        let Some(root) = self.parse_tree(file) else {
+            return (file, None);
         };
         let expected = crate::syntax::vocabulary::spec(key).tag;
         if root.name != expected {
@@ -158,6 +159,44 @@ impl<'a> Loader<'a> {
         }
         validate(&root, key, self.diags, &mut self.allows);
         (file, Some(root))
+    }
+
+    /// Parses a file already added, reporting malformed XML (M101) and too deep nesting (M116).
+    fn parse_tree(&mut self, file: FileId) -> Option<Element> {
+        let text = &self.sources.get(file).text;
+        match xml::parse(file, text, self.options.limits.max_depth) {
+            Ok(root) => Some(root),
+            Err(e) => {
+                let check = if e.too_deep {
+                    &m116_limit_exceeded::CHECK
+                } else {
+                    &m101_malformed_xml::CHECK
+                };
+                let help = if e.too_deep {
+                    "flatten the structure; the limit protects the checker's stack"
+                } else {
+                    "fix the XML syntax at this place; nothing else in this file was checked"
+                };
+                self.diags.push(
+                    Diagnostic::new(check, e.span, e.message)
+                        .label("here")
+                        .help(help),
+                );
+                None
+            }
+        }
+    }
+
+    /// Reads a FINROC build description (`make.xml`): no vocabulary, no includes.
+    /// `Err` when the file itself cannot be read (as for a model).
+    pub fn load_make_file(&mut self, path: &Path) -> Result<(FileId, Option<Element>), String> {
+        let text = read_text(path, &self.options.limits)
+            .map_err(|r| format!("cannot read {}: {r}", path.display()))?;
+        let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        let file = self
+            .sources
+            .add(path.display().to_string(), canonical, text);
+        Ok((file, self.parse_tree(file)))
     }
 
     /// Loads a model and its includes. `Err` when the model file itself cannot be read.

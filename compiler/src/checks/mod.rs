@@ -132,6 +132,8 @@ registry![
     libraries::l103_dependency_cycle,
     libraries::l104_library_not_used,
     libraries::l105_conflicting_library,
+    libraries::l106_make_cycle,
+    libraries::l107_duplicate_make_lib,
     deployment::x101_part_without_threads,
     deployment::x102_invalid_host_label,
     deployment::x103_host_label_conflict,

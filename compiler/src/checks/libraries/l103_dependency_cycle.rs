@@ -22,63 +22,142 @@ Fix: move what both need into a third library both depend on.",
 };
 
 use crate::diagnostic::{Diagnostic, Diagnostics};
-use crate::library::{LibraryId, LibrarySet};
+use crate::library::LibrarySet;
+use crate::source::Span;
 use petgraph::graph::{DiGraph, NodeIndex};
 use std::collections::VecDeque;
+
+/// One edge of a [`DependencyGraph`]: the node depended on and the place that says so.
+#[derive(Clone, Copy, Debug)]
+pub struct Dependency {
+    pub to: usize,
+    /// Where the dependency is written (a `<depends>` value, one name in a `libs` list).
+    pub span: Span,
+    /// How the hop reads in a label: "depends on", "optionally depends on".
+    pub verb: &'static str,
+}
+
+/// What [`report_dependency_cycles`] needs to know about a graph: nodes `0..node_count()`, each
+/// with a name and its dependencies in the order they are written.
+pub trait DependencyGraph {
+    fn node_count(&self) -> usize;
+    fn name(&self, node: usize) -> &str;
+    fn dependencies(&self, node: usize) -> Vec<Dependency>;
+}
+
+/// How one check words its cycle findings.
+pub struct CycleReport {
+    pub check: &'static CheckInfo,
+    /// Start of the message, before the names: "library dependency cycle".
+    pub what: &'static str,
+    pub help: &'static str,
+}
 
 /// Reports each strongly connected component of the dependency graph once, as its
 /// shortest cycle, every hop pointing at the `<depends>` that creates it.
 pub fn report_cycles(set: &LibrarySet, out: &mut Diagnostics) {
-    let mut graph: DiGraph<LibraryId, usize> = DiGraph::new();
-    let nodes: Vec<NodeIndex> = (0..set.libraries.len())
-        .map(|i| graph.add_node(LibraryId(i as u32)))
-        .collect();
-    for (i, lib) in set.libraries.iter().enumerate() {
-        for (k, dep) in lib.depends.iter().enumerate() {
-            if let Some(t) = dep.target {
-                graph.add_edge(nodes[i], nodes[t.0 as usize], k);
-            }
-        }
+    report_dependency_cycles(
+        &LibraryGraph(set),
+        &CycleReport {
+            check: &CHECK,
+            what: "library dependency cycle",
+            help: "dependencies must go one way: move what these libraries share into a library that depends on none of them",
+        },
+        out,
+    );
+}
+
+struct LibraryGraph<'a>(&'a LibrarySet);
+
+impl DependencyGraph for LibraryGraph<'_> {
+    fn node_count(&self) -> usize {
+        self.0.libraries.len()
     }
-    for component in petgraph::algo::tarjan_scc(&graph) {
-        let start = *component.iter().min().expect("components are not empty");
-        let self_loop = graph.find_edge(start, start).is_some();
-        if component.len() < 2 && !self_loop {
-            continue;
-        }
-        let Some(cycle) = shortest_cycle(&graph, start, &component) else {
-            continue;
-        };
-        let hops: Vec<(LibraryId, usize)> = cycle;
-        let names: Vec<&str> = hops
+
+    fn name(&self, node: usize) -> &str {
+        &self.0.libraries[node].name
+    }
+
+    fn dependencies(&self, node: usize) -> Vec<Dependency> {
+        self.0.libraries[node]
+            .depends
             .iter()
-            .map(|(l, _)| set.get(*l).name.as_str())
-            .chain([set.get(hops[0].0).name.as_str()])
-            .collect();
-        let (first_lib, first_dep) = hops[0];
-        let dep_span = |l: LibraryId, k: usize| set.get(l).depends[k].span;
-        let mut d = Diagnostic::new(
-            &CHECK,
-            dep_span(first_lib, first_dep),
-            format!("library dependency cycle: {}", names.join(" → ")),
-        )
-        .label(format!("`{}` depends on `{}`", names[0], names[1]));
-        for (i, (l, k)) in hops.iter().enumerate().skip(1) {
-            d = d.secondary(
-                dep_span(*l, *k),
-                format!("`{}` depends on `{}`", names[i], names[i + 1]),
-            );
-        }
-        out.push(d.help("dependencies must go one way: move what these libraries share into a library that depends on none of them"));
+            .filter_map(|d| {
+                Some(Dependency {
+                    to: d.target?.0 as usize,
+                    span: d.span,
+                    verb: "depends on",
+                })
+            })
+            .collect()
     }
 }
 
-/// BFS from `start` back to itself inside the component: the hops as (library, depends index).
+/// Reports each strongly connected component of `graph` once (in `report.check`'s name), as
+/// its shortest cycle through the component's first node, each hop pointing at the place
+/// that creates it. A node that depends on itself is a cycle of one hop.
+pub fn report_dependency_cycles(
+    graph: &impl DependencyGraph,
+    report: &CycleReport,
+    out: &mut Diagnostics,
+) {
+    let edges: Vec<Vec<Dependency>> = (0..graph.node_count())
+        .map(|n| graph.dependencies(n))
+        .collect();
+    let mut g: DiGraph<usize, usize> = DiGraph::with_capacity(edges.len(), 0);
+    let nodes: Vec<NodeIndex> = (0..edges.len()).map(|n| g.add_node(n)).collect();
+    for (n, deps) in edges.iter().enumerate() {
+        for (k, dep) in deps.iter().enumerate() {
+            g.add_edge(nodes[n], nodes[dep.to], k);
+        }
+    }
+    let mut component_of = vec![usize::MAX; edges.len()];
+    for (c, component) in petgraph::algo::tarjan_scc(&g).into_iter().enumerate() {
+        for n in &component {
+            component_of[g[*n]] = c;
+        }
+        let start = *component.iter().min().expect("components are not empty");
+        if component.len() < 2 && g.find_edge(start, start).is_none() {
+            continue;
+        }
+        let Some(hops) = shortest_cycle(&g, start, &component_of) else {
+            continue;
+        };
+        let names: Vec<&str> = hops
+            .iter()
+            .map(|(n, _)| graph.name(*n))
+            .chain([graph.name(hops[0].0)])
+            .collect();
+        let hop = |i: usize| {
+            let (n, k) = hops[i];
+            let dep = edges[n][k];
+            (
+                dep.span,
+                format!("`{}` {} `{}`", names[i], dep.verb, names[i + 1]),
+            )
+        };
+        let (span, label) = hop(0);
+        let mut d = Diagnostic::new(
+            report.check,
+            span,
+            format!("{}: {}", report.what, names.join(" → ")),
+        )
+        .label(label);
+        for i in 1..hops.len() {
+            let (span, label) = hop(i);
+            d = d.secondary(span, label);
+        }
+        out.push(d.help(report.help));
+    }
+}
+
+/// BFS from `start` back to itself inside its component: the hops as (node, edge index).
 fn shortest_cycle(
-    graph: &DiGraph<LibraryId, usize>,
+    graph: &DiGraph<usize, usize>,
     start: NodeIndex,
-    component: &[NodeIndex],
-) -> Option<Vec<(LibraryId, usize)>> {
+    component_of: &[usize],
+) -> Option<Vec<(usize, usize)>> {
+    let component = component_of[graph[start]];
     let mut prev: std::collections::HashMap<NodeIndex, (NodeIndex, usize)> = Default::default();
     let mut queue = VecDeque::from([start]);
     while let Some(n) = queue.pop_front() {
@@ -88,7 +167,7 @@ fn shortest_cycle(
             .collect();
         edges.sort();
         for (t, k) in edges {
-            if !component.contains(&t) {
+            if component_of[graph[t]] != component {
                 continue;
             }
             if t == start {
