@@ -11,6 +11,7 @@ pub mod library;
 pub mod load;
 pub mod report;
 pub mod resolve;
+pub mod schedule;
 pub mod source;
 pub mod syntax;
 pub mod types;

@@ -22,6 +22,7 @@ pub mod deployment;
 pub mod libraries;
 pub mod model;
 pub mod parameters;
+pub mod scheduling;
 
 /// What a pass over the IR sees. Passes never mutate the IR.
 pub struct PassContext<'a> {
@@ -134,6 +135,7 @@ registry![
     libraries::l105_conflicting_library,
     libraries::l106_make_cycle,
     libraries::l107_duplicate_make_lib,
+    scheduling::s101_data_flow_loop,
     deployment::x101_part_without_threads,
     deployment::x102_invalid_host_label,
     deployment::x103_host_label_conflict,
