@@ -505,10 +505,7 @@ pub fn check_value(
                         Diagnostic::new(
                             &p104_out_of_range::CHECK,
                             span,
-                            format!(
-                                "{value} is outside the range of `{}` ({range})",
-                                decl.name
-                            ),
+                            format!("{value} is outside the range of `{}` ({range})", decl.name),
                         )
                         .label(if below.is_some() {
                             "too small"
