@@ -154,7 +154,7 @@ fn collect_models(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
             found.sort();
             if found.is_empty() {
                 return Err(format!(
-                    "{} holds no application model (*.xml with root <application>)",
+                    "{} holds no model to check (*.xml with root <application>, or a FINROC make.xml)",
                     p.display()
                 ));
             }
@@ -185,20 +185,19 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
         } else if kind.is_file()
             && path.extension().is_some_and(|e| e == "xml")
             && !path.to_string_lossy().ends_with(".lib.xml")
-            && is_application(&path)
+            && is_checkable(&path)
         {
             out.push(path);
         }
     }
 }
 
-fn is_application(path: &Path) -> bool {
-    let mut head = vec![0u8; 4096];
-    let Ok(mut f) = std::fs::File::open(path) else {
-        return false;
-    };
-    let n = std::io::Read::read(&mut f, &mut head).unwrap_or(0);
-    String::from_utf8_lossy(&head[..n]).contains("<application")
+/// Files a folder scan picks up: application models and FINROC `make.xml` files.
+fn is_checkable(path: &Path) -> bool {
+    matches!(
+        ferroc_compiler::load::root_element(path).as_deref(),
+        Some("application" | "targets")
+    )
 }
 
 fn check(args: CheckArgs) -> ExitCode {
