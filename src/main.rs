@@ -10,6 +10,8 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod schedule;
+
 /// mimalloc: checking a large model makes millions of small allocations, and glibc's
 /// allocator spent a sixth of the run in malloc/free (measured on B1).
 #[global_allocator]
@@ -41,6 +43,14 @@ whose root is <application> (manifests `*.lib.xml` and fragments are skipped).\n
 Exit codes: 0 no errors (warnings allowed), 1 errors (or warnings with --deny warnings), 2 ferroc could not run."
     )]
     Check(CheckArgs),
+    /// Show the static execution order of every thread container
+    #[command(
+        long_about = "Check a model, then print for each thread container the order in which its \
+steps run every cycle (sense steps, then control steps, topological along data edges, ties by \
+path) and the edges where loops were broken. This is the order `ferroc run` executes.\n\n\
+Example:\n  ferroc schedule models/crash_course.xml"
+    )]
+    Schedule(schedule::ScheduleArgs),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -106,6 +116,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Check(args) => check(args),
+        Command::Schedule(args) => schedule::run(args),
         Command::Explain { code, list } => explain(code, list),
     }
 }
@@ -200,20 +211,25 @@ fn is_checkable(path: &Path) -> bool {
     )
 }
 
-fn check(args: CheckArgs) -> ExitCode {
-    let mut lib_path = args.lib_path.clone();
+/// Loader options shared by every command that reads models.
+pub(crate) fn loader_options(lib_path: &[PathBuf], allow_outside_includes: bool) -> Options {
+    let mut lib_path = lib_path.to_vec();
     if let Ok(env) = std::env::var("FERROC_LIB_PATH") {
         lib_path.extend(std::env::split_paths(&env));
     }
-    let options = Options {
+    Options {
         lib_path,
         builtins: vec![BuiltinLibrary {
             name: "ferroc_std".into(),
             text: FERROC_STD.into(),
         }],
-        allow_outside_includes: args.allow_outside_includes,
+        allow_outside_includes,
         ..Options::default()
-    };
+    }
+}
+
+fn check(args: CheckArgs) -> ExitCode {
+    let options = loader_options(&args.lib_path, args.allow_outside_includes);
     for code in &args.allow {
         if ferroc_compiler::checks::find(code).is_none() {
             eprintln!("error: --allow {code}: no check has this code\nhelp: `ferroc explain --list` shows every code");

@@ -147,3 +147,26 @@ fn tempdir(name: &str) -> std::path::PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+#[test]
+fn schedule_orders_sense_before_control() {
+    let (code, out, err) = ferroc(&["schedule", "models/crash_course.xml"]);
+    assert_eq!(code, 0, "{err}");
+    let position = |needle: &str| {
+        out.find(needle)
+            .unwrap_or_else(|| panic!("`{needle}` missing in:\n{out}"))
+    };
+    // The simulation senses first, the noise filters feed the controller's sense step,
+    // the controller's control step comes before the simulation applies it.
+    assert!(position("main_simulation (sense)") < position("add_noise_front (update)"));
+    assert!(position("add_noise_front (update)") < position("controller (sense)"));
+    assert!(position("controller (sense)") < position("controller (control)"));
+    assert!(position("controller (control)") < position("main_simulation (control)"));
+    assert!(out.contains("fragile_bot/main — every 40 ms"), "{out}");
+    // A model with errors is refused with exit code 1.
+    let (code, _, err) = ferroc(&[
+        "schedule",
+        "compiler/src/checks/connections/t102_incompatible_types/fires.xml",
+    ]);
+    assert_eq!(code, 1, "{err}");
+}

@@ -1,0 +1,102 @@
+//! `ferroc schedule`: the static order each thread container executes.
+
+use ferroc_compiler::diagnostic::Severity;
+use ferroc_compiler::ir::{Application, ElementKind};
+use ferroc_compiler::report::{self, ModelReport};
+use ferroc_compiler::schedule::{self, Step, StepSet};
+use ferroc_compiler::{check_model, Policy};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct ScheduleArgs {
+    /// The application model
+    model: PathBuf,
+    /// Extra folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH)
+    #[arg(long, value_name = "DIR")]
+    lib_path: Vec<PathBuf>,
+}
+
+pub fn run(args: ScheduleArgs) -> ExitCode {
+    let options = crate::loader_options(&args.lib_path, false);
+    let result = match check_model(&args.model, &options, &Policy::default()) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let errors = result
+        .diagnostics
+        .iter()
+        .any(|d| d.severity == Severity::Error);
+    let Some(app) = result.app.as_ref().filter(|_| !errors) else {
+        let mut out = String::new();
+        report::short(
+            &ModelReport {
+                sources: &result.sources,
+                diagnostics: &result.diagnostics,
+            },
+            &mut out,
+        );
+        eprint!("{out}");
+        eprintln!("error: the model has errors; `ferroc check` explains them");
+        return ExitCode::from(1);
+    };
+    print!(
+        "{}",
+        render(app, &schedule::compute(app, &result.libraries))
+    );
+    ExitCode::SUCCESS
+}
+
+fn render(app: &Application, schedule: &schedule::Schedule) -> String {
+    let mut out = String::new();
+    let describe = |s: &Step| format!("{} ({})", app.path(s.module), s.kind.as_str());
+    for c in &schedule.containers {
+        let trigger = match app.element(c.thread).kind {
+            ElementKind::Thread {
+                period: Some(p), ..
+            } => format!("every {}", human_seconds(p)),
+            _ => "triggered by data".to_string(),
+        };
+        let _ = writeln!(out, "{} — {trigger}", app.path(c.thread));
+        if c.steps.is_empty() {
+            let _ = writeln!(out, "  (no steps)");
+        }
+        for (i, step) in c.steps.iter().enumerate() {
+            let set = match step.set {
+                StepSet::Initial => "initial",
+                StepSet::Sense => "sense",
+                StepSet::Control => "control",
+                StepSet::Other => "other",
+            };
+            let _ = writeln!(out, "  {:>3}. [{set:<7}] {}", i + 1, describe(step));
+        }
+        for b in &c.broken {
+            let why = if b.inhibition {
+                "inhibition, expected"
+            } else {
+                "loop, see S101"
+            };
+            let _ = writeln!(
+                out,
+                "       loop broken: {} reads {} from the previous cycle ({why})",
+                describe(&b.to),
+                describe(&b.from)
+            );
+        }
+    }
+    out
+}
+
+fn human_seconds(s: f64) -> String {
+    if s >= 1.0 {
+        format!("{s} s")
+    } else if s >= 1e-3 {
+        format!("{} ms", (s * 1e6).round() / 1e3)
+    } else {
+        format!("{} µs", (s * 1e9).round() / 1e3)
+    }
+}
