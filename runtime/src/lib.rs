@@ -1,1 +1,19 @@
-//! placeholder
+//! ferroc's runtime: what a checked application model runs on.
+//!
+//! This crate grows with the runtime issue (modules, thread containers, parts, iB2C,
+//! introspection). Today it holds the data-port core:
+//!
+//! * [`port`] — output and input ports, buffer pools, n:m connections, input queues,
+//!   data-triggered wakeups. Publishing is lock-free and zero-copy; connections change
+//!   at run time without blocking publishers.
+//!
+//! The crate does not depend on the compiler. Its concurrency is verified with loom
+//! (`RUSTFLAGS="--cfg loom" cargo test -p ferroc-runtime --release --test loom_ports`)
+//! and Miri (`cargo +nightly miri test -p ferroc-runtime --lib`); `runtime/verify.sh`
+//! runs both.
+
+#![warn(missing_docs)]
+
+pub mod container;
+pub mod port;
+mod sync;

@@ -1,0 +1,351 @@
+//! [`CopyOutputPort`] / [`CopyInputPort`]: the cheap path for small `Copy` values.
+//!
+//! Same connections, queues and wakeups as the buffer ports, but values are copied
+//! into each port's [`SeqCell`] instead of shared through a reference-counted buffer:
+//! for a few machine words a copy is cheaper than counting references, and `get`
+//! returns `T` by value.
+
+use std::fmt;
+use std::time::{Duration, Instant};
+
+use bytemuck::NoUninit;
+
+use super::notify::{Notifier, SetOnce};
+use super::queue::{OnFull, Queue, QueueConfig, Signal};
+use super::seqlock::SeqCell;
+use super::wiring::{self, Fanout, InCore, Links, OutCore};
+use crate::sync::{lock, Arc, Mutex};
+
+pub(crate) struct CopyOutputCore<T: NoUninit + Send + Sync> {
+    name: String,
+    cell: SeqCell<T>,
+    fanout: Fanout<CopyInputCore<T>>,
+}
+
+pub(crate) struct CopyInputCore<T: NoUninit + Send + Sync> {
+    name: String,
+    cell: SeqCell<T>,
+    queue: Option<Queue<T>>,
+    signal: Signal,
+    notifier: SetOnce<Notifier>,
+    links: Mutex<Links<CopyOutputCore<T>, ()>>,
+}
+
+/// An output port for small, padding-free `Copy` values ([`NoUninit`]; derive it with
+/// `#[derive(Clone, Copy, bytemuck::NoUninit)]` and `#[repr(C)]`).
+///
+/// Publishing copies the value into the port and into every connected input (a
+/// seqlock write each: no locks, no allocation, no reference counting).
+pub struct CopyOutputPort<T: NoUninit + Send + Sync> {
+    pub(crate) core: Arc<CopyOutputCore<T>>,
+}
+
+/// An input port for [`CopyOutputPort`]s: latest value by default, or a queue.
+pub struct CopyInputPort<T: NoUninit + Send + Sync> {
+    pub(crate) core: Arc<CopyInputCore<T>>,
+}
+
+impl<T: NoUninit + Send + Sync> CopyOutputPort<T> {
+    /// A port whose initial value is `T::default()`.
+    pub fn new(name: impl Into<String>) -> Self
+    where
+        T: Default,
+    {
+        Self::with_value(name, T::default())
+    }
+
+    /// A port with the given initial value.
+    pub fn with_value(name: impl Into<String>, value: T) -> Self {
+        let core = CopyOutputCore {
+            name: name.into(),
+            cell: SeqCell::new(value),
+            fanout: Fanout::new(),
+        };
+        CopyOutputPort {
+            core: Arc::new(core),
+        }
+    }
+
+    /// The port's name.
+    pub fn name(&self) -> &str {
+        &self.core.name
+    }
+
+    /// Publishes `value` to the port and every connected input.
+    pub fn publish(&self, value: T) {
+        let core = &*self.core;
+        core.cell.store(&value, false);
+        let reader = core.fanout.snap.read();
+        let mut deferred = Vec::new();
+        for input in &reader.load().list {
+            CopyInputCore::deliver(input, value, &mut deferred);
+        }
+        drop(reader);
+        for input in deferred {
+            input.deliver_blocking(core, value);
+        }
+    }
+
+    /// The last value published (or the initial value).
+    pub fn get(&self) -> T {
+        self.core.cell.load().0
+    }
+
+    /// Number of connected inputs.
+    pub fn connection_count(&self) -> usize {
+        self.core.fanout.len()
+    }
+
+    /// Disconnects every input.
+    pub fn disconnect_all(&self) {
+        wiring::disconnect_all_targets(&self.core);
+    }
+}
+
+impl<T: NoUninit + Send + Sync> Drop for CopyOutputPort<T> {
+    fn drop(&mut self) {
+        self.disconnect_all();
+    }
+}
+
+impl<T: NoUninit + Send + Sync> fmt::Debug for CopyOutputPort<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("CopyOutputPort")
+            .field("name", &self.core.name)
+            .finish()
+    }
+}
+
+impl<T: NoUninit + Send + Sync> CopyInputPort<T> {
+    /// A latest-value input whose default value is `T::default()`.
+    pub fn new(name: impl Into<String>) -> Self
+    where
+        T: Default,
+    {
+        Self::build(name.into(), T::default(), None)
+    }
+
+    /// A latest-value input with the given default value.
+    pub fn with_default(name: impl Into<String>, value: T) -> Self {
+        Self::build(name.into(), value, None)
+    }
+
+    /// A queued input whose default value is `T::default()`.
+    pub fn queued(name: impl Into<String>, queue: QueueConfig) -> Self
+    where
+        T: Default,
+    {
+        Self::build(name.into(), T::default(), Some(queue))
+    }
+
+    /// A queued input with the given default value.
+    pub fn queued_with_default(name: impl Into<String>, queue: QueueConfig, value: T) -> Self {
+        Self::build(name.into(), value, Some(queue))
+    }
+
+    fn build(name: String, value: T, queue: Option<QueueConfig>) -> Self {
+        let core = CopyInputCore {
+            name,
+            cell: SeqCell::new(value),
+            queue: queue.map(Queue::new),
+            signal: Signal::new(),
+            notifier: SetOnce::new(),
+            links: Mutex::new(Links {
+                sources: Vec::new(),
+                retained: (),
+            }),
+        };
+        CopyInputPort {
+            core: Arc::new(core),
+        }
+    }
+
+    /// The port's name.
+    pub fn name(&self) -> &str {
+        &self.core.name
+    }
+
+    /// The latest value delivered (or the default).
+    pub fn get(&self) -> T {
+        self.core.cell.load().0
+    }
+
+    /// Has a value been delivered since the last [`take_changed`](Self::take_changed)?
+    pub fn has_changed(&self) -> bool {
+        self.core.cell.has_changed()
+    }
+
+    /// Clears the changed mark and returns whether it was set.
+    pub fn take_changed(&self) -> bool {
+        self.core.cell.take_changed()
+    }
+
+    /// The queue settings, if this is a queued input.
+    pub fn queue_config(&self) -> Option<QueueConfig> {
+        self.core.queue.as_ref().map(Queue::config)
+    }
+
+    /// Number of values waiting in the queue.
+    pub fn queued_len(&self) -> usize {
+        self.core.queue.as_ref().map_or(0, Queue::len)
+    }
+
+    /// The oldest queued value, or for a latest-value input the current value if it
+    /// changed since last taken; never waits.
+    pub fn try_pop(&self) -> Option<T> {
+        match &self.core.queue {
+            Some(q) => {
+                let v = q.pop()?;
+                if q.config().on_full == OnFull::Block {
+                    self.core.signal.notify_space();
+                }
+                Some(v)
+            }
+            None => self.take_changed().then(|| self.get()),
+        }
+    }
+
+    /// Like [`try_pop`](Self::try_pop), but waits for a value.
+    pub fn pop(&self) -> T {
+        loop {
+            if let Some(v) = self.pop_until(None) {
+                return v;
+            }
+        }
+    }
+
+    /// Like [`pop`](Self::pop) with a time limit; `None` on timeout.
+    pub fn pop_timeout(&self, timeout: Duration) -> Option<T> {
+        self.pop_until(Some(Instant::now() + timeout))
+    }
+
+    fn pop_until(&self, deadline: Option<Instant>) -> Option<T> {
+        loop {
+            if let Some(v) = self.try_pop() {
+                return Some(v);
+            }
+            let cell = &self.core.cell;
+            let version = cell.version();
+            let queue = self.core.queue.as_ref();
+            let ready = || match queue {
+                Some(q) => q.len() != 0 || cell.version() != version,
+                None => cell.has_changed(),
+            };
+            if !self.core.signal.wait_data(ready, deadline) {
+                return None;
+            }
+        }
+    }
+
+    /// Registers the notifier every delivery calls; gives it back if one is set.
+    pub fn set_notifier(&self, notifier: Notifier) -> Result<(), Notifier> {
+        self.core.notifier.set(notifier)
+    }
+
+    /// Number of connected outputs.
+    pub fn connection_count(&self) -> usize {
+        lock(&self.core.links).sources.len()
+    }
+
+    /// Disconnects every output.
+    pub fn disconnect_all(&self) {
+        wiring::disconnect_all_sources(&self.core);
+    }
+}
+
+impl<T: NoUninit + Send + Sync> Drop for CopyInputPort<T> {
+    fn drop(&mut self) {
+        self.disconnect_all();
+    }
+}
+
+impl<T: NoUninit + Send + Sync> fmt::Debug for CopyInputPort<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("CopyInputPort")
+            .field("name", &self.core.name)
+            .field("queue", &self.queue_config())
+            .finish()
+    }
+}
+
+impl<T: NoUninit + Send + Sync> CopyInputCore<T> {
+    fn deliver(this: &Arc<Self>, value: T, deferred: &mut Vec<Arc<Self>>) {
+        if let Some(q) = &this.queue {
+            if q.offer(value).is_err() {
+                deferred.push(Arc::clone(this));
+            }
+        }
+        this.cell.store(&value, true);
+        this.delivered();
+    }
+
+    fn deliver_blocking(&self, out: &CopyOutputCore<T>, value: T) {
+        let Some(q) = &self.queue else { return };
+        let mut done = false;
+        self.signal.wait_space(|| {
+            done = q.push(value).is_ok();
+            done || !wiring::is_source(self, out)
+        });
+        if done {
+            self.delivered();
+        }
+    }
+
+    fn delivered(&self) {
+        self.signal.notify_data();
+        if let Some(n) = self.notifier.get() {
+            n.notify();
+        }
+    }
+}
+
+impl<T: NoUninit + Send + Sync> OutCore for CopyOutputCore<T> {
+    type In = CopyInputCore<T>;
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn fanout(&self) -> &Fanout<CopyInputCore<T>> {
+        &self.fanout
+    }
+
+    fn retain(&self, _retained: &mut ()) {}
+
+    fn initial_push(&self, input: &CopyInputCore<T>, mark: usize) {
+        let (value, version) = self.cell.load();
+        if !SeqCell::<T>::is_initial(version) && input.cell.replace_if(mark, &value) {
+            input.delivered();
+        }
+    }
+}
+
+impl<T: NoUninit + Send + Sync> InCore for CopyInputCore<T> {
+    type Out = CopyOutputCore<T>;
+    type Retained = ();
+    type Mark = usize;
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn links(&self) -> &Mutex<Links<CopyOutputCore<T>, ()>> {
+        &self.links
+    }
+
+    fn refs_per_delivery(&self) -> usize {
+        0
+    }
+
+    fn is_queued(&self) -> bool {
+        self.queue.is_some()
+    }
+
+    fn mark(&self) -> usize {
+        self.cell.version()
+    }
+
+    fn wake_producers(&self) {
+        self.signal.notify_space();
+    }
+}

@@ -1,0 +1,206 @@
+//! Connecting and disconnecting outputs and inputs (n:m), shared by both port kinds.
+//!
+//! Each output has a [`Fanout`]: the copy-on-write list of its inputs, read by publishers
+//! through a [`Snapshot`]. Each input has [`Links`]: its sources and whatever it must
+//! keep alive for them (the buffer pools of refcounted outputs). Connection changes lock
+//! the output's snapshot writer first, then the input's links — always in that order —
+//! and never run user code (notifiers) while holding either.
+
+use std::fmt;
+
+use super::snapshot::Snapshot;
+use crate::sync::{fence, lock, Arc, AtomicUsize, Mutex, Ordering};
+
+/// Options for [`connect`](super::connect).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct ConnectOptions {
+    /// Push the output's current value to the input at once, if the output has
+    /// published before and this is the input's only source (FINROC's rule: no initial
+    /// push into an input with several sources, none into a queue). Default: true.
+    pub initial_push: bool,
+}
+
+impl Default for ConnectOptions {
+    fn default() -> Self {
+        ConnectOptions { initial_push: true }
+    }
+}
+
+impl ConnectOptions {
+    /// These options with `initial_push` set as given.
+    pub fn with_initial_push(mut self, initial_push: bool) -> Self {
+        self.initial_push = initial_push;
+        self
+    }
+}
+
+/// Why a connection was not made.
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ConnectError {
+    /// The two ports are already connected (nothing changed).
+    AlreadyConnected {
+        /// Name of the output port.
+        output: String,
+        /// Name of the input port.
+        input: String,
+    },
+}
+
+impl fmt::Display for ConnectError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ConnectError::AlreadyConnected { output, input } => {
+                write!(f, "`{output}` is already connected to `{input}`")
+            }
+        }
+    }
+}
+
+impl std::error::Error for ConnectError {}
+
+/// The inputs an output delivers to.
+pub(crate) struct Targets<I> {
+    pub(crate) list: Vec<Arc<I>>,
+    /// Buffer references one publish hands out to `list` (refcounted ports).
+    pub(crate) refs: usize,
+}
+
+/// An output's side of its connections.
+pub(crate) struct Fanout<I> {
+    pub(crate) snap: Snapshot<Targets<I>>,
+    /// `refs` of the current targets, readable before loading the snapshot.
+    pub(crate) refs_hint: AtomicUsize,
+}
+
+impl<I> Fanout<I> {
+    pub(crate) fn new() -> Self {
+        Fanout {
+            snap: Snapshot::new(Targets {
+                list: Vec::new(),
+                refs: 0,
+            }),
+            refs_hint: AtomicUsize::new(0),
+        }
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.snap.read().load().list.len()
+    }
+}
+
+/// An input's side of its connections.
+pub(crate) struct Links<O, R> {
+    pub(crate) sources: Vec<Arc<O>>,
+    /// Kept alive for the sources, past disconnection (see `pool.rs`).
+    pub(crate) retained: R,
+}
+
+pub(crate) trait OutCore: Send + Sync + Sized + 'static {
+    type In: InCore<Out = Self>;
+    fn name(&self) -> &str;
+    fn fanout(&self) -> &Fanout<Self::In>;
+    /// Called with both sides locked, before the input can receive anything from us.
+    fn retain(&self, retained: &mut <Self::In as InCore>::Retained);
+    /// Delivers the current value unless the input changed since `mark` was taken.
+    fn initial_push(&self, input: &Self::In, mark: <Self::In as InCore>::Mark);
+}
+
+pub(crate) trait InCore: Send + Sync + Sized + 'static {
+    type Out: OutCore<In = Self>;
+    type Retained: Send;
+    type Mark;
+    fn name(&self) -> &str;
+    fn links(&self) -> &Mutex<Links<Self::Out, Self::Retained>>;
+    /// Buffer references one delivery to this input consumes.
+    fn refs_per_delivery(&self) -> usize;
+    fn is_queued(&self) -> bool;
+    fn mark(&self) -> Self::Mark;
+    /// A source went away: publishers blocked on our full queue must re-check.
+    fn wake_producers(&self);
+}
+
+/// Is `out` (still) a source of `inp`? Used by publishers blocked on a full queue.
+pub(crate) fn is_source<I: InCore>(inp: &I, out: &I::Out) -> bool {
+    lock(inp.links())
+        .sources
+        .iter()
+        .any(|s| std::ptr::eq(Arc::as_ptr(s), out))
+}
+
+pub(crate) fn connect<O: OutCore>(
+    out: &Arc<O>,
+    inp: &Arc<O::In>,
+    opts: ConnectOptions,
+) -> Result<(), ConnectError> {
+    let mut writer = out.fanout().snap.write();
+    let current = writer.get();
+    if current.list.iter().any(|t| Arc::ptr_eq(t, inp)) {
+        return Err(ConnectError::AlreadyConnected {
+            output: out.name().to_owned(),
+            input: inp.name().to_owned(),
+        });
+    }
+    let mut links = lock(inp.links());
+    out.retain(&mut links.retained);
+    let only_source = links.sources.is_empty();
+    links.sources.push(Arc::clone(out));
+    // Taken before the input becomes visible to our publishers: anything delivered
+    // after this point wins over the initial push.
+    let mark = inp.mark();
+    let mut list = current.list.clone();
+    list.push(Arc::clone(inp));
+    let refs = current.refs + inp.refs_per_delivery();
+    out.fanout().refs_hint.store(refs, Ordering::Relaxed);
+    writer.replace(Targets { list, refs });
+    drop(links);
+    drop(writer);
+    if opts.initial_push && only_source && !inp.is_queued() {
+        // Publish stores the output's value (SeqCst) and then loads the list (SeqCst);
+        // we stored the list and now load the value. One of us sees the other, so a
+        // value published concurrently is never missed.
+        fence(Ordering::SeqCst);
+        out.initial_push(inp, mark);
+    }
+    Ok(())
+}
+
+/// Removes the connection; false if there was none. Publishes already under way may
+/// still deliver to the input once (they read the list before the change).
+pub(crate) fn disconnect<O: OutCore>(out: &Arc<O>, inp: &Arc<O::In>) -> bool {
+    let mut writer = out.fanout().snap.write();
+    let current = writer.get();
+    if !current.list.iter().any(|t| Arc::ptr_eq(t, inp)) {
+        return false;
+    }
+    let mut links = lock(inp.links());
+    links.sources.retain(|s| !Arc::ptr_eq(s, out));
+    let list: Vec<_> = current
+        .list
+        .iter()
+        .filter(|t| !Arc::ptr_eq(t, inp))
+        .cloned()
+        .collect();
+    let refs = current.refs - inp.refs_per_delivery();
+    out.fanout().refs_hint.store(refs, Ordering::Relaxed);
+    writer.replace(Targets { list, refs });
+    drop(links);
+    drop(writer);
+    inp.wake_producers();
+    true
+}
+
+pub(crate) fn disconnect_all_targets<O: OutCore>(out: &Arc<O>) {
+    let targets: Vec<_> = out.fanout().snap.write().get().list.clone();
+    for t in &targets {
+        disconnect(out, t);
+    }
+}
+
+pub(crate) fn disconnect_all_sources<I: InCore>(inp: &Arc<I>) {
+    let sources: Vec<_> = lock(inp.links()).sources.clone();
+    for s in &sources {
+        disconnect(s, inp);
+    }
+}

@@ -1,0 +1,37 @@
+//! The one place that names the synchronisation primitives.
+//!
+//! Every atomic, `Arc`, `Mutex` and `Condvar` of the port core comes from here, so the
+//! same code runs on `std` in normal builds and on [loom]'s model-checked versions when
+//! compiled with `RUSTFLAGS="--cfg loom"` (see `tests/loom_ports.rs`). Only the types the
+//! core needs are re-exported; anything else would escape the model checker.
+//!
+//! [loom]: https://docs.rs/loom
+
+#[cfg(not(loom))]
+pub(crate) use std::sync::{
+    atomic::{fence, AtomicPtr, AtomicU64, AtomicUsize, Ordering},
+    Arc, Condvar, Mutex, MutexGuard,
+};
+
+#[cfg(loom)]
+pub(crate) use loom::sync::{
+    atomic::{fence, AtomicPtr, AtomicU64, AtomicUsize, Ordering},
+    Arc, Condvar, Mutex, MutexGuard,
+};
+
+/// A busy-wait hint. Under loom this yields to the scheduler, which is what lets the
+/// model checker explore a retry loop without exploring it forever.
+#[inline]
+pub(crate) fn spin_loop() {
+    #[cfg(not(loom))]
+    std::hint::spin_loop();
+    #[cfg(loom)]
+    loom::hint::spin_loop();
+}
+
+/// Locks a mutex, ignoring poisoning: every critical section of the port core leaves its
+/// data consistent at each step, so a panic elsewhere must not make ports unusable.
+#[inline]
+pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
