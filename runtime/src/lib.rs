@@ -1,8 +1,11 @@
 //! ferroc's runtime: what a checked application model runs on.
 //!
 //! This crate grows with the runtime issue (modules, thread containers, parts, iB2C,
-//! introspection). Today it holds the data-port core:
+//! introspection). Today it holds the data-port core and thread containers:
 //!
+//! * [`container`] — one OS thread per thread container, executing the compiler's static
+//!   step order periodically (absolute deadlines, overrun counting) or when data
+//!   arrives; per-step timing statistics; a panicking step is stopped, the rest run on.
 //! * [`port`] — output and input ports, buffer pools, n:m connections, input queues,
 //!   data-triggered wakeups. Publishing is lock-free and zero-copy; connections change
 //!   at run time without blocking publishers.
