@@ -1,0 +1,236 @@
+//! Thread containers: one OS thread each, running a fixed list of steps every cycle.
+//!
+//! The order of the steps is decided by the compiler's scheduling pass (`ferroc
+//! schedule` prints it); a container only executes it. A container is either
+//!
+//! * periodic: cycles start at absolute deadlines `start + k·period`, so the rate does
+//!   not drift with execution time; a cycle that ends after its deadline counts as an
+//!   overrun and the container resumes at the next deadline still ahead (no burst of
+//!   catch-up cycles), or
+//! * data-triggered: a cycle runs whenever an input registered with the container's
+//!   [`Wakeup`] receives data.
+//!
+//! A step that panics is caught, reported in the statistics with its name, and not run
+//! again; the other steps keep running.
+
+mod clock;
+mod os;
+mod stats;
+
+pub use clock::{Clock, ManualClock, SystemClock};
+pub use stats::{ContainerStats, StepStats};
+
+use crate::port::Wakeup;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// One unit of work in a cycle: a module's `update`, `sense` or `control`.
+pub struct Step {
+    name: String,
+    run: Box<dyn FnMut() + Send>,
+    stopped: bool,
+}
+
+impl Step {
+    /// A step called `name` (the module path and step kind, for reports).
+    pub fn new(name: impl Into<String>, run: impl FnMut() + Send + 'static) -> Self {
+        Step {
+            name: name.into(),
+            run: Box::new(run),
+            stopped: false,
+        }
+    }
+}
+
+/// When a container runs a cycle.
+#[derive(Clone)]
+pub enum Trigger {
+    /// At absolute deadlines `period` apart.
+    Periodic(Duration),
+    /// Whenever the wakeup is notified (register it on the triggering inputs).
+    Data(Arc<Wakeup>),
+}
+
+/// Optional placement of the container's thread. Where the operating system refuses
+/// (no permission for real-time priority, say), the container runs anyway and the
+/// refusal is returned as a warning.
+#[derive(Clone, Debug, Default)]
+pub struct ThreadOptions {
+    /// Real-time priority (SCHED_FIFO, 1–99 on Linux).
+    pub priority: Option<i32>,
+    /// The CPU the thread is pinned to.
+    pub cpu: Option<usize>,
+}
+
+/// A container with its steps, not yet running.
+pub struct ThreadContainer {
+    trigger: Trigger,
+    steps: Vec<Step>,
+    stats: Arc<ContainerStats>,
+    clock: Arc<dyn Clock>,
+}
+
+impl ThreadContainer {
+    /// A container called `name` (its element path) running `steps` in this order.
+    pub fn new(name: impl Into<String>, trigger: Trigger, steps: Vec<Step>) -> Self {
+        let period = match &trigger {
+            Trigger::Periodic(p) => Some(*p),
+            Trigger::Data(_) => None,
+        };
+        let names = steps.iter().map(|s| s.name.clone()).collect();
+        ThreadContainer {
+            trigger,
+            steps,
+            stats: Arc::new(ContainerStats::new(name.into(), names, period)),
+            clock: Arc::new(SystemClock::default()),
+        }
+    }
+
+    /// Uses another clock (tests use [`ManualClock`]).
+    pub fn with_clock(mut self, clock: Arc<dyn Clock>) -> Self {
+        self.clock = clock;
+        self
+    }
+
+    /// The statistics, shared with whoever wants to read them while it runs.
+    pub fn stats(&self) -> Arc<ContainerStats> {
+        Arc::clone(&self.stats)
+    }
+
+    /// Runs every live step once, in order, timing each.
+    pub fn run_cycle(&mut self) {
+        let started = self.clock.now();
+        self.execute_steps();
+        let took = self.clock.now().saturating_sub(started);
+        self.stats.record_cycle(took, false);
+    }
+
+    fn execute_steps(&mut self) {
+        for (step, (_, stats)) in self.steps.iter_mut().zip(&self.stats.steps) {
+            if step.stopped {
+                continue;
+            }
+            let t0 = self.clock.now();
+            let outcome = catch_unwind(AssertUnwindSafe(&mut step.run));
+            stats.record(self.clock.now().saturating_sub(t0));
+            if let Err(payload) = outcome {
+                step.stopped = true;
+                let why = payload
+                    .downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| payload.downcast_ref::<String>().cloned())
+                    .unwrap_or_else(|| "a non-text panic payload".into());
+                self.stats.record_panic(format!(
+                    "`{}` panicked: {why}; this step is stopped, the others keep running",
+                    step.name
+                ));
+            }
+        }
+    }
+
+    /// Runs cycles on the current thread until `stop` is set or `limit` cycles ran.
+    pub fn run(&mut self, stop: &AtomicBool, limit: Option<u64>) {
+        let mut done = 0u64;
+        let more = |done: u64| !stop.load(Ordering::Relaxed) && limit.is_none_or(|l| done < l);
+        match self.trigger.clone() {
+            Trigger::Periodic(period) => {
+                let period = period.max(Duration::from_nanos(1));
+                let mut deadline = self.clock.now() + period;
+                while more(done) {
+                    let started = self.clock.now();
+                    self.execute_steps();
+                    let ended = self.clock.now();
+                    let overrun = ended > deadline;
+                    self.stats
+                        .record_cycle(ended.saturating_sub(started), overrun);
+                    done += 1;
+                    if overrun {
+                        // Keep the phase: resume at the first deadline still ahead.
+                        let behind = (ended - deadline).as_nanos() / period.as_nanos();
+                        deadline += period * (behind as u32).saturating_add(1);
+                    }
+                    if !more(done) {
+                        break;
+                    }
+                    self.clock.sleep_until(deadline);
+                    deadline += period;
+                }
+            }
+            Trigger::Data(wakeup) => {
+                while more(done) {
+                    // Wake now and then to see the stop flag even without data.
+                    if wakeup.wait_timeout(Duration::from_millis(50)) {
+                        self.run_cycle();
+                        done += 1;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Starts the container on its own thread.
+    pub fn spawn(
+        mut self,
+        options: ThreadOptions,
+        stop: Arc<AtomicBool>,
+        limit: Option<u64>,
+    ) -> std::io::Result<RunningContainer> {
+        let stats = self.stats();
+        let wakeup = match &self.trigger {
+            Trigger::Data(w) => Some(Arc::clone(w)),
+            Trigger::Periodic(_) => None,
+        };
+        let (warn_tx, warn_rx) = std::sync::mpsc::channel();
+        let thread_name: String = stats.name.chars().take(15).collect();
+        let join = std::thread::Builder::new()
+            .name(thread_name)
+            .spawn(move || {
+                for warning in os::place_current_thread(&options) {
+                    let _ = warn_tx.send(warning);
+                }
+                drop(warn_tx);
+                self.run(&stop, limit);
+            })?;
+        let warnings = warn_rx.iter().collect();
+        Ok(RunningContainer {
+            stats,
+            join,
+            wakeup,
+            warnings,
+        })
+    }
+}
+
+/// A container running on its thread.
+pub struct RunningContainer {
+    /// Its statistics.
+    pub stats: Arc<ContainerStats>,
+    /// What the operating system refused of the [`ThreadOptions`].
+    pub warnings: Vec<String>,
+    join: std::thread::JoinHandle<()>,
+    wakeup: Option<Arc<Wakeup>>,
+}
+
+impl RunningContainer {
+    /// Wakes a data-triggered container so that it sees a stop flag set by the caller.
+    pub fn nudge(&self) {
+        if let Some(w) = &self.wakeup {
+            crate::port::Notify::notify(&**w);
+        }
+    }
+
+    /// Whether the thread has ended (cycle limit reached, or stopped).
+    pub fn is_finished(&self) -> bool {
+        self.join.is_finished()
+    }
+
+    /// Waits for the thread to end.
+    pub fn join(self) {
+        let _ = self.join.join();
+    }
+}
+
+#[cfg(test)]
+mod tests;

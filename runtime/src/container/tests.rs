@@ -1,0 +1,175 @@
+use super::*;
+use std::sync::Mutex;
+
+/// A step that logs its name into `log` and advances the manual clock by `takes`.
+fn step(
+    log: &Arc<Mutex<Vec<&'static str>>>,
+    clock: &ManualClock,
+    name: &'static str,
+    takes: Duration,
+) -> Step {
+    let (log, clock) = (Arc::clone(log), clock.clone());
+    Step::new(name, move || {
+        log.lock().unwrap().push(name);
+        clock.advance(takes);
+    })
+}
+
+#[test]
+fn steps_run_in_the_given_order_every_cycle() {
+    let clock = ManualClock::new();
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let ms = Duration::from_millis(1);
+    let mut c = ThreadContainer::new(
+        "robot/main",
+        Trigger::Periodic(10 * ms),
+        vec![
+            step(&log, &clock, "sense", ms),
+            step(&log, &clock, "control", ms),
+        ],
+    )
+    .with_clock(Arc::new(clock.clone()));
+    c.run(&AtomicBool::new(false), Some(3));
+    assert_eq!(*log.lock().unwrap(), ["sense", "control"].repeat(3));
+    let stats = c.stats();
+    assert_eq!(stats.cycles(), 3);
+    assert_eq!(stats.overruns(), 0);
+    assert_eq!(stats.steps[0].1.runs(), 3);
+    assert_eq!(stats.steps[0].1.mean(), ms);
+    // 2 ms of work in each 10 ms period.
+    assert!((stats.load() - 0.2).abs() < 1e-9, "{}", stats.load());
+    // Absolute deadlines: three cycles started at 0, 10 and 20 ms; no drift from the
+    // 2 ms each took. The clock stands at the end of the third cycle.
+    assert_eq!(clock.now(), 22 * ms);
+}
+
+#[test]
+fn an_overrun_is_counted_and_the_phase_is_kept() {
+    let clock = ManualClock::new();
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let ms = Duration::from_millis(1);
+    let slow = Arc::new(AtomicBool::new(true));
+    let (slow2, clock2) = (Arc::clone(&slow), clock.clone());
+    // The first cycle takes 25 ms of a 10 ms period, later ones 1 ms.
+    let mut c = ThreadContainer::new(
+        "robot/main",
+        Trigger::Periodic(10 * ms),
+        vec![
+            Step::new("work", move || {
+                clock2.advance(if slow2.swap(false, Ordering::SeqCst) {
+                    25 * ms
+                } else {
+                    ms
+                })
+            }),
+            step(&log, &clock, "log", Duration::ZERO),
+        ],
+    )
+    .with_clock(Arc::new(clock.clone()));
+    c.run(&AtomicBool::new(false), Some(2));
+    let stats = c.stats();
+    assert_eq!(stats.overruns(), 1);
+    assert_eq!(stats.cycles(), 2);
+    // Cycle 1 ran 0..25 ms and missed the deadlines at 10 and 20 ms; cycle 2 starts at
+    // the next one on the grid, 30 ms, and ends at 31 ms.
+    assert_eq!(clock.now(), 31 * ms);
+}
+
+#[test]
+fn a_panicking_step_is_stopped_and_the_others_keep_running() {
+    let clock = ManualClock::new();
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let mut c = ThreadContainer::new(
+        "robot/main",
+        Trigger::Periodic(Duration::from_millis(10)),
+        vec![
+            step(&log, &clock, "before", Duration::ZERO),
+            Step::new("robot/main/faulty (update)", || {
+                panic!("sensor cable unplugged")
+            }),
+            step(&log, &clock, "after", Duration::ZERO),
+        ],
+    )
+    .with_clock(Arc::new(clock.clone()));
+    c.run(&AtomicBool::new(false), Some(2));
+    assert_eq!(*log.lock().unwrap(), ["before", "after", "before", "after"]);
+    let panics = c.stats().panics();
+    assert_eq!(panics.len(), 1, "{panics:?}");
+    assert!(
+        panics[0].contains("robot/main/faulty (update)"),
+        "{}",
+        panics[0]
+    );
+    assert!(
+        panics[0].contains("sensor cable unplugged"),
+        "{}",
+        panics[0]
+    );
+    assert_eq!(c.stats().steps[1].1.runs(), 1);
+}
+
+#[test]
+#[cfg_attr(miri, ignore)] // threads blocking on a condition variable with timeouts
+fn a_data_triggered_container_runs_once_per_wakeup_and_stops_on_request() {
+    let wakeup = Wakeup::new();
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let clock = ManualClock::new();
+    let container = ThreadContainer::new(
+        "robot/vision",
+        Trigger::Data(Arc::clone(&wakeup)),
+        vec![step(&log, &clock, "detect", Duration::ZERO)],
+    );
+    let stop = Arc::new(AtomicBool::new(false));
+    let running = container
+        .spawn(ThreadOptions::default(), Arc::clone(&stop), Some(2))
+        .unwrap();
+    crate::port::Notify::notify(&*wakeup);
+    while running.stats.cycles() < 1 {
+        std::thread::yield_now();
+    }
+    crate::port::Notify::notify(&*wakeup);
+    running.join();
+    assert_eq!(*log.lock().unwrap(), ["detect", "detect"]);
+
+    // Stopping without data: the flag plus a nudge ends the thread.
+    let container = ThreadContainer::new(
+        "robot/idle",
+        Trigger::Data(Wakeup::new()),
+        vec![step(&log, &clock, "never", Duration::ZERO)],
+    );
+    let stop = Arc::new(AtomicBool::new(false));
+    let running = container
+        .spawn(ThreadOptions::default(), Arc::clone(&stop), None)
+        .unwrap();
+    stop.store(true, Ordering::SeqCst);
+    running.nudge();
+    running.join();
+    assert!(!log.lock().unwrap().contains(&"never"));
+}
+
+#[test]
+#[cfg_attr(miri, ignore)] // system calls
+fn refused_placement_is_a_warning_not_a_failure() {
+    let container = ThreadContainer::new(
+        "robot/main",
+        Trigger::Periodic(Duration::from_millis(1)),
+        vec![],
+    );
+    let running = container
+        .spawn(
+            ThreadOptions {
+                priority: None,
+                cpu: Some(100_000),
+            },
+            Arc::new(AtomicBool::new(false)),
+            Some(1),
+        )
+        .unwrap();
+    assert_eq!(running.warnings.len(), 1, "{:?}", running.warnings);
+    assert!(
+        running.warnings[0].contains("CPU 100000"),
+        "{:?}",
+        running.warnings
+    );
+    running.join();
+}
