@@ -24,6 +24,10 @@ pub enum ElementKind {
     /// `period` in seconds; `None` for data-triggered containers.
     Thread {
         period: Option<f64>,
+        /// `pool="n"` with n ≥ 2: n workers (not an exclusive context).
+        pool: Option<u32>,
+        /// `trigger="data"`.
+        data_trigger: bool,
     },
     Group,
     Module(ModuleInstance),
@@ -39,6 +43,8 @@ pub struct ModuleInstance {
     /// Types of the instance's flexible port groups, for `$group` port types.
     pub flexible_types: Vec<(String, Type, Option<Unit>)>,
     pub params: Vec<ParamValue>,
+    /// `<bind lock resource>`: lock slot → application resource (span of `resource`).
+    pub binds: Vec<(String, String, Span)>,
 }
 
 /// Where a parameter's value comes from.
@@ -130,6 +136,8 @@ pub struct Connection {
     pub queue: Option<u32>,
     pub on_full: Option<String>,
     pub delay: bool,
+    /// `initial="k"`: items in the queue at start.
+    pub initial: u32,
     pub sharing: Option<(String, Span)>,
     pub min_interval: Option<Span>,
     pub period: Option<Span>,
@@ -165,6 +173,30 @@ pub struct Application {
     pub nodes: HashMap<Endpoint, NodeIndex>,
     /// Named children of each element (the scope of path segments); see [`Application::child`].
     pub children: HashMap<ChildKey, ElementId>,
+    /// `<resource>`s (named locks) of the model and its fragments.
+    pub resources: Vec<Resource>,
+    /// `<application profile>`: the framework whose execution semantics apply.
+    pub profile: Profile,
+}
+
+/// A `<resource>`: a named lock.
+#[derive(Debug, Clone)]
+pub struct Resource {
+    pub name: String,
+    pub span: Span,
+    pub level: Option<u32>,
+    pub recursive: bool,
+}
+
+/// Execution semantics that change deadlock verdicts (`reference/deadlocks.md` §2.10).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Profile {
+    /// Services run in the server's thread container; the response wakes the caller.
+    #[default]
+    Generic,
+    /// FINROC: a call to a server in the same part runs inline in the caller's thread; an
+    /// unconnected call fails at once.
+    Finroc,
 }
 
 /// Key of [`Application::children`]. Looked up with a borrowed name (no allocation per

@@ -4,6 +4,7 @@
 //! it could be built) out. See `ARCHITECTURE.md` for the pipeline.
 
 pub mod checks;
+pub mod deadlock;
 pub mod diagnostic;
 pub mod finroc;
 pub mod ir;

@@ -18,6 +18,7 @@ use crate::library::LibrarySet;
 use crate::source::SourceMap;
 
 pub mod connections;
+pub mod deadlocks;
 pub mod deployment;
 pub mod libraries;
 pub mod model;
@@ -135,6 +136,23 @@ registry![
     libraries::l105_conflicting_library,
     libraries::l106_make_cycle,
     libraries::l107_duplicate_make_lib,
+    deadlocks::d101_call_cycle,
+    deadlocks::d102_response_context,
+    deadlocks::d103_lock_order_inversion,
+    deadlocks::d104_recursive_lock,
+    deadlocks::d105_mixed_wait_cycle,
+    deadlocks::d106_empty_queue_ring,
+    deadlocks::d107_full_queue_ring,
+    deadlocks::d108_pool_exhaustion,
+    deadlocks::d109_wait_never_served,
+    deadlocks::d110_same_thread_queue_read,
+    deadlocks::d111_unconnected_call,
+    deadlocks::d112_deadlock_unverified,
+    deadlocks::d113_call_always_times_out,
+    deadlocks::d114_timeout_race,
+    deadlocks::d115_trigger_cycle_never_runs,
+    deadlocks::d116_lock_level_violation,
+    deadlocks::d117_latent_lock_inversion,
     scheduling::s101_data_flow_loop,
     deployment::x101_part_without_threads,
     deployment::x102_invalid_host_label,

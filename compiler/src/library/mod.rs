@@ -13,6 +13,7 @@ use hashbrown::HashMap;
 use std::path::{Path, PathBuf};
 
 pub mod module_type;
+pub mod steps;
 pub use module_type::{ModuleKind, ModuleType, ParamDecl, PortDecl, PortDir, PortRole};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

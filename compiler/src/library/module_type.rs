@@ -33,6 +33,10 @@ pub enum PortRole {
     Controller,
     /// iB2C meta port generated from the kind (stimulation, activity, …).
     Meta,
+    /// `<client>`: calls a service (an output: requests leave here).
+    Client,
+    /// `<service>`: served by this module (an input: requests arrive here).
+    Service,
 }
 
 /// A port's type: fixed, or the type of an instance-declared flexible port group (`$in`).
@@ -51,6 +55,8 @@ pub struct PortDecl {
     pub unit: Option<Unit>,
     pub required: bool,
     pub blocking_read: bool,
+    /// `timeout` of a blocking read (`None`: waits forever).
+    pub read_timeout: super::steps::Timeout,
     pub merge: bool,
     pub span: Span,
 }
@@ -95,6 +101,12 @@ pub struct ModuleType {
     pub channel_in: Vec<PortDecl>,
     /// Behaviour: declared derived activities.
     pub derived_activities: Vec<String>,
+    pub clients: Vec<super::steps::ClientDecl>,
+    pub services: Vec<super::steps::ServiceDecl>,
+    /// Lock slots (`<locks order>`, then slots named only by steps), with their spans.
+    pub lock_slots: Vec<(String, Span)>,
+    /// What each activity does that can wait; one default `update` if none is declared.
+    pub activities: Vec<super::steps::ActivityDecl>,
     pub span: Span,
 }
 
@@ -164,6 +176,10 @@ fn build(
         flexible: Vec::new(),
         channel_in: Vec::new(),
         derived_activities: Vec::new(),
+        clients: Vec::new(),
+        services: Vec::new(),
+        lock_slots: Vec::new(),
+        activities: Vec::new(),
         span: element.value_span("name"),
     };
     // Ports share one namespace across directions; parameters (addressed as `param/x`) another.
@@ -253,6 +269,7 @@ fn build(
             }
         }
     }
+    super::steps::add_rpc_ports(set, &lib.visible, element, &mut mt, &mut names, diags);
     if mt.is_behaviour() {
         add_behaviour_interface(&mut mt);
     }
@@ -268,6 +285,7 @@ fn build(
         .enumerate()
         .map(|(i, p)| (p.name.clone(), i))
         .collect();
+    super::steps::build(element, &mut mt, diags);
     mt
 }
 
@@ -283,7 +301,7 @@ fn misplaced(child: &Element, why: &str, diags: &mut Diagnostics) {
     );
 }
 
-fn unique(
+pub(super) fn unique(
     names: &mut HashMap<String, Span>,
     name: &str,
     span: Span,
@@ -320,6 +338,7 @@ fn add_behaviour_interface(mt: &mut ModuleType) {
         unit: None,
         required: false,
         blocking_read: false,
+        read_timeout: None,
         merge: false,
         span,
     };
@@ -388,6 +407,7 @@ fn port_decl(
         unit: unit_attr(e, diags),
         required: e.value("required") == Some("true"),
         blocking_read: e.value("read") == Some("blocking"),
+        read_timeout: super::steps::timeout(e, diags),
         merge: e.value("fan-in") == Some("merge"),
         span: e.value_span("name"),
     })

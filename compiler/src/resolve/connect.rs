@@ -71,6 +71,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             queue: e.value("queue").and_then(|q| q.parse().ok()),
             on_full: e.value("on-full").map(str::to_string),
             delay: e.value("delay") == Some("1"),
+            initial: e.value("initial").and_then(|q| q.parse().ok()).unwrap_or(0),
             sharing: e
                 .attr("sharing")
                 .map(|a| (a.value.to_string(), a.value_span)),

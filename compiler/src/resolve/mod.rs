@@ -62,6 +62,11 @@ pub fn resolve(
         graph: DiGraph::new(),
         nodes: HashMap::new(),
         children: HashMap::new(),
+        resources: Vec::new(),
+        profile: match root.value("profile") {
+            Some("finroc") => Profile::Finroc,
+            _ => Profile::Generic,
+        },
     };
     let mut r = Resolver {
         loader,
@@ -102,6 +107,12 @@ pub fn resolve(
                 );
             } else {
                 resources.insert(name, res.value_span("name"));
+                r.app.resources.push(Resource {
+                    name: name.to_string(),
+                    span: res.value_span("name"),
+                    level: res.value("level").and_then(|l| l.parse().ok()),
+                    recursive: res.value("kind") == Some("recursive"),
+                });
             }
         }
     }
@@ -191,9 +202,15 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 }
                 "thread" => {
                     let period = self.thread_period(child);
-                    if let Some(id) =
-                        self.add_element(scope, child, ElementKind::Thread { period }, inst)
-                    {
+                    let kind = ElementKind::Thread {
+                        period,
+                        pool: child
+                            .value("pool")
+                            .and_then(|p| p.parse().ok())
+                            .filter(|n: &u32| *n >= 2),
+                        data_trigger: child.value("trigger") == Some("data"),
+                    };
+                    if let Some(id) = self.add_element(scope, child, kind, inst) {
                         self.walk(id, child, visible, inst, depth);
                     }
                 }

@@ -40,6 +40,16 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             extra_ports: Vec::new(),
             flexible_types: Vec::new(),
             params,
+            binds: e
+                .children_named("bind")
+                .filter_map(|b| {
+                    Some((
+                        b.value("lock")?.to_string(),
+                        b.value("resource")?.to_string(),
+                        b.value_span("resource"),
+                    ))
+                })
+                .collect(),
         };
         self.flexible_ports(e, mt, &mut instance, visible);
         if mt.is_behaviour() {
@@ -61,6 +71,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 unit: None,
                 required: false,
                 blocking_read: false,
+                read_timeout: None,
                 merge: false,
                 span: mt.span,
             };
@@ -242,6 +253,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 unit: unit.clone(),
                 required: false,
                 blocking_read: false,
+                read_timeout: None,
                 merge: false,
                 span: p.value_span("name"),
             };

@@ -37,6 +37,9 @@ pub fn data_edges(app: &Application, libs: &LibrarySet) -> Vec<DataEdge> {
         if view.dir != PortDir::Out {
             continue; // a wrongly directed connection is T101's business
         }
+        if view.role == PortRole::Client {
+            continue; // a call is not data flow (the deadlock analysis looks at calls)
+        }
         let origin = Origin {
             module: element,
             role: view.role,

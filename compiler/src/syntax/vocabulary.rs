@@ -63,6 +63,16 @@ pub const ROOT_ATTRS: &[&str] = &[
 
 pub const ON_FULL: &[&str] = &["block", "drop-oldest", "drop-newest"];
 pub const DIRECTIONS: &[&str] = &["in", "out"];
+pub const PROFILES: &[&str] = &["generic", "finroc"];
+/// The steps of an activity or a service body, in program order (deadlock analysis).
+const STEPS: &[&str] = &[
+    "step-lock",
+    "step-unlock",
+    "step-read",
+    "step-write",
+    "step-call",
+    "step-await",
+];
 pub const MODULE_KINDS: &[&str] = &["module", "sense-control", "behaviour", "fusion"];
 
 const GROUP_CONTENT: &[&str] = &[
@@ -79,7 +89,11 @@ pub static ELEMENTS: &[ElementSpec] = &[
     ElementSpec {
         key: "application",
         tag: "application",
-        attrs: &[req("name", Ident), req("version", Choice(&["1"]))],
+        attrs: &[
+            req("name", Ident),
+            req("version", Choice(&["1"])),
+            opt("profile", Choice(PROFILES)),
+        ],
         children: &[
             "use",
             "include",
@@ -102,7 +116,11 @@ pub static ELEMENTS: &[ElementSpec] = &[
     ElementSpec {
         key: "resource",
         tag: "resource",
-        attrs: &[req("name", Ident), opt("level", Count)],
+        attrs: &[
+            req("name", Ident),
+            opt("level", Count),
+            opt("kind", Choice(&["mutex", "recursive"])),
+        ],
         children: &["allow"],
         text: false,
     },
@@ -124,6 +142,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
             opt("realtime", Bool),
             opt("cpu", Count),
             opt("warn-overrun", Bool),
+            opt("pool", Count),
         ],
         children: &["thread", "group", "module", "connect", "allow"],
         text: false,
@@ -201,6 +220,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
             opt("queue", Count),
             opt("on-full", Choice(ON_FULL)),
             opt("delay", Choice(&["0", "1"])),
+            opt("initial", Count),
             opt("sharing", Choice(&["on-change", "periodic"])),
             opt("min-interval", Text),
             opt("period", Text),
@@ -317,6 +337,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
             "derived-activity",
             "channel-in",
             "flexible",
+            "activity",
         ],
         text: false,
     },
@@ -387,7 +408,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
             req("response", Text),
             opt("executes", Choice(&["server", "caller"])),
         ],
-        children: &[],
+        children: STEPS,
         text: false,
     },
     ElementSpec {
@@ -399,6 +420,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
             req("response", Text),
             opt("blocking", Bool),
             opt("timeout", Text),
+            opt("response-via", Choice(&["transport", "caller"])),
         ],
         children: &[],
         text: false,
@@ -407,6 +429,63 @@ pub static ELEMENTS: &[ElementSpec] = &[
         key: "locks",
         tag: "locks",
         attrs: &[req("order", Text)],
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "activity",
+        tag: "activity",
+        attrs: &[opt("name", Choice(&["update", "sense", "control"]))],
+        children: STEPS,
+        text: false,
+    },
+    ElementSpec {
+        key: "step-lock",
+        tag: "lock",
+        attrs: &[req("slot", Ident), opt("timeout", Text)],
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "step-unlock",
+        tag: "unlock",
+        attrs: &[req("slot", Ident)],
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "step-read",
+        tag: "read",
+        attrs: &[req("port", Text), opt("timeout", Text)],
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "step-write",
+        tag: "write",
+        attrs: &[
+            req("port", Text),
+            opt("count", Count),
+            opt("optional", Bool),
+        ],
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "step-call",
+        tag: "call",
+        attrs: &[
+            req("client", Ident),
+            opt("mode", Choice(&["sync", "async"])),
+            opt("timeout", Text),
+        ],
+        children: &[],
+        text: false,
+    },
+    ElementSpec {
+        key: "step-await",
+        tag: "await",
+        attrs: &[req("client", Ident), opt("timeout", Text)],
         children: &[],
         text: false,
     },
