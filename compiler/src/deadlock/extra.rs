@@ -50,14 +50,10 @@ pub(super) fn dead_triggers(app: &Application, libs: &LibrarySet) -> Vec<DeadTri
             for (end, first, _) in follow(app, input, Incoming) {
                 let c = &app.connections[first];
                 let writer = end.element();
-                if c.initial > 0 || !on_data(writer) {
-                    // Periodic writers (and initial items) trigger it; so do writers
-                    // that are not executed at all? No: only those that run.
-                    if c.initial > 0 || app.element(writer).thread.is_some() {
-                        if alive.insert(m) {
-                            work.push(m);
-                        }
-                    }
+                // Initial items and writers of periodic containers start it.
+                let periodic = !on_data(writer) && app.element(writer).thread.is_some();
+                if (c.initial > 0 || periodic) && alive.insert(m) {
+                    work.push(m);
                 }
                 readers.entry(writer).or_default().push(m);
                 into.entry(m).or_default().push((writer, c.to_span));

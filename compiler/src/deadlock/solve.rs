@@ -17,24 +17,17 @@ pub(super) struct Solved {
     /// CSR successors.
     pub offsets: Vec<u32>,
     pub succ: Vec<u32>,
-    pub stuck: Vec<bool>,
-    pub all: Vec<bool>,
     /// Non-trivial SCCs of the stuck set (node ids, sorted).
     pub sccs: Vec<Vec<u32>>,
     /// Waits nobody can end (no writer, no server).
     pub hangs: Vec<WaitId>,
     /// Per context: demand on a pool (0 for exclusive contexts).
     pub demand: Vec<u32>,
-    /// Whether a node is included (timed waits only in the soft pass).
-    pub included: Vec<bool>,
 }
 
 impl Solved {
     pub fn successors(&self, n: u32) -> &[u32] {
         &self.succ[self.offsets[n as usize] as usize..self.offsets[n as usize + 1] as usize]
-    }
-    pub fn ec_hub(&self, ec: EcId) -> u32 {
-        (self.n_waits + ec as usize) as u32
     }
 }
 
@@ -184,12 +177,9 @@ pub(super) fn solve(m: &Model, soft: bool) -> Solved {
         n_waits: nw,
         offsets,
         succ,
-        stuck,
-        all,
         sccs,
         hangs,
         demand,
-        included,
     }
 }
 

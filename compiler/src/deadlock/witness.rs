@@ -9,7 +9,7 @@
 //! unverified instead of staying silent.
 
 use super::solve::Solved;
-use super::{Cycle, CycleKind, Held, Hop, Model, WaitId, WaitKind};
+use super::{Cycle, CycleKind, Hop, Model, WaitId, WaitKind};
 use crate::ir::Application;
 use crate::library::LibrarySet;
 
@@ -430,9 +430,4 @@ fn is_chain(m: &Model, steps: &[(WaitId, Hop)], r: usize) -> bool {
             _ => false,
         }
     })
-}
-
-#[allow(dead_code)]
-fn holds(m: &Model, w: WaitId, h: Held) -> bool {
-    m.waits[w as usize].held.contains(&h)
 }
