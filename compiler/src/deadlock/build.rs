@@ -47,7 +47,10 @@ pub(super) fn build(app: &Application, libs: &LibrarySet) -> Model {
     // Which services are called from another context (they run as activities there).
     let mut remote_called: hashbrown::HashSet<(ElementId, usize)> = Default::default();
     for (id, _) in app.modules() {
-        let Some(mt) = app.module_type(libs, id) else {
+        let Some(mt) = app
+            .module_type(libs, id)
+            .filter(|mt| !mt.clients.is_empty())
+        else {
             continue;
         };
         for c in 0..mt.clients.len() {
@@ -62,6 +65,18 @@ pub(super) fn build(app: &Application, libs: &LibrarySet) -> Model {
         let Some(mt) = app.module_type(libs, id) else {
             continue;
         };
+        let any_block_write = b.any_block_write;
+        let may_wait = |st: &StepDecl| match st.op {
+            StepOp::Write { .. } => any_block_write,
+            StepOp::Read { port } => mt.ports[port].blocking_read,
+            StepOp::Unlock { .. } | StepOp::Call { sync: false, .. } => false,
+            _ => true,
+        };
+        let waits = mt.activities.iter().flat_map(|a| &a.steps).any(may_wait)
+            || mt.services.iter().flat_map(|s| &s.body).any(may_wait);
+        if !waits {
+            continue; // the common case: nothing this module does can block
+        }
         let Some(ec) = b.ec_of(id) else {
             continue; // not executed by any container: M112
         };
