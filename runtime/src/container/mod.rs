@@ -160,8 +160,9 @@ impl ThreadContainer {
             }
             Trigger::Data(wakeup) => {
                 while more(done) {
-                    // Wake now and then to see the stop flag even without data.
-                    if wakeup.wait_timeout(Duration::from_millis(50)) {
+                    // Wake now and then to see the stop flag even without data; a
+                    // wakeup that comes with a stop request (a nudge) runs no cycle.
+                    if wakeup.wait_timeout(Duration::from_millis(50)) && more(done) {
                         self.run_cycle();
                         done += 1;
                     }
