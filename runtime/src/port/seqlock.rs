@@ -50,6 +50,20 @@ fn names(current: usize, seq: usize) -> bool {
     current >> SEQ_SHIFT == (seq << SEQ_SHIFT) >> SEQ_SHIFT
 }
 
+/// Claims a slot: even sequence → odd. A plain load may return an outdated sequence
+/// (odd, or an older even one), so the CAS, which always sees the latest value, decides:
+/// `None` only if the slot really is being written.
+fn claim(seq: &AtomicUsize) -> Option<usize> {
+    let mut s = seq.load(Ordering::Relaxed) & !1;
+    loop {
+        match seq.compare_exchange(s, s + 1, Ordering::Acquire, Ordering::Relaxed) {
+            Ok(_) => return Some(s),
+            Err(actual) if actual & 1 != 0 => return None,
+            Err(actual) => s = actual,
+        }
+    }
+}
+
 impl<T: NoUninit> SeqCell<T> {
     const WORDS: usize = size_of::<T>().div_ceil(WORD);
 
@@ -95,8 +109,11 @@ impl<T: NoUninit> SeqCell<T> {
     /// Publishes `value` (marking it changed or not). False if the write was dropped
     /// because concurrent writers held every other slot.
     pub(crate) fn store(&self, value: &T, changed: bool) -> bool {
+        // A swap rather than a store: the same instruction on x86 (a SeqCst store is an
+        // xchg), and a read-modify-write is ordered with the other writers' flips
+        // without relying on SeqCst stores (which loom models loosely).
         self.write(value, changed, |current, word| {
-            current.store(word, Ordering::SeqCst);
+            current.swap(word, Ordering::SeqCst);
             true
         })
     }
@@ -121,14 +138,7 @@ impl<T: NoUninit> SeqCell<T> {
         for step in 1..SLOTS {
             let index = (current + step) % SLOTS;
             let seq = &self.seqs[index];
-            let s = seq.load(Ordering::Relaxed);
-            if s & 1 != 0
-                || seq
-                    .compare_exchange(s, s + 1, Ordering::Acquire, Ordering::Relaxed)
-                    .is_err()
-            {
-                continue;
-            }
+            let Some(s) = claim(seq) else { continue };
             if self.current.load(Ordering::Acquire) & INDEX == index {
                 // It became current before our claim: leave it untouched.
                 seq.store(s, Ordering::Release);

@@ -14,7 +14,11 @@
 //! the swap that retired it, so it registered before that swap, and the swap happened
 //! before `V` was put on the garbage list, which happened before the list was taken.
 //! So at the re-check that reader is either still counted (nothing is freed) or gone.
-//! All counter and pointer operations are SeqCst so this "before" is one total order.
+//! The collector reads the count with a read-modify-write (always the latest value, and
+//! it synchronises with every registration ordered before it), so this "before" holds
+//! in the plain acquire/release model, not only under SeqCst. An earlier version read
+//! the count with a SeqCst load; loom, which models SeqCst more weakly than C++, found a
+//! use-after-free with it.
 //!
 //! Publishers never block and never allocate here (two atomic read-modify-writes per
 //! read); writers never wait for readers (a publisher blocked on a full queue only
@@ -28,6 +32,30 @@ struct Node<V> {
     value: V,
     /// Next retired node while on the garbage list.
     next: AtomicPtr<Node<V>>,
+    /// Under loom: read on every use, written when freed, so loom reports a node freed
+    /// while a reader may still use it (a causality violation) instead of hoping for a
+    /// crash.
+    #[cfg(loom)]
+    alive: loom::cell::UnsafeCell<()>,
+}
+
+impl<V> Node<V> {
+    fn touch(&self) {
+        #[cfg(loom)]
+        self.alive.with(|_| ());
+    }
+
+    /// Frees a node owned by the caller.
+    ///
+    /// # Safety
+    /// `node` came from [`boxed`] and nobody can use it any more.
+    unsafe fn free(node: *mut Node<V>) -> *mut Node<V> {
+        // SAFETY: caller's contract.
+        let owned = unsafe { Box::from_raw(node) };
+        #[cfg(loom)]
+        owned.alive.with_mut(|_| ());
+        owned.next.load(Ordering::Relaxed)
+    }
 }
 
 pub(crate) struct Snapshot<V> {
@@ -41,6 +69,8 @@ fn boxed<V>(value: V) -> *mut Node<V> {
     Box::into_raw(Box::new(Node {
         value,
         next: AtomicPtr::new(ptr::null_mut()),
+        #[cfg(loom)]
+        alive: loom::cell::UnsafeCell::new(()),
     }))
 }
 
@@ -87,16 +117,24 @@ impl<V> Snapshot<V> {
         }
     }
 
+    /// The reader count, read with a read-modify-write: an RMW always sees the latest
+    /// value and synchronises with the registrations before it, so the argument in the
+    /// module docs holds even without relying on SeqCst loads (which loom does not
+    /// model exactly).
+    fn readers_now(&self) -> usize {
+        self.readers.fetch_add(0, Ordering::SeqCst)
+    }
+
     /// Frees the garbage if no reader is registered (see the module docs).
     fn collect(&self) {
-        if self.readers.load(Ordering::SeqCst) != 0 {
+        if self.readers_now() != 0 {
             return;
         }
         let first = self.garbage.swap(ptr::null_mut(), Ordering::SeqCst);
         if first.is_null() {
             return;
         }
-        if self.readers.load(Ordering::SeqCst) != 0 {
+        if self.readers_now() != 0 {
             // Someone registered meanwhile and may use a node of this list: put it back.
             let mut last = first;
             // SAFETY: the taken chain is ours; walk to its end.
@@ -109,8 +147,7 @@ impl<V> Snapshot<V> {
         let mut node = first;
         while !node.is_null() {
             // SAFETY: retired, taken by us, and no reader can still use it.
-            let owned = unsafe { Box::from_raw(node) };
-            node = owned.next.load(Ordering::Relaxed);
+            node = unsafe { Node::free(node) };
         }
     }
 }
@@ -120,12 +157,11 @@ impl<V> Drop for Snapshot<V> {
         // `&mut self`: no reader or writer is left.
         let current = self.current.load(Ordering::Relaxed);
         // SAFETY: the current node came from `boxed` and is owned by the snapshot.
-        drop(unsafe { Box::from_raw(current) });
+        unsafe { Node::free(current) };
         let mut node = self.garbage.load(Ordering::Relaxed);
         while !node.is_null() {
             // SAFETY: retired nodes are owned by the garbage list.
-            let owned = unsafe { Box::from_raw(node) };
-            node = owned.next.load(Ordering::Relaxed);
+            node = unsafe { Node::free(node) };
         }
     }
 }
@@ -140,7 +176,9 @@ impl<V> ReadGuard<'_, V> {
     pub(crate) fn load(&self) -> &V {
         let node = self.snap.current.load(Ordering::SeqCst);
         // SAFETY: nodes loaded while registered are not freed before we unregister.
-        unsafe { &(*node).value }
+        let node = unsafe { &*node };
+        node.touch();
+        &node.value
     }
 }
 
@@ -168,6 +206,11 @@ impl<V> WriteGuard<'_, V> {
     }
 
     /// Publishes a new value; the old one is freed once no reader can use it.
+    ///
+    /// Always ends with an RMW of the reader count (in `collect`): a publisher that
+    /// registers after it sees the new value, and one registered before it has its
+    /// earlier stores (the port's new value) visible to us — the initial push relies
+    /// on that (see `wiring::connect`).
     pub(crate) fn replace(&mut self, value: V) {
         let old = self.snap.current.swap(boxed(value), Ordering::SeqCst);
         self.snap.push_garbage(old, old);

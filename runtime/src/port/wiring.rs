@@ -157,9 +157,12 @@ pub(crate) fn connect<O: OutCore>(
     drop(links);
     drop(writer);
     if opts.initial_push && only_source && !inp.is_queued() {
-        // Publish stores the output's value (SeqCst) and then loads the list (SeqCst);
-        // we stored the list and now load the value. One of us sees the other, so a
-        // value published concurrently is never missed.
+        // Publish swaps the output's value in, then registers as a reader of the list
+        // (an RMW of the reader count) and loads it; `replace` swapped the list and
+        // then did an RMW of the same count. Whichever RMW came second synchronises
+        // with the first, so either that publish sees the new list or we now see its
+        // value: a value published concurrently is never missed. (The fence adds the
+        // same guarantee through SeqCst for good measure.)
         fence(Ordering::SeqCst);
         out.initial_push(inp, mark);
     }
