@@ -85,23 +85,44 @@ impl<T: NoUninit> SeqCell<T> {
     }
 
     fn write_words(&self, index: usize, value: &T) {
-        let bytes = bytemuck::bytes_of(value);
-        for (word, chunk) in self.slot_words(index).iter().zip(bytes.chunks(WORD)) {
+        let words = self.slot_words(index);
+        let src = (value as *const T).cast::<u8>();
+        let size = size_of::<T>();
+        let full = size / WORD;
+        for (i, word) in words[..full].iter().enumerate() {
+            // SAFETY: bytes [i*WORD, (i+1)*WORD) lie inside `value` and are initialised
+            // (`NoUninit`: no padding); unaligned reads are allowed.
+            let w = unsafe { std::ptr::read_unaligned(src.add(i * WORD).cast::<usize>()) };
+            word.store(w, Ordering::Relaxed);
+        }
+        if full < words.len() {
             let mut buf = [0u8; WORD];
-            buf[..chunk.len()].copy_from_slice(chunk);
-            word.store(usize::from_ne_bytes(buf), Ordering::Relaxed);
+            buf[..size - full * WORD].copy_from_slice(&bytemuck::bytes_of(value)[full * WORD..]);
+            words[full].store(usize::from_ne_bytes(buf), Ordering::Relaxed);
         }
     }
 
     fn read_words(&self, index: usize) -> MaybeUninit<T> {
+        let words = self.slot_words(index);
         let mut out = MaybeUninit::<T>::uninit();
         let dst = out.as_mut_ptr().cast::<u8>();
         let size = size_of::<T>();
-        for (i, word) in self.slot_words(index).iter().enumerate() {
-            let bytes = word.load(Ordering::Relaxed).to_ne_bytes();
-            let len = WORD.min(size - i * WORD);
-            // SAFETY: `dst` has `size` bytes; chunk i covers [i*WORD, i*WORD+len).
-            unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), dst.add(i * WORD), len) };
+        let full = size / WORD;
+        for (i, word) in words[..full].iter().enumerate() {
+            // SAFETY: bytes [i*WORD, (i+1)*WORD) lie inside `out`; unaligned writes are
+            // allowed.
+            unsafe {
+                std::ptr::write_unaligned(
+                    dst.add(i * WORD).cast::<usize>(),
+                    word.load(Ordering::Relaxed),
+                )
+            };
+        }
+        if full < words.len() {
+            let bytes = words[full].load(Ordering::Relaxed).to_ne_bytes();
+            let tail = size - full * WORD;
+            // SAFETY: the tail bytes [full*WORD, size) lie inside `out`.
+            unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), dst.add(full * WORD), tail) };
         }
         out
     }
@@ -109,11 +130,18 @@ impl<T: NoUninit> SeqCell<T> {
     /// Publishes `value` (marking it changed or not). False if the write was dropped
     /// because concurrent writers held every other slot.
     pub(crate) fn store(&self, value: &T, changed: bool) -> bool {
-        // A swap rather than a store: the same instruction on x86 (a SeqCst store is an
-        // xchg), and a read-modify-write is ordered with the other writers' flips
-        // without relying on SeqCst stores (which loom models loosely).
         self.write(value, changed, |current, word| {
-            current.swap(word, Ordering::SeqCst);
+            if changed {
+                // A delivery to an input: SeqCst, ordered before the publisher's check
+                // for blocked readers (see `queue::Signal`). A swap rather than a store:
+                // the same instruction on x86, and loom models SeqCst stores loosely.
+                current.swap(word, Ordering::SeqCst);
+            } else {
+                // An output's own value: Release is enough. Connect's initial push is
+                // ordered with it through the reader-count RMW that follows in
+                // `publish` (see `snapshot.rs`).
+                current.store(word, Ordering::Release);
+            }
             true
         })
     }

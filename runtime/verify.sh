@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Model checks of the port core (used by CI):
+#   1. loom: every interleaving, up to a preemption bound, of the scenarios in
+#      runtime/tests/loom_ports.rs (LOOM_MAX_PREEMPTIONS, default 3; ~20 s).
+#   2. Miri: undefined behaviour, data races and leaks in the unit tests
+#      (cargo +nightly miri test -p ferroc-runtime --lib; ~1 min with the build).
+# Exits non-zero as soon as one fails.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+run() {
+  echo "+ $*" >&2
+  "$@"
+}
+
+echo "== loom (runtime/tests/loom_ports.rs)" >&2
+# A separate target dir: --cfg loom changes every fingerprint, and sharing target/
+# would rebuild the normal build after each loom run.
+run env RUSTFLAGS="--cfg loom" CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-target}/loom" \
+  LOOM_MAX_PREEMPTIONS="${LOOM_MAX_PREEMPTIONS:-3}" \
+  cargo test -p ferroc-runtime --release --test loom_ports
+
+echo "== miri (ferroc-runtime unit tests)" >&2
+if ! cargo +nightly miri --version >/dev/null 2>&1; then
+  echo "error: Miri is not installed (rustup toolchain install nightly --component miri)" >&2
+  exit 1
+fi
+run cargo +nightly miri test -p ferroc-runtime --lib
+
+echo "verify.sh: loom and Miri passed" >&2
