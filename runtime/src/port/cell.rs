@@ -50,8 +50,8 @@ impl<T> ValueCell<T> {
     /// Makes `value` the current value, marking it changed or not, and returns the raw
     /// word it replaced (for [`Self::replace_if`] callers that track versions).
     ///
-    /// SeqCst: the swap is ordered with the connection-list load that follows it in
-    /// `publish` and with waiters' registration (see `input.rs`).
+    /// SeqCst: for deliveries, the swap is ordered before the publisher's check for
+    /// blocked readers (see `queue::Signal`). On x86 it costs the same as AcqRel.
     ///
     /// # Safety
     /// The pool of `value`'s slot must be kept alive (a handle retained by the owner of

@@ -33,6 +33,12 @@ pub(crate) struct InputCore<T: Send + Sync + 'static> {
 /// value before anything arrived. Created with [`queued`](Self::queued), it also keeps
 /// a bounded FIFO of every delivered value, read with [`try_pop`](Self::try_pop),
 /// [`pop`](Self::pop) and [`pop_timeout`](Self::pop_timeout).
+///
+/// Memory: an input keeps the buffer pool of every output it has ever been connected
+/// to (once per output) until the input is dropped, even after disconnecting. That is
+/// what lets [`get`](Self::get) read without locks while connections change: a buffer
+/// it is about to reference may be recycled, but never freed. Wiring that keeps
+/// creating new outputs for one long-lived input therefore grows that input's memory.
 pub struct InputPort<T: Send + Sync + 'static> {
     pub(crate) core: Arc<InputCore<T>>,
 }

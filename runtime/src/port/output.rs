@@ -31,7 +31,15 @@ pub(crate) struct OutputCore<T: Send + Sync + 'static> {
 /// [`BufferMut::publish`] fill an unused buffer and make it the port's value with one
 /// atomic swap; every connected input then receives a reference to the same buffer
 /// (no copy). Buffers return to the pool when the last reader drops its [`PortRef`].
-/// In steady state publishing neither locks nor allocates.
+/// In steady state publishing neither locks nor allocates; the pool grows only when
+/// every buffer is held (by readers, inputs, queues) at the moment of a publish.
+///
+/// Publishing takes `&self`, so several threads may publish on one port; such
+/// concurrent publishes are not ordered with each other, and different inputs may end
+/// up holding different ones of them (each input: the last delivery wins).
+///
+/// # Panics
+/// Publishing panics if more than 2^31 - 2 buffers of one port are held at once.
 pub struct OutputPort<T: Send + Sync + 'static> {
     pub(crate) core: Arc<OutputCore<T>>,
 }
