@@ -262,6 +262,28 @@ impl<'a> Builder<'a> {
         self.walk(root, root.module, steps, &mut w);
     }
 
+    /// Records a finding about one step of `root`'s activity, found in `module`.
+    fn step_finding(
+        &mut self,
+        root: &Root,
+        module: ElementId,
+        step: Span,
+        site: Span,
+        inline: Option<(ElementId, usize)>,
+        kind: StepFindingKind,
+    ) {
+        self.m.step_findings.push(StepFinding {
+            kind,
+            module,
+            root: root.module,
+            ec: root.ec,
+            activity: root.activity.clone(),
+            step,
+            site,
+            inline,
+        });
+    }
+
     fn walk(&mut self, root: &Root, module: ElementId, steps: &[StepDecl], w: &mut Walk) {
         let (app, libs) = (self.app, self.libs);
         let Some(mt) = app.module_type(libs, module) else {
@@ -274,19 +296,17 @@ impl<'a> Builder<'a> {
                     let (lock, site) = self.lock_of(module, mt, slot);
                     if let Some((_, first)) = w.held.iter().find(|(h, _)| *h == Held::Lock(lock)) {
                         if !self.m.locks[lock as usize].recursive {
-                            self.m.step_findings.push(StepFinding {
-                                kind: StepFindingKind::Recursive {
+                            self.step_finding(
+                                root,
+                                module,
+                                step.span,
+                                site,
+                                w.inline.last().copied(),
+                                StepFindingKind::Recursive {
                                     lock,
                                     first: *first,
                                 },
-                                module,
-                                root: root.module,
-                                ec: root.ec,
-                                activity: root.activity.clone(),
-                                step: step.span,
-                                site,
-                                inline: w.inline.last().copied(),
-                            });
+                            );
                         }
                         continue;
                     }
@@ -294,20 +314,18 @@ impl<'a> Builder<'a> {
                         for (h, at) in &w.held {
                             let Held::Lock(m) = *h else { continue };
                             if self.m.locks[m as usize].level.is_some_and(|lm| level >= lm) {
-                                self.m.step_findings.push(StepFinding {
-                                    kind: StepFindingKind::Level {
+                                self.step_finding(
+                                    root,
+                                    module,
+                                    step.span,
+                                    site,
+                                    None,
+                                    StepFindingKind::Level {
                                         lock,
                                         outer: m,
                                         outer_site: *at,
                                     },
-                                    module,
-                                    root: root.module,
-                                    ec: root.ec,
-                                    activity: root.activity.clone(),
-                                    step: step.span,
-                                    site,
-                                    inline: None,
-                                });
+                                );
                             }
                         }
                     }
@@ -382,18 +400,16 @@ impl<'a> Builder<'a> {
                         continue;
                     }
                     if remote.is_empty() && app.profile == Profile::Finroc {
-                        self.m.step_findings.push(StepFinding {
-                            kind: StepFindingKind::Unconnected {
+                        self.step_finding(
+                            root,
+                            module,
+                            step.span,
+                            app.element(module).name_span,
+                            None,
+                            StepFindingKind::Unconnected {
                                 client: c.name.clone(),
                             },
-                            module,
-                            root: root.module,
-                            ec: root.ec,
-                            activity: root.activity.clone(),
-                            step: step.span,
-                            site: app.element(module).name_span,
-                            inline: None,
-                        });
+                        );
                         continue;
                     }
                     let site = remote

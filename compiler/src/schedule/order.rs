@@ -57,12 +57,11 @@ pub fn schedule_container(
         }
     }
     let sets = assign_sets(&steps, &links);
-    let mut paths: Vec<String> = steps.iter().map(|(m, _)| app.path(*m)).collect();
+    let paths: Vec<String> = steps.iter().map(|(m, _)| app.path(*m)).collect();
     // Rank = position in (set, path, kind) order: the tie-break of the sort.
     let mut by_key: Vec<usize> = (0..steps.len()).collect();
     by_key
         .sort_by(|&a, &b| (sets[a], &paths[a], steps[a].1).cmp(&(sets[b], &paths[b], steps[b].1)));
-    paths.clear();
     let mut rank = vec![0; steps.len()];
     for (r, &i) in by_key.iter().enumerate() {
         rank[i] = r;

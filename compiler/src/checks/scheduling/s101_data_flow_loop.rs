@@ -52,13 +52,8 @@ fn report(ctx: &PassContext<'_>, thread: crate::ir::ElementId, b: &BrokenEdge) -
     let mut names: Vec<String> = b.cycle.iter().map(|(s, _)| name(s)).collect();
     names.push(name(&b.to));
     // The hop into the step that now runs first is the one the user would mark.
-    let last_hop = |e: &schedule::DataEdge| {
-        e.hops
-            .last()
-            .map(|&i| &app.connections[i])
-            .map(|c| (c.span, c.to_span))
-    };
-    let (connect_span, to_span) = last_hop(&b.edge).unwrap_or((app.span, app.span));
+    let last_hop = |e: &schedule::DataEdge| e.hops.last().map(|&i| app.connections[i].to_span);
+    let to_span = last_hop(&b.edge).unwrap_or(app.span);
     let mut d = Diagnostic::new(
         &CHECK,
         to_span,
@@ -74,11 +69,10 @@ fn report(ctx: &PassContext<'_>, thread: crate::ir::ElementId, b: &BrokenEdge) -
         name(&b.from)
     ));
     for (_, edge) in b.cycle.iter().filter(|(s, _)| *s != b.from) {
-        if let Some((_, span)) = last_hop(edge) {
+        if let Some(span) = last_hop(edge) {
             d = d.secondary(span, "part of the loop");
         }
     }
-    let _ = connect_span;
     d.help(
         "if this feedback is intended, add delay=\"1\" to this <connect>; otherwise break the \
          loop or run one of its modules in another thread container",
