@@ -17,6 +17,8 @@
 
 #![warn(missing_docs)]
 
+pub mod builder;
 pub mod container;
+pub mod module;
 pub mod port;
 mod sync;

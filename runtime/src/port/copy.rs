@@ -349,3 +349,9 @@ impl<T: NoUninit + Send + Sync> InCore for CopyInputCore<T> {
         self.signal.notify_space();
     }
 }
+
+impl<T: NoUninit + Send + Sync> super::handle::HasNotifier for CopyInputCore<T> {
+    fn set_notifier(&self, notifier: Notifier) -> Result<(), Notifier> {
+        self.notifier.set(notifier)
+    }
+}

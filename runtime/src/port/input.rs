@@ -292,3 +292,9 @@ impl<T: Send + Sync + 'static> InCore for InputCore<T> {
         self.signal.notify_space();
     }
 }
+
+impl<T: Send + Sync + 'static> super::handle::HasNotifier for InputCore<T> {
+    fn set_notifier(&self, notifier: Notifier) -> Result<(), Notifier> {
+        self.notifier.set(notifier)
+    }
+}

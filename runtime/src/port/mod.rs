@@ -27,6 +27,7 @@
 
 mod cell;
 mod copy;
+mod handle;
 mod input;
 mod notify;
 mod output;
@@ -39,6 +40,7 @@ mod wiring;
 
 pub use bytemuck::NoUninit;
 pub use copy::{CopyInputPort, CopyOutputPort};
+pub use handle::{InputHandle, OutputHandle};
 pub use input::InputPort;
 pub use notify::{Notifier, Notify, Wakeup};
 pub use output::OutputPort;

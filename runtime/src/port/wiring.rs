@@ -46,6 +46,14 @@ pub enum ConnectError {
         /// Name of the input port.
         input: String,
     },
+    /// The ports carry different value types (or different port kinds): only
+    /// possible when wiring through type-erased handles.
+    TypeMismatch {
+        /// Name and value type of the output port.
+        output: String,
+        /// Name and value type of the input port.
+        input: String,
+    },
 }
 
 impl fmt::Display for ConnectError {
@@ -53,6 +61,12 @@ impl fmt::Display for ConnectError {
         match self {
             ConnectError::AlreadyConnected { output, input } => {
                 write!(f, "`{output}` is already connected to `{input}`")
+            }
+            ConnectError::TypeMismatch { output, input } => {
+                write!(
+                    f,
+                    "cannot connect `{output}` to `{input}`: the value types differ"
+                )
             }
         }
     }

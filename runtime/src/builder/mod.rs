@@ -1,0 +1,435 @@
+//! Runtime construction: one API to build an application from module types by name.
+//!
+//! `ferroc run` walks a checked model and calls the [`Builder`]; a generated bundle
+//! makes the same calls with the concrete types. The order of calls is: add every
+//! module ([`Builder::add_module`]), connect ([`Builder::connect`]), declare each
+//! thread container with its step order ([`Builder::add_thread`]), then
+//! [`Builder::start`]. Every mistake is an error value naming the module path and
+//! port, never a panic.
+
+mod convert;
+mod registry;
+mod running;
+
+pub use convert::Conversion;
+pub use registry::Registry;
+pub use running::{ContainerStatus, RunningApp};
+
+use crate::container::{Step, ThreadContainer, ThreadOptions, Trigger};
+use crate::module::{Interface, Kind, Module, ParamHandle, Setup, Value};
+use crate::port::{ConnectOptions, InputHandle, Notifier, OutputHandle, QueueConfig, Wakeup};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+/// Which method of a module a step calls.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum StepKind {
+    /// `update` of a plain module.
+    Update,
+    /// `sense` of a sense-control module.
+    Sense,
+    /// `control` of a sense-control module.
+    Control,
+}
+
+/// A module instance to create.
+#[derive(Clone, Copy, Debug)]
+pub struct ModuleSpec<'a> {
+    /// Its element path (`robot/control/controller`), unique in the application.
+    pub path: &'a str,
+    /// The registered model name of its type.
+    pub type_name: &'a str,
+    /// Parameter values the model gives (others take the declared default).
+    pub params: &'a [(String, Value)],
+    /// Inputs the model connects with a queue.
+    pub queues: &'a [(String, QueueConfig)],
+}
+
+/// When a thread container runs its cycle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Schedule {
+    /// Every `period`, at absolute deadlines.
+    Periodic(Duration),
+    /// Whenever an input of one of its modules receives data.
+    Data,
+}
+
+/// A thread container to create.
+#[derive(Clone, Debug)]
+pub struct ThreadSpec {
+    /// Its element path.
+    pub path: String,
+    /// Periodic or data-triggered.
+    pub schedule: Schedule,
+    /// Priority and CPU placement.
+    pub options: ThreadOptions,
+    /// The steps in execution order (the compiler's schedule): module path and kind.
+    pub steps: Vec<(String, StepKind)>,
+}
+
+/// Why the application cannot be built.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BuildError {
+    /// No module type of this name is registered.
+    UnknownType {
+        /// Module path.
+        path: String,
+        /// The requested type.
+        type_name: String,
+    },
+    /// Two modules with one path.
+    DuplicatePath(String),
+    /// A path that names no module.
+    UnknownModule(String),
+    /// A module has no port of this name, or it has the wrong direction.
+    UnknownPort {
+        /// Module path.
+        path: String,
+        /// Port name.
+        port: String,
+        /// "input" or "output".
+        wanted: &'static str,
+    },
+    /// Creating a module reported problems (bad parameter values, ...).
+    Create {
+        /// Module path.
+        path: String,
+        /// What went wrong, one entry per problem.
+        problems: Vec<String>,
+    },
+    /// A connection could not be made.
+    Connect(String),
+    /// A thread container problem (a module in two containers, a step the module's
+    /// kind does not have, a thread that could not start).
+    Thread(String),
+}
+
+impl std::fmt::Display for BuildError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BuildError::UnknownType { path, type_name } => write!(
+                f,
+                "`{path}`: the module type `{type_name}` is not registered in this binary"
+            ),
+            BuildError::DuplicatePath(p) => write!(f, "`{p}` is added twice"),
+            BuildError::UnknownModule(p) => write!(f, "there is no module `{p}`"),
+            BuildError::UnknownPort { path, port, wanted } => {
+                write!(f, "`{path}` has no {wanted} port `{port}`")
+            }
+            BuildError::Create { path, problems } => {
+                write!(f, "`{path}` could not be created: {}", problems.join("; "))
+            }
+            BuildError::Connect(why) | BuildError::Thread(why) => f.write_str(why),
+        }
+    }
+}
+
+impl std::error::Error for BuildError {}
+
+struct Instance {
+    path: String,
+    kind: Kind,
+    module: Option<Box<dyn Module>>,
+    interface: Interface,
+    inputs: Vec<(String, InputHandle)>,
+    outputs: Vec<(String, OutputHandle)>,
+    params: Vec<(String, ParamHandle)>,
+    /// Converters fed by this module's outputs, run right after its steps.
+    converters: Vec<Step>,
+    thread: Option<usize>,
+}
+
+/// Builds an application; see the [module documentation](self).
+pub struct Builder<'r> {
+    registry: &'r Registry,
+    modules: Vec<Instance>,
+    index: HashMap<String, usize>,
+    threads: Vec<ThreadSpec>,
+}
+
+impl<'r> Builder<'r> {
+    /// A builder creating modules from `registry`.
+    pub fn new(registry: &'r Registry) -> Self {
+        Builder {
+            registry,
+            modules: Vec::new(),
+            index: HashMap::new(),
+            threads: Vec::new(),
+        }
+    }
+
+    /// Creates a module instance.
+    pub fn add_module(&mut self, spec: ModuleSpec<'_>) -> Result<(), BuildError> {
+        let entry = self
+            .registry
+            .entry(spec.type_name)
+            .ok_or_else(|| BuildError::UnknownType {
+                path: spec.path.into(),
+                type_name: spec.type_name.into(),
+            })?;
+        if self.index.contains_key(spec.path) {
+            return Err(BuildError::DuplicatePath(spec.path.into()));
+        }
+        let blank = registry::blank_interface(spec.type_name, entry);
+        let mut setup = Setup::new(blank, spec.params, spec.queues);
+        let module = (entry.factory)(&mut setup);
+        let mut problems = std::mem::take(&mut setup.errors);
+        for (name, _) in spec.params {
+            if setup.interface.param(name).is_none() {
+                problems.push(format!("the type has no parameter `{name}`"));
+            }
+        }
+        if !problems.is_empty() {
+            return Err(BuildError::Create {
+                path: spec.path.into(),
+                problems,
+            });
+        }
+        self.index.insert(spec.path.into(), self.modules.len());
+        self.modules.push(Instance {
+            path: spec.path.into(),
+            kind: entry.kind,
+            module: Some(module),
+            interface: setup.interface,
+            inputs: setup.inputs,
+            outputs: setup.outputs,
+            params: setup.params,
+            converters: Vec::new(),
+            thread: None,
+        });
+        Ok(())
+    }
+
+    fn module(&self, path: &str) -> Result<usize, BuildError> {
+        self.index
+            .get(path)
+            .copied()
+            .ok_or_else(|| BuildError::UnknownModule(path.into()))
+    }
+
+    /// The interface of a created module.
+    pub fn interface(&self, path: &str) -> Result<&Interface, BuildError> {
+        Ok(&self.modules[self.module(path)?].interface)
+    }
+
+    /// The handle of a module's output, to connect an observer outside the model (a
+    /// status display, a test probe).
+    pub fn output(&self, path: &str, port: &str) -> Result<&OutputHandle, BuildError> {
+        find(
+            &self.modules[self.module(path)?].outputs,
+            (path, port),
+            "output",
+        )
+    }
+
+    /// Sets a parameter of a created module (before or after start: see
+    /// [`RunningApp::set_parameter`]).
+    pub fn set_parameter(&self, path: &str, name: &str, value: &Value) -> Result<(), BuildError> {
+        let m = &self.modules[self.module(path)?];
+        let (_, handle) =
+            m.params
+                .iter()
+                .find(|(n, _)| n == name)
+                .ok_or_else(|| BuildError::Create {
+                    path: path.into(),
+                    problems: vec![format!("the type has no parameter `{name}`")],
+                })?;
+        handle.set(value).map_err(|why| BuildError::Create {
+            path: path.into(),
+            problems: vec![format!("parameter `{name}`: {why}")],
+        })
+    }
+
+    /// Connects `from` (module path, output name) to `to` (module path, input name),
+    /// converting values on the way if `conversion` is not the identity or the value
+    /// types differ (numbers only).
+    pub fn connect(
+        &mut self,
+        from: (&str, &str),
+        to: (&str, &str),
+        conversion: Conversion,
+        options: ConnectOptions,
+    ) -> Result<(), BuildError> {
+        let (writer, reader) = (self.module(from.0)?, self.module(to.0)?);
+        let output = find(&self.modules[writer].outputs, from, "output")?;
+        let input = find(&self.modules[reader].inputs, to, "input")?;
+        let describe = || format!("`{}/{}` → `{}/{}`", from.0, from.1, to.0, to.1);
+        if conversion.is_identity() && output.value_type() == input.value_type() {
+            return output
+                .connect(input, options)
+                .map_err(|e| BuildError::Connect(format!("{}: {e}", describe())));
+        }
+        let name = format!("{}/{} → {}/{}", from.0, from.1, to.0, to.1);
+        let converter = convert::numeric(output.value_type(), input.value_type(), name, conversion)
+            .ok_or_else(|| {
+                BuildError::Connect(format!(
+                    "{}: cannot convert {} to {} (only numbers are converted)",
+                    describe(),
+                    output.value_type(),
+                    input.value_type()
+                ))
+            })?;
+        let fail =
+            |e: crate::port::ConnectError| BuildError::Connect(format!("{}: {e}", describe()));
+        output
+            .connect(&converter.input, ConnectOptions::default())
+            .map_err(fail)?;
+        converter.output.connect(input, options).map_err(fail)?;
+        self.modules[writer].converters.push(converter.step);
+        Ok(())
+    }
+
+    /// Declares a thread container and the order of its steps.
+    pub fn add_thread(&mut self, spec: ThreadSpec) -> Result<(), BuildError> {
+        let id = self.threads.len();
+        for (path, kind) in &spec.steps {
+            let m = self.module(path)?;
+            let instance = &mut self.modules[m];
+            let fits = matches!(
+                (instance.kind, kind),
+                (Kind::Plain, StepKind::Update)
+                    | (Kind::SenseControl, StepKind::Sense | StepKind::Control)
+            );
+            if !fits {
+                return Err(BuildError::Thread(format!(
+                    "`{path}` is a {} module and has no {kind:?} step",
+                    instance.kind.as_str()
+                )));
+            }
+            match instance.thread {
+                Some(t) if t != id => {
+                    return Err(BuildError::Thread(format!(
+                        "`{path}` is executed by two thread containers: `{}` and `{}`",
+                        self.threads[t].path, spec.path
+                    )))
+                }
+                _ => instance.thread = Some(id),
+            }
+        }
+        self.threads.push(spec);
+        Ok(())
+    }
+
+    /// Creates the thread containers and starts them; each runs `limit` cycles, or
+    /// until [`RunningApp::stop`].
+    pub fn start(mut self, limit: Option<u64>) -> Result<RunningApp, BuildError> {
+        if let Some(m) = self.modules.iter().find(|m| m.thread.is_none()) {
+            return Err(BuildError::Thread(format!(
+                "`{}` is not executed by any thread container",
+                m.path
+            )));
+        }
+        let containers = self.containers()?;
+        RunningApp::start(containers, self.take_params(), limit)
+    }
+
+    fn take_params(&mut self) -> HashMap<(String, String), ParamHandle> {
+        let mut params = HashMap::new();
+        for m in &mut self.modules {
+            for (name, handle) in m.params.drain(..) {
+                params.insert((m.path.clone(), name), handle);
+            }
+        }
+        params
+    }
+
+    /// Turns each thread spec into a container whose steps call the modules.
+    fn containers(&mut self) -> Result<Vec<(ThreadContainer, ThreadOptions)>, BuildError> {
+        // A sense-control module has two steps in one container: they share it behind
+        // an uncontended mutex. A plain module is owned by its single step.
+        let mut shared: HashMap<usize, Arc<Mutex<Box<dyn Module>>>> = HashMap::new();
+        let threads = std::mem::take(&mut self.threads);
+        let mut out = Vec::new();
+        for spec in threads {
+            let wakeup = Wakeup::new();
+            let mut steps = Vec::new();
+            for (i, (path, kind)) in spec.steps.iter().enumerate() {
+                let m = self.module(path)?;
+                let instance = &mut self.modules[m];
+                let name = format!("{path}:{}", step_name(*kind));
+                match kind {
+                    StepKind::Update => {
+                        let mut module = instance.module.take().ok_or_else(|| {
+                            BuildError::Thread(format!("`{path}` has two update steps"))
+                        })?;
+                        steps.push(Step::new(name, move || module.update()));
+                    }
+                    StepKind::Sense | StepKind::Control => {
+                        let cell = match shared.get(&m) {
+                            Some(cell) => cell.clone(),
+                            None => {
+                                let module = instance.module.take().ok_or_else(|| {
+                                    BuildError::Thread(format!("`{path}` has no module"))
+                                })?;
+                                let cell = Arc::new(Mutex::new(module));
+                                shared.insert(m, cell.clone());
+                                cell
+                            }
+                        };
+                        let sense = *kind == StepKind::Sense;
+                        steps.push(Step::new(name, move || {
+                            // A panic in the other step poisons the lock: stop this
+                            // one too rather than run on half-updated state.
+                            let mut module = cell.lock().expect(
+                                "the module's other step panicked; this step is stopped too",
+                            );
+                            if sense {
+                                module.sense()
+                            } else {
+                                module.control()
+                            }
+                        }));
+                    }
+                }
+                // Converters after the module's last step in this container.
+                let last_of_module = !spec.steps[i + 1..].iter().any(|(p, _)| p == path);
+                if last_of_module {
+                    steps.append(&mut self.modules[m].converters);
+                }
+                if spec.schedule == Schedule::Data {
+                    for (_, input) in &self.modules[m].inputs {
+                        let notifier: Notifier = wakeup.clone();
+                        let _ = input.set_notifier(notifier);
+                    }
+                }
+            }
+            let trigger = match spec.schedule {
+                Schedule::Periodic(period) => Trigger::Periodic(period),
+                Schedule::Data => Trigger::Data(wakeup),
+            };
+            out.push((
+                ThreadContainer::new(spec.path, trigger, steps),
+                spec.options,
+            ));
+        }
+        Ok(out)
+    }
+}
+
+fn step_name(kind: StepKind) -> &'static str {
+    match kind {
+        StepKind::Update => "update",
+        StepKind::Sense => "sense",
+        StepKind::Control => "control",
+    }
+}
+
+fn find<'a, H>(
+    ports: &'a [(String, H)],
+    (path, port): (&str, &str),
+    wanted: &'static str,
+) -> Result<&'a H, BuildError> {
+    ports
+        .iter()
+        .find(|(n, _)| n == port)
+        .map(|(_, h)| h)
+        .ok_or_else(|| BuildError::UnknownPort {
+            path: path.into(),
+            port: port.into(),
+            wanted,
+        })
+}
+
+#[cfg(test)]
+mod tests;

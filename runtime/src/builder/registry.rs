@@ -1,0 +1,80 @@
+//! The registry of module types: model name → factory and interface.
+
+use crate::module::{Interface, Kind, Module, ModuleType, Setup};
+use std::collections::BTreeMap;
+
+pub(crate) type Factory = fn(&mut Setup<'_>) -> Box<dyn Module>;
+
+#[derive(Clone, Copy)]
+pub(crate) struct Entry {
+    pub kind: Kind,
+    pub rust: &'static str,
+    pub doc: &'static str,
+    pub factory: Factory,
+}
+
+fn create_boxed<M: ModuleType>(m: &mut Setup<'_>) -> Box<dyn Module> {
+    Box::new(M::create(m))
+}
+
+/// Every module type a `ferroc` binary (or a bundle) can create, by model name.
+#[derive(Default, Clone)]
+pub struct Registry {
+    types: BTreeMap<&'static str, Entry>,
+}
+
+impl Registry {
+    /// An empty registry.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Registers `M` under [`ModuleType::NAME`] (a later registration of the same name
+    /// replaces the earlier one).
+    pub fn register<M: ModuleType>(&mut self) -> &mut Self {
+        self.types.insert(
+            M::NAME,
+            Entry {
+                kind: M::KIND,
+                rust: std::any::type_name::<M>(),
+                doc: M::DOC,
+                factory: create_boxed::<M>,
+            },
+        );
+        self
+    }
+
+    /// Whether a type of this model name is registered.
+    pub fn contains(&self, name: &str) -> bool {
+        self.types.contains_key(name)
+    }
+
+    /// Registered model names, sorted.
+    pub fn names(&self) -> impl Iterator<Item = &'static str> + '_ {
+        self.types.keys().copied()
+    }
+
+    pub(crate) fn entry(&self, name: &str) -> Option<&Entry> {
+        self.types.get(name)
+    }
+
+    /// The interface the type's Rust code declares (learned by creating one instance
+    /// with every parameter at its default, then dropping it).
+    pub fn interface(&self, name: &str) -> Option<Interface> {
+        let (&name, entry) = self.types.get_key_value(name)?;
+        let mut setup = Setup::new(blank_interface(name, entry), &[], &[]);
+        drop((entry.factory)(&mut setup));
+        Some(setup.interface)
+    }
+}
+
+pub(crate) fn blank_interface(name: &str, entry: &Entry) -> Interface {
+    Interface {
+        name: name.to_owned(),
+        rust: entry.rust.to_owned(),
+        kind: entry.kind,
+        doc: (!entry.doc.is_empty()).then(|| entry.doc.to_owned()),
+        ports: Vec::new(),
+        params: Vec::new(),
+    }
+}

@@ -1,0 +1,149 @@
+//! A started application: its containers, their figures, and a clean stop.
+
+use super::BuildError;
+use crate::container::{ContainerStats, RunningContainer, ThreadContainer, ThreadOptions};
+use crate::module::{ParamHandle, Value};
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// The figures of one container at a moment, for status lines and reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContainerStatus {
+    /// Element path of the container.
+    pub path: String,
+    /// Cycles completed.
+    pub cycles: u64,
+    /// Cycles that missed their deadline.
+    pub overruns: u64,
+    /// Average share of the period spent executing (0 for data-triggered containers).
+    pub load: f64,
+}
+
+/// An application whose thread containers are running.
+pub struct RunningApp {
+    containers: Vec<RunningContainer>,
+    stop: Arc<AtomicBool>,
+    params: HashMap<(String, String), ParamHandle>,
+    warnings: Vec<String>,
+}
+
+impl RunningApp {
+    pub(super) fn start(
+        containers: Vec<(ThreadContainer, ThreadOptions)>,
+        params: HashMap<(String, String), ParamHandle>,
+        limit: Option<u64>,
+    ) -> Result<Self, BuildError> {
+        let stop = Arc::new(AtomicBool::new(false));
+        let mut app = RunningApp {
+            containers: Vec::new(),
+            stop: stop.clone(),
+            params,
+            warnings: Vec::new(),
+        };
+        for (container, options) in containers {
+            let name = container.stats().name.clone();
+            match container.spawn(options, stop.clone(), limit) {
+                Ok(running) => {
+                    app.warnings.extend(
+                        running
+                            .warnings
+                            .iter()
+                            .map(|w| format!("thread container `{name}`: {w}")),
+                    );
+                    app.containers.push(running);
+                }
+                Err(e) => {
+                    app.stop();
+                    app.join();
+                    return Err(BuildError::Thread(format!(
+                        "thread container `{name}` could not start: {e}"
+                    )));
+                }
+            }
+        }
+        Ok(app)
+    }
+
+    /// What the operating system refused (priorities, CPU affinity), one line each.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// The statistics of every container, in declaration order.
+    pub fn stats(&self) -> Vec<Arc<ContainerStats>> {
+        self.containers.iter().map(|c| c.stats.clone()).collect()
+    }
+
+    /// A snapshot of every container's figures.
+    pub fn status(&self) -> Vec<ContainerStatus> {
+        self.containers
+            .iter()
+            .map(|c| ContainerStatus {
+                path: c.stats.name.clone(),
+                cycles: c.stats.cycles(),
+                overruns: c.stats.overruns(),
+                load: c.stats.load(),
+            })
+            .collect()
+    }
+
+    /// Panic reports of stopped steps, each naming the module path.
+    pub fn panics(&self) -> Vec<String> {
+        self.containers
+            .iter()
+            .flat_map(|c| c.stats.panics())
+            .collect()
+    }
+
+    /// Sets a module's parameter while the application runs.
+    pub fn set_parameter(&self, path: &str, name: &str, value: &Value) -> Result<(), String> {
+        let handle = self
+            .params
+            .get(&(path.to_owned(), name.to_owned()))
+            .ok_or_else(|| format!("`{path}` has no parameter `{name}`"))?;
+        handle.set(value)
+    }
+
+    /// Whether every container has ended (its cycle limit reached, or stopped).
+    pub fn is_finished(&self) -> bool {
+        self.containers.iter().all(|c| c.is_finished())
+    }
+
+    /// Asks every container to stop after its current cycle (also wakes data-triggered
+    /// ones).
+    pub fn stop(&self) {
+        self.stop.store(true, Ordering::Relaxed);
+        for c in &self.containers {
+            c.nudge();
+        }
+    }
+
+    /// Waits until every container has ended.
+    pub fn join(&mut self) {
+        for c in self.containers.drain(..) {
+            c.join();
+        }
+    }
+
+    /// Waits until every container ended or `timeout` passed; true if all ended.
+    pub fn wait_timeout(&self, timeout: Duration) -> bool {
+        let deadline = std::time::Instant::now() + timeout;
+        while !self.is_finished() {
+            if std::time::Instant::now() >= deadline {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        true
+    }
+}
+
+impl Drop for RunningApp {
+    /// Dropping a running application stops it and waits for its threads.
+    fn drop(&mut self) {
+        self.stop();
+        self.join();
+    }
+}

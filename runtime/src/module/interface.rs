@@ -1,0 +1,127 @@
+//! A module type's interface as its Rust code declares it.
+//!
+//! Recorded while the type's `create` runs (so the declaration and the ports the module
+//! really owns cannot drift apart), compared against the library manifest a model was
+//! checked with, and written out by `ferroc types export`.
+
+/// How the thread container runs a module.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kind {
+    /// One `update` step per cycle.
+    Plain,
+    /// A `sense` step (in the sensing half of the cycle) and a `control` step.
+    SenseControl,
+}
+
+impl Kind {
+    /// The manifest spelling (`kind="…"`; plain modules omit it).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Kind::Plain => "plain",
+            Kind::SenseControl => "sense-control",
+        }
+    }
+}
+
+/// Data direction of a port.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Direction {
+    /// Data flows into the module.
+    In,
+    /// Data flows out of the module.
+    Out,
+}
+
+/// Which half of a sense-control module a port belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Role {
+    /// A port of a plain module.
+    Plain,
+    /// Sensor data (`sensor-in` / `sensor-out`), used by the `sense` step.
+    Sensor,
+    /// Controller data (`controller-in` / `controller-out`), used by the `control` step.
+    Controller,
+}
+
+impl Role {
+    /// The manifest element for a port of this role and direction.
+    pub fn element(self, dir: Direction) -> &'static str {
+        match (self, dir) {
+            (Role::Plain, Direction::In) => "in",
+            (Role::Plain, Direction::Out) => "out",
+            (Role::Sensor, Direction::In) => "sensor-in",
+            (Role::Sensor, Direction::Out) => "sensor-out",
+            (Role::Controller, Direction::In) => "controller-in",
+            (Role::Controller, Direction::Out) => "controller-out",
+        }
+    }
+}
+
+/// One declared port.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PortInfo {
+    /// Port name (unique per module).
+    pub name: String,
+    /// Data direction.
+    pub dir: Direction,
+    /// Sensor / controller half, or plain.
+    pub role: Role,
+    /// The value type's model name (`f64`, `nav.Pose2D`).
+    pub model_type: String,
+    /// Unit of the values, as written in manifests (`m/s`).
+    pub unit: Option<String>,
+    /// The input must be connected.
+    pub required: bool,
+    /// One-line description.
+    pub doc: Option<String>,
+}
+
+/// One declared parameter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamInfo {
+    /// Parameter name (unique per module).
+    pub name: String,
+    /// The value type's model name.
+    pub model_type: String,
+    /// Unit the module expects its value in.
+    pub unit: Option<String>,
+    /// Smallest allowed value.
+    pub min: Option<f64>,
+    /// Largest allowed value.
+    pub max: Option<f64>,
+    /// Default value as text (none: the model must give one).
+    pub default: Option<String>,
+    /// Allowed values of a string parameter.
+    pub choices: Vec<String>,
+    /// One-line description.
+    pub doc: Option<String>,
+}
+
+/// Everything a manifest says about a module type, as the Rust code declares it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Interface {
+    /// Qualified model name (`crash_course.AddNoise`).
+    pub name: String,
+    /// Rust path of the implementing type.
+    pub rust: String,
+    /// Plain or sense-control.
+    pub kind: Kind,
+    /// One-line description.
+    pub doc: Option<String>,
+    /// Ports in declaration order.
+    pub ports: Vec<PortInfo>,
+    /// Parameters in declaration order.
+    pub params: Vec<ParamInfo>,
+}
+
+impl Interface {
+    /// The port called `name`.
+    pub fn port(&self, name: &str) -> Option<&PortInfo> {
+        self.ports.iter().find(|p| p.name == name)
+    }
+
+    /// The parameter called `name`.
+    pub fn param(&self, name: &str) -> Option<&ParamInfo> {
+        self.params.iter().find(|p| p.name == name)
+    }
+}

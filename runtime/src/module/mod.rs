@@ -1,0 +1,45 @@
+//! The module API: what a hand-written module looks like.
+//!
+//! A module is a plain Rust struct whose fields are its ports ([`In`], [`Out`]) and
+//! parameters ([`Parameter`]), plus whatever state it needs. It implements [`Module`]
+//! (what it does each cycle) and [`ModuleType`] (its model name and how to create it).
+//! `create` declares each port and parameter while creating it, so the interface the
+//! runtime reports (and `ferroc types export` writes) is exactly what the code owns.
+//! See `docs/writing-modules.md` for a complete walk-through.
+
+mod interface;
+mod param;
+mod setup;
+mod value;
+
+pub use interface::{Direction, Interface, Kind, ParamInfo, PortInfo, Role};
+pub use param::{ParamHandle, ParamValue, Parameter, Value};
+pub use setup::{InputDecl, OutputDecl, ParamDecl, PortDecl, Setup};
+pub use value::{CopyKind, In, Out, PooledKind, PortKind, PortValue};
+
+/// What a module does in a cycle. Plain modules implement `update`; sense-control
+/// modules `sense` (read sensor inputs, publish sensor outputs) and `control` (read
+/// controller inputs, publish commands). Unused methods keep their empty default.
+pub trait Module: Send + 'static {
+    /// The step of a plain module.
+    fn update(&mut self) {}
+    /// The sensing step of a sense-control module.
+    fn sense(&mut self) {}
+    /// The control step of a sense-control module.
+    fn control(&mut self) {}
+}
+
+/// A module type the runtime can create by name.
+pub trait ModuleType: Module + Sized {
+    /// Qualified model name: `library.Type` (`crash_course.AddNoise`).
+    const NAME: &'static str;
+    /// Plain (`update`) or sense-control (`sense` + `control`).
+    const KIND: Kind = Kind::Plain;
+    /// One-line description for the manifest.
+    const DOC: &'static str = "";
+
+    /// Creates an instance: declare and create every port and parameter through `m`.
+    /// Keep it free of side effects (no files, no hardware): the registry also calls
+    /// it to learn the interface. Do such work lazily in the first step.
+    fn create(m: &mut Setup<'_>) -> Self;
+}

@@ -1,0 +1,274 @@
+//! [`Setup`]: what a module type's `create` uses to declare and create its ports and
+//! parameters in one go.
+//!
+//! ```
+//! # use ferroc_runtime::module::*;
+//! struct Scale { input: In<f64>, output: Out<f64>, factor: Parameter<f64> }
+//! impl Module for Scale {
+//!     fn update(&mut self) {
+//!         let factor = self.factor.get();
+//!         self.output.publish(self.input.get() * factor);
+//!     }
+//! }
+//! impl ModuleType for Scale {
+//!     const NAME: &'static str = "demo.Scale";
+//!     fn create(m: &mut Setup<'_>) -> Self {
+//!         Scale {
+//!             input: m.input("input").required().build(),
+//!             output: m.output("output").build(),
+//!             factor: m.param("factor").default(1.0).build(),
+//!         }
+//!     }
+//! }
+//! ```
+
+use super::interface::{Direction, Interface, ParamInfo, PortInfo, Role};
+use super::param::{Check, ParamHandle, ParamValue, Parameter, Value};
+use super::value::{In, Out, PortKind, PortValue};
+use crate::port::{InputHandle, OutputHandle, QueueConfig};
+
+/// The creation context of one module instance (or of the registry describing a type,
+/// where nothing is given and every declaration falls back to its default).
+pub struct Setup<'a> {
+    given: &'a [(String, Value)],
+    queues: &'a [(String, QueueConfig)],
+    pub(crate) interface: Interface,
+    pub(crate) inputs: Vec<(String, InputHandle)>,
+    pub(crate) outputs: Vec<(String, OutputHandle)>,
+    pub(crate) params: Vec<(String, ParamHandle)>,
+    pub(crate) errors: Vec<String>,
+}
+
+impl<'a> Setup<'a> {
+    pub(crate) fn new(
+        interface: Interface,
+        given: &'a [(String, Value)],
+        queues: &'a [(String, QueueConfig)],
+    ) -> Self {
+        Setup {
+            given,
+            queues,
+            interface,
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            params: Vec::new(),
+            errors: Vec::new(),
+        }
+    }
+
+    fn port_decl(&mut self, name: &str, dir: Direction, role: Role) -> PortDecl<'_, 'a> {
+        PortDecl {
+            setup: self,
+            info: PortInfo {
+                name: name.to_owned(),
+                dir,
+                role,
+                model_type: String::new(),
+                unit: None,
+                required: false,
+                doc: None,
+            },
+        }
+    }
+
+    /// Declares an input of a plain module.
+    pub fn input(&mut self, name: &str) -> InputDecl<'_, 'a> {
+        InputDecl(self.port_decl(name, Direction::In, Role::Plain))
+    }
+    /// Declares an output of a plain module.
+    pub fn output(&mut self, name: &str) -> OutputDecl<'_, 'a> {
+        OutputDecl(self.port_decl(name, Direction::Out, Role::Plain))
+    }
+    /// Declares a sensor input (read by the `sense` step).
+    pub fn sensor_input(&mut self, name: &str) -> InputDecl<'_, 'a> {
+        InputDecl(self.port_decl(name, Direction::In, Role::Sensor))
+    }
+    /// Declares a sensor output (written by the `sense` step).
+    pub fn sensor_output(&mut self, name: &str) -> OutputDecl<'_, 'a> {
+        OutputDecl(self.port_decl(name, Direction::Out, Role::Sensor))
+    }
+    /// Declares a controller input (read by the `control` step).
+    pub fn controller_input(&mut self, name: &str) -> InputDecl<'_, 'a> {
+        InputDecl(self.port_decl(name, Direction::In, Role::Controller))
+    }
+    /// Declares a controller output (written by the `control` step).
+    pub fn controller_output(&mut self, name: &str) -> OutputDecl<'_, 'a> {
+        OutputDecl(self.port_decl(name, Direction::Out, Role::Controller))
+    }
+
+    /// Declares a parameter; finish with [`ParamDecl::build`].
+    pub fn param<T: ParamValue + Default>(&mut self, name: &str) -> ParamDecl<'_, 'a, T> {
+        ParamDecl {
+            setup: self,
+            info: ParamInfo {
+                name: name.to_owned(),
+                model_type: T::model_type().to_owned(),
+                unit: None,
+                min: None,
+                max: None,
+                default: None,
+                choices: Vec::new(),
+                doc: None,
+            },
+            default: None,
+        }
+    }
+
+    fn record_port(&mut self, info: PortInfo) {
+        if self.interface.port(&info.name).is_some() {
+            self.errors
+                .push(format!("the port `{}` is declared twice", info.name));
+        }
+        self.interface.ports.push(info);
+    }
+}
+
+/// A port declaration under way (shared by inputs and outputs).
+pub struct PortDecl<'s, 'a> {
+    setup: &'s mut Setup<'a>,
+    info: PortInfo,
+}
+
+/// An input declaration; finish with [`build`](InputDecl::build).
+pub struct InputDecl<'s, 'a>(PortDecl<'s, 'a>);
+/// An output declaration; finish with [`build`](OutputDecl::build).
+pub struct OutputDecl<'s, 'a>(PortDecl<'s, 'a>);
+
+macro_rules! port_decl_setters {
+    ($decl:ident) => {
+        impl<'s, 'a> $decl<'s, 'a> {
+            /// The unit of the values (`m/s`); connections to ports of another unit of
+            /// the same dimension are scaled automatically.
+            pub fn unit(mut self, unit: &str) -> Self {
+                self.0.info.unit = Some(unit.to_owned());
+                self
+            }
+            /// A one-line description (shown in manifests and tools).
+            pub fn doc(mut self, doc: &str) -> Self {
+                self.0.info.doc = Some(doc.to_owned());
+                self
+            }
+        }
+    };
+}
+port_decl_setters!(InputDecl);
+port_decl_setters!(OutputDecl);
+
+impl<'s, 'a> InputDecl<'s, 'a> {
+    /// The input must be connected (the checker reports it otherwise).
+    pub fn required(mut self) -> Self {
+        self.0.info.required = true;
+        self
+    }
+
+    /// Creates the port. If the model connects it with `queue=N`, it is a queue.
+    pub fn build<T: PortValue>(self) -> In<T> {
+        let PortDecl { setup, mut info } = self.0;
+        info.model_type = T::model_type();
+        let queue = setup
+            .queues
+            .iter()
+            .find(|(name, _)| *name == info.name)
+            .map(|(_, q)| *q);
+        let (port, handle) = T::Kind::input(&info.name, queue);
+        setup.inputs.push((info.name.clone(), handle));
+        setup.record_port(info);
+        In::from_port(port)
+    }
+}
+
+impl<'s, 'a> OutputDecl<'s, 'a> {
+    /// Creates the port.
+    pub fn build<T: PortValue>(self) -> Out<T> {
+        let PortDecl { setup, mut info } = self.0;
+        info.model_type = T::model_type();
+        let (port, handle) = T::Kind::output(&info.name);
+        setup.outputs.push((info.name.clone(), handle));
+        setup.record_port(info);
+        Out::from_port(port)
+    }
+}
+
+/// A parameter declaration under way; finish with [`build`](ParamDecl::build).
+pub struct ParamDecl<'s, 'a, T> {
+    setup: &'s mut Setup<'a>,
+    info: ParamInfo,
+    default: Option<T>,
+}
+
+impl<'s, 'a, T: ParamValue + Default> ParamDecl<'s, 'a, T> {
+    /// The value used when the model gives none. Without a default the model must give
+    /// one.
+    pub fn default(mut self, value: T) -> Self {
+        self.info.default = Some(value.to_text());
+        self.default = Some(value);
+        self
+    }
+    /// The unit the module wants its value in; models may write any unit of the same
+    /// dimension and the checker converts.
+    pub fn unit(mut self, unit: &str) -> Self {
+        self.info.unit = Some(unit.to_owned());
+        self
+    }
+    /// The allowed range (inclusive), enforced by the checker and on every later set.
+    pub fn range(mut self, min: f64, max: f64) -> Self {
+        self.info.min = Some(min);
+        self.info.max = Some(max);
+        self
+    }
+    /// The allowed values of a string parameter.
+    pub fn choices(mut self, choices: &[&str]) -> Self {
+        self.info.choices = choices.iter().map(|c| (*c).to_owned()).collect();
+        self
+    }
+    /// A one-line description.
+    pub fn doc(mut self, doc: &str) -> Self {
+        self.info.doc = Some(doc.to_owned());
+        self
+    }
+
+    /// Creates the parameter with the model's value, else the default.
+    pub fn build(self) -> Parameter<T> {
+        let ParamDecl {
+            setup,
+            info,
+            default,
+        } = self;
+        let check = Check {
+            min: info.min,
+            max: info.max,
+            choices: info.choices.clone(),
+        };
+        let given = setup.given.iter().find(|(name, _)| *name == info.name);
+        let value = match (given, default) {
+            (Some((_, value)), default) => {
+                match T::from_value(value).and_then(|v| check.validate(value).map(|()| v)) {
+                    Ok(v) => v,
+                    Err(why) => {
+                        setup
+                            .errors
+                            .push(format!("parameter `{}`: {why}", info.name));
+                        default.unwrap_or_default()
+                    }
+                }
+            }
+            (None, Some(default)) => default,
+            (None, None) => {
+                setup.errors.push(format!(
+                    "parameter `{}` has no value and no default",
+                    info.name
+                ));
+                T::default()
+            }
+        };
+        if setup.interface.param(&info.name).is_some() {
+            setup
+                .errors
+                .push(format!("the parameter `{}` is declared twice", info.name));
+        }
+        let (parameter, handle) = Parameter::new(&info.name, value, Some(check));
+        setup.params.push((info.name.clone(), handle));
+        setup.interface.params.push(info);
+        parameter
+    }
+}
