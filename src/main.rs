@@ -10,6 +10,9 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod checked;
+mod interface;
+mod run;
 mod schedule;
 
 /// mimalloc: checking a large model makes millions of small allocations, and glibc's
@@ -51,6 +54,18 @@ path) and the edges where loops were broken. This is the order `ferroc run` exec
 Example:\n  ferroc schedule models/crash_course.xml"
     )]
     Schedule(schedule::ScheduleArgs),
+    /// Check a model, then run it in the ferroc runtime until Ctrl-C, --for or --cycles
+    #[command(
+        long_about = "Check a model (errors stop here), build it in the runtime from the module \
+types built into this binary, and run every thread container in this process. A live status \
+line (cycles, overruns, load per thread container) is shown on a terminal. Ctrl-C or SIGTERM \
+stops cleanly after the current cycle. A module that panics is reported with its path and \
+stopped; the others keep running, and the exit code is 1.\n\n\
+A module type whose Rust interface differs from its manifest is refused.\n\n\
+Examples:\n  ferroc run models/crash_course.xml\n  ferroc run models/crash_course.xml --for 10s\n  \
+ferroc run models/crash_course.xml --cycles 100 --param front-noise=5cm"
+    )]
+    Run(run::RunArgs),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -117,6 +132,7 @@ fn main() -> ExitCode {
     match cli.command {
         Command::Check(args) => check(args),
         Command::Schedule(args) => schedule::run(args),
+        Command::Run(args) => run::run(args),
         Command::Explain { code, list } => explain(code, list),
     }
 }

@@ -1,10 +1,7 @@
 //! `ferroc schedule`: the static order each thread container executes.
 
-use ferroc_compiler::diagnostic::Severity;
 use ferroc_compiler::ir::{Application, ElementKind};
-use ferroc_compiler::report::{self, ModelReport};
 use ferroc_compiler::schedule::{self, Step, StepSet};
-use ferroc_compiler::{check_model, Policy};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -19,29 +16,11 @@ pub struct ScheduleArgs {
 }
 
 pub fn run(args: ScheduleArgs) -> ExitCode {
-    let options = crate::loader_options(&args.lib_path, false);
-    let result = match check_model(&args.model, &options, &Policy::default()) {
+    let result = match crate::checked::without_errors(&args.model, &args.lib_path) {
         Ok(r) => r,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
-        }
+        Err(code) => return code,
     };
-    let errors = result
-        .diagnostics
-        .iter()
-        .any(|d| d.severity == Severity::Error);
-    let Some(app) = result.app.as_ref().filter(|_| !errors) else {
-        let mut out = String::new();
-        report::short(
-            &ModelReport {
-                sources: &result.sources,
-                diagnostics: &result.diagnostics,
-            },
-            &mut out,
-        );
-        eprint!("{out}");
-        eprintln!("error: the model has errors; `ferroc check` explains them");
+    let Some(app) = result.app.as_ref() else {
         return ExitCode::from(1);
     };
     print!(

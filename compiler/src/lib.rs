@@ -10,6 +10,7 @@ pub mod finroc;
 pub mod ir;
 pub mod library;
 pub mod load;
+pub mod plan;
 pub mod report;
 pub mod resolve;
 pub mod schedule;

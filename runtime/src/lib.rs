@@ -18,6 +18,7 @@
 #![warn(missing_docs)]
 
 pub mod builder;
+pub mod console;
 pub mod container;
 pub mod module;
 pub mod port;

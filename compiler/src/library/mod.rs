@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 pub mod module_type;
 pub mod steps;
-pub use module_type::{ModuleKind, ModuleType, ParamDecl, PortDecl, PortDir, PortRole};
+pub use module_type::{ModuleKind, ModuleType, ParamDecl, PortDecl, PortDir, PortRole, PortType};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct LibraryId(pub u32);

@@ -1,0 +1,207 @@
+//! The run plan: a checked model reduced to what a runtime needs to build it.
+//!
+//! `ferroc run` turns the plan into runtime `Builder` calls, and `ferroc bundle` writes
+//! the same calls as Rust source, so both start the same application. The plan has
+//! module instances with parsed parameter values, module-to-module connections with
+//! group ports flattened away and unit scales folded into one conversion, and each
+//! thread container's step order from the scheduling pass.
+
+use crate::ir::{Application, ElementId, ElementKind, ParamSource};
+use crate::library::{LibrarySet, PortDir};
+use crate::schedule::{self, data_edges, StepKind};
+use crate::source::Span;
+use crate::units::{relate, UnitRelation};
+use crate::values::{parse_value, Value};
+
+/// One module instance.
+#[derive(Clone, Debug)]
+pub struct PlannedModule {
+    pub element: ElementId,
+    /// Element path, unique in the application (`robot/control/controller`).
+    pub path: String,
+    /// Qualified type name (`crash_course.Controller`).
+    pub type_name: String,
+    /// Rust path of the implementing type, from the manifest.
+    pub rust: String,
+    /// Values the model gives, parsed and converted into the declared unit.
+    pub params: Vec<(String, Value)>,
+    /// Inputs connected with `queue=N`: port, capacity, `on-full` policy.
+    pub queues: Vec<(String, u32, String)>,
+    pub span: Span,
+}
+
+/// One module output feeding one module input.
+#[derive(Clone, Debug)]
+pub struct PlannedConnection {
+    pub from: (String, String),
+    pub to: (String, String),
+    /// `to = from · scale + offset` (unit scales and `<convert>` steps combined).
+    pub scale: f64,
+    pub offset: f64,
+    pub span: Span,
+}
+
+/// One thread container.
+#[derive(Clone, Debug)]
+pub struct PlannedThread {
+    pub path: String,
+    /// Seconds; `None` for data-triggered containers.
+    pub period: Option<f64>,
+    /// Module path and step, in execution order.
+    pub steps: Vec<(String, StepKind)>,
+}
+
+/// Everything needed to build the application.
+#[derive(Clone, Debug, Default)]
+pub struct Plan {
+    pub modules: Vec<PlannedModule>,
+    pub connections: Vec<PlannedConnection>,
+    pub threads: Vec<PlannedThread>,
+}
+
+/// Something a checked model uses that the runtime cannot realise yet.
+#[derive(Clone, Debug)]
+pub struct Unsupported {
+    pub what: String,
+    pub span: Span,
+}
+
+/// Builds the plan of a model that checked without errors. `cmdline` holds values
+/// given at start-up (`--param name=value`) for parameters declared `cmdline=`.
+pub fn plan(
+    app: &Application,
+    libs: &LibrarySet,
+    cmdline: &[(String, String)],
+) -> Result<Plan, Vec<Unsupported>> {
+    let mut problems = Vec::new();
+    let mut plan = Plan::default();
+    let mut paths = vec![String::new(); app.elements.len()];
+    for (id, m) in app.modules() {
+        let ty = &libs.get(m.library).module_types[m.type_index];
+        paths[id.0 as usize] = app.path(id);
+        let mut params = Vec::new();
+        for p in &m.params {
+            let Some(decl) = ty.param(&p.name) else {
+                continue;
+            };
+            let text = match &p.source {
+                ParamSource::Cmdline => match cmdline.iter().find(|(n, _)| *n == p.name) {
+                    Some((_, v)) => v.clone(),
+                    None => {
+                        problems.push(Unsupported {
+                            what: format!(
+                                "the parameter `{}` of `{}` is given on the command line: pass it with --param {}=VALUE",
+                                p.name,
+                                paths[id.0 as usize],
+                                p.name
+                            ),
+                            span: p.span,
+                        });
+                        continue;
+                    }
+                },
+                _ => p.text.clone(),
+            };
+            match parse_value(&text, &decl.ty, decl.unit.as_ref()) {
+                Ok(v) => params.push((p.name.clone(), v)),
+                // The checker reported it already (P103/P105); nothing to run.
+                Err(_) => problems.push(Unsupported {
+                    what: format!("the value of `{}` does not parse", p.name),
+                    span: p.span,
+                }),
+            }
+        }
+        plan.modules.push(PlannedModule {
+            element: id,
+            path: paths[id.0 as usize].clone(),
+            type_name: ty.qualified.clone(),
+            rust: ty.rust.clone(),
+            params,
+            queues: Vec::new(),
+            span: app.element(id).span,
+        });
+    }
+    let module_index: hashbrown::HashMap<ElementId, usize> = plan
+        .modules
+        .iter()
+        .enumerate()
+        .map(|(i, m)| (m.element, i))
+        .collect();
+    for edge in data_edges(app, libs) {
+        let (Some(&first), Some(&last)) = (edge.hops.first(), edge.hops.last()) else {
+            continue;
+        };
+        let (from_end, to_end) = (app.connections[first].from, app.connections[last].to);
+        let (Some(from), Some(to)) = (app.view(libs, from_end), app.view(libs, to_end)) else {
+            continue;
+        };
+        if from.dir != PortDir::Out || to.dir != PortDir::In {
+            continue;
+        }
+        let mut scale = match (from.unit, to.unit) {
+            (Some(a), Some(b)) => match relate(a, b) {
+                UnitRelation::Scaled(f) => f,
+                _ => 1.0,
+            },
+            _ => 1.0,
+        };
+        let mut offset = 0.0;
+        for &hop in &edge.hops {
+            let c = &app.connections[hop];
+            for step in &c.converts {
+                if step.index.is_some() || step.field.is_some() {
+                    problems.push(Unsupported {
+                        what: "`<convert index|field>` is not supported by the runtime yet".into(),
+                        span: step.span,
+                    });
+                }
+                if let Some((s, _)) = step.scale {
+                    scale *= s;
+                    offset *= s;
+                }
+                if let Some((o, _)) = step.offset {
+                    offset += o;
+                }
+            }
+            if let Some(q) = c.queue {
+                let module = &mut plan.modules[module_index[&edge.to_module]];
+                if !module.queues.iter().any(|(p, ..)| p == to.name) {
+                    let policy = c.on_full.clone().unwrap_or_else(|| "block".into());
+                    module.queues.push((to.name.to_string(), q, policy));
+                }
+            }
+        }
+        plan.connections.push(PlannedConnection {
+            from: (
+                paths[edge.from_module.0 as usize].clone(),
+                from.name.to_string(),
+            ),
+            to: (
+                paths[edge.to_module.0 as usize].clone(),
+                to.name.to_string(),
+            ),
+            scale,
+            offset,
+            span: app.connections[last].span,
+        });
+    }
+    for container in schedule::compute(app, libs).containers {
+        let ElementKind::Thread { period, .. } = app.element(container.thread).kind else {
+            continue;
+        };
+        plan.threads.push(PlannedThread {
+            path: app.path(container.thread),
+            period,
+            steps: container
+                .steps
+                .iter()
+                .map(|s| (paths[s.module.0 as usize].clone(), s.kind))
+                .collect(),
+        });
+    }
+    if problems.is_empty() {
+        Ok(plan)
+    } else {
+        Err(problems)
+    }
+}

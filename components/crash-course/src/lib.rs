@@ -1,0 +1,42 @@
+//! The FINROC crash-course robot, ported to ferroc (manifest:
+//! `components/crash_course.lib.xml`).
+//!
+//! A simulated two-wheeled robot drives in a square walled arena with an infrared
+//! distance sensor at the front and one at the rear. Hitting a wall faster than the
+//! destructive collision speed destroys it, and a new robot starts in the middle. The
+//! controller slows down and turns in front of walls.
+
+mod controller;
+mod noise;
+mod simulation;
+mod visualization;
+
+pub use controller::Controller;
+pub use noise::AddNoise;
+pub use simulation::MainSimulation;
+pub use visualization::Visualization;
+
+use ferroc_runtime::builder::Registry;
+
+/// A planar pose in the arena frame: metres, and radians counter-clockwise from x.
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::NoUninit)]
+#[repr(C)]
+pub struct Pose2D {
+    /// Metres.
+    pub x: f64,
+    /// Metres.
+    pub y: f64,
+    /// Heading, radians counter-clockwise from the x axis.
+    pub yaw: f64,
+}
+
+ferroc_runtime::port_value!(Pose2D, "crash_course.Pose2D", copy);
+
+/// Registers every module type of this library.
+pub fn register(registry: &mut Registry) {
+    registry
+        .register::<MainSimulation>()
+        .register::<AddNoise>()
+        .register::<Visualization>()
+        .register::<Controller>();
+}

@@ -1,0 +1,174 @@
+//! Does a module type's Rust code declare what its manifest says?
+//!
+//! A model is checked against library manifests; the binary runs Rust types. If the two
+//! disagree (a port renamed in the code, a unit changed in the manifest), the checked
+//! model is not the program that would run, so `ferroc run` refuses. Docs and the Rust
+//! path are not compared; names, directions, roles, types, units, requirement,
+//! parameter ranges, defaults and choices are.
+
+use ferroc_compiler::library::{ModuleKind, ModuleType, PortDir, PortRole, PortType};
+use ferroc_compiler::units::{parse_unit, relate, Unit, UnitRelation};
+use ferroc_runtime::module::{Direction, Interface, Kind, Role};
+
+/// Every difference, one plain sentence each (empty: they agree).
+pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
+    let mut out = Vec::new();
+    let manifest_kind = match manifest.kind {
+        ModuleKind::SenseControl => Kind::SenseControl,
+        _ => Kind::Plain,
+    };
+    if manifest_kind != code.kind {
+        out.push(format!(
+            "the manifest says kind `{}`, the code `{}`",
+            manifest_kind.as_str(),
+            code.kind.as_str()
+        ));
+    }
+    for port in &manifest.ports {
+        let role = match port.role {
+            PortRole::Plain => Role::Plain,
+            PortRole::Sensor => Role::Sensor,
+            PortRole::Controller => Role::Controller,
+            // Meta ports, clients and services are not declared through `Setup` yet.
+            _ => continue,
+        };
+        let dir = match port.dir {
+            PortDir::In => Direction::In,
+            PortDir::Out => Direction::Out,
+        };
+        let element = role.element(dir);
+        let Some(c) = code.port(&port.name) else {
+            out.push(format!(
+                "the manifest declares <{element} name=\"{}\">, the code has no such port",
+                port.name
+            ));
+            continue;
+        };
+        if (c.dir, c.role) != (dir, role) {
+            out.push(format!(
+                "port `{}`: the manifest says <{element}>, the code <{}>",
+                port.name,
+                c.role.element(c.dir)
+            ));
+        }
+        if let PortType::Fixed(ty) = &port.ty {
+            if !same_type(&ty.to_string(), &c.model_type) {
+                out.push(format!(
+                    "port `{}`: the manifest says type `{ty}`, the code `{}`",
+                    port.name, c.model_type
+                ));
+            }
+        }
+        if !same_unit(port.unit.as_ref(), c.unit.as_deref()) {
+            out.push(format!(
+                "port `{}`: the manifest says unit `{}`, the code `{}`",
+                port.name,
+                port.unit.as_ref().map_or("none".into(), |u| u.text.clone()),
+                c.unit.as_deref().unwrap_or("none")
+            ));
+        }
+        if port.required != c.required {
+            out.push(format!(
+                "port `{}`: required is {} in the manifest, {} in the code",
+                port.name, port.required, c.required
+            ));
+        }
+    }
+    for c in &code.ports {
+        if manifest.port(&c.name).is_none() {
+            out.push(format!(
+                "the code declares <{} name=\"{}\">, the manifest does not",
+                c.role.element(c.dir),
+                c.name
+            ));
+        }
+    }
+    for param in &manifest.params {
+        let Some(c) = code.param(&param.name) else {
+            out.push(format!(
+                "the manifest declares the parameter `{}`, the code does not",
+                param.name
+            ));
+            continue;
+        };
+        let what = |field: &str, m: String, k: String| {
+            format!(
+                "parameter `{}`: the manifest says {field} `{m}`, the code `{k}`",
+                param.name
+            )
+        };
+        if !same_type(&param.ty.to_string(), &c.model_type) {
+            out.push(what("type", param.ty.to_string(), c.model_type.clone()));
+        }
+        if !same_unit(param.unit.as_ref(), c.unit.as_deref()) {
+            let m = param
+                .unit
+                .as_ref()
+                .map_or("none".into(), |u| u.text.clone());
+            out.push(what("unit", m, c.unit.clone().unwrap_or("none".into())));
+        }
+        if param.min != c.min || param.max != c.max {
+            let range = |a: Option<f64>, b: Option<f64>| format!("{}..{}", opt(a), opt(b));
+            out.push(what(
+                "range",
+                range(param.min, param.max),
+                range(c.min, c.max),
+            ));
+        }
+        if !same_default(param.default.as_deref(), c.default.as_deref()) {
+            let m = param.default.clone().unwrap_or("none".into());
+            out.push(what(
+                "default",
+                m,
+                c.default.clone().unwrap_or("none".into()),
+            ));
+        }
+        if param.choices != c.choices {
+            out.push(what(
+                "choices",
+                param.choices.join(" "),
+                c.choices.join(" "),
+            ));
+        }
+    }
+    for c in &code.params {
+        if manifest.param(&c.name).is_none() {
+            out.push(format!(
+                "the code declares the parameter `{}`, the manifest does not",
+                c.name
+            ));
+        }
+    }
+    out
+}
+
+fn opt(x: Option<f64>) -> String {
+    x.map_or(String::new(), |v| v.to_string())
+}
+
+/// `Pose2D` in a manifest means its own library's type: the code says it qualified.
+fn same_type(manifest: &str, code: &str) -> bool {
+    manifest == code
+        || code
+            .rsplit_once('.')
+            .is_some_and(|(_, bare)| bare == manifest)
+}
+
+fn same_unit(manifest: Option<&Unit>, code: Option<&str>) -> bool {
+    match (manifest, code.map(parse_unit)) {
+        (None, None) => true,
+        (Some(m), Some(Ok(c))) => relate(m, &c) == UnitRelation::Same,
+        _ => false,
+    }
+}
+
+/// Defaults compare as numbers where both are numbers (`0.5` = `.5`), else as text.
+fn same_default(manifest: Option<&str>, code: Option<&str>) -> bool {
+    match (manifest, code) {
+        (Some(m), Some(c)) => match (m.trim().parse::<f64>(), c.trim().parse::<f64>()) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => m.trim() == c.trim(),
+        },
+        (m, c) => m == c,
+    }
+}
