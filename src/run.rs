@@ -76,20 +76,18 @@ pub fn run(args: RunArgs) -> ExitCode {
     let Some(app) = result.app.as_ref() else {
         return ExitCode::from(1);
     };
-    let plan = match plan::plan(app, &result.libraries, &cmdline) {
-        Ok(p) => p,
-        Err(problems) => {
-            for p in problems {
-                eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);
-            }
-            return ExitCode::from(1);
-        }
-    };
+    let (plan, unsupported) = plan::plan(app, &result.libraries, &cmdline);
+    for p in &unsupported {
+        eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);
+    }
     let registry = registry();
-    if let Err(lines) = interfaces_agree(&plan, &registry, &result.libraries, &result.sources) {
+    let agree = interfaces_agree(&plan, &registry, &result.libraries, &result.sources);
+    if let Err(lines) = &agree {
         for line in lines {
             eprintln!("{line}");
         }
+    }
+    if !unsupported.is_empty() || agree.is_err() {
         return ExitCode::from(1);
     }
     let app = match build(&plan, &registry, args.cycles) {
@@ -149,7 +147,7 @@ fn interfaces_agree(
         let differences = crate::interface::differences(manifest, &code);
         if !differences.is_empty() {
             lines.push(format!(
-                "{}: error[L105]: the Rust type `{}` does not implement the interface its manifest declares for `{}`:\n{}\n  \
+                "{}: error: the Rust type `{}` does not implement the interface its manifest declares for `{}`:\n{}\n  \
                  help: change the Rust type or the manifest so they agree; `ferroc types export` writes the manifest the code implies",
                 at(sources, manifest.span),
                 code.rust,

@@ -170,3 +170,94 @@ fn schedule_orders_sense_before_control() {
     ]);
     assert_eq!(code, 1, "{err}");
 }
+
+#[test]
+fn run_executes_the_demo_for_a_number_of_cycles() {
+    let (code, stdout, stderr) = ferroc(&["run", "models/crash_course.xml", "--cycles", "30"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("stopped (cycle limit reached)"), "{stderr}");
+    assert!(stderr.contains("fragile_bot/main: 30 cycles, "), "{stderr}");
+    assert!(
+        stderr.contains("fragile_bot/main/simulation/display: 30 cycles, "),
+        "{stderr}"
+    );
+    // The visualisation reports the first robot driving forward.
+    assert!(
+        stdout.contains("[ferroc crash course] robot 1: x="),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn run_refuses_a_rust_type_that_disagrees_with_its_manifest() {
+    let dir = tempdir("run_mismatch");
+    std::fs::create_dir_all(dir.join("models/etc")).unwrap();
+    std::fs::create_dir_all(dir.join("components")).unwrap();
+    for f in ["models/crash_course.xml", "models/etc/crash_course.xml"] {
+        std::fs::copy(f, dir.join(f)).unwrap();
+    }
+    let manifest = std::fs::read_to_string("components/crash_course.lib.xml").unwrap();
+    let changed = manifest.replace(
+        r#"<param name="standard_deviation" type="f64" unit="m" min="0" max="1""#,
+        r#"<param name="standard_deviation" type="f64" unit="m" min="0" max="2""#,
+    );
+    assert_ne!(manifest, changed);
+    std::fs::write(dir.join("components/crash_course.lib.xml"), changed).unwrap();
+    let model = dir.join("models/crash_course.xml");
+    let (code, _, stderr) = ferroc(&["run", model.to_str().unwrap(), "--cycles", "1"]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains(
+            "does not implement the interface its manifest declares for `crash_course.AddNoise`"
+        ),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains(
+            "parameter `standard_deviation`: the manifest says range `0..2`, the code `0..1`"
+        ),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("crash_course.lib.xml:"),
+        "points at the manifest: {stderr}"
+    );
+}
+
+#[test]
+fn run_refuses_types_not_built_in_and_models_with_errors() {
+    let (code, _, stderr) = ferroc(&["run", "models/rescue_robot.xml", "--cycles", "1"]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("is not built into this ferroc binary"),
+        "{stderr}"
+    );
+    let (code, _, stderr) = ferroc(&["run", "models/crash_course.xml", "--for", "soon"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("is not a duration"), "{stderr}");
+    let (code, _, stderr) = ferroc(&["run", "models/crash_course.xml", "--param", "oops"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("write NAME=VALUE"), "{stderr}");
+}
+
+#[test]
+fn run_stops_cleanly_on_sigterm() {
+    let child = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+        .args(["run", "models/crash_course.xml"])
+        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until it runs (the first report line), then ask it to stop.
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let status = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(stderr.contains("stopped (interrupted)"), "{stderr}");
+}

@@ -68,11 +68,12 @@ pub struct Unsupported {
 
 /// Builds the plan of a model that checked without errors. `cmdline` holds values
 /// given at start-up (`--param name=value`) for parameters declared `cmdline=`.
+/// The plan is complete only when the list of unsupported things is empty.
 pub fn plan(
     app: &Application,
     libs: &LibrarySet,
     cmdline: &[(String, String)],
-) -> Result<Plan, Vec<Unsupported>> {
+) -> (Plan, Vec<Unsupported>) {
     let mut problems = Vec::new();
     let mut plan = Plan::default();
     let mut paths = vec![String::new(); app.elements.len()];
@@ -199,9 +200,5 @@ pub fn plan(
                 .collect(),
         });
     }
-    if problems.is_empty() {
-        Ok(plan)
-    } else {
-        Err(problems)
-    }
+    (plan, problems)
 }
