@@ -90,6 +90,12 @@ pub fn run(args: RunArgs) -> ExitCode {
     if !unsupported.is_empty() || agree.is_err() {
         return ExitCode::from(1);
     }
+    // Before any thread starts, so that a signal never finds the default handler.
+    let interrupted = Arc::new(AtomicBool::new(false));
+    let flag = interrupted.clone();
+    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
+        eprintln!("warning: Ctrl-C will not stop cleanly: {e}");
+    }
     let app = match build(&plan, &registry, args.cycles) {
         Ok(app) => app,
         Err(e) => {
@@ -100,11 +106,8 @@ pub fn run(args: RunArgs) -> ExitCode {
     for w in app.warnings() {
         eprintln!("warning: {w}");
     }
-    supervise(
-        app,
-        args.duration,
-        !args.quiet && std::io::stderr().is_terminal(),
-    )
+    let status = !args.quiet && std::io::stderr().is_terminal();
+    supervise(app, &interrupted, args.duration, status)
 }
 
 fn at(sources: &SourceMap, span: Span) -> String {
@@ -248,12 +251,12 @@ pub fn build(
 
 /// Runs until the cycle limit, `--for`, Ctrl-C or SIGTERM; shows a status line on a
 /// terminal; reports panics. Exit code 1 if a module panicked.
-fn supervise(mut app: RunningApp, duration: Option<Duration>, status: bool) -> ExitCode {
-    let interrupted = Arc::new(AtomicBool::new(false));
-    let flag = interrupted.clone();
-    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
-        eprintln!("warning: Ctrl-C will not stop cleanly: {e}");
-    }
+fn supervise(
+    mut app: RunningApp,
+    interrupted: &AtomicBool,
+    duration: Option<Duration>,
+    status: bool,
+) -> ExitCode {
     ferroc_runtime::console::set_status_line_active(status);
     let started = Instant::now();
     let mut last_draw = Instant::now() - Duration::from_secs(1);

@@ -242,17 +242,23 @@ fn run_refuses_types_not_built_in_and_models_with_errors() {
 
 #[test]
 fn run_stops_cleanly_on_sigterm() {
-    let child = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+    use std::io::BufRead;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ferroc"))
         .args(["run", "models/crash_course.xml"])
         .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")))
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    // Wait until it runs (the first report line), then ask it to stop.
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    let status = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
+    // Wait until it runs (the first report line), then ask it to stop. `sh`'s built-in
+    // kill: a minimal machine may have no kill binary.
+    let mut first = String::new();
+    std::io::BufReader::new(child.stdout.as_mut().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    assert!(first.contains("robot 1"), "{first}");
+    let status = Command::new("sh")
+        .args(["-c", &format!("kill -TERM {}", child.id())])
         .status()
         .unwrap();
     assert!(status.success());
