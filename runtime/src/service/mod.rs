@@ -72,6 +72,7 @@
 //! Where to read on: `reply.rs` (the one-shot answer slot, and why a request can never
 //! be left unanswered), `server.rs` (queue, execution, panics, drop), `client.rs`
 //! (calls, and connecting without losing a request to a concurrent disconnect).
+//! `docs/runtime-services.md` shows a whole module pair.
 
 mod client;
 mod reply;
@@ -191,3 +192,8 @@ pub fn disconnect<Req: Send + 'static, Resp: Send + 'static>(
 #[cfg(test)]
 mod tests;
 
+/// Compiles and runs the Rust examples of `docs/runtime-services.md`, so that the
+/// module writers' guide cannot drift from the API.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/runtime-services.md")]
+struct RuntimeServicesGuide;
