@@ -1,7 +1,7 @@
 //! ferroc's runtime: what a checked application model runs on.
 //!
 //! This crate grows with the runtime issue (modules, thread containers, parts, iB2C,
-//! introspection). Today it holds the data-port core and thread containers:
+//! introspection). Today it holds the data-port core, services and thread containers:
 //!
 //! * [`container`] — one OS thread per thread container, executing the compiler's static
 //!   step order periodically (absolute deadlines, overrun counting) or when data
@@ -9,9 +9,13 @@
 //! * [`port`] — output and input ports, buffer pools, n:m connections, input queues,
 //!   data-triggered wakeups. Publishing is lock-free and zero-copy; connections change
 //!   at run time without blocking publishers.
+//! * [`service`] — request/response ports: a service executed by the serving module's
+//!   thread container (or inline by its callers), blocking and asynchronous clients
+//!   with optional timeouts; every failure is an error value, never a hang.
 //!
 //! The crate does not depend on the compiler. Its concurrency is verified with loom
-//! (`RUSTFLAGS="--cfg loom" cargo test -p ferroc-runtime --release --test loom_ports`)
+//! (`RUSTFLAGS="--cfg loom" cargo test -p ferroc-runtime --release --test loom_ports
+//! --test loom_services`)
 //! and Miri (`cargo +nightly miri test -p ferroc-runtime --lib`); `runtime/verify.sh`
 //! runs both.
 
@@ -22,4 +26,5 @@ pub mod console;
 pub mod container;
 pub mod module;
 pub mod port;
+pub mod service;
 mod sync;

@@ -1,21 +1,22 @@
 //! The one place that names the synchronisation primitives.
 //!
-//! Every atomic, `Arc`, `Mutex` and `Condvar` of the port core comes from here, so the
-//! same code runs on `std` in normal builds and on [loom]'s model-checked versions when
-//! compiled with `RUSTFLAGS="--cfg loom"` (see `tests/loom_ports.rs`). Only the types the
-//! core needs are re-exported; anything else would escape the model checker.
+//! Every atomic, `Arc`, `Mutex` and `Condvar` of the port core and of services comes
+//! from here, so the same code runs on `std` in normal builds and on [loom]'s
+//! model-checked versions when compiled with `RUSTFLAGS="--cfg loom"` (see
+//! `tests/loom_ports.rs` and `tests/loom_services.rs`). Only the types the core needs
+//! are re-exported; anything else would escape the model checker.
 //!
 //! [loom]: https://docs.rs/loom
 
 #[cfg(not(loom))]
 pub(crate) use std::sync::{
-    atomic::{fence, AtomicPtr, AtomicU64, AtomicUsize, Ordering},
+    atomic::{fence, AtomicBool, AtomicPtr, AtomicU64, AtomicUsize, Ordering},
     Arc, Condvar, Mutex, MutexGuard,
 };
 
 #[cfg(loom)]
 pub(crate) use loom::sync::{
-    atomic::{fence, AtomicPtr, AtomicU64, AtomicUsize, Ordering},
+    atomic::{fence, AtomicBool, AtomicPtr, AtomicU64, AtomicUsize, Ordering},
     Arc, Condvar, Mutex, MutexGuard,
 };
 
