@@ -10,6 +10,7 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod graph;
 mod schedule;
 
 /// mimalloc: checking a large model makes millions of small allocations, and glibc's
@@ -51,6 +52,18 @@ path) and the edges where loops were broken. This is the order `ferroc run` exec
 Example:\n  ferroc schedule models/crash_course.xml"
     )]
     Schedule(schedule::ScheduleArgs),
+    /// Draw the application as a graph (behaviour networks the iB2C way): DOT or SVG
+    #[command(
+        long_about = "Draw the application as a Graphviz graph: modules grouped by part and group, \
+behaviours as boxes with their meta inputs on top (s stimulation, i0.. inhibition, ch k fusion \
+channels) and meta outputs below (a activity, derived activities, r target rating). \
+Stimulation edges are green arrows, inhibition edges red bars, activities and target ratings \
+into a fusion blue dashed, data grey. Edges run module to module through group ports.\n\n\
+`--format svg` needs Graphviz `dot` on PATH.\n\n\
+Examples:\n  ferroc graph models/warehouse_fleet.xml > fleet.dot\n  \
+ferroc graph models/warehouse_fleet.xml --format svg -o fleet.svg"
+    )]
+    Graph(graph::GraphArgs),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -117,6 +130,7 @@ fn main() -> ExitCode {
     match cli.command {
         Command::Check(args) => check(args),
         Command::Schedule(args) => schedule::run(args),
+        Command::Graph(args) => graph::run(args),
         Command::Explain { code, list } => explain(code, list),
     }
 }
