@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 mod checked;
+mod graph;
 mod interface;
 mod run;
 mod schedule;
@@ -66,6 +67,18 @@ Examples:\n  ferroc run models/crash_course.xml\n  ferroc run models/crash_cours
 ferroc run models/crash_course.xml --cycles 100 --param front-noise=5cm"
     )]
     Run(run::RunArgs),
+    /// Draw the application as a graph (behaviour networks the iB2C way): DOT or SVG
+    #[command(
+        long_about = "Draw the application as a Graphviz graph: modules grouped by part and group, \
+behaviours as boxes with their meta inputs on top (s stimulation, i0.. inhibition, ch k fusion \
+channels) and meta outputs below (a activity, derived activities, r target rating). \
+Stimulation edges are green arrows, inhibition edges red bars, activities and target ratings \
+into a fusion blue dashed, data grey. Edges run module to module through group ports.\n\n\
+`--format svg` needs Graphviz `dot` on PATH.\n\n\
+Examples:\n  ferroc graph models/warehouse_fleet.xml > fleet.dot\n  \
+ferroc graph models/warehouse_fleet.xml --format svg -o fleet.svg"
+    )]
+    Graph(graph::GraphArgs),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -133,6 +146,7 @@ fn main() -> ExitCode {
         Command::Check(args) => check(args),
         Command::Schedule(args) => schedule::run(args),
         Command::Run(args) => run::run(args),
+        Command::Graph(args) => graph::run(args),
         Command::Explain { code, list } => explain(code, list),
     }
 }

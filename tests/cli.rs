@@ -267,3 +267,70 @@ fn run_stops_cleanly_on_sigterm() {
     assert_eq!(out.status.code(), Some(0), "{stderr}");
     assert!(stderr.contains("stopped (interrupted)"), "{stderr}");
 }
+
+const NETWORK: &str = "compiler/tests/behaviour_acceptance/clean.xml";
+
+#[test]
+fn graph_draws_stimulation_and_inhibition_apart_from_data() {
+    let (code, out, err) = ferroc(&["graph", NETWORK]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("digraph \"delivery_robot\" {"), "{out}");
+    let edges: Vec<&str> = out.lines().filter(|l| l.contains(" -> ")).collect();
+    let count = |style: &str| edges.iter().filter(|l| l.contains(style)).count();
+    // Stimulation: operator → navigation's fusion, low_battery → dock (through group ports).
+    assert_eq!(count("arrowhead=normal"), 2, "{out}");
+    // Inhibition: mutual (2), emergency (2), dock → navigation's fusion (1).
+    assert_eq!(count("arrowhead=tee"), 5, "{out}");
+    // Activity and target rating into fusion channels: 3 + 2 channels, two edges each.
+    assert_eq!(count("style=dashed"), 10, "{out}");
+    // Inhibitions enter a behaviour's inhibition field from above, leaving an activity.
+    assert!(
+        edges
+            .iter()
+            .any(|l| l.contains(":a:s -> ") && l.contains(":i0:n [color=\"#c62828\"")),
+        "{out}"
+    );
+    assert!(out.contains("label=\"navigation (iB2C group)\""), "{out}");
+    assert!(out.contains("<i0> i0|<i1> i1}|go_to_goal"), "{out}");
+}
+
+#[test]
+fn graph_svg_needs_graphviz_and_says_so() {
+    // Without `dot` on PATH: a clear error, exit 2.
+    let empty = tempdir("no_graphviz");
+    let out = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+        .args(["graph", NETWORK, "--format", "svg"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("PATH", &empty)
+        .output()
+        .expect("ferroc runs");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("Graphviz `dot` is not on PATH"), "{err}");
+    assert!(out.stdout.is_empty());
+    // With Graphviz installed, an SVG (skipped where it is not).
+    let has_dot = std::env::var_os("PATH")
+        .is_some_and(|p| std::env::split_paths(&p).any(|d| d.join("dot").is_file()));
+    if has_dot {
+        let svg = tempdir("graphviz").join("net.svg");
+        let (code, _, err) = ferroc(&[
+            "graph",
+            NETWORK,
+            "--format",
+            "svg",
+            "-o",
+            svg.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(
+            text.contains("<svg") && text.contains("go_to_goal"),
+            "{text}"
+        );
+    }
+}
+
+#[test]
+fn graph_of_a_missing_model_exits_2() {
+    assert_eq!(ferroc(&["graph", "no/such/model.xml"]).0, 2);
+}

@@ -45,6 +45,9 @@ pub struct ModuleInstance {
     pub params: Vec<ParamValue>,
     /// `<bind lock resource>`: lock slot → application resource (span of `resource`).
     pub binds: Vec<(String, String, Span)>,
+    /// `characteristic="true"` (span of the value): this behaviour is the characteristic
+    /// behaviour of its nearest enclosing group, which makes that group an iB2C group.
+    pub characteristic: Option<Span>,
 }
 
 /// Where a parameter's value comes from.
@@ -366,6 +369,31 @@ impl Application {
                 .next()
                 .is_some()
         })
+    }
+
+    /// The nearest group above an element (threads between them do not count), if any.
+    pub fn enclosing_group(&self, id: ElementId) -> Option<ElementId> {
+        let mut cur = self.element(id).parent;
+        while let Some(c) = cur {
+            match self.element(c).kind {
+                ElementKind::Group => return Some(c),
+                ElementKind::Thread { .. } => cur = self.element(c).parent,
+                _ => return None,
+            }
+        }
+        None
+    }
+
+    /// Whether `ancestor` is `id` or one of its ancestors.
+    pub fn contains(&self, ancestor: ElementId, id: ElementId) -> bool {
+        let mut cur = Some(id);
+        while let Some(c) = cur {
+            if c == ancestor {
+                return true;
+            }
+            cur = self.element(c).parent;
+        }
+        false
     }
 
     pub fn modules(&self) -> impl Iterator<Item = (ElementId, &ModuleInstance)> {

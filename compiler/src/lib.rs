@@ -7,6 +7,7 @@ pub mod checks;
 pub mod deadlock;
 pub mod diagnostic;
 pub mod finroc;
+pub mod graph;
 pub mod ir;
 pub mod library;
 pub mod load;

@@ -17,6 +17,7 @@ use crate::ir::{Application, Connection, PortView};
 use crate::library::LibrarySet;
 use crate::source::SourceMap;
 
+pub mod behaviour;
 pub mod connections;
 pub mod deadlocks;
 pub mod deployment;
@@ -129,6 +130,16 @@ registry![
     parameters::p105_wrong_unit_dimension,
     parameters::p106_config_entry_missing,
     parameters::p107_duplicate_parameter,
+    behaviour::b101_meta_constant_out_of_range,
+    behaviour::b102_meta_input_from_number,
+    behaviour::b103_never_stimulated,
+    behaviour::b104_stimulation_ignored,
+    behaviour::b105_inhibition_sources,
+    behaviour::b106_self_inhibition,
+    behaviour::b107_stimulation_loop,
+    behaviour::b108_incomplete_fusion_channel,
+    behaviour::b109_mixed_fusion_channel,
+    behaviour::b110_characteristic_behaviours,
     libraries::l101_unknown_library,
     libraries::l102_invalid_manifest,
     libraries::l103_dependency_cycle,

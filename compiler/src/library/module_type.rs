@@ -536,6 +536,11 @@ pub fn check_value(
                     ));
                     return None;
                 }
+                if matches!(decl.ty, Type::Meta(_)) && !(0.0..=1.0).contains(&n) {
+                    use crate::checks::behaviour::b101_meta_constant_out_of_range as b101;
+                    diags.push(b101::report(decl, text, n, span, context));
+                    return None;
+                }
             }
             Some(value)
         }

@@ -50,6 +50,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                     ))
                 })
                 .collect(),
+            characteristic: self.characteristic(scope, e, mt),
         };
         self.flexible_ports(e, mt, &mut instance, visible);
         if mt.is_behaviour() {
@@ -103,6 +104,63 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             }
         }
         self.add_element(scope, e, ElementKind::Module(instance), inst);
+    }
+
+    /// `characteristic="true"`: valid on a behaviour (or fusion) inside a group.
+    fn characteristic(
+        &mut self,
+        scope: ElementId,
+        e: &Element,
+        mt: &crate::library::ModuleType,
+    ) -> Option<Span> {
+        let attr = e.attr("characteristic")?;
+        if attr.value != "true" {
+            return None;
+        }
+        let why = if !mt.is_behaviour() {
+            Some((
+                format!(
+                    "`{}` is not a behaviour, so it cannot characterise a group",
+                    mt.qualified
+                ),
+                "a group's characteristic module is a kind=\"behaviour\" or kind=\"fusion\" module; remove the attribute",
+            ))
+        } else {
+            // The nearest group above, skipping thread containers.
+            let mut cur = Some(scope);
+            let mut in_group = false;
+            while let Some(c) = cur {
+                match self.app.element(c).kind {
+                    ElementKind::Group => {
+                        in_group = true;
+                        break;
+                    }
+                    ElementKind::Thread { .. } => cur = self.app.element(c).parent,
+                    _ => break,
+                }
+            }
+            (!in_group).then(|| {
+                (
+                    "a characteristic behaviour outside any group characterises nothing".to_string(),
+                    "move the behaviour into the <group> it should characterise, or remove the attribute",
+                )
+            })
+        };
+        match why {
+            None => Some(attr.value_span),
+            Some((message, help)) => {
+                self.loader.diags.push(
+                    Diagnostic::new(
+                        &m108_invalid_attribute_value::CHECK,
+                        attr.value_span,
+                        message,
+                    )
+                    .label("characteristic=\"true\" here")
+                    .help(help),
+                );
+                None
+            }
+        }
     }
 
     fn find_module_type(

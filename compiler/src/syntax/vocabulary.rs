@@ -176,7 +176,12 @@ pub static ELEMENTS: &[ElementSpec] = &[
     ElementSpec {
         key: "module",
         tag: "module",
-        attrs: &[req("name", Ident), req("type", Text), opt("budget", Text)],
+        attrs: &[
+            req("name", Ident),
+            req("type", Text),
+            opt("budget", Text),
+            opt("characteristic", Bool),
+        ],
         children: &["param", "module-port", "bind", "allow"],
         text: false,
     },

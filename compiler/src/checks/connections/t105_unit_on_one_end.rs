@@ -27,6 +27,11 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         if !from.ty.is_numeric() || !to.ty.is_numeric() {
             continue;
         }
+        // iB2C meta inputs are dimensionless by definition: a number with a unit feeding
+        // one is B102's finding (it needs a converter), not a unit to declare.
+        if to.role == crate::library::PortRole::Meta {
+            continue;
+        }
         let a = super::source_unit(ctx, c, from);
         let (unitless, with) = match (a, to.unit) {
             (Some(u), None) => ((c.to_span, &to), (c.from_span, u)),

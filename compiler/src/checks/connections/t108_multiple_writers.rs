@@ -19,7 +19,8 @@ Bad:
     <connect from=\"robot/main/joystick/speed\" to=\"robot/main/motor/speed\"/>
     <connect from=\"robot/main/planner/speed\" to=\"robot/main/motor/speed\"/>
 
-Fix: add an arbitration module (e.g. `ferroc_std.FlexiSelect`) or make the input a queue.",
+Fix: add an arbitration module (e.g. `ferroc_std.FlexiSelect`) or make the input a queue.
+(Several sources into an iB2C inhibition port are reported as B105 instead.)",
     pass: Some(run),
     fixtures: "connections/t108_multiple_writers",
 };
@@ -36,6 +37,10 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             continue;
         };
         if view.merge {
+            continue;
+        }
+        // Several sources into a behaviour's inhibition port are an error of their own (B105).
+        if view.role == crate::library::PortRole::Meta && view.name.starts_with("inhibition/") {
             continue;
         }
         let mut writers: Vec<_> = graph
