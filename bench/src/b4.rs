@@ -118,7 +118,9 @@ impl Variant {
 /// Latency percentiles of one variant, in nanoseconds.
 struct Summary {
     n: usize,
+    p25: u64,
     p50: u64,
+    p75: u64,
     p99: u64,
     p999: u64,
     max: u64,
@@ -133,7 +135,9 @@ impl Summary {
         let rank = |p: f64| v[((p * n as f64).ceil() as usize).clamp(1, n) - 1];
         Summary {
             n,
+            p25: rank(0.25),
             p50: rank(0.50),
+            p75: rank(0.75),
             p99: rank(0.99),
             p999: rank(0.999),
             max: v[n - 1],
@@ -212,10 +216,12 @@ pub fn run(args: &[String]) -> u8 {
     let sums: Vec<Summary> = samples.into_iter().map(Summary::of).collect();
     for (v, s) in VARIANTS.iter().zip(&sums) {
         println!(
-            "b4 {}  p50 {:6.2} µs  p99 {:7.2} µs  p99.9 {:8.2} µs  max {:9.2} µs  mean {:6.2} µs  \
-             n={}",
+            "b4 {}  p25 {:6.2}  p50 {:6.2}  p75 {:6.2}  p99 {:7.2}  p99.9 {:8.2}  max {:9.2}  \
+             mean {:6.2} µs  n={}",
             v.label(),
+            us(s.p25),
             us(s.p50),
+            us(s.p75),
             us(s.p99),
             us(s.p999),
             us(s.max),
