@@ -5,25 +5,43 @@
 //! Arguments are parsed by hand: there are only a few, and the bench stays light.
 
 mod b1;
+mod b3;
+mod b4;
 mod generate;
 mod measure;
+mod options;
 
 use std::process::ExitCode;
 
 const HELP: &str = "\
 ferroc-bench: ferroc's benchmarks (design: benchmarks.md)
 
-Usage: cargo run --release -p ferroc-bench -- <ID>
+Usage: cargo run --release -p ferroc-bench -- <ID> [OPTIONS]
        cargo run --release -p ferroc-bench -- gen <N> [FILE]
 
 IDs:
   b1    checker scale: `ferroc check` vs `xmllint --noout` on generated models of
         1,000 / 10,000 / 100,000 modules (wall time, ratio, peak RSS, growth)
   b2    control loop            (not implemented yet)
-  b3    image fan-out           (not implemented yet)
-  b4    latency                 (not implemented yet)
+  b3    image fan-out: a periodic producer publishes 1920x1080 RGB24 frames at 50 fps
+        (memcpy into a pooled port buffer) to 1 / 7 / 15 data-triggered consumer
+        containers: fps seen, CPU % of the process, peak RSS, each run in a child
+        process; baseline: the memcpy alone, no ports; diagnostics: 15 containers
+        (and 15 plain threads) woken without ports
+          --seconds S     measured seconds per configuration (default 5)
+          --rounds R      runs per configuration, interleaved (default 2; each
+                          run adds 0.5 s warm-up; 6 configurations)
+  b4    latency in one process: 64-byte messages, publish -> a data-triggered
+        container sees them; p50/p99/max against std::sync::mpsc, with the copy
+        ports, the container without ports and plain threads (Wakeup wait with and
+        without time limit, park/unpark) to split the wakeup into its parts;
+        variants interleaved in rounds
+          --messages N    recorded messages per variant (default 100000)
+          --gap-us G      pause after each message was seen (default 20)
+          --rounds R      rounds the messages are split into (default 20)
+          --pin           publisher on CPU 0, receivers on CPU 1
   b5    bundle                  (not implemented yet)
-  all   every implemented benchmark (b1)
+  all   every implemented benchmark (b1, b3, b4) with default options
   gen   write the B1 model with N modules to FILE (default: standard output),
         e.g. to profile the checker on it
 
@@ -35,12 +53,7 @@ Each benchmark ends with one line `RESULT <id> key=value ...`.
 Exit codes: 0 done, 1 a benchmark failed, 2 usage error or not implemented.";
 
 /// Benchmarks that exist in the design but not here yet, with what they measure.
-const PLANNED: [(&str, &str); 4] = [
-    ("b2", "B2 control loop"),
-    ("b3", "B3 image fan-out"),
-    ("b4", "B4 latency"),
-    ("b5", "B5 bundle"),
-];
+const PLANNED: [(&str, &str); 2] = [("b2", "B2 control loop"), ("b5", "B5 bundle")];
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -53,8 +66,12 @@ fn main() -> ExitCode {
             println!("{HELP}");
             ExitCode::SUCCESS
         }
-        "b1" | "all" => ExitCode::from(b1::run()),
+        "b1" => no_options("b1", &args[1..]).unwrap_or_else(|| ExitCode::from(b1::run())),
+        "b3" => ExitCode::from(b3::run(&args[1..])),
+        "b4" => ExitCode::from(b4::run(&args[1..])),
+        "all" => no_options("all", &args[1..]).unwrap_or_else(all),
         "gen" => gen(&args[1..]),
+        b3::CHILD_ARG => ExitCode::from(b3::child(&args[1..])),
         other => match PLANNED.iter().find(|(k, _)| *k == other) {
             Some((_, what)) => {
                 eprintln!("{other}: not implemented yet: see issue \"{what}\" (benchmarks.md)");
@@ -66,6 +83,19 @@ fn main() -> ExitCode {
             }
         },
     }
+}
+
+/// Every implemented benchmark in turn; the exit code of the first that failed.
+fn all() -> ExitCode {
+    let codes = [b1::run(), b3::run(&[]), b4::run(&[])];
+    ExitCode::from(codes.into_iter().find(|&c| c != 0).unwrap_or(0))
+}
+
+/// `Some(exit 2)` with a message when a benchmark without options got some.
+fn no_options(id: &str, rest: &[String]) -> Option<ExitCode> {
+    let first = rest.first()?;
+    eprintln!("{id} takes no options (got `{first}`); see --help");
+    Some(ExitCode::from(2))
 }
 
 /// `gen N [FILE]`: the B1 model, for profiling the checker by hand.

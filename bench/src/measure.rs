@@ -26,6 +26,27 @@ pub fn run_once(cmd: &mut Command, log: &Path) -> std::io::Result<Run> {
     cmd.stdin(Stdio::null()).stdout(out).stderr(err);
     let start = Instant::now();
     let child = cmd.spawn()?;
+    reap(child, start)
+}
+
+/// Runs `cmd` once with its standard output captured (stderr goes to ours), and reaps
+/// it with `wait4`: the run and everything the child printed on stdout.
+pub fn run_capture(cmd: &mut Command) -> std::io::Result<(Run, String)> {
+    cmd.stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit());
+    let start = Instant::now();
+    let mut child = cmd.spawn()?;
+    let mut out = String::new();
+    if let Some(mut stdout) = child.stdout.take() {
+        // Read to the end (the child closes it when it exits), then reap it.
+        std::io::Read::read_to_string(&mut stdout, &mut out)?;
+    }
+    Ok((reap(child, start)?, out))
+}
+
+/// Waits for `child` with `wait4`, which also gives its resource usage.
+fn reap(child: std::process::Child, start: Instant) -> std::io::Result<Run> {
     let pid = child.id() as libc::pid_t;
     let mut status: libc::c_int = 0;
     // SAFETY: an all-zero rusage is a valid value of this plain C struct.
@@ -52,6 +73,18 @@ pub fn run_once(cmd: &mut Command, log: &Path) -> std::io::Result<Run> {
         code,
         peak_rss,
     })
+}
+
+/// CPU time (user + system) this process has used so far, over all its threads.
+pub fn process_cpu_time() -> Duration {
+    // SAFETY: an all-zero rusage is a valid value of this plain C struct.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: RUSAGE_SELF with a pointer valid for writes; cannot fail on Linux.
+    unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut usage) };
+    let tv = |t: libc::timeval| {
+        Duration::from_secs(t.tv_sec.max(0) as u64) + Duration::from_micros(t.tv_usec.max(0) as u64)
+    };
+    tv(usage.ru_utime) + tv(usage.ru_stime)
 }
 
 /// Best (shortest) wall time and highest peak RSS over up to `max_runs` runs; stops

@@ -1,0 +1,650 @@
+//! B3 — image fan-out (FINROC's Table 2): one producer, 1 / 7 / 15 consumers.
+//!
+//! The producer is a periodic thread container (20 ms, so 50 fps) whose step fills a
+//! buffer of its output port with a memcpy of a 1920×1080 RGB24 source frame
+//! (6,220,800 bytes) and publishes it. Every consumer is a data-triggered thread
+//! container of its own with one latest-value input connected to that output; its step
+//! takes the frame (a [`PortRef`](ferroc_runtime::port::PortRef): zero-copy, the same
+//! buffer for every consumer), reads one byte of it, counts it, and drops the reference
+//! at once so the buffer can go back to the pool.
+//!
+//! Pool size: the port's pool grows only when every buffer is held at a publish. Each
+//! latest-value input keeps the newest frame (one buffer, shared by all inputs), and a
+//! consumer holds it only for the microseconds of its step, so the producer always
+//! finds the previous frame's buffer free: 2 buffers in steady state, whatever the
+//! consumer count (reported as `buffers`). The port's initial value is a third, never
+//! written `vec![0; N]` whose pages are never touched, so it is not resident.
+//!
+//! Each configuration runs in a child process of this benchmark (the same executable,
+//! re-run with a hidden argument), so that its peak RSS (`ru_maxrss` from `wait4`) is
+//! its own and not the maximum over everything measured before. The child measures a
+//! window after 0.5 s of warm-up: frames each consumer saw (rate between the first and
+//! the last frame in the window; sequence gaps are `missed`), and the CPU time of the
+//! whole process (`getrusage(RUSAGE_SELF)`, user + system) over the window's wall time,
+//! 100 % = one core busy. `--seconds` per configuration are split into `--rounds` child
+//! runs, interleaved over the configurations so that a noisy moment of a shared machine
+//! does not land on one configuration alone; rates and CPU are averaged over the
+//! measured time, peak RSS is the highest.
+//!
+//! Baseline, in the same run: the same periodic container and memcpy into a plain
+//! `Vec<u8>`, no ports, no consumers. Two diagnostics split the cost of a consumer: the
+//! baseline plus 15 data-triggered containers woken through their [`Wakeup`] without
+//! ports or images, and the baseline plus 15 plain threads woken with
+//! `Thread::unpark`, without the runtime.
+
+use crate::measure::{self, process_cpu_time};
+use crate::options::Options;
+use ferroc_runtime::container::{RunningContainer, Step, ThreadContainer, ThreadOptions, Trigger};
+use ferroc_runtime::port::{
+    connect, ConnectOptions, InputPort, Notifier, Notify, OutputPort, Wakeup,
+};
+use std::collections::HashMap;
+use std::process::Command;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// 1920 × 1080 pixels × 3 bytes (RGB24).
+pub const FRAME_BYTES: usize = 1920 * 1080 * 3;
+/// 50 fps.
+const PERIOD: Duration = Duration::from_millis(20);
+/// Consumer counts measured; the last one is the RESULT line.
+const CONSUMERS: [usize; 3] = [1, 7, LAST];
+const LAST: usize = 15;
+/// Not measured: threads start, pages of the buffers are touched for the first time.
+const WARM_UP: Duration = Duration::from_millis(500);
+/// The hidden first argument that makes this executable a B3 configuration.
+pub const CHILD_ARG: &str = "__b3-child";
+const DEFAULT_SECONDS: f64 = 5.0;
+const DEFAULT_ROUNDS: u32 = 2;
+
+/// A published image: the frame number (to spot dropped frames) and the pixels.
+#[derive(Default)]
+struct Image {
+    seq: u64,
+    data: Vec<u8>,
+}
+
+/// What one configuration reported (one `B3CHILD key=value ...` line), or several
+/// runs of it merged.
+#[derive(Clone, Copy)]
+struct Figures {
+    mode: Mode,
+    /// Measured wall time.
+    window_s: f64,
+    fps_mean: f64,
+    fps_min: f64,
+    missed: u64,
+    producer_fps: f64,
+    overruns: u64,
+    cpu_pct: f64,
+    buffers: u64,
+    rss_mib: f64,
+}
+
+impl Figures {
+    /// Both runs as one: rates and CPU weighted by measured time, extremes kept.
+    fn merge(self, o: Figures) -> Figures {
+        let w = self.window_s + o.window_s;
+        let avg = |a: f64, b: f64| (a * self.window_s + b * o.window_s) / w;
+        Figures {
+            mode: self.mode,
+            window_s: w,
+            fps_mean: avg(self.fps_mean, o.fps_mean),
+            fps_min: self.fps_min.min(o.fps_min),
+            missed: self.missed + o.missed,
+            producer_fps: avg(self.producer_fps, o.producer_fps),
+            overruns: self.overruns + o.overruns,
+            cpu_pct: avg(self.cpu_pct, o.cpu_pct),
+            buffers: self.buffers.max(o.buffers),
+            rss_mib: self.rss_mib.max(o.rss_mib),
+        }
+    }
+}
+
+/// Runs B3 and prints its lines. Returns the process exit code.
+pub fn run(args: &[String]) -> u8 {
+    let parsed = Options::parse("b3", args, &["seconds", "rounds"], &[]).and_then(|o| {
+        Ok((
+            o.number("seconds", DEFAULT_SECONDS, 0.2, 600.0)?,
+            o.number("rounds", DEFAULT_ROUNDS, 1, 100)?,
+        ))
+    });
+    let (seconds, rounds) = match parsed {
+        Ok((s, r)) if s / f64::from(r) >= 0.2 => (s, r),
+        Ok((s, r)) => {
+            eprintln!("b3: --seconds {s} over --rounds {r} leaves less than 0.2 s per run");
+            return 2;
+        }
+        Err(e) => {
+            eprintln!("{e}");
+            return 2;
+        }
+    };
+    if cfg!(debug_assertions) {
+        println!(
+            "b3: warning: not a release build; figures are meaningless (use cargo run --release)"
+        );
+    }
+    let window = seconds / f64::from(rounds);
+    println!(
+        "b3: 1920x1080 RGB24 frames ({FRAME_BYTES} bytes) at 50 fps; {seconds} s measured per \
+         configuration in {rounds} rounds (one child process each: {:.1} s warm-up + {window:.2} \
+         s); {}",
+        WARM_UP.as_secs_f64(),
+        load_note()
+    );
+    let modes: Vec<Mode> = std::iter::once(Mode::Baseline)
+        .chain(CONSUMERS.map(Mode::Ports))
+        .chain([Mode::Wakeups(LAST), Mode::Threads(LAST)])
+        .collect();
+    let mut merged: Vec<Option<Figures>> = vec![None; modes.len()];
+    for round in 0..rounds as usize {
+        let mut line = format!("b3 round {}: cpu %", round + 1);
+        // Rotate the order, so that no configuration always runs first or last.
+        for k in 0..modes.len() {
+            let i = (round + k) % modes.len();
+            match configuration(modes[i], window) {
+                Ok(f) => {
+                    line += &format!("  {} {:.2}", modes[i].arg(), f.cpu_pct);
+                    merged[i] = Some(merged[i].map_or(f, |m| m.merge(f)));
+                }
+                Err(e) => {
+                    eprintln!("b3: {e}");
+                    return 1;
+                }
+            }
+        }
+        println!("{line}; {}", load_note());
+    }
+    let rows: Vec<Figures> = merged.into_iter().flatten().collect();
+    for f in &rows {
+        print_row(f);
+    }
+    let [base, one, _, last, wakeups, threads] = &rows[..] else {
+        unreachable!("six configurations")
+    };
+    let ratio_1 = last.cpu_pct / one.cpu_pct;
+    let ratio_base = last.cpu_pct / base.cpu_pct;
+    // CPU time per consumer and frame, in µs: what each further consumer costs.
+    let per_frame_us = |extra_pct: f64, consumers: usize| {
+        extra_pct / 100.0 / (consumers as f64 * 1e3 / PERIOD.as_millis() as f64) * 1e6
+    };
+    println!(
+        "b3: CPU per consumer and frame: {:.1} µs with ports ({LAST} vs 1 consumer); over the \
+         baseline, {:.1} µs for a container woken without ports, {:.1} µs for a plain thread \
+         unparked without the runtime",
+        per_frame_us(last.cpu_pct - one.cpu_pct, LAST - 1),
+        per_frame_us(wakeups.cpu_pct - base.cpu_pct, LAST),
+        per_frame_us(threads.cpu_pct - base.cpu_pct, LAST),
+    );
+    println!(
+        "b3: at {LAST} consumers: fps {:.1} (target 50.0), CPU {ratio_1:.2}x of 1 consumer \
+         (target <= 1.2x), {ratio_base:.2}x of the baseline (target <= 1.5x), peak RSS {:.1} MiB \
+         (target <= 32 MiB); {}",
+        last.fps_mean,
+        last.rss_mib,
+        load_note()
+    );
+    println!(
+        "RESULT b3 consumers={LAST} fps={:.2} cpu_pct={:.2} cpu_ratio_vs_1={ratio_1:.2} \
+         rss_mib={:.1} baseline_cpu_pct={:.2} cpu_ratio_vs_baseline={ratio_base:.2} \
+         fps_min={:.2} missed={} buffers={} cpu_pct_1={:.2} baseline_rss_mib={:.1} \
+         wakeups_only_cpu_pct={:.2} threads_only_cpu_pct={:.2}",
+        last.fps_mean,
+        last.cpu_pct,
+        last.rss_mib,
+        base.cpu_pct,
+        last.fps_min,
+        last.missed,
+        last.buffers,
+        one.cpu_pct,
+        base.rss_mib,
+        wakeups.cpu_pct,
+        threads.cpu_pct,
+    );
+    0
+}
+
+fn print_row(f: &Figures) {
+    match f.mode {
+        Mode::Baseline => println!(
+            "b3 baseline: memcpy into a Vec, no ports      producer {:5.2} fps  cpu {:5.2} %  \
+             peak RSS {:5.1} MiB  overruns {}",
+            f.producer_fps, f.cpu_pct, f.rss_mib, f.overruns
+        ),
+        Mode::Ports(n) => println!(
+            "b3 consumers={n:>2}  fps mean {:5.2} min {:5.2}  missed {}  producer {:5.2} fps  \
+             cpu {:5.2} %  peak RSS {:5.1} MiB  pool {} buffers  overruns {}",
+            f.fps_mean,
+            f.fps_min,
+            f.missed,
+            f.producer_fps,
+            f.cpu_pct,
+            f.rss_mib,
+            f.buffers,
+            f.overruns
+        ),
+        Mode::Wakeups(n) => println!(
+            "b3 diagnostic: baseline + {n} containers woken, no ports  fps mean {:5.2}  \
+             missed {}  cpu {:5.2} %  peak RSS {:5.1} MiB",
+            f.fps_mean, f.missed, f.cpu_pct, f.rss_mib
+        ),
+        Mode::Threads(n) => println!(
+            "b3 diagnostic: baseline + {n} plain threads unparked, no runtime  fps mean {:5.2}  \
+             missed {}  cpu {:5.2} %  peak RSS {:5.1} MiB",
+            f.fps_mean, f.missed, f.cpu_pct, f.rss_mib
+        ),
+    }
+}
+
+/// The load average and core count, so a reader can judge the figures.
+pub fn load_note() -> String {
+    let load = std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().map(str::to_string))
+        .unwrap_or_else(|| "?".into());
+    // Online CPUs of the machine (not this thread's affinity, which b4 --pin narrows).
+    // SAFETY: sysconf only reads a system setting.
+    let cores = unsafe { libc::sysconf(libc::_SC_NPROCESSORS_ONLN) };
+    format!("load average {load} on {cores} cores")
+}
+
+/// Runs one configuration in a child process and reads its report.
+fn configuration(mode: Mode, seconds: f64) -> Result<Figures, String> {
+    let exe = std::env::current_exe().map_err(|e| format!("cannot find own executable: {e}"))?;
+    let mut cmd = Command::new(&exe);
+    cmd.arg(CHILD_ARG).arg(mode.arg()).arg(seconds.to_string());
+    let (run, out) =
+        measure::run_capture(&mut cmd).map_err(|e| format!("cannot run {}: {e}", exe.display()))?;
+    if run.code != Some(0) {
+        return Err(format!(
+            "configuration {} failed (exit {:?}); output:\n{out}",
+            mode.arg(),
+            run.code
+        ));
+    }
+    let line = out
+        .lines()
+        .find_map(|l| l.strip_prefix("B3CHILD "))
+        .ok_or_else(|| format!("configuration {} printed no report:\n{out}", mode.arg()))?;
+    let kv: HashMap<&str, &str> = line
+        .split_whitespace()
+        .filter_map(|p| p.split_once('='))
+        .collect();
+    let num = |k: &str| -> Result<f64, String> {
+        kv.get(k)
+            .and_then(|v| v.parse::<f64>().ok())
+            .ok_or_else(|| format!("report without `{k}`: {line}"))
+    };
+    Ok(Figures {
+        mode,
+        window_s: num("window_s")?,
+        fps_mean: num("fps_mean")?,
+        fps_min: num("fps_min")?,
+        missed: num("missed")? as u64,
+        producer_fps: num("producer_fps")?,
+        overruns: num("overruns")? as u64,
+        cpu_pct: num("cpu_pct")?,
+        buffers: num("buffers")? as u64,
+        rss_mib: run.peak_rss as f64 / (1024.0 * 1024.0),
+    })
+}
+
+/// Frames one consumer saw inside the measurement window; written by its container's
+/// thread once per frame, read after the thread ended.
+#[derive(Default)]
+struct Seen {
+    frames: u64,
+    first_ns: u64,
+    last_ns: u64,
+    missed: u64,
+    last_seq: u64,
+    /// Sum of the bytes read, so the read cannot be optimised away.
+    checksum: u64,
+}
+
+/// The measurement window, in nanoseconds since `epoch` (both `u64::MAX` until set).
+struct Window {
+    epoch: Instant,
+    start: AtomicU64,
+    end: AtomicU64,
+}
+
+impl Window {
+    fn now(&self) -> u64 {
+        self.epoch.elapsed().as_nanos() as u64
+    }
+    fn contains(&self, t: u64) -> bool {
+        t >= self.start.load(Ordering::Relaxed) && t < self.end.load(Ordering::Relaxed)
+    }
+}
+
+/// What a configuration runs besides the producer's memcpy.
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Mode {
+    /// The memcpy into a plain `Vec`, nothing else (the baseline).
+    Baseline,
+    /// The memcpy into a pooled port buffer, published to this many consumers.
+    Ports(usize),
+    /// Diagnostic: the baseline's memcpy, then the producer notifies this many
+    /// data-triggered containers itself (no ports, no image): what waking the
+    /// consumers' threads costs by itself.
+    Wakeups(usize),
+    /// Diagnostic: like `Wakeups`, but plain std threads woken with `Thread::unpark`
+    /// (one futex call each), no runtime at all: the operating system's share.
+    Threads(usize),
+}
+
+impl Mode {
+    fn arg(self) -> String {
+        match self {
+            Mode::Baseline => "baseline".into(),
+            Mode::Ports(n) => format!("ports:{n}"),
+            Mode::Wakeups(n) => format!("wakeups:{n}"),
+            Mode::Threads(n) => format!("threads:{n}"),
+        }
+    }
+
+    fn parse(text: &str) -> Option<Mode> {
+        if text == "baseline" {
+            return Some(Mode::Baseline);
+        }
+        let (kind, n) = text.split_once(':')?;
+        let n = n.parse::<usize>().ok().filter(|n| (1..=1000).contains(n))?;
+        match kind {
+            "ports" => Some(Mode::Ports(n)),
+            "wakeups" => Some(Mode::Wakeups(n)),
+            "threads" => Some(Mode::Threads(n)),
+            _ => None,
+        }
+    }
+
+    fn consumers(self) -> usize {
+        match self {
+            Mode::Baseline => 0,
+            Mode::Ports(n) | Mode::Wakeups(n) | Mode::Threads(n) => n,
+        }
+    }
+}
+
+/// The child process: `__b3-child MODE SECONDS`. Prints one `B3CHILD` line.
+pub fn child(args: &[String]) -> u8 {
+    let parsed = (
+        args.first().and_then(|a| Mode::parse(a)),
+        args.get(1)
+            .and_then(|a| a.parse::<f64>().ok())
+            .filter(|s| (0.0..=3600.0).contains(s)),
+    );
+    let (Some(mode), Some(seconds)) = parsed else {
+        eprintln!(
+            "{CHILD_ARG}: internal use by `b3`: {CHILD_ARG} baseline|ports:N|wakeups:N|threads:N \
+             SECONDS"
+        );
+        return 2;
+    };
+    match measure_child(mode, Duration::from_secs_f64(seconds)) {
+        Ok(line) => {
+            println!("B3CHILD {line}");
+            0
+        }
+        Err(e) => {
+            eprintln!("{CHILD_ARG}: {e}");
+            1
+        }
+    }
+}
+
+fn source_frame() -> Vec<u8> {
+    (0..FRAME_BYTES).map(|i| (i % 251) as u8).collect()
+}
+
+fn measure_child(mode: Mode, window_len: Duration) -> Result<String, String> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let window = Arc::new(Window {
+        epoch: Instant::now(),
+        start: AtomicU64::new(u64::MAX),
+        end: AtomicU64::new(u64::MAX),
+    });
+    let source = source_frame();
+
+    // The producer's step and the consumers.
+    let mut consumers: Vec<RunningContainer> = Vec::new();
+    let mut seen: Vec<Arc<Mutex<Seen>>> = Vec::new();
+    let mut threads: Vec<std::thread::JoinHandle<()>> = Vec::new();
+    let mut port: Option<Arc<OutputPort<Image>>> = None;
+    let mut add_consumer = |i: usize, wakeup: Arc<Wakeup>, read: Reader| -> Result<(), String> {
+        let (running, s) = consumer(i, wakeup, read, &window, &stop)?;
+        consumers.push(running);
+        seen.push(s);
+        Ok(())
+    };
+    let produce: Step = match mode {
+        Mode::Baseline => {
+            let mut dst = vec![0u8; FRAME_BYTES];
+            Step::new("camera/producer (baseline)", move || {
+                dst.copy_from_slice(&source);
+                std::hint::black_box(&mut dst);
+            })
+        }
+        Mode::Ports(n) => {
+            let out = Arc::new(OutputPort::<Image>::with_init("camera/image", || Image {
+                seq: 0,
+                data: vec![0; FRAME_BYTES],
+            }));
+            for i in 0..n {
+                let input = InputPort::<Image>::new(format!("viewer{i}/image"));
+                connect(&*out, &input, ConnectOptions::default()).map_err(|e| e.to_string())?;
+                let wakeup = Wakeup::new();
+                let notifier: Notifier = wakeup.clone();
+                input
+                    .set_notifier(notifier)
+                    .map_err(|_| "input already has a notifier".to_string())?;
+                let read = move || {
+                    if !input.take_changed() {
+                        return None;
+                    }
+                    let img = input.get();
+                    if img.data.is_empty() {
+                        return None;
+                    }
+                    // One byte, somewhere else in every frame: a real read of the
+                    // shared buffer. `img` is dropped on return, so the buffer can go
+                    // back to the pool at once.
+                    let byte = img.data[(img.seq as usize).wrapping_mul(4099) % img.data.len()];
+                    Some((img.seq, byte))
+                };
+                add_consumer(i, wakeup, Box::new(read))?;
+            }
+            port = Some(Arc::clone(&out));
+            let mut seq = 0u64;
+            Step::new("camera/producer (update)", move || {
+                seq += 1;
+                out.publish_with(|img| {
+                    // Reused buffers already have the capacity: this is one memcpy.
+                    img.data.clear();
+                    img.data.extend_from_slice(&source);
+                    img.seq = seq;
+                });
+            })
+        }
+        Mode::Wakeups(n) => {
+            let frame = Arc::new(AtomicU64::new(0));
+            let mut wakeups = Vec::new();
+            for i in 0..n {
+                let wakeup = Wakeup::new();
+                wakeups.push(Arc::clone(&wakeup));
+                let (frame, mut last) = (Arc::clone(&frame), 0);
+                let read = move || {
+                    let seq = frame.load(Ordering::Acquire);
+                    (seq != last).then(|| {
+                        last = seq;
+                        (seq, 0)
+                    })
+                };
+                add_consumer(i, wakeup, Box::new(read))?;
+            }
+            let mut dst = vec![0u8; FRAME_BYTES];
+            Step::new("camera/producer (wakeups)", move || {
+                dst.copy_from_slice(&source);
+                std::hint::black_box(&mut dst);
+                frame.fetch_add(1, Ordering::Release);
+                for w in &wakeups {
+                    w.notify();
+                }
+            })
+        }
+        Mode::Threads(n) => {
+            let frame = Arc::new(AtomicU64::new(0));
+            for _ in 0..n {
+                let (frame, stop, window) =
+                    (Arc::clone(&frame), Arc::clone(&stop), Arc::clone(&window));
+                let s = Arc::new(Mutex::new(Seen::default()));
+                seen.push(Arc::clone(&s));
+                let thread = std::thread::Builder::new()
+                    .name("viewer".into())
+                    .spawn(move || {
+                        let mut last = 0;
+                        while !stop.load(Ordering::Relaxed) {
+                            std::thread::park();
+                            let seq = frame.load(Ordering::Acquire);
+                            if seq != last {
+                                last = seq;
+                                count(&s, &window, seq, 0);
+                            }
+                        }
+                    })
+                    .map_err(|e| format!("cannot start a thread: {e}"))?;
+                threads.push(thread);
+            }
+            let unpark: Vec<std::thread::Thread> =
+                threads.iter().map(|t| t.thread().clone()).collect();
+            let mut dst = vec![0u8; FRAME_BYTES];
+            Step::new("camera/producer (threads)", move || {
+                dst.copy_from_slice(&source);
+                std::hint::black_box(&mut dst);
+                frame.fetch_add(1, Ordering::Release);
+                for t in &unpark {
+                    t.unpark();
+                }
+            })
+        }
+    };
+    // A second step counts the producer's cycles the way consumers count frames.
+    let produced = Arc::new(Mutex::new(Seen::default()));
+    let tick = {
+        let (p, w, mut n) = (Arc::clone(&produced), Arc::clone(&window), 0);
+        Step::new("camera/tick", move || {
+            n += 1;
+            count(&p, &w, n, 0);
+        })
+    };
+    let producer = ThreadContainer::new("camera", Trigger::Periodic(PERIOD), vec![produce, tick])
+        .spawn(ThreadOptions::default(), Arc::clone(&stop), None)
+        .map_err(|e| format!("cannot start a thread container: {e}"))?;
+
+    std::thread::sleep(WARM_UP);
+    let overruns0 = producer.stats.overruns();
+    let cpu0 = process_cpu_time();
+    let t0 = Instant::now();
+    window.start.store(window.now(), Ordering::Relaxed);
+    std::thread::sleep(window_len);
+    window.end.store(window.now(), Ordering::Relaxed);
+    let cpu = process_cpu_time().saturating_sub(cpu0);
+    let wall = t0.elapsed();
+    let overruns = producer.stats.overruns() - overruns0;
+
+    stop.store(true, Ordering::SeqCst);
+    producer.join();
+    for c in &consumers {
+        c.nudge();
+    }
+    for c in consumers {
+        c.join();
+    }
+    for t in &threads {
+        t.thread().unpark();
+    }
+    for t in threads {
+        let _ = t.join();
+    }
+
+    let wall_s = wall.as_secs_f64();
+    // Frames per second between the first and the last frame seen in the window (not
+    // frames / window, which is off by up to one frame in 50 × window).
+    let rate = |s: &Seen| {
+        if s.frames >= 2 {
+            (s.frames - 1) as f64 * 1e9 / (s.last_ns - s.first_ns) as f64
+        } else {
+            s.frames as f64 / wall_s
+        }
+    };
+    let mut fps: Vec<f64> = Vec::new();
+    let mut missed = 0;
+    for s in &seen {
+        let s = s.lock().unwrap_or_else(|e| e.into_inner());
+        missed += s.missed;
+        fps.push(rate(&s));
+        std::hint::black_box(s.checksum);
+    }
+    let producer_fps = rate(&produced.lock().unwrap_or_else(|e| e.into_inner()));
+    let (fps_mean, fps_min) = if fps.is_empty() {
+        (0.0, 0.0)
+    } else {
+        (
+            fps.iter().sum::<f64>() / fps.len() as f64,
+            fps.iter().copied().fold(f64::INFINITY, f64::min),
+        )
+    };
+    let buffers = port.as_ref().map_or(0, |p| p.stats().buffers);
+    Ok(format!(
+        "consumers={} fps_mean={fps_mean:.3} fps_min={fps_min:.3} missed={missed} \
+         producer_fps={producer_fps:.3} overruns={overruns} cpu_pct={:.3} buffers={buffers} \
+         window_s={wall_s:.3}",
+        mode.consumers(),
+        cpu.as_secs_f64() / wall_s * 100.0,
+    ))
+}
+
+/// Counts frame `seq` if it arrived inside the measurement window.
+fn count(seen: &Mutex<Seen>, window: &Window, seq: u64, byte: u8) {
+    let now = window.now();
+    let mut s = seen.lock().unwrap_or_else(|e| e.into_inner());
+    if window.contains(now) {
+        if s.frames == 0 {
+            s.first_ns = now;
+        } else {
+            s.missed += seq.saturating_sub(s.last_seq + 1);
+        }
+        s.frames += 1;
+        s.last_ns = now;
+    }
+    s.last_seq = seq;
+    s.checksum = s.checksum.wrapping_add(u64::from(byte));
+}
+
+/// A consumer's read of new data: `(frame number, one byte of it)`, or `None` when
+/// nothing new arrived.
+type Reader = Box<dyn FnMut() -> Option<(u64, u8)> + Send>;
+
+/// Consumer `i`: a data-triggered container woken by `wakeup`, whose one step calls
+/// `read` and counts the frames inside the measurement window.
+fn consumer(
+    i: usize,
+    wakeup: Arc<Wakeup>,
+    mut read: Reader,
+    window: &Arc<Window>,
+    stop: &Arc<AtomicBool>,
+) -> Result<(RunningContainer, Arc<Mutex<Seen>>), String> {
+    let seen = Arc::new(Mutex::new(Seen::default()));
+    let (s, w) = (Arc::clone(&seen), Arc::clone(window));
+    let step = Step::new(format!("viewer{i}/count (update)"), move || {
+        if let Some((seq, byte)) = read() {
+            count(&s, &w, seq, byte);
+        }
+    });
+    let running = ThreadContainer::new(format!("viewer{i}"), Trigger::Data(wakeup), vec![step])
+        .spawn(ThreadOptions::default(), Arc::clone(stop), None)
+        .map_err(|e| format!("cannot start a thread container: {e}"))?;
+    Ok((running, seen))
+}

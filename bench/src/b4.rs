@@ -1,0 +1,646 @@
+//! B4 — latency in one process: publish → a data-triggered module in another thread
+//! container sees it.
+//!
+//! A 64-byte message carries its publish time (nanoseconds of [`Instant`] since one
+//! epoch shared by the process). The publisher (this benchmark's main thread) stamps
+//! the message as the last thing before publishing it; the receiver is the one step of
+//! a data-triggered thread container, woken through the runtime's [`Wakeup`] registered
+//! on its input, and computes `now - stamp` right after reading the value.
+//!
+//! Pacing: the publisher sends the next message only after the receiver has recorded
+//! the previous one (it spins on an atomic "seen" counter, yielding after a while), and
+//! then spins a further `--gap-us` (default 20 µs) so that the receiver is back asleep.
+//! Messages therefore never coalesce in the latest-value input, and every latency
+//! includes the wakeup of a sleeping thread, as for sporadic sensor data.
+//!
+//! Measured in the same run, interleaved in `--rounds` rounds so that a noisy moment of
+//! the machine hits every variant alike:
+//!
+//! * `ports`: [`OutputPort<Msg>`] → [`InputPort<Msg>`] (zero-copy buffer ports), the
+//!   RESULT line;
+//! * `copy ports`: [`CopyOutputPort<Msg>`] → [`CopyInputPort<Msg>`] (seqlock copies);
+//! * `container`: the same data-triggered container without ports: the stamp goes
+//!   through two atomics and the publisher notifies the container's [`Wakeup`] itself;
+//! * `mpsc`: the baseline, `std::sync::mpsc::channel` and a plain thread blocked in
+//!   `recv()`;
+//! * diagnostics, plain threads without a container, to tell the parts of a container
+//!   wakeup apart: `Wakeup::wait_timeout(50 ms)` (what the container's loop calls),
+//!   `Wakeup::wait()` (no time limit; `Wakeup::notify` signals its condition variable
+//!   while holding the mutex), a std `Mutex<bool>` + `Condvar` like `Wakeup` but
+//!   signalled after the mutex is released, and `thread::park` / `Thread::unpark` (one
+//!   futex, no mutex or condition variable).
+//!
+//! `--pin` pins the publisher to CPU 0 and every receiver to CPU 1, which removes the
+//! scheduler's choice of where to wake the receiver.
+//!
+//! Each run of a variant starts fresh threads and discards its first messages as
+//! warm-up (thread start, first page touches, pool growth).
+
+use crate::b3::load_note;
+use crate::options::Options;
+use ferroc_runtime::container::{Step, ThreadContainer, ThreadOptions, Trigger};
+use ferroc_runtime::port::{
+    connect, ConnectOptions, CopyInputPort, CopyOutputPort, InputPort, NoUninit, Notifier, Notify,
+    OutputPort, Wakeup,
+};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{mpsc, Arc, Condvar, Mutex, OnceLock};
+use std::time::{Duration, Instant};
+
+const DEFAULT_MESSAGES: u64 = 100_000;
+const DEFAULT_GAP_US: u64 = 20;
+const DEFAULT_ROUNDS: u64 = 20;
+/// Messages at the start of every run that are not recorded.
+const WARM_UP: u64 = 200;
+/// A message not seen within this time ends the benchmark with an error.
+const LOST_AFTER: Duration = Duration::from_secs(5);
+
+/// The 64-byte message: publish time, sequence number, payload.
+#[repr(C)]
+#[derive(Clone, Copy, Default, Debug)]
+pub struct Msg {
+    stamp_ns: u64,
+    seq: u64,
+    payload: [u64; 6],
+}
+
+// SAFETY: `repr(C)`, eight `u64` fields in a row: no padding, no uninitialised bytes.
+unsafe impl NoUninit for Msg {}
+
+const _: () = assert!(std::mem::size_of::<Msg>() == 64);
+
+/// Nanoseconds since the process-wide epoch (monotonic).
+fn now_ns() -> u64 {
+    static EPOCH: OnceLock<Instant> = OnceLock::new();
+    EPOCH.get_or_init(Instant::now).elapsed().as_nanos() as u64
+}
+
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Variant {
+    Ports,
+    CopyPorts,
+    Container,
+    Mpsc,
+    WaitTimeout,
+    Wait,
+    CondvarUnlocked,
+    Park,
+}
+
+const VARIANTS: [Variant; 8] = [
+    Variant::Ports,
+    Variant::CopyPorts,
+    Variant::Container,
+    Variant::Mpsc,
+    Variant::WaitTimeout,
+    Variant::Wait,
+    Variant::CondvarUnlocked,
+    Variant::Park,
+];
+
+impl Variant {
+    fn label(self) -> &'static str {
+        match self {
+            Variant::Ports => "ports         OutputPort -> InputPort, data-triggered container",
+            Variant::CopyPorts => "copy ports    CopyOutputPort -> CopyInputPort, container    ",
+            Variant::Container => "container     Wakeup::notify -> container, no ports         ",
+            Variant::Mpsc => "mpsc          std::sync::mpsc -> thread blocked in recv()   ",
+            Variant::WaitTimeout => "diagnostic    thread in Wakeup::wait_timeout(50 ms)         ",
+            Variant::Wait => "diagnostic    thread in Wakeup::wait()                      ",
+            Variant::CondvarUnlocked => {
+                "diagnostic    thread in Condvar::wait, notified after unlock"
+            }
+            Variant::Park => "diagnostic    thread in thread::park(), Thread::unpark      ",
+        }
+    }
+}
+
+/// Latency percentiles of one variant, in nanoseconds.
+struct Summary {
+    n: usize,
+    p25: u64,
+    p50: u64,
+    p75: u64,
+    p99: u64,
+    p999: u64,
+    max: u64,
+    mean: f64,
+}
+
+impl Summary {
+    fn of(mut v: Vec<u64>) -> Summary {
+        v.sort_unstable();
+        let n = v.len();
+        // Nearest rank: the smallest value with at least p of the samples at or below it.
+        let rank = |p: f64| v[((p * n as f64).ceil() as usize).clamp(1, n) - 1];
+        Summary {
+            n,
+            p25: rank(0.25),
+            p50: rank(0.50),
+            p75: rank(0.75),
+            p99: rank(0.99),
+            p999: rank(0.999),
+            max: v[n - 1],
+            mean: v.iter().sum::<u64>() as f64 / n as f64,
+        }
+    }
+}
+
+fn us(ns: u64) -> f64 {
+    ns as f64 / 1000.0
+}
+
+/// Runs B4 and prints its lines. Returns the process exit code.
+pub fn run(args: &[String]) -> u8 {
+    let parsed =
+        Options::parse("b4", args, &["messages", "gap-us", "rounds"], &["pin"]).and_then(|o| {
+            Ok((
+                o.number("messages", DEFAULT_MESSAGES, 1, 100_000_000)?,
+                o.number("gap-us", DEFAULT_GAP_US, 0, 1_000_000)?,
+                o.number("rounds", DEFAULT_ROUNDS, 1, 1000)?,
+                o.flag("pin"),
+            ))
+        });
+    let (messages, gap_us, rounds, pin) = match parsed {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("{e}");
+            return 2;
+        }
+    };
+    if cfg!(debug_assertions) {
+        println!(
+            "b4: warning: not a release build; figures are meaningless (use cargo run --release)"
+        );
+    }
+    let rounds = rounds.min(messages);
+    let per_round = messages.div_ceil(rounds);
+    let total = per_round * rounds;
+    println!(
+        "b4: {total} messages of {} bytes per variant ({rounds} rounds of {per_round}, +{WARM_UP} \
+         warm-up each), next message {gap_us} µs after the previous was seen, {}; {}",
+        std::mem::size_of::<Msg>(),
+        if pin {
+            "publisher pinned to CPU 0, receivers to CPU 1"
+        } else {
+            "threads not pinned"
+        },
+        load_note()
+    );
+    if total < DEFAULT_MESSAGES {
+        println!("b4: note: fewer than the 100,000 messages benchmarks.md asks for");
+    }
+    let placement = match Placement::new(pin) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("b4: --pin: {e}");
+            return 1;
+        }
+    };
+    let gap = Duration::from_micros(gap_us);
+    let mut samples: Vec<Vec<u64>> = VARIANTS.iter().map(|_| Vec::new()).collect();
+    for round in 0..rounds as usize {
+        // Rotate the order so no variant always runs first or last in a round.
+        for k in 0..VARIANTS.len() {
+            let idx = (round + k) % VARIANTS.len();
+            match run_variant(VARIANTS[idx], per_round, gap, placement.receiver) {
+                Ok(mut lat) => samples[idx].append(&mut lat),
+                Err(e) => {
+                    eprintln!("b4: {:?}: {e}", VARIANTS[idx]);
+                    return 1;
+                }
+            }
+        }
+    }
+    drop(placement);
+    let sums: Vec<Summary> = samples.into_iter().map(Summary::of).collect();
+    for (v, s) in VARIANTS.iter().zip(&sums) {
+        println!(
+            "b4 {}  p25 {:6.2}  p50 {:6.2}  p75 {:6.2}  p99 {:7.2}  p99.9 {:8.2}  max {:9.2}  \
+             mean {:6.2} µs  n={}",
+            v.label(),
+            us(s.p25),
+            us(s.p50),
+            us(s.p75),
+            us(s.p99),
+            us(s.p999),
+            us(s.max),
+            s.mean / 1000.0,
+            s.n
+        );
+    }
+    let [ports, copy, container, chan, wait_timeout, wait, unlocked, park] = &sums[..] else {
+        unreachable!("eight variants")
+    };
+    let ratio = ports.p50 as f64 / chan.p50 as f64;
+    println!(
+        "b4: ports p50 {:.2} µs (target <= 5), p99 {:.2} µs (target <= 50); p50 {ratio:.2}x of \
+         mpsc; p50 parts: ports {:+.2} µs over the bare container, container loop {:+.2} µs over \
+         a thread in wait_timeout, time limit {:+.2} µs over wait(), signalling under the mutex \
+         {:+.2} µs over after it, mutex + condition variable {:+.2} µs over park; {}",
+        us(ports.p50),
+        us(ports.p99),
+        us(ports.p50) - us(container.p50),
+        us(container.p50) - us(wait_timeout.p50),
+        us(wait_timeout.p50) - us(wait.p50),
+        us(wait.p50) - us(unlocked.p50),
+        us(unlocked.p50) - us(park.p50),
+        load_note()
+    );
+    println!(
+        "RESULT b4 p50_us={:.2} p99_us={:.2} max_us={:.2} messages={} scope=process \
+         mpsc_p50_us={:.2} mpsc_p99_us={:.2} mpsc_max_us={:.2} ratio_p50_vs_mpsc={ratio:.2} \
+         copy_p50_us={:.2} copy_p99_us={:.2} container_p50_us={:.2} container_p99_us={:.2} \
+         wait_timeout_p50_us={:.2} wait_p50_us={:.2} condvar_unlocked_p50_us={:.2} \
+         park_p50_us={:.2} park_p99_us={:.2} \
+         gap_us={gap_us} pinned={pin}",
+        us(ports.p50),
+        us(ports.p99),
+        us(ports.max),
+        ports.n,
+        us(chan.p50),
+        us(chan.p99),
+        us(chan.max),
+        us(copy.p50),
+        us(copy.p99),
+        us(container.p50),
+        us(container.p99),
+        us(wait_timeout.p50),
+        us(wait.p50),
+        us(unlocked.p50),
+        us(park.p50),
+        us(park.p99),
+    );
+    0
+}
+
+/// `--pin`: the publisher (this thread) on CPU 0 while B4 runs, receivers on CPU 1.
+/// Dropping it gives this thread its former CPU set back.
+struct Placement {
+    /// The CPU for receivers.
+    receiver: Option<usize>,
+    saved: Option<libc::cpu_set_t>,
+}
+
+impl Placement {
+    fn new(pin: bool) -> Result<Placement, String> {
+        if !pin {
+            return Ok(Placement {
+                receiver: None,
+                saved: None,
+            });
+        }
+        // SAFETY: an all-zero cpu_set_t is the empty set; the call writes at most its
+        // size into it, for the calling thread.
+        let saved = unsafe {
+            let mut set: libc::cpu_set_t = std::mem::zeroed();
+            let size = std::mem::size_of::<libc::cpu_set_t>();
+            (libc::sched_getaffinity(0, size, &mut set) == 0).then_some(set)
+        };
+        let usable = |cpu: usize| {
+            // SAFETY: CPU_ISSET reads the set; both CPUs are below CPU_SETSIZE.
+            saved
+                .as_ref()
+                .is_none_or(|set| unsafe { libc::CPU_ISSET(cpu, set) })
+        };
+        if !usable(0) || !usable(1) {
+            return Err("needs CPUs 0 and 1, and this process may not use both".into());
+        }
+        pin_current(0)?;
+        Ok(Placement {
+            receiver: Some(1),
+            saved,
+        })
+    }
+}
+
+impl Drop for Placement {
+    fn drop(&mut self) {
+        if let Some(set) = &self.saved {
+            // SAFETY: a CPU set read by sched_getaffinity, for the calling thread.
+            unsafe { libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), set) };
+        }
+    }
+}
+
+/// Pins the calling thread to `cpu`.
+fn pin_current(cpu: usize) -> Result<(), String> {
+    if cpu >= libc::CPU_SETSIZE as usize {
+        return Err(format!("no CPU {cpu}"));
+    }
+    // SAFETY: an all-zero cpu_set_t is the empty set; CPU_SET is bounds-checked above;
+    // the call affects only the calling thread.
+    let rc = unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        libc::CPU_SET(cpu, &mut set);
+        libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set)
+    };
+    if rc == 0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "pinning to CPU {cpu}: {}",
+            std::io::Error::last_os_error()
+        ))
+    }
+}
+
+/// What the receiver side shares with the publisher.
+struct Shared {
+    /// Sequence number of the last message the receiver recorded.
+    seen: AtomicU64,
+    /// Latency of message `seq` at `seq - 1` (`u64::MAX` until recorded).
+    latency: Vec<AtomicU64>,
+}
+
+impl Shared {
+    fn new(n: u64) -> Arc<Self> {
+        Arc::new(Shared {
+            seen: AtomicU64::new(0),
+            latency: (0..n).map(|_| AtomicU64::new(u64::MAX)).collect(),
+        })
+    }
+
+    /// The receiver's part, right after it read `msg`.
+    fn record(&self, stamp_ns: u64, seq: u64) {
+        let latency = now_ns().saturating_sub(stamp_ns);
+        if let Some(slot) = seq
+            .checked_sub(1)
+            .and_then(|i| self.latency.get(i as usize))
+        {
+            slot.store(latency, Ordering::Relaxed);
+        }
+        self.seen.store(seq, Ordering::Release);
+    }
+
+    /// The publisher's pacing: wait until `seq` was recorded, then `gap` more.
+    fn wait_seen(&self, seq: u64, gap: Duration) -> Result<(), String> {
+        let started = Instant::now();
+        let mut spins = 0u32;
+        while self.seen.load(Ordering::Acquire) < seq {
+            spins = spins.saturating_add(1);
+            if spins < 20_000 {
+                std::hint::spin_loop();
+            } else {
+                std::thread::yield_now();
+                if started.elapsed() > LOST_AFTER {
+                    return Err(format!(
+                        "message {seq} not seen within {} s",
+                        LOST_AFTER.as_secs()
+                    ));
+                }
+            }
+        }
+        let seen_at = Instant::now();
+        while seen_at.elapsed() < gap {
+            std::hint::spin_loop();
+        }
+        Ok(())
+    }
+
+    /// Latencies after the warm-up.
+    fn collect(&self) -> Vec<u64> {
+        self.latency
+            .iter()
+            .skip(WARM_UP as usize)
+            .map(|a| a.load(Ordering::Relaxed))
+            .collect()
+    }
+}
+
+/// Publishes `n` messages plus the warm-up with `publish(seq)`, each paced by
+/// [`Shared::wait_seen`].
+fn drive(
+    shared: &Shared,
+    n: u64,
+    gap: Duration,
+    mut publish: impl FnMut(u64),
+) -> Result<(), String> {
+    for seq in 1..=n + WARM_UP {
+        publish(seq);
+        shared.wait_seen(seq, gap)?;
+    }
+    Ok(())
+}
+
+/// Runs `receive` as the one step of a data-triggered container woken by `wakeup`
+/// (pinned to `cpu` if given), drives the publisher, then stops the container.
+fn with_container(
+    cpu: Option<usize>,
+    wakeup: Arc<Wakeup>,
+    shared: &Shared,
+    n: u64,
+    gap: Duration,
+    receive: impl FnMut() + Send + 'static,
+    publish: impl FnMut(u64),
+) -> Result<(), String> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let options = ThreadOptions {
+        cpu,
+        ..ThreadOptions::default()
+    };
+    let running = ThreadContainer::new(
+        "listener",
+        Trigger::Data(wakeup),
+        vec![Step::new("listener/receive (update)", receive)],
+    )
+    .spawn(options, Arc::clone(&stop), None)
+    .map_err(|e| format!("cannot start a thread container: {e}"))?;
+    let result = drive(shared, n, gap, publish);
+    stop.store(true, Ordering::SeqCst);
+    running.nudge();
+    running.join();
+    result
+}
+
+/// A plain receiver thread (pinned to `cpu` if given).
+fn spawn_thread(
+    cpu: Option<usize>,
+    body: impl FnOnce() + Send + 'static,
+) -> Result<std::thread::JoinHandle<()>, String> {
+    std::thread::Builder::new()
+        .name("listener".into())
+        .spawn(move || {
+            if let Some(cpu) = cpu {
+                // Checked by `Placement::new`; a refusal here only loses the pinning.
+                let _ = pin_current(cpu);
+            }
+            body()
+        })
+        .map_err(|e| format!("cannot start a thread: {e}"))
+}
+
+/// A wakeup registered as the notifier of an input (via `set`).
+fn wakeup_for(set: impl FnOnce(Notifier) -> Result<(), Notifier>) -> Result<Arc<Wakeup>, String> {
+    let wakeup = Wakeup::new();
+    set(wakeup.clone()).map_err(|_| "input already has a notifier".to_string())?;
+    Ok(wakeup)
+}
+
+/// A message passed through two atomics (stamp, then sequence number with Release),
+/// for the variants without ports.
+#[derive(Default)]
+struct Mailbox {
+    stamp: AtomicU64,
+    seq: AtomicU64,
+}
+
+impl Mailbox {
+    fn put(&self, seq: u64) {
+        self.stamp.store(now_ns(), Ordering::Relaxed);
+        self.seq.store(seq, Ordering::Release);
+    }
+
+    /// Records the message if it is new since `last`.
+    fn take(&self, last: &mut u64, shared: &Shared) {
+        let seq = self.seq.load(Ordering::Acquire);
+        if seq != *last {
+            *last = seq;
+            shared.record(self.stamp.load(Ordering::Relaxed), seq);
+        }
+    }
+}
+
+/// One run of `variant`: `n` recorded messages; returns their latencies in ns.
+fn run_variant(
+    variant: Variant,
+    n: u64,
+    gap: Duration,
+    cpu: Option<usize>,
+) -> Result<Vec<u64>, String> {
+    let shared = Shared::new(n + WARM_UP);
+    let s = Arc::clone(&shared);
+    match variant {
+        Variant::Ports => {
+            let out = OutputPort::<Msg>::new("talker/out");
+            let input = InputPort::<Msg>::new("listener/in");
+            connect(&out, &input, ConnectOptions::default()).map_err(|e| e.to_string())?;
+            let wakeup = wakeup_for(|w| input.set_notifier(w))?;
+            let receive = move || {
+                if input.take_changed() {
+                    let m = *input.get();
+                    s.record(m.stamp_ns, m.seq);
+                }
+            };
+            with_container(cpu, wakeup, &shared, n, gap, receive, |seq| {
+                out.publish_with(|m| {
+                    m.seq = seq;
+                    m.stamp_ns = now_ns();
+                })
+            })?;
+        }
+        Variant::CopyPorts => {
+            let out = CopyOutputPort::<Msg>::new("talker/out");
+            let input = CopyInputPort::<Msg>::new("listener/in");
+            connect(&out, &input, ConnectOptions::default()).map_err(|e| e.to_string())?;
+            let wakeup = wakeup_for(|w| input.set_notifier(w))?;
+            let receive = move || {
+                if input.take_changed() {
+                    let m = input.get();
+                    s.record(m.stamp_ns, m.seq);
+                }
+            };
+            with_container(cpu, wakeup, &shared, n, gap, receive, |seq| {
+                out.publish(Msg {
+                    seq,
+                    stamp_ns: now_ns(),
+                    ..Msg::default()
+                })
+            })?;
+        }
+        Variant::Container => {
+            let mailbox = Arc::new(Mailbox::default());
+            let wakeup = Wakeup::new();
+            let (mb, w) = (Arc::clone(&mailbox), Arc::clone(&wakeup));
+            let mut last = 0;
+            let receive = move || mb.take(&mut last, &s);
+            with_container(cpu, wakeup, &shared, n, gap, receive, |seq| {
+                mailbox.put(seq);
+                w.notify();
+            })?;
+        }
+        Variant::CondvarUnlocked => {
+            let mailbox = Arc::new(Mailbox::default());
+            let pair = Arc::new((Mutex::new(false), Condvar::new()));
+            let stop = Arc::new(AtomicBool::new(false));
+            let (mb, p, halt) = (Arc::clone(&mailbox), Arc::clone(&pair), Arc::clone(&stop));
+            let receiver = spawn_thread(cpu, move || {
+                let mut last = 0;
+                while !halt.load(Ordering::Relaxed) {
+                    let mut pending = p.0.lock().unwrap_or_else(|e| e.into_inner());
+                    while !*pending {
+                        pending = p.1.wait(pending).unwrap_or_else(|e| e.into_inner());
+                    }
+                    *pending = false;
+                    drop(pending);
+                    mb.take(&mut last, &s);
+                }
+            })?;
+            let notify = || {
+                *pair.0.lock().unwrap_or_else(|e| e.into_inner()) = true;
+                pair.1.notify_one();
+            };
+            let result = drive(&shared, n, gap, |seq| {
+                mailbox.put(seq);
+                notify();
+            });
+            stop.store(true, Ordering::SeqCst);
+            notify();
+            let _ = receiver.join();
+            result?;
+        }
+        Variant::WaitTimeout | Variant::Wait | Variant::Park => {
+            let mailbox = Arc::new(Mailbox::default());
+            let wakeup = Wakeup::new();
+            let stop = Arc::new(AtomicBool::new(false));
+            let (mb, w, halt) = (Arc::clone(&mailbox), Arc::clone(&wakeup), Arc::clone(&stop));
+            let receiver = spawn_thread(cpu, move || {
+                let mut last = 0;
+                while !halt.load(Ordering::Relaxed) {
+                    match variant {
+                        Variant::WaitTimeout => {
+                            w.wait_timeout(Duration::from_millis(50));
+                        }
+                        Variant::Wait => w.wait(),
+                        _ => std::thread::park(),
+                    }
+                    mb.take(&mut last, &s);
+                }
+            })?;
+            let thread = receiver.thread().clone();
+            let result = drive(&shared, n, gap, |seq| {
+                mailbox.put(seq);
+                if variant == Variant::Park {
+                    thread.unpark();
+                } else {
+                    wakeup.notify();
+                }
+            });
+            stop.store(true, Ordering::SeqCst);
+            thread.unpark();
+            wakeup.notify();
+            let _ = receiver.join();
+            result?;
+        }
+        Variant::Mpsc => {
+            let (tx, rx) = mpsc::channel::<Msg>();
+            let receiver = spawn_thread(cpu, move || {
+                while let Ok(m) = rx.recv() {
+                    s.record(m.stamp_ns, m.seq);
+                }
+            })?;
+            let result = drive(&shared, n, gap, |seq| {
+                // The receiver lives until `tx` is dropped below.
+                let _ = tx.send(Msg {
+                    seq,
+                    stamp_ns: now_ns(),
+                    ..Msg::default()
+                });
+            });
+            drop(tx);
+            let _ = receiver.join();
+            result?;
+        }
+    }
+    Ok(shared.collect())
+}
