@@ -284,13 +284,12 @@ fn supervise(
         std::thread::sleep(Duration::from_millis(20));
     };
     app.stop();
-    let stats = app.stats();
     app.join();
     ferroc_runtime::console::set_status_line_active(false);
     if status {
         eprint!("\r\x1b[K");
     }
-    let panics: Vec<String> = stats.iter().flat_map(|s| s.panics()).collect();
+    let panics = app.panics();
     for p in &panics[reported_panics.min(panics.len())..] {
         eprintln!("error: {p}");
     }
@@ -298,13 +297,13 @@ fn supervise(
         "stopped ({reason}) after {:.1} s",
         started.elapsed().as_secs_f64()
     );
-    for s in &stats {
+    for s in app.status() {
         eprintln!(
             "  {}: {} cycles, {} overruns, load {:.1} %",
-            s.name,
-            s.cycles(),
-            s.overruns(),
-            s.load() * 100.0
+            s.path,
+            s.cycles,
+            s.overruns,
+            s.load * 100.0
         );
     }
     if panics.is_empty() {

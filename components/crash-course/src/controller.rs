@@ -99,7 +99,7 @@ impl Module for Controller {
         let safety = self.safety_distance.get();
         let max_v = self.max_velocity.get();
         let max_w = self.max_angular_velocity.get();
-        let sign = if self.turn_direction.get() == "right" {
+        let sign = if self.turn_direction.value() == "right" {
             -1.0
         } else {
             1.0

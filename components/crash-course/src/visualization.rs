@@ -53,7 +53,7 @@ impl Module for Visualization {
             let at = self.last_collision.get();
             console::line(&format!(
                 "[{}] collision: robot {} destroyed at x={:+.2} m y={:+.2} m",
-                self.window_title.get(),
+                self.window_title.value(),
                 robots - 1,
                 at.x,
                 at.y
@@ -65,7 +65,7 @@ impl Module for Visualization {
             let p = self.pose.get();
             console::line(&format!(
                 "[{}] robot {robots}: x={:+.2} m y={:+.2} m heading={:>5.1}° front={:>5.1} cm rear={:>5.1} cm",
-                self.window_title.get(),
+                self.window_title.value(),
                 p.x,
                 p.y,
                 p.yaw.to_degrees(),

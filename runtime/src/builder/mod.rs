@@ -146,6 +146,9 @@ pub struct Builder<'r> {
     modules: Vec<Instance>,
     index: HashMap<String, usize>,
     threads: Vec<ThreadSpec>,
+    /// Module connections as (writer, reader, input name): a data-triggered container
+    /// must not be woken by its own modules' outputs, or it would never sleep.
+    links: Vec<(usize, usize, String)>,
 }
 
 impl<'r> Builder<'r> {
@@ -156,6 +159,7 @@ impl<'r> Builder<'r> {
             modules: Vec::new(),
             index: HashMap::new(),
             threads: Vec::new(),
+            links: Vec::new(),
         }
     }
 
@@ -223,6 +227,15 @@ impl<'r> Builder<'r> {
         )
     }
 
+    /// The handle of a module's input, to feed it from outside the model.
+    pub fn input(&self, path: &str, port: &str) -> Result<&InputHandle, BuildError> {
+        find(
+            &self.modules[self.module(path)?].inputs,
+            (path, port),
+            "input",
+        )
+    }
+
     /// Sets a parameter of a created module (before or after start: see
     /// [`RunningApp::set_parameter`]).
     pub fn set_parameter(&self, path: &str, name: &str, value: &Value) -> Result<(), BuildError> {
@@ -256,9 +269,11 @@ impl<'r> Builder<'r> {
         let input = find(&self.modules[reader].inputs, to, "input")?;
         let describe = || format!("`{}/{}` → `{}/{}`", from.0, from.1, to.0, to.1);
         if conversion.is_identity() && output.value_type() == input.value_type() {
-            return output
+            output
                 .connect(input, options)
-                .map_err(|e| BuildError::Connect(format!("{}: {e}", describe())));
+                .map_err(|e| BuildError::Connect(format!("{}: {e}", describe())))?;
+            self.links.push((writer, reader, to.1.to_owned()));
+            return Ok(());
         }
         let name = format!("{}/{} → {}/{}", from.0, from.1, to.0, to.1);
         let converter = convert::numeric(output.value_type(), input.value_type(), name, conversion)
@@ -277,6 +292,7 @@ impl<'r> Builder<'r> {
             .map_err(fail)?;
         converter.output.connect(input, options).map_err(fail)?;
         self.modules[writer].converters.push(converter.step);
+        self.links.push((writer, reader, to.1.to_owned()));
         Ok(())
     }
 
@@ -388,7 +404,10 @@ impl<'r> Builder<'r> {
                     steps.append(&mut self.modules[m].converters);
                 }
                 if spec.schedule == Schedule::Data {
-                    for (_, input) in &self.modules[m].inputs {
+                    for (name, input) in &self.modules[m].inputs {
+                        if self.fed_only_from_within(m, name) {
+                            continue;
+                        }
                         let notifier: Notifier = wakeup.clone();
                         let _ = input.set_notifier(notifier);
                     }
@@ -404,6 +423,20 @@ impl<'r> Builder<'r> {
             ));
         }
         Ok(out)
+    }
+}
+
+impl Builder<'_> {
+    /// Whether every known writer of `reader`'s input runs in the reader's own
+    /// container (an input nobody in the model feeds may be fed from outside: it wakes).
+    fn fed_only_from_within(&self, reader: usize, input: &str) -> bool {
+        let thread = self.modules[reader].thread;
+        let mut writers = self
+            .links
+            .iter()
+            .filter(|(_, r, name)| *r == reader && name == input)
+            .peekable();
+        writers.peek().is_some() && writers.all(|(w, ..)| self.modules[*w].thread == thread)
     }
 }
 

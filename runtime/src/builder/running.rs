@@ -24,6 +24,8 @@ pub struct ContainerStatus {
 /// An application whose thread containers are running.
 pub struct RunningApp {
     containers: Vec<RunningContainer>,
+    /// Kept apart from the threads so figures stay readable after [`join`](Self::join).
+    stats: Vec<Arc<ContainerStats>>,
     stop: Arc<AtomicBool>,
     params: HashMap<(String, String), ParamHandle>,
     warnings: Vec<String>,
@@ -38,6 +40,7 @@ impl RunningApp {
         let stop = Arc::new(AtomicBool::new(false));
         let mut app = RunningApp {
             containers: Vec::new(),
+            stats: Vec::new(),
             stop: stop.clone(),
             params,
             warnings: Vec::new(),
@@ -52,6 +55,7 @@ impl RunningApp {
                             .iter()
                             .map(|w| format!("thread container `{name}`: {w}")),
                     );
+                    app.stats.push(running.stats.clone());
                     app.containers.push(running);
                 }
                 Err(e) => {
@@ -71,30 +75,27 @@ impl RunningApp {
         &self.warnings
     }
 
-    /// The statistics of every container, in declaration order.
+    /// The statistics of every container, in declaration order (also after `join`).
     pub fn stats(&self) -> Vec<Arc<ContainerStats>> {
-        self.containers.iter().map(|c| c.stats.clone()).collect()
+        self.stats.clone()
     }
 
-    /// A snapshot of every container's figures.
+    /// A snapshot of every container's figures (also after `join`).
     pub fn status(&self) -> Vec<ContainerStatus> {
-        self.containers
+        self.stats
             .iter()
-            .map(|c| ContainerStatus {
-                path: c.stats.name.clone(),
-                cycles: c.stats.cycles(),
-                overruns: c.stats.overruns(),
-                load: c.stats.load(),
+            .map(|s| ContainerStatus {
+                path: s.name.clone(),
+                cycles: s.cycles(),
+                overruns: s.overruns(),
+                load: s.load(),
             })
             .collect()
     }
 
-    /// Panic reports of stopped steps, each naming the module path.
+    /// Panic reports of stopped steps, each naming the module path (also after `join`).
     pub fn panics(&self) -> Vec<String> {
-        self.containers
-            .iter()
-            .flat_map(|c| c.stats.panics())
-            .collect()
+        self.stats.iter().flat_map(|s| s.panics()).collect()
     }
 
     /// Sets a module's parameter while the application runs.

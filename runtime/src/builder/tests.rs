@@ -328,3 +328,49 @@ fn the_registry_reports_the_declared_interface() {
     assert_eq!((i.params[0].min, i.params[0].max), (Some(0.0), Some(10.0)));
     assert!(registry().interface("test.Nope").is_none());
 }
+
+#[test]
+fn a_data_triggered_container_is_not_woken_by_its_own_outputs() {
+    let registry = registry();
+    let mut b = Builder::new(&registry);
+    add(&mut b, "first", "test.Gain", &[]);
+    add(&mut b, "second", "test.Gain", &[]);
+    b.connect(
+        ("first", "output"),
+        ("second", "input"),
+        Conversion::default(),
+        ConnectOptions::default(),
+    )
+    .unwrap();
+    let source = crate::port::CopyOutputPort::<f64>::new("source");
+    source
+        .handle()
+        .connect(
+            b.input("first", "input").unwrap(),
+            ConnectOptions::default(),
+        )
+        .unwrap();
+    let mut spec = thread(
+        "on_data",
+        &[("first", StepKind::Update), ("second", StepKind::Update)],
+    );
+    spec.schedule = Schedule::Data;
+    b.add_thread(spec).unwrap();
+    let app = b.start(None).unwrap();
+    source.publish(1.0);
+    let stats = app.stats().remove(0);
+    while stats.cycles() == 0 {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    // `first` publishes into `second` every cycle; were that a wakeup, the container
+    // would cycle forever. It must stay at one cycle per outside delivery.
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(stats.cycles(), 1);
+    source.publish(2.0);
+    while stats.cycles() == 1 {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(stats.cycles(), 2);
+    app.stop();
+}

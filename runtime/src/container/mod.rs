@@ -18,6 +18,7 @@ mod os;
 mod stats;
 
 pub use clock::{Clock, ManualClock, SystemClock};
+pub use os::pin_current_thread;
 pub use stats::{ContainerStats, StepStats};
 
 use crate::port::Wakeup;

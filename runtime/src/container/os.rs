@@ -39,6 +39,12 @@ fn set_priority(priority: i32) -> std::io::Result<()> {
     }
 }
 
+/// Pins the calling thread to `cpu` (what [`ThreadOptions::cpu`](super::ThreadOptions)
+/// does for a container; also for helper threads such as benchmark drivers).
+pub fn pin_current_thread(cpu: usize) -> std::io::Result<()> {
+    set_affinity(cpu)
+}
+
 #[cfg(target_os = "linux")]
 fn set_affinity(cpu: usize) -> std::io::Result<()> {
     if cpu >= libc::CPU_SETSIZE as usize {

@@ -194,11 +194,18 @@ impl<T: ParamValue> Parameter<T> {
         }
     }
 
-    /// The current value.
+    /// The current value, borrowed: no clone, so a `String` parameter costs no
+    /// allocation per cycle.
+    #[inline]
+    pub fn value(&mut self) -> &T {
+        self.refresh();
+        &self.value
+    }
+
+    /// The current value, cloned (convenient for numbers).
     #[inline]
     pub fn get(&mut self) -> T {
-        self.refresh();
-        self.value.clone()
+        self.value().clone()
     }
 
     /// True once after each new value was set (the initial value is not a change).
@@ -306,7 +313,7 @@ mod tests {
         assert!(!gain.changed());
         assert_eq!(gain.get(), 1.0);
         handle.set(&Value::Float(2.5)).unwrap();
-        assert_eq!(gain.get(), 2.5);
+        assert_eq!(*gain.value(), 2.5);
         assert!(gain.changed());
         assert!(!gain.changed());
     }
