@@ -15,6 +15,7 @@ mod graph;
 mod interface;
 mod run;
 mod schedule;
+mod types;
 
 /// mimalloc: checking a large model makes millions of small allocations, and glibc's
 /// allocator spent a sixth of the run in malloc/free (measured on B1).
@@ -79,6 +80,8 @@ Examples:\n  ferroc graph models/warehouse_fleet.xml > fleet.dot\n  \
 ferroc graph models/warehouse_fleet.xml --format svg -o fleet.svg"
     )]
     Graph(graph::GraphArgs),
+    /// The module types built into this binary: list them, export or check their manifests
+    Types(types::TypesArgs),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -147,6 +150,7 @@ fn main() -> ExitCode {
         Command::Schedule(args) => schedule::run(args),
         Command::Run(args) => run::run(args),
         Command::Graph(args) => graph::run(args),
+        Command::Types(args) => types::run(args),
         Command::Explain { code, list } => explain(code, list),
     }
 }

@@ -1,20 +1,10 @@
 //! End-to-end tests of the `ferroc` command line on the real models in `models/`.
 
+mod common;
+
+use common::{ferroc, tempdir};
 use std::path::Path;
 use std::process::Command;
-
-fn ferroc(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_ferroc"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("ferroc runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 #[test]
 fn every_bundled_model_checks_clean() {
@@ -139,13 +129,6 @@ fn hostile_include_is_a_diagnostic() {
     assert!(out.contains(":2:18: error[M113]"), "{out}");
     assert!(out.contains(":3:18: error[M113]"), "{out}");
     assert!(!out.contains("M115"), "{out}");
-}
-
-fn tempdir(name: &str) -> std::path::PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 #[test]

@@ -75,6 +75,13 @@ pub struct LibrarySet {
     pub failed: hashbrown::HashSet<String>,
 }
 
+impl Library {
+    /// The manifest's syntax tree (`ferroc types export` keeps what the code cannot say).
+    pub fn root(&self) -> &Element {
+        &self.root
+    }
+}
+
 impl LibrarySet {
     pub fn get(&self, id: LibraryId) -> &Library {
         &self.libraries[id.0 as usize]

@@ -1,0 +1,259 @@
+//! `ferroc types`: the module types built into this binary, and their manifests.
+//!
+//! A model is checked against manifests; the binary runs Rust types. `list` shows what
+//! is built in, `export` writes the manifests the code implies (keeping what only a
+//! manifest can say), and `export --check` fails when a checked-in manifest differs
+//! from the code, which is how CI keeps the two from drifting apart.
+
+mod manifest_xml;
+
+use crate::interface::differences;
+use ferroc_compiler::diagnostic::Severity;
+use ferroc_compiler::report::{self, ModelReport};
+use ferroc_runtime::module::Interface;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct TypesArgs {
+    #[command(subcommand)]
+    command: TypesCommand,
+}
+
+#[derive(clap::Subcommand)]
+enum TypesCommand {
+    /// List the module types built into this binary
+    List,
+    /// Write library manifests from the module types built into this binary
+    #[command(
+        long_about = "Write `NAME.lib.xml` for every library that has module types built into \
+this binary. Ports, parameters, kind, docs and Rust paths come from the code. Everything the \
+code cannot say (data types, dependencies, budgets, read modes, services, locks, module types \
+without Rust code here) is kept from the existing manifest found on the lib path.\n\n\
+With --check nothing is written: each built-in module type is compared with its manifest and \
+every difference is listed; the exit code is 1 if there is any. CI runs this so manifests and \
+code cannot drift apart.\n\n\
+Examples:\n  ferroc types export --check --lib-path components\n  \
+ferroc types export --lib-path components -o components\n  \
+ferroc types export --library crash_course --lib-path components"
+    )]
+    Export(ExportArgs),
+}
+
+#[derive(clap::Args)]
+struct ExportArgs {
+    /// Only these libraries (repeatable); default: every library with built-in types
+    #[arg(long, value_name = "NAME")]
+    library: Vec<String>,
+    /// Write `NAME.lib.xml` files into this folder (default: stdout, one library only)
+    #[arg(short, long, value_name = "DIR")]
+    output: Option<PathBuf>,
+    /// Compare with the existing manifests instead of writing; exit 1 on any difference
+    #[arg(long, conflicts_with = "output")]
+    check: bool,
+    /// Folders searched for the existing `NAME.lib.xml` manifests (also FERROC_LIB_PATH)
+    #[arg(long, value_name = "DIR")]
+    lib_path: Vec<PathBuf>,
+}
+
+pub fn run(args: TypesArgs) -> ExitCode {
+    match args.command {
+        TypesCommand::List => list(),
+        TypesCommand::Export(args) => export(args),
+    }
+}
+
+/// Built-in interfaces grouped by library, in name order.
+fn by_library() -> BTreeMap<String, Vec<Interface>> {
+    let registry = crate::run::registry();
+    let mut names: Vec<&str> = registry.names().collect();
+    names.sort_unstable();
+    let mut out: BTreeMap<String, Vec<Interface>> = BTreeMap::new();
+    for name in names {
+        if let Some(i) = registry.interface(name) {
+            out.entry(manifest_xml::library_of(name).to_string())
+                .or_default()
+                .push(i);
+        }
+    }
+    out
+}
+
+fn list() -> ExitCode {
+    for (_, types) in by_library() {
+        for t in types {
+            println!(
+                "{:<32} {:<14} {} ({} ports, {} parameters)",
+                t.name,
+                t.kind.as_str(),
+                t.rust,
+                t.ports.len(),
+                t.params.len()
+            );
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn export(args: ExportArgs) -> ExitCode {
+    let mut libraries = by_library();
+    for wanted in &args.library {
+        if !libraries.contains_key(wanted) {
+            eprintln!(
+                "error: --library {wanted}: no module type of this library is built into ferroc\n\
+                 help: libraries with built-in types: {}",
+                libraries.keys().cloned().collect::<Vec<_>>().join(", ")
+            );
+            return ExitCode::from(2);
+        }
+    }
+    if !args.library.is_empty() {
+        libraries.retain(|name, _| args.library.contains(name));
+    }
+    if !args.check && args.output.is_none() && libraries.len() != 1 {
+        eprintln!(
+            "error: {} libraries to write and no output folder\n\
+             help: add `-o DIR`, or pick one library with `--library NAME` to print it",
+            libraries.len()
+        );
+        return ExitCode::from(2);
+    }
+    let names: Vec<String> = libraries.keys().cloned().collect();
+    let options = crate::loader_options(&args.lib_path, false);
+    let loaded = ferroc_compiler::load_manifests(&names, &options);
+    let errors: Vec<_> = loaded
+        .diagnostics
+        .iter()
+        .filter(|d| d.severity == Severity::Error)
+        .cloned()
+        .collect();
+    if args.check {
+        return check(&libraries, &loaded, &errors);
+    }
+    let mut written = Vec::new();
+    for (name, types) in &libraries {
+        let existing = loaded
+            .libraries
+            .by_name
+            .get(name)
+            .map(|&id| (loaded.libraries.get(id), &loaded.sources));
+        if existing.is_none() {
+            eprintln!(
+                "note: no manifest of `{name}` on the lib path; writing one with module types only \
+                 (add its data types and dependencies by hand)"
+            );
+        }
+        let rewrite: Vec<&Interface> = types
+            .iter()
+            .filter(|code| {
+                loaded
+                    .libraries
+                    .module_type(&code.name)
+                    .is_none_or(|(_, manifest)| !differences(manifest, code).is_empty())
+            })
+            .collect();
+        let text = manifest_xml::library_xml(name, &rewrite, existing);
+        match &args.output {
+            None => print!("{text}"),
+            Some(dir) => match write_atomically(dir, &format!("{name}.lib.xml"), &text) {
+                Ok(path) => written.push((path, rewrite.len())),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(2);
+                }
+            },
+        }
+    }
+    for (path, rewritten) in written {
+        eprintln!(
+            "wrote {} ({rewritten} module types generated from code)",
+            path.display()
+        );
+    }
+    ExitCode::SUCCESS
+}
+
+/// Lists every difference between a built-in type and its manifest.
+fn check(
+    libraries: &BTreeMap<String, Vec<Interface>>,
+    loaded: &ferroc_compiler::LoadedLibraries,
+    errors: &[ferroc_compiler::diagnostic::Diagnostic],
+) -> ExitCode {
+    let mut failed = !errors.is_empty();
+    if failed {
+        let mut out = String::new();
+        report::short(
+            &ModelReport {
+                sources: &loaded.sources,
+                diagnostics: errors,
+            },
+            &mut out,
+        );
+        eprint!("{out}");
+    }
+    let mut compared = 0;
+    for (name, types) in libraries {
+        if !loaded.libraries.by_name.contains_key(name) {
+            eprintln!(
+                "error: no manifest of `{name}` found\n  help: pass the folder holding `{name}.lib.xml` with --lib-path"
+            );
+            failed = true;
+            continue;
+        }
+        for code in types {
+            compared += 1;
+            let Some((id, manifest)) = loaded.libraries.module_type(&code.name) else {
+                let lib = loaded.libraries.get(loaded.libraries.by_name[name]);
+                eprintln!(
+                    "{}: error: `{}` is built into ferroc but its manifest does not declare it\n  \
+                     help: `ferroc types export --library {name} -o DIR` writes it",
+                    loaded.sources.get(lib.file).name,
+                    code.name
+                );
+                failed = true;
+                continue;
+            };
+            let found = differences(manifest, code);
+            if !found.is_empty() {
+                let file = &loaded.sources.get(loaded.libraries.get(id).file);
+                let (line, col) = file.line_col(manifest.span.start);
+                eprintln!(
+                    "{}:{line}:{col}: error: the manifest of `{}` differs from its Rust type `{}`:",
+                    file.name, code.name, code.rust
+                );
+                for d in found {
+                    eprintln!("  - {d}");
+                }
+                failed = true;
+            }
+        }
+    }
+    if failed {
+        eprintln!(
+            "help: change the code or the manifest; `ferroc types export -o DIR` writes what the code declares"
+        );
+        ExitCode::from(1)
+    } else {
+        eprintln!(
+            "{compared} module types in {} libraries agree with their manifests",
+            libraries.len()
+        );
+        ExitCode::SUCCESS
+    }
+}
+
+/// Writes `dir/name` through a temporary file and a rename, so an interrupted export
+/// never leaves a half-written manifest.
+fn write_atomically(dir: &Path, name: &str, text: &str) -> Result<PathBuf, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let path = dir.join(name);
+    let temporary = dir.join(format!(".{name}.tmp"));
+    std::fs::write(&temporary, text)
+        .map_err(|e| format!("cannot write {}: {e}", temporary.display()))?;
+    std::fs::rename(&temporary, &path).map_err(|e| {
+        let _ = std::fs::remove_file(&temporary);
+        format!("cannot replace {}: {e}", path.display())
+    })?;
+    Ok(path)
+}
