@@ -53,6 +53,7 @@ fn parse_duration(text: &str) -> Result<Duration, String> {
 pub fn registry() -> Registry {
     let mut registry = Registry::new();
     crash_course::register(&mut registry);
+    ring::register(&mut registry);
     registry
 }
 
@@ -227,9 +228,10 @@ pub fn build(
     for t in &plan.threads {
         builder.add_thread(ThreadSpec {
             path: t.path.clone(),
-            schedule: match t.period {
-                Some(p) => Schedule::Periodic(Duration::from_secs_f64(p)),
-                None => Schedule::Data,
+            schedule: match (t.period, t.continuous) {
+                (Some(p), _) => Schedule::Periodic(Duration::from_secs_f64(p)),
+                (None, true) => Schedule::Continuous,
+                (None, false) => Schedule::Data,
             },
             options: ThreadOptions::default(),
             steps: t

@@ -38,6 +38,9 @@ fn render(app: &Application, schedule: &schedule::Schedule) -> String {
             ElementKind::Thread {
                 period: Some(p), ..
             } => format!("every {}", human_seconds(p)),
+            ElementKind::Thread {
+                continuous: true, ..
+            } => "continuously (cycles back to back)".to_string(),
             _ => "triggered by data".to_string(),
         };
         let _ = writeln!(out, "{} — {trigger}", app.path(c.thread));

@@ -317,3 +317,20 @@ fn graph_svg_needs_graphviz_and_says_so() {
 fn graph_of_a_missing_model_exits_2() {
     assert_eq!(ferroc(&["graph", "no/such/model.xml"]).0, 2);
 }
+
+#[test]
+fn the_b2_ring_runs_continuously_for_exactly_the_cycle_limit() {
+    let (code, out, err) = ferroc(&["schedule", "models/control_loop.xml"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("bench/ring — continuously (cycles back to back)"),
+        "{out}"
+    );
+    let (code, _, err) = ferroc(&["run", "models/control_loop.xml", "--cycles", "100000", "-q"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("stopped (cycle limit reached)"), "{err}");
+    assert!(
+        err.contains("bench/ring: 100000 cycles, 0 overruns, load 100.0 %"),
+        "{err}"
+    );
+}

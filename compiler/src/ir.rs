@@ -28,6 +28,9 @@ pub enum ElementKind {
         pool: Option<u32>,
         /// `trigger="data"`.
         data_trigger: bool,
+        /// `trigger="continuous"`: cycles back to back, no sleeping (benchmarks,
+        /// simulations that run faster than real time).
+        continuous: bool,
     },
     Group,
     Module(ModuleInstance),

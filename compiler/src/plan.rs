@@ -45,8 +45,10 @@ pub struct PlannedConnection {
 #[derive(Clone, Debug)]
 pub struct PlannedThread {
     pub path: String,
-    /// Seconds; `None` for data-triggered containers.
+    /// Seconds; `None` for data-triggered and continuous containers.
     pub period: Option<f64>,
+    /// Cycles back to back (`trigger="continuous"`).
+    pub continuous: bool,
     /// Module path and step, in execution order.
     pub steps: Vec<(String, StepKind)>,
 }
@@ -187,12 +189,16 @@ pub fn plan(
         });
     }
     for container in schedule::compute(app, libs).containers {
-        let ElementKind::Thread { period, .. } = app.element(container.thread).kind else {
+        let ElementKind::Thread {
+            period, continuous, ..
+        } = app.element(container.thread).kind
+        else {
             continue;
         };
         plan.threads.push(PlannedThread {
             path: app.path(container.thread),
             period,
+            continuous,
             steps: container
                 .steps
                 .iter()

@@ -209,6 +209,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                             .and_then(|p| p.parse().ok())
                             .filter(|n: &u32| *n >= 2),
                         data_trigger: child.value("trigger") == Some("data"),
+                        continuous: child.value("trigger") == Some("continuous"),
                     };
                     if let Some(id) = self.add_element(scope, child, kind, inst) {
                         self.walk(id, child, visible, inst, depth);
@@ -238,7 +239,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         match (period, trigger) {
             (Some(_), Some(t)) => {
                 self.loader.diags.push(bad(
-                    "a thread container is either periodic or data-triggered, not both".into(),
+                    "a thread container is either periodic or triggered, not both".into(),
                     t.name_span,
                     "remove `trigger` or `period`",
                 ));
@@ -248,7 +249,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 self.loader.diags.push(bad(
                     format!("thread container `{}` has neither `period` nor `trigger`", thread.value("name").unwrap_or("")),
                     thread.name_span,
-                    "add period=\"10ms\" (periodic) or trigger=\"data\" (runs when inputs receive data)",
+                    "add period=\"10ms\" (periodic), trigger=\"data\" (runs when inputs receive data) or trigger=\"continuous\" (cycles back to back)",
                 ));
                 None
             }

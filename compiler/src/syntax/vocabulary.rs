@@ -137,7 +137,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
         attrs: &[
             req("name", Ident),
             opt("period", Text),
-            opt("trigger", Choice(&["data"])),
+            opt("trigger", Choice(&["data", "continuous"])),
             opt("priority", Count),
             opt("realtime", Bool),
             opt("cpu", Count),

@@ -53,6 +53,8 @@ pub enum Schedule {
     Periodic(Duration),
     /// Whenever an input of one of its modules receives data.
     Data,
+    /// Cycles back to back, without sleeping.
+    Continuous,
 }
 
 /// A thread container to create.
@@ -416,6 +418,7 @@ impl<'r> Builder<'r> {
             let trigger = match spec.schedule {
                 Schedule::Periodic(period) => Trigger::Periodic(period),
                 Schedule::Data => Trigger::Data(wakeup),
+                Schedule::Continuous => Trigger::Continuous,
             };
             out.push((
                 ThreadContainer::new(spec.path, trigger, steps),

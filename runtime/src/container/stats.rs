@@ -53,11 +53,17 @@ pub struct ContainerStats {
     busy_nanos: AtomicU64,
     last_cycle_nanos: AtomicU64,
     period_nanos: u64,
+    continuous: bool,
     panics: Mutex<Vec<String>>,
 }
 
 impl ContainerStats {
-    pub(crate) fn new(name: String, step_names: Vec<String>, period: Option<Duration>) -> Self {
+    pub(crate) fn new(
+        name: String,
+        step_names: Vec<String>,
+        period: Option<Duration>,
+        continuous: bool,
+    ) -> Self {
         ContainerStats {
             name,
             steps: step_names
@@ -69,6 +75,7 @@ impl ContainerStats {
             busy_nanos: AtomicU64::new(0),
             last_cycle_nanos: AtomicU64::new(0),
             period_nanos: period.map_or(0, |p| p.as_nanos().min(u64::MAX as u128) as u64),
+            continuous,
             panics: Mutex::new(Vec::new()),
         }
     }
@@ -81,6 +88,15 @@ impl ContainerStats {
         if overrun {
             self.overruns.fetch_add(1, Relaxed);
         }
+    }
+
+    /// `cycles` cycles timed together (continuous containers); the last cycle's
+    /// duration becomes their mean.
+    pub(crate) fn record_cycles(&self, cycles: u64, took: Duration) {
+        let n = took.as_nanos().min(u64::MAX as u128) as u64;
+        self.cycles.fetch_add(cycles, Relaxed);
+        self.busy_nanos.fetch_add(n, Relaxed);
+        self.last_cycle_nanos.store(n / cycles.max(1), Relaxed);
     }
 
     pub(crate) fn record_panic(&self, message: String) {
@@ -100,15 +116,28 @@ impl ContainerStats {
         self.overruns.load(Relaxed)
     }
 
+    /// Mean time of a cycle over everything so far (zero before the first).
+    pub fn mean_cycle(&self) -> Duration {
+        let cycles = self.cycles();
+        if cycles == 0 {
+            return Duration::ZERO;
+        }
+        Duration::from_nanos(self.busy_nanos.load(Relaxed) / cycles)
+    }
+
     /// Duration of the most recent cycle.
     pub fn last_cycle(&self) -> Duration {
         Duration::from_nanos(self.last_cycle_nanos.load(Relaxed))
     }
 
     /// Share of the period spent executing, averaged over all cycles (0 for
-    /// data-triggered containers, which have no period).
+    /// data-triggered containers, which have no period; 1 for a running continuous
+    /// container, which never sleeps).
     pub fn load(&self) -> f64 {
         let cycles = self.cycles();
+        if self.continuous {
+            return if cycles == 0 { 0.0 } else { 1.0 };
+        }
         if self.period_nanos == 0 || cycles == 0 {
             return 0.0;
         }

@@ -173,3 +173,49 @@ fn refused_placement_is_a_warning_not_a_failure() {
     );
     running.join();
 }
+
+#[test]
+fn a_continuous_container_runs_exactly_the_limit_and_samples_step_times() {
+    let clock = ManualClock::new();
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let us = Duration::from_micros(1);
+    let mut c = ThreadContainer::new(
+        "bench/ring",
+        Trigger::Continuous,
+        vec![step(&log, &clock, "a", us), step(&log, &clock, "b", 2 * us)],
+    )
+    .with_clock(Arc::new(clock.clone()));
+    // 150 cycles: batches of 64, 64 and 22, each with one cycle timed step by step.
+    c.run(&AtomicBool::new(false), Some(150));
+    assert_eq!(*log.lock().unwrap(), ["a", "b"].repeat(150));
+    let stats = c.stats();
+    assert_eq!(stats.cycles(), 150);
+    assert_eq!(stats.steps[0].1.runs(), 3);
+    assert_eq!(stats.steps[1].1.mean(), 2 * us);
+    // No sleeping: the clock advanced only by the work done, 3 µs per cycle.
+    assert_eq!(clock.now(), 450 * us);
+    assert_eq!(stats.mean_cycle(), 3 * us);
+    assert_eq!(stats.last_cycle(), 3 * us);
+    assert_eq!(stats.load(), 1.0);
+    assert_eq!(stats.overruns(), 0);
+}
+
+#[test]
+fn a_continuous_container_stops_inside_a_batch() {
+    let stop = Arc::new(AtomicBool::new(false));
+    let runs = Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let (stop2, runs2) = (Arc::clone(&stop), Arc::clone(&runs));
+    let mut c = ThreadContainer::new(
+        "bench/ring",
+        Trigger::Continuous,
+        vec![Step::new("count", move || {
+            // The stop request comes in the tenth cycle of the first batch.
+            if runs2.fetch_add(1, Ordering::SeqCst) + 1 == 10 {
+                stop2.store(true, Ordering::SeqCst);
+            }
+        })],
+    );
+    c.run(&stop, None);
+    assert_eq!(runs.load(Ordering::SeqCst), 10);
+    assert_eq!(c.stats().cycles(), 10);
+}

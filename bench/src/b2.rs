@@ -1,0 +1,197 @@
+//! B2 — the control loop (benchmarks.md): five `ring.Stage` modules pass a 4×4 `f64`
+//! matrix around a ring in one continuous thread container, built with the same
+//! Builder calls `ferroc run` makes for `models/control_loop.xml`.
+//!
+//! Baseline in the same run: a hand-written loop doing the same five reads and writes
+//! with plain variables. Diagnostics split a stage's cost into its parts: one publish
+//! into a connected input plus one read (what a stage does on ports), and a publish
+//! into an unconnected output. Variants are interleaved in rounds; the best round of
+//! each is reported (the least disturbed by other load), the median beside it.
+
+use crate::options::Options;
+use ferroc_runtime::builder::{
+    Builder, Conversion, ModuleSpec, Registry, Schedule, StepKind, ThreadSpec,
+};
+use ferroc_runtime::container::ThreadOptions;
+use ferroc_runtime::port::{ConnectOptions, CopyInputPort, CopyOutputPort};
+use ring::Matrix;
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+const DEFAULT_CYCLES: u64 = 20_000_000;
+const DEFAULT_ROUNDS: u64 = 3;
+const STAGES: usize = 5;
+/// Target of benchmarks.md: cycles per second of the five-module ring.
+const TARGET_CYCLES_PER_S: f64 = 20e6;
+/// Target ratio runtime time ÷ hand-written time.
+const TARGET_RATIO: f64 = 4.0;
+
+/// Runs B2 and prints its lines. Returns the process exit code.
+pub fn run(args: &[String]) -> u8 {
+    let parsed = Options::parse("b2", args, &["cycles", "rounds"], &[]).and_then(|o| {
+        Ok((
+            o.number("cycles", DEFAULT_CYCLES, 1000, 10_000_000_000)?,
+            o.number("rounds", DEFAULT_ROUNDS, 1, 100)?,
+        ))
+    });
+    let (cycles, rounds) = match parsed {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("{e}");
+            return 2;
+        }
+    };
+    if cfg!(debug_assertions) {
+        println!("b2: warning: not a release build; figures are meaningless (use --release)");
+    }
+    println!(
+        "b2: {STAGES} stages, 4x4 f64 matrix ({} bytes), {cycles} cycles per variant, {rounds} rounds; {}",
+        std::mem::size_of::<Matrix>(),
+        crate::b3::load_note()
+    );
+    let mut runtime = Vec::new();
+    let mut baseline = Vec::new();
+    let mut connected = Vec::new();
+    let mut unconnected = Vec::new();
+    for _ in 0..rounds {
+        match ring_in_runtime(cycles) {
+            Ok(t) => runtime.push(t),
+            Err(e) => {
+                eprintln!("b2: the runtime ring could not be built: {e}");
+                return 1;
+            }
+        }
+        baseline.push(hand_written(cycles));
+        connected.push(publish_and_read(cycles * STAGES as u64, true));
+        unconnected.push(publish_and_read(cycles * STAGES as u64, false));
+    }
+    let per_cycle = |times: &[Duration], n: u64| {
+        let mut ns: Vec<f64> = times
+            .iter()
+            .map(|t| t.as_nanos() as f64 / n as f64)
+            .collect();
+        ns.sort_by(f64::total_cmp);
+        (ns[0], ns[ns.len() / 2])
+    };
+    let (rt_best, rt_median) = per_cycle(&runtime, cycles);
+    let (base_best, base_median) = per_cycle(&baseline, cycles);
+    let (pair_best, _) = per_cycle(&connected, cycles * STAGES as u64);
+    let (alone_best, _) = per_cycle(&unconnected, cycles * STAGES as u64);
+    let rate = |ns: f64| 1e3 / ns;
+    println!(
+        "b2: runtime ring      {rt_best:7.1} ns/cycle ({:6.2} M cycles/s; median {rt_median:.1} ns)",
+        rate(rt_best)
+    );
+    println!(
+        "b2: hand-written loop {base_best:7.1} ns/cycle ({:6.2} M cycles/s; median {base_median:.1} ns)",
+        rate(base_best)
+    );
+    println!(
+        "b2: diagnostics per stage: publish to 1 input + read {pair_best:.1} ns, \
+         publish unconnected {alone_best:.1} ns; x{STAGES} = {:.1} ns of the runtime's cycle",
+        pair_best * STAGES as f64
+    );
+    let ratio = rt_best / base_best;
+    let mcps = rate(rt_best);
+    let met = |ok: bool| if ok { "met" } else { "NOT met" };
+    println!(
+        "b2: target >= {:.0} M cycles/s: {}; ratio runtime / hand-written {ratio:.1} (target <= {TARGET_RATIO}): {}",
+        TARGET_CYCLES_PER_S / 1e6,
+        met(mcps * 1e6 >= TARGET_CYCLES_PER_S),
+        met(ratio <= TARGET_RATIO)
+    );
+    println!(
+        "RESULT b2 runtime_mcycles_per_s={mcps:.2} runtime_ns_per_cycle={rt_best:.1} \
+         baseline_mcycles_per_s={:.2} baseline_ns_per_cycle={base_best:.1} ratio={ratio:.2} \
+         stage_port_ns={pair_best:.1} cycles={cycles} rounds={rounds}",
+        rate(base_best)
+    );
+    0
+}
+
+/// The five-stage ring built with the Builder, run for `cycles`; the wall time from
+/// start to the end of the last cycle.
+fn ring_in_runtime(cycles: u64) -> Result<Duration, String> {
+    let mut registry = Registry::new();
+    ring::register(&mut registry);
+    let mut builder = Builder::new(&registry);
+    let names: Vec<String> = (1..=STAGES).map(|i| format!("bench/ring/s{i}")).collect();
+    for name in &names {
+        builder
+            .add_module(ModuleSpec {
+                path: name,
+                type_name: "ring.Stage",
+                params: &[],
+                queues: &[],
+            })
+            .map_err(|e| e.to_string())?;
+    }
+    for (i, from) in names.iter().enumerate() {
+        let to = &names[(i + 1) % STAGES];
+        builder
+            .connect(
+                (from, "output"),
+                (to, "input"),
+                Conversion::default(),
+                ConnectOptions::default(),
+            )
+            .map_err(|e| e.to_string())?;
+    }
+    builder
+        .add_thread(ThreadSpec {
+            path: "bench/ring".into(),
+            schedule: Schedule::Continuous,
+            options: ThreadOptions::default(),
+            steps: names
+                .iter()
+                .map(|n| (n.clone(), StepKind::Update))
+                .collect(),
+        })
+        .map_err(|e| e.to_string())?;
+    let started = Instant::now();
+    let mut app = builder.start(Some(cycles)).map_err(|e| e.to_string())?;
+    app.join();
+    let took = started.elapsed();
+    let done = app.status().first().map_or(0, |s| s.cycles);
+    if done != cycles {
+        return Err(format!("ran {done} cycles instead of {cycles}"));
+    }
+    Ok(took)
+}
+
+/// The same five reads and writes with plain variables.
+fn hand_written(cycles: u64) -> Duration {
+    let mut matrices = [Matrix::default(); STAGES];
+    let increment = black_box(1.0);
+    let started = Instant::now();
+    for _ in 0..cycles {
+        for i in 0..STAGES {
+            let mut m = matrices[(i + STAGES - 1) % STAGES];
+            m[0][0] += increment;
+            matrices[i] = m;
+        }
+        // The matrices must really be written every cycle, as the ports' are.
+        black_box(&mut matrices);
+    }
+    started.elapsed()
+}
+
+/// One stage's port work `n` times: publish a matrix (into one connected input, or
+/// into none) and read the input.
+fn publish_and_read(n: u64, connect: bool) -> Duration {
+    let output = CopyOutputPort::<Matrix>::new("output");
+    let input = CopyInputPort::<Matrix>::new("input");
+    if connect {
+        let _ = output
+            .handle()
+            .connect(&input.handle(), ConnectOptions::default());
+    }
+    let mut m = Matrix::default();
+    let started = Instant::now();
+    for _ in 0..n {
+        m[0][0] += 1.0;
+        output.publish(black_box(m));
+        m = black_box(input.get());
+    }
+    started.elapsed()
+}
