@@ -13,7 +13,7 @@ use super::wiring::{self, InCore, OutCore};
 use super::{ConnectError, ConnectOptions, Notifier};
 use super::{CopyInputPort, CopyOutputPort, InputPort, NoUninit, OutputPort};
 use std::any::Any;
-use std::sync::Arc;
+use crate::sync::Arc;
 
 type ConnectFn = fn(&OutputHandle, &InputHandle, ConnectOptions) -> Result<(), ConnectError>;
 type DisconnectFn = fn(&OutputHandle, &InputHandle) -> bool;
