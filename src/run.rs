@@ -214,6 +214,21 @@ pub fn build(
             queues: &queues,
         })?;
     }
+    for (name, level, recursive) in &plan.locks.resources {
+        builder.add_resource(name, *level, *recursive)?;
+    }
+    for (path, slot, resource) in &plan.locks.binds {
+        builder.bind_lock(path, slot, resource)?;
+    }
+    for (first, second, why) in &plan.locks.orders {
+        // A slot without <bind> or <resource> names its own resource.
+        for name in [first, second] {
+            if !plan.locks.resources.iter().any(|(r, _, _)| r == name) {
+                let _ = builder.add_resource(name, None, false);
+            }
+        }
+        builder.declare_lock_order(first, second, why)?;
+    }
     for c in &plan.connections {
         builder.connect(
             (&c.from.0, &c.from.1),
@@ -263,6 +278,7 @@ fn supervise(
     let started = Instant::now();
     let mut last_draw = Instant::now() - Duration::from_secs(1);
     let mut reported_panics = 0;
+    let mut reported_locks = 0;
     let reason = loop {
         if app.is_finished() {
             break "cycle limit reached";
@@ -278,6 +294,11 @@ fn supervise(
             ferroc_runtime::console::line(&format!("error: {p}"));
         }
         reported_panics = panics.len();
+        let locks = app.lock_reports();
+        for l in &locks[reported_locks..] {
+            ferroc_runtime::console::line(&format!("warning: {l}"));
+        }
+        reported_locks = locks.len();
         if status && last_draw.elapsed() >= Duration::from_millis(250) {
             last_draw = Instant::now();
             let line = status_line(&app, started.elapsed());
@@ -294,6 +315,10 @@ fn supervise(
     let panics = app.panics();
     for p in &panics[reported_panics.min(panics.len())..] {
         eprintln!("error: {p}");
+    }
+    let locks = app.lock_reports();
+    for l in &locks[reported_locks.min(locks.len())..] {
+        eprintln!("warning: {l}");
     }
     eprintln!(
         "stopped ({reason}) after {:.1} s",

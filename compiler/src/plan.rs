@@ -59,6 +59,20 @@ pub struct Plan {
     pub modules: Vec<PlannedModule>,
     pub connections: Vec<PlannedConnection>,
     pub threads: Vec<PlannedThread>,
+    pub locks: PlannedLocks,
+}
+
+/// Application resources, the model's lock-slot bindings, and the nesting orders the
+/// module types declare, translated to resource names (the runtime validates every
+/// acquisition against them).
+#[derive(Clone, Debug, Default)]
+pub struct PlannedLocks {
+    /// `<resource>`s: name, level, recursive.
+    pub resources: Vec<(String, Option<u32>, bool)>,
+    /// `<bind lock resource>`: module path, slot, resource.
+    pub binds: Vec<(String, String, String)>,
+    /// Resource `first` is taken before `second`; the text says who declares it.
+    pub orders: Vec<(String, String, String)>,
 }
 
 /// Something a checked model uses that the runtime cannot realise yet.
@@ -206,5 +220,47 @@ pub fn plan(
                 .collect(),
         });
     }
+    plan.locks = plan_locks(app, libs, &paths);
     (plan, problems)
+}
+
+fn plan_locks(app: &Application, libs: &LibrarySet, paths: &[String]) -> PlannedLocks {
+    let mut locks = PlannedLocks {
+        resources: app
+            .resources
+            .iter()
+            .map(|r| (r.name.clone(), r.level, r.recursive))
+            .collect(),
+        ..PlannedLocks::default()
+    };
+    let mut declared = std::collections::HashSet::new();
+    for (id, m) in app.modules() {
+        let ty = &libs.get(m.library).module_types[m.type_index];
+        let path = &paths[id.0 as usize];
+        for (slot, resource, _) in &m.binds {
+            locks
+                .binds
+                .push((path.clone(), slot.clone(), resource.clone()));
+        }
+        let resource_of = |slot: &String| {
+            m.binds
+                .iter()
+                .find(|(s, _, _)| s == slot)
+                .map_or(slot.clone(), |(_, r, _)| r.clone())
+        };
+        for sequence in &ty.lock_orders {
+            for pair in sequence.windows(2) {
+                let (a, b) = (resource_of(&pair[0]), resource_of(&pair[1]));
+                if a != b && declared.insert((a.clone(), b.clone())) {
+                    let why = format!(
+                        "<locks order=\"{}\"> of `{}`, as bound in `{path}`",
+                        sequence.join(" "),
+                        ty.qualified
+                    );
+                    locks.orders.push((a, b, why));
+                }
+            }
+        }
+    }
+    locks
 }

@@ -333,3 +333,33 @@ fn e35_search_budget_is_enforced() {
         "took {elapsed:?} (debug build)"
     );
 }
+
+/// The run plan carries what the runtime's lock-order validation needs: resources,
+/// and each module type's declared nesting translated to resource names.
+#[test]
+fn the_plan_carries_resources_and_declared_lock_orders() {
+    let result = check_model(&file("E09"), &options(), &Policy::default()).unwrap();
+    let app = result.app.as_ref().unwrap();
+    let (plan, _) = ferroc_compiler::plan::plan(app, &result.libraries, &[]);
+    let names: Vec<&str> = plan.locks.resources.iter().map(|r| r.0.as_str()).collect();
+    assert!(
+        names.contains(&"a") && names.contains(&"b") && names.contains(&"g"),
+        "{names:?}"
+    );
+    let orders: Vec<(&str, &str)> = plan
+        .locks
+        .orders
+        .iter()
+        .map(|(a, b, _)| (a.as_str(), b.as_str()))
+        .collect();
+    // GateAB declares g a b, GateBA g b a: consecutive pairs, each once.
+    for pair in [("g", "a"), ("a", "b"), ("g", "b"), ("b", "a")] {
+        assert!(orders.contains(&pair), "{pair:?} missing in {orders:?}");
+    }
+    assert_eq!(orders.len(), 4, "{orders:?}");
+    assert!(
+        plan.locks.orders[0].2.contains("<locks order=\"g"),
+        "{:?}",
+        plan.locks.orders[0]
+    );
+}

@@ -9,6 +9,9 @@
 //! * [`port`] — output and input ports, buffer pools, n:m connections, input queues,
 //!   data-triggered wakeups. Publishing is lock-free and zero-copy; connections change
 //!   at run time without blocking publishers.
+//! * [`resource`] — the model's `<resource>` locks as real locks, with lockdep-style
+//!   validation: an acquisition order that contradicts one seen before (or the
+//!   declared one) is reported with both sites before it can deadlock.
 //! * [`service`] — request/response ports: a service executed by the serving module's
 //!   thread container (or inline by its callers), blocking and asynchronous clients
 //!   with optional timeouts; every failure is an error value, never a hang.
@@ -26,5 +29,6 @@ pub mod console;
 pub mod container;
 pub mod module;
 pub mod port;
+pub mod resource;
 pub mod service;
 mod sync;

@@ -105,6 +105,8 @@ pub struct ModuleType {
     pub services: Vec<super::steps::ServiceDecl>,
     /// Lock slots (`<locks order>`, then slots named only by steps), with their spans.
     pub lock_slots: Vec<(String, Span)>,
+    /// Each `<locks order="a b">`: slots in the order they are nested.
+    pub lock_orders: Vec<Vec<String>>,
     /// What each activity does that can wait; one default `update` if none is declared.
     pub activities: Vec<super::steps::ActivityDecl>,
     pub span: Span,
@@ -179,6 +181,7 @@ fn build(
         clients: Vec::new(),
         services: Vec::new(),
         lock_slots: Vec::new(),
+        lock_orders: Vec::new(),
         activities: Vec::new(),
         span: element.value_span("name"),
     };

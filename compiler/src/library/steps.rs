@@ -153,6 +153,10 @@ pub(super) fn add_rpc_ports(
 /// Lock slots, activities and service bodies; after the ports are indexed.
 pub(super) fn build(element: &Element, mt: &mut ModuleType, diags: &mut Diagnostics) {
     for locks in element.children_named("locks") {
+        let sequence: Vec<String> = words(locks, "order").into_iter().map(|(s, _)| s).collect();
+        if sequence.len() > 1 {
+            mt.lock_orders.push(sequence);
+        }
         for (slot, span) in words(locks, "order") {
             if !mt.lock_slots.iter().any(|(s, _)| *s == slot) {
                 mt.lock_slots.push((slot, span));

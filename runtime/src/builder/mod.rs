@@ -18,6 +18,7 @@ pub use running::{ContainerStatus, RunningApp};
 use crate::container::{Step, ThreadContainer, ThreadOptions, Trigger};
 use crate::module::{Interface, Kind, Module, ParamHandle, Setup, Value};
 use crate::port::{ConnectOptions, InputHandle, Notifier, OutputHandle, QueueConfig, Wakeup};
+use crate::resource::{LockOrder, Resource};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -102,6 +103,8 @@ pub enum BuildError {
     },
     /// A connection could not be made.
     Connect(String),
+    /// A resource or lock-slot problem (unknown, added or bound twice).
+    Resource(String),
     /// A thread container problem (a module in two containers, a step the module's
     /// kind does not have, a thread that could not start).
     Thread(String),
@@ -122,7 +125,9 @@ impl std::fmt::Display for BuildError {
             BuildError::Create { path, problems } => {
                 write!(f, "`{path}` could not be created: {}", problems.join("; "))
             }
-            BuildError::Connect(why) | BuildError::Thread(why) => f.write_str(why),
+            BuildError::Connect(why) | BuildError::Thread(why) | BuildError::Resource(why) => {
+                f.write_str(why)
+            }
         }
     }
 }
@@ -137,6 +142,7 @@ struct Instance {
     inputs: Vec<(String, InputHandle)>,
     outputs: Vec<(String, OutputHandle)>,
     params: Vec<(String, ParamHandle)>,
+    locks: Vec<crate::module::setup::SlotBinding>,
     /// Converters fed by this module's outputs, run right after its steps.
     converters: Vec<Step>,
     thread: Option<usize>,
@@ -151,6 +157,9 @@ pub struct Builder<'r> {
     /// Module connections as (writer, reader, input name): a data-triggered container
     /// must not be woken by its own modules' outputs, or it would never sleep.
     links: Vec<(usize, usize, String)>,
+    /// Application resources by name, validated against one order graph.
+    resources: HashMap<String, Arc<Resource>>,
+    lock_order: Arc<LockOrder>,
 }
 
 impl<'r> Builder<'r> {
@@ -162,6 +171,85 @@ impl<'r> Builder<'r> {
             index: HashMap::new(),
             threads: Vec::new(),
             links: Vec::new(),
+            resources: HashMap::new(),
+            lock_order: Arc::new(LockOrder::new()),
+        }
+    }
+
+    /// Declares an application resource (`<resource name level kind>`).
+    pub fn add_resource(
+        &mut self,
+        name: &str,
+        level: Option<u32>,
+        recursive: bool,
+    ) -> Result<(), BuildError> {
+        if self.resources.contains_key(name) {
+            return Err(BuildError::Resource(format!(
+                "the resource `{name}` is added twice"
+            )));
+        }
+        let resource = Resource::new(name, level, recursive, &self.lock_order);
+        self.resources.insert(name.to_owned(), resource);
+        Ok(())
+    }
+
+    /// Declares that resource `first` is taken before `second` (a module type's
+    /// `<locks order>`); `why` says where, for reports. Taking them the other way
+    /// round is then reported the first time it happens.
+    pub fn declare_lock_order(
+        &mut self,
+        first: &str,
+        second: &str,
+        why: &str,
+    ) -> Result<(), BuildError> {
+        let id = |name: &str| {
+            self.resources
+                .get(name)
+                .map(|r| r.id())
+                .ok_or_else(|| BuildError::Resource(format!("there is no resource `{name}`")))
+        };
+        let (a, b) = (id(first)?, id(second)?);
+        self.lock_order.declare(a, b, why.to_owned());
+        Ok(())
+    }
+
+    /// Binds a module's lock slot to an application resource (`<bind lock resource>`).
+    /// Slots left unbound use the resource of the slot's name, created if needed.
+    pub fn bind_lock(&mut self, path: &str, slot: &str, resource: &str) -> Result<(), BuildError> {
+        let m = self.module(path)?;
+        let Some(r) = self.resources.get(resource).cloned() else {
+            return Err(BuildError::Resource(format!(
+                "`{path}`: there is no resource `{resource}` to bind the lock slot `{slot}` to"
+            )));
+        };
+        let Some(binding) = self.modules[m].locks.iter().find(|l| l.slot == slot) else {
+            return Err(BuildError::Resource(format!(
+                "`{path}` has no lock slot `{slot}`"
+            )));
+        };
+        if binding.resource.set(r).is_err() {
+            return Err(BuildError::Resource(format!(
+                "`{path}`: the lock slot `{slot}` is bound twice"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Binds every slot not bound yet to the resource of its name.
+    fn bind_remaining_locks(&mut self) {
+        for m in &self.modules {
+            for binding in &m.locks {
+                let _ = binding.module.set(m.path.clone());
+                if binding.resource.get().is_none() {
+                    let r = self
+                        .resources
+                        .entry(binding.slot.clone())
+                        .or_insert_with(|| {
+                            Resource::new(&binding.slot, None, false, &self.lock_order)
+                        });
+                    let _ = binding.resource.set(Arc::clone(r));
+                }
+            }
         }
     }
 
@@ -201,6 +289,7 @@ impl<'r> Builder<'r> {
             inputs: setup.inputs,
             outputs: setup.outputs,
             params: setup.params,
+            locks: setup.locks,
             converters: Vec::new(),
             thread: None,
         });
@@ -338,8 +427,14 @@ impl<'r> Builder<'r> {
                 m.path
             )));
         }
+        self.bind_remaining_locks();
         let containers = self.containers()?;
-        RunningApp::start(containers, self.take_params(), limit)
+        RunningApp::start(
+            containers,
+            self.take_params(),
+            Arc::clone(&self.lock_order),
+            limit,
+        )
     }
 
     fn take_params(&mut self) -> HashMap<(String, String), ParamHandle> {
@@ -467,5 +562,7 @@ fn find<'a, H>(
         })
 }
 
+#[cfg(test)]
+mod lock_tests;
 #[cfg(test)]
 mod tests;

@@ -3,6 +3,7 @@
 use super::BuildError;
 use crate::container::{ContainerStats, RunningContainer, ThreadContainer, ThreadOptions};
 use crate::module::{ParamHandle, Value};
+use crate::resource::LockOrder;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -29,12 +30,14 @@ pub struct RunningApp {
     stop: Arc<AtomicBool>,
     params: HashMap<(String, String), ParamHandle>,
     warnings: Vec<String>,
+    lock_order: Arc<LockOrder>,
 }
 
 impl RunningApp {
     pub(super) fn start(
         containers: Vec<(ThreadContainer, ThreadOptions)>,
         params: HashMap<(String, String), ParamHandle>,
+        lock_order: Arc<LockOrder>,
         limit: Option<u64>,
     ) -> Result<Self, BuildError> {
         let stop = Arc::new(AtomicBool::new(false));
@@ -44,6 +47,7 @@ impl RunningApp {
             stop: stop.clone(),
             params,
             warnings: Vec::new(),
+            lock_order,
         };
         for (container, options) in containers {
             let name = container.stats().name.clone();
@@ -91,6 +95,12 @@ impl RunningApp {
                 load: s.load(),
             })
             .collect()
+    }
+
+    /// Lock-order problems seen so far (inversions, level violations, recursive
+    /// locks), each with its acquisition sites; also readable after `join`.
+    pub fn lock_reports(&self) -> Vec<String> {
+        self.lock_order.reports()
     }
 
     /// Panic reports of stopped steps, each naming the module path (also after `join`).

@@ -9,7 +9,7 @@
 
 mod interface;
 mod param;
-mod setup;
+pub(crate) mod setup;
 mod value;
 
 pub use interface::{Direction, Interface, Kind, ParamInfo, PortInfo, Role};

@@ -26,6 +26,8 @@ use super::interface::{Direction, Interface, ParamInfo, PortInfo, Role};
 use super::param::{Check, ParamHandle, ParamValue, Parameter, Value};
 use super::value::{In, Out, PortKind, PortValue};
 use crate::port::{InputHandle, OutputHandle, QueueConfig};
+use crate::resource::LockSlot;
+use std::sync::{Arc, OnceLock};
 
 /// The creation context of one module instance (or of the registry describing a type,
 /// where nothing is given and every declaration falls back to its default).
@@ -36,7 +38,16 @@ pub struct Setup<'a> {
     pub(crate) inputs: Vec<(String, InputHandle)>,
     pub(crate) outputs: Vec<(String, OutputHandle)>,
     pub(crate) params: Vec<(String, ParamHandle)>,
+    /// Lock slots, bound to resources by the Builder.
+    pub(crate) locks: Vec<SlotBinding>,
     pub(crate) errors: Vec<String>,
+}
+
+/// The Builder's end of a [`LockSlot`]: where to put the module path and the resource.
+pub(crate) struct SlotBinding {
+    pub(crate) slot: String,
+    pub(crate) module: Arc<OnceLock<String>>,
+    pub(crate) resource: Arc<OnceLock<Arc<crate::resource::Resource>>>,
 }
 
 impl<'a> Setup<'a> {
@@ -52,8 +63,30 @@ impl<'a> Setup<'a> {
             inputs: Vec::new(),
             outputs: Vec::new(),
             params: Vec::new(),
+            locks: Vec::new(),
             errors: Vec::new(),
         }
+    }
+
+    /// Declares a lock slot (the manifest's `<locks order="…">` names them); the model
+    /// binds it to an application resource. Take it with [`LockSlot::lock`].
+    pub fn lock(&mut self, slot: &str) -> LockSlot {
+        if self.locks.iter().any(|l| l.slot == slot) {
+            self.errors
+                .push(format!("the lock slot `{slot}` is declared twice"));
+        }
+        let binding = SlotBinding {
+            slot: slot.to_owned(),
+            module: Arc::new(OnceLock::new()),
+            resource: Arc::new(OnceLock::new()),
+        };
+        let handle = LockSlot {
+            slot: slot.to_owned(),
+            module: Arc::clone(&binding.module),
+            resource: Arc::clone(&binding.resource),
+        };
+        self.locks.push(binding);
+        handle
     }
 
     fn port_decl(&mut self, name: &str, dir: Direction, role: Role) -> PortDecl<'_, 'a> {

@@ -12,8 +12,8 @@ use super::output::OutputCore;
 use super::wiring::{self, InCore, OutCore};
 use super::{ConnectError, ConnectOptions, Notifier};
 use super::{CopyInputPort, CopyOutputPort, InputPort, NoUninit, OutputPort};
-use std::any::Any;
 use crate::sync::Arc;
+use std::any::Any;
 
 type ConnectFn = fn(&OutputHandle, &InputHandle, ConnectOptions) -> Result<(), ConnectError>;
 type DisconnectFn = fn(&OutputHandle, &InputHandle) -> bool;
