@@ -107,6 +107,8 @@ pub struct ModuleType {
     pub lock_slots: Vec<(String, Span)>,
     /// What each activity does that can wait; one default `update` if none is declared.
     pub activities: Vec<super::steps::ActivityDecl>,
+    /// `budget="2ms"`: worst-case execution time of one activation, seconds (value span).
+    pub budget: Option<(f64, Span)>,
     pub span: Span,
 }
 
@@ -180,6 +182,7 @@ fn build(
         services: Vec::new(),
         lock_slots: Vec::new(),
         activities: Vec::new(),
+        budget: super::steps::duration_attr(element, "budget", diags),
         span: element.value_span("name"),
     };
     // Ports share one namespace across directions; parameters (addressed as `param/x`) another.
