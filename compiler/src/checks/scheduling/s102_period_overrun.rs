@@ -52,13 +52,18 @@ fn report(ctx: &PassContext<'_>, load: &Load, period: f64) -> Diagnostic {
             percent(load.total() / period)
         ),
     )
-    .label(format!("needs {} every {}", duration(load.total()), duration(period)));
+    .label(format!(
+        "needs {} every {}{}",
+        duration(load.total()),
+        duration(period),
+        unbudgeted(load)
+    ));
     d = contributors(ctx, d, load);
     let biggest = &load.budgets[0];
     d.help(format!(
         "lengthen the period to at least {}, move modules (the largest is `{}`) into another thread container, or make them cheaper",
         duration(load.total()),
-        app.path(biggest.0)
+        app.path(biggest.module)
     ))
 }
 
@@ -66,16 +71,33 @@ fn report(ctx: &PassContext<'_>, load: &Load, period: f64) -> Diagnostic {
 /// rest in the last label.
 pub(super) fn contributors(ctx: &PassContext<'_>, mut d: Diagnostic, load: &Load) -> Diagnostic {
     let total = load.total();
-    for (module, budget, span) in load.budgets.iter().take(3) {
+    for b in load.budgets.iter().take(3) {
+        let source = if b.from_type {
+            ctx.app
+                .module_type(ctx.libraries, b.module)
+                .map_or(String::new(), |mt| format!(", budget of {}", mt.qualified))
+        } else {
+            String::new()
+        };
         d = d.secondary(
-            *span,
+            b.span,
             format!(
-                "`{}`: {} ({} of the total)",
-                ctx.app.path(*module),
-                duration(*budget),
-                percent(budget / total)
+                "`{}`: {} ({} of the total{source})",
+                ctx.app.path(b.module),
+                duration(b.seconds),
+                percent(b.seconds / total)
             ),
         );
     }
+
     d
+}
+
+/// `; 2 modules without a budget count as 0` when there are such modules.
+pub(super) fn unbudgeted(load: &Load) -> String {
+    match load.unbudgeted {
+        0 => String::new(),
+        1 => "; 1 module without a budget counts as 0".into(),
+        n => format!("; {n} modules without a budget count as 0"),
+    }
 }

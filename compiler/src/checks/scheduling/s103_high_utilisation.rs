@@ -76,6 +76,7 @@ fn report(ctx: &PassContext<'_>, load: &Load, period: f64, threshold: f64) -> Di
     } else {
         format!("above the warning threshold of {}", percent(threshold))
     };
+    let over = over + &super::s102_period_overrun::unbudgeted(load);
     let mut d = Diagnostic::new(&CHECK, thread.name_span, head).label(over);
     d = super::s102_period_overrun::contributors(ctx, d, load);
     for (t, site) in load.timeouts.iter().take(3) {

@@ -76,8 +76,9 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                         low: thread(y),
                         site: w.site,
                         what: format!(
-                            "lock `{}`, which it also takes",
-                            m.locks[*lock as usize].name
+                            "lock `{}`, which `{}` also takes",
+                            m.locks[*lock as usize].name,
+                            app.path(thread(y))
                         ),
                     });
                 }
