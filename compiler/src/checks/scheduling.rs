@@ -17,15 +17,24 @@ pub mod s107_priority_inversion;
 /// Relative slack for comparing sums of decimal durations (10 × 1 ms is not over 10 ms).
 pub(crate) const EPS: f64 = 1e-9;
 
+/// One module's budget in a container.
+#[derive(Debug, Clone)]
+pub struct Budget {
+    pub module: ElementId,
+    pub seconds: f64,
+    /// The instance's `budget` value, or the instance's name when the type declares it.
+    pub span: Span,
+    pub from_type: bool,
+}
+
 /// The declared load of one thread container.
 #[derive(Debug, Clone)]
 pub struct Load {
     pub thread: ElementId,
     /// `period`, seconds (`None`: data-triggered or invalid).
     pub period: Option<f64>,
-    /// Modules the container executes that declare a budget: (module, budget, where
-    /// declared), largest first.
-    pub budgets: Vec<(ElementId, f64, Span)>,
+    /// Modules the container executes that have a budget, largest first.
+    pub budgets: Vec<Budget>,
     /// Modules without a budget (they count as 0).
     pub unbudgeted: usize,
     /// Blocking steps with a timeout: (timeout, the model element that makes it wait).
@@ -34,7 +43,7 @@ pub struct Load {
 
 impl Load {
     pub fn total(&self) -> f64 {
-        self.budgets.iter().map(|b| b.1).sum()
+        self.budgets.iter().map(|b| b.seconds).sum()
     }
 
     pub fn timeout_total(&self) -> f64 {
@@ -69,8 +78,17 @@ pub fn loads(app: &Application, libs: &LibrarySet) -> Vec<Load> {
         let Some(&k) = app.element(id).thread.and_then(|t| index.get(&t)) else {
             continue;
         };
+        let own = match &app.element(id).kind {
+            ElementKind::Module(m) => m.budget,
+            _ => None,
+        };
         match app.budget(libs, id) {
-            Some((b, span)) => out[k].budgets.push((id, b, span)),
+            Some((seconds, _)) => out[k].budgets.push(Budget {
+                module: id,
+                seconds,
+                span: own.map_or(app.element(id).name_span, |o| o.1),
+                from_type: own.is_none(),
+            }),
             None => out[k].unbudgeted += 1,
         }
     }
@@ -85,8 +103,11 @@ pub fn loads(app: &Application, libs: &LibrarySet) -> Vec<Load> {
     }
     out.retain(|l| !l.budgets.is_empty());
     for l in &mut out {
-        l.budgets
-            .sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+        l.budgets.sort_by(|a, b| {
+            b.seconds
+                .total_cmp(&a.seconds)
+                .then(a.module.cmp(&b.module))
+        });
     }
     out
 }

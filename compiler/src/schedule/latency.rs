@@ -67,6 +67,9 @@ pub struct FlowBound {
     pub total: f64,
 }
 
+/// A step of a module: the node of the latency graph.
+type Node = (ElementId, StepKind);
+
 struct Slot {
     container: usize,
     position: usize,
@@ -84,10 +87,10 @@ struct Container {
 pub struct Latencies<'a> {
     app: &'a Application,
     libs: &'a LibrarySet,
-    slots: HashMap<(ElementId, StepKind), Slot>,
+    slots: HashMap<Node, Slot>,
     containers: Vec<Container>,
     /// Outgoing data edges per step.
-    out: HashMap<(ElementId, StepKind), Vec<((ElementId, StepKind), DataEdge)>>,
+    out: HashMap<Node, Vec<(Node, DataEdge)>>,
 }
 
 fn budget(app: &Application, libs: &LibrarySet, m: ElementId) -> f64 {
@@ -153,7 +156,7 @@ impl<'a> Latencies<'a> {
     }
 
     /// The hop over one data edge.
-    fn hop(&self, a: (ElementId, StepKind), b: (ElementId, StepKind), e: &DataEdge) -> Hop {
+    fn hop(&self, a: Node, b: Node, e: &DataEdge) -> Hop {
         let (sa, sb) = (&self.slots[&a], &self.slots[&b]);
         let reader = &self.containers[sb.container];
         let queue = e
@@ -189,7 +192,7 @@ impl<'a> Latencies<'a> {
     }
 
     /// Hops inside a sense-control module between its two steps.
-    fn internal(&self, a: (ElementId, StepKind)) -> Option<((ElementId, StepKind), Hop)> {
+    fn internal(&self, a: Node) -> Option<(Node, Hop)> {
         let other = match a.1 {
             StepKind::Sense => StepKind::Control,
             StepKind::Control => StepKind::Sense,
@@ -240,7 +243,7 @@ impl<'a> Latencies<'a> {
                 goal = Some((d, node));
                 break;
             }
-            let mut next: Vec<((ElementId, StepKind), Hop)> = self
+            let mut next: Vec<(Node, Hop)> = self
                 .out
                 .get(&node)
                 .into_iter()
@@ -269,7 +272,7 @@ impl<'a> Latencies<'a> {
 }
 
 /// Min-heap entry ordered by cost, then by node (deterministic).
-struct Entry(f64, (ElementId, StepKind));
+struct Entry(f64, Node);
 
 impl PartialEq for Entry {
     fn eq(&self, other: &Self) -> bool {
