@@ -57,8 +57,9 @@ impl Load {
 }
 
 /// The load of every thread container that declares at least one budget, in element
-/// order. Each module's budget covers everything it does in one cycle.
-pub fn loads(app: &Application, libs: &LibrarySet) -> Vec<Load> {
+/// order. Each module's budget covers everything it does in one cycle. The timeouts of
+/// blocking steps come from the deadlock model, built only when `timeouts` is asked for.
+pub fn loads(app: &Application, libs: &LibrarySet, timeouts: bool) -> Vec<Load> {
     let mut index = hashbrown::HashMap::new();
     let mut out: Vec<Load> = Vec::new();
     for (i, e) in app.elements.iter().enumerate() {
@@ -92,7 +93,7 @@ pub fn loads(app: &Application, libs: &LibrarySet) -> Vec<Load> {
             None => out[k].unbudgeted += 1,
         }
     }
-    if out.iter().any(|l| !l.budgets.is_empty()) {
+    if timeouts && out.iter().any(|l| !l.budgets.is_empty()) {
         let m = crate::deadlock::model(app, libs);
         for w in &m.waits {
             let thread = m.ecs[w.ec as usize].thread;
