@@ -41,6 +41,19 @@ pub struct Diagnostic {
     pub secondary: Vec<Label>,
     /// The suggested fix.
     pub help: Option<String>,
+    /// A deadlock witness: one flow per blocked thread container (SARIF `codeFlows`).
+    pub witness: Vec<ThreadFlow>,
+}
+
+/// What one thread container does on a deadlock cycle, in order: where it took what it
+/// holds, then where it blocks (the last location's message says what it waits for).
+#[derive(Clone, Debug)]
+pub struct ThreadFlow {
+    /// The thread container's path (`robot/T1`).
+    pub thread: String,
+    /// `thread container `robot/T1` (part `robot`, host `pc1`)`.
+    pub message: String,
+    pub locations: Vec<Label>,
 }
 
 impl Diagnostic {
@@ -55,6 +68,7 @@ impl Diagnostic {
             },
             secondary: Vec::new(),
             help: None,
+            witness: Vec::new(),
         }
     }
 
@@ -74,6 +88,11 @@ impl Diagnostic {
 
     pub fn help(mut self, help: impl Into<String>) -> Self {
         self.help = Some(help.into());
+        self
+    }
+
+    pub fn witness(mut self, witness: Vec<ThreadFlow>) -> Self {
+        self.witness = witness;
         self
     }
 

@@ -51,6 +51,8 @@ pub struct ModuleInstance {
     /// `characteristic="true"` (span of the value): this behaviour is the characteristic
     /// behaviour of its nearest enclosing group, which makes that group an iB2C group.
     pub characteristic: Option<Span>,
+    /// `budget="…"` on the instance: overrides the module type's budget (seconds, span).
+    pub budget: Option<(f64, Span)>,
 }
 
 /// Where a parameter's value comes from.
@@ -183,6 +185,64 @@ pub struct Application {
     pub resources: Vec<Resource>,
     /// `<application profile>`: the framework whose execution semantics apply.
     pub profile: Profile,
+    /// What the timing checks (S102–S107) read: priorities, cores, flows.
+    pub timing: Timing,
+}
+
+/// Timing attributes of the model, keyed by element (most models declare few of them).
+#[derive(Debug, Default)]
+pub struct Timing {
+    /// `<thread priority>` (higher runs first) with the value's span.
+    pub priority: HashMap<ElementId, (u32, Span)>,
+    /// `<thread cpu>`: the core a container is pinned to, with the value's span.
+    pub cpu: HashMap<ElementId, (u32, Span)>,
+    /// `<part cores>`: cores of the part's host, with the value's span.
+    pub cores: HashMap<ElementId, (u32, Span)>,
+    /// `<application utilisation-warning="80%">` as a fraction, with the value's span.
+    pub warning: Option<(f64, Span)>,
+    /// `<flow>` requirements whose ends resolve.
+    pub flows: Vec<Flow>,
+}
+
+/// `<flow name from to max-latency>`, ends resolved to modules.
+#[derive(Debug, Clone)]
+pub struct Flow {
+    pub name: String,
+    /// The `<flow>` tag.
+    pub span: Span,
+    pub from: ElementId,
+    pub from_span: Span,
+    pub to: ElementId,
+    pub to_span: Span,
+    /// Seconds, with the value's span.
+    pub max_latency: (f64, Span),
+}
+
+impl Application {
+    /// The budget of one activation of a module: the instance's, else its type's.
+    pub fn budget(&self, libs: &LibrarySet, id: ElementId) -> Option<(f64, Span)> {
+        match &self.element(id).kind {
+            ElementKind::Module(m) => m
+                .budget
+                .or(libs.get(m.library).module_types[m.type_index].budget),
+            _ => None,
+        }
+    }
+
+    /// The host a part runs on: its `host` label, else the part itself.
+    pub fn host_of(&self, part: ElementId) -> HostKey<'_> {
+        match &self.element(part).kind {
+            ElementKind::Part { host: Some((h, _)) } => HostKey::Label(h),
+            _ => HostKey::Part(part),
+        }
+    }
+}
+
+/// Which host a part runs on (see [`Application::host_of`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum HostKey<'a> {
+    Label(&'a str),
+    Part(ElementId),
 }
 
 /// A `<resource>`: a named lock.

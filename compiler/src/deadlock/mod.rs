@@ -252,6 +252,12 @@ pub struct Analysis {
     pub latent: Vec<Latent>,
 }
 
+/// Only the analysis model: contexts, locks, queues and wait-states (linear; no search).
+/// The timing checks read the waits from it.
+pub fn model(app: &Application, libs: &LibrarySet) -> Model {
+    build::build(app, libs)
+}
+
 /// Runs the whole analysis. Linear in the model, plus a capped search per SCC.
 pub fn analyse(app: &Application, libs: &LibrarySet) -> Analysis {
     let model = build::build(app, libs);

@@ -4,7 +4,7 @@
 
 use super::{Cycle, CycleKind, EcId, Held, Hop, Model, WaitId, WaitKind};
 use crate::checks::CheckInfo;
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{Diagnostic, Label, ThreadFlow};
 use crate::ir::{Application, ElementKind};
 use crate::library::LibrarySet;
 use std::fmt::Write;
@@ -326,6 +326,50 @@ impl Ctx<'_> {
             self.scenario(c),
             self.fix(c)
         ))
+        .witness(self.thread_flows(c))
+    }
+
+    /// The witness as one flow per thread container, in order of first appearance on the
+    /// cycle: for each of its steps, where it took each lock it holds, then where it blocks.
+    pub fn thread_flows(&self, c: &Cycle) -> Vec<ThreadFlow> {
+        let mut flows: Vec<(EcId, ThreadFlow)> = Vec::new();
+        for (i, (w, _)) in c.steps.iter().enumerate() {
+            let wait = &self.m.waits[*w as usize];
+            let k = match flows.iter().position(|(ec, _)| *ec == wait.ec) {
+                Some(k) => k,
+                None => {
+                    flows.push((
+                        wait.ec,
+                        ThreadFlow {
+                            thread: self.app.path(self.m.ecs[wait.ec as usize].thread),
+                            message: self.where_(wait.ec),
+                            locations: Vec::new(),
+                        },
+                    ));
+                    flows.len() - 1
+                }
+            };
+            let locations = &mut flows[k].1.locations;
+            for (h, at) in &wait.held_sites {
+                if matches!(h, Held::Lock(_)) {
+                    locations.push(Label {
+                        span: *at,
+                        message: format!("{}. takes {} (holds it from here)", i + 1, self.held(*h)),
+                    });
+                }
+            }
+            locations.push(Label {
+                span: wait.site,
+                message: format!(
+                    "{}. in {}: {}; blocks waiting for {}",
+                    i + 1,
+                    self.activity(*w),
+                    self.step(*w),
+                    self.waits_for(c, i)
+                ),
+            });
+        }
+        flows.into_iter().map(|(_, f)| f).collect()
     }
 
     /// `T1 → T2 → T1` for headlines.

@@ -109,6 +109,8 @@ pub struct ModuleType {
     pub lock_orders: Vec<Vec<String>>,
     /// What each activity does that can wait; one default `update` if none is declared.
     pub activities: Vec<super::steps::ActivityDecl>,
+    /// `budget="2ms"`: worst-case execution time of one activation, seconds (value span).
+    pub budget: Option<(f64, Span)>,
     pub span: Span,
 }
 
@@ -183,6 +185,7 @@ fn build(
         lock_slots: Vec::new(),
         lock_orders: Vec::new(),
         activities: Vec::new(),
+        budget: super::steps::duration_attr(element, "budget", diags),
         span: element.value_span("name"),
     };
     // Ports share one namespace across directions; parameters (addressed as `param/x`) another.

@@ -407,6 +407,27 @@ pub(super) fn timeout(e: &Element, diags: &mut Diagnostics) -> Timeout {
     }
 }
 
+/// A duration attribute such as `budget="2ms"` (seconds, with the value's span); an
+/// unparsable value is reported (M108) and ignored.
+pub fn duration_attr(e: &Element, attr: &str, diags: &mut Diagnostics) -> Option<(f64, Span)> {
+    let a = e.attr(attr)?;
+    match parse_duration(&a.value) {
+        Ok(s) => Some((s, a.value_span)),
+        Err(_) => {
+            diags.push(
+                Diagnostic::new(
+                    &m108_invalid_attribute_value::CHECK,
+                    a.value_span,
+                    format!("`{}` is not a duration", a.value),
+                )
+                .label("expected a duration")
+                .help(format!("write e.g. {attr}=\"2ms\", `250us` or `PT0.002S`")),
+            );
+            None
+        }
+    }
+}
+
 /// Space-separated identifiers of an attribute, each with its own span.
 fn words(e: &Element, attr: &str) -> Vec<(String, Span)> {
     let Some(a) = e.attr(attr) else {

@@ -40,6 +40,37 @@ fn level(s: Severity) -> &'static str {
     }
 }
 
+/// A deadlock witness as one `codeFlow` with one `threadFlow` per blocked thread
+/// container (`reference/deadlocks.md` §2.8).
+fn code_flows(sources: &SourceMap, witness: &[crate::diagnostic::ThreadFlow]) -> Value {
+    let thread_flows: Vec<Value> = witness
+        .iter()
+        .map(|t| {
+            let locations: Vec<Value> = t
+                .locations
+                .iter()
+                .map(|l| {
+                    json!({
+                        "location": {
+                            "physicalLocation": physical(sources, l.span),
+                            "message": { "text": l.message },
+                        },
+                    })
+                })
+                .collect();
+            json!({
+                "id": t.thread,
+                "message": { "text": t.message },
+                "locations": locations,
+            })
+        })
+        .collect();
+    json!([{
+        "message": { "text": format!("deadlock witness: {} blocked thread container(s)", witness.len()) },
+        "threadFlows": thread_flows,
+    }])
+}
+
 /// One SARIF log with one run covering every checked model.
 pub fn document(reports: &[ModelReport<'_>]) -> Value {
     let rules: Vec<Value> = REGISTRY
@@ -88,6 +119,9 @@ pub fn document(reports: &[ModelReport<'_>]) -> Value {
             });
             if !related.is_empty() {
                 result["relatedLocations"] = Value::Array(related);
+            }
+            if !d.witness.is_empty() {
+                result["codeFlows"] = code_flows(report.sources, &d.witness);
             }
             results.push(result);
         }

@@ -7,7 +7,7 @@ use crate::ir::*;
 use crate::source::Span;
 
 /// A resolved path: the endpoint and an optional element index.
-type Resolved = (Endpoint, Option<u32>);
+pub(super) type Resolved = (Endpoint, Option<u32>);
 
 impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     pub(super) fn resolve_connect(&mut self, p: PendingConnect<'t>) {
@@ -109,7 +109,12 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     }
 
     /// Walks a path from `scope`. Reports and returns `None` when it does not resolve.
-    fn resolve_path(&mut self, scope: ElementId, path: &str, span: Span) -> Option<Resolved> {
+    pub(super) fn resolve_path(
+        &mut self,
+        scope: ElementId,
+        path: &str,
+        span: Span,
+    ) -> Option<Resolved> {
         let segments: Vec<&str> = path.split('/').collect();
         if path.is_empty() || segments.iter().any(|s| s.is_empty()) {
             self.unresolved(

@@ -17,6 +17,7 @@ use petgraph::graph::DiGraph;
 
 mod connect;
 mod module;
+mod timing;
 
 /// A `<connect>` waiting for the tree to be complete.
 struct PendingConnect<'t> {
@@ -67,6 +68,7 @@ pub fn resolve(
             Some("finroc") => Profile::Finroc,
             _ => Profile::Generic,
         },
+        timing: Timing::default(),
     };
     let mut r = Resolver {
         loader,
@@ -117,6 +119,7 @@ pub fn resolve(
         }
     }
     r.walk(ElementId(0), root, used, None, 0);
+    r.application_timing(root);
     for pending in std::mem::take(&mut r.pending) {
         r.resolve_connect(pending);
     }
@@ -197,6 +200,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                     if let Some(id) =
                         self.add_element(scope, child, ElementKind::Part { host }, inst)
                     {
+                        self.part_timing(id, child);
                         self.walk(id, child, visible, inst, depth);
                     }
                 }
@@ -212,6 +216,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                         continuous: child.value("trigger") == Some("continuous"),
                     };
                     if let Some(id) = self.add_element(scope, child, kind, inst) {
+                        self.thread_timing(id, child);
                         self.walk(id, child, visible, inst, depth);
                     }
                 }

@@ -21,6 +21,7 @@
 //! 5. Ties are broken by element path, so the order is the same on every run.
 
 mod flow;
+pub mod latency;
 mod order;
 
 pub use flow::{data_edges, DataEdge};

@@ -93,6 +93,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
             req("name", Ident),
             req("version", Choice(&["1"])),
             opt("profile", Choice(PROFILES)),
+            opt("utilisation-warning", Text),
         ],
         children: &[
             "use",
@@ -127,7 +128,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
     ElementSpec {
         key: "part",
         tag: "part",
-        attrs: &[req("name", Ident), opt("host", Text)],
+        attrs: &[req("name", Ident), opt("host", Text), opt("cores", Count)],
         children: &["thread", "group", "module", "connect", "allow"],
         text: false,
     },
