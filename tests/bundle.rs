@@ -383,6 +383,11 @@ fn a_built_bundle_behaves_like_ferroc_run() {
         "{}",
         String::from_utf8_lossy(&build.stderr)
     );
+    let build_log = String::from_utf8_lossy(&build.stderr);
+    assert!(
+        !build_log.contains("warning"),
+        "the generated code warns:\n{build_log}"
+    );
     let program = target.join("debug/crash_course-fragile_bot");
     let bundled = Command::new(&program)
         .args(["--cycles", "20", "-q"])
