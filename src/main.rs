@@ -10,6 +10,7 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod bundle;
 mod checked;
 mod graph;
 mod interface;
@@ -68,6 +69,24 @@ Examples:\n  ferroc run models/crash_course.xml\n  ferroc run models/crash_cours
 ferroc run models/crash_course.xml --cycles 100 --param front-noise=5cm"
     )]
     Run(run::RunArgs),
+    /// Check a model, then write a Cargo workspace with one program per part (wiring only)
+    #[command(
+        long_about = "Check a model (errors stop here), plan it as `ferroc run` does, and write DIR: a \
+Cargo workspace with one program per part whose generated `main.rs` makes the same runtime \
+Builder calls `ferroc run` makes, with the concrete module types (wiring only: no module logic \
+is generated). Next to it: the resolved model (`model/APP.xml`, which `ferroc check` accepts), \
+`manifest.json` (tool version, model hash, parts, hosts, binaries, commands), a launch script per \
+host (`launch/HOST.sh`) and a systemd unit per part (`systemd/`).\n\n\
+The output is deterministic: the same model gives a byte-identical bundle. DIR must be empty or \
+new (or pass --force); it is never a symbolic link, and nothing is written outside it.\n\n\
+Exit codes: 0 written, 1 the model has errors or cannot be bundled, 2 bad arguments or DIR \
+unusable.\n\n\
+Examples:\n  ferroc bundle models/crash_course.xml -o dist/crash_course\n  \
+cargo build --release --manifest-path dist/crash_course/Cargo.toml\n  \
+dist/crash_course/target/release/crash_course-fragile_bot --cycles 100\n  \
+ferroc bundle models/crash_course.xml -o dist/cc --deps version --prefix /opt/robot"
+    )]
+    Bundle(bundle::BundleArgs),
     /// Draw the application as a graph (behaviour networks the iB2C way): DOT or SVG
     #[command(
         long_about = "Draw the application as a Graphviz graph: modules grouped by part and group, \
@@ -149,6 +168,7 @@ fn main() -> ExitCode {
         Command::Check(args) => check(args),
         Command::Schedule(args) => schedule::run(args),
         Command::Run(args) => run::run(args),
+        Command::Bundle(args) => bundle::run(args),
         Command::Graph(args) => graph::run(args),
         Command::Types(args) => types::run(args),
         Command::Explain { code, list } => explain(code, list),

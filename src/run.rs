@@ -12,12 +12,13 @@ use ferroc_runtime::builder::{
 use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::module::Value;
 use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig};
-use std::io::{IsTerminal, Write};
+use ferroc_runtime::supervise;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 #[derive(clap::Args)]
 pub struct RunArgs {
@@ -104,11 +105,11 @@ pub fn run(args: RunArgs) -> ExitCode {
             return ExitCode::from(1);
         }
     };
-    for w in app.warnings() {
-        eprintln!("warning: {w}");
-    }
-    let status = !args.quiet && std::io::stderr().is_terminal();
-    supervise(app, &interrupted, args.duration, status)
+    let options = supervise::Options {
+        duration: args.duration,
+        status_line: !args.quiet && std::io::stderr().is_terminal(),
+    };
+    supervise::supervise(app, &interrupted, &options)
 }
 
 fn at(sources: &SourceMap, span: Span) -> String {
@@ -122,7 +123,7 @@ fn at(sources: &SourceMap, span: Span) -> String {
 }
 
 /// Refuses to run a module type whose Rust interface differs from its manifest.
-fn interfaces_agree(
+pub(crate) fn interfaces_agree(
     plan: &Plan,
     registry: &Registry,
     libs: &LibrarySet,
@@ -264,92 +265,4 @@ pub fn build(
         })?;
     }
     builder.start(cycles)
-}
-
-/// Runs until the cycle limit, `--for`, Ctrl-C or SIGTERM; shows a status line on a
-/// terminal; reports panics. Exit code 1 if a module panicked.
-fn supervise(
-    mut app: RunningApp,
-    interrupted: &AtomicBool,
-    duration: Option<Duration>,
-    status: bool,
-) -> ExitCode {
-    ferroc_runtime::console::set_status_line_active(status);
-    let started = Instant::now();
-    let mut last_draw = Instant::now() - Duration::from_secs(1);
-    let mut reported_panics = 0;
-    let mut reported_locks = 0;
-    let reason = loop {
-        if app.is_finished() {
-            break "cycle limit reached";
-        }
-        if interrupted.load(Ordering::SeqCst) {
-            break "interrupted";
-        }
-        if duration.is_some_and(|d| started.elapsed() >= d) {
-            break "time is up";
-        }
-        let panics = app.panics();
-        for p in &panics[reported_panics..] {
-            ferroc_runtime::console::line(&format!("error: {p}"));
-        }
-        reported_panics = panics.len();
-        let locks = app.lock_reports();
-        for l in &locks[reported_locks..] {
-            ferroc_runtime::console::line(&format!("warning: {l}"));
-        }
-        reported_locks = locks.len();
-        if status && last_draw.elapsed() >= Duration::from_millis(250) {
-            last_draw = Instant::now();
-            let line = status_line(&app, started.elapsed());
-            let _ = write!(std::io::stderr(), "\r\x1b[K{line}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    app.stop();
-    app.join();
-    ferroc_runtime::console::set_status_line_active(false);
-    if status {
-        eprint!("\r\x1b[K");
-    }
-    let panics = app.panics();
-    for p in &panics[reported_panics.min(panics.len())..] {
-        eprintln!("error: {p}");
-    }
-    let locks = app.lock_reports();
-    for l in &locks[reported_locks.min(locks.len())..] {
-        eprintln!("warning: {l}");
-    }
-    eprintln!(
-        "stopped ({reason}) after {:.1} s",
-        started.elapsed().as_secs_f64()
-    );
-    for s in app.status() {
-        eprintln!(
-            "  {}: {} cycles, {} overruns, load {:.1} %",
-            s.path,
-            s.cycles,
-            s.overruns,
-            s.load * 100.0
-        );
-    }
-    if panics.is_empty() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
-    }
-}
-
-fn status_line(app: &RunningApp, elapsed: Duration) -> String {
-    let mut line = format!("{:>6.1} s", elapsed.as_secs_f64());
-    for s in app.status() {
-        let name = s.path.rsplit('/').next().unwrap_or(&s.path);
-        line.push_str(&format!(
-            " | {name}: {} cycles, {} overruns, load {:.0} %",
-            s.cycles,
-            s.overruns,
-            s.load * 100.0
-        ));
-    }
-    line
 }

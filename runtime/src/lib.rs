@@ -15,6 +15,9 @@
 //! * [`service`] — request/response ports: a service executed by the serving module's
 //!   thread container (or inline by its callers), blocking and asynchronous clients
 //!   with optional timeouts; every failure is an error value, never a hang.
+//! * [`supervise`] — running a started application until its cycle limit, a time limit
+//!   or Ctrl-C, with a live status line and a summary: shared by `ferroc run` and the
+//!   programs of a `ferroc bundle`.
 //!
 //! The crate does not depend on the compiler. Its concurrency is verified with loom
 //! (`RUSTFLAGS="--cfg loom" cargo test -p ferroc-runtime --release --test loom_ports
@@ -31,4 +34,5 @@ pub mod module;
 pub mod port;
 pub mod resource;
 pub mod service;
+pub mod supervise;
 mod sync;

@@ -1,0 +1,260 @@
+//! Supervising a started application: one piece of code for `ferroc run` and for the
+//! programs `ferroc bundle` generates, so both behave and report alike.
+//!
+//! [`supervise`] waits until the cycle limit, a time limit or an interruption (Ctrl-C,
+//! SIGTERM: the caller's signal handler sets a flag), draws a live status line on a
+//! terminal, reports module panics and lock-order problems as they happen, stops cleanly and prints a summary
+//! (reason, run time, cycles, overruns and load per thread container) on standard error.
+//!
+//! [`Args`] is the small command line of a generated program (`--cycles N`, `--for 10s`,
+//! `--quiet`, `--help`), parsed without a dependency.
+
+use crate::builder::RunningApp;
+use std::io::{IsTerminal, Write};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// How [`supervise`] runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Options {
+    /// Stop after this long (`None`: until the cycle limit or an interruption).
+    pub duration: Option<Duration>,
+    /// Draw a live status line on standard error (only sensible on a terminal).
+    pub status_line: bool,
+}
+
+/// Runs `app` until every container reached its cycle limit, `options.duration` passed
+/// or `interrupted` is set; prints the operating system's warnings first, panics as they
+/// happen and a summary at the end. Exit code 1 if a module panicked, else 0.
+pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Options) -> ExitCode {
+    for w in app.warnings() {
+        eprintln!("warning: {w}");
+    }
+    let status = options.status_line;
+    crate::console::set_status_line_active(status);
+    let started = Instant::now();
+    let mut last_draw = Instant::now() - Duration::from_secs(1);
+    let mut reported_panics = 0;
+    let mut reported_locks = 0;
+    let reason = loop {
+        if app.is_finished() {
+            break "cycle limit reached";
+        }
+        if interrupted.load(Ordering::SeqCst) {
+            break "interrupted";
+        }
+        if options.duration.is_some_and(|d| started.elapsed() >= d) {
+            break "time is up";
+        }
+        let panics = app.panics();
+        for p in &panics[reported_panics..] {
+            crate::console::line(&format!("error: {p}"));
+        }
+        reported_panics = panics.len();
+        let locks = app.lock_reports();
+        for l in &locks[reported_locks..] {
+            crate::console::line(&format!("warning: {l}"));
+        }
+        reported_locks = locks.len();
+        if status && last_draw.elapsed() >= Duration::from_millis(250) {
+            last_draw = Instant::now();
+            let line = status_line(&app, started.elapsed());
+            let _ = write!(std::io::stderr(), "\r\x1b[K{line}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    app.stop();
+    app.join();
+    crate::console::set_status_line_active(false);
+    if status {
+        eprint!("\r\x1b[K");
+    }
+    let panics = app.panics();
+    for p in &panics[reported_panics.min(panics.len())..] {
+        eprintln!("error: {p}");
+    }
+    let locks = app.lock_reports();
+    for l in &locks[reported_locks.min(locks.len())..] {
+        eprintln!("warning: {l}");
+    }
+    eprintln!(
+        "stopped ({reason}) after {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
+    for s in app.status() {
+        eprintln!(
+            "  {}: {} cycles, {} overruns, load {:.1} %",
+            s.path,
+            s.cycles,
+            s.overruns,
+            s.load * 100.0
+        );
+    }
+    if panics.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}
+
+fn status_line(app: &RunningApp, elapsed: Duration) -> String {
+    let mut line = format!("{:>6.1} s", elapsed.as_secs_f64());
+    for s in app.status() {
+        let name = s.path.rsplit('/').next().unwrap_or(&s.path);
+        line.push_str(&format!(
+            " | {name}: {} cycles, {} overruns, load {:.0} %",
+            s.cycles,
+            s.overruns,
+            s.load * 100.0
+        ));
+    }
+    line
+}
+
+/// The command line of a generated program.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Args {
+    /// `--cycles N`: stop after N cycles of every thread container.
+    pub cycles: Option<u64>,
+    /// `--for DURATION`: stop after this long.
+    pub duration: Option<Duration>,
+    /// `--quiet` / `-q`: no live status line.
+    pub quiet: bool,
+}
+
+impl Args {
+    /// Parses the process's arguments. On `--help` prints `about` and the options and
+    /// returns exit code 0; on a bad argument explains it and returns exit code 2.
+    pub fn from_env(program: &str, about: &str) -> Result<Args, ExitCode> {
+        let args: Vec<String> = std::env::args().skip(1).collect();
+        match Args::parse(&args) {
+            Ok(Some(args)) => Ok(args),
+            Ok(None) => {
+                println!("{about}\n\n{}", usage(program));
+                Err(ExitCode::SUCCESS)
+            }
+            Err(e) => {
+                eprintln!("error: {e}\n\n{}", usage(program));
+                Err(ExitCode::from(2))
+            }
+        }
+    }
+
+    /// Parses arguments (without the program name); `Ok(None)` means help was asked for.
+    pub fn parse(args: &[String]) -> Result<Option<Args>, String> {
+        let mut out = Args::default();
+        let mut it = args.iter();
+        while let Some(arg) = it.next() {
+            let (name, inline) = match arg.split_once('=') {
+                Some((n, v)) if n.starts_with("--") => (n, Some(v.to_string())),
+                _ => (arg.as_str(), None),
+            };
+            let mut value = |what: &str| {
+                inline
+                    .clone()
+                    .or_else(|| it.next().cloned())
+                    .ok_or_else(|| format!("`{name}` needs a value: {what}"))
+            };
+            match name {
+                "-h" | "--help" => return Ok(None),
+                "-q" | "--quiet" => out.quiet = true,
+                "--cycles" => {
+                    let v = value("a number of cycles, e.g. --cycles 100")?;
+                    out.cycles = Some(v.parse().map_err(|_| {
+                        format!("--cycles {v}: not a number of cycles (write e.g. 100)")
+                    })?);
+                }
+                "--for" => {
+                    let v = value("a duration, e.g. --for 10s")?;
+                    out.duration = Some(parse_duration(&v)?);
+                }
+                _ => return Err(format!("unknown argument `{arg}`")),
+            }
+        }
+        Ok(Some(out))
+    }
+
+    /// The supervision options these arguments ask for (status line only on a terminal).
+    pub fn options(&self) -> Options {
+        Options {
+            duration: self.duration,
+            status_line: !self.quiet && std::io::stderr().is_terminal(),
+        }
+    }
+}
+
+fn usage(program: &str) -> String {
+    format!(
+        "Usage: {program} [--cycles N] [--for DURATION] [--quiet]\n\n\
+         Options:\n  \
+         --cycles N        stop after N cycles of every thread container\n  \
+         --for DURATION    stop after this long: 500ms, 10s, 2min, 1h\n  \
+         -q, --quiet       no live status line\n  \
+         -h, --help        this text\n\n\
+         Ctrl-C or SIGTERM stops after the current cycle. A summary (cycles, overruns and\n\
+         load per thread container) is printed on standard error at the end.\n\n\
+         Exit codes: 0 stopped cleanly, 1 the application could not be built or a module\n\
+         panicked, 2 bad arguments."
+    )
+}
+
+/// `500ms`, `10s`, `1.5 s`, `2min`, `1h`, `250us`.
+fn parse_duration(text: &str) -> Result<Duration, String> {
+    let t = text.trim();
+    let split = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(t.len());
+    let (number, unit) = (&t[..split], t[split..].trim());
+    let scale = match unit {
+        "us" | "µs" => 1e-6,
+        "ms" => 1e-3,
+        "s" => 1.0,
+        "min" => 60.0,
+        "h" => 3600.0,
+        _ => f64::NAN,
+    };
+    match number.parse::<f64>() {
+        Ok(n) if scale.is_finite() && (n * scale).is_finite() && n * scale <= 1e9 => {
+            Ok(Duration::from_secs_f64(n * scale))
+        }
+        _ => Err(format!(
+            "`{text}` is not a duration; write e.g. 10s, 500ms or 2min"
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(args: &[&str]) -> Result<Option<Args>, String> {
+        Args::parse(&args.iter().map(|s| s.to_string()).collect::<Vec<_>>())
+    }
+
+    #[test]
+    fn arguments_of_a_generated_program() {
+        let args = parse(&["--cycles", "20", "-q", "--for=1.5s"])
+            .unwrap()
+            .unwrap();
+        assert_eq!(args.cycles, Some(20));
+        assert!(args.quiet);
+        assert_eq!(args.duration, Some(Duration::from_millis(1500)));
+        assert_eq!(parse(&["--help"]), Ok(None));
+        assert!(parse(&["--cycles"]).unwrap_err().contains("needs a value"));
+        assert!(parse(&["--cycles", "x"])
+            .unwrap_err()
+            .contains("not a number"));
+        assert!(parse(&["--for", "soon"])
+            .unwrap_err()
+            .contains("not a duration"));
+        assert!(parse(&["--bogus"])
+            .unwrap_err()
+            .contains("unknown argument"));
+        assert_eq!(
+            parse_duration("2min"),
+            Ok(Duration::from_secs(120)),
+            "minutes"
+        );
+    }
+}

@@ -1,0 +1,225 @@
+//! The plan of a model split into parts (one program each), with the crates they need,
+//! every name validated before anything is generated from it.
+
+use ferroc_compiler::ir::{Application, ElementKind};
+use ferroc_compiler::library::LibrarySet;
+use ferroc_compiler::plan::{Plan, PlannedConnection, PlannedModule, PlannedThread};
+use ferroc_compiler::source::Span;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use super::text;
+
+/// One part: one program.
+pub struct Part<'p> {
+    pub name: String,
+    pub host: String,
+    /// Cargo package and binary name: `<application>-<part>`.
+    pub package: String,
+    pub modules: Vec<&'p PlannedModule>,
+    pub connections: Vec<&'p PlannedConnection>,
+    pub threads: Vec<&'p PlannedThread>,
+    /// Libraries (by name) whose module types this part creates.
+    pub libraries: Vec<String>,
+}
+
+/// A component library a part depends on.
+pub struct Library {
+    pub name: String,
+    /// `rust-crate` of its manifest: the Cargo package.
+    pub package: String,
+    pub version: Option<String>,
+    /// The manifest file (None for libraries built into ferroc).
+    pub manifest: Option<PathBuf>,
+}
+
+/// What gets bundled.
+pub struct Layout<'p> {
+    pub application: String,
+    pub parts: Vec<Part<'p>>,
+    /// Libraries used by at least one part, by name.
+    pub libraries: BTreeMap<String, Library>,
+}
+
+/// A problem with the model that stops the bundle (exit code 1).
+pub struct Problem {
+    pub span: Span,
+    pub what: String,
+}
+
+/// Splits the plan by part and validates every name that will reach generated code.
+pub fn layout<'p>(
+    app: &Application,
+    libs: &LibrarySet,
+    plan: &'p Plan,
+) -> Result<Layout<'p>, Vec<Problem>> {
+    let mut problems = Vec::new();
+    let root = &app.elements[0];
+    let application = app.name.clone();
+    if !text::is_rust_ident(&application) {
+        problems.push(Problem {
+            span: app.span,
+            what: format!("the application name `{application}` cannot name a program: use letters, digits and `_` (not a Rust keyword)"),
+        });
+    }
+    let mut parts: Vec<Part<'p>> = Vec::new();
+    for e in &app.elements {
+        let ElementKind::Part { host } = &e.kind else {
+            continue;
+        };
+        let host = host
+            .as_ref()
+            .map_or_else(|| "localhost".to_string(), |(h, _)| h.clone());
+        if !text::is_host(&host) {
+            problems.push(Problem {
+                span: e.span,
+                what: format!("the host `{}` of part `{}` cannot name a launch script: use letters, digits, `-`, `_` and `.`", text::comment(&host), text::comment(&e.name)),
+            });
+        }
+        if !text::is_rust_ident(&e.name) {
+            problems.push(Problem {
+                span: e.name_span,
+                what: format!("the part name `{}` cannot name a program: use letters, digits and `_` (not a Rust keyword)", text::comment(&e.name)),
+            });
+        }
+        parts.push(Part {
+            package: format!("{application}-{}", e.name),
+            name: e.name.clone(),
+            host,
+            modules: Vec::new(),
+            connections: Vec::new(),
+            threads: Vec::new(),
+            libraries: Vec::new(),
+        });
+    }
+    let part_names: Vec<String> = parts.iter().map(|p| p.name.clone()).collect();
+    let part_of = |path: &str| -> Option<usize> {
+        let first = path.split('/').next()?;
+        part_names.iter().position(|p| p == first)
+    };
+    let mut module_part = BTreeMap::new();
+    let mut placed = Vec::new();
+    for m in &plan.modules {
+        for segment in m.path.split('/') {
+            if !text::is_name(segment) {
+                problems.push(Problem {
+                    span: m.span,
+                    what: format!("`{}` is not a valid name", text::comment(segment)),
+                });
+            }
+        }
+        if !text::is_rust_path(&m.rust) {
+            problems.push(Problem {
+                span: m.span,
+                what: format!(
+                    "the module type `{}` names the Rust type `{}`, which is not a Rust path (`crate_name::Type`)",
+                    m.type_name,
+                    text::comment(&m.rust)
+                ),
+            });
+        }
+        let Some(p) = part_of(&m.path) else {
+            problems.push(Problem {
+                span: m.span,
+                what: format!("the module `{}` is not inside a part", m.path),
+            });
+            continue;
+        };
+        module_part.insert(m.path.as_str(), p);
+        placed.push((p, m));
+    }
+    for (p, m) in placed {
+        parts[p].modules.push(m);
+        if let Some((lib, _)) = libs.module_type(&m.type_name) {
+            let name = libs.get(lib).name.clone();
+            if !parts[p].libraries.contains(&name) {
+                parts[p].libraries.push(name);
+            }
+        }
+    }
+    for c in &plan.connections {
+        for port in [&c.from.1, &c.to.1] {
+            if !text::is_name(port) {
+                problems.push(Problem {
+                    span: c.span,
+                    what: format!("`{}` is not a valid port name", text::comment(port)),
+                });
+            }
+        }
+        match (module_part.get(c.from.0.as_str()), module_part.get(c.to.0.as_str())) {
+            (Some(&a), Some(&b)) if a == b => parts[a].connections.push(c),
+            (Some(&a), Some(&b)) => problems.push(Problem {
+                span: c.span,
+                what: format!(
+                    "the connection `{}/{}` → `{}/{}` joins the parts `{}` and `{}`: connections between parts need the distributed transport, which the runtime does not have yet",
+                    c.from.0, c.from.1, c.to.0, c.to.1, parts[a].name, parts[b].name
+                ),
+            }),
+            _ => {} // an endpoint outside every part was reported above
+        }
+    }
+    for t in &plan.threads {
+        match part_of(&t.path) {
+            Some(p) => parts[p].threads.push(t),
+            None => problems.push(Problem {
+                span: root.span,
+                what: format!("the thread container `{}` is not inside a part", t.path),
+            }),
+        }
+    }
+    if parts.is_empty() {
+        problems.push(Problem {
+            span: root.span,
+            what: "the application has no part: nothing to bundle".into(),
+        });
+    }
+    let mut libraries = BTreeMap::new();
+    for part in &mut parts {
+        part.libraries.sort();
+        for name in &part.libraries {
+            if libraries.contains_key(name) {
+                continue;
+            }
+            let Some(&id) = libs.by_name.get(name) else {
+                continue;
+            };
+            let lib = libs.get(id);
+            let Some(package) = lib.rust_crate.clone() else {
+                problems.push(Problem {
+                    span: lib.name_span,
+                    what: format!("the library `{name}` has no `rust-crate`: the bundle cannot depend on its module types\n  help: add rust-crate=\"cargo-package-name\" to its <library>"),
+                });
+                continue;
+            };
+            if !text::is_crate_name(&package) {
+                problems.push(Problem {
+                    span: lib.name_span,
+                    what: format!(
+                        "the rust-crate `{}` of library `{name}` is not a Cargo package name",
+                        text::comment(&package)
+                    ),
+                });
+                continue;
+            }
+            let version = lib.version.clone().filter(|v| text::is_version(v));
+            libraries.insert(
+                name.clone(),
+                Library {
+                    name: name.clone(),
+                    package,
+                    version,
+                    manifest: (!lib.path.as_os_str().is_empty()).then(|| lib.path.clone()),
+                },
+            );
+        }
+    }
+    if problems.is_empty() {
+        Ok(Layout {
+            application,
+            parts,
+            libraries,
+        })
+    } else {
+        Err(problems)
+    }
+}

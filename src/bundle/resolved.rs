@@ -1,0 +1,268 @@
+//! The resolved model: the application as `ferroc check` sees it after resolution, as a
+//! plain model file. Parameter values are looked up (config files, command line) and
+//! written in each parameter's declared unit; group types and group ports are flattened
+//! away, so every connection runs from a module output to a module input, with the
+//! conversion steps of the path it replaces. Checking it plans the same application.
+
+use super::text::{xml, xml_comment};
+use ferroc_compiler::ir::{Application, ElementId, ElementKind, ParamSource};
+use ferroc_compiler::library::{LibrarySet, PortDir};
+use ferroc_compiler::plan::Plan;
+use ferroc_compiler::schedule::data_edges;
+use ferroc_compiler::values::{parse_duration, parse_value, Value};
+
+/// The resolved model's text. `manifests` maps a library name to the manifest path
+/// written into `<use manifest>` (None for libraries built into ferroc).
+pub fn document(
+    app: &Application,
+    libs: &LibrarySet,
+    plan: &Plan,
+    manifests: &[(String, Option<String>)],
+    cmdline: &[(String, String)],
+    model_file: &str,
+    tool_version: &str,
+) -> String {
+    let mut out = String::new();
+    out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!--\n");
+    out.push_str(&format!(
+        "  The resolved model of {}, written by ferroc {tool_version} (`ferroc bundle`).\n",
+        xml_comment(model_file)
+    ));
+    out.push_str(
+        "  Parameter values are looked up and written in each parameter's declared unit;\n  \
+         group types and group ports are flattened away: every connection runs from a\n  \
+         module output to a module input. `ferroc check` plans the same application.\n-->\n",
+    );
+    out.push_str(&format!(
+        "<application name=\"{}\" version=\"1\">\n",
+        xml(&app.name)
+    ));
+    for (name, manifest) in manifests {
+        match manifest {
+            Some(m) => out.push_str(&format!(
+                "  <use library=\"{}\" manifest=\"{}\"/>\n",
+                xml(name),
+                xml(m)
+            )),
+            None => out.push_str(&format!("  <use library=\"{}\"/>\n", xml(name))),
+        }
+    }
+    let mut children: Vec<Vec<ElementId>> = vec![Vec::new(); app.elements.len()];
+    for (i, e) in app.elements.iter().enumerate() {
+        if let Some(parent) = e.parent {
+            children[parent.0 as usize].push(ElementId(i as u32));
+        }
+    }
+    for &child in &children[0] {
+        element(app, libs, plan, cmdline, &children, child, 1, &mut out);
+    }
+    connections(app, libs, &mut out);
+    out.push_str("</application>\n");
+    out
+}
+
+#[allow(clippy::too_many_arguments)]
+fn element(
+    app: &Application,
+    libs: &LibrarySet,
+    plan: &Plan,
+    cmdline: &[(String, String)],
+    children: &[Vec<ElementId>],
+    id: ElementId,
+    depth: usize,
+    out: &mut String,
+) {
+    let e = app.element(id);
+    let pad = "  ".repeat(depth);
+    let name = xml(&e.name);
+    let (open, tag) = match &e.kind {
+        ElementKind::Application => return,
+        ElementKind::Part { host } => {
+            let host = host
+                .as_ref()
+                .map(|(h, _)| format!(" host=\"{}\"", xml(h)))
+                .unwrap_or_default();
+            (format!("<part name=\"{name}\"{host}"), "part")
+        }
+        ElementKind::Thread {
+            period,
+            pool,
+            data_trigger,
+            continuous,
+        } => {
+            let mut attrs = String::new();
+            if let Some(p) = period {
+                attrs.push_str(&format!(" period=\"{}\"", duration_text(*p)));
+            }
+            if *data_trigger {
+                attrs.push_str(" trigger=\"data\"");
+            }
+            if *continuous {
+                attrs.push_str(" trigger=\"continuous\"");
+            }
+            if let Some(n) = pool {
+                attrs.push_str(&format!(" pool=\"{n}\""));
+            }
+            (format!("<thread name=\"{name}\"{attrs}"), "thread")
+        }
+        ElementKind::Group => (format!("<group name=\"{name}\""), "group"),
+        ElementKind::Module(instance) => {
+            let Some(m) = plan.modules.iter().find(|m| m.element == id) else {
+                return;
+            };
+            let decl = libs.module_type(&m.type_name).map(|(_, t)| t);
+            let mut lines = Vec::new();
+            for (param, value) in &m.params {
+                // The source text (as looked up) when no normalised text reads back exactly.
+                let source = || {
+                    let p = instance.params.iter().find(|p| p.name == *param)?;
+                    match p.source {
+                        ParamSource::Cmdline => cmdline
+                            .iter()
+                            .find(|(n, _)| *n == p.name)
+                            .map(|(_, v)| v.clone()),
+                        _ => Some(p.text.clone()),
+                    }
+                };
+                let text = decl
+                    .and_then(|t| t.param(param))
+                    .and_then(|d| value_text(value, &d.ty, d.unit.as_ref()))
+                    .or_else(source);
+                let Some(text) = text else {
+                    continue;
+                };
+                lines.push(format!(
+                    "{pad}  <param name=\"{}\">{}</param>\n",
+                    xml(param),
+                    xml(&text)
+                ));
+            }
+            let open = format!(
+                "{pad}<module name=\"{name}\" type=\"{}\"",
+                xml(&m.type_name)
+            );
+            if lines.is_empty() {
+                out.push_str(&format!("{open}/>\n"));
+            } else {
+                out.push_str(&format!("{open}>\n{}{pad}</module>\n", lines.concat()));
+            }
+            return;
+        }
+    };
+    let kids = &children[id.0 as usize];
+    if kids.is_empty() {
+        out.push_str(&format!("{pad}{open}/>\n"));
+        return;
+    }
+    out.push_str(&format!("{pad}{open}>\n"));
+    for &k in kids {
+        element(app, libs, plan, cmdline, children, k, depth + 1, out);
+    }
+    out.push_str(&format!("{pad}</{tag}>\n"));
+}
+
+/// Module-to-module connections, found the way the plan finds them, each with the
+/// conversion steps of every hop it replaces (so scales combine in the same order).
+fn connections(app: &Application, libs: &LibrarySet, out: &mut String) {
+    for edge in data_edges(app, libs) {
+        let (Some(&first), Some(&last)) = (edge.hops.first(), edge.hops.last()) else {
+            continue;
+        };
+        let (from_end, to_end) = (app.connections[first].from, app.connections[last].to);
+        let (Some(from), Some(to)) = (app.view(libs, from_end), app.view(libs, to_end)) else {
+            continue;
+        };
+        if from.dir != PortDir::Out || to.dir != PortDir::In {
+            continue;
+        }
+        let mut attrs = format!(
+            "from=\"{}/{}\" to=\"{}/{}\"",
+            xml(&app.path(edge.from_module)),
+            xml(from.name),
+            xml(&app.path(edge.to_module)),
+            xml(to.name)
+        );
+        if let Some(c) = edge
+            .hops
+            .iter()
+            .map(|&h| &app.connections[h])
+            .find(|c| c.queue.is_some())
+        {
+            attrs.push_str(&format!(" queue=\"{}\"", c.queue.unwrap_or(1)));
+            if let Some(policy) = &c.on_full {
+                attrs.push_str(&format!(" on-full=\"{}\"", xml(policy)));
+            }
+        }
+        if edge.delayed {
+            attrs.push_str(" delay=\"1\"");
+        }
+        let mut steps = String::new();
+        for &h in &edge.hops {
+            for step in &app.connections[h].converts {
+                let mut s = String::new();
+                if let Some((t, _)) = &step.to_type {
+                    s.push_str(&format!(" to-type=\"{}\"", xml(&t.to_string())));
+                }
+                if let Some((x, _)) = step.scale {
+                    s.push_str(&format!(" scale=\"{x:?}\""));
+                }
+                if let Some((x, _)) = step.offset {
+                    s.push_str(&format!(" offset=\"{x:?}\""));
+                }
+                if !s.is_empty() {
+                    steps.push_str(&format!("    <convert{s}/>\n"));
+                }
+            }
+        }
+        if steps.is_empty() {
+            out.push_str(&format!("  <connect {attrs}/>\n"));
+        } else {
+            out.push_str(&format!("  <connect {attrs}>\n{steps}  </connect>\n"));
+        }
+    }
+}
+
+/// A duration text that parses back to exactly `seconds`.
+fn duration_text(seconds: f64) -> String {
+    let ms = seconds * 1000.0;
+    let candidates = [
+        format!("{}ms", ms.round()),
+        format!("{seconds:?}s"),
+        format!("{ms:?}ms"),
+    ];
+    for c in &candidates {
+        if parse_duration(c).is_ok_and(|s| s == seconds) {
+            return c.clone();
+        }
+    }
+    candidates[1].clone()
+}
+
+/// A text for `value` that parses back to exactly `value` (in the declared unit when
+/// it reads back exactly, else a bare number, which means the declared unit).
+fn value_text(
+    value: &Value,
+    ty: &ferroc_compiler::types::Type,
+    unit: Option<&ferroc_compiler::units::Unit>,
+) -> Option<String> {
+    let bare = bare_text(value);
+    let mut candidates = Vec::new();
+    if let (Some(u), Value::Float(_) | Value::List(_)) = (unit, value) {
+        candidates.push(format!("{bare} {u}"));
+    }
+    candidates.push(bare);
+    candidates
+        .into_iter()
+        .find(|c| parse_value(c, ty, unit).is_ok_and(|v| v == *value))
+}
+
+fn bare_text(value: &Value) -> String {
+    match value {
+        Value::Bool(b) => b.to_string(),
+        Value::Int(i) => i.to_string(),
+        Value::Float(x) => format!("{x:?}"),
+        Value::Str(s) | Value::Opaque(s) => s.clone(),
+        Value::Duration(s) => duration_text(*s),
+        Value::List(items) => items.iter().map(bare_text).collect::<Vec<_>>().join(", "),
+    }
+}

@@ -1,0 +1,499 @@
+//! The `main.rs` of one part: the Builder calls `ferroc run` makes, written out with the
+//! concrete module types. Wiring only; emitted already in rustfmt's layout (checked by
+//! `tests/bundle.rs` with `rustfmt --check`).
+//!
+//! Every name in the output was validated by `layout` (identifiers) or goes through
+//! `text::rust_str` (string literals) or `text::comment` (comments).
+
+use super::layout::Part;
+use super::text::{comment, rust_str};
+use ferroc_compiler::schedule::StepKind;
+use ferroc_compiler::source::Span;
+use ferroc_compiler::values::Value;
+use std::collections::{BTreeSet, HashMap};
+use std::time::Duration;
+
+/// rustfmt's default line width and width for one-line lists (`fn_call_width`,
+/// `array_width`).
+const MAX_WIDTH: usize = 100;
+const LIST_WIDTH: usize = 60;
+
+/// What a generated file needs to know besides the part.
+pub struct Context<'a> {
+    pub application: &'a str,
+    pub model_file: &'a str,
+    pub tool_version: &'a str,
+    /// `file:line:col` of a span, relative to the model's folder.
+    pub at: &'a dyn Fn(Span) -> String,
+}
+
+/// The source of `main.rs` for `part`.
+pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
+    let consts = module_constants(part);
+    let name_of = |path: &str| consts.get(path).cloned().unwrap_or_else(|| rust_str(path));
+    let mut body = Code::default();
+    body.line(1, "let mut builder = Builder::new(registry);");
+    let mut uses_param = false;
+    let mut uses_queue = false;
+    let mut uses_duration = false;
+    for m in &part.modules {
+        body.blank();
+        body.line(
+            1,
+            &format!(
+                "// {}, {}",
+                comment(&m.type_name),
+                comment(&(cx.at)(m.span))
+            ),
+        );
+        body.line(1, "builder.add_module(ModuleSpec {");
+        body.line(2, &format!("path: {},", name_of(&m.path)));
+        body.line(2, &format!("type_name: {},", rust_str(&m.type_name)));
+        let params: Vec<String> = m
+            .params
+            .iter()
+            .map(|(n, v)| call("param", &[rust_str(n), value(v, &mut uses_duration)]))
+            .collect();
+        uses_param |= !params.is_empty();
+        body.list(2, "params: &[", &params, "],");
+        let queues: Vec<String> = m
+            .queues
+            .iter()
+            .map(|(port, capacity, policy)| {
+                let on_full = match policy.as_str() {
+                    "drop-oldest" => "DropOldest",
+                    "drop-newest" => "DropNewest",
+                    _ => "Block",
+                };
+                call(
+                    "queue",
+                    &[
+                        rust_str(port),
+                        capacity.to_string(),
+                        format!("OnFull::{on_full}"),
+                    ],
+                )
+            })
+            .collect();
+        uses_queue |= !queues.is_empty();
+        body.list(2, "queues: &[", &queues, "],");
+        body.line(1, "})?;");
+    }
+    for c in &part.connections {
+        body.blank();
+        body.line(1, &format!("// {}", comment(&(cx.at)(c.span))));
+        body.line(1, "builder.connect(");
+        for (module, port) in [&c.from, &c.to] {
+            body.line(
+                2,
+                &format!("{},", call("", &[name_of(module), rust_str(port)])),
+            );
+        }
+        if c.scale == 1.0 && c.offset == 0.0 {
+            body.line(2, "Conversion::default(),");
+        } else {
+            body.line(2, "Conversion {");
+            body.line(3, &format!("scale: {},", float(c.scale)));
+            body.line(3, &format!("offset: {},", float(c.offset)));
+            body.line(2, "},");
+        }
+        body.line(2, "ConnectOptions::default(),");
+        body.line(1, ")?;");
+    }
+    for t in &part.threads {
+        body.blank();
+        let when = match (t.period, t.continuous) {
+            (Some(p), _) => format!("every {}", human_duration(p)),
+            (None, true) => "cycles back to back".to_string(),
+            (None, false) => "when data arrives".to_string(),
+        };
+        body.line(
+            1,
+            &format!("// {}: {when}, steps in the compiler's order", t.path),
+        );
+        body.line(1, "builder.add_thread(ThreadSpec {");
+        body.line(2, &format!("path: {}.to_string(),", rust_str(&t.path)));
+        match t.period {
+            Some(p) => {
+                uses_duration = true;
+                let d = duration(Duration::from_secs_f64(p));
+                body.line(2, &format!("schedule: Schedule::Periodic({d}),"));
+            }
+            None if t.continuous => body.line(2, "schedule: Schedule::Continuous,"),
+            None => body.line(2, "schedule: Schedule::Data,"),
+        }
+        body.line(2, "options: ThreadOptions::default(),");
+        let steps: Vec<String> = t
+            .steps
+            .iter()
+            .map(|(path, kind)| {
+                let kind = match kind {
+                    StepKind::Update => "Update",
+                    StepKind::Sense => "Sense",
+                    StepKind::Control => "Control",
+                };
+                call(
+                    "",
+                    &[
+                        format!("{}.to_string()", name_of(path)),
+                        format!("StepKind::{kind}"),
+                    ],
+                )
+            })
+            .collect();
+        body.list(2, "steps: vec![", &steps, "],");
+        body.line(1, "})?;");
+    }
+    body.blank();
+    body.line(1, "builder.start(cycles)");
+
+    let mut out = Code::default();
+    header(&mut out, part, cx);
+    imports(
+        &mut out,
+        !part.connections.is_empty(),
+        uses_queue,
+        !part.threads.is_empty(),
+        uses_param || uses_queue,
+        uses_duration,
+    );
+    out.blank();
+    let about = format!(
+        "{}: the part `{}` of the application `{}` (generated by ferroc {})",
+        part.package, part.name, cx.application, cx.tool_version
+    );
+    out.line(
+        0,
+        &format!(
+            "/// The part this program runs.\nconst PART: &str = {};",
+            rust_str(&part.name)
+        ),
+    );
+    out.line(
+        0,
+        &format!("const PROGRAM: &str = {};", rust_str(&part.package)),
+    );
+    out.line(0, &format!("const ABOUT: &str = {};", rust_str(&about)));
+    if !consts.is_empty() {
+        out.blank();
+        out.line(0, "// Module paths, as in the model.");
+        for m in &part.modules {
+            out.line(
+                0,
+                &format!("const {}: &str = {};", consts[&m.path], rust_str(&m.path)),
+            );
+        }
+    }
+    out.blank();
+    main_fn(&mut out);
+    out.blank();
+    out.line(0, "/// The module types this part creates.");
+    out.line(0, "fn registry() -> Registry {");
+    out.line(1, "let mut registry = Registry::new();");
+    let types: BTreeSet<&str> = part.modules.iter().map(|m| m.rust.as_str()).collect();
+    for rust in types {
+        out.line(1, &format!("registry.register::<{rust}>();"));
+    }
+    out.line(1, "registry");
+    out.line(0, "}");
+    out.blank();
+    out.line(
+        0,
+        "/// Creates the modules, connects them, declares the thread containers and starts them.",
+    );
+    out.line(
+        0,
+        "fn build(registry: &Registry, cycles: Option<u64>) -> Result<RunningApp, BuildError> {",
+    );
+    out.text.push_str(&body.text);
+    out.line(0, "}");
+    if uses_param {
+        out.blank();
+        out.line(0, "/// One entry of `ModuleSpec::params`.");
+        out.line(0, "fn param(name: &str, value: Value) -> (String, Value) {");
+        out.line(1, "(name.to_string(), value)");
+        out.line(0, "}");
+    }
+    if uses_queue {
+        out.blank();
+        out.line(0, "/// One entry of `ModuleSpec::queues`.");
+        out.line(
+            0,
+            "fn queue(port: &str, capacity: usize, on_full: OnFull) -> (String, QueueConfig) {",
+        );
+        out.line(
+            1,
+            "(port.to_string(), QueueConfig::new(capacity).on_full(on_full))",
+        );
+        out.line(0, "}");
+    }
+    out.text
+}
+
+fn header(out: &mut Code, part: &Part<'_>, cx: &Context<'_>) {
+    let lines = [
+        format!(
+            "//! `{}`: the part `{}` of the application `{}`.",
+            part.package, part.name, cx.application
+        ),
+        "//!".to_string(),
+        format!(
+            "//! Generated by ferroc {} (`ferroc bundle`) from `{}`: regenerate it rather than",
+            cx.tool_version,
+            comment(cx.model_file)
+        ),
+        "//! editing it. It holds only wiring: which modules exist with which parameters, how"
+            .into(),
+        "//! they are connected, and which thread container runs their steps in which order."
+            .into(),
+        "//! The module logic lives in the component crates.".into(),
+    ];
+    for l in lines {
+        out.line(0, &l);
+    }
+    out.blank();
+}
+
+fn imports(out: &mut Code, connect: bool, queue: bool, thread: bool, value: bool, dur: bool) {
+    let mut builder = vec!["BuildError", "Builder"];
+    if connect {
+        builder.push("Conversion");
+    }
+    builder.extend(["ModuleSpec", "Registry", "RunningApp"]);
+    if thread {
+        builder.extend(["Schedule", "StepKind", "ThreadSpec"]);
+    }
+    out.fill("use ferroc_runtime::builder::{", &builder, "};");
+    if thread {
+        out.line(0, "use ferroc_runtime::container::ThreadOptions;");
+    }
+    if value {
+        out.line(0, "use ferroc_runtime::module::Value;");
+    }
+    match (connect, queue) {
+        (true, true) => out.line(
+            0,
+            "use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig};",
+        ),
+        (true, false) => out.line(0, "use ferroc_runtime::port::ConnectOptions;"),
+        (false, true) => out.line(0, "use ferroc_runtime::port::{OnFull, QueueConfig};"),
+        (false, false) => {}
+    }
+    out.line(0, "use ferroc_runtime::supervise::{self, Args};");
+    out.line(0, "use std::process::ExitCode;");
+    out.line(0, "use std::sync::atomic::{AtomicBool, Ordering};");
+    out.line(0, "use std::sync::Arc;");
+    if dur {
+        out.line(0, "use std::time::Duration;");
+    }
+}
+
+fn main_fn(out: &mut Code) {
+    let text = "fn main() -> ExitCode {
+    let args = match Args::from_env(PROGRAM, ABOUT) {
+        Ok(args) => args,
+        Err(code) => return code,
+    };
+    // Ctrl-C and SIGTERM stop every thread container after its current cycle.
+    let interrupted = Arc::new(AtomicBool::new(false));
+    let flag = interrupted.clone();
+    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
+        eprintln!(\"warning: Ctrl-C will not stop cleanly: {e}\");
+    }
+    let registry = registry();
+    let app = match build(&registry, args.cycles) {
+        Ok(app) => app,
+        Err(e) => {
+            eprintln!(\"error: part `{PART}`: {e}\");
+            return ExitCode::from(1);
+        }
+    };
+    supervise::supervise(app, &interrupted, &args.options())
+}
+";
+    out.text.push_str(text);
+}
+
+/// A readable constant name for every module path of the part: the module's name in
+/// upper case, with as many enclosing names as it takes to be unique.
+fn module_constants(part: &Part<'_>) -> HashMap<String, String> {
+    const RESERVED: &[&str] = &["PART", "PROGRAM", "ABOUT"];
+    let paths: Vec<Vec<&str>> = part
+        .modules
+        .iter()
+        .map(|m| m.path.split('/').collect())
+        .collect();
+    let mut depth = vec![1usize; paths.len()];
+    let name = |i: usize, k: usize| -> String {
+        let segs = &paths[i];
+        let from = segs.len().saturating_sub(k);
+        let n = segs[from..].join("_").to_uppercase();
+        if n.chars().all(|c| c == '_') {
+            format!("MODULE{n}")
+        } else {
+            n
+        }
+    };
+    loop {
+        let names: Vec<String> = (0..paths.len()).map(|i| name(i, depth[i])).collect();
+        let mut grew = false;
+        for i in 0..paths.len() {
+            let clash = RESERVED.contains(&names[i].as_str())
+                || names
+                    .iter()
+                    .enumerate()
+                    .any(|(j, n)| j != i && *n == names[i]);
+            if clash && depth[i] < paths[i].len() {
+                depth[i] += 1;
+                grew = true;
+            }
+        }
+        if !grew {
+            let mut out = HashMap::new();
+            let mut taken = BTreeSet::new();
+            for (i, mut n) in names.into_iter().enumerate() {
+                let base = n.clone();
+                let mut k = 2;
+                while RESERVED.contains(&n.as_str()) || !taken.insert(n.clone()) {
+                    n = format!("{base}_{k}");
+                    k += 1;
+                }
+                out.insert(part.modules[i].path.clone(), n);
+            }
+            return out;
+        }
+    }
+}
+
+/// `head(args)` (a tuple without head) on one line when it is short enough for rustfmt
+/// (`fn_call_width`), else one argument a line.
+fn call(head: &str, args: &[String]) -> String {
+    let one_line = format!("{head}({})", args.join(", "));
+    if one_line.len() <= LIST_WIDTH && !one_line.contains('\n') {
+        return one_line;
+    }
+    let mut out = format!("{head}(\n");
+    for a in args {
+        for l in format!("{a},").lines() {
+            out.push_str("    ");
+            out.push_str(l);
+            out.push('\n');
+        }
+    }
+    out.push(')');
+    out
+}
+
+/// The Rust expression of a parameter value (the conversion `ferroc run` makes).
+fn value(v: &Value, uses_duration: &mut bool) -> String {
+    match v {
+        Value::Bool(b) => format!("Value::Bool({b})"),
+        Value::Int(i) if *i == i128::MIN => "Value::Int(i128::MIN)".into(),
+        Value::Int(i) => format!("Value::Int({i})"),
+        Value::Float(x) => format!("Value::Float({})", float(*x)),
+        Value::Str(s) | Value::Opaque(s) => format!("Value::Text({}.to_string())", rust_str(s)),
+        Value::Duration(s) => {
+            *uses_duration = true;
+            format!(
+                "Value::Duration({})",
+                duration(Duration::from_secs_f64(s.max(0.0)))
+            )
+        }
+        Value::List(items) => {
+            let items: Vec<String> = items.iter().map(|i| value(i, uses_duration)).collect();
+            format!("Value::List(vec![{}])", items.join(", "))
+        }
+    }
+}
+
+/// An `f64` literal that reads back as exactly the same number.
+fn float(x: f64) -> String {
+    if x.is_nan() {
+        "f64::NAN".into()
+    } else if x.is_infinite() {
+        if x > 0.0 {
+            "f64::INFINITY"
+        } else {
+            "f64::NEG_INFINITY"
+        }
+        .into()
+    } else {
+        format!("{x:?}")
+    }
+}
+
+/// The shortest constructor that gives exactly `d`.
+fn duration(d: Duration) -> String {
+    let nanos = d.as_nanos();
+    if nanos % 1_000_000_000 == 0 {
+        format!("Duration::from_secs({})", d.as_secs())
+    } else if nanos % 1_000_000 == 0 {
+        format!("Duration::from_millis({})", d.as_millis())
+    } else if nanos % 1_000 == 0 {
+        format!("Duration::from_micros({})", d.as_micros())
+    } else {
+        format!("Duration::new({}, {})", d.as_secs(), d.subsec_nanos())
+    }
+}
+
+fn human_duration(seconds: f64) -> String {
+    format!("{:?}", Duration::from_secs_f64(seconds))
+}
+
+/// Lines of code at an indentation of four spaces per level.
+#[derive(Default)]
+struct Code {
+    text: String,
+}
+
+impl Code {
+    fn line(&mut self, indent: usize, text: &str) {
+        for l in text.lines() {
+            self.text.push_str(&"    ".repeat(indent));
+            self.text.push_str(l);
+            self.text.push('\n');
+        }
+    }
+
+    fn blank(&mut self) {
+        self.text.push('\n');
+    }
+
+    /// A `use` list: on one line when it fits, else items filled into lines (rustfmt).
+    fn fill(&mut self, open: &str, items: &[&str], close: &str) {
+        let joined = items.join(", ");
+        if open.len() + joined.len() + close.len() <= MAX_WIDTH {
+            self.line(0, &format!("{open}{joined}{close}"));
+            return;
+        }
+        self.line(0, open);
+        let mut current = String::new();
+        for item in items {
+            if !current.is_empty() && 4 + current.len() + item.len() + 1 > MAX_WIDTH {
+                self.line(1, current.trim_end());
+                current.clear();
+            }
+            current.push_str(item);
+            current.push_str(", ");
+        }
+        self.line(1, current.trim_end_matches(' '));
+        self.line(0, close);
+    }
+
+    /// `open items close` on one line when it fits (as rustfmt does), else one item a line.
+    fn list(&mut self, indent: usize, open: &str, items: &[String], close: &str) {
+        let joined = items.join(", ");
+        if joined.len() <= LIST_WIDTH
+            && !joined.contains('\n')
+            && indent * 4 + open.len() + joined.len() + close.len() <= MAX_WIDTH
+        {
+            self.line(indent, &format!("{open}{joined}{close}"));
+        } else {
+            self.line(indent, open);
+            for item in items {
+                self.line(indent + 1, &format!("{item},"));
+            }
+            self.line(indent, close);
+        }
+    }
+}
