@@ -145,13 +145,13 @@ fn mib(bytes: u64) -> f64 {
 }
 
 /// `target/<profile>`: the folder of this executable.
-fn profile_dir() -> PathBuf {
+pub(crate) fn profile_dir() -> PathBuf {
     let exe = std::env::current_exe().unwrap_or_default();
     exe.parent().map(Path::to_path_buf).unwrap_or_default()
 }
 
 /// `target`: models go to `target/bench-models`, out of the source tree.
-fn target_dir() -> PathBuf {
+pub(crate) fn target_dir() -> PathBuf {
     let p = profile_dir();
     p.parent().map(Path::to_path_buf).unwrap_or(p)
 }
@@ -160,7 +160,7 @@ fn target_dir() -> PathBuf {
 /// older than this executable. Cargo relinks the bench whenever ferroc-compiler
 /// changes but does not rebuild the `ferroc` binary for `-p ferroc-bench`, so without
 /// the age test a compiler fix would be measured with the old checker.
-fn ferroc_binary() -> Result<PathBuf, String> {
+pub(crate) fn ferroc_binary() -> Result<PathBuf, String> {
     let dir = profile_dir();
     let ferroc = dir.join(format!("ferroc{}", std::env::consts::EXE_SUFFIX));
     let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
