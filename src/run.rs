@@ -78,6 +78,25 @@ pub fn run(args: RunArgs) -> ExitCode {
     let Some(app) = result.app.as_ref() else {
         return ExitCode::from(1);
     };
+    let accepted: std::collections::BTreeSet<&str> = app
+        .modules()
+        .flat_map(|(_, m)| m.params.iter())
+        .filter_map(|p| p.cmdline.as_ref().map(|(n, _)| n.as_str()))
+        .collect();
+    for (name, _) in &cmdline {
+        if !accepted.contains(name.as_str()) {
+            eprintln!(
+                "error: --param {name}: no parameter of {} is declared with cmdline=\"{name}\"\n  help: {}",
+                args.model.display(),
+                if accepted.is_empty() {
+                    "this model takes no command-line parameters".to_string()
+                } else {
+                    format!("it accepts: {}", accepted.iter().copied().collect::<Vec<_>>().join(", "))
+                }
+            );
+            return ExitCode::from(2);
+        }
+    }
     let (plan, unsupported) = plan::plan(app, &result.libraries, &cmdline);
     for p in &unsupported {
         eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);

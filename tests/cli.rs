@@ -334,3 +334,46 @@ fn the_b2_ring_runs_continuously_for_exactly_the_cycle_limit() {
         "{err}"
     );
 }
+
+#[test]
+fn a_command_line_parameter_overrides_the_config_value_and_unknown_names_are_refused() {
+    // front-noise is standard_deviation of the front noise (config value 0.01 m); 5 m is
+    // beyond its declared range, so the override is visibly applied.
+    let (code, _, err) = ferroc(&[
+        "run",
+        "models/crash_course.xml",
+        "--cycles",
+        "2",
+        "-q",
+        "--param",
+        "front-noise=5m",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("add_noise_front"), "{err}");
+    assert!(err.contains("standard_deviation"), "{err}");
+    let (code, _, err) = ferroc(&[
+        "run",
+        "models/crash_course.xml",
+        "--cycles",
+        "2",
+        "-q",
+        "--param",
+        "front-noise=2cm",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = ferroc(&[
+        "run",
+        "models/crash_course.xml",
+        "--cycles",
+        "2",
+        "-q",
+        "--param",
+        "rear-noise=1cm",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--param rear-noise: no parameter of models/crash_course.xml is declared with cmdline=\"rear-noise\""),
+        "{err}"
+    );
+    assert!(err.contains("it accepts: front-noise"), "{err}");
+}

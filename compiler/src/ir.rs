@@ -74,6 +74,19 @@ pub struct ParamValue {
     pub span: Span,
     pub source: ParamSource,
     pub source_span: Span,
+    /// `cmdline="NAME"`: a value given at start-up under NAME overrides the others.
+    pub cmdline: Option<(String, Span)>,
+}
+
+impl ParamValue {
+    /// The value given on the command line for this parameter, if any.
+    pub fn from_cmdline<'a>(&self, given: &'a [(String, String)]) -> Option<&'a str> {
+        let (name, _) = self.cmdline.as_ref()?;
+        given
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_str())
+    }
 }
 
 #[derive(Debug, Clone)]

@@ -101,23 +101,21 @@ pub fn plan(
             let Some(decl) = ty.param(&p.name) else {
                 continue;
             };
-            let text = match &p.source {
-                ParamSource::Cmdline => match cmdline.iter().find(|(n, _)| *n == p.name) {
-                    Some((_, v)) => v.clone(),
-                    None => {
-                        problems.push(Unsupported {
-                            what: format!(
-                                "the parameter `{}` of `{}` is given on the command line: pass it with --param {}=VALUE",
-                                p.name,
-                                paths[id.0 as usize],
-                                p.name
-                            ),
-                            span: p.span,
-                        });
-                        continue;
-                    }
-                },
-                _ => p.text.clone(),
+            // A command-line value overrides the inline or config value (as in FINROC).
+            let text = match (p.from_cmdline(cmdline), &p.source) {
+                (Some(v), _) => v.to_string(),
+                (None, ParamSource::Cmdline) => {
+                    let flag = p.cmdline.as_ref().map_or(p.name.as_str(), |(n, _)| n);
+                    problems.push(Unsupported {
+                        what: format!(
+                            "the parameter `{}` of `{}` is given on the command line: pass it with --param {flag}=VALUE",
+                            p.name, paths[id.0 as usize],
+                        ),
+                        span: p.span,
+                    });
+                    continue;
+                }
+                (None, _) => p.text.clone(),
             };
             match parse_value(&text, &decl.ty, decl.unit.as_ref()) {
                 Ok(v) => params.push((p.name.clone(), v)),

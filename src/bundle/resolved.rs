@@ -116,12 +116,10 @@ fn element(
                 // The source text (as looked up) when no normalised text reads back exactly.
                 let source = || {
                     let p = instance.params.iter().find(|p| p.name == *param)?;
-                    match p.source {
-                        ParamSource::Cmdline => cmdline
-                            .iter()
-                            .find(|(n, _)| *n == p.name)
-                            .map(|(_, v)| v.clone()),
-                        _ => Some(p.text.clone()),
+                    match (p.from_cmdline(cmdline), &p.source) {
+                        (Some(v), _) => Some(v.to_string()),
+                        (None, ParamSource::Cmdline) => None,
+                        (None, _) => Some(p.text.clone()),
                     }
                 };
                 let text = decl

@@ -343,6 +343,9 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     fn param_value(&mut self, p: &Element) -> Option<ParamValue> {
         let name = p.value("name")?.to_string();
         let name_span = p.value_span("name");
+        let cmdline = p
+            .attr("cmdline")
+            .map(|a| (a.value.to_string(), a.value_span));
         if let Some(config) = p.attr("config") {
             let entry = self.config_entry(&config.value, config.value_span);
             if let Err(reason) = &entry {
@@ -363,6 +366,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 span,
                 source: ParamSource::Config(entry),
                 source_span: config.value_span,
+                cmdline,
             });
         }
         let has_text = !p.text.trim().is_empty();
@@ -375,6 +379,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                     span: cmd.value_span,
                     source: ParamSource::Cmdline,
                     source_span: cmd.value_span,
+                    cmdline,
                 });
             }
         }
@@ -385,6 +390,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             span: p.text_span,
             source: ParamSource::Inline,
             source_span: p.text_span,
+            cmdline,
         })
     }
 
