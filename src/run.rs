@@ -6,6 +6,7 @@ use ferroc_compiler::report::json::location;
 use ferroc_compiler::schedule::StepKind as PlanStep;
 use ferroc_compiler::source::{SourceMap, Span};
 use ferroc_compiler::values::Value as ModelValue;
+use ferroc_runtime::behaviour::ViolationPolicy;
 use ferroc_runtime::builder::{
     Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StepKind, ThreadSpec,
 };
@@ -211,6 +212,7 @@ pub fn build(
             type_name: &m.type_name,
             params: &params,
             queues: &queues,
+            violations: ViolationPolicy::parse(&m.ib2c_violations).unwrap_or_default(),
         })?;
     }
     for c in &plan.connections {

@@ -9,6 +9,9 @@
 //! * [`port`] — output and input ports, buffer pools, n:m connections, input queues,
 //!   data-triggered wakeups. Publishing is lock-free and zero-copy; connections change
 //!   at run time without blocking publishers.
+//! * [`behaviour`] — the iB2C behaviour base: meta ports, activation, and the runtime
+//!   principles (activity limitation, goal state, …) checked every cycle under a
+//!   per-module policy (`warn`, `clamp`, `stop`).
 //! * [`service`] — request/response ports: a service executed by the serving module's
 //!   thread container (or inline by its callers), blocking and asynchronous clients
 //!   with optional timeouts; every failure is an error value, never a hang.
@@ -21,6 +24,7 @@
 
 #![warn(missing_docs)]
 
+pub mod behaviour;
 pub mod builder;
 pub mod console;
 pub mod container;

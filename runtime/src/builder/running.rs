@@ -1,6 +1,7 @@
 //! A started application: its containers, their figures, and a clean stop.
 
 use super::BuildError;
+use crate::behaviour::{ViolationCount, ViolationLog};
 use crate::container::{ContainerStats, RunningContainer, ThreadContainer, ThreadOptions};
 use crate::module::{ParamHandle, Value};
 use std::collections::HashMap;
@@ -29,12 +30,14 @@ pub struct RunningApp {
     stop: Arc<AtomicBool>,
     params: HashMap<(String, String), ParamHandle>,
     warnings: Vec<String>,
+    violations: Arc<ViolationLog>,
 }
 
 impl RunningApp {
     pub(super) fn start(
         containers: Vec<(ThreadContainer, ThreadOptions)>,
         params: HashMap<(String, String), ParamHandle>,
+        violations: Arc<ViolationLog>,
         limit: Option<u64>,
     ) -> Result<Self, BuildError> {
         let stop = Arc::new(AtomicBool::new(false));
@@ -44,6 +47,7 @@ impl RunningApp {
             stop: stop.clone(),
             params,
             warnings: Vec::new(),
+            violations,
         };
         for (container, options) in containers {
             let name = container.stats().name.clone();
@@ -96,6 +100,23 @@ impl RunningApp {
     /// Panic reports of stopped steps, each naming the module path (also after `join`).
     pub fn panics(&self) -> Vec<String> {
         self.stats.iter().flat_map(|s| s.panics()).collect()
+    }
+
+    /// iB2C principle violations reported since the last call, each naming the module
+    /// path, the rule and the values (rate-limited per module and rule by the policy).
+    pub fn take_violation_reports(&self) -> Vec<String> {
+        self.violations.take_reports()
+    }
+
+    /// How often each behaviour violated each rule so far (also after `join`); reports
+    /// dropped unread are in [`violation_reports_dropped`](Self::violation_reports_dropped).
+    pub fn violation_counts(&self) -> Vec<ViolationCount> {
+        self.violations.counts()
+    }
+
+    /// Violation reports dropped because they were not taken in time.
+    pub fn violation_reports_dropped(&self) -> u64 {
+        self.violations.dropped()
     }
 
     /// Sets a module's parameter while the application runs.
