@@ -278,6 +278,7 @@ fn supervise(
             ferroc_runtime::console::line(&format!("error: {p}"));
         }
         reported_panics = panics.len();
+        report_violations(&app);
         if status && last_draw.elapsed() >= Duration::from_millis(250) {
             last_draw = Instant::now();
             let line = status_line(&app, started.elapsed());
@@ -291,6 +292,7 @@ fn supervise(
     if status {
         eprint!("\r\x1b[K");
     }
+    report_violations(&app);
     let panics = app.panics();
     for p in &panics[reported_panics.min(panics.len())..] {
         eprintln!("error: {p}");
@@ -308,10 +310,35 @@ fn supervise(
             s.load * 100.0
         );
     }
+    let violations = app.violation_counts();
+    if !violations.is_empty() {
+        eprintln!("iB2C principle violations:");
+        for v in &violations {
+            eprintln!(
+                "  {}: {} × {} (policy {})",
+                v.path,
+                v.count,
+                v.rule.name(),
+                v.policy.as_str()
+            );
+        }
+        let dropped = app.violation_reports_dropped();
+        if dropped > 0 {
+            eprintln!("  ({dropped} reports were dropped unread)");
+        }
+    }
     if panics.is_empty() {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
+    }
+}
+
+/// Prints the iB2C violation reports made since the last call (each already
+/// rate-limited by its module's policy).
+fn report_violations(app: &RunningApp) {
+    for r in app.take_violation_reports() {
+        ferroc_runtime::console::line(&format!("warning: {r}"));
     }
 }
 

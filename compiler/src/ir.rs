@@ -48,6 +48,8 @@ pub struct ModuleInstance {
     /// `characteristic="true"` (span of the value): this behaviour is the characteristic
     /// behaviour of its nearest enclosing group, which makes that group an iB2C group.
     pub characteristic: Option<Span>,
+    /// `ib2c-violations` of the instance (`warn`, `clamp`, `stop`), if given.
+    pub ib2c_violations: Option<String>,
 }
 
 /// Where a parameter's value comes from.
@@ -180,6 +182,8 @@ pub struct Application {
     pub resources: Vec<Resource>,
     /// `<application profile>`: the framework whose execution semantics apply.
     pub profile: Profile,
+    /// `<application ib2c-violations>`: the policy of behaviours that give none.
+    pub ib2c_violations: Option<String>,
 }
 
 /// A `<resource>`: a named lock.

@@ -67,6 +67,7 @@ pub fn resolve(
             Some("finroc") => Profile::Finroc,
             _ => Profile::Generic,
         },
+        ib2c_violations: root.value("ib2c-violations").map(str::to_string),
     };
     let mut r = Resolver {
         loader,
