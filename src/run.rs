@@ -53,6 +53,7 @@ fn parse_duration(text: &str) -> Result<Duration, String> {
 /// Every module type this binary can run.
 pub fn registry() -> Registry {
     let mut registry = Registry::new();
+    ferroc_std::register(&mut registry);
     crash_course::register(&mut registry);
     registry
 }
