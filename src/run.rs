@@ -55,6 +55,7 @@ pub fn registry() -> Registry {
     let mut registry = Registry::new();
     ferroc_std::register(&mut registry);
     crash_course::register(&mut registry);
+    nav_behaviours::register(&mut registry);
     registry
 }
 
