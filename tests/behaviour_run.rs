@@ -207,3 +207,87 @@ fn a_module_policy_stop_stops_only_that_module() {
         "{err}"
     );
 }
+
+#[test]
+fn the_standard_types_agree_with_their_manifest_and_fuse() {
+    // Every implemented ferroc_std type in one model: `ferroc run` refuses a type whose
+    // Rust interface differs from the manifest, so running at all is the agreement.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("std_types");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let model = dir.join("m.xml");
+    std::fs::write(
+        &model,
+        r#"<application name="std" version="1">
+  <use library="ferroc_std"/>
+  <part name="p">
+    <thread name="t" period="2ms">
+      <module name="u0" type="ferroc_std.Constant"><param name="value">2</param></module>
+      <module name="u1" type="ferroc_std.Constant"><param name="value">4</param></module>
+      <module name="a0" type="ferroc_std.ConstantActivity"><param name="value">0.75</param></module>
+      <module name="a1" type="ferroc_std.NumberToActivity"><param name="max">16</param></module>
+      <module name="r" type="ferroc_std.ConstantActivity"><param name="value">0.5</param></module>
+      <module name="fusion" type="ferroc_std.Fusion">
+        <param name="stimulation_mode">enabled</param>
+        <param name="method">weighted_sum</param>
+      </module>
+      <module name="double" type="ferroc_std.Scale"><param name="factor">2</param></module>
+      <connect from="a0/activity" to="fusion/in/0/activity"/>
+      <connect from="r/activity" to="fusion/in/0/target_rating"/>
+      <connect from="u0/value" to="fusion/in/0/value"/>
+      <connect from="u1/value" to="a1/value"/>
+      <connect from="a1/activity" to="fusion/in/1/activity"/>
+      <connect from="r/activity" to="fusion/in/1/target_rating"/>
+      <connect from="u1/value" to="fusion/in/1/value"/>
+      <connect from="fusion/value" to="double/input"/>
+    </thread>
+  </part>
+</application>
+"#,
+    )
+    .unwrap();
+    let (code, out, err) = ferroc(&["run", model.to_str().unwrap(), "--cycles", "5"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(err.contains("p/t: 5 cycles"), "{err}");
+    assert!(!err.contains("error"), "{err}");
+}
+
+#[test]
+fn a_behaviour_whose_manifest_disagrees_is_refused() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("behaviour_mismatch");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let manifest = std::fs::read_to_string(root.join("components/nav_behaviours.lib.xml"))
+        .unwrap()
+        .replace(
+            r#"<derived-activity name="arrived"/>"#,
+            r#"<derived-activity name="arrived"/><derived-activity name="lost"/>"#,
+        )
+        .replace(
+            r#"<channel-in name="angular" type="f64" unit="rad/s"/>"#,
+            r#"<channel-in name="angular" type="f64" unit="deg/s"/>"#,
+        );
+    let manifest_path = dir.join("nav_behaviours.lib.xml");
+    std::fs::write(&manifest_path, manifest).unwrap();
+    let text = std::fs::read_to_string(root.join("models/nav_behaviours.xml"))
+        .unwrap()
+        .replace(
+            r#"manifest="../components/nav_behaviours.lib.xml""#,
+            &format!(r#"manifest="{}""#, manifest_path.display()),
+        );
+    let model = dir.join("m.xml");
+    std::fs::write(&model, text).unwrap();
+    let (code, out, err) = ferroc(&["run", model.to_str().unwrap(), "--cycles", "1"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        err.contains(
+            r#"the manifest declares <meta-out name="activity/lost">, the code has no such port"#
+        ),
+        "{err}"
+    );
+    assert!(
+        err.contains(r#"channel port `in/0/angular`: the manifest's <channel-in name="angular"> says unit `deg/s`, the code `rad/s`"#),
+        "{err}"
+    );
+}
