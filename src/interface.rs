@@ -8,14 +8,16 @@
 
 use ferroc_compiler::library::{ModuleKind, ModuleType, PortDir, PortRole, PortType};
 use ferroc_compiler::units::{parse_unit, relate, Unit, UnitRelation};
-use ferroc_runtime::module::{Direction, Interface, Kind, Role};
+use ferroc_runtime::module::{Direction, Interface, Kind, PortInfo, Role};
 
 /// Every difference, one plain sentence each (empty: they agree).
 pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
     let mut out = Vec::new();
     let manifest_kind = match manifest.kind {
         ModuleKind::SenseControl => Kind::SenseControl,
-        _ => Kind::Plain,
+        ModuleKind::Behaviour => Kind::Behaviour,
+        ModuleKind::Fusion => Kind::Fusion,
+        ModuleKind::Module => Kind::Plain,
     };
     if manifest_kind != code.kind {
         out.push(format!(
@@ -29,8 +31,9 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
             PortRole::Plain => Role::Plain,
             PortRole::Sensor => Role::Sensor,
             PortRole::Controller => Role::Controller,
-            // Meta ports, clients and services are not declared through `Setup` yet.
-            _ => continue,
+            PortRole::Meta => Role::Meta,
+            // Clients and services are not declared through `Setup` yet.
+            PortRole::Client | PortRole::Service => continue,
         };
         let dir = match port.dir {
             PortDir::In => Direction::In,
@@ -75,7 +78,7 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
         }
     }
     for c in &code.ports {
-        if manifest.port(&c.name).is_none() {
+        if manifest.port(&c.name).is_none() && !instance_port(manifest, c, &mut out) {
             out.push(format!(
                 "the code declares <{} name=\"{}\">, the manifest does not",
                 c.role.element(c.dir),
@@ -140,6 +143,68 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
         }
     }
     out
+}
+
+/// Ports a behaviour has per instance (`inhibition/k`; a fusion's `in/k/activity`,
+/// `in/k/target_rating`, `in/k/<channel-in>`): the manifest declares none of them by
+/// name, so the code's are compared with what the kind implies. True if `c` is one
+/// (differences pushed to `out`).
+fn instance_port(manifest: &ModuleType, c: &PortInfo, out: &mut Vec<String>) -> bool {
+    if !manifest.is_behaviour() {
+        return false;
+    }
+    let numbered = |prefix: &str| {
+        let rest = c.name.strip_prefix(prefix)?;
+        let (k, rest) = rest.split_once('/').unwrap_or((rest, ""));
+        k.parse::<u32>().ok().map(|_| rest)
+    };
+    let ty = if numbered("inhibition/") == Some("") {
+        "Inhibition"
+    } else if manifest.kind != ModuleKind::Fusion {
+        return false;
+    } else {
+        match numbered("in/") {
+            Some("activity") => "Activity",
+            Some("target_rating") => "TargetRating",
+            Some(data) => match manifest.channel_in.iter().find(|p| p.name == data) {
+                Some(decl) => {
+                    let PortType::Fixed(ty) = &decl.ty else {
+                        return true;
+                    };
+                    let ty = ty.to_string();
+                    if c.dir != Direction::In {
+                        out.push(format!("channel port `{}` must be an input", c.name));
+                    }
+                    if !same_type(&ty, &c.model_type) {
+                        out.push(format!(
+                            "channel port `{}`: the manifest's <channel-in name=\"{data}\"> says type `{ty}`, the code `{}`",
+                            c.name, c.model_type
+                        ));
+                    }
+                    if !same_unit(decl.unit.as_ref(), c.unit.as_deref()) {
+                        out.push(format!(
+                            "channel port `{}`: the manifest's <channel-in name=\"{data}\"> says unit `{}`, the code `{}`",
+                            c.name,
+                            decl.unit.as_ref().map_or("none".into(), |u| u.text.clone()),
+                            c.unit.as_deref().unwrap_or("none")
+                        ));
+                    }
+                    return true;
+                }
+                None => return false,
+            },
+            None => return false,
+        }
+    };
+    if c.dir != Direction::In || c.role != Role::Meta || c.model_type != ty {
+        out.push(format!(
+            "port `{}`: a behaviour's per-instance port is a meta input of type `{ty}`, the code declares <{}> of type `{}`",
+            c.name,
+            c.role.element(c.dir),
+            c.model_type
+        ));
+    }
+    true
 }
 
 fn opt(x: Option<f64>) -> String {

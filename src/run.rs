@@ -6,6 +6,7 @@ use ferroc_compiler::report::json::location;
 use ferroc_compiler::schedule::StepKind as PlanStep;
 use ferroc_compiler::source::{SourceMap, Span};
 use ferroc_compiler::values::Value as ModelValue;
+use ferroc_runtime::behaviour::ViolationPolicy;
 use ferroc_runtime::builder::{
     Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StepKind, ThreadSpec,
 };
@@ -53,8 +54,10 @@ fn parse_duration(text: &str) -> Result<Duration, String> {
 /// Every module type this binary can run.
 pub fn registry() -> Registry {
     let mut registry = Registry::new();
+    ferroc_std::register(&mut registry);
     crash_course::register(&mut registry);
     ring::register(&mut registry);
+    nav_behaviours::register(&mut registry);
     registry
 }
 
@@ -232,6 +235,7 @@ pub fn build(
             type_name: &m.type_name,
             params: &params,
             queues: &queues,
+            violations: ViolationPolicy::parse(&m.ib2c_violations).unwrap_or_default(),
         })?;
     }
     for (name, level, recursive) in &plan.locks.resources {

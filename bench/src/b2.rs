@@ -123,6 +123,7 @@ fn ring_in_runtime(cycles: u64) -> Result<Duration, String> {
                 type_name: "ring.Stage",
                 params: &[],
                 queues: &[],
+                violations: Default::default(),
             })
             .map_err(|e| e.to_string())?;
     }

@@ -53,6 +53,8 @@ pub struct ModuleInstance {
     pub characteristic: Option<Span>,
     /// `budget="…"` on the instance: overrides the module type's budget (seconds, span).
     pub budget: Option<(f64, Span)>,
+    /// `ib2c-violations` of the instance (`warn`, `clamp`, `stop`), if given.
+    pub ib2c_violations: Option<String>,
 }
 
 /// Where a parameter's value comes from.
@@ -198,6 +200,8 @@ pub struct Application {
     pub resources: Vec<Resource>,
     /// `<application profile>`: the framework whose execution semantics apply.
     pub profile: Profile,
+    /// `<application ib2c-violations>`: the policy of behaviours that give none.
+    pub ib2c_violations: Option<String>,
     /// What the timing checks (S102–S107) read: priorities, cores, flows.
     pub timing: Timing,
 }

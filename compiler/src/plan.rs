@@ -27,6 +27,9 @@ pub struct PlannedModule {
     pub params: Vec<(String, Value)>,
     /// Inputs connected with `queue=N`: port, capacity, `on-full` policy.
     pub queues: Vec<(String, u32, String)>,
+    /// What a behaviour does on an iB2C principle violation (`warn`, `clamp`, `stop`):
+    /// the module's `ib2c-violations`, else the application's, else `warn`.
+    pub ib2c_violations: String,
     pub span: Span,
 }
 
@@ -133,6 +136,12 @@ pub fn plan(
             rust: ty.rust.clone(),
             params,
             queues: Vec::new(),
+            ib2c_violations: m
+                .ib2c_violations
+                .as_deref()
+                .or(app.ib2c_violations.as_deref())
+                .unwrap_or("warn")
+                .to_string(),
             span: app.element(id).span,
         });
     }

@@ -12,6 +12,9 @@
 //! * [`resource`] — the model's `<resource>` locks as real locks, with lockdep-style
 //!   validation: an acquisition order that contradicts one seen before (or the
 //!   declared one) is reported with both sites before it can deadlock.
+//! * [`behaviour`] — the iB2C behaviour base: meta ports, activation, and the runtime
+//!   principles (activity limitation, goal state, …) checked every cycle under a
+//!   per-module policy (`warn`, `clamp`, `stop`).
 //! * [`service`] — request/response ports: a service executed by the serving module's
 //!   thread container (or inline by its callers), blocking and asynchronous clients
 //!   with optional timeouts; every failure is an error value, never a hang.
@@ -27,6 +30,7 @@
 
 #![warn(missing_docs)]
 
+pub mod behaviour;
 pub mod builder;
 pub mod console;
 pub mod container;

@@ -57,6 +57,7 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
             crate::console::line(&format!("warning: {l}"));
         }
         reported_locks = locks.len();
+        report_violations(&app);
         if status && last_draw.elapsed() >= Duration::from_millis(250) {
             last_draw = Instant::now();
             let line = status_line(&app, started.elapsed());
@@ -70,6 +71,7 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
     if status {
         eprint!("\r\x1b[K");
     }
+    report_violations(&app);
     let panics = app.panics();
     for p in &panics[reported_panics.min(panics.len())..] {
         eprintln!("error: {p}");
@@ -90,6 +92,23 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
             s.overruns,
             s.load * 100.0
         );
+    }
+    let violations = app.violation_counts();
+    if !violations.is_empty() {
+        eprintln!("iB2C principle violations:");
+        for v in &violations {
+            eprintln!(
+                "  {}: {} × {} (policy {})",
+                v.path,
+                v.count,
+                v.rule.name(),
+                v.policy.as_str()
+            );
+        }
+        let dropped = app.violation_reports_dropped();
+        if dropped > 0 {
+            eprintln!("  ({dropped} reports were dropped unread)");
+        }
     }
     if panics.is_empty() {
         ExitCode::SUCCESS
@@ -221,6 +240,14 @@ fn parse_duration(text: &str) -> Result<Duration, String> {
         _ => Err(format!(
             "`{text}` is not a duration; write e.g. 10s, 500ms or 2min"
         )),
+    }
+}
+
+/// Prints the iB2C violation reports made since the last call (each already
+/// rate-limited by its module's policy).
+fn report_violations(app: &RunningApp) {
+    for r in app.take_violation_reports() {
+        crate::console::line(&format!("warning: {r}"));
     }
 }
 

@@ -77,6 +77,12 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             .collect();
         uses_queue |= !queues.is_empty();
         body.list(2, "queues: &[", &queues, "],");
+        let policy = match m.ib2c_violations.as_str() {
+            "clamp" => "Clamp",
+            "stop" => "Stop",
+            _ => "Warn",
+        };
+        body.line(2, &format!("violations: ViolationPolicy::{policy},"));
         body.line(1, "})?;");
     }
     for c in &part.connections {
@@ -263,6 +269,7 @@ fn imports(out: &mut Code, connect: bool, queue: bool, thread: bool, value: bool
     if thread {
         builder.extend(["Schedule", "StepKind", "ThreadSpec"]);
     }
+    out.line(0, "use ferroc_runtime::behaviour::ViolationPolicy;");
     out.fill("use ferroc_runtime::builder::{", &builder, "};");
     if thread {
         out.line(0, "use ferroc_runtime::container::ThreadOptions;");

@@ -10,11 +10,14 @@
 use ferroc_compiler::library::Library;
 use ferroc_compiler::source::SourceMap;
 use ferroc_compiler::syntax::xml::Element;
-use ferroc_runtime::module::{Direction, Interface, Kind, ParamInfo, PortInfo};
+use ferroc_runtime::module::{Direction, Interface, Kind, ParamInfo, PortInfo, Role};
 use std::fmt::Write;
 
 /// Port attributes only a manifest can say; copied from the manifest's port.
 const MANIFEST_PORT_ATTRS: &[&str] = &["read", "timeout", "fan-in"];
+/// Parameters every behaviour (and fusion) has by its kind.
+const IMPLIED_BEHAVIOUR_PARAMS: &[&str] =
+    &["stimulation_mode", "inhibitions", "channels", "method"];
 /// Module-type children only a manifest can say; copied verbatim.
 const MANIFEST_CHILDREN: &[&str] = &[
     "service",
@@ -101,12 +104,13 @@ fn module_type(out: &mut String, t: &Interface, old: Option<(&Element, &SourceMa
     let old_el = old.map(|(e, _)| e);
     out.push_str("<module-type");
     attr(out, "name", bare(&t.name));
-    let kind = match (t.kind, old_el.and_then(|e| e.value("kind"))) {
-        (Kind::SenseControl, _) => Some("sense-control"),
-        // The code cannot say "behaviour" or "fusion" yet; the manifest can.
-        (Kind::Plain, Some(k)) if k != "sense-control" && k != "plain" => Some(k),
-        (Kind::Plain, _) => None,
+    let kind = match t.kind {
+        Kind::SenseControl => Some("sense-control"),
+        Kind::Behaviour => Some("behaviour"),
+        Kind::Fusion => Some("fusion"),
+        Kind::Plain => None,
     };
+    let behaviour = matches!(t.kind, Kind::Behaviour | Kind::Fusion);
     if let Some(k) = kind {
         attr(out, "kind", k);
     }
@@ -121,7 +125,13 @@ fn module_type(out: &mut String, t: &Interface, old: Option<(&Element, &SourceMa
     }
     doc(out, t.doc.as_deref(), old_el);
     out.push_str(">\n");
-    for p in &t.ports {
+    // What the behaviour kind implies is not written: the compiler adds it (meta ports,
+    // per-instance ports such as `inhibition/k` and `in/k/…`, and the kind's parameters).
+    for p in t
+        .ports
+        .iter()
+        .filter(|p| p.role != Role::Meta && !p.name.contains('/'))
+    {
         let old_port = old_el.and_then(|e| {
             e.children
                 .iter()
@@ -129,7 +139,11 @@ fn module_type(out: &mut String, t: &Interface, old: Option<(&Element, &SourceMa
         });
         port(out, p, old_port);
     }
-    for p in &t.params {
+    for p in t
+        .params
+        .iter()
+        .filter(|p| !(behaviour && IMPLIED_BEHAVIOUR_PARAMS.contains(&p.name.as_str())))
+    {
         let old_param = old_el.and_then(|e| {
             e.children
                 .iter()
@@ -239,7 +253,6 @@ fn attr(out: &mut String, name: &str, value: &str) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use ferroc_runtime::module::Role;
 
     fn interface() -> Interface {
         Interface {

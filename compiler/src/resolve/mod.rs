@@ -69,6 +69,7 @@ pub fn resolve(
             _ => Profile::Generic,
         },
         timing: Timing::default(),
+        ib2c_violations: root.value("ib2c-violations").map(str::to_string),
     };
     let mut r = Resolver {
         loader,

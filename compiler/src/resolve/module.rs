@@ -52,6 +52,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 .collect(),
             characteristic: self.characteristic(scope, e, mt),
             budget: crate::library::steps::duration_attr(e, "budget", self.loader.diags),
+            ib2c_violations: e.value("ib2c-violations").map(str::to_string),
         };
         self.flexible_ports(e, mt, &mut instance, visible);
         if mt.is_behaviour() {

@@ -75,6 +75,10 @@ const STEPS: &[&str] = &[
 ];
 pub const MODULE_KINDS: &[&str] = &["module", "sense-control", "behaviour", "fusion"];
 
+/// What the runtime does when a behaviour violates an iB2C principle (`<application>`
+/// for every behaviour, `<module>` for one; default `warn`).
+pub const IB2C_VIOLATIONS: &[&str] = &["warn", "clamp", "stop"];
+
 const GROUP_CONTENT: &[&str] = &[
     "group-port",
     "group",
@@ -94,6 +98,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
             req("version", Choice(&["1"])),
             opt("profile", Choice(PROFILES)),
             opt("utilisation-warning", Text),
+            opt("ib2c-violations", Choice(IB2C_VIOLATIONS)),
         ],
         children: &[
             "use",
@@ -182,6 +187,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
             req("type", Text),
             opt("budget", Text),
             opt("characteristic", Bool),
+            opt("ib2c-violations", Choice(IB2C_VIOLATIONS)),
         ],
         children: &["param", "module-port", "bind", "allow"],
         text: false,

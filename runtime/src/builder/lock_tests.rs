@@ -36,6 +36,7 @@ fn builder_with<'r>(registry: &'r Registry, modules: &[(&str, &str, &str)]) -> B
             type_name: "test.Nested",
             params: &[],
             queues: &[],
+            violations: Default::default(),
         })
         .unwrap();
         b.bind_lock(path, "outer", outer).unwrap();
@@ -112,6 +113,7 @@ fn the_same_order_everywhere_is_silent_and_unbound_slots_use_their_own_name() {
         type_name: "test.Nested",
         params: &[],
         queues: &[],
+        violations: Default::default(),
     })
     .unwrap();
     b.add_thread(thread_of("solo")).unwrap();

@@ -15,6 +15,7 @@ pub use convert::Conversion;
 pub use registry::Registry;
 pub use running::{ContainerStatus, RunningApp};
 
+use crate::behaviour::{ViolationLog, ViolationPolicy};
 use crate::container::{Step, ThreadContainer, ThreadOptions, Trigger};
 use crate::module::{Interface, Kind, Module, ParamHandle, Setup, Value};
 use crate::port::{ConnectOptions, InputHandle, Notifier, OutputHandle, QueueConfig, Wakeup};
@@ -45,6 +46,9 @@ pub struct ModuleSpec<'a> {
     pub params: &'a [(String, Value)],
     /// Inputs the model connects with a queue.
     pub queues: &'a [(String, QueueConfig)],
+    /// What an iB2C behaviour does when it violates a principle (ignored by other
+    /// module kinds).
+    pub violations: ViolationPolicy,
 }
 
 /// When a thread container runs its cycle.
@@ -160,6 +164,8 @@ pub struct Builder<'r> {
     /// Application resources by name, validated against one order graph.
     resources: HashMap<String, Arc<Resource>>,
     lock_order: Arc<LockOrder>,
+    /// Where the behaviours report principle violations.
+    violations: Arc<ViolationLog>,
 }
 
 impl<'r> Builder<'r> {
@@ -171,6 +177,7 @@ impl<'r> Builder<'r> {
             index: HashMap::new(),
             threads: Vec::new(),
             links: Vec::new(),
+            violations: Arc::default(),
             resources: HashMap::new(),
             lock_order: Arc::new(LockOrder::new()),
         }
@@ -266,7 +273,11 @@ impl<'r> Builder<'r> {
             return Err(BuildError::DuplicatePath(spec.path.into()));
         }
         let blank = registry::blank_interface(spec.type_name, entry);
-        let mut setup = Setup::new(blank, spec.params, spec.queues);
+        let mut setup = Setup::new(blank, spec.params, spec.queues).for_instance(
+            spec.path,
+            spec.violations,
+            self.violations.clone(),
+        );
         let module = (entry.factory)(&mut setup);
         let mut problems = std::mem::take(&mut setup.errors);
         for (name, _) in spec.params {
@@ -393,11 +404,10 @@ impl<'r> Builder<'r> {
         for (path, kind) in &spec.steps {
             let m = self.module(path)?;
             let instance = &mut self.modules[m];
-            let fits = matches!(
-                (instance.kind, kind),
-                (Kind::Plain, StepKind::Update)
-                    | (Kind::SenseControl, StepKind::Sense | StepKind::Control)
-            );
+            let fits = match kind {
+                StepKind::Update => instance.kind.has_update(),
+                StepKind::Sense | StepKind::Control => instance.kind == Kind::SenseControl,
+            };
             if !fits {
                 return Err(BuildError::Thread(format!(
                     "`{path}` is a {} module and has no {kind:?} step",
@@ -429,10 +439,12 @@ impl<'r> Builder<'r> {
         }
         self.bind_remaining_locks();
         let containers = self.containers()?;
+        let params = self.take_params();
         RunningApp::start(
             containers,
-            self.take_params(),
+            params,
             Arc::clone(&self.lock_order),
+            self.violations.clone(),
             limit,
         )
     }

@@ -44,6 +44,12 @@ impl Registry {
         self
     }
 
+    /// Registers the iB2C behaviour `B` (wrapped in the behaviour base) under
+    /// [`Behaviour::NAME`](crate::behaviour::Behaviour::NAME).
+    pub fn register_behaviour<B: crate::behaviour::Behaviour>(&mut self) -> &mut Self {
+        self.register::<crate::behaviour::BehaviourModule<B>>()
+    }
+
     /// Whether a type of this model name is registered.
     pub fn contains(&self, name: &str) -> bool {
         self.types.contains_key(name)

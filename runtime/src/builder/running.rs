@@ -1,6 +1,7 @@
 //! A started application: its containers, their figures, and a clean stop.
 
 use super::BuildError;
+use crate::behaviour::{ViolationCount, ViolationLog};
 use crate::container::{ContainerStats, RunningContainer, ThreadContainer, ThreadOptions};
 use crate::module::{ParamHandle, Value};
 use crate::resource::LockOrder;
@@ -31,6 +32,7 @@ pub struct RunningApp {
     params: HashMap<(String, String), ParamHandle>,
     warnings: Vec<String>,
     lock_order: Arc<LockOrder>,
+    violations: Arc<ViolationLog>,
 }
 
 impl RunningApp {
@@ -38,6 +40,7 @@ impl RunningApp {
         containers: Vec<(ThreadContainer, ThreadOptions)>,
         params: HashMap<(String, String), ParamHandle>,
         lock_order: Arc<LockOrder>,
+        violations: Arc<ViolationLog>,
         limit: Option<u64>,
     ) -> Result<Self, BuildError> {
         let stop = Arc::new(AtomicBool::new(false));
@@ -48,6 +51,7 @@ impl RunningApp {
             params,
             warnings: Vec::new(),
             lock_order,
+            violations,
         };
         for (container, options) in containers {
             let name = container.stats().name.clone();
@@ -106,6 +110,23 @@ impl RunningApp {
     /// Panic reports of stopped steps, each naming the module path (also after `join`).
     pub fn panics(&self) -> Vec<String> {
         self.stats.iter().flat_map(|s| s.panics()).collect()
+    }
+
+    /// iB2C principle violations reported since the last call, each naming the module
+    /// path, the rule and the values (rate-limited per module and rule by the policy).
+    pub fn take_violation_reports(&self) -> Vec<String> {
+        self.violations.take_reports()
+    }
+
+    /// How often each behaviour violated each rule so far (also after `join`); reports
+    /// dropped unread are in [`violation_reports_dropped`](Self::violation_reports_dropped).
+    pub fn violation_counts(&self) -> Vec<ViolationCount> {
+        self.violations.counts()
+    }
+
+    /// Violation reports dropped because they were not taken in time.
+    pub fn violation_reports_dropped(&self) -> u64 {
+        self.violations.dropped()
     }
 
     /// Sets a module's parameter while the application runs.

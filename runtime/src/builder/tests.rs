@@ -101,6 +101,7 @@ fn add(b: &mut Builder<'_>, path: &str, type_name: &str, params: &[(String, Valu
         type_name,
         params,
         queues: &[],
+        violations: Default::default(),
     })
     .unwrap();
 }
@@ -224,6 +225,7 @@ fn mistakes_are_error_values() {
             type_name: "test.Nope",
             params: &[],
             queues: &[],
+            violations: Default::default(),
         })
         .unwrap_err();
     assert_eq!(
@@ -239,6 +241,7 @@ fn mistakes_are_error_values() {
                 ("gian".into(), Value::Float(1.0)),
             ],
             queues: &[],
+            violations: Default::default(),
         })
         .unwrap_err();
     assert_eq!(

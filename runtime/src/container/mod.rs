@@ -49,6 +49,12 @@ impl Step {
     }
 }
 
+/// The payload with which a module asks to be stopped (unwound with
+/// [`std::panic::resume_unwind`], so no panic message is printed): the container reports
+/// the text with the step's name and stops the step, as it does after a panic.
+#[derive(Debug)]
+pub struct StopStep(pub String);
+
 /// When a container runs a cycle.
 #[derive(Clone)]
 pub enum Trigger {
@@ -135,6 +141,13 @@ impl ThreadContainer {
             }
             if let Err(payload) = outcome {
                 step.stopped = true;
+                if let Some(StopStep(why)) = payload.downcast_ref::<StopStep>() {
+                    self.stats.record_panic(format!(
+                        "`{}` was stopped: {why}; the other steps keep running",
+                        step.name
+                    ));
+                    continue;
+                }
                 let why = payload
                     .downcast_ref::<&str>()
                     .map(|s| s.to_string())

@@ -11,6 +11,11 @@ pub enum Kind {
     Plain,
     /// A `sense` step (in the sensing half of the cycle) and a `control` step.
     SenseControl,
+    /// An iB2C behaviour: one `update` step per cycle, run by the behaviour base
+    /// ([`crate::behaviour`]), with the meta ports every behaviour has.
+    Behaviour,
+    /// An iB2C fusion behaviour: a behaviour whose inputs are channels.
+    Fusion,
 }
 
 impl Kind {
@@ -19,7 +24,14 @@ impl Kind {
         match self {
             Kind::Plain => "plain",
             Kind::SenseControl => "sense-control",
+            Kind::Behaviour => "behaviour",
+            Kind::Fusion => "fusion",
         }
+    }
+
+    /// Whether the type runs one `update` step per cycle (plain modules and behaviours).
+    pub fn has_update(self) -> bool {
+        !matches!(self, Kind::SenseControl)
     }
 }
 
@@ -41,6 +53,35 @@ pub enum Role {
     Sensor,
     /// Controller data (`controller-in` / `controller-out`), used by the `control` step.
     Controller,
+    /// An iB2C meta port (stimulation, inhibition, activity, target rating, fusion
+    /// channel meta inputs): manifests do not declare these, the behaviour kind implies
+    /// them.
+    Meta,
+}
+
+/// The iB2C meta signal types: numbers in [0, 1] that travel as `f64`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MetaType {
+    /// How much a behaviour is allowed to act (input).
+    Stimulation,
+    /// How much a behaviour is suppressed (input).
+    Inhibition,
+    /// How much a behaviour acts (output, and activity inputs of fusions).
+    Activity,
+    /// How discontent a behaviour is: 0 goal reached, 1 maximally discontent.
+    TargetRating,
+}
+
+impl MetaType {
+    /// The type's model name (`Activity`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            MetaType::Stimulation => "Stimulation",
+            MetaType::Inhibition => "Inhibition",
+            MetaType::Activity => "Activity",
+            MetaType::TargetRating => "TargetRating",
+        }
+    }
 }
 
 impl Role {
@@ -53,6 +94,8 @@ impl Role {
             (Role::Sensor, Direction::Out) => "sensor-out",
             (Role::Controller, Direction::In) => "controller-in",
             (Role::Controller, Direction::Out) => "controller-out",
+            (Role::Meta, Direction::In) => "meta-in",
+            (Role::Meta, Direction::Out) => "meta-out",
         }
     }
 }

@@ -12,7 +12,7 @@ mod param;
 pub(crate) mod setup;
 mod value;
 
-pub use interface::{Direction, Interface, Kind, ParamInfo, PortInfo, Role};
+pub use interface::{Direction, Interface, Kind, MetaType, ParamInfo, PortInfo, Role};
 pub use param::{ParamHandle, ParamValue, Parameter, Value};
 pub use setup::{InputDecl, OutputDecl, ParamDecl, PortDecl, Setup};
 pub use value::{CopyKind, In, Out, PooledKind, PortKind, PortValue};

@@ -22,11 +22,13 @@
 //! }
 //! ```
 
-use super::interface::{Direction, Interface, ParamInfo, PortInfo, Role};
+use super::interface::{Direction, Interface, MetaType, ParamInfo, PortInfo, Role};
 use super::param::{Check, ParamHandle, ParamValue, Parameter, Value};
 use super::value::{In, Out, PortKind, PortValue};
-use crate::port::{InputHandle, OutputHandle, QueueConfig};
+use crate::behaviour::{ViolationLog, ViolationPolicy};
+use crate::port::{CopyPeek, InputHandle, OutputHandle, QueueConfig};
 use crate::resource::LockSlot;
+use std::any::Any;
 use std::sync::{Arc, OnceLock};
 
 /// The creation context of one module instance (or of the registry describing a type,
@@ -34,6 +36,9 @@ use std::sync::{Arc, OnceLock};
 pub struct Setup<'a> {
     given: &'a [(String, Value)],
     queues: &'a [(String, QueueConfig)],
+    path: String,
+    pub(crate) policy: ViolationPolicy,
+    pub(crate) log: Arc<ViolationLog>,
     pub(crate) interface: Interface,
     pub(crate) inputs: Vec<(String, InputHandle)>,
     pub(crate) outputs: Vec<(String, OutputHandle)>,
@@ -41,6 +46,9 @@ pub struct Setup<'a> {
     /// Lock slots, bound to resources by the Builder.
     pub(crate) locks: Vec<SlotBinding>,
     pub(crate) errors: Vec<String>,
+    /// Readers of the activity-typed inputs declared so far (the behaviour base
+    /// watches them for the goal-state principle).
+    pub(crate) activity_inputs: Vec<CopyPeek<f64>>,
 }
 
 /// The Builder's end of a [`LockSlot`]: where to put the module path and the resource.
@@ -59,12 +67,16 @@ impl<'a> Setup<'a> {
         Setup {
             given,
             queues,
+            path: String::new(),
+            policy: ViolationPolicy::default(),
+            log: Arc::default(),
             interface,
             inputs: Vec::new(),
             outputs: Vec::new(),
             params: Vec::new(),
             locks: Vec::new(),
             errors: Vec::new(),
+            activity_inputs: Vec::new(),
         }
     }
 
@@ -89,8 +101,46 @@ impl<'a> Setup<'a> {
         handle
     }
 
+    /// The instance being created: its path, its iB2C violation policy and where its
+    /// violations are reported.
+    pub(crate) fn for_instance(
+        mut self,
+        path: &str,
+        policy: ViolationPolicy,
+        log: Arc<ViolationLog>,
+    ) -> Self {
+        self.path = path.to_owned();
+        self.policy = policy;
+        self.log = log;
+        self
+    }
+
+    /// The element path of the module being created (`robot/control/avoid`); empty
+    /// while the registry only learns the type's interface.
+    pub fn path(&self) -> &str {
+        &self.path
+    }
+
+    /// Declares an iB2C meta input (an `f64` in [0, 1]) with the given meta type. The
+    /// behaviour base declares `stimulation` and `inhibition/k` itself; fusions use it
+    /// for their channels' `in/k/activity` and `in/k/target_rating`. Inputs of type
+    /// `Activity` are activity inputs for the goal-state principle.
+    pub fn meta_input(&mut self, name: &str, ty: MetaType) -> In<f64> {
+        InputDecl(self.port_decl(name, Direction::In, Role::Meta))
+            .meta(ty)
+            .build()
+    }
+
+    /// Declares an iB2C meta output (an `f64` in [0, 1]) with the given meta type.
+    pub fn meta_output(&mut self, name: &str, ty: MetaType) -> Out<f64> {
+        OutputDecl(self.port_decl(name, Direction::Out, Role::Meta))
+            .meta(ty)
+            .build()
+    }
+
     fn port_decl(&mut self, name: &str, dir: Direction, role: Role) -> PortDecl<'_, 'a> {
         PortDecl {
+            meta: None,
             setup: self,
             info: PortInfo {
                 name: name.to_owned(),
@@ -144,6 +194,7 @@ impl<'a> Setup<'a> {
                 doc: None,
             },
             default: None,
+            meta: false,
         }
     }
 
@@ -160,6 +211,27 @@ impl<'a> Setup<'a> {
 pub struct PortDecl<'s, 'a> {
     setup: &'s mut Setup<'a>,
     info: PortInfo,
+    meta: Option<MetaType>,
+}
+
+impl PortDecl<'_, '_> {
+    /// The model type of a port carrying `T`: `T`'s own, or the meta type the
+    /// declaration names (then `T` must be `f64`, which meta signals travel as).
+    fn model_type<T: PortValue>(&mut self) -> String {
+        let own = T::model_type();
+        match self.meta {
+            Some(meta) if own == "f64" => meta.as_str().to_owned(),
+            Some(meta) => {
+                self.setup.errors.push(format!(
+                    "port `{}`: a `{}` port carries `f64`, not `{own}`",
+                    self.info.name,
+                    meta.as_str()
+                ));
+                own
+            }
+            None => own,
+        }
+    }
 }
 
 /// An input declaration; finish with [`build`](InputDecl::build).
@@ -181,6 +253,12 @@ macro_rules! port_decl_setters {
                 self.0.info.doc = Some(doc.to_owned());
                 self
             }
+            /// The port carries an iB2C meta signal of this type (`Activity`, …): the
+            /// value type must be `f64`, the model type is the meta type.
+            pub fn meta(mut self, ty: MetaType) -> Self {
+                self.0.meta = Some(ty);
+                self
+            }
         }
     };
 }
@@ -195,15 +273,28 @@ impl<'s, 'a> InputDecl<'s, 'a> {
     }
 
     /// Creates the port. If the model connects it with `queue=N`, it is a queue.
-    pub fn build<T: PortValue>(self) -> In<T> {
-        let PortDecl { setup, mut info } = self.0;
-        info.model_type = T::model_type();
+    pub fn build<T: PortValue>(mut self) -> In<T> {
+        let model_type = self.0.model_type::<T>();
+        let PortDecl {
+            setup,
+            mut info,
+            meta,
+        } = self.0;
+        info.model_type = model_type;
         let queue = setup
             .queues
             .iter()
             .find(|(name, _)| *name == info.name)
             .map(|(_, q)| *q);
         let (port, handle) = T::Kind::input(&info.name, queue);
+        if meta == Some(MetaType::Activity) {
+            // Only `f64` ports get here without an error (see `model_type`).
+            if let Some(port) =
+                (&port as &dyn Any).downcast_ref::<crate::port::CopyInputPort<f64>>()
+            {
+                setup.activity_inputs.push(port.peek());
+            }
+        }
         setup.inputs.push((info.name.clone(), handle));
         setup.record_port(info);
         In::from_port(port)
@@ -212,9 +303,12 @@ impl<'s, 'a> InputDecl<'s, 'a> {
 
 impl<'s, 'a> OutputDecl<'s, 'a> {
     /// Creates the port.
-    pub fn build<T: PortValue>(self) -> Out<T> {
-        let PortDecl { setup, mut info } = self.0;
-        info.model_type = T::model_type();
+    pub fn build<T: PortValue>(mut self) -> Out<T> {
+        let model_type = self.0.model_type::<T>();
+        let PortDecl {
+            setup, mut info, ..
+        } = self.0;
+        info.model_type = model_type;
         let (port, handle) = T::Kind::output(&info.name);
         setup.outputs.push((info.name.clone(), handle));
         setup.record_port(info);
@@ -227,6 +321,18 @@ pub struct ParamDecl<'s, 'a, T> {
     setup: &'s mut Setup<'a>,
     info: ParamInfo,
     default: Option<T>,
+    /// A meta signal: values outside [0, 1] are refused (without a declared range).
+    meta: bool,
+}
+
+impl ParamDecl<'_, '_, f64> {
+    /// The parameter is an iB2C meta signal (`type="Activity"` in the manifest): its
+    /// model type is the meta type and every value must lie in [0, 1].
+    pub fn meta(mut self, ty: MetaType) -> Self {
+        self.info.model_type = ty.as_str().to_owned();
+        self.meta = true;
+        self
+    }
 }
 
 impl<'s, 'a, T: ParamValue + Default> ParamDecl<'s, 'a, T> {
@@ -266,10 +372,11 @@ impl<'s, 'a, T: ParamValue + Default> ParamDecl<'s, 'a, T> {
             setup,
             info,
             default,
+            meta,
         } = self;
         let check = Check {
-            min: info.min,
-            max: info.max,
+            min: if meta { Some(0.0) } else { info.min },
+            max: if meta { Some(1.0) } else { info.max },
             choices: info.choices.clone(),
         };
         let given = setup.given.iter().find(|(name, _)| *name == info.name);

@@ -27,9 +27,9 @@ pub trait PortValue: Default + Send + Sync + Sized + 'static {
 /// [`PooledKind`]; module code never names it).
 pub trait PortKind<T>: 'static {
     /// The concrete input port.
-    type Input: Send + Sync;
+    type Input: Send + Sync + 'static;
     /// The concrete output port.
-    type Output: Send + Sync;
+    type Output: Send + Sync + 'static;
     /// What reading an input gives: the value itself, or a shared reference to it.
     type Read;
     /// A new input (queued if `queue` is given) and its handle for wiring.
@@ -137,7 +137,7 @@ impl<T: Default + Send + Sync + 'static> PortKind<T> for PooledKind {
 /// variants), which also records it in the module's interface and applies the queue
 /// settings of the model's connection.
 pub struct In<T: PortValue> {
-    port: <T::Kind as PortKind<T>>::Input,
+    pub(crate) port: <T::Kind as PortKind<T>>::Input,
 }
 
 impl<T: PortValue> In<T> {

@@ -40,6 +40,17 @@ pub struct CopyOutputPort<T: NoUninit + Send + Sync> {
     pub(crate) core: Arc<CopyOutputCore<T>>,
 }
 
+/// Reads a copy input's latest value without taking its changed mark (and without
+/// owning the port: dropping it does not disconnect anything).
+pub(crate) struct CopyPeek<T: NoUninit + Send + Sync>(Arc<CopyInputCore<T>>);
+
+impl<T: NoUninit + Send + Sync> CopyPeek<T> {
+    /// The latest value delivered to the input.
+    pub(crate) fn get(&self) -> T {
+        self.0.cell.load().0
+    }
+}
+
 /// An input port for [`CopyOutputPort`]s: latest value by default, or a queue.
 pub struct CopyInputPort<T: NoUninit + Send + Sync> {
     pub(crate) core: Arc<CopyInputCore<T>>,
@@ -245,6 +256,11 @@ impl<T: NoUninit + Send + Sync> CopyInputPort<T> {
     /// Number of connected outputs.
     pub fn connection_count(&self) -> usize {
         lock(&self.core.links).sources.len()
+    }
+
+    /// A second reader of the latest value that leaves the changed mark alone.
+    pub(crate) fn peek(&self) -> CopyPeek<T> {
+        CopyPeek(Arc::clone(&self.core))
     }
 
     /// Disconnects every output.

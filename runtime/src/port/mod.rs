@@ -39,6 +39,7 @@ mod snapshot;
 mod wiring;
 
 pub use bytemuck::NoUninit;
+pub(crate) use copy::CopyPeek;
 pub use copy::{CopyInputPort, CopyOutputPort};
 pub use handle::{InputHandle, OutputHandle};
 pub use input::InputPort;
