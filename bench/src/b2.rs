@@ -28,19 +28,14 @@ const TARGET_RATIO: f64 = 4.0;
 
 /// Runs B2 and prints its lines. Returns the process exit code.
 pub fn run(args: &[String]) -> u8 {
-    let parsed = Options::parse("b2", args, &["cycles", "rounds"], &[]).and_then(|o| {
-        Ok((
-            o.number("cycles", DEFAULT_CYCLES, 1000, 10_000_000_000)?,
-            o.number("rounds", DEFAULT_ROUNDS, 1, 100)?,
-        ))
-    });
-    let (cycles, rounds) = match parsed {
-        Ok(v) => v,
-        Err(e) => {
-            eprintln!("{e}");
-            return 2;
-        }
-    };
+    let (cycles, rounds) =
+        match Options::cycles_and_rounds("b2", args, DEFAULT_CYCLES, DEFAULT_ROUNDS) {
+            Ok(v) => v,
+            Err(e) => {
+                eprintln!("{e}");
+                return 2;
+            }
+        };
     if cfg!(debug_assertions) {
         println!("b2: warning: not a release build; figures are meaningless (use --release)");
     }

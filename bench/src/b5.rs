@@ -15,19 +15,14 @@ const MODEL: &str = "models/control_loop.xml";
 
 /// Runs B5 and prints its lines. Returns the process exit code.
 pub fn run(args: &[String]) -> u8 {
-    let parsed = Options::parse("b5", args, &["cycles", "rounds"], &[]).and_then(|o| {
-        Ok((
-            o.number("cycles", DEFAULT_CYCLES, 1000, 10_000_000_000)?,
-            o.number("rounds", DEFAULT_ROUNDS, 1, 100)?,
-        ))
-    });
-    let (cycles, rounds) = match parsed {
-        Ok(v) => v,
-        Err(e) => {
-            eprintln!("{e}");
-            return 2;
-        }
-    };
+    let (cycles, rounds) =
+        match Options::cycles_and_rounds("b5", args, DEFAULT_CYCLES, DEFAULT_ROUNDS) {
+            Ok(v) => v,
+            Err(e) => {
+                eprintln!("{e}");
+                return 2;
+            }
+        };
     match measure(cycles, rounds) {
         Ok(()) => 0,
         Err(e) => {

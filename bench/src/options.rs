@@ -78,6 +78,22 @@ impl Options {
     }
 }
 
+impl Options {
+    /// `--cycles N --rounds R`, the options of the loop benchmarks (b2, b5).
+    pub fn cycles_and_rounds(
+        id: &'static str,
+        args: &[String],
+        default_cycles: u64,
+        default_rounds: u64,
+    ) -> Result<(u64, u64), String> {
+        let o = Options::parse(id, args, &["cycles", "rounds"], &[])?;
+        Ok((
+            o.number("cycles", default_cycles, 1000, 10_000_000_000)?,
+            o.number("rounds", default_rounds, 1, 100)?,
+        ))
+    }
+}
+
 fn hint(known: &[&str]) -> String {
     if known.is_empty() {
         " (this benchmark takes no options)".into()

@@ -6,9 +6,9 @@
 //! group ports flattened away and unit scales folded into one conversion, and each
 //! thread container's step order from the scheduling pass.
 
-use crate::ir::{Application, ElementId, ElementKind, ParamSource};
+use crate::ir::{Application, ElementId, ElementKind, ParamSource, PortView};
 use crate::library::{LibrarySet, PortDir};
-use crate::schedule::{self, data_edges, StepKind};
+use crate::schedule::{self, data_edges, DataEdge, StepKind};
 use crate::source::Span;
 use crate::units::{relate, UnitRelation};
 use crate::values::{parse_value, Value};
@@ -151,17 +151,7 @@ pub fn plan(
         .enumerate()
         .map(|(i, m)| (m.element, i))
         .collect();
-    for edge in data_edges(app, libs) {
-        let (Some(&first), Some(&last)) = (edge.hops.first(), edge.hops.last()) else {
-            continue;
-        };
-        let (from_end, to_end) = (app.connections[first].from, app.connections[last].to);
-        let (Some(from), Some(to)) = (app.view(libs, from_end), app.view(libs, to_end)) else {
-            continue;
-        };
-        if from.dir != PortDir::Out || to.dir != PortDir::In {
-            continue;
-        }
+    for (edge, from, to) in module_connections(app, libs) {
         let mut scale = match (from.unit, to.unit) {
             (Some(a), Some(b)) => match relate(a, b) {
                 UnitRelation::Scaled(f) => f,
@@ -206,7 +196,12 @@ pub fn plan(
             ),
             scale,
             offset,
-            span: app.connections[last].span,
+            span: edge
+                .hops
+                .last()
+                .map_or(app.element(edge.to_module).span, |&h| {
+                    app.connections[h].span
+                }),
         });
     }
     for container in schedule::compute(app, libs).containers {
@@ -229,6 +224,21 @@ pub fn plan(
     }
     plan.locks = plan_locks(app, libs, &paths);
     (plan, problems)
+}
+
+/// Every data edge from a module output to a module input (group ports flattened),
+/// with the views of both ends: what becomes one runtime connection. The plan and the
+/// bundle's resolved model both list connections this way.
+pub fn module_connections<'a>(
+    app: &'a Application,
+    libs: &'a LibrarySet,
+) -> impl Iterator<Item = (DataEdge, PortView<'a>, PortView<'a>)> + 'a {
+    data_edges(app, libs).into_iter().filter_map(move |edge| {
+        let (&first, &last) = (edge.hops.first()?, edge.hops.last()?);
+        let from = app.view(libs, app.connections[first].from)?;
+        let to = app.view(libs, app.connections[last].to)?;
+        (from.dir == PortDir::Out && to.dir == PortDir::In).then_some((edge, from, to))
+    })
 }
 
 fn plan_locks(app: &Application, libs: &LibrarySet, paths: &[String]) -> PlannedLocks {

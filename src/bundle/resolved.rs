@@ -6,9 +6,8 @@
 
 use super::text::{xml, xml_comment};
 use ferroc_compiler::ir::{Application, ElementId, ElementKind, ParamSource};
-use ferroc_compiler::library::{LibrarySet, PortDir};
-use ferroc_compiler::plan::Plan;
-use ferroc_compiler::schedule::data_edges;
+use ferroc_compiler::library::LibrarySet;
+use ferroc_compiler::plan::{module_connections, Plan};
 use ferroc_compiler::values::{parse_duration, parse_value, Value};
 
 /// The resolved model's text. `manifests` maps a library name to the manifest path
@@ -162,17 +161,7 @@ fn element(
 /// Module-to-module connections, found the way the plan finds them, each with the
 /// conversion steps of every hop it replaces (so scales combine in the same order).
 fn connections(app: &Application, libs: &LibrarySet, out: &mut String) {
-    for edge in data_edges(app, libs) {
-        let (Some(&first), Some(&last)) = (edge.hops.first(), edge.hops.last()) else {
-            continue;
-        };
-        let (from_end, to_end) = (app.connections[first].from, app.connections[last].to);
-        let (Some(from), Some(to)) = (app.view(libs, from_end), app.view(libs, to_end)) else {
-            continue;
-        };
-        if from.dir != PortDir::Out || to.dir != PortDir::In {
-            continue;
-        }
+    for (edge, from, to) in module_connections(app, libs) {
         let mut attrs = format!(
             "from=\"{}/{}\" to=\"{}/{}\"",
             xml(&app.path(edge.from_module)),
