@@ -8,6 +8,7 @@
 
 use ferroc_compiler::library::{ModuleKind, ModuleType, PortDir, PortRole, PortType};
 use ferroc_compiler::units::{parse_unit, relate, Unit, UnitRelation};
+use ferroc_compiler::values::parse_duration;
 use ferroc_runtime::module::{Direction, Interface, Kind, PortInfo, Role};
 
 /// Every difference, one plain sentence each (empty: they agree).
@@ -227,13 +228,35 @@ fn same_unit(manifest: Option<&Unit>, code: Option<&str>) -> bool {
     }
 }
 
-/// Defaults compare as numbers where both are numbers (`0.5` = `.5`), else as text.
+/// Defaults compare as numbers where both are numbers (`0.5` = `.5`), as durations
+/// where both are durations (a manifest's `200ms` is the `0.2s` a Rust `Duration`
+/// default writes), else as text.
 fn same_default(manifest: Option<&str>, code: Option<&str>) -> bool {
     match (manifest, code) {
         (Some(m), Some(c)) => match (m.trim().parse::<f64>(), c.trim().parse::<f64>()) {
             (Ok(a), Ok(b)) => a == b,
-            _ => m.trim() == c.trim(),
+            _ => match (parse_duration(m), parse_duration(c)) {
+                // `200ms` is 200 × 0.001 s: equal up to rounding.
+                (Ok(a), Ok(b)) => (a - b).abs() <= 1e-12 * a.abs().max(b.abs()),
+                _ => m.trim() == c.trim(),
+            },
         },
         (m, c) => m == c,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::same_default;
+
+    #[test]
+    fn defaults_compare_by_value() {
+        assert!(same_default(Some("0.5"), Some(".5")));
+        assert!(same_default(Some("200ms"), Some("0.2s")));
+        assert!(same_default(Some("PT0.5S"), Some("0.5s")));
+        assert!(!same_default(Some("200ms"), Some("0.3s")));
+        assert!(same_default(Some("idle"), Some("idle")));
+        assert!(!same_default(Some("idle"), Some("explore")));
+        assert!(!same_default(Some("1s"), None));
     }
 }

@@ -58,6 +58,7 @@ pub fn registry() -> Registry {
     crash_course::register(&mut registry);
     ring::register(&mut registry);
     nav_behaviours::register(&mut registry);
+    rescue_components::register(&mut registry);
     registry
 }
 
