@@ -13,6 +13,7 @@ mod camera;
 mod console;
 mod detector;
 mod drivers;
+mod fields;
 mod grid;
 mod hardware;
 mod localizer;
@@ -26,6 +27,7 @@ pub use camera::Camera;
 pub use console::OperatorConsole;
 pub use detector::VictimDetector;
 pub use drivers::{BaseDriver, LaserDriver};
+pub use fields::{register_fields, RegisterField};
 pub use localizer::Localizer;
 pub use mapper::Mapper;
 pub use mission::{MissionContext, MissionManager};
@@ -34,7 +36,8 @@ pub use types::{Image, LaserScan, Map, Pose2D, Velocity2D, Victim, VictimList};
 
 use ferroc_runtime::builder::Registry;
 
-/// Registers every module type of this library.
+/// Registers every module type of this library. (The fields of its copy types follow
+/// once the runtime can take them: [`register_fields`].)
 pub fn register(registry: &mut Registry) {
     registry
         .register::<LaserDriver>()

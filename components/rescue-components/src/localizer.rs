@@ -96,6 +96,8 @@ impl ModuleType for Localizer {
     const KIND: Kind = Kind::SenseControl;
     const DOC: &'static str = "Monte-Carlo localization on the current map";
 
+    // `update_angle`'s bound is the manifest's 3.14, not π: they must agree exactly.
+    #[allow(clippy::approx_constant)]
     fn create(m: &mut Setup<'_>) -> Self {
         let start = crate::world::START;
         Localizer {
