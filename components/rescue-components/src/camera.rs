@@ -14,6 +14,9 @@ pub const HEIGHT: u32 = 120;
 pub const FIELD_OF_VIEW: f64 = std::f64::consts::FRAC_PI_3;
 /// Height of the lens above the floor (m).
 pub const LENS_HEIGHT: f64 = 1.0;
+/// The camera looks down a little: the horizon is this pixel row, so most of the
+/// frame shows the floor, where victims lie, down to 1.4 m in front of the lens.
+pub const HORIZON: f64 = 20.0;
 /// Victims lie on the floor: 0.5 m wide, 0.3 m tall.
 const VICTIM_SIZE: (f64, f64) = (0.5, 0.3);
 /// Victims are warm and bright: at least this value; walls and floor stay below.
@@ -41,7 +44,7 @@ pub fn signal(distance: f64, exposure_ms: f64) -> f64 {
 pub fn render(robot: &Robot, pose: &Pose2D, exposure_ms: f64, stamp: Duration) -> Image {
     let (w, h) = (WIDTH as usize, HEIGHT as usize);
     let f = focal();
-    let horizon = f64::from(HEIGHT) / 2.0;
+    let horizon = HORIZON;
     let mut pixels = vec![0u8; w * h];
     let mut wall_depth = vec![f64::INFINITY; w];
     for (c, depth) in wall_depth.iter_mut().enumerate() {

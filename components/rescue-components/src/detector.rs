@@ -1,7 +1,7 @@
 //! `rescue.VictimDetector`: finds the bright blobs victims make in camera frames, places
 //! them on the map and keeps the list of victims found.
 
-use crate::camera::{bearing_of_column, focal, LENS_HEIGHT, VICTIM_BRIGHTNESS};
+use crate::camera::{bearing_of_column, focal, HORIZON, LENS_HEIGHT, VICTIM_BRIGHTNESS};
 use crate::types::{Image, LaserScan, Pose2D, Victim, VictimList};
 use ferroc_runtime::module::{In, Module, ModuleType, Out, Parameter, Setup};
 
@@ -23,7 +23,7 @@ pub fn detect(image: &Image) -> Vec<Detection> {
     if w == 0 || h == 0 || image.pixels.len() != w * h {
         return Vec::new(); // not a frame this detector understands
     }
-    let horizon = h as f64 / 2.0;
+    let horizon = HORIZON;
     let mut found = Vec::new();
     // (first column, foot row, brightness sum, bright pixel count) of the open blob.
     let mut open: Option<(usize, usize, u64, u64)> = None;
@@ -47,8 +47,10 @@ pub fn detect(image: &Image) -> Vec<Detection> {
             (None, _) => {
                 if let Some((first, foot, sum, n)) = open.take() {
                     let below = foot as f64 - horizon;
-                    if below <= 0.0 || n == 0 {
-                        continue; // a foot at or above the horizon is not on the floor
+                    // A foot at or above the horizon is not on the floor; one at the
+                    // bottom edge may lie below the frame: its distance is unknown.
+                    if below <= 0.0 || n == 0 || foot >= h {
+                        continue;
                     }
                     let centre = (first + c) as f64 / 2.0;
                     let bearing = bearing_of_column(centre);

@@ -16,6 +16,9 @@ pub enum Cell {
     Unknown,
     /// Observed free.
     Free,
+    /// Free or unknown, but close to an obstacle: passable at a higher cost, so paths
+    /// keep their distance where there is room and the robot can leave such a cell.
+    Near,
     /// Holds an obstacle, or lies within the robot's radius of one.
     Blocked,
 }
@@ -36,10 +39,13 @@ const STRAIGHT: u32 = 10;
 const DIAGONAL: u32 = 14;
 /// Unreachable.
 pub const FAR: u32 = u32::MAX;
+/// A step into a [`Cell::Near`] costs this many times a step into open space.
+const NEAR_PENALTY: u32 = 4;
 
 impl Grid {
-    /// The planning grid of `map`, obstacles grown by `inflate` metres.
-    pub fn from_map(map: &Map, inflate: f64) -> Grid {
+    /// The planning grid of `map`: cells within `radius` of an obstacle blocked, those
+    /// within `radius + clearance` near.
+    pub fn from_map(map: &Map, radius: f64, clearance: f64) -> Grid {
         let k = ((CELL / map.resolution).round().max(1.0) as usize).max(1);
         let (fw, fh) = (map.width as usize, map.height as usize);
         let (width, height) = (fw.div_ceil(k), fh.div_ceil(k));
@@ -62,25 +68,33 @@ impl Grid {
             height,
             cells,
         };
-        grid.inflate((inflate.max(0.0) / step).ceil() as i64);
+        // Radii in cells, from cell centre to cell centre.
+        let cells = |m: f64| (m.max(0.0) / step).min(1e3);
+        let lethal = cells(radius).round() as i64;
+        grid.inflate(
+            lethal,
+            (cells(radius + clearance.max(0.0)).ceil() as i64).max(lethal),
+        );
         grid
     }
 
-    fn inflate(&mut self, by: i64) {
-        if by <= 0 {
-            return;
-        }
+    /// Marks cells within `lethal` cells of an obstacle blocked, within `near` near.
+    fn inflate(&mut self, lethal: i64, near: i64) {
         let obstacles: Vec<usize> = (0..self.cells.len())
             .filter(|&i| self.cells[i] == Cell::Blocked)
             .collect();
         for i in obstacles {
             let (x, y) = ((i % self.width) as i64, (i / self.width) as i64);
-            for dy in -by..=by {
-                for dx in -by..=by {
-                    if dx * dx + dy * dy <= by * by {
-                        if let Some(j) = self.index(x + dx, y + dy) {
-                            self.cells[j] = Cell::Blocked;
-                        }
+            for dy in -near..=near {
+                for dx in -near..=near {
+                    let d2 = dx * dx + dy * dy;
+                    let Some(j) = self.index(x + dx, y + dy) else {
+                        continue;
+                    };
+                    if d2 <= lethal * lethal {
+                        self.cells[j] = Cell::Blocked;
+                    } else if d2 <= near * near && self.cells[j] != Cell::Blocked {
+                        self.cells[j] = Cell::Near;
                     }
                 }
             }
@@ -121,9 +135,9 @@ impl Grid {
         self.cells.get(i).copied().unwrap_or(Cell::Blocked)
     }
 
-    /// Path costs (×10 per cell) from `from` to every cell, moving through free and
-    /// unknown cells in 8 directions (Dijkstra). A blocked start (the robot grazing an
-    /// inflated wall) may still leave its cell.
+    /// Path costs (×10 per cell, [`NEAR_PENALTY`] times that near obstacles) from
+    /// `from` to every cell, moving through all but blocked cells in 8 directions
+    /// (Dijkstra). A blocked start (the robot grazing a wall) may still leave its cell.
     pub fn costs_from(&self, from: usize) -> Vec<u32> {
         let mut cost = vec![FAR; self.cells.len()];
         if from >= self.cells.len() {
@@ -143,11 +157,17 @@ impl Grid {
                 if self.cells[j] == Cell::Blocked {
                     continue;
                 }
-                let next = c + if dx != 0 && dy != 0 {
+                let step = if dx != 0 && dy != 0 {
                     DIAGONAL
                 } else {
                     STRAIGHT
                 };
+                let penalty = if self.cells[j] == Cell::Near {
+                    NEAR_PENALTY
+                } else {
+                    1
+                };
+                let next = c.saturating_add(step * penalty);
                 if next < cost[j] {
                     cost[j] = next;
                     heap.push(Reverse((next, j)));
@@ -171,30 +191,30 @@ impl Grid {
             .min_by_key(|&j| costs[j])
     }
 
-    /// Whether cell `i` is a frontier: free, next to an unknown cell.
-    pub fn is_frontier(&self, i: usize) -> bool {
-        if self.get(i) != Cell::Free {
-            return false;
-        }
-        let (x, y) = ((i % self.width) as i64, (i / self.width) as i64);
-        NEIGHBOURS[..4]
-            .iter()
-            .filter_map(|(dx, dy)| self.index(x + dx, y + dy))
-            .any(|j| self.cells[j] == Cell::Unknown)
+    /// Column and row of cell `i`.
+    pub fn coords(&self, i: usize) -> (i64, i64) {
+        (
+            (i % self.width.max(1)) as i64,
+            (i / self.width.max(1)) as i64,
+        )
     }
 
-    /// Frontier cells within `radius` cells of cell `i` (itself included).
-    pub fn frontier_around(&self, i: usize, radius: i64) -> usize {
-        let (x, y) = ((i % self.width) as i64, (i / self.width) as i64);
-        let mut n = 0;
-        for dy in -radius..=radius {
-            for dx in -radius..=radius {
-                if let Some(j) = self.index(x + dx, y + dy) {
-                    n += usize::from(self.is_frontier(j));
-                }
-            }
-        }
-        n
+    /// The cell at column `x`, row `y`, if on the grid.
+    pub fn at(&self, x: i64, y: i64) -> Option<usize> {
+        self.index(x, y)
+    }
+
+    /// Whether the straight line from `from` to `to` crosses no blocked cell (the cell
+    /// of `from` itself does not count: the robot may graze an inflated wall).
+    pub fn clear_line(&self, from: (f64, f64), to: (f64, f64)) -> bool {
+        let start = self.cell_of(from.0, from.1);
+        let length = (to.0 - from.0).hypot(to.1 - from.1);
+        let steps = (length / (self.step / 2.0)).ceil().max(1.0) as usize;
+        (1..=steps).all(|k| {
+            let t = k as f64 / steps as f64;
+            let cell = self.cell_of(from.0 + t * (to.0 - from.0), from.1 + t * (to.1 - from.1));
+            cell == start || cell.is_some_and(|c| self.cells[c] != Cell::Blocked)
+        })
     }
 
     /// Number of cells.
@@ -203,7 +223,7 @@ impl Grid {
     }
 }
 
-/// The four straight neighbours first (frontiers use only them), then the diagonals.
+/// The four straight neighbours, then the diagonals.
 const NEIGHBOURS: [(i64, i64); 8] = [
     (1, 0),
     (-1, 0),
@@ -231,7 +251,7 @@ mod tests {
             &sweep(&robot, &robot.pose, 30.0, Duration::ZERO),
             &robot.pose,
         );
-        Grid::from_map(&map, 0.3)
+        Grid::from_map(&map, 0.3, 0.3)
     }
 
     #[test]
@@ -240,11 +260,13 @@ mod tests {
         let at = |x, y| grid.get(grid.cell_of(x, y).unwrap());
         assert_eq!(at(-1.0, 0.0), Cell::Free);
         assert_eq!(at(2.0, 0.0), Cell::Blocked);
-        assert_eq!(at(1.8, 0.0), Cell::Blocked, "inflated by 0.3 m");
+        assert_eq!(at(1.8, 0.0), Cell::Blocked, "within the radius");
+        assert_eq!(at(1.4, 0.0), Cell::Near, "within radius and clearance");
+        assert_eq!(at(1.1, 0.0), Cell::Free);
         assert_eq!(at(-5.5, 0.0), Cell::Unknown, "behind the robot");
-        // The edge of what the forward-looking laser saw, beside the robot, is a frontier.
-        let frontiers = (0..grid.len()).filter(|&i| grid.is_frontier(i)).count();
-        assert!(frontiers > 10, "{frontiers}");
+        // Lines of sight end at walls.
+        assert!(grid.clear_line((-4.0, 0.0), (-1.0, 2.0)));
+        assert!(!grid.clear_line((-4.0, 0.0), (3.0, 0.0)));
     }
 
     #[test]

@@ -85,8 +85,8 @@ impl Robot {
         self.odometry.x += moved * odo_mid.cos();
         self.odometry.y += moved * odo_mid.sin();
         self.odometry.theta = wrap_angle(odo_theta);
-        // Electronics draw 0.02 V/s, driving 0.05 V per metre.
-        self.battery -= 0.02 * dt_s + 0.05 * moved.abs();
+        // Electronics draw 5 mV/s, driving 20 mV per metre.
+        self.battery -= 0.005 * dt_s + 0.02 * moved.abs();
         self.time += dt;
         self.history.push_back((self.time, self.pose));
         if self.history.len() > HISTORY {

@@ -33,6 +33,7 @@ pub use mapper::Mapper;
 pub use mission::{MissionContext, MissionManager};
 pub use planner::PathPlanner;
 pub use types::{Image, LaserScan, Map, Pose2D, Velocity2D, Victim, VictimList};
+pub use world::START;
 
 use ferroc_runtime::builder::Registry;
 

@@ -1,13 +1,12 @@
 //! `rescue.MissionContext` (on the robot) and `rescue.MissionManager` (on the station).
 
-use crate::grid::{Grid, FAR};
 use crate::types::{Pose2D, Victim, VictimList};
 use ferroc_runtime::module::{In, Module, ModuleType, Out, Parameter, Setup};
 
 /// A victim seen at least this confidently is confirmed; below it the robot goes closer.
 pub const CONFIRMED: f32 = 0.9;
 /// The approach goal lies this far before an unconfirmed victim (m).
-const APPROACH_DISTANCE: f64 = 1.5;
+const APPROACH_DISTANCE: f64 = 2.0;
 
 /// The robot's operating context (OpenRDK's "context switching").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -184,38 +183,10 @@ pub fn approach_goal(robot: &Pose2D, victim: &Victim) -> Pose2D {
     }
 }
 
-/// The nearest reachable frontier at least `min_count` frontier cells wide, at least a
-/// metre from the robot and within `radius` of `home`.
-pub fn nearest_frontier(
-    grid: &Grid,
-    robot: &Pose2D,
-    home: &Pose2D,
-    radius: f64,
-    min_count: usize,
-) -> Option<Pose2D> {
-    let start = grid.cell_of(robot.x, robot.y)?;
-    let costs = grid.costs_from(start);
-    let near = (1.0 / grid.step() * 10.0) as u32;
-    (0..grid.len())
-        .filter(|&i| costs[i] != FAR && costs[i] >= near && grid.is_frontier(i))
-        .filter(|&i| {
-            let (x, y) = grid.centre(i);
-            (x - home.x).hypot(y - home.y) <= radius
-        })
-        .filter(|&i| grid.frontier_around(i, 2) >= min_count)
-        .min_by_key(|&i| (costs[i], i))
-        .map(|i| {
-            let (x, y) = grid.centre(i);
-            Pose2D {
-                x,
-                y,
-                theta: (y - robot.y).atan2(x - robot.x),
-            }
-        })
-}
-
 mod manager;
+mod search;
 pub use manager::MissionManager;
+pub use search::{nearest_unsearched, Searched};
 
 #[cfg(test)]
 mod tests;

@@ -9,31 +9,61 @@ use std::time::Duration;
 
 /// The path is followed towards a point this many cells ahead on it.
 const LOOK_AHEAD: usize = 4;
-/// Half-width of the sector in front of the robot that must be clear (rad).
-const FRONT: f64 = 0.45;
+/// The corridor the robot drives through is this much wider than its body, each side.
+const SIDE_MARGIN: f64 = 0.1;
 /// Extra clearance kept beyond the robot radius (m).
-const MARGIN: f64 = 0.3;
+const MARGIN: f64 = 0.15;
+/// Once blocked, the robot turns until this much more than the stopping distance is
+/// free ahead, in a corridor [`WIDEN`] wider each side, so that it does not turn back
+/// and forth at the edge of an obstacle.
+const CLEAR: f64 = 0.3;
+const WIDEN: f64 = 0.15;
+/// Paths keep this far from obstacles beyond the robot radius: more than the stopping
+/// distance, so following a path round a corner does not stop the robot.
+const PATH_CLEARANCE: f64 = MARGIN + 0.15;
+
+/// What the robot may do.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// m/s.
+    pub max_speed: f64,
+    /// rad/s.
+    pub max_turn: f64,
+    /// Radius of the robot (m).
+    pub radius: f64,
+}
 
 /// The velocity that drives from `pose` towards `target` (map frame) without hitting
 /// what `scan` sees: turn towards the target, slow down for obstacles ahead and for
-/// large heading errors, and turn to the more open side when blocked.
+/// large heading errors, and when blocked turn on the spot to the more open side
+/// until the way ahead is clear (`escape` remembers that side between cycles).
 pub fn steer(
     pose: &Pose2D,
     target: (f64, f64),
     scan: &LaserScan,
-    max_speed: f64,
-    max_turn: f64,
-    radius: f64,
+    limits: Limits,
+    escape: &mut Option<f64>,
 ) -> Velocity2D {
+    let Limits {
+        max_speed,
+        max_turn,
+        radius,
+    } = limits;
     let error = wrap_angle((target.1 - pose.y).atan2(target.0 - pose.x) - pose.theta);
-    let (mut front, mut left, mut right) = (f64::INFINITY, 0.0, 0.0);
+    // Free distance ahead in the corridor the body sweeps, and in a wider one.
+    let (mut front, mut wide, mut left, mut right) = (f64::INFINITY, f64::INFINITY, 0.0, 0.0);
     for (i, &r) in scan.ranges.iter().enumerate() {
         let (b, r) = (scan.bearing(i), f64::from(r));
         if !r.is_finite() {
             continue;
         }
-        if b.abs() <= FRONT {
-            front = front.min(r);
+        // An obstacle in the corridor the body sweeps when driving straight on.
+        let (ahead, aside) = (r * b.cos(), r * b.sin());
+        if ahead > 0.0 && aside.abs() <= radius + SIDE_MARGIN {
+            front = front.min(ahead);
+        }
+        if ahead > 0.0 && aside.abs() <= radius + SIDE_MARGIN + WIDEN {
+            wide = wide.min(ahead);
         }
         if b > 0.0 {
             left += r;
@@ -42,9 +72,13 @@ pub fn steer(
         }
     }
     let stop = radius + MARGIN;
-    if front < stop {
-        // Blocked: turn on the spot towards the side with more room.
-        let side = if left >= right { 1.0 } else { -1.0 };
+    let turning = match *escape {
+        Some(side) if wide < stop + CLEAR => Some(side),
+        _ if front < stop => Some(if left >= right { 1.0 } else { -1.0 }),
+        _ => None,
+    };
+    *escape = turning;
+    if let Some(side) = turning {
         return Velocity2D {
             linear: 0.0,
             angular: side * max_turn,
@@ -63,7 +97,8 @@ pub fn steer(
 pub fn carrot(grid: &Grid, costs: &[u32], pose: &Pose2D) -> Option<(f64, f64)> {
     let mut at = grid.cell_of(pose.x, pose.y)?;
     if costs.get(at).is_none_or(|&c| c == FAR) {
-        return None;
+        // Grazing an obstacle: leave through the cheapest neighbour.
+        at = grid.downhill(costs, at)?;
     }
     for _ in 0..LOOK_AHEAD {
         match grid.downhill(costs, at) {
@@ -98,6 +133,8 @@ pub struct PathPlanner {
     /// Scan time of the last plan, and whether the map changed since.
     planned: Option<Duration>,
     map_changed: bool,
+    /// The side the robot turns to while blocked.
+    escape: Option<f64>,
 }
 
 impl ModuleType for PathPlanner {
@@ -156,6 +193,7 @@ impl ModuleType for PathPlanner {
             costs: Vec::new(),
             planned: None,
             map_changed: false,
+            escape: None,
         }
     }
 }
@@ -167,7 +205,11 @@ impl PathPlanner {
         if std::mem::take(&mut self.map_changed) {
             let _grid = self.grid_lock.lock();
             let map = self.map.get();
-            self.grid = Some(Grid::from_map(&map, self.robot_radius.get()));
+            self.grid = Some(Grid::from_map(
+                &map,
+                self.robot_radius.get(),
+                PATH_CLEARANCE,
+            ));
         }
         self.costs.clear();
         if let (Some(grid), Some(goal)) = (&self.grid, &self.target) {
@@ -201,11 +243,12 @@ impl Module for PathPlanner {
             self.planned = Some(scan.stamp);
             self.replan();
         }
-        let (max_speed, max_turn, radius) = (
-            self.max_speed.get(),
-            self.max_turn_rate.get(),
-            self.robot_radius.get(),
-        );
+        let limits = Limits {
+            max_speed: self.max_speed.get(),
+            max_turn: self.max_turn_rate.get(),
+            radius: self.robot_radius.get(),
+        };
+        let max_turn = limits.max_turn;
         let tolerance = self.goal_tolerance.get();
         let command = match self.target {
             Some(goal) if self.reached || pose.distance_to(&goal) <= tolerance => {
@@ -237,7 +280,7 @@ impl Module for PathPlanner {
                     self.path_length.publish(pose.distance_to(&goal));
                     (goal.x, goal.y)
                 });
-                steer(&pose, target, &scan, max_speed, max_turn, radius)
+                steer(&pose, target, &scan, limits, &mut self.escape)
             }
             None => {
                 // No goal yet: drive towards the most open direction ahead.
@@ -246,7 +289,7 @@ impl Module for PathPlanner {
                     .map_or(0.0, |i| scan.bearing(i));
                 let heading = pose.theta + open;
                 let target = (pose.x + heading.cos(), pose.y + heading.sin());
-                steer(&pose, target, &scan, max_speed, max_turn, radius)
+                steer(&pose, target, &scan, limits, &mut self.escape)
             }
         };
         self.goal_reached.publish(self.reached);
@@ -265,13 +308,19 @@ mod tests {
         let robot = Robot::default();
         let scan = sweep(&robot, &robot.pose, 30.0, Duration::ZERO);
         // Target straight ahead, 6 m of room: full speed, no turn.
-        let v = steer(&robot.pose, (0.0, 0.0), &scan, 0.5, 1.0, 0.3);
+        let limits = Limits {
+            max_speed: 0.5,
+            max_turn: 1.0,
+            radius: 0.3,
+        };
+        let mut escape = None;
+        let v = steer(&robot.pose, (0.0, 0.0), &scan, limits, &mut escape);
         assert!(
             (v.linear - 0.5).abs() < 1e-9 && v.angular.abs() < 1e-9,
             "{v:?}"
         );
         // Target to the left: turn left (positive), slower.
-        let v = steer(&robot.pose, (-4.0, 3.0), &scan, 0.5, 1.0, 0.3);
+        let v = steer(&robot.pose, (-4.0, 3.0), &scan, limits, &mut escape);
         assert!(v.angular > 0.0 && v.linear < 0.1, "{v:?}");
         // Facing the west wall 0.4 m away: stop and turn on the spot.
         let mut near = Robot::default();
@@ -281,9 +330,25 @@ mod tests {
             theta: std::f64::consts::PI,
         };
         let scan = sweep(&near, &near.pose, 30.0, Duration::ZERO);
-        let v = steer(&near.pose, (-10.0, 0.0), &scan, 0.5, 1.0, 0.3);
+        let v = steer(&near.pose, (-10.0, 0.0), &scan, limits, &mut escape);
         assert_eq!(v.linear, 0.0);
         assert_eq!(v.angular.abs(), 1.0);
+        assert_eq!(escape, Some(v.angular));
+        // Turned a little, 0.5 m free ahead (past the stopping distance of 0.45 m but
+        // not clear by 0.3 m more): keeps turning the same way.
+        near.pose = Pose2D {
+            x: -5.5,
+            y: 0.0,
+            theta: std::f64::consts::PI - 0.1,
+        };
+        let scan = sweep(&near, &near.pose, 30.0, Duration::ZERO);
+        let again = steer(&near.pose, (-10.0, 0.0), &scan, limits, &mut escape);
+        assert_eq!(again, v);
+        // Facing open space: the escape ends and it drives.
+        near.pose.theta = 0.0;
+        let scan = sweep(&near, &near.pose, 30.0, Duration::ZERO);
+        let free = steer(&near.pose, (-4.0, 0.0), &scan, limits, &mut escape);
+        assert!(free.linear > 0.0 && escape.is_none(), "{free:?}");
     }
 
     #[test]
@@ -294,11 +359,12 @@ mod tests {
         let goal = (4.0, 2.0); // in the middle room, beyond the partition's north end
         let mut costs = Vec::new();
         let mut grid = None;
+        let mut escape = None;
         for step in 0..2400 {
             let scan = sweep(&robot, &robot.pose, 30.0, robot.time);
             if step % 20 == 0 {
                 integrate(&mut map, &scan, &robot.pose);
-                let g = Grid::from_map(&map, 0.32);
+                let g = Grid::from_map(&map, 0.32, PATH_CLEARANCE);
                 costs = g.costs_from(g.cell_of(goal.0, goal.1).unwrap());
                 grid = Some(g);
             }
@@ -306,7 +372,12 @@ mod tests {
                 .as_ref()
                 .and_then(|g| carrot(g, &costs, &robot.pose))
                 .unwrap_or(goal);
-            let v = steer(&robot.pose, target, &scan, 0.5, 1.0, 0.32);
+            let limits = Limits {
+                max_speed: 0.5,
+                max_turn: 1.0,
+                radius: 0.32,
+            };
+            let v = steer(&robot.pose, target, &scan, limits, &mut escape);
             robot.step(v.linear, v.angular, PHYSICS_STEP);
             if (robot.pose.x - goal.0).hypot(robot.pose.y - goal.1) < 0.25 {
                 assert!(robot.time < Duration::from_secs(60), "{:?}", robot.time);

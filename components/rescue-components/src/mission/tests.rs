@@ -1,7 +1,9 @@
 use super::*;
 use crate::drivers::sweep;
+use crate::grid::Grid;
 use crate::hardware::Robot;
 use crate::mapper::{empty_map, integrate};
+use search::SEARCH_RANGE;
 use std::time::Duration;
 
 fn victim(confidence: f32) -> Victim {
@@ -66,7 +68,7 @@ fn the_approach_goal_lies_before_the_victim_facing_it() {
 }
 
 #[test]
-fn the_nearest_frontier_is_reachable_and_inside_the_search_radius() {
+fn the_camera_searches_the_floor_ahead_and_the_nearest_unsearched_floor_is_next() {
     let robot = Robot::default();
     let mut map = empty_map(0.05, 40.0).unwrap();
     integrate(
@@ -74,15 +76,24 @@ fn the_nearest_frontier_is_reachable_and_inside_the_search_radius() {
         &sweep(&robot, &robot.pose, 30.0, Duration::ZERO),
         &robot.pose,
     );
-    let grid = Grid::from_map(&map, 0.35);
-    let goal = nearest_frontier(&grid, &robot.pose, &robot.pose, 30.0, 3).unwrap();
-    let d = goal.distance_to(&robot.pose);
-    // The laser looks forward: the nearest unexplored space is beside and behind the
-    // robot, within a few metres (a path of at least a metre away).
-    assert!((0.75..4.0).contains(&d), "{goal:?}");
-    assert!(goal.x < robot.pose.x + 0.5, "{goal:?}");
-    let cell = grid.cell_of(goal.x, goal.y).unwrap();
-    assert!(grid.is_frontier(cell));
-    // With a search radius of half a metre there is nothing to explore.
-    assert!(nearest_frontier(&grid, &robot.pose, &robot.pose, 0.5, 3).is_none());
+    let grid = Grid::from_map(&map, 0.3, 0.15);
+    let mut searched = Searched::default();
+    searched.look(&grid, &robot.pose);
+    let at = |x: f64, y: f64| grid.cell_of(x, y).unwrap();
+    // Ahead within range: searched; beyond the range, beside, or behind: not.
+    assert!(searched.contains(at(-2.0, 0.0)));
+    assert!(!searched.contains(at(-4.0 + SEARCH_RANGE + 1.0, 0.0)));
+    assert!(!searched.contains(at(-4.0, 2.0)));
+    // The next goal is unsearched floor close by, not beyond the partition.
+    let goal = nearest_unsearched(&grid, &searched, &robot.pose, &robot.pose, 30.0, 3).unwrap();
+    let cell = at(goal.x, goal.y);
+    assert!(!searched.contains(cell) && grid.get(cell) == crate::grid::Cell::Free);
+    assert!(goal.distance_to(&robot.pose) < 3.0, "{goal:?}");
+    // With a search radius of half a metre there is nothing to search.
+    assert!(nearest_unsearched(&grid, &searched, &robot.pose, &robot.pose, 0.5, 3).is_none());
+    // Looking round from the start searches more.
+    let mut turned = robot.pose;
+    turned.theta = std::f64::consts::FRAC_PI_2;
+    searched.look(&grid, &turned);
+    assert!(searched.contains(at(-4.0, 2.0)));
 }
