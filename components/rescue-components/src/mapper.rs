@@ -58,6 +58,11 @@ fn observe(map: &mut Map, x: f64, y: f64, hit: bool) {
 /// hit nothing.
 pub fn integrate(map: &mut Map, scan: &LaserScan, pose: &Pose2D) {
     let step = map.resolution / 2.0;
+    if !(step > 0.0) {
+        return;
+    }
+    // No beam can cross more of the map than its diagonal.
+    let longest = f64::from(map.width).hypot(f64::from(map.height)) * map.resolution;
     for (i, &range) in scan.ranges.iter().enumerate() {
         if !range.is_finite() || range <= 0.0 {
             continue;
@@ -65,7 +70,7 @@ pub fn integrate(map: &mut Map, scan: &LaserScan, pose: &Pose2D) {
         let hit = scan.intensities.get(i).is_none_or(|&x| x > 0.0);
         let angle = pose.theta + scan.bearing(i);
         let (dx, dy) = (angle.cos(), angle.sin());
-        let range = f64::from(range);
+        let range = f64::from(range).min(longest);
         let mut last = None;
         let mut t = 0.0;
         while t < range - step {
@@ -198,6 +203,26 @@ mod tests {
         // A second scan makes the floor freer.
         integrate(&mut map, &scan, &robot.pose);
         assert_eq!(at(&map, -1.0, 0.0), 10);
+    }
+
+    #[test]
+    fn absurd_ranges_are_cut_at_the_map() {
+        let mut map = empty_map(0.05, 10.0).unwrap();
+        let scan = LaserScan {
+            stamp: Duration::ZERO,
+            angle_min: 0.0,
+            angle_increment: 0.01,
+            ranges: vec![1e30, f32::NAN, -1.0, 2.0],
+            intensities: vec![1.0; 4],
+        };
+        integrate(&mut map, &scan, &Pose2D::default());
+        // The 2 m beam (4th) hit something; the huge one marked the map to its edge.
+        let (cx, cy) = map
+            .cell_of(2.0 * 0.03f64.cos(), 2.0 * 0.03f64.sin())
+            .unwrap();
+        assert!(map.get(cx, cy) >= crate::types::OCCUPIED);
+        let (ex, ey) = map.cell_of(4.9, 0.0).unwrap();
+        assert_eq!(map.get(ex, ey), 30);
     }
 
     #[test]

@@ -27,8 +27,11 @@ impl Searched {
             self.cells = vec![false; grid.len()]; // a grid of another size: start over
         }
         let Some(centre) = grid.cell_of(pose.x, pose.y) else {
-            return;
+            return; // off the grid (or an empty grid)
         };
+        if !(grid.step() > 0.0) {
+            return;
+        }
         let (cx, cy) = grid.coords(centre);
         let reach = (SEARCH_RANGE / grid.step()).ceil() as i64;
         for y in cy - reach..=cy + reach {
