@@ -58,7 +58,7 @@ fn observe(map: &mut Map, x: f64, y: f64, hit: bool) {
 /// hit nothing.
 pub fn integrate(map: &mut Map, scan: &LaserScan, pose: &Pose2D) {
     let step = map.resolution / 2.0;
-    if !(step > 0.0) {
+    if step.is_nan() || step <= 0.0 {
         return;
     }
     // No beam can cross more of the map than its diagonal.

@@ -29,7 +29,7 @@ impl Searched {
         let Some(centre) = grid.cell_of(pose.x, pose.y) else {
             return; // off the grid (or an empty grid)
         };
-        if !(grid.step() > 0.0) {
+        if grid.step().is_nan() || grid.step() <= 0.0 {
             return;
         }
         let (cx, cy) = grid.coords(centre);
