@@ -50,13 +50,19 @@ impl Grid {
         let (fw, fh) = (map.width as usize, map.height as usize);
         let (width, height) = (fw.div_ceil(k), fh.div_ceil(k));
         let mut cells = vec![Cell::Unknown; width * height];
-        if map.cells.len() == fw * fh {
-            for (i, &v) in map.cells.iter().enumerate() {
-                let c = (i / fw / k) * width + (i % fw) / k;
-                if v >= OCCUPIED {
-                    cells[c] = Cell::Blocked;
-                } else if v != UNKNOWN && cells[c] == Cell::Unknown {
-                    cells[c] = Cell::Free;
+        if map.cells.len() == fw * fh && fw > 0 {
+            // Row by row, `k` map cells per planning cell: no division per map cell
+            // (a 80 m map at 5 cm has 2.56 million of them).
+            for (y, row) in map.cells.chunks_exact(fw).enumerate() {
+                let out = &mut cells[(y / k) * width..][..width];
+                for (cell, chunk) in out.iter_mut().zip(row.chunks(k)) {
+                    for &v in chunk {
+                        if v >= OCCUPIED {
+                            *cell = Cell::Blocked;
+                        } else if v != UNKNOWN && *cell == Cell::Unknown {
+                            *cell = Cell::Free;
+                        }
+                    }
                 }
             }
         }
