@@ -209,10 +209,31 @@ fn run_refuses_a_rust_type_that_disagrees_with_its_manifest() {
 
 #[test]
 fn run_refuses_types_not_built_in_and_models_with_errors() {
-    let (code, _, stderr) = ferroc(&["run", "models/rescue_robot.xml", "--cycles", "1"]);
+    // A library whose module type has no Rust code in this binary (the example models'
+    // libraries all get crates in time, so the test brings its own).
+    let dir = tempdir("not_built_in");
+    std::fs::write(
+        dir.join("phantom.lib.xml"),
+        r#"<library name="phantom" version="0.1.0">
+  <module-type name="Ghost" rust="phantom::Ghost"><out name="value" type="f64"/></module-type>
+</library>"#,
+    )
+    .unwrap();
+    let model = dir.join("haunted.xml");
+    std::fs::write(
+        &model,
+        r#"<application name="haunted" version="1">
+  <use library="phantom" manifest="phantom.lib.xml"/>
+  <part name="p"><thread name="t" period="10ms"><module name="ghost" type="phantom.Ghost"/></thread></part>
+</application>"#,
+    )
+    .unwrap();
+    let (code, _, stderr) = ferroc(&["run", model.to_str().unwrap(), "--cycles", "1"]);
     assert_eq!(code, 1, "{stderr}");
     assert!(
-        stderr.contains("is not built into this ferroc binary"),
+        stderr.contains(
+            "the module type `phantom.Ghost` of `p/t/ghost` is not built into this ferroc binary"
+        ),
         "{stderr}"
     );
     let (code, _, stderr) = ferroc(&["run", "models/crash_course.xml", "--for", "soon"]);
