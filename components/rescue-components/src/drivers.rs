@@ -11,7 +11,9 @@ pub const BEAMS: usize = 181;
 /// Reflectivity the walls return.
 const WALL_INTENSITY: f32 = 0.8;
 
-/// Measures one sweep from `pose` (beams from -90° to +90° of the heading).
+/// Measures one sweep from `pose` (beams from -90° to +90° of the heading). A beam
+/// without a return within `max_range` reads +∞ with intensity 0 (REP 117), not the
+/// maximum range: a ring of maximum-range points would look like walls.
 pub fn sweep(robot: &Robot, pose: &Pose2D, max_range: f64, stamp: Duration) -> LaserScan {
     let angle_increment = std::f64::consts::PI / (BEAMS - 1) as f64;
     let angle_min = -std::f64::consts::FRAC_PI_2;
@@ -25,8 +27,9 @@ pub fn sweep(robot: &Robot, pose: &Pose2D, max_range: f64, stamp: Duration) -> L
     for i in 0..BEAMS {
         let angle = pose.theta + angle_min + angle_increment * i as f64;
         let range = robot.world.ray((pose.x, pose.y), angle, max_range);
-        scan.ranges.push(range as f32);
         let hit = range < max_range;
+        scan.ranges
+            .push(if hit { range as f32 } else { f32::INFINITY });
         scan.intensities
             .push(if hit { WALL_INTENSITY } else { 0.0 });
     }
@@ -244,9 +247,9 @@ mod tests {
         assert!((scan.range_at(std::f64::consts::FRAC_PI_2).unwrap() - 5.0).abs() < 1e-5);
         assert!((scan.range_at(-std::f64::consts::FRAC_PI_2).unwrap() - 5.0).abs() < 1e-5);
         assert!(scan.intensities.iter().all(|&i| i == WALL_INTENSITY));
-        // A short range: nothing is hit, every beam reads the maximum.
+        // A short range: nothing is hit, every beam reads +∞ (REP 117).
         let short = sweep(&robot, &robot.pose, 1.0, Duration::ZERO);
-        assert!(short.ranges.iter().all(|&r| r == 1.0));
+        assert!(short.ranges.iter().all(|&r| r == f32::INFINITY));
         assert!(short.intensities.iter().all(|&i| i == 0.0));
     }
 

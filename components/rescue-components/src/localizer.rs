@@ -20,11 +20,14 @@ const DRIFT_PER_METRE: f64 = 0.002;
 /// How well the scan's wall segments align with the map axes if the robot's heading
 /// is `heading`: 1 perfectly, about 0 for no structure.
 pub fn axis_alignment(scan: &LaserScan, heading: f64) -> f64 {
+    // Only beams that hit something: no return reads +∞ (REP 117) or, from sensors
+    // that report the maximum range instead, has intensity 0.
     let points: Vec<(f64, f64)> = scan
         .ranges
         .iter()
         .enumerate()
         .filter(|(_, r)| r.is_finite() && **r > 0.0)
+        .filter(|(i, _)| scan.intensities.get(*i).is_none_or(|&x| x > 0.0))
         .map(|(i, &r)| {
             let a = heading + scan.bearing(i);
             (f64::from(r) * a.cos(), f64::from(r) * a.sin())
@@ -217,6 +220,26 @@ mod tests {
         // From a guess 0.05 rad off, the search finds the truth within its step.
         let found = best_heading(&scan, 0.35, 201);
         assert!((found - 0.3).abs() <= 0.001 + 1e-9, "{found}");
+    }
+
+    #[test]
+    fn beams_without_a_return_are_no_walls() {
+        // Only the wall ahead is in range; the other beams either read +∞ or, from a
+        // sensor that reports the maximum range, 2 m with intensity 0: a ring that
+        // must not pin the heading.
+        let robot = Robot::default();
+        let mut pose = robot.pose;
+        pose.x = 1.0; // 1 m before the partition at x = 2
+        let mut scan = sweep(&robot, &pose, 2.0, Duration::ZERO);
+        assert!(scan.ranges.iter().any(|r| r.is_infinite()));
+        let truth = best_heading(&scan, 0.05, 201);
+        for (r, i) in scan.ranges.iter_mut().zip(&scan.intensities) {
+            if *i == 0.0 {
+                *r = 2.0;
+            }
+        }
+        assert!((best_heading(&scan, 0.05, 201) - truth).abs() < 1e-9);
+        assert!(truth.abs() < 0.002, "{truth}");
     }
 
     #[test]
