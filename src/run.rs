@@ -58,6 +58,7 @@ pub fn registry() -> Registry {
     crash_course::register(&mut registry);
     ring::register(&mut registry);
     nav_behaviours::register(&mut registry);
+    warehouse_fleet::register(&mut registry);
     registry
 }
 
