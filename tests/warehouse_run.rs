@@ -41,12 +41,17 @@ fn an_agv_fetches_a_shelf_and_delivers_it() {
     );
     // On the way: busy with task 1 somewhere in the shelf area.
     assert!(
-        lines.iter().any(|l| l.contains("busy task 1 at (+11.0, +1.5)")),
+        lines
+            .iter()
+            .any(|l| l.contains("busy task 1 at (+11.0, +1.5)")),
         "never at the pickup (11, 1.5)"
     );
     // At the end: one delivered, on the way to the second shelf (it waits at 11, 1.5).
     let last = lines.last().copied().unwrap_or_default();
-    assert!(last.contains("busy task 2") && last.ends_with("done 1"), "{last}");
+    assert!(
+        last.contains("busy task 2") && last.ends_with("done 1"),
+        "{last}"
+    );
 }
 
 #[test]
