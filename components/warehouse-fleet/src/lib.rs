@@ -69,7 +69,7 @@ ferroc_runtime::port_value!(Task, "warehouse.Task", pooled);
 /// Copy type on the seqlock path: `#[repr(C)]` with the fields ordered by alignment and
 /// the tail padding made an explicit field, so that `NoUninit` holds (no padding bytes).
 /// The manifest's field order is the model's business; serde names the fields.
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::NoUninit, Serialize, Deserialize)]
+#[derive(Clone, Copy, Default, PartialEq, bytemuck::NoUninit, Serialize, Deserialize)]
 #[repr(C)]
 pub struct RobotStatus {
     pub pose: Pose2D,
@@ -88,6 +88,21 @@ pub struct RobotStatus {
 }
 
 ferroc_runtime::port_value!(RobotStatus, "warehouse.RobotStatus", copy);
+
+/// The manifest's fields in its order, without the padding (what `Dump` and `Logger`
+/// print).
+impl std::fmt::Debug for RobotStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RobotStatus")
+            .field("robot_id", &self.robot_id)
+            .field("pose", &self.pose)
+            .field("battery_charge", &self.battery_charge)
+            .field("busy", &self.busy)
+            .field("task_id", &self.task_id)
+            .field("tasks_done", &self.tasks_done)
+            .finish()
+    }
+}
 
 /// Registers every module type of this library.
 pub fn register(registry: &mut Registry) {
@@ -179,5 +194,14 @@ mod tests {
         assert!(json.get("reserved").is_none());
         let back: RobotStatus = serde_json::from_value(json).unwrap();
         assert_eq!(back, status);
+        let text = format!("{status:?}");
+        assert!(
+            text.starts_with("RobotStatus { robot_id: 2, pose: "),
+            "{text}"
+        );
+        assert!(
+            text.ends_with("tasks_done: 5 }") && !text.contains("reserved"),
+            "{text}"
+        );
     }
 }
