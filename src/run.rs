@@ -205,6 +205,17 @@ fn value(v: &ModelValue) -> Value {
     }
 }
 
+/// What a planned connection does to values (the bundle writes the same as source).
+fn conversion(c: &plan::PlannedConnection) -> Conversion {
+    c.select.iter().fold(
+        Conversion::linear(c.scale, c.offset),
+        |conv, part| match part {
+            plan::Part::Field(f) => conv.field(f),
+            plan::Part::Index(i) => conv.index(*i as usize),
+        },
+    )
+}
+
 /// The Builder calls for a plan (the bundle writes the same calls as source).
 pub fn build(
     plan: &Plan,
@@ -257,10 +268,7 @@ pub fn build(
         builder.connect(
             (&c.from.0, &c.from.1),
             (&c.to.0, &c.to.1),
-            Conversion {
-                scale: c.scale,
-                offset: c.offset,
-            },
+            conversion(c),
             ConnectOptions::default(),
         )?;
     }

@@ -38,10 +38,22 @@ pub struct PlannedModule {
 pub struct PlannedConnection {
     pub from: (String, String),
     pub to: (String, String),
-    /// `to = from · scale + offset` (unit scales and `<convert>` steps combined).
+    /// Parts taken out of each value first, outermost first (`port[i]`,
+    /// `<convert field|index>`).
+    pub select: Vec<Part>,
+    /// Then `to = part · scale + offset` (unit scales and `<convert>` steps combined).
     pub scale: f64,
     pub offset: f64,
     pub span: Span,
+}
+
+/// One step into a value on a connection.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// A struct field (`<convert field="linear"/>`).
+    Field(String),
+    /// A list or array element (`<convert index="2"/>`, `from="scanner/ranges[2]"`).
+    Index(u32),
 }
 
 /// One thread container.
@@ -152,7 +164,18 @@ pub fn plan(
         .map(|(i, m)| (m.element, i))
         .collect();
     for (edge, from, to) in module_connections(app, libs) {
-        let mut scale = match (from.unit, to.unit) {
+        // A field carries its own unit: the scale is computed from the field's.
+        let (mut ty, mut from_unit) = (from.ty, from.unit);
+        for &hop in &edge.hops {
+            for step in &app.connections[hop].converts {
+                if let Some((field, _)) = &step.field {
+                    if let Some((t, u)) = libs.field_of(ty, field) {
+                        (ty, from_unit) = (t, u);
+                    }
+                }
+            }
+        }
+        let mut scale = match (from_unit, to.unit) {
             (Some(a), Some(b)) => match relate(a, b) {
                 UnitRelation::Scaled(f) => f,
                 _ => 1.0,
@@ -160,14 +183,26 @@ pub fn plan(
             _ => 1.0,
         };
         let mut offset = 0.0;
+        let mut select = Vec::new();
         for &hop in &edge.hops {
             let c = &app.connections[hop];
+            if let Some(i) = c.from_index {
+                select.push(Part::Index(i));
+            }
+            if c.to_index.is_some() {
+                problems.push(Unsupported {
+                    what: "writing into one element of an input (`to=\"port[i]\"`) is not supported by the runtime yet; \
+                           connect to a module that assembles the list instead"
+                        .into(),
+                    span: c.to_span,
+                });
+            }
             for step in &c.converts {
-                if step.index.is_some() || step.field.is_some() {
-                    problems.push(Unsupported {
-                        what: "`<convert index|field>` is not supported by the runtime yet".into(),
-                        span: step.span,
-                    });
+                if let Some((i, _)) = step.index {
+                    select.push(Part::Index(i));
+                }
+                if let Some((f, _)) = &step.field {
+                    select.push(Part::Field(f.clone()));
                 }
                 if let Some((s, _)) = step.scale {
                     scale *= s;
@@ -194,6 +229,7 @@ pub fn plan(
                 paths[edge.to_module.0 as usize].clone(),
                 to.name.to_string(),
             ),
+            select,
             scale,
             offset,
             span: edge

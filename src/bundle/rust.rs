@@ -7,6 +7,7 @@
 
 use super::layout::Part;
 use super::text::{comment, rust_str};
+use ferroc_compiler::plan::Part as ValuePart;
 use ferroc_compiler::schedule::StepKind;
 use ferroc_compiler::source::Span;
 use ferroc_compiler::values::Value;
@@ -95,13 +96,22 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
                 &format!("{},", call("", &[name_of(module), rust_str(port)])),
             );
         }
-        if c.scale == 1.0 && c.offset == 0.0 {
+        if c.scale == 1.0 && c.offset == 0.0 && c.select.is_empty() {
             body.line(2, "Conversion::default(),");
         } else {
-            body.line(2, "Conversion {");
-            body.line(3, &format!("scale: {},", float(c.scale)));
-            body.line(3, &format!("offset: {},", float(c.offset)));
-            body.line(2, "},");
+            // One line, as rustfmt leaves a short method chain.
+            let mut line = format!(
+                "Conversion::linear({}, {})",
+                float(c.scale),
+                float(c.offset)
+            );
+            for part in &c.select {
+                match part {
+                    ValuePart::Field(f) => line.push_str(&format!(".field({})", rust_str(f))),
+                    ValuePart::Index(i) => line.push_str(&format!(".index({i})")),
+                }
+            }
+            body.line(2, &format!("{line},"));
         }
         body.line(2, "ConnectOptions::default(),");
         body.line(1, ")?;");
