@@ -205,6 +205,15 @@ fn value(v: &ModelValue) -> Value {
     }
 }
 
+/// Priority and CPU of a planned thread. Model priorities are "higher runs first" like
+/// SCHED_FIFO's, whose range is 1–99 on Linux; values beyond are clamped to it.
+pub(crate) fn thread_options(t: &plan::PlannedThread) -> ThreadOptions {
+    ThreadOptions {
+        priority: t.priority.map(|p| p.clamp(1, 99) as i32),
+        cpu: t.cpu.map(|c| c as usize),
+    }
+}
+
 /// What a planned connection does to values (the bundle writes the same as source).
 fn conversion(c: &plan::PlannedConnection) -> Conversion {
     c.select.iter().fold(
@@ -280,7 +289,7 @@ pub fn build(
                 (None, true) => Schedule::Continuous,
                 (None, false) => Schedule::Data,
             },
-            options: ThreadOptions::default(),
+            options: thread_options(t),
             steps: t
                 .steps
                 .iter()

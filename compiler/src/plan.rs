@@ -64,6 +64,10 @@ pub struct PlannedThread {
     pub period: Option<f64>,
     /// Cycles back to back (`trigger="continuous"`).
     pub continuous: bool,
+    /// `priority=`: higher runs first (the runtime asks the OS for it).
+    pub priority: Option<u32>,
+    /// `cpu=`: the core the thread is pinned to.
+    pub cpu: Option<u32>,
     /// Module path and step, in execution order.
     pub steps: Vec<(String, StepKind)>,
 }
@@ -251,6 +255,8 @@ pub fn plan(
             path: app.path(container.thread),
             period,
             continuous,
+            priority: app.timing.priority.get(&container.thread).map(|(p, _)| *p),
+            cpu: app.timing.cpu.get(&container.thread).map(|(c, _)| *c),
             steps: container
                 .steps
                 .iter()

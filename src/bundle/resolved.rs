@@ -102,6 +102,12 @@ fn element(
             if let Some(n) = pool {
                 attrs.push_str(&format!(" pool=\"{n}\""));
             }
+            if let Some((p, _)) = app.timing.priority.get(&id) {
+                attrs.push_str(&format!(" priority=\"{p}\""));
+            }
+            if let Some((c, _)) = app.timing.cpu.get(&id) {
+                attrs.push_str(&format!(" cpu=\"{c}\""));
+            }
             (format!("<thread name=\"{name}\"{attrs}"), "thread")
         }
         ElementKind::Group => (format!("<group name=\"{name}\""), "group"),

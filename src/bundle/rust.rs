@@ -11,6 +11,7 @@ use ferroc_compiler::plan::Part as ValuePart;
 use ferroc_compiler::schedule::StepKind;
 use ferroc_compiler::source::Span;
 use ferroc_compiler::values::Value;
+use ferroc_runtime::container::ThreadOptions;
 use std::collections::{BTreeSet, HashMap};
 use std::time::Duration;
 
@@ -138,7 +139,15 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             None if t.continuous => body.line(2, "schedule: Schedule::Continuous,"),
             None => body.line(2, "schedule: Schedule::Data,"),
         }
-        body.line(2, "options: ThreadOptions::default(),");
+        let options = crate::run::thread_options(t);
+        if options == ThreadOptions::default() {
+            body.line(2, "options: ThreadOptions::default(),");
+        } else {
+            body.line(2, "options: ThreadOptions {");
+            body.line(3, &format!("priority: {:?},", options.priority));
+            body.line(3, &format!("cpu: {:?},", options.cpu));
+            body.line(2, "},");
+        }
         let steps: Vec<String> = t
             .steps
             .iter()
