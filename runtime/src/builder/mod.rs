@@ -10,6 +10,7 @@
 mod convert;
 mod registry;
 mod running;
+mod services;
 
 pub use convert::{Conversion, Select};
 pub use registry::Registry;
@@ -146,6 +147,8 @@ struct Instance {
     inputs: Vec<(String, InputHandle)>,
     outputs: Vec<(String, OutputHandle)>,
     params: Vec<(String, ParamHandle)>,
+    services: Vec<(String, crate::service::ServiceHandle)>,
+    clients: Vec<(String, crate::service::ClientHandle)>,
     locks: Vec<crate::module::setup::SlotBinding>,
     /// Converters fed by this module's outputs, run right after its steps.
     converters: Vec<Step>,
@@ -300,6 +303,8 @@ impl<'r> Builder<'r> {
             inputs: setup.inputs,
             outputs: setup.outputs,
             params: setup.params,
+            services: setup.services,
+            clients: setup.clients,
             locks: setup.locks,
             converters: Vec::new(),
             thread: None,
@@ -550,6 +555,7 @@ impl<'r> Builder<'r> {
                         let notifier: Notifier = wakeup.clone();
                         let _ = input.set_notifier(notifier);
                     }
+                    self.wake_on_calls(m, &wakeup);
                 }
             }
             let trigger = match spec.schedule {
@@ -608,5 +614,7 @@ fn find<'a, H>(
 mod convert_tests;
 #[cfg(test)]
 mod lock_tests;
+#[cfg(test)]
+mod service_tests;
 #[cfg(test)]
 mod tests;

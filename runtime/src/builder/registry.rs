@@ -137,5 +137,6 @@ pub(crate) fn blank_interface(name: &str, entry: &Entry) -> Interface {
         doc: (!entry.doc.is_empty()).then(|| entry.doc.to_owned()),
         ports: Vec::new(),
         params: Vec::new(),
+        services: Vec::new(),
     }
 }
