@@ -102,7 +102,7 @@ pub(crate) fn extractor<S: PortValue, F: PortValue>(
 }
 
 /// Element `index` of a list, or the default value when the list is shorter.
-pub(crate) fn element<T: Copy + Default>(list: &Vec<T>, index: usize) -> T {
+pub(crate) fn element<T: Copy + Default>(list: &[T], index: usize) -> T {
     list.get(index).copied().unwrap_or_default()
 }
 

@@ -43,7 +43,7 @@ impl Registry {
         };
         macro_rules! lists {
             ($($ty:ty),*) => {$(
-                registry.register_index::<Vec<$ty>, $ty>(convert::element::<$ty>);
+                registry.register_index::<Vec<$ty>, $ty>(|list, i| convert::element(list, i));
             )*};
         }
         lists!(f64, f32, i8, i16, i32, i64, u8, u16, u32, u64);
