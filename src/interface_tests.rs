@@ -63,7 +63,11 @@ fn compare<T: RustType>() -> Vec<String> {
     assert!(
         loaded.diagnostics.is_empty(),
         "{:?}",
-        loaded.diagnostics.iter().map(|d| &d.message).collect::<Vec<_>>()
+        loaded
+            .diagnostics
+            .iter()
+            .map(|d| &d.message)
+            .collect::<Vec<_>>()
     );
     let (_, manifest) = loaded.libraries.module_type("svc.Pair").unwrap();
     let mut registry = Registry::new();

@@ -281,6 +281,12 @@ pub fn build(
             ConnectOptions::default(),
         )?;
     }
+    for call in &plan.calls {
+        builder.connect_service(
+            (&call.client.0, &call.client.1),
+            (&call.service.0, &call.service.1),
+        )?;
+    }
     for t in &plan.threads {
         builder.add_thread(ThreadSpec {
             path: t.path.clone(),

@@ -7,8 +7,8 @@
 //! thread container's step order from the scheduling pass.
 
 use crate::ir::{Application, ElementId, ElementKind, ParamSource, PortView};
-use crate::library::{LibrarySet, PortDir};
-use crate::schedule::{self, data_edges, DataEdge, StepKind};
+use crate::library::{LibrarySet, PortDir, PortRole};
+use crate::schedule::{self, call_edges, data_edges, DataEdge, StepKind};
 use crate::source::Span;
 use crate::units::{relate, UnitRelation};
 use crate::values::{parse_value, Value};
@@ -56,6 +56,16 @@ pub enum Part {
     Index(u32),
 }
 
+/// A client calling a service (`<connect from="…/client" to="…/service"/>`).
+#[derive(Clone, Debug)]
+pub struct PlannedCall {
+    /// Module path and client name.
+    pub client: (String, String),
+    /// Module path and service name.
+    pub service: (String, String),
+    pub span: Span,
+}
+
 /// One thread container.
 #[derive(Clone, Debug)]
 pub struct PlannedThread {
@@ -77,6 +87,7 @@ pub struct PlannedThread {
 pub struct Plan {
     pub modules: Vec<PlannedModule>,
     pub connections: Vec<PlannedConnection>,
+    pub calls: Vec<PlannedCall>,
     pub threads: Vec<PlannedThread>,
     pub locks: PlannedLocks,
 }
@@ -167,7 +178,26 @@ pub fn plan(
         .enumerate()
         .map(|(i, m)| (m.element, i))
         .collect();
-    for (edge, from, to) in module_connections(app, libs) {
+    for (edge, from, to) in module_edges(app, libs) {
+        if from.role == PortRole::Client {
+            plan.calls.push(PlannedCall {
+                client: (
+                    paths[edge.from_module.0 as usize].clone(),
+                    from.name.to_string(),
+                ),
+                service: (
+                    paths[edge.to_module.0 as usize].clone(),
+                    to.name.to_string(),
+                ),
+                span: edge
+                    .hops
+                    .last()
+                    .map_or(app.element(edge.to_module).span, |&h| {
+                        app.connections[h].span
+                    }),
+            });
+            continue;
+        }
         // A field carries its own unit: the scale is computed from the field's.
         let (mut ty, mut from_unit) = (from.ty, from.unit);
         for &hop in &edge.hops {
@@ -268,14 +298,18 @@ pub fn plan(
     (plan, problems)
 }
 
-/// Every data edge from a module output to a module input (group ports flattened),
-/// with the views of both ends: what becomes one runtime connection. The plan and the
-/// bundle's resolved model both list connections this way.
-pub fn module_connections<'a>(
+/// Every edge from a module output to a module input (group ports flattened), with
+/// the views of both ends: what becomes one runtime connection (a data connection, or
+/// a client calling a service). The plan and the bundle's resolved model both list
+/// connections this way.
+pub fn module_edges<'a>(
     app: &'a Application,
     libs: &'a LibrarySet,
 ) -> impl Iterator<Item = (DataEdge, PortView<'a>, PortView<'a>)> + 'a {
-    data_edges(app, libs).into_iter().filter_map(move |edge| {
+    let edges = data_edges(app, libs)
+        .into_iter()
+        .chain(call_edges(app, libs));
+    edges.filter_map(move |edge| {
         let (&first, &last) = (edge.hops.first()?, edge.hops.last()?);
         let from = app.view(libs, app.connections[first].from)?;
         let to = app.view(libs, app.connections[last].to)?;

@@ -117,6 +117,18 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         body.line(2, "ConnectOptions::default(),");
         body.line(1, ")?;");
     }
+    for link in &part.calls {
+        body.blank();
+        body.line(1, &format!("// {}", comment(&(cx.at)(link.span))));
+        body.line(1, "builder.connect_service(");
+        for (module, name) in [&link.client, &link.service] {
+            body.line(
+                2,
+                &format!("{},", call("", &[name_of(module), rust_str(name)])),
+            );
+        }
+        body.line(1, ")?;");
+    }
     for t in &part.threads {
         body.blank();
         let when = match (t.period, t.continuous) {

@@ -9,8 +9,8 @@ use crate::checks::model::m108_invalid_attribute_value;
 use crate::diagnostic::{did_you_mean, Diagnostic, Diagnostics};
 use crate::source::Span;
 use crate::syntax::Element;
-use crate::values::parse_duration;
 use crate::types::Type;
+use crate::values::parse_duration;
 use hashbrown::HashMap;
 
 /// A `timeout` attribute: absent, `none`, or a duration in seconds.
