@@ -9,11 +9,13 @@
 
 mod interface;
 mod param;
+mod services;
 pub(crate) mod setup;
 mod value;
 
-pub use interface::{Direction, Interface, Kind, MetaType, ParamInfo, PortInfo, Role};
+pub use interface::{Direction, Interface, Kind, MetaType, ParamInfo, PortInfo, Role, ServiceInfo};
 pub use param::{ParamHandle, ParamValue, Parameter, Value};
+pub use services::{ClientDecl, ServiceDecl};
 pub use setup::{InputDecl, OutputDecl, ParamDecl, PortDecl, Setup};
 pub use value::{CopyKind, In, Out, PooledKind, PortKind, PortValue};
 

@@ -31,7 +31,7 @@ pub trait PortKind<T>: 'static {
     /// The concrete output port.
     type Output: Send + Sync + 'static;
     /// What reading an input gives: the value itself, or a shared reference to it.
-    type Read;
+    type Read: std::borrow::Borrow<T>;
     /// A new input (queued if `queue` is given) and its handle for wiring.
     fn input(name: &str, queue: Option<QueueConfig>) -> (Self::Input, InputHandle);
     /// A new output and its handle for wiring.
