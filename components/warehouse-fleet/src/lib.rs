@@ -119,6 +119,7 @@ pub fn register(registry: &mut Registry) {
         .register::<WmsBridge>()
         .register::<FleetManager>()
         .register::<FleetDashboard>();
+    register_fields(registry);
     register_values(registry);
 }
 
@@ -137,22 +138,20 @@ fn register_values(registry: &mut Registry) {
 #[cfg(not(feature = "flexible-ports"))]
 fn register_values(_registry: &mut Registry) {}
 
-/// Field conversions of `RobotStatus` (`<convert field="tasks_done"/>` and the other
-/// numeric fields), for the runtime's field table.
-///
-/// Behind the feature `register-fields` because `Registry::register_field` does not
-/// exist on this branch yet. Once it does, enable the feature (or delete the `cfg`
-/// line) and call this next to [`register`] in `src/run.rs` `registry()`.
-#[cfg(feature = "register-fields")]
+/// Field accessors for `<convert field="…"/>` on connections carrying a robot status
+/// or a task (`warehouse_fleet.xml` sums the robots' `tasks_done`). Called by
+/// [`register`]; public for binaries that register module types one by one.
 pub fn register_fields(registry: &mut Registry) {
     registry
-        .register_field::<RobotStatus, u32>("tasks_done", |s| s.tasks_done)
         .register_field::<RobotStatus, u32>("robot_id", |s| s.robot_id)
-        .register_field::<RobotStatus, u64>("task_id", |s| s.task_id)
+        .register_field::<RobotStatus, Pose2D>("pose", |s| s.pose)
         .register_field::<RobotStatus, f32>("battery_charge", |s| s.battery_charge)
         .register_field::<RobotStatus, bool>("busy", |s| s.busy)
-        .register_field::<RobotStatus, Pose2D>("pose", |s| s.pose)
+        .register_field::<RobotStatus, u64>("task_id", |s| s.task_id)
+        .register_field::<RobotStatus, u32>("tasks_done", |s| s.tasks_done)
         .register_field::<Task, u64>("id", |t| t.id)
+        .register_field::<Task, Pose2D>("pickup", |t| t.pickup)
+        .register_field::<Task, Pose2D>("dropoff", |t| t.dropoff)
         .register_field::<Task, u8>("priority", |t| t.priority);
 }
 
