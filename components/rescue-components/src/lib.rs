@@ -3,8 +3,8 @@
 //!
 //! Only these two: the warehouse crate needs them to exist under the `rust=` paths its
 //! manifest inherits (`rescue_components::Pose2D`). The rescue module types are not here;
-//! a full rescue crate replaces this one, keeping these definitions as they are (fields
-//! and order as the manifest declares them).
+//! the full rescue crate (branch `rescue`) replaces this one: its `Pose2D` and
+//! `LaserScan` are these (same fields, order and derives; `Pose2D::distance_to`).
 
 use serde::{Deserialize, Serialize};
 use std::time::Duration;
@@ -42,8 +42,8 @@ pub struct LaserScan {
 ferroc_runtime::port_value!(LaserScan, "rescue.LaserScan", pooled);
 
 impl Pose2D {
-    /// Straight-line distance between the positions of two poses (headings ignored).
-    pub fn distance(&self, other: &Pose2D) -> f64 {
+    /// Distance between the positions of two poses.
+    pub fn distance_to(&self, other: &Pose2D) -> f64 {
         (other.x - self.x).hypot(other.y - self.y)
     }
 }
@@ -63,6 +63,6 @@ mod tests {
             y: 4.0,
             theta: 1.0,
         };
-        assert_eq!(a.distance(&b), 5.0);
+        assert_eq!(a.distance_to(&b), 5.0);
     }
 }

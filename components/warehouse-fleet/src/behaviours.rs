@@ -108,7 +108,7 @@ impl Behaviour for FollowPath {
             self.halt(false);
             return BehaviourOutput::default();
         };
-        if pose.distance(&goal) < self.goal_tolerance.get() {
+        if pose.distance_to(&goal) < self.goal_tolerance.get() {
             self.halt(true);
             derived[0] = activation;
             return BehaviourOutput {

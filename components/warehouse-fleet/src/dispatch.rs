@@ -140,7 +140,7 @@ impl Dispatcher {
         let free = self.robots.iter().enumerate().filter(|(_, r)| r.free());
         let cost = |r: &Robot| -> f64 {
             let s = r.status.unwrap_or_default();
-            let distance = s.pose.distance(&task.pickup);
+            let distance = s.pose.distance_to(&task.pickup);
             match strategy {
                 Strategy::Auction => {
                     let missing = (1.0 - f64::from(s.battery_charge)).clamp(0.0, 1.0);

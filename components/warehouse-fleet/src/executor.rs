@@ -94,7 +94,7 @@ impl Mission {
     /// One cycle: advances the phase on what the robot reports and says what to do.
     /// Returns the task finished in this cycle, if one was.
     pub fn step(&mut self, i: &Inputs) -> (Commands, Option<u64>) {
-        let arrived = |goal: Pose2D| i.goal_reached && i.pose.distance(&goal) < ARRIVAL;
+        let arrived = |goal: Pose2D| i.goal_reached && i.pose.distance_to(&goal) < ARRIVAL;
         let low = i.charge.is_some_and(|c| f64::from(c) < self.min_charge);
         let charged = i
             .charge
