@@ -279,6 +279,7 @@ mod tests {
                 choices: Vec::new(),
                 doc: None,
             }],
+            flexible: Vec::new(),
         }
     }
 
