@@ -262,12 +262,14 @@ impl ValueTable {
 }
 
 impl ValueType {
-    /// A new input port named `name` (a queue if `queue` is given) and its handle.
-    pub(crate) fn input(&self, name: &str, queue: Option<QueueConfig>) -> (DynIn, InputHandle) {
+    /// A new input port named `name` (a queue if `queue` is given) and its handle for
+    /// wiring (modules get theirs from [`Setup`](super::Setup); tools and tests that
+    /// observe a port of any type make one here).
+    pub fn input(&self, name: &str, queue: Option<QueueConfig>) -> (DynIn, InputHandle) {
         (self.input)(name, queue)
     }
-    /// A new output port named `name` and its handle.
-    pub(crate) fn output(&self, name: &str) -> (DynOut, OutputHandle) {
+    /// A new output port named `name` and its handle for wiring.
+    pub fn output(&self, name: &str) -> (DynOut, OutputHandle) {
         (self.output)(name)
     }
 }

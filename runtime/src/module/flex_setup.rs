@@ -127,6 +127,12 @@ impl<'a> Setup<'a> {
         out
     }
 
+    /// What the runtime knows about a model type (whether it is a number, …); `None`
+    /// if it is not registered.
+    pub fn value_type_of(&self, model_type: &str) -> Option<&ValueType> {
+        self.values.get(model_type)
+    }
+
     /// Reports a problem with this instance (a hostile file path, a type the module
     /// cannot handle): the Builder refuses to create it and names the module.
     pub fn problem(&mut self, what: impl Into<String>) {
