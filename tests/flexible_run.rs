@@ -92,6 +92,11 @@ fn the_bundle_declares_the_port_groups_and_behaves_like_ferroc_run() {
     ] {
         assert!(main.contains(expected), "`{expected}` missing in:\n{main}");
     }
+    // The resolved model keeps the instances' <port> declarations: it checks clean.
+    let resolved = out.join("model/flexible_ports.xml");
+    let (code, text, err) = ferroc(&["check", resolved.to_str().unwrap(), "--format", "short"]);
+    assert_eq!(code, 0, "{text}{err}");
+    assert!(!text.contains("error["), "{text}");
     let cargo_toml = std::fs::read_to_string(out.join("parts/bench/Cargo.toml")).unwrap();
     assert!(cargo_toml.contains("crash-course"), "{cargo_toml}");
     if let Ok(o) = std::process::Command::new("rustfmt")

@@ -46,6 +46,8 @@ pub struct PlannedPortGroup {
     pub ty: String,
     /// `None`: the single port `name`; `Some(n)`: `name/0` … `name/{n-1}`.
     pub count: Option<u32>,
+    /// The declared unit, as written (`mm/s`).
+    pub unit: Option<String>,
     /// For a library type: its library and Rust path (a bundle registers the type).
     pub library: Option<String>,
     pub rust: Option<String>,
@@ -290,6 +292,7 @@ fn port_groups(
             dir: port.dir,
             ty: ty_text,
             count: k.map(|_| 1),
+            unit: port.unit.as_ref().map(|u| u.text.clone()),
             library,
             rust,
         });
