@@ -133,3 +133,45 @@ fn the_bundle_declares_the_port_groups_and_behaves_like_ferroc_run() {
     assert_eq!(String::from_utf8_lossy(&bundled.stdout), run_out);
     assert!(run_out.contains("count: in/0 = 42"), "{run_out}");
 }
+
+/// The `<flexible>` groups and `$in` types of a manifest are compared with the code.
+#[test]
+fn a_drifted_flexible_declaration_fails_the_types_check() {
+    let dir = tempdir("flexible_drift");
+    for entry in std::fs::read_dir("components").unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().is_some_and(|e| e == "xml") {
+            std::fs::copy(&p, dir.join(p.file_name().unwrap())).unwrap();
+        }
+    }
+    let manifest = dir.join("ferroc_std.lib.xml");
+    let original = std::fs::read_to_string(&manifest).unwrap();
+    let sum = r#"    <flexible port="in" dir="in" same-type="true" min-count="1"/>
+    <out name="out" type="$in"/>
+  </module-type>"#;
+    assert!(original.contains(sum));
+    let drifted = original.replacen(
+        sum,
+        r#"    <flexible port="in" dir="in" same-type="false" min-count="2"/>
+    <out name="out" type="f64"/>
+  </module-type>"#,
+        1,
+    );
+    std::fs::write(&manifest, drifted).unwrap();
+    let (code, _, err) = ferroc(&[
+        "types",
+        "export",
+        "--check",
+        "--lib-path",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    for expected in [
+        "the manifest of `ferroc_std.Sum` differs",
+        "port `out`: the manifest says type `f64`, the code `$in`",
+        "flexible group `in`: the manifest says same-type `false`, the code `true`",
+        "flexible group `in`: the manifest says min-count `2`, the code `1`",
+    ] {
+        assert!(err.contains(expected), "`{expected}` missing in:\n{err}");
+    }
+}

@@ -322,3 +322,70 @@ fn declarations_the_type_does_not_accept_are_errors() {
     );
     assert!(p[0].contains("at most 4096 ports"), "{p:?}");
 }
+
+/// A type that knows its value type but not the count (`warehouse.FleetManager`).
+struct Fleet {
+    status: Vec<crate::module::In<u32>>,
+    task: Vec<crate::module::Out<f64>>,
+}
+impl Module for Fleet {
+    fn update(&mut self) {
+        for (s, t) in self.status.iter().zip(&self.task) {
+            t.publish(f64::from(s.get()) * 2.0);
+        }
+    }
+}
+impl ModuleType for Fleet {
+    const NAME: &'static str = "test.Fleet";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Fleet {
+            status: m.flexible_inputs("status").same_type().max_count(4).build(),
+            task: m
+                .flexible_outputs("task")
+                .same_type()
+                .max_count(4)
+                .build_outputs(),
+        }
+    }
+}
+
+#[test]
+fn typed_flexible_groups_take_the_count_from_the_model() {
+    let mut r = Registry::new();
+    r.register::<Fleet>();
+    let spec = |ports| ModuleSpec {
+        path: "fleet",
+        type_name: "test.Fleet",
+        params: &[],
+        queues: &[],
+        ports,
+        violations: Default::default(),
+    };
+    let mut b = Builder::new(&r);
+    let ports = [
+        PortGroup::new("status", Direction::In, "u32", Some(3)),
+        PortGroup::new("task", Direction::Out, "f64", Some(3)),
+    ];
+    b.add_module(spec(&ports)).unwrap();
+    assert!(b.input("fleet", "status/2").is_ok());
+    assert!(b.output("fleet", "task/2").is_ok());
+    assert!(b.input("fleet", "status/3").is_err());
+    let i = b.interface("fleet").unwrap();
+    assert_eq!(i.flexible.len(), 2);
+    assert_eq!(i.flexible[1].dir, Direction::Out);
+    // Another model type than the code's, and too many ports, are refused.
+    let mut b = Builder::new(&r);
+    let bad = [
+        PortGroup::new("status", Direction::In, "f64", Some(1)),
+        PortGroup::new("task", Direction::Out, "f64", Some(5)),
+    ];
+    let e = b.add_module(spec(&bad)).unwrap_err().to_string();
+    assert!(
+        e.contains("port `status/0`: the model declares type `f64`, the module takes `u32`"),
+        "{e}"
+    );
+    assert!(
+        e.contains("port group `task` needs between 0 and 4 ports, the model declares 5"),
+        "{e}"
+    );
+}
