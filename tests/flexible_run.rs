@@ -174,4 +174,29 @@ fn a_drifted_flexible_declaration_fails_the_types_check() {
     ] {
         assert!(err.contains(expected), "`{expected}` missing in:\n{err}");
     }
+    // Export repairs the type from the code: the group and the `$in` type come back.
+    let (code, _, err) = ferroc(&[
+        "types",
+        "export",
+        "--lib-path",
+        dir.to_str().unwrap(),
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let repaired = std::fs::read_to_string(&manifest).unwrap();
+    assert!(
+        repaired.contains(
+            "    <flexible port=\"in\" dir=\"in\" same-type=\"true\" min-count=\"1\"/>\n    <out name=\"out\" type=\"$in\"/>"
+        ),
+        "{repaired}"
+    );
+    let (code, _, err) = ferroc(&[
+        "types",
+        "export",
+        "--check",
+        "--lib-path",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
 }
