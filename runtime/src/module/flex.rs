@@ -280,14 +280,16 @@ trait ErasedIn: Send + Sync + 'static {
     fn human(&self, out: &mut String);
     fn json(&self, out: &mut String);
     fn to_f64(&self) -> Option<f64>;
-    fn as_any(&self) -> &dyn Any;
+    /// The `In<T>` inside.
+    fn port_any(&self) -> &dyn Any;
 }
 
 /// The typed port behind a [`DynOut`].
 trait ErasedOut: Send + Sync + 'static {
     fn publish_f64(&self, x: f64) -> bool;
     fn forward(&self, from: &dyn ErasedIn) -> bool;
-    fn as_any(&self) -> &dyn Any;
+    /// The `Out<T>` inside.
+    fn port_any(&self) -> &dyn Any;
 }
 
 struct TypedIn<T: PortValue, S> {
@@ -313,8 +315,8 @@ impl<T: PortValue + Clone, S: ValueText<T>> ErasedIn for TypedIn<T, S> {
     fn to_f64(&self) -> Option<f64> {
         S::to_f64(self.port.get().borrow())
     }
-    fn as_any(&self) -> &dyn Any {
-        self
+    fn port_any(&self) -> &dyn Any {
+        &self.port
     }
 }
 
@@ -329,17 +331,17 @@ impl<T: PortValue + Clone, S: ValueText<T>> ErasedOut for TypedOut<T, S> {
         }
     }
     fn forward(&self, from: &dyn ErasedIn) -> bool {
-        // One model type has one table entry, so a same-typed input is a `TypedIn<T, S>`.
-        let Some(from) = from.as_any().downcast_ref::<TypedIn<T, S>>() else {
+        // The Rust type decides (whatever text style either side was registered with).
+        let Some(from) = from.port_any().downcast_ref::<In<T>>() else {
             return false;
         };
-        let value = from.port.get();
+        let value = from.get();
         self.port
             .publish_with(|buffer| buffer.clone_from(value.borrow()));
         true
     }
-    fn as_any(&self) -> &dyn Any {
-        self
+    fn port_any(&self) -> &dyn Any {
+        &self.port
     }
 }
 
@@ -408,14 +410,7 @@ impl DynIn {
     /// The typed port, if the model's type is `T` (a module that knows its type after
     /// all, e.g. to read a library struct's fields).
     pub fn typed<T: PortValue>(&self) -> Option<&In<T>> {
-        let any = self.port.as_any();
-        any.downcast_ref::<TypedIn<T, DebugText>>()
-            .map(|t| &t.port)
-            .or_else(|| {
-                any.downcast_ref::<TypedIn<T, NumberText>>()
-                    .map(|t| &t.port)
-            })
-            .or_else(|| any.downcast_ref::<TypedIn<T, PlainText>>().map(|t| &t.port))
+        self.port.port_any().downcast_ref::<In<T>>()
     }
 }
 
@@ -456,17 +451,7 @@ impl DynOut {
     }
     /// The typed port, if the model's type is `T`.
     pub fn typed<T: PortValue>(&self) -> Option<&Out<T>> {
-        let any = self.port.as_ref()?.as_any();
-        any.downcast_ref::<TypedOut<T, DebugText>>()
-            .map(|t| &t.port)
-            .or_else(|| {
-                any.downcast_ref::<TypedOut<T, NumberText>>()
-                    .map(|t| &t.port)
-            })
-            .or_else(|| {
-                any.downcast_ref::<TypedOut<T, PlainText>>()
-                    .map(|t| &t.port)
-            })
+        self.port.as_ref()?.port_any().downcast_ref::<Out<T>>()
     }
 }
 

@@ -389,3 +389,49 @@ fn typed_flexible_groups_take_the_count_from_the_model() {
         "{e}"
     );
 }
+
+/// A number-like library type with its own text style.
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::NoUninit)]
+#[repr(C)]
+struct Meters {
+    m: f64,
+}
+crate::port_value!(Meters, "test.Meters", copy);
+
+struct MetersText;
+impl ValueText<Meters> for MetersText {
+    fn human(value: &Meters, out: &mut String) {
+        let _ = write!(out, "{} m", value.m);
+    }
+    fn json(value: &Meters, out: &mut String) {
+        NumberText::json(&value.m, out)
+    }
+    fn to_f64(value: &Meters) -> Option<f64> {
+        Some(value.m)
+    }
+    fn from_f64(x: f64) -> Option<Meters> {
+        Some(Meters { m: x })
+    }
+}
+
+#[test]
+fn a_library_type_may_bring_its_own_text_and_number_conversion() {
+    let mut r = Registry::new();
+    r.register_value_with::<Meters, MetersText>();
+    let vt = r.values().get("test.Meters").unwrap();
+    assert!(vt.is_number() && vt.is_copy());
+    assert!(vt.rust().ends_with("Meters"), "{}", vt.rust());
+    let (out, inp) = wire(r.values(), "test.Meters");
+    assert!(out.publish_f64(2.5));
+    let (mut human, mut json) = (String::new(), String::new());
+    inp.write_human(&mut human);
+    inp.write_json(&mut json);
+    assert_eq!((human.as_str(), json.as_str()), ("2.5 m", "2.5"));
+    assert_eq!(
+        inp.typed::<Meters>().map(|i| i.get()),
+        Some(Meters { m: 2.5 })
+    );
+    let (out2, end) = wire(r.values(), "test.Meters");
+    assert!(out2.forward(&inp));
+    assert_eq!(end.get_f64(), Some(2.5));
+}
