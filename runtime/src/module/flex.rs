@@ -139,21 +139,15 @@ impl ValueText<Timestamp> for PlainText {
     }
 }
 
-/// Turns `out[start..]` into a JSON string literal in place. Text without characters
-/// to escape (the usual case) is only wrapped in quotes: no allocation once `out` has
-/// the capacity.
+/// Turns `out[start..]` into a JSON string literal in place, without allocating once
+/// `out` has the capacity: the escaped text is appended behind the raw text, which is
+/// then drained away.
 pub(crate) fn quote_tail(out: &mut String, start: usize) {
-    let needs_escape = out[start..]
-        .chars()
-        .any(|c| c == '"' || c == '\\' || c < ' ');
-    if !needs_escape {
-        out.insert(start, '"');
-        out.push('"');
-        return;
-    }
-    let raw = out.split_off(start);
+    let raw_end = out.len();
     out.push('"');
-    for c in raw.chars() {
+    let mut i = start;
+    while let Some(c) = out.get(i..raw_end).and_then(|rest| rest.chars().next()) {
+        i += c.len_utf8();
         match c {
             '"' => out.push_str("\\\""),
             '\\' => out.push_str("\\\\"),
@@ -167,6 +161,7 @@ pub(crate) fn quote_tail(out: &mut String, start: usize) {
         }
     }
     out.push('"');
+    out.drain(start..raw_end);
 }
 
 /// What the runtime knows about one registered value type (the table's entry).
