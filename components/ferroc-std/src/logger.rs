@@ -11,7 +11,8 @@
 //! is not a regular file (a folder, a device, a symbolic link) are refused with an
 //! error naming the module. The file is opened (created if missing, appended to) at the
 //! first write; if writing fails later, the logger reports it once and stops logging
-//! rather than stopping the application.
+//! rather than stopping the application. The path is fixed at creation: setting `file`
+//! while running changes nothing (`period` takes effect at once).
 
 use ferroc_runtime::module::{DynIn, Module, ModuleType, Parameter, Setup, Timestamp};
 use std::fs::{File, OpenOptions};
