@@ -130,6 +130,16 @@ impl ValueText<String> for PlainText {
     }
 }
 
+/// `1.5s` for people (`Debug`), seconds as a JSON number.
+impl ValueText<std::time::Duration> for PlainText {
+    fn human(value: &std::time::Duration, out: &mut String) {
+        let _ = write!(out, "{value:?}");
+    }
+    fn json(value: &std::time::Duration, out: &mut String) {
+        let _ = write!(out, "{}", value.as_secs_f64());
+    }
+}
+
 impl ValueText<Timestamp> for PlainText {
     fn human(value: &Timestamp, out: &mut String) {
         let _ = write!(out, "{value}");
@@ -219,6 +229,11 @@ impl Default for ValueTable {
         t.insert::<[f64; 2], DebugText>();
         t.insert::<[f64; 3], DebugText>();
         t.insert::<[f64; 4], DebugText>();
+        t.insert::<std::time::Duration, PlainText>();
+        // The iB2C meta signals travel as `f64` under their own model names.
+        for meta in ["Stimulation", "Inhibition", "Activity", "TargetRating"] {
+            t.insert_as::<f64, NumberText>(meta);
+        }
         t
     }
 }
@@ -231,9 +246,19 @@ impl ValueTable {
         T: PortValue + Clone,
         S: ValueText<T>,
     {
+        self.insert_as::<T, S>(&T::model_type())
+    }
+
+    /// Registers `T` under another model name than its own (the meta types, which are
+    /// `f64` values with their own names).
+    fn insert_as<T, S>(&mut self, model_type: &str) -> &mut Self
+    where
+        T: PortValue + Clone,
+        S: ValueText<T>,
+    {
         let copy = std::any::TypeId::of::<T::Kind>() == std::any::TypeId::of::<super::CopyKind>();
         self.types.insert(
-            T::model_type(),
+            model_type.to_owned(),
             ValueType {
                 rust: std::any::type_name::<T>(),
                 number: S::from_f64(0.0).is_some(),

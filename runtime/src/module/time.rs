@@ -75,6 +75,15 @@ fn civil_from_days(days: i64) -> (i64, u32, u32) {
     (y, m, d)
 }
 
+/// `duration` ports carry `std::time::Duration`, which has padding (`u64` seconds and
+/// `u32` nanoseconds), so they take the pooled path.
+impl super::PortValue for Duration {
+    type Kind = super::PooledKind;
+    fn model_type() -> String {
+        "duration".into()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

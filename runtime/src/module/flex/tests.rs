@@ -30,6 +30,18 @@ fn built_in_types_are_registered_with_their_port_kind() {
     assert!(!t.get("[f64]").unwrap().is_copy());
     assert!(t.get("f64[3]").unwrap().is_copy());
     assert!(t.get("warehouse.RobotStatus").is_none());
+    // Meta signals are f64 numbers under their own names; durations are pooled.
+    let activity = t.get("Activity").unwrap();
+    assert!(activity.is_number() && activity.is_copy());
+    assert!(!t.get("duration").unwrap().is_copy());
+    let (out, inp) = wire(&t, "duration");
+    out.typed::<std::time::Duration>()
+        .unwrap()
+        .publish(std::time::Duration::from_millis(1500));
+    let (mut human, mut json) = (String::new(), String::new());
+    inp.write_human(&mut human);
+    inp.write_json(&mut json);
+    assert_eq!((human.as_str(), json.as_str()), ("1.5s", "1.5"));
 }
 
 /// A wire between a fresh output of `ty` and a fresh input of `ty`.
