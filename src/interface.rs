@@ -9,6 +9,7 @@
 use ferroc_compiler::library::{ModuleKind, ModuleType, PortDir, PortRole, PortType};
 use ferroc_compiler::units::{parse_unit, relate, Unit, UnitRelation};
 use ferroc_runtime::module::{Direction, Interface, Kind, PortInfo, Role};
+use ferroc_runtime::service::Executes;
 
 /// Every difference, one plain sentence each (empty: they agree).
 pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
@@ -32,7 +33,7 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
             PortRole::Sensor => Role::Sensor,
             PortRole::Controller => Role::Controller,
             PortRole::Meta => Role::Meta,
-            // Clients and services are not declared through `Setup` yet.
+            // Compared by `services`, with their response types and execution.
             PortRole::Client | PortRole::Service => continue,
         };
         let dir = match port.dir {
@@ -146,6 +147,7 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
             ));
         }
     }
+    services(manifest, code, &mut out);
     out
 }
 
@@ -197,6 +199,120 @@ fn flexible_differences(manifest: &ModuleType, code: &Interface, out: &mut Vec<S
             out.push(format!(
                 "the code declares the flexible group `{}`, the manifest does not",
                 c.group
+            ));
+        }
+    }
+}
+
+/// `<client>`s and `<service>`s: side, request and response types, who executes a
+/// service, a blocking client's timeout (the deadlock analysis relies on the last two).
+fn services(manifest: &ModuleType, code: &Interface, out: &mut Vec<String>) {
+    struct Declared<'m> {
+        name: &'m str,
+        client: bool,
+        request: String,
+        response: Option<String>,
+        executes: Executes,
+        /// Seconds; only for blocking clients.
+        timeout: Option<Option<f64>>,
+    }
+    let request = |port: usize| match manifest.ports.get(port).map(|p| &p.ty) {
+        Some(PortType::Fixed(ty)) => ty.to_string(),
+        _ => String::new(),
+    };
+    let declared = manifest
+        .clients
+        .iter()
+        .map(|c| Declared {
+            name: &c.name,
+            client: true,
+            request: request(c.port),
+            response: c.response.as_ref().map(|t| t.to_string()),
+            executes: Executes::Server,
+            timeout: c.blocking.then_some(c.timeout),
+        })
+        .chain(manifest.services.iter().map(|s| Declared {
+            name: &s.name,
+            client: false,
+            request: request(s.port),
+            response: s.response.as_ref().map(|t| t.to_string()),
+            executes: if s.inline {
+                Executes::Caller
+            } else {
+                Executes::Server
+            },
+            timeout: None,
+        }));
+    let element = |client: bool| if client { "client" } else { "service" };
+    for m in declared {
+        let Some(c) = code.service(m.name) else {
+            out.push(format!(
+                "the manifest declares <{} name=\"{}\">, the code has no such {0}",
+                element(m.client),
+                m.name
+            ));
+            continue;
+        };
+        let what = element(m.client);
+        if c.client != m.client {
+            out.push(format!(
+                "`{}`: the manifest says <{what}>, the code <{}>",
+                m.name,
+                element(c.client)
+            ));
+            continue;
+        }
+        if !same_type(&m.request, &c.request) {
+            out.push(format!(
+                "{what} `{}`: the manifest says request `{}`, the code `{}`",
+                m.name, m.request, c.request
+            ));
+        }
+        if let Some(response) = &m.response {
+            if !same_type(response, &c.response) {
+                out.push(format!(
+                    "{what} `{}`: the manifest says response `{response}`, the code `{}`",
+                    m.name, c.response
+                ));
+            }
+        }
+        if m.executes != c.executes {
+            let name = |e: Executes| match e {
+                Executes::Server => "server",
+                Executes::Caller => "caller",
+            };
+            out.push(format!(
+                "service `{}`: the manifest says executes=\"{}\", the code `{}`",
+                m.name,
+                name(m.executes),
+                name(c.executes)
+            ));
+        }
+        if let Some(timeout) = m.timeout {
+            let code_timeout = c.timeout.map(|d| d.as_secs_f64());
+            let same = match (timeout, code_timeout) {
+                (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * a.abs().max(1.0),
+                (a, b) => a.is_none() && b.is_none(),
+            };
+            if !same {
+                let text = |t: Option<f64>| t.map_or("none".to_string(), |s| format!("{s}s"));
+                out.push(format!(
+                    "client `{}`: the manifest says timeout `{}`, the code `{}`",
+                    m.name,
+                    text(timeout),
+                    text(code_timeout)
+                ));
+            }
+        }
+    }
+    for c in &code.services {
+        let known = manifest.clients.iter().any(|d| d.name == c.name)
+            || manifest.services.iter().any(|d| d.name == c.name);
+        if !known {
+            out.push(format!(
+                "the code declares <{} name=\"{}\">, the manifest does not",
+                element(c.client),
+                c.name
             ));
         }
     }
@@ -294,3 +410,7 @@ fn same_default(manifest: Option<&str>, code: Option<&str>) -> bool {
         (m, c) => m == c,
     }
 }
+
+#[cfg(test)]
+#[path = "interface_tests.rs"]
+mod tests;

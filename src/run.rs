@@ -205,6 +205,26 @@ fn value(v: &ModelValue) -> Value {
     }
 }
 
+/// Priority and CPU of a planned thread. Model priorities are "higher runs first" like
+/// SCHED_FIFO's, whose range is 1–99 on Linux; values beyond are clamped to it.
+pub(crate) fn thread_options(t: &plan::PlannedThread) -> ThreadOptions {
+    ThreadOptions {
+        priority: t.priority.map(|p| p.clamp(1, 99) as i32),
+        cpu: t.cpu.map(|c| c as usize),
+    }
+}
+
+/// What a planned connection does to values (the bundle writes the same as source).
+fn conversion(c: &plan::PlannedConnection) -> Conversion {
+    c.select.iter().fold(
+        Conversion::linear(c.scale, c.offset),
+        |conv, part| match part {
+            plan::Part::Field(f) => conv.field(f),
+            plan::Part::Index(i) => conv.index(*i as usize),
+        },
+    )
+}
+
 /// The Builder calls for a plan (the bundle writes the same calls as source).
 pub fn build(
     plan: &Plan,
@@ -269,11 +289,14 @@ pub fn build(
         builder.connect(
             (&c.from.0, &c.from.1),
             (&c.to.0, &c.to.1),
-            Conversion {
-                scale: c.scale,
-                offset: c.offset,
-            },
+            conversion(c),
             ConnectOptions::default(),
+        )?;
+    }
+    for call in &plan.calls {
+        builder.connect_service(
+            (&call.client.0, &call.client.1),
+            (&call.service.0, &call.service.1),
         )?;
     }
     for t in &plan.threads {
@@ -284,7 +307,7 @@ pub fn build(
                 (None, true) => Schedule::Continuous,
                 (None, false) => Schedule::Data,
             },
-            options: ThreadOptions::default(),
+            options: thread_options(t),
             steps: t
                 .steps
                 .iter()

@@ -7,8 +7,8 @@
 //! thread container's step order from the scheduling pass.
 
 use crate::ir::{Application, ElementId, ElementKind, ParamSource, PortView};
-use crate::library::{LibrarySet, PortDir};
-use crate::schedule::{self, data_edges, DataEdge, StepKind};
+use crate::library::{LibrarySet, PortDir, PortRole};
+use crate::schedule::{self, call_edges, data_edges, DataEdge, StepKind};
 use crate::source::Span;
 use crate::units::{relate, UnitRelation};
 use crate::values::{parse_value, Value};
@@ -58,9 +58,31 @@ pub struct PlannedPortGroup {
 pub struct PlannedConnection {
     pub from: (String, String),
     pub to: (String, String),
-    /// `to = from · scale + offset` (unit scales and `<convert>` steps combined).
+    /// Parts taken out of each value first, outermost first (`port[i]`,
+    /// `<convert field|index>`).
+    pub select: Vec<Part>,
+    /// Then `to = part · scale + offset` (unit scales and `<convert>` steps combined).
     pub scale: f64,
     pub offset: f64,
+    pub span: Span,
+}
+
+/// One step into a value on a connection.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// A struct field (`<convert field="linear"/>`).
+    Field(String),
+    /// A list or array element (`<convert index="2"/>`, `from="scanner/ranges[2]"`).
+    Index(u32),
+}
+
+/// A client calling a service (`<connect from="…/client" to="…/service"/>`).
+#[derive(Clone, Debug)]
+pub struct PlannedCall {
+    /// Module path and client name.
+    pub client: (String, String),
+    /// Module path and service name.
+    pub service: (String, String),
     pub span: Span,
 }
 
@@ -72,6 +94,10 @@ pub struct PlannedThread {
     pub period: Option<f64>,
     /// Cycles back to back (`trigger="continuous"`).
     pub continuous: bool,
+    /// `priority=`: higher runs first (the runtime asks the OS for it).
+    pub priority: Option<u32>,
+    /// `cpu=`: the core the thread is pinned to.
+    pub cpu: Option<u32>,
     /// Module path and step, in execution order.
     pub steps: Vec<(String, StepKind)>,
 }
@@ -81,6 +107,7 @@ pub struct PlannedThread {
 pub struct Plan {
     pub modules: Vec<PlannedModule>,
     pub connections: Vec<PlannedConnection>,
+    pub calls: Vec<PlannedCall>,
     pub threads: Vec<PlannedThread>,
     pub locks: PlannedLocks,
 }
@@ -172,8 +199,38 @@ pub fn plan(
         .enumerate()
         .map(|(i, m)| (m.element, i))
         .collect();
-    for (edge, from, to) in module_connections(app, libs) {
-        let mut scale = match (from.unit, to.unit) {
+    for (edge, from, to) in module_edges(app, libs) {
+        if from.role == PortRole::Client {
+            plan.calls.push(PlannedCall {
+                client: (
+                    paths[edge.from_module.0 as usize].clone(),
+                    from.name.to_string(),
+                ),
+                service: (
+                    paths[edge.to_module.0 as usize].clone(),
+                    to.name.to_string(),
+                ),
+                span: edge
+                    .hops
+                    .last()
+                    .map_or(app.element(edge.to_module).span, |&h| {
+                        app.connections[h].span
+                    }),
+            });
+            continue;
+        }
+        // A field carries its own unit: the scale is computed from the field's.
+        let (mut ty, mut from_unit) = (from.ty, from.unit);
+        for &hop in &edge.hops {
+            for step in &app.connections[hop].converts {
+                if let Some((field, _)) = &step.field {
+                    if let Some((t, u)) = libs.field_of(ty, field) {
+                        (ty, from_unit) = (t, u);
+                    }
+                }
+            }
+        }
+        let mut scale = match (from_unit, to.unit) {
             (Some(a), Some(b)) => match relate(a, b) {
                 UnitRelation::Scaled(f) => f,
                 _ => 1.0,
@@ -181,14 +238,26 @@ pub fn plan(
             _ => 1.0,
         };
         let mut offset = 0.0;
+        let mut select = Vec::new();
         for &hop in &edge.hops {
             let c = &app.connections[hop];
+            if let Some(i) = c.from_index {
+                select.push(Part::Index(i));
+            }
+            if c.to_index.is_some() {
+                problems.push(Unsupported {
+                    what: "writing into one element of an input (`to=\"port[i]\"`) is not supported by the runtime yet; \
+                           connect to a module that assembles the list instead"
+                        .into(),
+                    span: c.to_span,
+                });
+            }
             for step in &c.converts {
-                if step.index.is_some() || step.field.is_some() {
-                    problems.push(Unsupported {
-                        what: "`<convert index|field>` is not supported by the runtime yet".into(),
-                        span: step.span,
-                    });
+                if let Some((i, _)) = step.index {
+                    select.push(Part::Index(i));
+                }
+                if let Some((f, _)) = &step.field {
+                    select.push(Part::Field(f.clone()));
                 }
                 if let Some((s, _)) = step.scale {
                     scale *= s;
@@ -215,6 +284,7 @@ pub fn plan(
                 paths[edge.to_module.0 as usize].clone(),
                 to.name.to_string(),
             ),
+            select,
             scale,
             offset,
             span: edge
@@ -236,6 +306,8 @@ pub fn plan(
             path: app.path(container.thread),
             period,
             continuous,
+            priority: app.timing.priority.get(&container.thread).map(|(p, _)| *p),
+            cpu: app.timing.cpu.get(&container.thread).map(|(c, _)| *c),
             steps: container
                 .steps
                 .iter()
@@ -300,14 +372,18 @@ fn port_groups(
     groups
 }
 
-/// Every data edge from a module output to a module input (group ports flattened),
-/// with the views of both ends: what becomes one runtime connection. The plan and the
-/// bundle's resolved model both list connections this way.
-pub fn module_connections<'a>(
+/// Every edge from a module output to a module input (group ports flattened), with
+/// the views of both ends: what becomes one runtime connection (a data connection, or
+/// a client calling a service). The plan and the bundle's resolved model both list
+/// connections this way.
+pub fn module_edges<'a>(
     app: &'a Application,
     libs: &'a LibrarySet,
 ) -> impl Iterator<Item = (DataEdge, PortView<'a>, PortView<'a>)> + 'a {
-    data_edges(app, libs).into_iter().filter_map(move |edge| {
+    let edges = data_edges(app, libs)
+        .into_iter()
+        .chain(call_edges(app, libs));
+    edges.filter_map(move |edge| {
         let (&first, &last) = (edge.hops.first()?, edge.hops.last()?);
         let from = app.view(libs, app.connections[first].from)?;
         let to = app.view(libs, app.connections[last].to)?;

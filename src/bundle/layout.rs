@@ -3,7 +3,7 @@
 
 use ferroc_compiler::ir::{Application, ElementKind};
 use ferroc_compiler::library::LibrarySet;
-use ferroc_compiler::plan::{Plan, PlannedConnection, PlannedModule, PlannedThread};
+use ferroc_compiler::plan::{Plan, PlannedCall, PlannedConnection, PlannedModule, PlannedThread};
 use ferroc_compiler::source::Span;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -18,6 +18,7 @@ pub struct Part<'p> {
     pub package: String,
     pub modules: Vec<&'p PlannedModule>,
     pub connections: Vec<&'p PlannedConnection>,
+    pub calls: Vec<&'p PlannedCall>,
     pub threads: Vec<&'p PlannedThread>,
     /// Libraries (by name) whose module types this part creates.
     pub libraries: Vec<String>,
@@ -88,6 +89,7 @@ pub fn layout<'p>(
             host,
             modules: Vec::new(),
             connections: Vec::new(),
+            calls: Vec::new(),
             threads: Vec::new(),
             libraries: Vec::new(),
         });
@@ -170,16 +172,29 @@ pub fn layout<'p>(
                 });
             }
         }
-        match (module_part.get(c.from.0.as_str()), module_part.get(c.to.0.as_str())) {
-            (Some(&a), Some(&b)) if a == b => parts[a].connections.push(c),
-            (Some(&a), Some(&b)) => problems.push(Problem {
-                span: c.span,
-                what: format!(
-                    "the connection `{}/{}` → `{}/{}` joins the parts `{}` and `{}`: connections between parts need the distributed transport, which the runtime does not have yet",
-                    c.from.0, c.from.1, c.to.0, c.to.1, parts[a].name, parts[b].name
-                ),
-            }),
-            _ => {} // an endpoint outside every part was reported above
+        let what = format!(
+            "connection `{}/{}` → `{}/{}`",
+            c.from.0, c.from.1, c.to.0, c.to.1
+        );
+        if let Some(p) = one_part(
+            &module_part,
+            &parts,
+            (&c.from.0, &c.to.0),
+            &what,
+            c.span,
+            &mut problems,
+        ) {
+            parts[p].connections.push(c);
+        }
+    }
+    for call in &plan.calls {
+        let what = format!(
+            "call `{}/{}` → `{}/{}`",
+            call.client.0, call.client.1, call.service.0, call.service.1
+        );
+        let ends = (&call.client.0, &call.service.0);
+        if let Some(p) = one_part(&module_part, &parts, ends, &what, call.span, &mut problems) {
+            parts[p].calls.push(call);
         }
     }
     for t in &plan.threads {
@@ -245,5 +260,31 @@ pub fn layout<'p>(
         })
     } else {
         Err(problems)
+    }
+}
+
+/// The part both modules of a connection or call are in; a link between two parts is a
+/// problem (the runtime has no transport between processes yet).
+fn one_part(
+    module_part: &BTreeMap<&str, usize>,
+    parts: &[Part<'_>],
+    (a, b): (&String, &String),
+    what: &str,
+    span: Span,
+    problems: &mut Vec<Problem>,
+) -> Option<usize> {
+    match (module_part.get(a.as_str()), module_part.get(b.as_str())) {
+        (Some(&a), Some(&b)) if a == b => Some(a),
+        (Some(&a), Some(&b)) => {
+            problems.push(Problem {
+                span,
+                what: format!(
+                    "the {what} joins the parts `{}` and `{}`: links between parts need the distributed transport, which the runtime does not have yet",
+                    parts[a].name, parts[b].name
+                ),
+            });
+            None
+        }
+        _ => None, // an endpoint outside every part was reported above
     }
 }

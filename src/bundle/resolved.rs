@@ -7,7 +7,7 @@
 use super::text::{xml, xml_comment};
 use ferroc_compiler::ir::{Application, ElementId, ElementKind, ParamSource};
 use ferroc_compiler::library::LibrarySet;
-use ferroc_compiler::plan::{module_connections, Plan};
+use ferroc_compiler::plan::{module_edges, Plan};
 use ferroc_compiler::values::{parse_duration, parse_value, Value};
 
 /// The resolved model's text. `manifests` maps a library name to the manifest path
@@ -102,6 +102,12 @@ fn element(
             if let Some(n) = pool {
                 attrs.push_str(&format!(" pool=\"{n}\""));
             }
+            if let Some((p, _)) = app.timing.priority.get(&id) {
+                attrs.push_str(&format!(" priority=\"{p}\""));
+            }
+            if let Some((c, _)) = app.timing.cpu.get(&id) {
+                attrs.push_str(&format!(" cpu=\"{c}\""));
+            }
             (format!("<thread name=\"{name}\"{attrs}"), "thread")
         }
         ElementKind::Group => (format!("<group name=\"{name}\""), "group"),
@@ -177,7 +183,7 @@ fn element(
 /// Module-to-module connections, found the way the plan finds them, each with the
 /// conversion steps of every hop it replaces (so scales combine in the same order).
 fn connections(app: &Application, libs: &LibrarySet, out: &mut String) {
-    for (edge, from, to) in module_connections(app, libs) {
+    for (edge, from, to) in module_edges(app, libs) {
         let mut attrs = format!(
             "from=\"{}/{}\" to=\"{}/{}\"",
             xml(&app.path(edge.from_module)),

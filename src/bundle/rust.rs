@@ -7,9 +7,11 @@
 
 use super::layout::Part;
 use super::text::{comment, rust_str};
+use ferroc_compiler::plan::Part as ValuePart;
 use ferroc_compiler::schedule::StepKind;
 use ferroc_compiler::source::Span;
 use ferroc_compiler::values::Value;
+use ferroc_runtime::container::ThreadOptions;
 use std::collections::{BTreeSet, HashMap};
 use std::time::Duration;
 
@@ -99,15 +101,36 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
                 &format!("{},", call("", &[name_of(module), rust_str(port)])),
             );
         }
-        if c.scale == 1.0 && c.offset == 0.0 {
+        if c.scale == 1.0 && c.offset == 0.0 && c.select.is_empty() {
             body.line(2, "Conversion::default(),");
         } else {
-            body.line(2, "Conversion {");
-            body.line(3, &format!("scale: {},", float(c.scale)));
-            body.line(3, &format!("offset: {},", float(c.offset)));
-            body.line(2, "},");
+            // One line, as rustfmt leaves a short method chain.
+            let mut line = format!(
+                "Conversion::linear({}, {})",
+                float(c.scale),
+                float(c.offset)
+            );
+            for part in &c.select {
+                match part {
+                    ValuePart::Field(f) => line.push_str(&format!(".field({})", rust_str(f))),
+                    ValuePart::Index(i) => line.push_str(&format!(".index({i})")),
+                }
+            }
+            body.line(2, &format!("{line},"));
         }
         body.line(2, "ConnectOptions::default(),");
+        body.line(1, ")?;");
+    }
+    for link in &part.calls {
+        body.blank();
+        body.line(1, &format!("// {}", comment(&(cx.at)(link.span))));
+        body.line(1, "builder.connect_service(");
+        for (module, name) in [&link.client, &link.service] {
+            body.line(
+                2,
+                &format!("{},", call("", &[name_of(module), rust_str(name)])),
+            );
+        }
         body.line(1, ")?;");
     }
     for t in &part.threads {
@@ -132,7 +155,15 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             None if t.continuous => body.line(2, "schedule: Schedule::Continuous,"),
             None => body.line(2, "schedule: Schedule::Data,"),
         }
-        body.line(2, "options: ThreadOptions::default(),");
+        let options = crate::run::thread_options(t);
+        if options == ThreadOptions::default() {
+            body.line(2, "options: ThreadOptions::default(),");
+        } else {
+            body.line(2, "options: ThreadOptions {");
+            body.line(3, &format!("priority: {:?},", options.priority));
+            body.line(3, &format!("cpu: {:?},", options.cpu));
+            body.line(2, "},");
+        }
         let steps: Vec<String> = t
             .steps
             .iter()

@@ -297,6 +297,7 @@ mod tests {
                 doc: None,
             }],
             flexible: Vec::new(),
+            services: Vec::new(),
         }
     }
 

@@ -10,8 +10,9 @@
 mod convert;
 mod registry;
 mod running;
+mod services;
 
-pub use convert::Conversion;
+pub use convert::{Conversion, Select};
 pub use registry::Registry;
 pub use running::{ContainerStatus, RunningApp};
 
@@ -149,6 +150,8 @@ struct Instance {
     inputs: Vec<(String, InputHandle)>,
     outputs: Vec<(String, OutputHandle)>,
     params: Vec<(String, ParamHandle)>,
+    services: Vec<(String, crate::service::ServiceHandle)>,
+    clients: Vec<(String, crate::service::ClientHandle)>,
     locks: Vec<crate::module::setup::SlotBinding>,
     /// Converters fed by this module's outputs, run right after its steps.
     converters: Vec<Step>,
@@ -314,6 +317,8 @@ impl<'r> Builder<'r> {
             inputs: setup.inputs,
             outputs: setup.outputs,
             params: setup.params,
+            services: setup.services,
+            clients: setup.clients,
             locks: setup.locks,
             converters: Vec::new(),
             thread: None,
@@ -391,23 +396,53 @@ impl<'r> Builder<'r> {
             self.links.push((writer, reader, to.1.to_owned()));
             return Ok(());
         }
+        // A chain of converters: each selected part, then the numeric change.
         let name = format!("{}/{} → {}/{}", from.0, from.1, to.0, to.1);
-        let converter = convert::numeric(output.value_type(), input.value_type(), name, conversion)
-            .ok_or_else(|| {
+        let mut chain: Vec<convert::Converter> = Vec::new();
+        for select in &conversion.select {
+            let value_type = chain
+                .last()
+                .map_or(output.value_type(), |c| c.output.value_type());
+            let (part, index, what) = match select {
+                Select::Field(f) => (f.as_str(), 0, format!("the field `{f}`")),
+                Select::Index(i) => ("[]", *i, format!("element {i}")),
+            };
+            let make = self.registry.part(value_type, part).ok_or_else(|| {
                 BuildError::Connect(format!(
-                    "{}: cannot convert {} to {} (only numbers are converted)",
-                    describe(),
-                    output.value_type(),
-                    input.value_type()
+                    "{}: cannot take {what} of {value_type}: no library registered it \
+                     (its crate's register function should call `register_field` or \
+                     `register_index` for it)",
+                    describe()
                 ))
             })?;
+            chain.push(make(format!("{name} ({what})"), index));
+        }
+        let selected = chain
+            .last()
+            .map_or(output.value_type(), |c| c.output.value_type());
+        if conversion.scales() || selected != input.value_type() {
+            let numeric = convert::numeric(selected, input.value_type(), name, conversion.clone())
+                .ok_or_else(|| {
+                    BuildError::Connect(format!(
+                        "{}: cannot convert {selected} to {} (only numbers are converted)",
+                        describe(),
+                        input.value_type()
+                    ))
+                })?;
+            chain.push(numeric);
+        }
         let fail =
             |e: crate::port::ConnectError| BuildError::Connect(format!("{}: {e}", describe()));
-        output
-            .connect(&converter.input, ConnectOptions::default())
-            .map_err(fail)?;
-        converter.output.connect(input, options).map_err(fail)?;
-        self.modules[writer].converters.push(converter.step);
+        let mut upstream = output;
+        for converter in &chain {
+            upstream
+                .connect(&converter.input, ConnectOptions::default())
+                .map_err(fail)?;
+            upstream = &converter.output;
+        }
+        upstream.connect(input, options).map_err(fail)?;
+        let steps = &mut self.modules[writer].converters;
+        steps.extend(chain.into_iter().map(|c| c.step));
         self.links.push((writer, reader, to.1.to_owned()));
         Ok(())
     }
@@ -534,6 +569,7 @@ impl<'r> Builder<'r> {
                         let notifier: Notifier = wakeup.clone();
                         let _ = input.set_notifier(notifier);
                     }
+                    self.wake_on_calls(m, &wakeup);
                 }
             }
             let trigger = match spec.schedule {
@@ -589,6 +625,10 @@ fn find<'a, H>(
 }
 
 #[cfg(test)]
+mod convert_tests;
+#[cfg(test)]
 mod lock_tests;
+#[cfg(test)]
+mod service_tests;
 #[cfg(test)]
 mod tests;

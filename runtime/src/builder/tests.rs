@@ -131,10 +131,7 @@ fn a_chain_runs_in_schedule_order_with_a_converting_connection() {
     b.connect(
         ("count", "out"),
         ("gain", "input"),
-        Conversion {
-            scale: 10.0,
-            offset: 0.0,
-        },
+        Conversion::linear(10.0, 0.0),
         ConnectOptions::default(),
     )
     .unwrap();

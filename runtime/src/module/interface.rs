@@ -173,12 +173,38 @@ pub struct Interface {
     pub params: Vec<ParamInfo>,
     /// Flexible port groups (their ports, for an instance, are among `ports`).
     pub flexible: Vec<FlexibleInfo>,
+    /// Services it answers and clients it calls with, in declaration order.
+    pub services: Vec<ServiceInfo>,
+}
+
+/// One declared `<service>` (answered by the module) or `<client>` (calls one).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ServiceInfo {
+    /// Name, unique among the module's ports and services.
+    pub name: String,
+    /// `true` for a `<client>`, `false` for a `<service>`.
+    pub client: bool,
+    /// Model type of the requests.
+    pub request: String,
+    /// Model type of the responses.
+    pub response: String,
+    /// Who executes a service's requests (`Server` for clients).
+    pub executes: crate::service::Executes,
+    /// How long a client's blocking call waits (`None`: until answered).
+    pub timeout: Option<std::time::Duration>,
+    /// One-line description.
+    pub doc: Option<String>,
 }
 
 impl Interface {
     /// The port called `name`.
     pub fn port(&self, name: &str) -> Option<&PortInfo> {
         self.ports.iter().find(|p| p.name == name)
+    }
+
+    /// The service or client called `name`.
+    pub fn service(&self, name: &str) -> Option<&ServiceInfo> {
+        self.services.iter().find(|s| s.name == name)
     }
 
     /// The parameter called `name`.

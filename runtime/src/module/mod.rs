@@ -11,6 +11,7 @@ mod flex;
 mod flex_setup;
 mod interface;
 mod param;
+mod services;
 pub(crate) mod setup;
 mod time;
 mod value;
@@ -20,9 +21,10 @@ pub use flex::{
 };
 pub use flex_setup::{FlexibleDecl, PortGroup, MAX_GROUP_PORTS};
 pub use interface::{
-    Direction, FlexibleInfo, Interface, Kind, MetaType, ParamInfo, PortInfo, Role,
+    Direction, FlexibleInfo, Interface, Kind, MetaType, ParamInfo, PortInfo, Role, ServiceInfo,
 };
 pub use param::{ParamHandle, ParamValue, Parameter, Value};
+pub use services::{ClientDecl, ServiceDecl};
 pub use setup::{InputDecl, OutputDecl, ParamDecl, PortDecl, Setup};
 pub use time::Timestamp;
 pub use value::{CopyKind, In, Out, PooledKind, PortKind, PortValue};

@@ -52,6 +52,9 @@ pub struct Setup<'a> {
     pub(crate) inputs: Vec<(String, InputHandle)>,
     pub(crate) outputs: Vec<(String, OutputHandle)>,
     pub(crate) params: Vec<(String, ParamHandle)>,
+    /// Services and clients, for the Builder to connect (see `services.rs`).
+    pub(crate) services: Vec<(String, crate::service::ServiceHandle)>,
+    pub(crate) clients: Vec<(String, crate::service::ClientHandle)>,
     /// Lock slots, bound to resources by the Builder.
     pub(crate) locks: Vec<SlotBinding>,
     pub(crate) errors: Vec<String>,
@@ -88,6 +91,8 @@ impl<'a> Setup<'a> {
             inputs: Vec::new(),
             outputs: Vec::new(),
             params: Vec::new(),
+            services: Vec::new(),
+            clients: Vec::new(),
             locks: Vec::new(),
             errors: Vec::new(),
             activity_inputs: Vec::new(),
@@ -218,7 +223,8 @@ impl<'a> Setup<'a> {
     }
 
     pub(crate) fn record_port(&mut self, info: PortInfo) {
-        if self.interface.port(&info.name).is_some() {
+        if self.interface.port(&info.name).is_some() || self.interface.service(&info.name).is_some()
+        {
             self.errors
                 .push(format!("the port `{}` is declared twice", info.name));
         }
