@@ -55,13 +55,16 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
                 c.role.element(c.dir)
             ));
         }
-        if let PortType::Fixed(ty) = &port.ty {
-            if !same_type(&ty.to_string(), &c.model_type) {
-                out.push(format!(
-                    "port `{}`: the manifest says type `{ty}`, the code `{}`",
-                    port.name, c.model_type
-                ));
-            }
+        let manifest_type = match &port.ty {
+            PortType::Fixed(ty) => ty.to_string(),
+            // `type="$in"`: the type of the instance's flexible group `in`.
+            PortType::SameAs(group) => format!("${group}"),
+        };
+        if !same_type(&manifest_type, &c.model_type) {
+            out.push(format!(
+                "port `{}`: the manifest says type `{manifest_type}`, the code `{}`",
+                port.name, c.model_type
+            ));
         }
         if !same_unit(port.unit.as_ref(), c.unit.as_deref()) {
             out.push(format!(
@@ -87,6 +90,7 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
             ));
         }
     }
+    flexible_differences(manifest, code, &mut out);
     for param in &manifest.params {
         let Some(c) = code.param(&param.name) else {
             out.push(format!(
@@ -145,6 +149,59 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
     }
     services(manifest, code, &mut out);
     out
+}
+
+/// `<flexible port dir same-type min-count max-count>` against the groups the code
+/// declares with `Setup::flexible_inputs` / `flexible_outputs`.
+fn flexible_differences(manifest: &ModuleType, code: &Interface, out: &mut Vec<String>) {
+    for f in &manifest.flexible {
+        let Some(c) = code.flexible.iter().find(|c| c.group == f.port) else {
+            out.push(format!(
+                "the manifest declares <flexible port=\"{}\">, the code has no such group",
+                f.port
+            ));
+            continue;
+        };
+        let dir = match f.dir {
+            PortDir::In => Direction::In,
+            PortDir::Out => Direction::Out,
+        };
+        let what = |field: &str, m: String, k: String| {
+            format!(
+                "flexible group `{}`: the manifest says {field} `{m}`, the code `{k}`",
+                f.port
+            )
+        };
+        if c.dir != dir {
+            out.push(what("dir", format!("{dir:?}"), format!("{:?}", c.dir)));
+        }
+        if c.same_type != f.same_type {
+            out.push(what(
+                "same-type",
+                f.same_type.to_string(),
+                c.same_type.to_string(),
+            ));
+        }
+        if c.min_count != f.min_count {
+            out.push(what(
+                "min-count",
+                f.min_count.to_string(),
+                c.min_count.to_string(),
+            ));
+        }
+        if c.max_count != f.max_count {
+            let text = |m: Option<u32>| m.map_or("none".into(), |m| m.to_string());
+            out.push(what("max-count", text(f.max_count), text(c.max_count)));
+        }
+    }
+    for c in &code.flexible {
+        if !manifest.flexible.iter().any(|f| f.port == c.group) {
+            out.push(format!(
+                "the code declares the flexible group `{}`, the manifest does not",
+                c.group
+            ));
+        }
+    }
 }
 
 /// `<client>`s and `<service>`s: side, request and response types, who executes a

@@ -11,7 +11,7 @@ use ferroc_runtime::builder::{
     Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StepKind, ThreadSpec,
 };
 use ferroc_runtime::container::ThreadOptions;
-use ferroc_runtime::module::Value;
+use ferroc_runtime::module::{Direction, PortGroup, Value};
 use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig};
 use ferroc_runtime::supervise;
 use std::io::IsTerminal;
@@ -251,11 +251,23 @@ pub fn build(
                 (port.clone(), QueueConfig::new(*n as usize).on_full(on_full))
             })
             .collect();
+        let ports: Vec<PortGroup<'_>> = m
+            .ports
+            .iter()
+            .map(|g| {
+                let dir = match g.dir {
+                    ferroc_compiler::library::PortDir::In => Direction::In,
+                    ferroc_compiler::library::PortDir::Out => Direction::Out,
+                };
+                PortGroup::new(&g.name, dir, &g.ty, g.count)
+            })
+            .collect();
         builder.add_module(ModuleSpec {
             path: &m.path,
             type_name: &m.type_name,
             params: &params,
             queues: &queues,
+            ports: &ports,
             violations: ViolationPolicy::parse(&m.ib2c_violations).unwrap_or_default(),
         })?;
     }

@@ -27,10 +27,30 @@ pub struct PlannedModule {
     pub params: Vec<(String, Value)>,
     /// Inputs connected with `queue=N`: port, capacity, `on-full` policy.
     pub queues: Vec<(String, u32, String)>,
+    /// The instance's flexible port groups (`<port name dir type count>`), in model
+    /// order; empty for module types with a fixed interface.
+    pub ports: Vec<PlannedPortGroup>,
     /// What a behaviour does on an iB2C principle violation (`warn`, `clamp`, `stop`):
     /// the module's `ib2c-violations`, else the application's, else `warn`.
     pub ib2c_violations: String,
     pub span: Span,
+}
+
+/// One `<port name dir type count>` of a flexible module instance: the runtime creates
+/// its ports (`name/0` … or just `name`) from the value type the model names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedPortGroup {
+    pub name: String,
+    pub dir: PortDir,
+    /// The model type (`f64`, `warehouse.RobotStatus`): the runtime's value-table key.
+    pub ty: String,
+    /// `None`: the single port `name`; `Some(n)`: `name/0` … `name/{n-1}`.
+    pub count: Option<u32>,
+    /// The declared unit, as written (`mm/s`).
+    pub unit: Option<String>,
+    /// For a library type: its library and Rust path (a bundle registers the type).
+    pub library: Option<String>,
+    pub rust: Option<String>,
 }
 
 /// One module output feeding one module input.
@@ -163,6 +183,7 @@ pub fn plan(
             rust: ty.rust.clone(),
             params,
             queues: Vec::new(),
+            ports: port_groups(libs, ty, &m.extra_ports),
             ib2c_violations: m
                 .ib2c_violations
                 .as_deref()
@@ -296,6 +317,59 @@ pub fn plan(
     }
     plan.locks = plan_locks(app, libs, &paths);
     (plan, problems)
+}
+
+/// The flexible port groups behind an instance's extra ports. Resolving expands each
+/// `<port name="in" count="3">` into `in/0` … `in/2` (no count: `in`) in model order,
+/// so a declaration is a run `g/0, g/1, …` of one type, or a bare `g`.
+fn port_groups(
+    libs: &LibrarySet,
+    ty: &crate::library::ModuleType,
+    extra: &[crate::library::PortDecl],
+) -> Vec<PlannedPortGroup> {
+    let mut groups: Vec<PlannedPortGroup> = Vec::new();
+    for port in extra {
+        let crate::library::module_type::PortType::Fixed(port_ty) = &port.ty else {
+            continue;
+        };
+        let (group, k) = match port.name.split_once('/') {
+            Some((g, k)) => match k.parse::<u32>() {
+                Ok(k) => (g, Some(k)),
+                Err(_) => continue,
+            },
+            None => (port.name.as_str(), None),
+        };
+        if !ty.flexible.iter().any(|f| f.port == group) {
+            continue; // `inhibition/k`, fusion channels: implied by the kind
+        }
+        let ty_text = port_ty.to_string();
+        if let (Some(k), Some(last)) = (k, groups.last_mut()) {
+            if k > 0 && last.name == group && last.ty == ty_text && last.count == Some(k) {
+                last.count = Some(k + 1);
+                continue;
+            }
+        }
+        let (library, rust) = match port_ty {
+            crate::types::Type::Named(id, _) => {
+                let named = libs.named_type(*id);
+                (
+                    Some(libs.get(named.library).name.clone()),
+                    Some(named.rust.clone()),
+                )
+            }
+            _ => (None, None),
+        };
+        groups.push(PlannedPortGroup {
+            name: group.to_string(),
+            dir: port.dir,
+            ty: ty_text,
+            count: k.map(|_| 1),
+            unit: port.unit.as_ref().map(|u| u.text.clone()),
+            library,
+            rust,
+        });
+    }
+    groups
 }
 
 /// Every edge from a module output to a module input (group ports flattened), with

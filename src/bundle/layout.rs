@@ -120,6 +120,19 @@ pub fn layout<'p>(
                 ),
             });
         }
+        for g in &m.ports {
+            if let Some(rust) = g.rust.as_deref().filter(|r| !text::is_rust_path(r)) {
+                problems.push(Problem {
+                    span: m.span,
+                    what: format!(
+                        "the type `{}` of the port group `{}` names the Rust type `{}`, which is not a Rust path (`crate_name::Type`)",
+                        g.ty,
+                        text::comment(&g.name),
+                        text::comment(rust)
+                    ),
+                });
+            }
+        }
         let Some(p) = part_of(&m.path) else {
             problems.push(Problem {
                 span: m.span,
@@ -138,10 +151,21 @@ pub fn layout<'p>(
                 parts[p].libraries.push(name);
             }
         }
+        // The crates of library value types on flexible ports.
+        for name in m.ports.iter().filter_map(|g| g.library.clone()) {
+            if !parts[p].libraries.contains(&name) {
+                parts[p].libraries.push(name);
+            }
+        }
     }
     for c in &plan.connections {
         for port in [&c.from.1, &c.to.1] {
-            if !text::is_name(port) {
+            // Instance ports are paths of names and indices: `in/0`, `in/2/activity`.
+            let segment_ok = |s: &str| {
+                text::is_name(s)
+                    || (!s.is_empty() && s.len() <= 10 && s.bytes().all(|b| b.is_ascii_digit()))
+            };
+            if !port.split('/').all(segment_ok) {
                 problems.push(Problem {
                     span: c.span,
                     what: format!("`{}` is not a valid port name", text::comment(port)),

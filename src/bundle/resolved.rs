@@ -117,6 +117,22 @@ fn element(
             };
             let decl = libs.module_type(&m.type_name).map(|(_, t)| t);
             let mut lines = Vec::new();
+            for g in &m.ports {
+                let dir = match g.dir {
+                    ferroc_compiler::library::PortDir::In => "in",
+                    ferroc_compiler::library::PortDir::Out => "out",
+                };
+                let unit = g
+                    .unit
+                    .as_ref()
+                    .map_or(String::new(), |u| format!(" unit=\"{}\"", xml(u)));
+                let count = g.count.map_or(String::new(), |n| format!(" count=\"{n}\""));
+                lines.push(format!(
+                    "{pad}  <port name=\"{}\" dir=\"{dir}\" type=\"{}\"{unit}{count}/>\n",
+                    xml(&g.name),
+                    xml(&g.ty)
+                ));
+            }
             for (param, value) in &m.params {
                 // The source text (as looked up) when no normalised text reads back exactly.
                 let source = || {

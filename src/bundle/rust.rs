@@ -38,6 +38,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     let mut uses_param = false;
     let mut uses_queue = false;
     let mut uses_duration = false;
+    let mut uses_ports = false;
     for m in &part.modules {
         body.blank();
         body.line(
@@ -79,6 +80,9 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             .collect();
         uses_queue |= !queues.is_empty();
         body.list(2, "queues: &[", &queues, "],");
+        let ports: Vec<String> = m.ports.iter().map(port_group).collect();
+        uses_ports |= !ports.is_empty();
+        body.list(2, "ports: &[", &ports, "],");
         let policy = match m.ib2c_violations.as_str() {
             "clamp" => "Clamp",
             "stop" => "Stop",
@@ -192,6 +196,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         uses_queue,
         !part.threads.is_empty(),
         uses_param || uses_queue,
+        uses_ports,
         uses_duration,
     );
     out.blank();
@@ -230,6 +235,16 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     let types: BTreeSet<&str> = part.modules.iter().map(|m| m.rust.as_str()).collect();
     for rust in types {
         out.line(1, &format!("registry.register::<{rust}>();"));
+    }
+    // Library value types the model gives flexible ports (built-ins need no call).
+    let values: BTreeSet<&str> = part
+        .modules
+        .iter()
+        .flat_map(|m| &m.ports)
+        .filter_map(|g| g.rust.as_deref())
+        .collect();
+    for rust in values {
+        out.line(1, &format!("registry.register_value::<{rust}>();"));
     }
     out.line(1, "registry");
     out.line(0, "}");
@@ -291,7 +306,15 @@ fn header(out: &mut Code, part: &Part<'_>, cx: &Context<'_>) {
     out.blank();
 }
 
-fn imports(out: &mut Code, connect: bool, queue: bool, thread: bool, value: bool, dur: bool) {
+fn imports(
+    out: &mut Code,
+    connect: bool,
+    queue: bool,
+    thread: bool,
+    value: bool,
+    ports: bool,
+    dur: bool,
+) {
     let mut builder = vec!["BuildError", "Builder"];
     if connect {
         builder.push("Conversion");
@@ -305,8 +328,14 @@ fn imports(out: &mut Code, connect: bool, queue: bool, thread: bool, value: bool
     if thread {
         out.line(0, "use ferroc_runtime::container::ThreadOptions;");
     }
-    if value {
-        out.line(0, "use ferroc_runtime::module::Value;");
+    match (ports, value) {
+        (true, true) => out.line(
+            0,
+            "use ferroc_runtime::module::{Direction, PortGroup, Value};",
+        ),
+        (true, false) => out.line(0, "use ferroc_runtime::module::{Direction, PortGroup};"),
+        (false, true) => out.line(0, "use ferroc_runtime::module::Value;"),
+        (false, false) => {}
     }
     match (connect, queue) {
         (true, true) => out.line(
@@ -420,6 +449,19 @@ fn call(head: &str, args: &[String]) -> String {
     }
     out.push(')');
     out
+}
+
+/// One entry of `ModuleSpec::ports`: `PortGroup::new("in", Direction::In, "f64", Some(3))`.
+fn port_group(g: &ferroc_compiler::plan::PlannedPortGroup) -> String {
+    let dir = match g.dir {
+        ferroc_compiler::library::PortDir::In => "Direction::In",
+        ferroc_compiler::library::PortDir::Out => "Direction::Out",
+    };
+    let count = g.count.map_or("None".to_string(), |n| format!("Some({n})"));
+    call(
+        "PortGroup::new",
+        &[rust_str(&g.name), dir.to_string(), rust_str(&g.ty), count],
+    )
 }
 
 /// The Rust expression of a parameter value (the conversion `ferroc run` makes).

@@ -80,6 +80,7 @@ fn add(b: &mut Builder<'_>, path: &str, type_name: &str) {
         type_name,
         params: &[],
         queues: &[],
+        ports: &[],
         violations: Default::default(),
     })
     .unwrap();

@@ -18,7 +18,7 @@ pub use running::{ContainerStatus, RunningApp};
 
 use crate::behaviour::{ViolationLog, ViolationPolicy};
 use crate::container::{Step, ThreadContainer, ThreadOptions, Trigger};
-use crate::module::{Interface, Kind, Module, ParamHandle, Setup, Value};
+use crate::module::{Interface, Kind, Module, ParamHandle, PortGroup, Setup, Value};
 use crate::port::{ConnectOptions, InputHandle, Notifier, OutputHandle, QueueConfig, Wakeup};
 use crate::resource::{LockOrder, Resource};
 use std::collections::HashMap;
@@ -47,6 +47,9 @@ pub struct ModuleSpec<'a> {
     pub params: &'a [(String, Value)],
     /// Inputs the model connects with a queue.
     pub queues: &'a [(String, QueueConfig)],
+    /// The flexible port groups the instance declares (`<port name dir type count>`
+    /// in the model); empty for module types with a fixed interface.
+    pub ports: &'a [PortGroup<'a>],
     /// What an iB2C behaviour does when it violates a principle (ignored by other
     /// module kinds).
     pub violations: ViolationPolicy,
@@ -276,16 +279,27 @@ impl<'r> Builder<'r> {
             return Err(BuildError::DuplicatePath(spec.path.into()));
         }
         let blank = registry::blank_interface(spec.type_name, entry);
-        let mut setup = Setup::new(blank, spec.params, spec.queues).for_instance(
-            spec.path,
-            spec.violations,
-            self.violations.clone(),
-        );
+        let mut setup = Setup::new(
+            blank,
+            spec.params,
+            spec.queues,
+            self.registry.values(),
+            spec.ports,
+        )
+        .for_instance(spec.path, spec.violations, self.violations.clone());
         let module = (entry.factory)(&mut setup);
         let mut problems = std::mem::take(&mut setup.errors);
         for (name, _) in spec.params {
             if setup.interface.param(name).is_none() {
                 problems.push(format!("the type has no parameter `{name}`"));
+            }
+        }
+        for group in spec.ports {
+            if !setup.claimed.iter().any(|g| g == group.name) {
+                problems.push(format!(
+                    "the type has no flexible port group `{}` (the model declares one)",
+                    group.name
+                ));
             }
         }
         if !problems.is_empty() {

@@ -1,6 +1,7 @@
 //! The registry of module types: model name → factory and interface.
 
 use super::convert::{self, Extract};
+use crate::module::{DebugText, ValueTable, ValueText};
 use crate::module::{Interface, Kind, Module, ModuleType, PortValue, Setup};
 use std::collections::BTreeMap;
 
@@ -19,12 +20,15 @@ fn create_boxed<M: ModuleType>(m: &mut Setup<'_>) -> Box<dyn Module> {
 }
 
 /// Every module type a `ferroc` binary (or a bundle) can create, by model name, and
-/// the accessors connections use to take values apart (`<convert field|index>`).
+/// the value types its flexible modules can make ports of (the built-in types always;
+/// library types once registered with [`Registry::register_value`]), and the accessors
+/// connections use to take values apart (`<convert field|index>`).
 #[derive(Clone)]
 pub struct Registry {
     types: BTreeMap<&'static str, Entry>,
     /// (Rust type of the value, field name or `[]` for an index) → converter factory.
     parts: BTreeMap<(&'static str, &'static str), Extract>,
+    values: ValueTable,
 }
 
 impl Default for Registry {
@@ -35,11 +39,13 @@ impl Default for Registry {
 
 impl Registry {
     /// A registry without module types; elements of `Vec`s of numbers can be taken
-    /// (`<convert index>`) out of the box.
+    /// (`<convert index>`) and the built-in value types used on flexible ports out of
+    /// the box.
     pub fn new() -> Self {
         let mut registry = Registry {
             types: BTreeMap::new(),
             parts: BTreeMap::new(),
+            values: ValueTable::default(),
         };
         macro_rules! lists {
             ($($ty:ty),*) => {$(
@@ -105,6 +111,30 @@ impl Registry {
         self.register::<crate::behaviour::BehaviourModule<B>>()
     }
 
+    /// Registers the library value type `T` (declared with
+    /// [`port_value!`](crate::port_value)) for ports whose type the model names: a
+    /// flexible module (`ferroc_std.Dump`, `FlexiSelect`, `Logger`) can then make, read,
+    /// forward and print ports of `T`'s model type. `Debug` is how it is printed
+    /// (`Dump`) and logged (`Logger`, as a JSON string); `Clone` how `FlexiSelect`
+    /// forwards a pooled value (`clone_from` into a recycled buffer).
+    pub fn register_value<T: PortValue + Clone + std::fmt::Debug>(&mut self) -> &mut Self {
+        self.values.insert::<T, DebugText>();
+        self
+    }
+
+    /// Registers `T` with its own text style `S` (a [`ValueText`]): for a type that
+    /// should print other than its `Debug` output, or a number-like type that `Sum`
+    /// may add.
+    pub fn register_value_with<T: PortValue + Clone, S: ValueText<T>>(&mut self) -> &mut Self {
+        self.values.insert::<T, S>();
+        self
+    }
+
+    /// The value types ports can be made of by model name.
+    pub fn values(&self) -> &ValueTable {
+        &self.values
+    }
+
     /// Whether a type of this model name is registered.
     pub fn contains(&self, name: &str) -> bool {
         self.types.contains_key(name)
@@ -123,7 +153,7 @@ impl Registry {
     /// with every parameter at its default, then dropping it).
     pub fn interface(&self, name: &str) -> Option<Interface> {
         let (&name, entry) = self.types.get_key_value(name)?;
-        let mut setup = Setup::new(blank_interface(name, entry), &[], &[]);
+        let mut setup = Setup::new(blank_interface(name, entry), &[], &[], &self.values, &[]);
         drop((entry.factory)(&mut setup));
         Some(setup.interface)
     }
@@ -137,6 +167,7 @@ pub(crate) fn blank_interface(name: &str, entry: &Entry) -> Interface {
         doc: (!entry.doc.is_empty()).then(|| entry.doc.to_owned()),
         ports: Vec::new(),
         params: Vec::new(),
+        flexible: Vec::new(),
         services: Vec::new(),
     }
 }

@@ -101,6 +101,7 @@ fn add(b: &mut Builder<'_>, path: &str, type_name: &str, params: &[(String, Valu
         type_name,
         params,
         queues: &[],
+        ports: &[],
         violations: Default::default(),
     })
     .unwrap();
@@ -222,6 +223,7 @@ fn mistakes_are_error_values() {
             type_name: "test.Nope",
             params: &[],
             queues: &[],
+            ports: &[],
             violations: Default::default(),
         })
         .unwrap_err();
@@ -238,6 +240,7 @@ fn mistakes_are_error_values() {
                 ("gian".into(), Value::Float(1.0)),
             ],
             queues: &[],
+            ports: &[],
             violations: Default::default(),
         })
         .unwrap_err();

@@ -140,6 +140,22 @@ pub struct ParamInfo {
     pub doc: Option<String>,
 }
 
+/// A flexible port group (`<flexible port dir same-type min-count max-count>`): the
+/// instance declares its ports in the model.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FlexibleInfo {
+    /// The group's name (`in`): ports `in/0`, `in/1`, … or just `in`.
+    pub group: String,
+    /// Input or output.
+    pub dir: Direction,
+    /// All ports of one type.
+    pub same_type: bool,
+    /// Fewest ports an instance declares.
+    pub min_count: u32,
+    /// Most ports an instance declares (`None`: no limit).
+    pub max_count: Option<u32>,
+}
+
 /// Everything a manifest says about a module type, as the Rust code declares it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Interface {
@@ -155,6 +171,8 @@ pub struct Interface {
     pub ports: Vec<PortInfo>,
     /// Parameters in declaration order.
     pub params: Vec<ParamInfo>,
+    /// Flexible port groups (their ports, for an instance, are among `ports`).
+    pub flexible: Vec<FlexibleInfo>,
     /// Services it answers and clients it calls with, in declaration order.
     pub services: Vec<ServiceInfo>,
 }
