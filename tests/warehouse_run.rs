@@ -1,6 +1,6 @@
 //! `ferroc run` on one simulated warehouse AGV (`tests/fixtures/warehouse_one_agv.xml`):
-//! the warehouse library's modules drive, lift and report a WMS order end to end, and
-//! the output depends only on the number of cycles.
+//! the warehouse library's modules take a WMS order through the fleet manager, drive,
+//! lift and report it end to end, and the output depends only on the number of cycles.
 
 mod common;
 

@@ -8,8 +8,8 @@ use ferroc_runtime::console;
 use ferroc_runtime::module::{In, Module, ModuleType, Out, Parameter, Setup};
 use std::time::Duration;
 
-/// The instance's robot ports: `status/k` in, `task/k` out.
-#[cfg(feature = "flexible-ports")]
+/// The instance's robot ports: `status/k` in, `task/k` out (none while the registry
+/// learns the interface).
 fn robot_ports(m: &mut Setup<'_>) -> (Vec<In<RobotStatus>>, Vec<Out<Task>>) {
     let statuses = m
         .flexible_inputs("status")
@@ -31,13 +31,6 @@ fn robot_ports(m: &mut Setup<'_>) -> (Vec<In<RobotStatus>>, Vec<Out<Task>>) {
         ));
     }
     (statuses, tasks)
-}
-
-/// Without the runtime's flexible port groups the instance's ports cannot be made:
-/// the manager then has no robots (and dispatches nothing).
-#[cfg(not(feature = "flexible-ports"))]
-fn robot_ports(_m: &mut Setup<'_>) -> (Vec<In<RobotStatus>>, Vec<Out<Task>>) {
-    (Vec::new(), Vec::new())
 }
 
 /// Assigns the WMS orders to the robots, one task per free robot at a time.

@@ -124,8 +124,8 @@ pub fn register(registry: &mut Registry) {
 }
 
 /// The value types flexible modules may make ports of (`ferroc_std.FlexiSelect`,
-/// `Logger` and `Dump` of robot status, poses and tasks).
-#[cfg(feature = "flexible-ports")]
+/// `Logger` and `Dump` of robot status and tasks; `warehouse_fleet.xml` also logs the
+/// rescue library's poses, registered here too: registering a type twice is harmless).
 fn register_values(registry: &mut Registry) {
     registry
         .register_value::<RobotStatus>()
@@ -133,10 +133,6 @@ fn register_values(registry: &mut Registry) {
         .register_value::<Pose2D>()
         .register_value::<LaserScan>();
 }
-
-/// Without the runtime's value-type table there is nothing to register.
-#[cfg(not(feature = "flexible-ports"))]
-fn register_values(_registry: &mut Registry) {}
 
 /// Field accessors for `<convert field="…"/>` on connections carrying a robot status
 /// or a task (`warehouse_fleet.xml` sums the robots' `tasks_done`). Called by
