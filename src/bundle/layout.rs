@@ -22,6 +22,11 @@ pub struct Part<'p> {
     pub threads: Vec<&'p PlannedThread>,
     /// Libraries (by name) whose module types this part creates.
     pub libraries: Vec<String>,
+    /// Rust types of the iB2C behaviours (and fusions) among them: the runtime wraps
+    /// them in its behaviour base (`Registry::register_behaviour`).
+    pub behaviours: Vec<&'p str>,
+    /// Field accessors its connections use, sorted, each once.
+    pub fields: Vec<super::fields::FieldAccessor>,
 }
 
 /// A component library a part depends on.
@@ -92,6 +97,8 @@ pub fn layout<'p>(
             calls: Vec::new(),
             threads: Vec::new(),
             libraries: Vec::new(),
+            behaviours: Vec::new(),
+            fields: Vec::new(),
         });
     }
     let part_names: Vec<String> = parts.iter().map(|p| p.name.clone()).collect();
@@ -145,7 +152,10 @@ pub fn layout<'p>(
     }
     for (p, m) in placed {
         parts[p].modules.push(m);
-        if let Some((lib, _)) = libs.module_type(&m.type_name) {
+        if let Some((lib, ty)) = libs.module_type(&m.type_name) {
+            if ty.is_behaviour() && !parts[p].behaviours.contains(&m.rust.as_str()) {
+                parts[p].behaviours.push(&m.rust);
+            }
             let name = libs.get(lib).name.clone();
             if !parts[p].libraries.contains(&name) {
                 parts[p].libraries.push(name);
@@ -184,6 +194,11 @@ pub fn layout<'p>(
             c.span,
             &mut problems,
         ) {
+            for f in super::fields::accessors(c, &parts[p].modules, libs) {
+                if let Err(at) = parts[p].fields.binary_search(&f) {
+                    parts[p].fields.insert(at, f);
+                }
+            }
             parts[p].connections.push(c);
         }
     }

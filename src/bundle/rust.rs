@@ -234,7 +234,12 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     out.line(1, "let mut registry = Registry::new();");
     let types: BTreeSet<&str> = part.modules.iter().map(|m| m.rust.as_str()).collect();
     for rust in types {
-        out.line(1, &format!("registry.register::<{rust}>();"));
+        let register = if part.behaviours.contains(&rust) {
+            "register_behaviour"
+        } else {
+            "register"
+        };
+        out.line(1, &format!("registry.{register}::<{rust}>();"));
     }
     // Library value types the model gives flexible ports (built-ins need no call).
     let values: BTreeSet<&str> = part
@@ -245,6 +250,9 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         .collect();
     for rust in values {
         out.line(1, &format!("registry.register_value::<{rust}>();"));
+    }
+    for accessor in &part.fields {
+        out.line(1, &accessor.call());
     }
     out.line(1, "registry");
     out.line(0, "}");
