@@ -29,7 +29,9 @@ impl MotorModel {
     pub fn step(&mut self, target: f64, gear_ratio: f64, max_current: f64, dt: f64) {
         let target = if target.is_finite() { target } else { 0.0 };
         let error = target - self.speed;
-        let demand = (SPEED_GAIN * error).clamp(-max_current, max_current);
+        // min/max rather than clamp: a limit that is not a number must not panic.
+        let limit = max_current.max(0.0);
+        let demand = (SPEED_GAIN * error).min(limit).max(-limit);
         let change = demand * gear_ratio * ACCEL_PER_AMP * dt;
         // The loop does not overshoot: a step that would pass the target ends on it.
         self.speed = if change.abs() >= error.abs() {
@@ -142,6 +144,9 @@ mod tests {
         // No current allowed: it does not move.
         let mut off = MotorModel::default();
         off.step(100.0, 24.0, 0.0, 0.01);
+        assert_eq!(off.speed, 0.0);
+        // Nor with a limit that is not a number (and nothing panics).
+        off.step(100.0, 24.0, f64::NAN, 0.01);
         assert_eq!(off.speed, 0.0);
     }
 

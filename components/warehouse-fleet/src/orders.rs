@@ -67,7 +67,8 @@ impl OrderGenerator {
                     pickup,
                     dropoff,
                     priority: (level * 64) as u8,
-                    deadline: Duration::from_secs_f64(now + DEADLINE - 30.0 * level as f64),
+                    deadline: Duration::try_from_secs_f64(now + DEADLINE - 30.0 * level as f64)
+                        .unwrap_or(Duration::MAX),
                 }
             })
             .collect()
