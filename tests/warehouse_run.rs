@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::ferroc;
+use common::{ferroc, tempdir};
 
 const MODEL: &str = "tests/fixtures/warehouse_one_agv.xml";
 
@@ -61,4 +61,22 @@ fn the_output_depends_only_on_the_number_of_cycles() {
     let (_, second, _) = ferroc(&["run", MODEL, "--cycles", "2500", "-q"]);
     assert_eq!(first, second);
     assert_eq!(status_lines(&first).len(), 1250);
+}
+
+#[test]
+fn a_fleet_manager_with_unpaired_robot_ports_is_refused_by_name() {
+    let model = std::fs::read_to_string(MODEL).unwrap().replace(
+        r#"<port name="task" dir="out" type="warehouse.Task" count="1"/>"#,
+        r#"<port name="task" dir="out" type="warehouse.Task" count="2"/>"#,
+    );
+    let root = env!("CARGO_MANIFEST_DIR");
+    let model = model.replace("../../components/", &format!("{root}/components/"));
+    let path = tempdir("warehouse_unpaired").join("model.xml");
+    std::fs::write(&path, model).unwrap();
+    let (code, out, err) = ferroc(&["run", path.to_str().unwrap(), "--cycles", "5", "-q"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        err.contains("`agv/all/fleet` could not be created: 1 status inputs but 2 task outputs"),
+        "{err}"
+    );
 }

@@ -259,6 +259,7 @@ impl Module for TaskExecutor {
         self.status.publish(RobotStatus {
             robot_id: robot,
             pose: inputs.pose,
+            // No battery reading yet: reported full, as it does not keep the robot from work.
             battery_charge: self.charge.unwrap_or(1.0),
             busy: self.mission.busy(),
             task_id: self.mission.last_task,
