@@ -194,34 +194,72 @@ impl Behaviour for AvoidObstacles {
 
     fn transfer(&mut self, activation: f64, derived: &mut [f64]) -> BehaviourOutput {
         let scan = self.scan.get();
-        let front = nearest(&scan, -0.6, 0.6);
-        let left = nearest(&scan, 0.2, 1.4);
-        let right = nearest(&scan, -1.4, -0.2);
-        let stop = self.stop_distance.get();
-        // A slow distance inside the stop distance would divide by ≤ 0.
-        let slow = self.slow_distance.get().max(stop + 1e-3);
-        let away = if left >= right { 1.0 } else { -1.0 };
-        if activation <= 0.0 || front >= slow {
-            self.velocity.publish(0.0);
-            self.angular_velocity.publish(0.0);
-            return BehaviourOutput::default();
-        }
-        if front <= stop {
-            self.velocity.publish(0.0);
-            self.angular_velocity.publish(away * 0.4);
-            derived[0] = activation;
-            return BehaviourOutput {
+        let limits = Distances {
+            stop: self.stop_distance.get(),
+            slow: self.slow_distance.get(),
+            creep: self.creep_speed.get(),
+        };
+        let r = avoid(&scan, &limits, activation);
+        self.velocity.publish(r.velocity);
+        self.angular_velocity.publish(r.angular);
+        derived[0] = r.emergency;
+        r.output
+    }
+}
+
+/// What obstacle avoidance reacts to (parameters of `AvoidObstacles`).
+#[derive(Clone, Copy, Debug)]
+pub struct Distances {
+    pub stop: f64,
+    pub slow: f64,
+    /// Speed commanded while an obstacle is inside the slow distance.
+    pub creep: f64,
+}
+
+/// One avoidance decision.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Avoidance {
+    pub velocity: f64,
+    pub angular: f64,
+    /// The derived activity `emergency`.
+    pub emergency: f64,
+    pub output: BehaviourOutput,
+}
+
+/// Obstacle avoidance on a scan for the activation ι: nothing to do beyond the slow
+/// distance; closer, creep and turn away from the nearer side, active in proportion to
+/// the closeness; inside the stop distance, stop and turn with full activity
+/// (`emergency`).
+pub fn avoid(scan: &LaserScan, d: &Distances, activation: f64) -> Avoidance {
+    let front = nearest(scan, -0.6, 0.6);
+    let left = nearest(scan, 0.2, 1.4);
+    let right = nearest(scan, -1.4, -0.2);
+    // A slow distance inside the stop distance would divide by ≤ 0.
+    let slow = d.slow.max(d.stop + 1e-3);
+    let away = if left >= right { 1.0 } else { -1.0 };
+    if activation <= 0.0 || front >= slow {
+        return Avoidance::default();
+    }
+    if front <= d.stop {
+        return Avoidance {
+            velocity: 0.0,
+            angular: away * 0.4,
+            emergency: activation,
+            output: BehaviourOutput {
                 activity: activation,
                 target_rating: 1.0,
-            };
-        }
-        let closeness = ((slow - front) / (slow - stop)).clamp(0.0, 1.0);
-        self.velocity.publish(self.creep_speed.get());
-        self.angular_velocity.publish(away * 0.5 * closeness);
-        BehaviourOutput {
+            },
+        };
+    }
+    let closeness = ((slow - front) / (slow - d.stop)).clamp(0.0, 1.0);
+    Avoidance {
+        velocity: d.creep,
+        angular: away * 0.5 * closeness,
+        emergency: 0.0,
+        output: BehaviourOutput {
             activity: activation * closeness,
             target_rating: closeness,
-        }
+        },
     }
 }
 
@@ -296,6 +334,57 @@ mod tests {
         assert_eq!(pursue(steer(-2.0, 5.0), 1.2), (0.0, -MAX_TURN));
         // A speed limit of zero stands still.
         assert_eq!(pursue(steer(0.0, 5.0), 0.0).0, 0.0);
+    }
+
+    /// A 180° scan (1° apart) with one obstacle `at` metres away at `bearing` degrees.
+    fn scan_with(bearing: i32, at: f32) -> LaserScan {
+        let mut ranges = vec![10.0; 181];
+        ranges[(bearing + 90) as usize] = at;
+        LaserScan {
+            angle_min: -PI / 2.0,
+            angle_increment: PI / 180.0,
+            ranges,
+            ..LaserScan::default()
+        }
+    }
+
+    const LIMITS: Distances = Distances {
+        stop: 0.35,
+        slow: 1.2,
+        creep: 0.05,
+    };
+
+    #[test]
+    fn avoidance_grows_with_closeness_and_stops_inside_the_stop_distance() {
+        // Nothing close: inactive, standing still.
+        assert_eq!(
+            avoid(&scan_with(0, 5.0), &LIMITS, 1.0),
+            Avoidance::default()
+        );
+        // Half way between slow and stop distance, slightly right: half active, creeping,
+        // turning left (away).
+        let r = avoid(&scan_with(-20, 0.775), &LIMITS, 1.0);
+        assert!((r.output.activity - 0.5).abs() < 1e-6, "{r:?}");
+        assert_eq!(r.velocity, 0.05);
+        assert!(r.angular > 0.0 && r.emergency == 0.0);
+        // Left of the heading: turns right.
+        assert!(avoid(&scan_with(20, 0.775), &LIMITS, 1.0).angular < 0.0);
+        // Inside the stop distance: emergency, stop, full activity (never above ι).
+        let r = avoid(&scan_with(5, 0.2), &LIMITS, 0.8);
+        assert_eq!(
+            (r.velocity, r.emergency, r.output.activity),
+            (0.0, 0.8, 0.8)
+        );
+        // Beside or behind the robot does not count as ahead.
+        assert_eq!(
+            avoid(&scan_with(90, 0.2), &LIMITS, 1.0).output.activity,
+            0.0
+        );
+        // Not activated: nothing.
+        assert_eq!(
+            avoid(&scan_with(0, 0.2), &LIMITS, 0.0),
+            Avoidance::default()
+        );
     }
 
     #[test]
