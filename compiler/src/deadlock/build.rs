@@ -175,8 +175,8 @@ impl<'a> Builder<'a> {
             port: c.port as u32,
         };
         let mut out = Vec::new();
-        for (end, first_hop, _) in self.follow(start, Outgoing) {
-            let Endpoint::Port { element, port } = end else {
+        for r in self.follow(start, Outgoing) {
+            let Endpoint::Port { element, port } = r.end else {
                 continue;
             };
             let Some(smt) = self.app.module_type(self.libs, element) else {
@@ -194,13 +194,13 @@ impl<'a> Builder<'a> {
                 service: si,
                 ec: self.ec_of(element),
                 inline,
-                connect: self.app.connections[first_hop].from_span,
+                connect: self.app.connections[r.first].from_span,
             });
         }
         out
     }
 
-    fn follow(&self, start: Endpoint, dir: petgraph::Direction) -> Vec<(Endpoint, usize, usize)> {
+    fn follow(&self, start: Endpoint, dir: petgraph::Direction) -> Vec<Reach> {
         follow(self.app, start, dir)
     }
 
@@ -224,14 +224,14 @@ impl<'a> Builder<'a> {
             span: self.app.element(module).name_span,
             block_span: None,
         };
-        for (end, first, _) in self.follow(input, Incoming) {
-            let Endpoint::Port { element, port } = end else {
+        for r in self.follow(input, Incoming) {
+            let Endpoint::Port { element, port } = r.end else {
                 continue;
             };
-            // `first` is the hop next to the input when following backwards.
-            let c = &self.app.connections[first];
-            q.span = c.to_span;
-            if let Some(cap) = c.queue {
+            // Where the queue is declared, else the hop next to the input.
+            q.span = self.app.connections[r.queued.unwrap_or(r.first)].to_span;
+            if let Some(c) = r.queued.map(|hop| &self.app.connections[hop]) {
+                let cap = c.queue.unwrap_or(1);
                 q.is_queue = true;
                 q.capacity = Some(q.capacity.map_or(cap, |x: u32| x.min(cap)));
                 q.initial += c.initial;
@@ -358,12 +358,14 @@ impl<'a> Builder<'a> {
                     if self.any_block_write {
                         let mut queues = Vec::new();
                         let mut site = None;
-                        for (end, _, last) in self.follow(out, Outgoing) {
-                            let c = &app.connections[last];
-                            let Endpoint::Port { element, port } = end else {
+                        for r in self.follow(out, Outgoing) {
+                            let Endpoint::Port { element, port } = r.end else {
                                 continue;
                             };
-                            if c.queue.is_some() && c.on_full.as_deref() == Some("block") {
+                            let Some(c) = r.queued.map(|hop| &app.connections[hop]) else {
+                                continue;
+                            };
+                            if c.on_full.as_deref() == Some("block") {
                                 queues.push(self.queue(element, port));
                                 site.get_or_insert(c.to_span);
                             }
@@ -523,20 +525,25 @@ pub(super) struct Summary {
     pub writes: Vec<(u32, u32, bool)>,
 }
 
-/// Module ports reached from `start` along connections in `dir`, through group ports:
-/// (end, first hop, last hop) with connection indices.
-pub(super) fn follow(
-    app: &Application,
-    start: Endpoint,
-    dir: petgraph::Direction,
-) -> Vec<(Endpoint, usize, usize)> {
+/// One module port reached by [`follow`], with the connections (indices) on the way.
+pub(super) struct Reach {
+    pub end: Endpoint,
+    /// The hop next to `start`.
+    pub first: usize,
+    /// The hop nearest `start` that declares `queue=`: a queue written on a connection
+    /// into or out of a group port makes the whole path a queue (as the plan does).
+    pub queued: Option<usize>,
+}
+
+/// Module ports reached from `start` along connections in `dir`, through group ports.
+pub(super) fn follow(app: &Application, start: Endpoint, dir: petgraph::Direction) -> Vec<Reach> {
     let mut out = Vec::new();
     let Some(&n) = app.nodes.get(&start) else {
         return out;
     };
-    let mut stack = vec![(n, usize::MAX)];
+    let mut stack = vec![(n, usize::MAX, None)];
     let mut seen = vec![n];
-    while let Some((node, first)) = stack.pop() {
+    while let Some((node, first, queued)) = stack.pop() {
         for e in app.graph.edges_directed(node, dir) {
             let next = if dir == Outgoing {
                 e.target()
@@ -545,12 +552,17 @@ pub(super) fn follow(
             };
             let hop = *e.weight();
             let first = if first == usize::MAX { hop } else { first };
+            let queued = queued.or(app.connections[hop].queue.map(|_| hop));
             match app.graph[next] {
-                Endpoint::Port { .. } => out.push((app.graph[next], first, hop)),
+                Endpoint::Port { .. } => out.push(Reach {
+                    end: app.graph[next],
+                    first,
+                    queued,
+                }),
                 Endpoint::GroupPort { .. } => {
                     if !seen.contains(&next) && seen.len() < 4096 {
                         seen.push(next);
-                        stack.push((next, first));
+                        stack.push((next, first, queued));
                     }
                 }
                 Endpoint::Param { .. } => {}
