@@ -3,6 +3,7 @@
 //! wait-state holds (`reference/deadlocks.md` §2.1–2.2). One pass over the modules;
 //! connections are followed through group ports only where a wait needs them.
 
+use super::follow::{follow, Reach};
 use super::{Ec, EcId, Held, Lock, Queue, QueueId, Target, Wait, WaitId, WaitKind};
 use super::{Model, StepFinding, StepFindingKind};
 use crate::ir::{Application, ElementId, ElementKind, Endpoint, Profile};
@@ -10,7 +11,6 @@ use crate::library::steps::{StepDecl, StepOp};
 use crate::library::{LibrarySet, ModuleType};
 use crate::source::Span;
 use hashbrown::HashMap;
-use petgraph::visit::EdgeRef;
 use petgraph::Direction::{Incoming, Outgoing};
 
 /// Inline calls nest at most this deep (deadlocks.md §2.2).
@@ -523,51 +523,4 @@ impl Model {
 pub(super) struct Summary {
     pub blocking_reads: Vec<u32>,
     pub writes: Vec<(u32, u32, bool)>,
-}
-
-/// One module port reached by [`follow`], with the connections (indices) on the way.
-pub(super) struct Reach {
-    pub end: Endpoint,
-    /// The hop next to `start`.
-    pub first: usize,
-    /// The hop nearest `start` that declares `queue=`: a queue written on a connection
-    /// into or out of a group port makes the whole path a queue (as the plan does).
-    pub queued: Option<usize>,
-}
-
-/// Module ports reached from `start` along connections in `dir`, through group ports.
-pub(super) fn follow(app: &Application, start: Endpoint, dir: petgraph::Direction) -> Vec<Reach> {
-    let mut out = Vec::new();
-    let Some(&n) = app.nodes.get(&start) else {
-        return out;
-    };
-    let mut stack = vec![(n, usize::MAX, None)];
-    let mut seen = vec![n];
-    while let Some((node, first, queued)) = stack.pop() {
-        for e in app.graph.edges_directed(node, dir) {
-            let next = if dir == Outgoing {
-                e.target()
-            } else {
-                e.source()
-            };
-            let hop = *e.weight();
-            let first = if first == usize::MAX { hop } else { first };
-            let queued = queued.or(app.connections[hop].queue.map(|_| hop));
-            match app.graph[next] {
-                Endpoint::Port { .. } => out.push(Reach {
-                    end: app.graph[next],
-                    first,
-                    queued,
-                }),
-                Endpoint::GroupPort { .. } => {
-                    if !seen.contains(&next) && seen.len() < 4096 {
-                        seen.push(next);
-                        stack.push((next, first, queued));
-                    }
-                }
-                Endpoint::Param { .. } => {}
-            }
-        }
-    }
-    out
 }

@@ -3,7 +3,7 @@
 //! cycles that are harmless only because a guard (a shared thread, a gate lock)
 //! serialises them.
 
-use super::build::follow;
+use super::follow::follow;
 use super::{DeadTrigger, Held, Latent, Model, WaitKind};
 use crate::ir::{Application, ElementId, ElementKind, Endpoint};
 use crate::library::{LibrarySet, PortDir, PortRole};

@@ -15,6 +15,7 @@
 
 mod build;
 mod extra;
+mod follow;
 pub mod render;
 mod solve;
 mod witness;
