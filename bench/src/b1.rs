@@ -5,7 +5,7 @@
 //! is the real `ferroc` binary, not a library call, so start-up, file reading and
 //! report writing are part of the figure, as a user sees it.
 
-use crate::generate::generate;
+use crate::generate::write_model;
 use crate::measure::{best_of, Run};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -83,8 +83,8 @@ pub fn run() -> u8 {
 /// Generates, writes and measures one size; `Err` when the model does not check clean.
 fn measure(ferroc: &Path, dir: &Path, n: usize, xmllint: bool) -> Result<Row, String> {
     let file = dir.join(format!("b1-{n}.xml"));
-    let text = generate(n);
-    std::fs::write(&file, &text).map_err(|e| format!("cannot write {}: {e}", file.display()))?;
+    let size =
+        write_model(&file, n).map_err(|e| format!("cannot write {}: {e}", file.display()))?;
     let log = dir.join(format!("b1-{n}.check.log"));
     let check = best_of(
         || {
@@ -133,7 +133,7 @@ fn measure(ferroc: &Path, dir: &Path, n: usize, xmllint: bool) -> Result<Row, St
     let x = xmllint.as_ref().map_or(f64::NAN, |r| r.wall.as_secs_f64());
     println!(
         "b1 N={n:>6}  file={:6.1} MiB  check={c:7.3} s  xmllint={x:6.3} s  ratio={:6.2}  peak={:7.1} MiB",
-        mib(text.len() as u64),
+        mib(size as u64),
         c / x,
         mib(check.peak_rss)
     );
