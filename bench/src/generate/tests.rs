@@ -145,7 +145,7 @@ fn generated_model_checks_clean_with_waits() {
         .locks
         .iter()
         .all(|k| k.span.is_some() && k.level.is_some()));
-    let a = deadlock::analyse(app, &result.libraries);
+    let a = deadlock::analyse(app, &result.libraries, &m);
     assert!(a.cycles.is_empty() && a.hangs.is_empty() && a.latent.is_empty());
 }
 
