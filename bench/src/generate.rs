@@ -27,7 +27,8 @@
 //! All of it is deadlock-free by construction: calls go only from periodic containers
 //! to their hub, whose service bodies call nobody; every lock is taken map before pose;
 //! hubs and the first container of each block do not read blocking, so the blocking
-//! reads form no ring. The model checks without any finding (the tests assert it and
+//! reads form no ring; no hub writes into a `block` queue, so no container waits for
+//! space behind one that calls it. The model checks without any finding (the tests assert it and
 //! that the deadlock analysis sees the waits). iB2C behaviour groups are not generated
 //! yet: they would be another [`GroupKind`].
 
@@ -176,10 +177,11 @@ impl Generator {
                 } else {
                     ""
                 };
-                // `block` only behind a writer that declares no steps: a client's
-                // write into a full queue would be a wait of its own.
+                // Every module's default activity writes its outputs, so a writer
+                // waits on a full `block` queue until the reader's container drains
+                // it. Never from a hub: the reader may be calling that hub (D105).
                 let on_full = match tc % 3 {
-                    0 if l.kind(prev) != GroupKind::Client => "block",
+                    0 if !l.is_hub(tp) => "block",
                     1 => "drop-newest",
                     _ => "drop-oldest",
                 };

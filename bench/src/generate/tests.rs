@@ -149,6 +149,22 @@ fn generated_model_checks_clean_with_waits() {
     assert!(a.cycles.is_empty() && a.hangs.is_empty() && a.latent.is_empty());
 }
 
+/// Small sizes have other shapes: one container (its own hub, periodic), two, one
+/// block whose ring closes from the hub into the block's first container, a short
+/// last block. Each checks without any finding.
+#[test]
+fn small_models_check_clean_too() {
+    for n in [50, 200, 1_000, 1_500] {
+        let result = check(&format!("small{n}"), &generate(n));
+        assert!(
+            result.diagnostics.is_empty(),
+            "N={n}:\n{}",
+            findings(&result).join("\n")
+        );
+        assert!(result.app.is_some());
+    }
+}
+
 /// One Estimator taking the two locks the other way round is a lock-order inversion
 /// (D103) against the modules of its block that take map before pose, so the checked model does contain lock waits
 /// whose order matters.
