@@ -10,7 +10,7 @@ use crate::ir::{Application, ElementId, ElementKind, Endpoint, Profile};
 use crate::library::steps::{StepDecl, StepOp};
 use crate::library::{LibrarySet, ModuleType};
 use crate::source::Span;
-use hashbrown::HashMap;
+use hashbrown::{HashMap, HashSet};
 use petgraph::Direction::{Incoming, Outgoing};
 
 /// Inline calls nest at most this deep (deadlocks.md §2.2).
@@ -24,10 +24,7 @@ pub(super) fn build(app: &Application, libs: &LibrarySet) -> Model {
         ec_of_thread: HashMap::new(),
         lock_by_name: HashMap::new(),
         queue_of: HashMap::new(),
-        any_block_write: app
-            .connections
-            .iter()
-            .any(|c| c.queue.is_some() && c.on_full.as_deref() == Some("block")),
+        block_writers: block_writers(app),
     };
     for r in &app.resources {
         b.lock_named(&r.name, Some(r.span), r.level, r.recursive);
@@ -65,9 +62,9 @@ pub(super) fn build(app: &Application, libs: &LibrarySet) -> Model {
         let Some(mt) = app.module_type(libs, id) else {
             continue;
         };
-        let any_block_write = b.any_block_write;
+        let block_writers = &b.block_writers;
         let may_wait = |st: &StepDecl| match st.op {
-            StepOp::Write { .. } => any_block_write,
+            StepOp::Write { port, .. } => block_writers.contains(&(id, port as u32)),
             StepOp::Read { port } => mt.ports[port].blocking_read,
             StepOp::Unlock { .. } | StepOp::Call { sync: false, .. } => false,
             _ => true,
@@ -111,7 +108,32 @@ struct Builder<'a> {
     ec_of_thread: HashMap<ElementId, EcId>,
     lock_by_name: HashMap<String, u32>,
     queue_of: HashMap<Endpoint, QueueId>,
-    any_block_write: bool,
+    /// Module outputs with a path through a `queue` + `on-full="block"` connection: the
+    /// only writes that can wait. Found once from those connections, so the writes of
+    /// every other module (all of them, in most models) are not followed one by one.
+    block_writers: HashSet<(ElementId, u32)>,
+}
+
+fn block_writers(app: &Application) -> HashSet<(ElementId, u32)> {
+    let mut out = HashSet::new();
+    for c in &app.connections {
+        if c.queue.is_none() || c.on_full.as_deref() != Some("block") {
+            continue;
+        }
+        match c.from {
+            Endpoint::Port { element, port } => {
+                out.insert((element, port));
+            }
+            from => {
+                for r in follow(app, from, Incoming) {
+                    if let Endpoint::Port { element, port } = r.end {
+                        out.insert((element, port));
+                    }
+                }
+            }
+        }
+    }
+    out
 }
 
 /// The activity a step list runs in.
@@ -355,7 +377,7 @@ impl<'a> Builder<'a> {
                         element: module,
                         port: port as u32,
                     };
-                    if self.any_block_write {
+                    if self.block_writers.contains(&(module, port as u32)) {
                         let mut queues = Vec::new();
                         let mut site = None;
                         for r in self.follow(out, Outgoing) {
