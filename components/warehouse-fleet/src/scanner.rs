@@ -1,10 +1,13 @@
 //! `warehouse.SafetyScanner`: a safety laser scanner on the front bumper, simulated.
 //!
 //! The scanner has no pose input (the real one knows nothing of the map either), so the
-//! simulation is a scene in the scanner's own frame: the racks of the aisle to the left
-//! and right, and now and then a person walking across the aisle ahead. When and how
-//! close people cross follows a fixed-seed sequence keyed by the scanner's address, so
-//! each robot sees its own, reproducible traffic.
+//! simulation is a scene in the scanner's own frame: open floor, and now and then a
+//! person walking across the path ahead. Fixed structure such as racks is left out on
+//! purpose: without the robot's pose it could not turn as the robot turns, and a
+//! localizer matching walls in the scan (`rescue.Localizer`) would then hold the
+//! heading still while the robot turns. When and how close people cross follows a
+//! fixed-seed sequence keyed by the scanner's address, so each robot sees its own,
+//! reproducible traffic.
 
 use crate::sequence::Sequence;
 use crate::timing::IO_STEP;
@@ -12,8 +15,6 @@ use crate::LaserScan;
 use ferroc_runtime::module::{Module, ModuleType, Out, Parameter, Setup};
 use std::f64::consts::PI;
 
-/// Distance from the scanner to the racks on either side, metres.
-const RACK_DISTANCE: f64 = 1.2;
 /// First beam, relative to straight ahead (a 270° scanner).
 const ANGLE_MIN: f64 = -0.75 * PI;
 /// Beams of one sweep (1° apart).
@@ -37,11 +38,6 @@ impl AisleScene {
     /// Distance along the beam at `angle` (0: straight ahead) to the first surface.
     pub fn ray(&self, angle: f64) -> f64 {
         let (dx, dy) = (angle.cos(), angle.sin());
-        let rack = if dy.abs() > 1e-12 {
-            RACK_DISTANCE / dy.abs()
-        } else {
-            f64::INFINITY
-        };
         let person = self.person.map_or(f64::INFINITY, |(px, py)| {
             // Ray-circle intersection: |t·d − p|² = r².
             let b = px * dx + py * dy;
@@ -55,7 +51,7 @@ impl AisleScene {
                 b - disc.sqrt()
             }
         });
-        rack.min(person).min(MAX_RANGE)
+        person.min(MAX_RANGE)
     }
 
     /// The whole sweep, beam `i` at `ANGLE_MIN + i · 1°`.
@@ -192,12 +188,10 @@ mod tests {
     }
 
     #[test]
-    fn the_racks_alone_violate_no_field() {
+    fn open_floor_violates_no_field() {
         let r = ranges(AisleScene::default());
         assert_eq!(r.len(), BEAMS);
-        // Straight ahead the aisle is open; to the side the rack is 1.2 m away.
-        assert_eq!(AisleScene::default().ray(0.0), MAX_RANGE);
-        assert!((AisleScene::default().ray(PI / 2.0) - RACK_DISTANCE).abs() < 1e-9);
+        assert!(r.iter().all(|&x| f64::from(x) == MAX_RANGE));
         assert!(!field_violated(&r, 0.45));
         assert!(!field_violated(&r, 1.5));
     }
