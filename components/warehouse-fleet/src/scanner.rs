@@ -5,7 +5,9 @@
 //! person walking across the path ahead. Fixed structure such as racks is left out on
 //! purpose: without the robot's pose it could not turn as the robot turns, and a
 //! localizer matching walls in the scan (`rescue.Localizer`) would then hold the
-//! heading still while the robot turns. When and how close people cross follows a
+//! heading still while the robot turns. For the same reason a beam without return reads
+//! as infinite rather than the maximum range: a ring of maximum-range points looks like
+//! a wall to such a localizer. When and how close people cross follows a
 //! fixed-seed sequence keyed by the scanner's address, so each robot sees its own,
 //! reproducible traffic.
 
@@ -35,7 +37,8 @@ pub struct AisleScene {
 }
 
 impl AisleScene {
-    /// Distance along the beam at `angle` (0: straight ahead) to the first surface.
+    /// Distance along the beam at `angle` (0: straight ahead) to the first surface;
+    /// infinite when nothing is within range (no return, as ROS REP 117 reports it).
     pub fn ray(&self, angle: f64) -> f64 {
         let (dx, dy) = (angle.cos(), angle.sin());
         let person = self.person.map_or(f64::INFINITY, |(px, py)| {
@@ -51,7 +54,11 @@ impl AisleScene {
                 b - disc.sqrt()
             }
         });
-        person.min(MAX_RANGE)
+        if person <= MAX_RANGE {
+            person
+        } else {
+            f64::INFINITY
+        }
     }
 
     /// The whole sweep, beam `i` at `ANGLE_MIN + i · 1°`.
@@ -191,7 +198,10 @@ mod tests {
     fn open_floor_violates_no_field() {
         let r = ranges(AisleScene::default());
         assert_eq!(r.len(), BEAMS);
-        assert!(r.iter().all(|&x| f64::from(x) == MAX_RANGE));
+        assert!(
+            r.iter().all(|x| x.is_infinite()),
+            "no return reads as infinite"
+        );
         assert!(!field_violated(&r, 0.45));
         assert!(!field_violated(&r, 1.5));
     }
@@ -210,7 +220,7 @@ mod tests {
         let behind = AisleScene {
             person: Some((-0.6, 0.0)),
         };
-        assert_eq!(behind.ray(0.0), MAX_RANGE);
+        assert_eq!(behind.ray(0.0), f64::INFINITY);
         let r = ranges(behind);
         assert!(!field_violated(&r, 0.45) && !field_violated(&r, 1.5));
         // Beside the robot: in the scan, not in the fields ahead.
