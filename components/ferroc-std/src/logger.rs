@@ -7,11 +7,12 @@
 //!
 //! The path is checked when the module is created, without touching the file system
 //! beyond reading metadata (creation must stay free of side effects): an empty path,
-//! control characters, `..` components, a missing folder or something that exists but
-//! is not a regular file (a folder, a device, a symbolic link) are refused with an
-//! error naming the module. The file is opened (created if missing, appended to) at the
-//! first write; if writing fails later, the logger reports it once and stops logging
-//! rather than stopping the application. The path is fixed at creation: setting `file`
+//! control characters, `..` components, a folder that is not one, or something that
+//! exists but is not a regular file (a folder, a device, a symbolic link) are refused
+//! with an error naming the module. The file is opened (created if missing, appended
+//! to) at the first write, its folders created first as a deployment expects of a log
+//! (`/var/log/agv/`); if that or a later write fails, the logger reports it once and
+//! stops logging rather than stopping the application. The path is fixed at creation: setting `file`
 //! while running changes nothing (`period` takes effect at once).
 
 use ferroc_runtime::module::{DynIn, Module, ModuleType, Parameter, Setup, Timestamp};
@@ -88,10 +89,15 @@ pub fn check_log_path(path: &Path) -> Result<(), String> {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    if !folder.is_dir() {
+    // A missing folder is created at the first write; an existing non-folder is wrong.
+    if let Some(not_folder) = folder
+        .ancestors()
+        .find(|a| a.exists())
+        .filter(|a| !a.is_dir())
+    {
         return Err(format!(
-            "the folder `{}` of the log file does not exist (create it first)",
-            folder.display()
+            "`{}` in the path of the log file is not a folder",
+            not_folder.display()
         ));
     }
     match std::fs::symlink_metadata(path) {
@@ -111,6 +117,14 @@ pub fn check_log_path(path: &Path) -> Result<(), String> {
     }
 }
 
+/// Opens `path` for appending, creating it and its missing folders.
+fn open_log(path: &Path) -> std::io::Result<File> {
+    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder)?;
+    }
+    OpenOptions::new().create(true).append(true).open(path)
+}
+
 impl Logger {
     /// This period's line: the time, then every input by name.
     fn format_line(&mut self, now: Timestamp) {
@@ -127,12 +141,7 @@ impl Logger {
 
     fn write_line(&mut self) -> std::io::Result<()> {
         if self.file.is_none() {
-            self.file = Some(
-                OpenOptions::new()
-                    .create(true)
-                    .append(true)
-                    .open(&self.path)?,
-            );
+            self.file = Some(open_log(&self.path)?);
         }
         match &mut self.file {
             Some(f) => f.write_all(self.line.as_bytes()),
@@ -167,5 +176,26 @@ impl Module for Logger {
                 self.path.display()
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_folders_are_accepted_and_created_at_the_first_write() {
+        let dir = std::env::temp_dir().join(format!("ferroc-logger-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let path = dir.join("agv/trajectory.log");
+        assert_eq!(check_log_path(&path), Ok(()));
+        assert!(!dir.exists(), "checking creates nothing");
+        let mut file = open_log(&path).unwrap();
+        file.write_all(b"{}\n").unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "{}\n");
+        // A file where a folder should be is refused when checked.
+        let e = check_log_path(&path.join("x.log")).unwrap_err();
+        assert!(e.contains("is not a folder"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
