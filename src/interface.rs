@@ -10,6 +10,7 @@ use ferroc_compiler::library::{ModuleKind, ModuleType, PortDir, PortRole, PortTy
 use ferroc_compiler::units::{parse_unit, relate, Unit, UnitRelation};
 use ferroc_compiler::values::parse_duration;
 use ferroc_runtime::module::{Direction, Interface, Kind, PortInfo, Role};
+use ferroc_runtime::service::Executes;
 
 /// Every difference, one plain sentence each (empty: they agree).
 pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
@@ -33,7 +34,7 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
             PortRole::Sensor => Role::Sensor,
             PortRole::Controller => Role::Controller,
             PortRole::Meta => Role::Meta,
-            // Clients and services are not declared through `Setup` yet.
+            // Compared by `services`, with their response types and execution.
             PortRole::Client | PortRole::Service => continue,
         };
         let dir = match port.dir {
@@ -55,13 +56,16 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
                 c.role.element(c.dir)
             ));
         }
-        if let PortType::Fixed(ty) = &port.ty {
-            if !same_type(&ty.to_string(), &c.model_type) {
-                out.push(format!(
-                    "port `{}`: the manifest says type `{ty}`, the code `{}`",
-                    port.name, c.model_type
-                ));
-            }
+        let manifest_type = match &port.ty {
+            PortType::Fixed(ty) => ty.to_string(),
+            // `type="$in"`: the type of the instance's flexible group `in`.
+            PortType::SameAs(group) => format!("${group}"),
+        };
+        if !same_type(&manifest_type, &c.model_type) {
+            out.push(format!(
+                "port `{}`: the manifest says type `{manifest_type}`, the code `{}`",
+                port.name, c.model_type
+            ));
         }
         if !same_unit(port.unit.as_ref(), c.unit.as_deref()) {
             out.push(format!(
@@ -87,6 +91,7 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
             ));
         }
     }
+    flexible_differences(manifest, code, &mut out);
     for param in &manifest.params {
         let Some(c) = code.param(&param.name) else {
             out.push(format!(
@@ -143,7 +148,175 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
             ));
         }
     }
+    services(manifest, code, &mut out);
     out
+}
+
+/// `<flexible port dir same-type min-count max-count>` against the groups the code
+/// declares with `Setup::flexible_inputs` / `flexible_outputs`.
+fn flexible_differences(manifest: &ModuleType, code: &Interface, out: &mut Vec<String>) {
+    for f in &manifest.flexible {
+        let Some(c) = code.flexible.iter().find(|c| c.group == f.port) else {
+            out.push(format!(
+                "the manifest declares <flexible port=\"{}\">, the code has no such group",
+                f.port
+            ));
+            continue;
+        };
+        let dir = match f.dir {
+            PortDir::In => Direction::In,
+            PortDir::Out => Direction::Out,
+        };
+        let what = |field: &str, m: String, k: String| {
+            format!(
+                "flexible group `{}`: the manifest says {field} `{m}`, the code `{k}`",
+                f.port
+            )
+        };
+        if c.dir != dir {
+            out.push(what("dir", format!("{dir:?}"), format!("{:?}", c.dir)));
+        }
+        if c.same_type != f.same_type {
+            out.push(what(
+                "same-type",
+                f.same_type.to_string(),
+                c.same_type.to_string(),
+            ));
+        }
+        if c.min_count != f.min_count {
+            out.push(what(
+                "min-count",
+                f.min_count.to_string(),
+                c.min_count.to_string(),
+            ));
+        }
+        if c.max_count != f.max_count {
+            let text = |m: Option<u32>| m.map_or("none".into(), |m| m.to_string());
+            out.push(what("max-count", text(f.max_count), text(c.max_count)));
+        }
+    }
+    for c in &code.flexible {
+        if !manifest.flexible.iter().any(|f| f.port == c.group) {
+            out.push(format!(
+                "the code declares the flexible group `{}`, the manifest does not",
+                c.group
+            ));
+        }
+    }
+}
+
+/// `<client>`s and `<service>`s: side, request and response types, who executes a
+/// service, a blocking client's timeout (the deadlock analysis relies on the last two).
+fn services(manifest: &ModuleType, code: &Interface, out: &mut Vec<String>) {
+    struct Declared<'m> {
+        name: &'m str,
+        client: bool,
+        request: String,
+        response: Option<String>,
+        executes: Executes,
+        /// Seconds; only for blocking clients.
+        timeout: Option<Option<f64>>,
+    }
+    let request = |port: usize| match manifest.ports.get(port).map(|p| &p.ty) {
+        Some(PortType::Fixed(ty)) => ty.to_string(),
+        _ => String::new(),
+    };
+    let declared = manifest
+        .clients
+        .iter()
+        .map(|c| Declared {
+            name: &c.name,
+            client: true,
+            request: request(c.port),
+            response: c.response.as_ref().map(|t| t.to_string()),
+            executes: Executes::Server,
+            timeout: c.blocking.then_some(c.timeout),
+        })
+        .chain(manifest.services.iter().map(|s| Declared {
+            name: &s.name,
+            client: false,
+            request: request(s.port),
+            response: s.response.as_ref().map(|t| t.to_string()),
+            executes: if s.inline {
+                Executes::Caller
+            } else {
+                Executes::Server
+            },
+            timeout: None,
+        }));
+    let element = |client: bool| if client { "client" } else { "service" };
+    for m in declared {
+        let Some(c) = code.service(m.name) else {
+            out.push(format!(
+                "the manifest declares <{} name=\"{}\">, the code has no such {0}",
+                element(m.client),
+                m.name
+            ));
+            continue;
+        };
+        let what = element(m.client);
+        if c.client != m.client {
+            out.push(format!(
+                "`{}`: the manifest says <{what}>, the code <{}>",
+                m.name,
+                element(c.client)
+            ));
+            continue;
+        }
+        if !same_type(&m.request, &c.request) {
+            out.push(format!(
+                "{what} `{}`: the manifest says request `{}`, the code `{}`",
+                m.name, m.request, c.request
+            ));
+        }
+        if let Some(response) = &m.response {
+            if !same_type(response, &c.response) {
+                out.push(format!(
+                    "{what} `{}`: the manifest says response `{response}`, the code `{}`",
+                    m.name, c.response
+                ));
+            }
+        }
+        if m.executes != c.executes {
+            let name = |e: Executes| match e {
+                Executes::Server => "server",
+                Executes::Caller => "caller",
+            };
+            out.push(format!(
+                "service `{}`: the manifest says executes=\"{}\", the code `{}`",
+                m.name,
+                name(m.executes),
+                name(c.executes)
+            ));
+        }
+        if let Some(timeout) = m.timeout {
+            let code_timeout = c.timeout.map(|d| d.as_secs_f64());
+            let same = match (timeout, code_timeout) {
+                (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * a.abs().max(1.0),
+                (a, b) => a.is_none() && b.is_none(),
+            };
+            if !same {
+                let text = |t: Option<f64>| t.map_or("none".to_string(), |s| format!("{s}s"));
+                out.push(format!(
+                    "client `{}`: the manifest says timeout `{}`, the code `{}`",
+                    m.name,
+                    text(timeout),
+                    text(code_timeout)
+                ));
+            }
+        }
+    }
+    for c in &code.services {
+        let known = manifest.clients.iter().any(|d| d.name == c.name)
+            || manifest.services.iter().any(|d| d.name == c.name);
+        if !known {
+            out.push(format!(
+                "the code declares <{} name=\"{}\">, the manifest does not",
+                element(c.client),
+                c.name
+            ));
+        }
+    }
 }
 
 /// Ports a behaviour has per instance (`inhibition/k`; a fusion's `in/k/activity`,
@@ -246,17 +419,5 @@ fn same_default(manifest: Option<&str>, code: Option<&str>) -> bool {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::same_default;
-
-    #[test]
-    fn defaults_compare_by_value() {
-        assert!(same_default(Some("0.5"), Some(".5")));
-        assert!(same_default(Some("200ms"), Some("0.2s")));
-        assert!(same_default(Some("PT0.5S"), Some("0.5s")));
-        assert!(!same_default(Some("200ms"), Some("0.3s")));
-        assert!(same_default(Some("idle"), Some("idle")));
-        assert!(!same_default(Some("idle"), Some("explore")));
-        assert!(!same_default(Some("1s"), None));
-    }
-}
+#[path = "interface_tests.rs"]
+mod tests;

@@ -131,6 +131,18 @@ struct CheckArgs {
     /// Permit <include href> outside the model's folder
     #[arg(long)]
     allow_outside_includes: bool,
+    /// Judge deadlocks by this framework's execution semantics, whatever the model's
+    /// <application profile> says
+    #[arg(
+        long,
+        value_enum,
+        long_help = "Judge deadlocks by this framework's execution semantics, whatever the \
+model's <application profile> says. generic: a service runs in the server's thread container \
+and a call through an unconnected client waits (D109). finroc: a call to a service in the same \
+part runs inline in the caller's thread unless the service declares executes=, and an \
+unconnected call fails at once (D111)."
+    )]
+    profile: Option<ProfileArg>,
     /// Colour in human output: auto, always, never
     #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
     color: ColorChoice,
@@ -282,8 +294,19 @@ pub(crate) fn loader_options(lib_path: &[PathBuf], allow_outside_includes: bool)
     }
 }
 
+/// `--profile`: the execution semantics deadlocks are judged by.
+#[derive(Clone, Copy, ValueEnum)]
+enum ProfileArg {
+    Generic,
+    Finroc,
+}
+
 fn check(args: CheckArgs) -> ExitCode {
-    let options = loader_options(&args.lib_path, args.allow_outside_includes);
+    let mut options = loader_options(&args.lib_path, args.allow_outside_includes);
+    options.profile = args.profile.map(|p| match p {
+        ProfileArg::Generic => ferroc_compiler::ir::Profile::Generic,
+        ProfileArg::Finroc => ferroc_compiler::ir::Profile::Finroc,
+    });
     for code in &args.allow {
         if ferroc_compiler::checks::find(code).is_none() {
             eprintln!("error: --allow {code}: no check has this code\nhelp: `ferroc explain --list` shows every code");

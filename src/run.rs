@@ -11,7 +11,7 @@ use ferroc_runtime::builder::{
     Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StepKind, ThreadSpec,
 };
 use ferroc_runtime::container::ThreadOptions;
-use ferroc_runtime::module::Value;
+use ferroc_runtime::module::{Direction, PortGroup, Value};
 use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig};
 use ferroc_runtime::supervise;
 use std::io::IsTerminal;
@@ -59,6 +59,7 @@ pub fn registry() -> Registry {
     ring::register(&mut registry);
     nav_behaviours::register(&mut registry);
     rescue_components::register(&mut registry);
+    warehouse_fleet::register(&mut registry);
     registry
 }
 
@@ -206,6 +207,26 @@ fn value(v: &ModelValue) -> Value {
     }
 }
 
+/// Priority and CPU of a planned thread. Model priorities are "higher runs first" like
+/// SCHED_FIFO's, whose range is 1–99 on Linux; values beyond are clamped to it.
+pub(crate) fn thread_options(t: &plan::PlannedThread) -> ThreadOptions {
+    ThreadOptions {
+        priority: t.priority.map(|p| p.clamp(1, 99) as i32),
+        cpu: t.cpu.map(|c| c as usize),
+    }
+}
+
+/// What a planned connection does to values (the bundle writes the same as source).
+fn conversion(c: &plan::PlannedConnection) -> Conversion {
+    c.select.iter().fold(
+        Conversion::linear(c.scale, c.offset),
+        |conv, part| match part {
+            plan::Part::Field(f) => conv.field(f),
+            plan::Part::Index(i) => conv.index(*i as usize),
+        },
+    )
+}
+
 /// The Builder calls for a plan (the bundle writes the same calls as source).
 pub fn build(
     plan: &Plan,
@@ -231,11 +252,23 @@ pub fn build(
                 (port.clone(), QueueConfig::new(*n as usize).on_full(on_full))
             })
             .collect();
+        let ports: Vec<PortGroup<'_>> = m
+            .ports
+            .iter()
+            .map(|g| {
+                let dir = match g.dir {
+                    ferroc_compiler::library::PortDir::In => Direction::In,
+                    ferroc_compiler::library::PortDir::Out => Direction::Out,
+                };
+                PortGroup::new(&g.name, dir, &g.ty, g.count)
+            })
+            .collect();
         builder.add_module(ModuleSpec {
             path: &m.path,
             type_name: &m.type_name,
             params: &params,
             queues: &queues,
+            ports: &ports,
             violations: ViolationPolicy::parse(&m.ib2c_violations).unwrap_or_default(),
         })?;
     }
@@ -258,11 +291,14 @@ pub fn build(
         builder.connect(
             (&c.from.0, &c.from.1),
             (&c.to.0, &c.to.1),
-            Conversion {
-                scale: c.scale,
-                offset: c.offset,
-            },
+            conversion(c),
             ConnectOptions::default(),
+        )?;
+    }
+    for call in &plan.calls {
+        builder.connect_service(
+            (&call.client.0, &call.client.1),
+            (&call.service.0, &call.service.1),
         )?;
     }
     for t in &plan.threads {
@@ -273,7 +309,7 @@ pub fn build(
                 (None, true) => Schedule::Continuous,
                 (None, false) => Schedule::Data,
             },
-            options: ThreadOptions::default(),
+            options: thread_options(t),
             steps: t
                 .steps
                 .iter()

@@ -130,7 +130,7 @@ fn generated_code_is_wiring_with_the_concrete_types_and_formatted() {
         "const MAIN_SIMULATION: &str = \"fragile_bot/main/simulation/main_simulation\";",
         "param(\"seed\", Value::Int(4711))",
         "// crash_course.MainSimulation, crash_course.xml:43:9",
-        "scale: 57.29577951308232,",
+        "Conversion::linear(57.29577951308232, 0.0),",
         "schedule: Schedule::Periodic(Duration::from_millis(40)),",
         "(CONTROLLER.to_string(), StepKind::Control),",
         "supervise::supervise(app, &interrupted, &args.options())",
@@ -345,9 +345,10 @@ fn hostile_models_cannot_inject_code_or_escape_the_folder() {
 #[test]
 fn models_the_runtime_cannot_run_are_refused() {
     let dir = tempdir("unsupported");
+    // Its parts are linked, and the runtime has no transport between processes yet.
     let (code, err) = bundle(Path::new("models/warehouse_fleet.xml"), &dir.join("b"), &[]);
     assert_eq!(code, 1, "{err}");
-    assert!(err.contains("not supported"), "{err}");
+    assert!(err.contains("need the distributed transport"), "{err}");
     assert!(!dir.join("b").exists());
     let (code, err) = bundle(Path::new("models/missing.xml"), &dir.join("c"), &[]);
     assert_eq!(code, 2, "{err}");

@@ -398,3 +398,26 @@ fn a_command_line_parameter_overrides_the_config_value_and_unknown_names_are_ref
     );
     assert!(err.contains("it accepts: front-noise"), "{err}");
 }
+
+#[test]
+fn profile_switch_judges_a_model_by_another_framework_s_semantics() {
+    let model = "compiler/tests/deadlock_examples/E17_self_call.xml";
+    // Generic: the service runs in the caller's own container, which is busy calling.
+    let (code, stdout, _) = ferroc(&["check", "--format", "short", model]);
+    assert_eq!(code, 1, "{stdout}");
+    assert!(
+        stdout.contains("E17_self_call.xml:11:18: error[D101]"),
+        "{stdout}"
+    );
+    // FINROC runs a call to a service of the same part inline in the caller's thread.
+    let (code, stdout, stderr) =
+        ferroc(&["check", "--format", "short", "--profile", "finroc", model]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(!stdout.contains("D101"), "{stdout}");
+    let (code, _, stderr) = ferroc(&["check", "--profile", "ros", model]);
+    assert_eq!(code, 2, "an unknown profile is a usage error: {stderr}");
+    assert!(
+        stderr.contains("generic") && stderr.contains("finroc"),
+        "{stderr}"
+    );
+}

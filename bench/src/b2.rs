@@ -118,6 +118,7 @@ fn ring_in_runtime(cycles: u64) -> Result<Duration, String> {
                 type_name: "ring.Stage",
                 params: &[],
                 queues: &[],
+                ports: &[],
                 violations: Default::default(),
             })
             .map_err(|e| e.to_string())?;

@@ -3,35 +3,60 @@
 //! [`generate`] writes a synthetic application model that looks like a large real one,
 //! so that `ferroc check` is measured on the shapes it meets in practice rather than on
 //! one flat list: modules sit in groups of ten, groups in thread containers (N/100 of
-//! them, a few data-triggered), containers in parts (max(1, N/5000), each on its own
-//! host). A quarter of the groups are instances of one `<group-type>` defined in the
-//! file, the rest are inline groups with their own parameter values, so both the
-//! instantiation path and the plain element walk of the resolver are exercised.
+//! them), containers in parts (max(1, N/5000), each on its own host). Where everything
+//! goes is computed once in [`layout::Layout`].
 //!
 //! Data flows through every group (18 connections inside, via the group's interface
 //! ports) and from group to group in one ring over all thread containers (2
 //! connections per group, written at application level with full paths such as
-//! `p0/t3/g7/out`). Connections that cross thread containers are queues; the ring
-//! closes with `delay="1"` when it stays in one container. That is 2 connections per
-//! module, every required input is connected once, every output is read: the model
-//! checks clean, without warnings or notes.
+//! `p0/t3/g7/out`). Connections that cross thread containers are queues (`on-full`
+//! drop-oldest, drop-newest or block); the ring closes with `delay="1"` when it stays in
+//! one container. Every required input is connected once, every output is read.
 //!
-//! Only `ferroc_std` module types are used, so the model needs no manifest. Services,
-//! locks and iB2C behaviour groups are not checked yet; when they are, add them as
-//! further [`GroupKind`]s and a `resources` section in [`Generator::header`] — the
-//! layout (which group sits where, who feeds whom) is computed once in [`Layout`] and
-//! does not need to change.
+//! What can wait, at the density of a real robot (module types in `b1.lib.xml`, which
+//! [`write_model`] puts next to the model): containers form blocks of ten, the last of
+//! each (the hub, data-triggered, no priority) runs a map server. A quarter of the
+//! other groups call it — blocking without a timeout, asynchronously, and with a
+//! timeout — and call a calibration service of their own group that runs inline
+//! (`executes="caller"`); another quarter take the block's `map` and `pose` locks, in
+//! the order the server's body takes them (resources with levels, bound per module).
+//! The first group of a container reads the ring's queue blocking, with a timeout.
+//! A quarter of the groups are instances of one `<group-type>`, so both the
+//! instantiation path and the plain element walk of the resolver are exercised.
+//!
+//! All of it is deadlock-free by construction: calls go only from periodic containers
+//! to their hub, whose service bodies call nobody; every lock is taken map before pose;
+//! hubs and the first container of each block do not read blocking, so the blocking
+//! reads form no ring; no hub writes into a `block` queue, so no container waits for
+//! space behind one that calls it. The model checks without any finding (the tests assert it and
+//! that the deadlock analysis sees the waits). iB2C behaviour groups are not generated
+//! yet: they would be another [`GroupKind`].
 
+mod body;
+mod layout;
+#[cfg(test)]
+mod tests;
+
+use body::GroupParams;
+use layout::{GroupKind, Layout};
 use std::fmt::Write;
+use std::path::Path;
 
 /// Modules per group (the body written by [`Generator::group_body`]).
 pub const GROUP_SIZE: usize = 10;
 
+/// File name of the `b1` manifest the model's `<use>` names, next to the model.
+pub const MANIFEST_FILE: &str = "b1.lib.xml";
+
+/// The `b1` manifest: the module types that call, serve, lock and read blocking.
+pub const MANIFEST: &str = include_str!("generate/b1.lib.xml");
+
 /// The model for `n_modules` modules (rounded up to a multiple of [`GROUP_SIZE`]).
+/// It needs [`MANIFEST`] as [`MANIFEST_FILE`] in its folder; see [`write_model`].
 pub fn generate(n_modules: usize) -> String {
     let layout = Layout::new(n_modules);
     let mut g = Generator {
-        out: String::with_capacity(layout.groups * 2600 + 4096),
+        out: String::with_capacity(layout.groups * 2900 + 4096),
         layout,
     };
     g.header();
@@ -41,56 +66,13 @@ pub fn generate(n_modules: usize) -> String {
     g.out
 }
 
-/// What a group is. Behaviour groups (iB2C) will be another variant.
-#[derive(Clone, Copy, PartialEq, Debug)]
-enum GroupKind {
-    /// Content written out in place, with parameters of its own.
-    Inline,
-    /// `type="local.Filter"`: one definition, many instances.
-    Instance,
-}
-
-/// Where everything goes: groups → thread containers → parts, all contiguous and
-/// balanced, so the model's shape depends on N alone.
-struct Layout {
-    groups: usize,
-    threads: usize,
-    parts: usize,
-}
-
-impl Layout {
-    fn new(n_modules: usize) -> Self {
-        let groups = n_modules.div_ceil(GROUP_SIZE).max(1);
-        let threads = (groups / 10).max(1);
-        let parts = (n_modules / 5000).clamp(1, threads);
-        Layout {
-            groups,
-            threads,
-            parts,
-        }
-    }
-
-    fn thread_of(&self, group: usize) -> usize {
-        group * self.threads / self.groups
-    }
-
-    fn part_of(&self, thread: usize) -> usize {
-        thread * self.parts / self.threads
-    }
-
-    fn kind(&self, group: usize) -> GroupKind {
-        if group % 4 == 3 {
-            GroupKind::Instance
-        } else {
-            GroupKind::Inline
-        }
-    }
-
-    /// Application-level path of a group: `p1/t57/g3`.
-    fn path(&self, group: usize, first_of_thread: usize) -> String {
-        let t = self.thread_of(group);
-        format!("p{}/t{t}/g{}", self.part_of(t), group - first_of_thread)
-    }
+/// Writes the model to `file` and the manifest next to it; returns the model's size.
+pub fn write_model(file: &Path, n_modules: usize) -> std::io::Result<usize> {
+    let text = generate(n_modules);
+    std::fs::write(file, &text)?;
+    let dir = file.parent().unwrap_or(Path::new("."));
+    std::fs::write(dir.join(MANIFEST_FILE), MANIFEST)?;
+    Ok(text.len())
 }
 
 struct Generator {
@@ -114,7 +96,8 @@ impl Generator {
              <!-- Generated by ferroc-bench (B1 scale model): {} modules in {} groups, \
              {} thread containers, {} parts. Do not edit. -->\n\
              <application name=\"b1_scale_{}\" version=\"1\" doc=\"synthetic model for the checker benchmark\">\n\
-             \x20 <use library=\"ferroc_std\"/>\n",
+             \x20 <use library=\"ferroc_std\"/>\n\
+             \x20 <use library=\"b1\" manifest=\"{MANIFEST_FILE}\"/>\n",
             l.groups * GROUP_SIZE,
             l.groups,
             l.threads,
@@ -122,12 +105,16 @@ impl Generator {
             l.groups * GROUP_SIZE
         );
         self.out.push_str(&intro);
-        // Future: <resource> declarations for the lock benchmark go here.
+        // Each block's two locks; the level says map is taken before pose (D116).
+        for b in 0..self.layout.blocks() {
+            self.line(1, &format!("<resource name=\"map{b}\" level=\"2\"/>"));
+            self.line(1, &format!("<resource name=\"pose{b}\" level=\"1\"/>"));
+        }
         self.line(
             1,
             "<group-type name=\"Filter\" doc=\"a small signal chain with monitoring\">",
         );
-        self.group_body(2, &GroupParams::of_type());
+        self.group_body(2, &GroupParams::of_type(), GroupKind::Instance);
         self.line(1, "</group-type>");
     }
 
@@ -142,15 +129,14 @@ impl Generator {
                 }
                 self.line(1, &format!("<part name=\"p{p}\" host=\"host{p}\">"));
             }
-            let activation = if t % 10 == 9 {
-                "trigger=\"data\"".to_string()
-            } else {
-                format!("period=\"10ms\" priority=\"{}\"", 20 + t % 60)
+            let activation = match self.layout.priority(t) {
+                _ if self.layout.data_triggered(t) => "trigger=\"data\"".to_string(),
+                Some(prio) => format!("period=\"10ms\" priority=\"{prio}\""),
+                None => "period=\"10ms\"".to_string(),
             };
             self.line(2, &format!("<thread name=\"t{t}\" {activation}>"));
-            let first = group;
             while group < groups && self.layout.thread_of(group) == t {
-                self.group(group, group - first);
+                self.group(group);
                 group += 1;
             }
             self.line(2, "</thread>");
@@ -158,102 +144,31 @@ impl Generator {
         self.line(1, "</part>");
     }
 
-    fn group(&mut self, group: usize, local: usize) {
+    fn group(&mut self, group: usize) {
+        let local = self.layout.local(group);
         match self.layout.kind(group) {
             GroupKind::Instance => self.line(
                 3,
                 &format!("<group name=\"g{local}\" type=\"local.Filter\"/>"),
             ),
-            GroupKind::Inline => {
+            kind => {
+                let block = self.layout.thread_of(group) / layout::BLOCK;
                 self.line(3, &format!("<group name=\"g{local}\">"));
-                self.group_body(4, &GroupParams::inline(group));
+                self.group_body(4, &GroupParams::inline(group, block), kind);
                 self.line(3, "</group>");
             }
         }
     }
 
-    /// Ten modules, four interface ports, 18 connections (paths relative to the group).
-    fn group_body(&mut self, i: usize, p: &GroupParams) {
-        for (name, dir) in [
-            ("in", "in"),
-            ("aux", "in"),
-            ("out", "out"),
-            ("level", "out"),
-        ] {
-            self.line(
-                i,
-                &format!("<port name=\"{name}\" dir=\"{dir}\" type=\"f64\"/>"),
-            );
-        }
-        let param = |name: &str, value: &str| format!("<param name=\"{name}\">{value}</param>");
-        let inputs =
-            |count: usize| format!("<port name=\"in\" dir=\"in\" type=\"f64\" count=\"{count}\"/>");
-        let modules: [(&str, &str, Vec<String>); 10] = [
-            ("gain", "Scale", vec![param("factor", &p.gain)]),
-            ("bias", "Constant", vec![param("value", &p.bias)]),
-            ("add", "Sum", vec![inputs(3)]),
-            ("smooth", "Scale", vec![param("factor", "0.9")]),
-            ("limit", "Scale", vec![param("factor", "0.5")]),
-            ("fallback", "Constant", vec![]),
-            ("pick", "FlexiSelect", vec![inputs(3)]),
-            (
-                "log",
-                p.log_type,
-                [vec![inputs(4)], p.log_params.clone()].concat(),
-            ),
-            ("watch", "Dump", vec![inputs(2), param("label", &p.label)]),
-            ("drive", "Scale", vec![param("factor", "2")]),
-        ];
-        for (name, ty, children) in modules {
-            let open = format!("<module name=\"{name}\" type=\"ferroc_std.{ty}\"");
-            if children.is_empty() {
-                self.line(i, &format!("{open}/>"));
-            } else {
-                self.line(i, &format!("{open}>"));
-                for c in children {
-                    self.line(i + 1, &c);
-                }
-                self.line(i, "</module>");
-            }
-        }
-        const WIRES: [(&str, &str); 18] = [
-            ("in", "gain/input"),
-            ("gain/output", "add/in/0"),
-            ("bias/value", "add/in/1"),
-            ("aux", "add/in/2"),
-            ("add/out", "smooth/input"),
-            ("smooth/output", "limit/input"),
-            ("limit/output", "pick/in/0"),
-            ("fallback/value", "pick/in/1"),
-            ("gain/output", "pick/in/2"),
-            ("pick/out", "drive/input"),
-            ("pick/out", "log/in/0"),
-            ("pick/index", "log/in/1"), // u32 → f64: lossless widening
-            ("add/out", "log/in/2"),
-            ("bias/value", "log/in/3"),
-            ("smooth/output", "watch/in/0"),
-            ("drive/output", "watch/in/1"),
-            ("drive/output", "out"),
-            ("limit/output", "level"),
-        ];
-        for (from, to) in WIRES {
-            self.line(i, &format!("<connect from=\"{from}\" to=\"{to}\"/>"));
-        }
-    }
-
-    /// The ring over all groups: `out → in` and `level → aux` of the next group.
+    /// The ring over all groups (`out → in` and `level → aux` of the next group) and
+    /// the calls of each client group to its hub's map server.
     fn connections(&mut self) {
         let l = &self.layout;
-        let mut first_of_thread = vec![0; l.threads];
-        for g in (0..l.groups).rev() {
-            first_of_thread[l.thread_of(g)] = g;
-        }
-        let path = |g: usize| l.path(g, first_of_thread[l.thread_of(g)]);
-        let mut text = String::with_capacity(l.groups * 200);
+        let mut text = String::with_capacity(l.groups * 260);
         for cur in 0..l.groups {
             let prev = (cur + l.groups - 1) % l.groups;
             let (tp, tc) = (l.thread_of(prev), l.thread_of(cur));
-            let (from, to) = (path(prev), path(cur));
+            let (from, to) = (l.path(prev), l.path(cur));
             // A queue decouples thread containers; a ring inside one container is an
             // intended feedback loop.
             let (data, meta) = if tp != tc {
@@ -262,8 +177,16 @@ impl Generator {
                 } else {
                     ""
                 };
+                // Every module's default activity writes its outputs, so a writer
+                // waits on a full `block` queue until the reader's container drains
+                // it. Never from a hub: the reader may be calling that hub (D105).
+                let on_full = match tc % 3 {
+                    0 if !l.is_hub(tp) => "block",
+                    1 => "drop-newest",
+                    _ => "drop-oldest",
+                };
                 (
-                    format!(" queue=\"8\" on-full=\"drop-oldest\"{sharing}"),
+                    format!(" queue=\"8\" on-full=\"{on_full}\"{sharing}"),
                     sharing.to_string(),
                 )
             } else if cur == 0 {
@@ -279,106 +202,20 @@ impl Generator {
                 text,
                 "  <connect from=\"{from}/level\" to=\"{to}/aux\"{meta}/>"
             );
+            if l.kind(cur) == GroupKind::Client {
+                let server = l.server_of(tc);
+                for (client, service) in [
+                    ("smooth/map", "get"),
+                    ("smooth/notify", "journal"),
+                    ("drive/pose", "pose"),
+                ] {
+                    let _ = writeln!(
+                        text,
+                        "  <connect from=\"{to}/{client}\" to=\"{server}/{service}\"/>"
+                    );
+                }
+            }
         }
         self.out.push_str(&text);
-    }
-}
-
-/// Parameter values of one group, varied per inline group like hand-tuned ones.
-struct GroupParams {
-    gain: String,
-    bias: String,
-    label: String,
-    /// `Logger` (to a file, at a period with a unit) or `Dump` in the group type.
-    log_type: &'static str,
-    log_params: Vec<String>,
-}
-
-impl GroupParams {
-    fn of_type() -> Self {
-        GroupParams {
-            gain: "1.0".into(),
-            bias: "0.25".into(),
-            label: "filter".into(),
-            log_type: "Dump",
-            log_params: vec!["<param name=\"label\">filter log</param>".into()],
-        }
-    }
-
-    fn inline(group: usize) -> Self {
-        const PERIODS: [&str; 4] = ["200ms", "0.5 s", "PT1S", "250000us"];
-        GroupParams {
-            gain: format!("0.{}", 1 + group % 9),
-            bias: format!("{}.5", group % 13),
-            label: format!("group {group}"),
-            log_type: "Logger",
-            log_params: vec![
-                format!("<param name=\"file\">/var/log/ferroc/g{group}.log</param>"),
-                format!(
-                    "<param name=\"period\">{}</param>",
-                    PERIODS[group % PERIODS.len()]
-                ),
-            ],
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use ferroc_compiler::diagnostic::Severity;
-    use ferroc_compiler::load::{BuiltinLibrary, Options};
-    use ferroc_compiler::{check_model, Policy};
-
-    #[test]
-    fn layout_follows_b1() {
-        let l = Layout::new(100_000);
-        assert_eq!((l.groups, l.threads, l.parts), (10_000, 1_000, 20));
-        let l = Layout::new(1_000);
-        assert_eq!((l.groups, l.threads, l.parts), (100, 10, 1));
-        assert_eq!(Layout::new(7).groups, 1);
-    }
-
-    #[test]
-    fn model_has_n_modules_and_two_connections_each() {
-        let text = generate(1_000);
-        // The group type's body is written once and counts once per instance.
-        let instances = text.matches("type=\"local.Filter\"").count();
-        let per_instance =
-            |written: usize, per_group: usize| written - per_group + instances * per_group;
-        assert_eq!(
-            per_instance(text.matches("<module ").count(), GROUP_SIZE),
-            1_000
-        );
-        assert_eq!(
-            per_instance(text.matches("<connect ").count(), 18),
-            2 * 1_000
-        );
-    }
-
-    /// The generated model checks clean: no errors, no warnings (notes allowed).
-    #[test]
-    fn generated_model_checks_clean() {
-        let dir = std::env::temp_dir().join(format!("ferroc-bench-test-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("b1-200.xml");
-        std::fs::write(&path, generate(200)).unwrap();
-        let options = Options {
-            builtins: vec![BuiltinLibrary {
-                name: "ferroc_std".into(),
-                text: include_str!("../../components/ferroc_std.lib.xml").into(),
-            }],
-            ..Default::default()
-        };
-        let result = check_model(&path, &options, &Policy::default()).unwrap();
-        let _ = std::fs::remove_dir_all(&dir);
-        let bad: Vec<String> = result
-            .diagnostics
-            .iter()
-            .filter(|d| d.severity != Severity::Note)
-            .map(|d| format!("{}: {}", d.code(), d.message))
-            .collect();
-        assert!(bad.is_empty(), "findings:\n{}", bad.join("\n"));
-        assert!(result.app.is_some());
     }
 }

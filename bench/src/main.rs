@@ -53,7 +53,8 @@ IDs:
           --cycles N      cycles per run (default 20000000)
           --rounds R      runs of each program (default 3)
   all   every benchmark (b1 to b5) with default options
-  gen   write the B1 model with N modules to FILE (default: standard output),
+  gen   write the B1 model with N modules to FILE and its manifest b1.lib.xml next to
+        it (default: the model alone to standard output),
         e.g. to profile the checker on it
 
 b1 runs the `ferroc` binary next to its own executable (target/release/ferroc) and
@@ -126,10 +127,19 @@ fn gen(args: &[String]) -> ExitCode {
         eprintln!("gen needs a module count: gen 10000 [FILE]");
         return ExitCode::from(2);
     };
-    let text = generate::generate(n);
+    // The model names the `b1` manifest by a path relative to itself.
     let written = match args.get(1) {
-        Some(file) => std::fs::write(file, text),
-        None => std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes()),
+        Some(file) => generate::write_model(std::path::Path::new(file), n).map(|_| ()),
+        None => {
+            eprintln!(
+                "gen: the model needs {} (ferroc-bench/src/generate/) in its folder; give FILE to have it written",
+                generate::MANIFEST_FILE
+            );
+            std::io::Write::write_all(
+                &mut std::io::stdout().lock(),
+                generate::generate(n).as_bytes(),
+            )
+        }
     };
     match written {
         Ok(()) => ExitCode::SUCCESS,

@@ -17,6 +17,9 @@ pub struct Run {
     pub code: Option<i32>,
     /// Peak resident set size in bytes.
     pub peak_rss: u64,
+    /// CPU time of the child (user + system): on a shared machine the wall time includes
+    /// waiting for a core, the CPU time does not.
+    pub cpu: Duration,
 }
 
 /// Runs `cmd` once with stdout and stderr sent to `log`, and reaps it with `wait4`.
@@ -72,7 +75,12 @@ fn reap(child: std::process::Child, start: Instant) -> std::io::Result<Run> {
         wall,
         code,
         peak_rss,
+        cpu: timeval(usage.ru_utime) + timeval(usage.ru_stime),
     })
+}
+
+fn timeval(t: libc::timeval) -> Duration {
+    Duration::from_secs(t.tv_sec.max(0) as u64) + Duration::from_micros(t.tv_usec.max(0) as u64)
 }
 
 /// CPU time (user + system) this process has used so far, over all its threads.
@@ -81,13 +89,11 @@ pub fn process_cpu_time() -> Duration {
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
     // SAFETY: RUSAGE_SELF with a pointer valid for writes; cannot fail on Linux.
     unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut usage) };
-    let tv = |t: libc::timeval| {
-        Duration::from_secs(t.tv_sec.max(0) as u64) + Duration::from_micros(t.tv_usec.max(0) as u64)
-    };
-    tv(usage.ru_utime) + tv(usage.ru_stime)
+    timeval(usage.ru_utime) + timeval(usage.ru_stime)
 }
 
-/// Best (shortest) wall time and highest peak RSS over up to `max_runs` runs; stops
+/// Best (shortest) wall time, least CPU time and highest peak RSS over up to `max_runs`
+/// runs; stops
 /// early once the runs have taken `budget` in total (slow cases get fewer repeats).
 /// Returns the first failing run (non-zero exit) as soon as it happens.
 pub fn best_of(
@@ -110,6 +116,7 @@ pub fn best_of(
                 wall: b.wall.min(run.wall),
                 code: Some(0),
                 peak_rss: b.peak_rss.max(run.peak_rss),
+                cpu: b.cpu.min(run.cpu),
             },
         });
         if spent >= budget {

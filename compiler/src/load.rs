@@ -43,6 +43,10 @@ pub struct Options {
     pub builtins: Vec<BuiltinLibrary>,
     pub allow_outside_includes: bool,
     pub limits: Limits,
+    /// Execution semantics to judge every model by, whatever its `<application
+    /// profile>` says (`ferroc check --profile`: audit a configuration as another
+    /// framework would run it).
+    pub profile: Option<crate::ir::Profile>,
 }
 
 /// A model file and the fragments it includes.

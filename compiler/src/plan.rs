@@ -7,8 +7,8 @@
 //! thread container's step order from the scheduling pass.
 
 use crate::ir::{Application, ElementId, ElementKind, ParamSource, PortView};
-use crate::library::{LibrarySet, PortDir};
-use crate::schedule::{self, data_edges, DataEdge, StepKind};
+use crate::library::{LibrarySet, PortDir, PortRole};
+use crate::schedule::{self, call_edges, data_edges, DataEdge, StepKind};
 use crate::source::Span;
 use crate::units::{relate, UnitRelation};
 use crate::values::{parse_value, Value};
@@ -27,10 +27,30 @@ pub struct PlannedModule {
     pub params: Vec<(String, Value)>,
     /// Inputs connected with `queue=N`: port, capacity, `on-full` policy.
     pub queues: Vec<(String, u32, String)>,
+    /// The instance's flexible port groups (`<port name dir type count>`), in model
+    /// order; empty for module types with a fixed interface.
+    pub ports: Vec<PlannedPortGroup>,
     /// What a behaviour does on an iB2C principle violation (`warn`, `clamp`, `stop`):
     /// the module's `ib2c-violations`, else the application's, else `warn`.
     pub ib2c_violations: String,
     pub span: Span,
+}
+
+/// One `<port name dir type count>` of a flexible module instance: the runtime creates
+/// its ports (`name/0` … or just `name`) from the value type the model names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedPortGroup {
+    pub name: String,
+    pub dir: PortDir,
+    /// The model type (`f64`, `warehouse.RobotStatus`): the runtime's value-table key.
+    pub ty: String,
+    /// `None`: the single port `name`; `Some(n)`: `name/0` … `name/{n-1}`.
+    pub count: Option<u32>,
+    /// The declared unit, as written (`mm/s`).
+    pub unit: Option<String>,
+    /// For a library type: its library and Rust path (a bundle registers the type).
+    pub library: Option<String>,
+    pub rust: Option<String>,
 }
 
 /// One module output feeding one module input.
@@ -38,9 +58,31 @@ pub struct PlannedModule {
 pub struct PlannedConnection {
     pub from: (String, String),
     pub to: (String, String),
-    /// `to = from · scale + offset` (unit scales and `<convert>` steps combined).
+    /// Parts taken out of each value first, outermost first (`port[i]`,
+    /// `<convert field|index>`).
+    pub select: Vec<Part>,
+    /// Then `to = part · scale + offset` (unit scales and `<convert>` steps combined).
     pub scale: f64,
     pub offset: f64,
+    pub span: Span,
+}
+
+/// One step into a value on a connection.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// A struct field (`<convert field="linear"/>`).
+    Field(String),
+    /// A list or array element (`<convert index="2"/>`, `from="scanner/ranges[2]"`).
+    Index(u32),
+}
+
+/// A client calling a service (`<connect from="…/client" to="…/service"/>`).
+#[derive(Clone, Debug)]
+pub struct PlannedCall {
+    /// Module path and client name.
+    pub client: (String, String),
+    /// Module path and service name.
+    pub service: (String, String),
     pub span: Span,
 }
 
@@ -52,6 +94,10 @@ pub struct PlannedThread {
     pub period: Option<f64>,
     /// Cycles back to back (`trigger="continuous"`).
     pub continuous: bool,
+    /// `priority=`: higher runs first (the runtime asks the OS for it).
+    pub priority: Option<u32>,
+    /// `cpu=`: the core the thread is pinned to.
+    pub cpu: Option<u32>,
     /// Module path and step, in execution order.
     pub steps: Vec<(String, StepKind)>,
 }
@@ -61,6 +107,7 @@ pub struct PlannedThread {
 pub struct Plan {
     pub modules: Vec<PlannedModule>,
     pub connections: Vec<PlannedConnection>,
+    pub calls: Vec<PlannedCall>,
     pub threads: Vec<PlannedThread>,
     pub locks: PlannedLocks,
 }
@@ -136,6 +183,7 @@ pub fn plan(
             rust: ty.rust.clone(),
             params,
             queues: Vec::new(),
+            ports: port_groups(libs, ty, &m.extra_ports),
             ib2c_violations: m
                 .ib2c_violations
                 .as_deref()
@@ -151,8 +199,38 @@ pub fn plan(
         .enumerate()
         .map(|(i, m)| (m.element, i))
         .collect();
-    for (edge, from, to) in module_connections(app, libs) {
-        let mut scale = match (from.unit, to.unit) {
+    for (edge, from, to) in module_edges(app, libs) {
+        if from.role == PortRole::Client {
+            plan.calls.push(PlannedCall {
+                client: (
+                    paths[edge.from_module.0 as usize].clone(),
+                    from.name.to_string(),
+                ),
+                service: (
+                    paths[edge.to_module.0 as usize].clone(),
+                    to.name.to_string(),
+                ),
+                span: edge
+                    .hops
+                    .last()
+                    .map_or(app.element(edge.to_module).span, |&h| {
+                        app.connections[h].span
+                    }),
+            });
+            continue;
+        }
+        // A field carries its own unit: the scale is computed from the field's.
+        let (mut ty, mut from_unit) = (from.ty, from.unit);
+        for &hop in &edge.hops {
+            for step in &app.connections[hop].converts {
+                if let Some((field, _)) = &step.field {
+                    if let Some((t, u)) = libs.field_of(ty, field) {
+                        (ty, from_unit) = (t, u);
+                    }
+                }
+            }
+        }
+        let mut scale = match (from_unit, to.unit) {
             (Some(a), Some(b)) => match relate(a, b) {
                 UnitRelation::Scaled(f) => f,
                 _ => 1.0,
@@ -160,14 +238,26 @@ pub fn plan(
             _ => 1.0,
         };
         let mut offset = 0.0;
+        let mut select = Vec::new();
         for &hop in &edge.hops {
             let c = &app.connections[hop];
+            if let Some(i) = c.from_index {
+                select.push(Part::Index(i));
+            }
+            if c.to_index.is_some() {
+                problems.push(Unsupported {
+                    what: "writing into one element of an input (`to=\"port[i]\"`) is not supported by the runtime yet; \
+                           connect to a module that assembles the list instead"
+                        .into(),
+                    span: c.to_span,
+                });
+            }
             for step in &c.converts {
-                if step.index.is_some() || step.field.is_some() {
-                    problems.push(Unsupported {
-                        what: "`<convert index|field>` is not supported by the runtime yet".into(),
-                        span: step.span,
-                    });
+                if let Some((i, _)) = step.index {
+                    select.push(Part::Index(i));
+                }
+                if let Some((f, _)) = &step.field {
+                    select.push(Part::Field(f.clone()));
                 }
                 if let Some((s, _)) = step.scale {
                     scale *= s;
@@ -194,6 +284,7 @@ pub fn plan(
                 paths[edge.to_module.0 as usize].clone(),
                 to.name.to_string(),
             ),
+            select,
             scale,
             offset,
             span: edge
@@ -215,6 +306,8 @@ pub fn plan(
             path: app.path(container.thread),
             period,
             continuous,
+            priority: app.timing.priority.get(&container.thread).map(|(p, _)| *p),
+            cpu: app.timing.cpu.get(&container.thread).map(|(c, _)| *c),
             steps: container
                 .steps
                 .iter()
@@ -226,14 +319,71 @@ pub fn plan(
     (plan, problems)
 }
 
-/// Every data edge from a module output to a module input (group ports flattened),
-/// with the views of both ends: what becomes one runtime connection. The plan and the
-/// bundle's resolved model both list connections this way.
-pub fn module_connections<'a>(
+/// The flexible port groups behind an instance's extra ports. Resolving expands each
+/// `<port name="in" count="3">` into `in/0` … `in/2` (no count: `in`) in model order,
+/// so a declaration is a run `g/0, g/1, …` of one type, or a bare `g`.
+fn port_groups(
+    libs: &LibrarySet,
+    ty: &crate::library::ModuleType,
+    extra: &[crate::library::PortDecl],
+) -> Vec<PlannedPortGroup> {
+    let mut groups: Vec<PlannedPortGroup> = Vec::new();
+    for port in extra {
+        let crate::library::module_type::PortType::Fixed(port_ty) = &port.ty else {
+            continue;
+        };
+        let (group, k) = match port.name.split_once('/') {
+            Some((g, k)) => match k.parse::<u32>() {
+                Ok(k) => (g, Some(k)),
+                Err(_) => continue,
+            },
+            None => (port.name.as_str(), None),
+        };
+        if !ty.flexible.iter().any(|f| f.port == group) {
+            continue; // `inhibition/k`, fusion channels: implied by the kind
+        }
+        let ty_text = port_ty.to_string();
+        if let (Some(k), Some(last)) = (k, groups.last_mut()) {
+            if k > 0 && last.name == group && last.ty == ty_text && last.count == Some(k) {
+                last.count = Some(k + 1);
+                continue;
+            }
+        }
+        let (library, rust) = match port_ty {
+            crate::types::Type::Named(id, _) => {
+                let named = libs.named_type(*id);
+                (
+                    Some(libs.get(named.library).name.clone()),
+                    Some(named.rust.clone()),
+                )
+            }
+            _ => (None, None),
+        };
+        groups.push(PlannedPortGroup {
+            name: group.to_string(),
+            dir: port.dir,
+            ty: ty_text,
+            count: k.map(|_| 1),
+            unit: port.unit.as_ref().map(|u| u.text.clone()),
+            library,
+            rust,
+        });
+    }
+    groups
+}
+
+/// Every edge from a module output to a module input (group ports flattened), with
+/// the views of both ends: what becomes one runtime connection (a data connection, or
+/// a client calling a service). The plan and the bundle's resolved model both list
+/// connections this way.
+pub fn module_edges<'a>(
     app: &'a Application,
     libs: &'a LibrarySet,
 ) -> impl Iterator<Item = (DataEdge, PortView<'a>, PortView<'a>)> + 'a {
-    data_edges(app, libs).into_iter().filter_map(move |edge| {
+    let edges = data_edges(app, libs)
+        .into_iter()
+        .chain(call_edges(app, libs));
+    edges.filter_map(move |edge| {
         let (&first, &last) = (edge.hops.first()?, edge.hops.last()?);
         let from = app.view(libs, app.connections[first].from)?;
         let to = app.view(libs, app.connections[last].to)?;

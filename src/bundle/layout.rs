@@ -3,7 +3,7 @@
 
 use ferroc_compiler::ir::{Application, ElementKind};
 use ferroc_compiler::library::LibrarySet;
-use ferroc_compiler::plan::{Plan, PlannedConnection, PlannedModule, PlannedThread};
+use ferroc_compiler::plan::{Plan, PlannedCall, PlannedConnection, PlannedModule, PlannedThread};
 use ferroc_compiler::source::Span;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -18,9 +18,15 @@ pub struct Part<'p> {
     pub package: String,
     pub modules: Vec<&'p PlannedModule>,
     pub connections: Vec<&'p PlannedConnection>,
+    pub calls: Vec<&'p PlannedCall>,
     pub threads: Vec<&'p PlannedThread>,
     /// Libraries (by name) whose module types this part creates.
     pub libraries: Vec<String>,
+    /// Rust types of the iB2C behaviours (and fusions) among them: the runtime wraps
+    /// them in its behaviour base (`Registry::register_behaviour`).
+    pub behaviours: Vec<&'p str>,
+    /// Field accessors its connections use, sorted, each once.
+    pub fields: Vec<super::fields::FieldAccessor>,
 }
 
 /// A component library a part depends on.
@@ -88,8 +94,11 @@ pub fn layout<'p>(
             host,
             modules: Vec::new(),
             connections: Vec::new(),
+            calls: Vec::new(),
             threads: Vec::new(),
             libraries: Vec::new(),
+            behaviours: Vec::new(),
+            fields: Vec::new(),
         });
     }
     let part_names: Vec<String> = parts.iter().map(|p| p.name.clone()).collect();
@@ -118,6 +127,19 @@ pub fn layout<'p>(
                 ),
             });
         }
+        for g in &m.ports {
+            if let Some(rust) = g.rust.as_deref().filter(|r| !text::is_rust_path(r)) {
+                problems.push(Problem {
+                    span: m.span,
+                    what: format!(
+                        "the type `{}` of the port group `{}` names the Rust type `{}`, which is not a Rust path (`crate_name::Type`)",
+                        g.ty,
+                        text::comment(&g.name),
+                        text::comment(rust)
+                    ),
+                });
+            }
+        }
         let Some(p) = part_of(&m.path) else {
             problems.push(Problem {
                 span: m.span,
@@ -130,8 +152,17 @@ pub fn layout<'p>(
     }
     for (p, m) in placed {
         parts[p].modules.push(m);
-        if let Some((lib, _)) = libs.module_type(&m.type_name) {
+        if let Some((lib, ty)) = libs.module_type(&m.type_name) {
+            if ty.is_behaviour() && !parts[p].behaviours.contains(&m.rust.as_str()) {
+                parts[p].behaviours.push(&m.rust);
+            }
             let name = libs.get(lib).name.clone();
+            if !parts[p].libraries.contains(&name) {
+                parts[p].libraries.push(name);
+            }
+        }
+        // The crates of library value types on flexible ports.
+        for name in m.ports.iter().filter_map(|g| g.library.clone()) {
             if !parts[p].libraries.contains(&name) {
                 parts[p].libraries.push(name);
             }
@@ -139,23 +170,46 @@ pub fn layout<'p>(
     }
     for c in &plan.connections {
         for port in [&c.from.1, &c.to.1] {
-            if !text::is_name(port) {
+            // Instance ports are paths of names and indices: `in/0`, `in/2/activity`.
+            let segment_ok = |s: &str| {
+                text::is_name(s)
+                    || (!s.is_empty() && s.len() <= 10 && s.bytes().all(|b| b.is_ascii_digit()))
+            };
+            if !port.split('/').all(segment_ok) {
                 problems.push(Problem {
                     span: c.span,
                     what: format!("`{}` is not a valid port name", text::comment(port)),
                 });
             }
         }
-        match (module_part.get(c.from.0.as_str()), module_part.get(c.to.0.as_str())) {
-            (Some(&a), Some(&b)) if a == b => parts[a].connections.push(c),
-            (Some(&a), Some(&b)) => problems.push(Problem {
-                span: c.span,
-                what: format!(
-                    "the connection `{}/{}` → `{}/{}` joins the parts `{}` and `{}`: connections between parts need the distributed transport, which the runtime does not have yet",
-                    c.from.0, c.from.1, c.to.0, c.to.1, parts[a].name, parts[b].name
-                ),
-            }),
-            _ => {} // an endpoint outside every part was reported above
+        let what = format!(
+            "connection `{}/{}` → `{}/{}`",
+            c.from.0, c.from.1, c.to.0, c.to.1
+        );
+        if let Some(p) = one_part(
+            &module_part,
+            &parts,
+            (&c.from.0, &c.to.0),
+            &what,
+            c.span,
+            &mut problems,
+        ) {
+            for f in super::fields::accessors(c, &parts[p].modules, libs) {
+                if let Err(at) = parts[p].fields.binary_search(&f) {
+                    parts[p].fields.insert(at, f);
+                }
+            }
+            parts[p].connections.push(c);
+        }
+    }
+    for call in &plan.calls {
+        let what = format!(
+            "call `{}/{}` → `{}/{}`",
+            call.client.0, call.client.1, call.service.0, call.service.1
+        );
+        let ends = (&call.client.0, &call.service.0);
+        if let Some(p) = one_part(&module_part, &parts, ends, &what, call.span, &mut problems) {
+            parts[p].calls.push(call);
         }
     }
     for t in &plan.threads {
@@ -221,5 +275,31 @@ pub fn layout<'p>(
         })
     } else {
         Err(problems)
+    }
+}
+
+/// The part both modules of a connection or call are in; a link between two parts is a
+/// problem (the runtime has no transport between processes yet).
+fn one_part(
+    module_part: &BTreeMap<&str, usize>,
+    parts: &[Part<'_>],
+    (a, b): (&String, &String),
+    what: &str,
+    span: Span,
+    problems: &mut Vec<Problem>,
+) -> Option<usize> {
+    match (module_part.get(a.as_str()), module_part.get(b.as_str())) {
+        (Some(&a), Some(&b)) if a == b => Some(a),
+        (Some(&a), Some(&b)) => {
+            problems.push(Problem {
+                span,
+                what: format!(
+                    "the {what} joins the parts `{}` and `{}`: links between parts need the distributed transport, which the runtime does not have yet",
+                    parts[a].name, parts[b].name
+                ),
+            });
+            None
+        }
+        _ => None, // an endpoint outside every part was reported above
     }
 }

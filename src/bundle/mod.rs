@@ -8,6 +8,7 @@
 //! validation in `layout.rs` and the escaping in `text.rs`; files are written only below
 //! the output folder (`out.rs`).
 
+mod fields;
 mod files;
 mod layout;
 mod out;

@@ -7,7 +7,7 @@
 use super::text::{xml, xml_comment};
 use ferroc_compiler::ir::{Application, ElementId, ElementKind, ParamSource};
 use ferroc_compiler::library::LibrarySet;
-use ferroc_compiler::plan::{module_connections, Plan};
+use ferroc_compiler::plan::{module_edges, Plan};
 use ferroc_compiler::values::{parse_duration, parse_value, Value};
 
 /// The resolved model's text. `manifests` maps a library name to the manifest path
@@ -102,6 +102,12 @@ fn element(
             if let Some(n) = pool {
                 attrs.push_str(&format!(" pool=\"{n}\""));
             }
+            if let Some((p, _)) = app.timing.priority.get(&id) {
+                attrs.push_str(&format!(" priority=\"{p}\""));
+            }
+            if let Some((c, _)) = app.timing.cpu.get(&id) {
+                attrs.push_str(&format!(" cpu=\"{c}\""));
+            }
             (format!("<thread name=\"{name}\"{attrs}"), "thread")
         }
         ElementKind::Group => (format!("<group name=\"{name}\""), "group"),
@@ -111,6 +117,22 @@ fn element(
             };
             let decl = libs.module_type(&m.type_name).map(|(_, t)| t);
             let mut lines = Vec::new();
+            for g in &m.ports {
+                let dir = match g.dir {
+                    ferroc_compiler::library::PortDir::In => "in",
+                    ferroc_compiler::library::PortDir::Out => "out",
+                };
+                let unit = g
+                    .unit
+                    .as_ref()
+                    .map_or(String::new(), |u| format!(" unit=\"{}\"", xml(u)));
+                let count = g.count.map_or(String::new(), |n| format!(" count=\"{n}\""));
+                lines.push(format!(
+                    "{pad}  <port name=\"{}\" dir=\"{dir}\" type=\"{}\"{unit}{count}/>\n",
+                    xml(&g.name),
+                    xml(&g.ty)
+                ));
+            }
             for (param, value) in &m.params {
                 // The source text (as looked up) when no normalised text reads back exactly.
                 let source = || {
@@ -161,7 +183,7 @@ fn element(
 /// Module-to-module connections, found the way the plan finds them, each with the
 /// conversion steps of every hop it replaces (so scales combine in the same order).
 fn connections(app: &Application, libs: &LibrarySet, out: &mut String) {
-    for (edge, from, to) in module_connections(app, libs) {
+    for (edge, from, to) in module_edges(app, libs) {
         let mut attrs = format!(
             "from=\"{}/{}\" to=\"{}/{}\"",
             xml(&app.path(edge.from_module)),

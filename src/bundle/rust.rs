@@ -7,9 +7,11 @@
 
 use super::layout::Part;
 use super::text::{comment, rust_str};
+use ferroc_compiler::plan::Part as ValuePart;
 use ferroc_compiler::schedule::StepKind;
 use ferroc_compiler::source::Span;
 use ferroc_compiler::values::Value;
+use ferroc_runtime::container::ThreadOptions;
 use std::collections::{BTreeSet, HashMap};
 use std::time::Duration;
 
@@ -36,6 +38,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     let mut uses_param = false;
     let mut uses_queue = false;
     let mut uses_duration = false;
+    let mut uses_ports = false;
     for m in &part.modules {
         body.blank();
         body.line(
@@ -77,6 +80,9 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             .collect();
         uses_queue |= !queues.is_empty();
         body.list(2, "queues: &[", &queues, "],");
+        let ports: Vec<String> = m.ports.iter().map(port_group).collect();
+        uses_ports |= !ports.is_empty();
+        body.list(2, "ports: &[", &ports, "],");
         let policy = match m.ib2c_violations.as_str() {
             "clamp" => "Clamp",
             "stop" => "Stop",
@@ -95,15 +101,36 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
                 &format!("{},", call("", &[name_of(module), rust_str(port)])),
             );
         }
-        if c.scale == 1.0 && c.offset == 0.0 {
+        if c.scale == 1.0 && c.offset == 0.0 && c.select.is_empty() {
             body.line(2, "Conversion::default(),");
         } else {
-            body.line(2, "Conversion {");
-            body.line(3, &format!("scale: {},", float(c.scale)));
-            body.line(3, &format!("offset: {},", float(c.offset)));
-            body.line(2, "},");
+            // One line, as rustfmt leaves a short method chain.
+            let mut line = format!(
+                "Conversion::linear({}, {})",
+                float(c.scale),
+                float(c.offset)
+            );
+            for part in &c.select {
+                match part {
+                    ValuePart::Field(f) => line.push_str(&format!(".field({})", rust_str(f))),
+                    ValuePart::Index(i) => line.push_str(&format!(".index({i})")),
+                }
+            }
+            body.line(2, &format!("{line},"));
         }
         body.line(2, "ConnectOptions::default(),");
+        body.line(1, ")?;");
+    }
+    for link in &part.calls {
+        body.blank();
+        body.line(1, &format!("// {}", comment(&(cx.at)(link.span))));
+        body.line(1, "builder.connect_service(");
+        for (module, name) in [&link.client, &link.service] {
+            body.line(
+                2,
+                &format!("{},", call("", &[name_of(module), rust_str(name)])),
+            );
+        }
         body.line(1, ")?;");
     }
     for t in &part.threads {
@@ -128,7 +155,15 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             None if t.continuous => body.line(2, "schedule: Schedule::Continuous,"),
             None => body.line(2, "schedule: Schedule::Data,"),
         }
-        body.line(2, "options: ThreadOptions::default(),");
+        let options = crate::run::thread_options(t);
+        if options == ThreadOptions::default() {
+            body.line(2, "options: ThreadOptions::default(),");
+        } else {
+            body.line(2, "options: ThreadOptions {");
+            body.line(3, &format!("priority: {:?},", options.priority));
+            body.line(3, &format!("cpu: {:?},", options.cpu));
+            body.line(2, "},");
+        }
         let steps: Vec<String> = t
             .steps
             .iter()
@@ -161,6 +196,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         uses_queue,
         !part.threads.is_empty(),
         uses_param || uses_queue,
+        uses_ports,
         uses_duration,
     );
     out.blank();
@@ -198,7 +234,25 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     out.line(1, "let mut registry = Registry::new();");
     let types: BTreeSet<&str> = part.modules.iter().map(|m| m.rust.as_str()).collect();
     for rust in types {
-        out.line(1, &format!("registry.register::<{rust}>();"));
+        let register = if part.behaviours.contains(&rust) {
+            "register_behaviour"
+        } else {
+            "register"
+        };
+        out.line(1, &format!("registry.{register}::<{rust}>();"));
+    }
+    // Library value types the model gives flexible ports (built-ins need no call).
+    let values: BTreeSet<&str> = part
+        .modules
+        .iter()
+        .flat_map(|m| &m.ports)
+        .filter_map(|g| g.rust.as_deref())
+        .collect();
+    for rust in values {
+        out.line(1, &format!("registry.register_value::<{rust}>();"));
+    }
+    for accessor in &part.fields {
+        out.line(1, &accessor.call());
     }
     out.line(1, "registry");
     out.line(0, "}");
@@ -260,7 +314,15 @@ fn header(out: &mut Code, part: &Part<'_>, cx: &Context<'_>) {
     out.blank();
 }
 
-fn imports(out: &mut Code, connect: bool, queue: bool, thread: bool, value: bool, dur: bool) {
+fn imports(
+    out: &mut Code,
+    connect: bool,
+    queue: bool,
+    thread: bool,
+    value: bool,
+    ports: bool,
+    dur: bool,
+) {
     let mut builder = vec!["BuildError", "Builder"];
     if connect {
         builder.push("Conversion");
@@ -274,8 +336,14 @@ fn imports(out: &mut Code, connect: bool, queue: bool, thread: bool, value: bool
     if thread {
         out.line(0, "use ferroc_runtime::container::ThreadOptions;");
     }
-    if value {
-        out.line(0, "use ferroc_runtime::module::Value;");
+    match (ports, value) {
+        (true, true) => out.line(
+            0,
+            "use ferroc_runtime::module::{Direction, PortGroup, Value};",
+        ),
+        (true, false) => out.line(0, "use ferroc_runtime::module::{Direction, PortGroup};"),
+        (false, true) => out.line(0, "use ferroc_runtime::module::Value;"),
+        (false, false) => {}
     }
     match (connect, queue) {
         (true, true) => out.line(
@@ -389,6 +457,19 @@ fn call(head: &str, args: &[String]) -> String {
     }
     out.push(')');
     out
+}
+
+/// One entry of `ModuleSpec::ports`: `PortGroup::new("in", Direction::In, "f64", Some(3))`.
+fn port_group(g: &ferroc_compiler::plan::PlannedPortGroup) -> String {
+    let dir = match g.dir {
+        ferroc_compiler::library::PortDir::In => "Direction::In",
+        ferroc_compiler::library::PortDir::Out => "Direction::Out",
+    };
+    let count = g.count.map_or("None".to_string(), |n| format!("Some({n})"));
+    call(
+        "PortGroup::new",
+        &[rust_str(&g.name), dir.to_string(), rust_str(&g.ty), count],
+    )
 }
 
 /// The Rust expression of a parameter value (the conversion `ferroc run` makes).

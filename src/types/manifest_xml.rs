@@ -25,7 +25,6 @@ const MANIFEST_CHILDREN: &[&str] = &[
     "locks",
     "derived-activity",
     "channel-in",
-    "flexible",
     "activity",
 ];
 
@@ -125,6 +124,24 @@ fn module_type(out: &mut String, t: &Interface, old: Option<(&Element, &SourceMa
     }
     doc(out, t.doc.as_deref(), old_el);
     out.push_str(">\n");
+    // Flexible groups first, as manifests declare them before the `$group` ports.
+    for f in &t.flexible {
+        out.push_str("    <flexible");
+        attr(out, "port", &f.group);
+        attr(
+            out,
+            "dir",
+            if f.dir == Direction::In { "in" } else { "out" },
+        );
+        attr(out, "same-type", if f.same_type { "true" } else { "false" });
+        if f.min_count > 0 {
+            attr(out, "min-count", &f.min_count.to_string());
+        }
+        if let Some(max) = f.max_count {
+            attr(out, "max-count", &max.to_string());
+        }
+        out.push_str("/>\n");
+    }
     // What the behaviour kind implies is not written: the compiler adds it (meta ports,
     // per-instance ports such as `inhibition/k` and `in/k/…`, and the kind's parameters).
     for p in t
@@ -279,6 +296,8 @@ mod tests {
                 choices: Vec::new(),
                 doc: None,
             }],
+            flexible: Vec::new(),
+            services: Vec::new(),
         }
     }
 

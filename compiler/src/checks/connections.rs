@@ -153,10 +153,9 @@ pub fn source_unit<'a>(
     let mut unit = from.unit;
     let mut t: &Type = from.ty;
     for step in &c.converts {
-        if let (Some((field, _)), Type::Named(id, _)) = (&step.field, t) {
-            let nt = ctx.libraries.named_type(*id);
-            if let Some((_, ft, fu)) = nt.fields.iter().find(|(f, _, _)| f == field) {
-                unit = fu.as_ref();
+        if let Some((field, _)) = &step.field {
+            if let Some((ft, fu)) = ctx.libraries.field_of(t, field) {
+                unit = fu;
                 t = ft;
             }
         }

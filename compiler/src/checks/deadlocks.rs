@@ -29,11 +29,12 @@ pub mod d117_latent_lock_inversion;
 
 /// The pass behind every D check.
 pub fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    let a = deadlock::analyse(ctx.app, ctx.libraries);
+    let m = ctx.deadlock_model();
+    let a = deadlock::analyse(ctx.app, ctx.libraries, m);
     let cx = Ctx {
         app: ctx.app,
         libs: ctx.libraries,
-        m: &a.model,
+        m,
     };
     for c in &a.cycles {
         out.push(cycle(&cx, c));
@@ -41,7 +42,7 @@ pub fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     for h in &a.hangs {
         out.push(d109_wait_never_served::report(&cx, h.wait));
     }
-    for f in &a.model.step_findings {
+    for f in &m.step_findings {
         out.push(match &f.kind {
             StepFindingKind::Recursive { lock, first } => {
                 d104_recursive_lock::report(&cx, f, *lock, *first)

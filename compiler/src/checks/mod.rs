@@ -34,6 +34,10 @@ pub struct PassContext<'a> {
     /// Both ends of each connection (by index), looked up once for all passes: a dozen
     /// passes look at every connection, and resolving a port is not free.
     ends: Vec<Option<(PortView<'a>, PortView<'a>)>>,
+    /// The deadlock analysis model, built on first use: the D checks, S103 (timeouts)
+    /// and S107 (hard waits) all read it, and building it walks every module that can
+    /// wait, which is a noticeable share of checking a large model.
+    deadlock: std::cell::OnceCell<crate::deadlock::Model>,
 }
 
 impl<'a> PassContext<'a> {
@@ -48,7 +52,14 @@ impl<'a> PassContext<'a> {
             libraries,
             sources,
             ends,
+            deadlock: std::cell::OnceCell::new(),
         }
+    }
+
+    /// Contexts, locks, queues and wait-states ([`crate::deadlock::model`]), built once.
+    pub fn deadlock_model(&self) -> &crate::deadlock::Model {
+        self.deadlock
+            .get_or_init(|| crate::deadlock::model(self.app, self.libraries))
     }
 
     /// The connections whose two ends resolve, with those ends.

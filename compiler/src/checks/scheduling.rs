@@ -58,8 +58,12 @@ impl Load {
 
 /// The load of every thread container that declares at least one budget, in element
 /// order. Each module's budget covers everything it does in one cycle. The timeouts of
-/// blocking steps come from the deadlock model, built only when `timeouts` is asked for.
-pub fn loads(app: &Application, libs: &LibrarySet, timeouts: bool) -> Vec<Load> {
+/// blocking steps come from the deadlock model, when one is given.
+pub fn loads(
+    app: &Application,
+    libs: &LibrarySet,
+    timeouts: Option<&crate::deadlock::Model>,
+) -> Vec<Load> {
     let mut index = hashbrown::HashMap::new();
     let mut out: Vec<Load> = Vec::new();
     for (i, e) in app.elements.iter().enumerate() {
@@ -93,8 +97,7 @@ pub fn loads(app: &Application, libs: &LibrarySet, timeouts: bool) -> Vec<Load> 
             None => out[k].unbudgeted += 1,
         }
     }
-    if timeouts && out.iter().any(|l| !l.budgets.is_empty()) {
-        let m = crate::deadlock::model(app, libs);
+    if let Some(m) = timeouts.filter(|_| out.iter().any(|l| !l.budgets.is_empty())) {
         for w in &m.waits {
             let thread = m.ecs[w.ec as usize].thread;
             if let (Some(t), Some(&k)) = (w.timeout, index.get(&thread)) {

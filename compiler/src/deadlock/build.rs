@@ -3,14 +3,14 @@
 //! wait-state holds (`reference/deadlocks.md` §2.1–2.2). One pass over the modules;
 //! connections are followed through group ports only where a wait needs them.
 
+use super::follow::{follow, Reach};
 use super::{Ec, EcId, Held, Lock, Queue, QueueId, Target, Wait, WaitId, WaitKind};
 use super::{Model, StepFinding, StepFindingKind};
 use crate::ir::{Application, ElementId, ElementKind, Endpoint, Profile};
 use crate::library::steps::{StepDecl, StepOp};
 use crate::library::{LibrarySet, ModuleType};
 use crate::source::Span;
-use hashbrown::HashMap;
-use petgraph::visit::EdgeRef;
+use hashbrown::{HashMap, HashSet};
 use petgraph::Direction::{Incoming, Outgoing};
 
 /// Inline calls nest at most this deep (deadlocks.md §2.2).
@@ -24,10 +24,7 @@ pub(super) fn build(app: &Application, libs: &LibrarySet) -> Model {
         ec_of_thread: HashMap::new(),
         lock_by_name: HashMap::new(),
         queue_of: HashMap::new(),
-        any_block_write: app
-            .connections
-            .iter()
-            .any(|c| c.queue.is_some() && c.on_full.as_deref() == Some("block")),
+        block_writers: block_writers(app),
     };
     for r in &app.resources {
         b.lock_named(&r.name, Some(r.span), r.level, r.recursive);
@@ -65,9 +62,9 @@ pub(super) fn build(app: &Application, libs: &LibrarySet) -> Model {
         let Some(mt) = app.module_type(libs, id) else {
             continue;
         };
-        let any_block_write = b.any_block_write;
+        let block_writers = &b.block_writers;
         let may_wait = |st: &StepDecl| match st.op {
-            StepOp::Write { .. } => any_block_write,
+            StepOp::Write { port, .. } => block_writers.contains(&(id, port as u32)),
             StepOp::Read { port } => mt.ports[port].blocking_read,
             StepOp::Unlock { .. } | StepOp::Call { sync: false, .. } => false,
             _ => true,
@@ -111,7 +108,32 @@ struct Builder<'a> {
     ec_of_thread: HashMap<ElementId, EcId>,
     lock_by_name: HashMap<String, u32>,
     queue_of: HashMap<Endpoint, QueueId>,
-    any_block_write: bool,
+    /// Module outputs with a path through a `queue` + `on-full="block"` connection: the
+    /// only writes that can wait. Found once from those connections, so the writes of
+    /// every other module (all of them, in most models) are not followed one by one.
+    block_writers: HashSet<(ElementId, u32)>,
+}
+
+fn block_writers(app: &Application) -> HashSet<(ElementId, u32)> {
+    let mut out = HashSet::new();
+    for c in &app.connections {
+        if c.queue.is_none() || c.on_full.as_deref() != Some("block") {
+            continue;
+        }
+        match c.from {
+            Endpoint::Port { element, port } => {
+                out.insert((element, port));
+            }
+            from => {
+                for r in follow(app, from, Incoming) {
+                    if let Endpoint::Port { element, port } = r.end {
+                        out.insert((element, port));
+                    }
+                }
+            }
+        }
+    }
+    out
 }
 
 /// The activity a step list runs in.
@@ -175,8 +197,8 @@ impl<'a> Builder<'a> {
             port: c.port as u32,
         };
         let mut out = Vec::new();
-        for (end, first_hop, _) in self.follow(start, Outgoing) {
-            let Endpoint::Port { element, port } = end else {
+        for r in self.follow(start, Outgoing) {
+            let Endpoint::Port { element, port } = r.end else {
                 continue;
             };
             let Some(smt) = self.app.module_type(self.libs, element) else {
@@ -194,13 +216,13 @@ impl<'a> Builder<'a> {
                 service: si,
                 ec: self.ec_of(element),
                 inline,
-                connect: self.app.connections[first_hop].from_span,
+                connect: self.app.connections[r.first].from_span,
             });
         }
         out
     }
 
-    fn follow(&self, start: Endpoint, dir: petgraph::Direction) -> Vec<(Endpoint, usize, usize)> {
+    fn follow(&self, start: Endpoint, dir: petgraph::Direction) -> Vec<Reach> {
         follow(self.app, start, dir)
     }
 
@@ -224,14 +246,14 @@ impl<'a> Builder<'a> {
             span: self.app.element(module).name_span,
             block_span: None,
         };
-        for (end, first, _) in self.follow(input, Incoming) {
-            let Endpoint::Port { element, port } = end else {
+        for r in self.follow(input, Incoming) {
+            let Endpoint::Port { element, port } = r.end else {
                 continue;
             };
-            // `first` is the hop next to the input when following backwards.
-            let c = &self.app.connections[first];
-            q.span = c.to_span;
-            if let Some(cap) = c.queue {
+            // Where the queue is declared, else the hop next to the input.
+            q.span = self.app.connections[r.queued.unwrap_or(r.first)].to_span;
+            if let Some(c) = r.queued.map(|hop| &self.app.connections[hop]) {
+                let cap = c.queue.unwrap_or(1);
                 q.is_queue = true;
                 q.capacity = Some(q.capacity.map_or(cap, |x: u32| x.min(cap)));
                 q.initial += c.initial;
@@ -355,15 +377,17 @@ impl<'a> Builder<'a> {
                         element: module,
                         port: port as u32,
                     };
-                    if self.any_block_write {
+                    if self.block_writers.contains(&(module, port as u32)) {
                         let mut queues = Vec::new();
                         let mut site = None;
-                        for (end, _, last) in self.follow(out, Outgoing) {
-                            let c = &app.connections[last];
-                            let Endpoint::Port { element, port } = end else {
+                        for r in self.follow(out, Outgoing) {
+                            let Endpoint::Port { element, port } = r.end else {
                                 continue;
                             };
-                            if c.queue.is_some() && c.on_full.as_deref() == Some("block") {
+                            let Some(c) = r.queued.map(|hop| &app.connections[hop]) else {
+                                continue;
+                            };
+                            if c.on_full.as_deref() == Some("block") {
                                 queues.push(self.queue(element, port));
                                 site.get_or_insert(c.to_span);
                             }
@@ -521,41 +545,4 @@ impl Model {
 pub(super) struct Summary {
     pub blocking_reads: Vec<u32>,
     pub writes: Vec<(u32, u32, bool)>,
-}
-
-/// Module ports reached from `start` along connections in `dir`, through group ports:
-/// (end, first hop, last hop) with connection indices.
-pub(super) fn follow(
-    app: &Application,
-    start: Endpoint,
-    dir: petgraph::Direction,
-) -> Vec<(Endpoint, usize, usize)> {
-    let mut out = Vec::new();
-    let Some(&n) = app.nodes.get(&start) else {
-        return out;
-    };
-    let mut stack = vec![(n, usize::MAX)];
-    let mut seen = vec![n];
-    while let Some((node, first)) = stack.pop() {
-        for e in app.graph.edges_directed(node, dir) {
-            let next = if dir == Outgoing {
-                e.target()
-            } else {
-                e.source()
-            };
-            let hop = *e.weight();
-            let first = if first == usize::MAX { hop } else { first };
-            match app.graph[next] {
-                Endpoint::Port { .. } => out.push((app.graph[next], first, hop)),
-                Endpoint::GroupPort { .. } => {
-                    if !seen.contains(&next) && seen.len() < 4096 {
-                        seen.push(next);
-                        stack.push((next, first));
-                    }
-                }
-                Endpoint::Param { .. } => {}
-            }
-        }
-    }
-    out
 }

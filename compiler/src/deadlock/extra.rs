@@ -3,7 +3,7 @@
 //! cycles that are harmless only because a guard (a shared thread, a gate lock)
 //! serialises them.
 
-use super::build::follow;
+use super::follow::follow;
 use super::{DeadTrigger, Held, Latent, Model, WaitKind};
 use crate::ir::{Application, ElementId, ElementKind, Endpoint};
 use crate::library::{LibrarySet, PortDir, PortRole};
@@ -47,12 +47,16 @@ pub(super) fn dead_triggers(app: &Application, libs: &LibrarySet) -> Vec<DeadTri
                 element: m,
                 port: i,
             };
-            for (end, first, _) in follow(app, input, Incoming) {
-                let c = &app.connections[first];
-                let writer = end.element();
+            for r in follow(app, input, Incoming) {
+                let c = &app.connections[r.first];
+                // Initial items belong to the queue, wherever on the path it is declared.
+                let initial = r
+                    .queued
+                    .map_or(c.initial, |hop| app.connections[hop].initial);
+                let writer = r.end.element();
                 // Initial items and writers of periodic containers start it.
                 let periodic = !on_data(writer) && app.element(writer).thread.is_some();
-                if (c.initial > 0 || periodic) && alive.insert(m) {
+                if (initial > 0 || periodic) && alive.insert(m) {
                     work.push(m);
                 }
                 readers.entry(writer).or_default().push(m);

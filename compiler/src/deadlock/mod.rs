@@ -15,6 +15,7 @@
 
 mod build;
 mod extra;
+mod follow;
 pub mod render;
 mod solve;
 mod witness;
@@ -242,10 +243,9 @@ pub struct Latent {
     pub guard: Held,
 }
 
-/// Everything the D checks report.
+/// Everything the D checks report (about the [`Model`] it was computed from).
 #[derive(Debug, Default)]
 pub struct Analysis {
-    pub model: Model,
     pub cycles: Vec<Cycle>,
     pub hangs: Vec<Hang>,
     pub dead_triggers: Vec<DeadTrigger>,
@@ -258,18 +258,18 @@ pub fn model(app: &Application, libs: &LibrarySet) -> Model {
     build::build(app, libs)
 }
 
-/// Runs the whole analysis. Linear in the model, plus a capped search per SCC.
-pub fn analyse(app: &Application, libs: &LibrarySet) -> Analysis {
-    let model = build::build(app, libs);
+/// Runs the whole analysis on `model` (from [`model`]). Linear in the model, plus a
+/// capped search per SCC.
+pub fn analyse(app: &Application, libs: &LibrarySet, model: &Model) -> Analysis {
     let mut a = Analysis::default();
     if !model.waits.is_empty() {
-        let hard = solve::solve(&model, false);
+        let hard = solve::solve(model, false);
         let mut covered = vec![false; model.waits.len()];
         for h in &hard.hangs {
             a.hangs.push(Hang { wait: *h });
         }
         for scc in &hard.sccs {
-            if let Some(c) = witness::search(app, libs, &model, &hard, scc, false) {
+            if let Some(c) = witness::search(app, libs, model, &hard, scc, false) {
                 for (w, _) in &c.steps {
                     covered[*w as usize] = true;
                 }
@@ -277,7 +277,7 @@ pub fn analyse(app: &Application, libs: &LibrarySet) -> Analysis {
             }
         }
         if model.waits.iter().any(|w| w.timeout.is_some()) {
-            let soft = solve::solve(&model, true);
+            let soft = solve::solve(model, true);
             for scc in &soft.sccs {
                 let has_soft = scc.iter().any(|&n| {
                     (n as usize) < model.waits.len() && model.waits[n as usize].timeout.is_some()
@@ -288,7 +288,7 @@ pub fn analyse(app: &Application, libs: &LibrarySet) -> Analysis {
                 if !has_soft || overlaps {
                     continue;
                 }
-                if let Some(c) = witness::search(app, libs, &model, &soft, scc, true) {
+                if let Some(c) = witness::search(app, libs, model, &soft, scc, true) {
                     if c.steps
                         .iter()
                         .any(|(w, _)| model.waits[*w as usize].timeout.is_some())
@@ -298,8 +298,8 @@ pub fn analyse(app: &Application, libs: &LibrarySet) -> Analysis {
                 }
             }
         }
-        a.latent = extra::latent_inversions(&model, &covered);
-        self_queue_schedule(app, libs, &model, &mut a.cycles);
+        a.latent = extra::latent_inversions(model, &covered);
+        self_queue_schedule(app, libs, model, &mut a.cycles);
     }
     a.dead_triggers = extra::dead_triggers(app, libs);
     // A ring already reported as a deadlock is not reported again as never triggered.
@@ -310,7 +310,6 @@ pub fn analyse(app: &Application, libs: &LibrarySet) -> Analysis {
         .collect();
     a.dead_triggers
         .retain(|d| !d.modules.iter().any(|(m, _)| in_cycle.contains(m)));
-    a.model = model;
     a
 }
 

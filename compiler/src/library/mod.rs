@@ -91,6 +91,19 @@ impl LibrarySet {
         &self.types[id.0 as usize]
     }
 
+    /// The type and unit of `field` in values of `t` (a named type with that field).
+    pub fn field_of(&self, t: &Type, field: &str) -> Option<(&Type, Option<&crate::units::Unit>)> {
+        let Type::Named(id, _) = t else {
+            return None;
+        };
+        let (_, ty, unit) = self
+            .named_type(*id)
+            .fields
+            .iter()
+            .find(|(f, _, _)| f == field)?;
+        Some((ty, unit.as_ref()))
+    }
+
     /// Whether values of `t` can cross a process boundary.
     pub fn serialisable(&self, t: &Type) -> bool {
         match t {

@@ -9,6 +9,7 @@ use crate::checks::model::m108_invalid_attribute_value;
 use crate::diagnostic::{did_you_mean, Diagnostic, Diagnostics};
 use crate::source::Span;
 use crate::syntax::Element;
+use crate::types::Type;
 use crate::values::parse_duration;
 use hashbrown::HashMap;
 
@@ -23,6 +24,8 @@ pub struct ClientDecl {
     /// `blocking="false"` makes every call asynchronous unless a step says `mode="sync"`.
     pub blocking: bool,
     pub timeout: Timeout,
+    /// `response=`: what a call returns (`None` when it did not resolve; reported).
+    pub response: Option<Type>,
     /// `response-via="caller"`: the response is processed by the caller's own thread
     /// container (ROS 2 callback groups), not handed to the blocked caller directly.
     pub response_via_caller: bool,
@@ -35,6 +38,8 @@ pub struct ServiceDecl {
     pub port: usize,
     /// `executes="caller"`: the body runs inline in the caller's thread.
     pub inline: bool,
+    /// `response=`: what a call returns (`None` when it did not resolve; reported).
+    pub response: Option<Type>,
     /// `executes` was written (a profile may only change the default).
     pub executes_explicit: bool,
     pub body: Vec<StepDecl>,
@@ -110,6 +115,9 @@ pub(super) fn add_rpc_ports(
         else {
             continue;
         };
+        let response = child
+            .value("response")
+            .and_then(|r| set.resolve_type(r, child.value_span("response"), visible, diags));
         let span = child.value_span("name");
         if !unique(names, name, span, diags) {
             continue;
@@ -135,6 +143,7 @@ pub(super) fn add_rpc_ports(
                 blocking: child.value("blocking") != Some("false"),
                 timeout: timeout(child, diags),
                 response_via_caller: child.value("response-via") == Some("caller"),
+                response,
                 span,
             });
         } else {
@@ -142,6 +151,7 @@ pub(super) fn add_rpc_ports(
                 name: name.to_string(),
                 port,
                 inline: child.value("executes") == Some("caller"),
+                response,
                 executes_explicit: child.attr("executes").is_some(),
                 body: Vec::new(),
                 span,

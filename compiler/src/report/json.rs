@@ -1,7 +1,7 @@
 //! `--format json`: the stable machine-readable report, documented in docs/json-format.md.
 
 use super::ModelReport;
-use crate::diagnostic::{Label, Severity};
+use crate::diagnostic::{Label, Severity, ThreadFlow};
 use crate::source::{SourceMap, Span};
 use serde_json::{json, Value};
 
@@ -27,6 +27,22 @@ fn label(sources: &SourceMap, l: &Label) -> Value {
     json!({ "message": l.message, "location": location(sources, l.span) })
 }
 
+/// A deadlock witness, as SARIF's `codeFlows` carry it: one entry per blocked thread
+/// container, its steps in order (where it took what it holds, then where it blocks).
+/// Empty for every other finding, so a consumer needs no SARIF to walk a deadlock.
+fn witness(sources: &SourceMap, flows: &[ThreadFlow]) -> Vec<Value> {
+    flows
+        .iter()
+        .map(|t| {
+            json!({
+                "thread": t.thread,
+                "message": t.message,
+                "steps": t.locations.iter().map(|l| label(sources, l)).collect::<Vec<_>>(),
+            })
+        })
+        .collect()
+}
+
 pub fn model(path: &str, report: &ModelReport<'_>) -> Value {
     let count = |s| {
         report
@@ -47,6 +63,7 @@ pub fn model(path: &str, report: &ModelReport<'_>) -> Value {
                 "help": d.help,
                 "primary": label(report.sources, &d.primary),
                 "secondary": d.secondary.iter().map(|s| label(report.sources, s)).collect::<Vec<_>>(),
+                "witness": witness(report.sources, &d.witness),
             })
         })
         .collect();

@@ -64,10 +64,13 @@ pub fn resolve(
         nodes: HashMap::new(),
         children: HashMap::new(),
         resources: Vec::new(),
-        profile: match root.value("profile") {
-            Some("finroc") => Profile::Finroc,
-            _ => Profile::Generic,
-        },
+        profile: loader
+            .options
+            .profile
+            .unwrap_or(match root.value("profile") {
+                Some("finroc") => Profile::Finroc,
+                _ => Profile::Generic,
+            }),
         timing: Timing::default(),
         ib2c_violations: root.value("ib2c-violations").map(str::to_string),
     };

@@ -26,6 +26,16 @@ pub struct DataEdge {
 
 /// Every module-to-module data dependency of the application.
 pub fn data_edges(app: &Application, libs: &LibrarySet) -> Vec<DataEdge> {
+    edges(app, libs, false)
+}
+
+/// Every client-to-service link of the application, followed through group ports the
+/// same way (the runtime wires calls; they are not data flow).
+pub fn call_edges(app: &Application, libs: &LibrarySet) -> Vec<DataEdge> {
+    edges(app, libs, true)
+}
+
+fn edges(app: &Application, libs: &LibrarySet, calls: bool) -> Vec<DataEdge> {
     let mut edges = Vec::new();
     for start in app.graph.node_indices() {
         let Endpoint::Port { element, .. } = app.graph[start] else {
@@ -37,7 +47,7 @@ pub fn data_edges(app: &Application, libs: &LibrarySet) -> Vec<DataEdge> {
         if view.dir != PortDir::Out {
             continue; // a wrongly directed connection is T101's business
         }
-        if view.role == PortRole::Client {
+        if (view.role == PortRole::Client) != calls {
             continue; // a call is not data flow (the deadlock analysis looks at calls)
         }
         let origin = Origin {

@@ -24,7 +24,7 @@ mod flow;
 pub mod latency;
 mod order;
 
-pub use flow::{data_edges, DataEdge};
+pub use flow::{call_edges, data_edges, DataEdge};
 
 use crate::ir::{Application, ElementId, ElementKind};
 use crate::library::{LibrarySet, ModuleKind};

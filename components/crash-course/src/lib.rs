@@ -38,5 +38,7 @@ pub fn register(registry: &mut Registry) {
         .register::<MainSimulation>()
         .register::<AddNoise>()
         .register::<Visualization>()
-        .register::<Controller>();
+        .register::<Controller>()
+        // Its value type, for flexible ports (`ferroc_std.Dump`, `Logger`, …).
+        .register_value::<Pose2D>();
 }

@@ -6,15 +6,19 @@
 //! that implements [`fusion::Fuse`] and is what library fusions (a velocity fusion of
 //! two ports per channel, say) are built from.
 //!
-//! Not implemented yet: the flexible types (`Sum`, `FlexiSelect`, `Dump`, `Logger`),
-//! whose ports the instance declares (the runtime has no per-instance port types yet),
-//! and `Clock` (the runtime has no `timestamp` port type yet).
+//! The flexible types `Sum`, `FlexiSelect`, `Dump` and `Logger` take the ports their
+//! instance declares in the model, of any type in the runtime's value-type table
+//! (`flexible.rs`, `logger.rs`); `Clock` publishes `timestamp`s and a tick count.
 
 mod basic;
+mod flexible;
 pub mod fusion;
+mod logger;
 
 pub use basic::{Constant, ConstantActivity, NumberToActivity, Scale};
+pub use flexible::{Clock, Dump, FlexiSelect, Sum};
 pub use fusion::Fusion;
+pub use logger::{check_log_path, Logger};
 
 use ferroc_runtime::builder::Registry;
 
@@ -25,5 +29,10 @@ pub fn register(registry: &mut Registry) {
         .register::<Scale>()
         .register::<NumberToActivity>()
         .register::<ConstantActivity>()
+        .register::<Clock>()
+        .register::<Sum>()
+        .register::<FlexiSelect>()
+        .register::<Dump>()
+        .register::<Logger>()
         .register_behaviour::<Fusion>();
 }

@@ -48,6 +48,7 @@ fn add(b: &mut Builder<'_>, path: &str, ty: &str, params: &[(&str, Value)]) {
         type_name: ty,
         params: &params,
         queues: &[],
+        ports: &[],
         violations: ViolationPolicy::Warn,
     })
     .unwrap();

@@ -81,7 +81,10 @@ pub fn register(registry: &mut Registry) {
         .register_behaviour::<FaultInjector>()
         .register::<GoalServer>()
         .register::<ArenaSimulation>()
-        .register::<NavMonitor>();
+        .register::<NavMonitor>()
+        // Its value types, for flexible ports (`ferroc_std.Dump`, `Logger`, …).
+        .register_value::<Pose2D>()
+        .register_value::<RangeScan>();
 }
 
 #[cfg(test)]

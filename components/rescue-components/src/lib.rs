@@ -5,9 +5,6 @@
 //! ([`world`], [`hardware`]); everything above them is ordinary robot software that only
 //! sees scans, frames and odometry. The simulation advances by a fixed step per base
 //! control step, never by wall-clock time, and uses no randomness.
-//!
-//! Not implemented: the Localizer's `relocalize` service (module types cannot declare
-//! services through `Setup` yet).
 
 mod camera;
 mod console;
@@ -27,7 +24,7 @@ pub use camera::Camera;
 pub use console::OperatorConsole;
 pub use detector::VictimDetector;
 pub use drivers::{BaseDriver, LaserDriver};
-pub use fields::{register_fields, RegisterField};
+pub use fields::{register_fields, register_values};
 pub use localizer::Localizer;
 pub use mapper::Mapper;
 pub use mission::{MissionContext, MissionManager};
@@ -37,8 +34,9 @@ pub use world::START;
 
 use ferroc_runtime::builder::Registry;
 
-/// Registers every module type of this library. (The fields of its copy types follow
-/// once the runtime can take them: [`register_fields`].)
+/// Registers every module type of this library, the fields connections may take
+/// apart ([`register_fields`]) and the value types for flexible modules
+/// ([`register_values`]).
 pub fn register(registry: &mut Registry) {
     registry
         .register::<LaserDriver>()
@@ -51,4 +49,6 @@ pub fn register(registry: &mut Registry) {
         .register::<MissionContext>()
         .register::<MissionManager>()
         .register::<OperatorConsole>();
+    register_fields(registry);
+    register_values(registry);
 }

@@ -9,6 +9,7 @@
 
 use crate::types::{wrap_angle, LaserScan, Pose2D};
 use ferroc_runtime::module::{In, Kind, Module, ModuleType, Out, Parameter, Setup};
+use ferroc_runtime::service::ServicePort;
 
 /// Hypotheses are searched this far either side of the odometry heading (rad).
 const SEARCH: f64 = 0.1;
@@ -16,6 +17,10 @@ const SEARCH: f64 = 0.1;
 const CORRECTED_VARIANCE: f64 = 1e-4;
 /// Position variance added per metre driven (m²/m).
 const DRIFT_PER_METRE: f64 = 0.002;
+/// A relocalization succeeds when the walls align at least this well from the hint.
+const RELOCALIZED: f64 = 0.9;
+/// A global relocalization searches headings this far either side of the hint's.
+const GLOBAL_SEARCH: f64 = std::f64::consts::FRAC_PI_4;
 
 /// How well the scan's wall segments align with the map axes if the robot's heading
 /// is `heading`: 1 perfectly, about 0 for no structure.
@@ -83,6 +88,7 @@ pub struct Localizer {
     covariance: Out<[f64; 3]>,
     reset_pose: In<Pose2D>,
     localized: Out<bool>,
+    relocalize: ServicePort<Pose2D, bool>,
     particles: Parameter<u32>,
     update_distance: Parameter<f64>,
     update_angle: Parameter<f64>,
@@ -116,6 +122,10 @@ impl ModuleType for Localizer {
                 .doc("re-initialise the filter around this pose")
                 .build(),
             localized: m.controller_output("localized").build(),
+            relocalize: m
+                .service("relocalize")
+                .doc("global relocalization around a hint pose")
+                .build(),
             particles: m
                 .param("particles")
                 .range(50.0, 10000.0)
@@ -168,8 +178,40 @@ impl Localizer {
     }
 }
 
+/// The heading that best aligns `scan` with the axes within ±[`GLOBAL_SEARCH`] of
+/// `hint`, and how well it aligns; `None` for a hint that is not a pose.
+pub fn relocalize(scan: &LaserScan, hint: &Pose2D, hypotheses: u32) -> Option<(f64, f64)> {
+    if !(hint.x.is_finite() && hint.y.is_finite() && hint.theta.is_finite()) {
+        return None;
+    }
+    // Coarse steps over the wide window, then the fine search around the best.
+    let n = hypotheses.clamp(2, 10_000);
+    let coarse = (0..n)
+        .map(|k| hint.theta - GLOBAL_SEARCH + 2.0 * GLOBAL_SEARCH * f64::from(k) / f64::from(n - 1))
+        .max_by(|a, b| axis_alignment(scan, *a).total_cmp(&axis_alignment(scan, *b)))?;
+    let heading = best_heading(scan, coarse, n);
+    Some((wrap_angle(heading), axis_alignment(scan, heading)))
+}
+
 impl Module for Localizer {
     fn sense(&mut self) {
+        // Relocalization requests from other modules: trust the hint's position, search
+        // the heading on the latest scan; answer whether the walls confirm it.
+        let scan = self.scan.get();
+        let hypotheses = self.particles.get();
+        let (pose, variance) = (&mut self.pose, &mut self.variance);
+        self.relocalize
+            .serve_pending(|hint| match relocalize(&scan, &hint, hypotheses) {
+                Some((heading, score)) if score >= RELOCALIZED => {
+                    *pose = Pose2D {
+                        theta: heading,
+                        ..hint
+                    };
+                    *variance = [0.0, 0.0, CORRECTED_VARIANCE];
+                    true
+                }
+                _ => false,
+            });
         let odometry = self.odometry.get();
         self.predict(odometry);
         let moved = odometry.distance_to(&self.at_correction);
@@ -220,6 +262,33 @@ mod tests {
         // From a guess 0.05 rad off, the search finds the truth within its step.
         let found = best_heading(&scan, 0.35, 201);
         assert!((found - 0.3).abs() <= 0.001 + 1e-9, "{found}");
+    }
+
+    #[test]
+    fn relocalization_finds_the_heading_near_a_rough_hint() {
+        let robot = Robot::default();
+        let mut pose = robot.pose;
+        pose.theta = 0.4;
+        let scan = sweep(&robot, &pose, 30.0, Duration::ZERO);
+        // 0.3 rad off: beyond the tracking window, within the global one.
+        let hint = Pose2D { theta: 0.7, ..pose };
+        let (heading, score) = relocalize(&scan, &hint, 500).unwrap();
+        assert!(
+            (heading - 0.4).abs() < 0.002 && score > 0.99,
+            "{heading} {score}"
+        );
+        assert!(relocalize(
+            &scan,
+            &Pose2D {
+                x: f64::NAN,
+                ..hint
+            },
+            500
+        )
+        .is_none());
+        // An empty scan confirms nothing.
+        let (_, score) = relocalize(&LaserScan::default(), &hint, 500).unwrap();
+        assert!(score < RELOCALIZED);
     }
 
     #[test]

@@ -1,45 +1,18 @@
 //! The whole rescue robot and station in one continuous thread container, every module
 //! stepped once per cycle in a fixed order: lockstep, so the run is exactly
 //! reproducible (unlike the model, whose thread containers run on wall-clock time).
-//!
-//! The planner's velocity reaches the base through `Split`, a test stand-in for the
-//! `<convert field>` connections the runtime does not have yet.
+//! The planner's velocity reaches the base field by field (`<convert field>`), as in
+//! the model.
 
 use ferroc_runtime::builder::{
     Builder, Conversion, ModuleSpec, Registry, Schedule, StepKind, ThreadSpec,
 };
 use ferroc_runtime::container::ThreadOptions;
-use ferroc_runtime::module::{In, Module, ModuleType, Out, Setup, Value};
+use ferroc_runtime::module::{In, Module, ModuleType, Setup, Value};
 use ferroc_runtime::port::{ConnectOptions, QueueConfig};
-use rescue_components::{Pose2D, Velocity2D, VictimList};
+use rescue_components::{Pose2D, VictimList};
 use std::sync::Mutex;
 use std::time::Duration;
-
-/// Takes a velocity command apart, as `<convert field="linear|angular">` will.
-struct Split {
-    cmd: In<Velocity2D>,
-    linear: Out<f64>,
-    angular: Out<f64>,
-}
-
-impl ModuleType for Split {
-    const NAME: &'static str = "test.Split";
-    fn create(m: &mut Setup<'_>) -> Self {
-        Split {
-            cmd: m.input("cmd").build(),
-            linear: m.output("linear").unit("m/s").build(),
-            angular: m.output("angular").unit("rad/s").build(),
-        }
-    }
-}
-
-impl Module for Split {
-    fn update(&mut self) {
-        let v = self.cmd.get();
-        self.linear.publish(v.linear);
-        self.angular.publish(v.angular);
-    }
-}
 
 /// What the probe saw in each cycle: pose, victims, state.
 static SEEN: Mutex<Vec<(Pose2D, VictimList, String)>> = Mutex::new(Vec::new());
@@ -83,7 +56,7 @@ fn text(s: &str) -> Value {
 fn run(cycles: u64, report: &std::path::Path) {
     let mut registry = Registry::new();
     rescue_components::register(&mut registry);
-    registry.register::<Split>().register::<Probe>();
+    registry.register::<Probe>();
     let mut b = Builder::new(&registry);
     let modules: Vec<(&str, &str, Params)> = vec![
         (
@@ -162,7 +135,6 @@ fn run(cycles: u64, report: &std::path::Path) {
                 ("refresh".into(), Value::Float(40.0)),
             ],
         ),
-        ("split", "test.Split", vec![]),
         ("probe", "test.Probe", vec![]),
     ];
     let queued = |port: &str| vec![(port.to_string(), QueueConfig::new(16))];
@@ -179,6 +151,7 @@ fn run(cycles: u64, report: &std::path::Path) {
             type_name: ty,
             params,
             queues: &queues,
+            ports: &[],
             violations: Default::default(),
         })
         .unwrap();
@@ -193,9 +166,6 @@ fn run(cycles: u64, report: &std::path::Path) {
         ("localizer/pose", "planner/pose"),
         ("mapper/map", "planner/map"),
         ("laser/scan", "planner/scan"),
-        ("planner/cmd", "split/cmd"),
-        ("split/linear", "base/velocity"),
-        ("split/angular", "base/angular_velocity"),
         ("camera/image", "detector/image"),
         ("localizer/pose", "detector/pose"),
         ("laser/scan", "detector/scan"),
@@ -220,6 +190,16 @@ fn run(cycles: u64, report: &std::path::Path) {
         b.connect(a, b_, Conversion::default(), ConnectOptions::default())
             .unwrap_or_else(|e| panic!("{from} → {to}: {e}"));
     }
+    for (field, input) in [("linear", "velocity"), ("angular", "angular_velocity")] {
+        let conversion = Conversion::default().field(field);
+        b.connect(
+            ("planner", "cmd"),
+            ("base", input),
+            conversion,
+            ConnectOptions::default(),
+        )
+        .unwrap_or_else(|e| panic!("planner/cmd.{field} → base/{input}: {e}"));
+    }
     let step = |m: &str, k: StepKind| (m.to_string(), k);
     b.add_thread(ThreadSpec {
         path: "all".into(),
@@ -236,7 +216,6 @@ fn run(cycles: u64, report: &std::path::Path) {
             step("manager", StepKind::Update),
             step("console", StepKind::Update),
             step("planner", StepKind::Update),
-            step("split", StepKind::Update),
             step("localizer", StepKind::Control),
             step("base", StepKind::Control),
             step("probe", StepKind::Update),

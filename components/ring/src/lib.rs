@@ -70,6 +70,7 @@ mod tests {
                     type_name: "ring.Stage",
                     params: &increment,
                     queues: &[],
+                    ports: &[],
                     violations: Default::default(),
                 })
                 .unwrap();

@@ -248,6 +248,7 @@ fn spec<'a>(path: &'a str, ty: &'a str, params: &'a [(String, Value)]) -> Module
         type_name: ty,
         params,
         queues: &[],
+        ports: &[],
         violations: ViolationPolicy::Warn,
     }
 }

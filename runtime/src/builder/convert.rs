@@ -1,36 +1,109 @@
-//! Conversions on connections: unit scales and numeric type changes.
+//! Conversions on connections: parts of values, unit scales, numeric type changes.
 //!
-//! The checker decides what a connection needs (`rad/s` → `deg/s` is a scale of
-//! 57.29…, `u32` → `u64` a widening); the runtime realises it with a small converter
-//! that the builder schedules right after the writing module's steps, so the reader
-//! sees the converted value in the same cycle, exactly as with a direct connection.
+//! The checker decides what a connection needs (`<convert field="linear">` takes one
+//! field of a struct, `rad/s` → `deg/s` is a scale of 57.29…, `u32` → `u64` a
+//! widening); the runtime realises it with small converters that the builder
+//! schedules right after the writing module's steps, so the reader sees the converted
+//! value in the same cycle, exactly as with a direct connection.
+//!
+//! Taking a field apart needs code that knows the struct, so library crates register
+//! one accessor per field ([`Registry::register_field`](super::Registry::register_field));
+//! elements of `Vec`s of numbers are built in.
 
 use crate::container::Step;
+use crate::module::{PortKind, PortValue};
 use crate::port::{CopyInputPort, CopyOutputPort, InputHandle, NoUninit, OutputHandle};
+use std::borrow::Borrow;
 
-/// What a connection does to each value on the way: `to = from · scale + offset`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What a connection does to each value on the way: first the parts in `select` are
+/// taken, in order, then `to = part · scale + offset`.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Conversion {
     /// Multiplier (unit scale, `<convert scale>`).
     pub scale: f64,
     /// Added after scaling (`<convert offset>`).
     pub offset: f64,
+    /// Fields and elements to take, outermost first (`<convert field|index>`).
+    pub select: Vec<Select>,
+}
+
+/// One step into a value: a struct field or a list element.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Select {
+    /// `<convert field="linear">`.
+    Field(String),
+    /// `<convert index="2">` (a missing element reads as the default value).
+    Index(usize),
 }
 
 impl Default for Conversion {
     fn default() -> Self {
-        Conversion {
-            scale: 1.0,
-            offset: 0.0,
-        }
+        Conversion::linear(1.0, 0.0)
     }
 }
 
 impl Conversion {
+    /// `to = from · scale + offset`, nothing selected.
+    pub fn linear(scale: f64, offset: f64) -> Self {
+        Conversion {
+            scale,
+            offset,
+            select: Vec::new(),
+        }
+    }
+
+    /// This conversion, taking `field` of the value first (after earlier selections).
+    pub fn field(mut self, field: &str) -> Self {
+        self.select.push(Select::Field(field.to_owned()));
+        self
+    }
+
+    /// This conversion, taking element `index` of the value first (after earlier
+    /// selections).
+    pub fn index(mut self, index: usize) -> Self {
+        self.select.push(Select::Index(index));
+        self
+    }
+
     /// Whether values pass unchanged.
     pub fn is_identity(&self) -> bool {
-        self.scale == 1.0 && self.offset == 0.0
+        self.scale == 1.0 && self.offset == 0.0 && self.select.is_empty()
     }
+
+    /// Whether the numeric part (`scale`, `offset`) changes values.
+    pub(crate) fn scales(&self) -> bool {
+        self.scale != 1.0 || self.offset != 0.0
+    }
+}
+
+/// Makes the converter for one [`Select`] step: from its name and the index (0 for a
+/// field).
+pub(crate) type Extract = std::sync::Arc<dyn Fn(String, usize) -> Converter + Send + Sync>;
+
+/// A converter that reads an `S` and publishes `get(value, index)`.
+pub(crate) fn extractor<S: PortValue, F: PortValue>(
+    get: impl Fn(&S, usize) -> F + Copy + Send + Sync + 'static,
+) -> Extract {
+    std::sync::Arc::new(move |name: String, index: usize| {
+        let (input, input_handle) = S::Kind::input(&format!("{name}/in"), None);
+        let (output, output_handle) = F::Kind::output(&format!("{name}/out"));
+        let step = Step::new(name, move || {
+            if S::Kind::take_changed(&input) {
+                let value = S::Kind::get(&input);
+                F::Kind::publish(&output, get(value.borrow(), index));
+            }
+        });
+        Converter {
+            input: input_handle,
+            output: output_handle,
+            step,
+        }
+    })
+}
+
+/// Element `index` of a list, or the default value when the list is shorter.
+pub(crate) fn element<T: Copy + Default>(list: &[T], index: usize) -> T {
+    list.get(index).copied().unwrap_or_default()
 }
 
 /// A numeric type a converter can read and write.

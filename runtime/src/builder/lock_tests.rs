@@ -36,6 +36,7 @@ fn builder_with<'r>(registry: &'r Registry, modules: &[(&str, &str, &str)]) -> B
             type_name: "test.Nested",
             params: &[],
             queues: &[],
+            ports: &[],
             violations: Default::default(),
         })
         .unwrap();
@@ -113,6 +114,7 @@ fn the_same_order_everywhere_is_silent_and_unbound_slots_use_their_own_name() {
         type_name: "test.Nested",
         params: &[],
         queues: &[],
+        ports: &[],
         violations: Default::default(),
     })
     .unwrap();

@@ -10,14 +10,15 @@
 mod convert;
 mod registry;
 mod running;
+mod services;
 
-pub use convert::Conversion;
+pub use convert::{Conversion, Select};
 pub use registry::Registry;
 pub use running::{ContainerStatus, RunningApp};
 
 use crate::behaviour::{ViolationLog, ViolationPolicy};
 use crate::container::{Step, ThreadContainer, ThreadOptions, Trigger};
-use crate::module::{Interface, Kind, Module, ParamHandle, Setup, Value};
+use crate::module::{Interface, Kind, Module, ParamHandle, PortGroup, Setup, Value};
 use crate::port::{ConnectOptions, InputHandle, Notifier, OutputHandle, QueueConfig, Wakeup};
 use crate::resource::{LockOrder, Resource};
 use std::collections::HashMap;
@@ -46,6 +47,9 @@ pub struct ModuleSpec<'a> {
     pub params: &'a [(String, Value)],
     /// Inputs the model connects with a queue.
     pub queues: &'a [(String, QueueConfig)],
+    /// The flexible port groups the instance declares (`<port name dir type count>`
+    /// in the model); empty for module types with a fixed interface.
+    pub ports: &'a [PortGroup<'a>],
     /// What an iB2C behaviour does when it violates a principle (ignored by other
     /// module kinds).
     pub violations: ViolationPolicy,
@@ -146,6 +150,8 @@ struct Instance {
     inputs: Vec<(String, InputHandle)>,
     outputs: Vec<(String, OutputHandle)>,
     params: Vec<(String, ParamHandle)>,
+    services: Vec<(String, crate::service::ServiceHandle)>,
+    clients: Vec<(String, crate::service::ClientHandle)>,
     locks: Vec<crate::module::setup::SlotBinding>,
     /// Converters fed by this module's outputs, run right after its steps.
     converters: Vec<Step>,
@@ -273,16 +279,27 @@ impl<'r> Builder<'r> {
             return Err(BuildError::DuplicatePath(spec.path.into()));
         }
         let blank = registry::blank_interface(spec.type_name, entry);
-        let mut setup = Setup::new(blank, spec.params, spec.queues).for_instance(
-            spec.path,
-            spec.violations,
-            self.violations.clone(),
-        );
+        let mut setup = Setup::new(
+            blank,
+            spec.params,
+            spec.queues,
+            self.registry.values(),
+            spec.ports,
+        )
+        .for_instance(spec.path, spec.violations, self.violations.clone());
         let module = (entry.factory)(&mut setup);
         let mut problems = std::mem::take(&mut setup.errors);
         for (name, _) in spec.params {
             if setup.interface.param(name).is_none() {
                 problems.push(format!("the type has no parameter `{name}`"));
+            }
+        }
+        for group in spec.ports {
+            if !setup.claimed.iter().any(|g| g == group.name) {
+                problems.push(format!(
+                    "the type has no flexible port group `{}` (the model declares one)",
+                    group.name
+                ));
             }
         }
         if !problems.is_empty() {
@@ -300,6 +317,8 @@ impl<'r> Builder<'r> {
             inputs: setup.inputs,
             outputs: setup.outputs,
             params: setup.params,
+            services: setup.services,
+            clients: setup.clients,
             locks: setup.locks,
             converters: Vec::new(),
             thread: None,
@@ -377,23 +396,53 @@ impl<'r> Builder<'r> {
             self.links.push((writer, reader, to.1.to_owned()));
             return Ok(());
         }
+        // A chain of converters: each selected part, then the numeric change.
         let name = format!("{}/{} → {}/{}", from.0, from.1, to.0, to.1);
-        let converter = convert::numeric(output.value_type(), input.value_type(), name, conversion)
-            .ok_or_else(|| {
+        let mut chain: Vec<convert::Converter> = Vec::new();
+        for select in &conversion.select {
+            let value_type = chain
+                .last()
+                .map_or(output.value_type(), |c| c.output.value_type());
+            let (part, index, what) = match select {
+                Select::Field(f) => (f.as_str(), 0, format!("the field `{f}`")),
+                Select::Index(i) => ("[]", *i, format!("element {i}")),
+            };
+            let make = self.registry.part(value_type, part).ok_or_else(|| {
                 BuildError::Connect(format!(
-                    "{}: cannot convert {} to {} (only numbers are converted)",
-                    describe(),
-                    output.value_type(),
-                    input.value_type()
+                    "{}: cannot take {what} of {value_type}: no library registered it \
+                     (its crate's register function should call `register_field` or \
+                     `register_index` for it)",
+                    describe()
                 ))
             })?;
+            chain.push(make(format!("{name} ({what})"), index));
+        }
+        let selected = chain
+            .last()
+            .map_or(output.value_type(), |c| c.output.value_type());
+        if conversion.scales() || selected != input.value_type() {
+            let numeric = convert::numeric(selected, input.value_type(), name, conversion.clone())
+                .ok_or_else(|| {
+                    BuildError::Connect(format!(
+                        "{}: cannot convert {selected} to {} (only numbers are converted)",
+                        describe(),
+                        input.value_type()
+                    ))
+                })?;
+            chain.push(numeric);
+        }
         let fail =
             |e: crate::port::ConnectError| BuildError::Connect(format!("{}: {e}", describe()));
-        output
-            .connect(&converter.input, ConnectOptions::default())
-            .map_err(fail)?;
-        converter.output.connect(input, options).map_err(fail)?;
-        self.modules[writer].converters.push(converter.step);
+        let mut upstream = output;
+        for converter in &chain {
+            upstream
+                .connect(&converter.input, ConnectOptions::default())
+                .map_err(fail)?;
+            upstream = &converter.output;
+        }
+        upstream.connect(input, options).map_err(fail)?;
+        let steps = &mut self.modules[writer].converters;
+        steps.extend(chain.into_iter().map(|c| c.step));
         self.links.push((writer, reader, to.1.to_owned()));
         Ok(())
     }
@@ -520,6 +569,7 @@ impl<'r> Builder<'r> {
                         let notifier: Notifier = wakeup.clone();
                         let _ = input.set_notifier(notifier);
                     }
+                    self.wake_on_calls(m, &wakeup);
                 }
             }
             let trigger = match spec.schedule {
@@ -575,6 +625,10 @@ fn find<'a, H>(
 }
 
 #[cfg(test)]
+mod convert_tests;
+#[cfg(test)]
 mod lock_tests;
+#[cfg(test)]
+mod service_tests;
 #[cfg(test)]
 mod tests;

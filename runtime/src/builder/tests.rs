@@ -101,6 +101,7 @@ fn add(b: &mut Builder<'_>, path: &str, type_name: &str, params: &[(String, Valu
         type_name,
         params,
         queues: &[],
+        ports: &[],
         violations: Default::default(),
     })
     .unwrap();
@@ -130,10 +131,7 @@ fn a_chain_runs_in_schedule_order_with_a_converting_connection() {
     b.connect(
         ("count", "out"),
         ("gain", "input"),
-        Conversion {
-            scale: 10.0,
-            offset: 0.0,
-        },
+        Conversion::linear(10.0, 0.0),
         ConnectOptions::default(),
     )
     .unwrap();
@@ -225,6 +223,7 @@ fn mistakes_are_error_values() {
             type_name: "test.Nope",
             params: &[],
             queues: &[],
+            ports: &[],
             violations: Default::default(),
         })
         .unwrap_err();
@@ -241,6 +240,7 @@ fn mistakes_are_error_values() {
                 ("gian".into(), Value::Float(1.0)),
             ],
             queues: &[],
+            ports: &[],
             violations: Default::default(),
         })
         .unwrap_err();

@@ -72,7 +72,7 @@ pub const SAMPLE_EVERY: u64 = 64;
 /// Optional placement of the container's thread. Where the operating system refuses
 /// (no permission for real-time priority, say), the container runs anyway and the
 /// refusal is returned as a warning.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ThreadOptions {
     /// Real-time priority (SCHED_FIFO, 1–99 on Linux).
     pub priority: Option<i32>,

@@ -140,6 +140,22 @@ pub struct ParamInfo {
     pub doc: Option<String>,
 }
 
+/// A flexible port group (`<flexible port dir same-type min-count max-count>`): the
+/// instance declares its ports in the model.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FlexibleInfo {
+    /// The group's name (`in`): ports `in/0`, `in/1`, … or just `in`.
+    pub group: String,
+    /// Input or output.
+    pub dir: Direction,
+    /// All ports of one type.
+    pub same_type: bool,
+    /// Fewest ports an instance declares.
+    pub min_count: u32,
+    /// Most ports an instance declares (`None`: no limit).
+    pub max_count: Option<u32>,
+}
+
 /// Everything a manifest says about a module type, as the Rust code declares it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Interface {
@@ -155,12 +171,40 @@ pub struct Interface {
     pub ports: Vec<PortInfo>,
     /// Parameters in declaration order.
     pub params: Vec<ParamInfo>,
+    /// Flexible port groups (their ports, for an instance, are among `ports`).
+    pub flexible: Vec<FlexibleInfo>,
+    /// Services it answers and clients it calls with, in declaration order.
+    pub services: Vec<ServiceInfo>,
+}
+
+/// One declared `<service>` (answered by the module) or `<client>` (calls one).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ServiceInfo {
+    /// Name, unique among the module's ports and services.
+    pub name: String,
+    /// `true` for a `<client>`, `false` for a `<service>`.
+    pub client: bool,
+    /// Model type of the requests.
+    pub request: String,
+    /// Model type of the responses.
+    pub response: String,
+    /// Who executes a service's requests (`Server` for clients).
+    pub executes: crate::service::Executes,
+    /// How long a client's blocking call waits (`None`: until answered).
+    pub timeout: Option<std::time::Duration>,
+    /// One-line description.
+    pub doc: Option<String>,
 }
 
 impl Interface {
     /// The port called `name`.
     pub fn port(&self, name: &str) -> Option<&PortInfo> {
         self.ports.iter().find(|p| p.name == name)
+    }
+
+    /// The service or client called `name`.
+    pub fn service(&self, name: &str) -> Option<&ServiceInfo> {
+        self.services.iter().find(|s| s.name == name)
     }
 
     /// The parameter called `name`.

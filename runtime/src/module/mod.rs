@@ -7,14 +7,26 @@
 //! runtime reports (and `ferroc types export` writes) is exactly what the code owns.
 //! See `docs/writing-modules.md` for a complete walk-through.
 
+mod flex;
+mod flex_setup;
 mod interface;
 mod param;
+mod services;
 pub(crate) mod setup;
+mod time;
 mod value;
 
-pub use interface::{Direction, Interface, Kind, MetaType, ParamInfo, PortInfo, Role};
+pub use flex::{
+    DebugText, DynIn, DynOut, Number, NumberText, PlainText, ValueTable, ValueText, ValueType,
+};
+pub use flex_setup::{FlexibleDecl, PortGroup, MAX_GROUP_PORTS};
+pub use interface::{
+    Direction, FlexibleInfo, Interface, Kind, MetaType, ParamInfo, PortInfo, Role, ServiceInfo,
+};
 pub use param::{ParamHandle, ParamValue, Parameter, Value};
+pub use services::{ClientDecl, ServiceDecl};
 pub use setup::{InputDecl, OutputDecl, ParamDecl, PortDecl, Setup};
+pub use time::Timestamp;
 pub use value::{CopyKind, In, Out, PooledKind, PortKind, PortValue};
 
 /// What a module does in a cycle. Plain modules implement `update`; sense-control

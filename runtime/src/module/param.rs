@@ -180,6 +180,12 @@ impl<T: ParamValue> Parameter<T> {
         (parameter, handle)
     }
 
+    /// A parameter holding `value` that nothing can set: for unit tests that build a
+    /// module by hand instead of through a [`Setup`](super::Setup).
+    pub fn fixed(value: T) -> Self {
+        Self::new("", value, None).0
+    }
+
     fn refresh(&mut self) {
         let version = self.cell.version.load(Ordering::Acquire);
         if version != self.seen {

@@ -22,6 +22,8 @@
 //! }
 //! ```
 
+use super::flex::ValueTable;
+use super::flex_setup::PortGroup;
 use super::interface::{Direction, Interface, MetaType, ParamInfo, PortInfo, Role};
 use super::param::{Check, ParamHandle, ParamValue, Parameter, Value};
 use super::value::{In, Out, PortKind, PortValue};
@@ -36,6 +38,13 @@ use std::sync::{Arc, OnceLock};
 pub struct Setup<'a> {
     given: &'a [(String, Value)],
     queues: &'a [(String, QueueConfig)],
+    /// Value types by model name, for ports the instance declares.
+    pub(crate) values: &'a ValueTable,
+    /// The flexible port groups the instance declares (`<port name dir type count>`).
+    pub(crate) groups: &'a [PortGroup<'a>],
+    /// Flexible groups the type declared (the Builder refuses an instance declaring
+    /// any other).
+    pub(crate) claimed: Vec<String>,
     path: String,
     pub(crate) policy: ViolationPolicy,
     pub(crate) log: Arc<ViolationLog>,
@@ -43,6 +52,9 @@ pub struct Setup<'a> {
     pub(crate) inputs: Vec<(String, InputHandle)>,
     pub(crate) outputs: Vec<(String, OutputHandle)>,
     pub(crate) params: Vec<(String, ParamHandle)>,
+    /// Services and clients, for the Builder to connect (see `services.rs`).
+    pub(crate) services: Vec<(String, crate::service::ServiceHandle)>,
+    pub(crate) clients: Vec<(String, crate::service::ClientHandle)>,
     /// Lock slots, bound to resources by the Builder.
     pub(crate) locks: Vec<SlotBinding>,
     pub(crate) errors: Vec<String>,
@@ -63,10 +75,15 @@ impl<'a> Setup<'a> {
         interface: Interface,
         given: &'a [(String, Value)],
         queues: &'a [(String, QueueConfig)],
+        values: &'a ValueTable,
+        groups: &'a [PortGroup<'a>],
     ) -> Self {
         Setup {
             given,
             queues,
+            values,
+            groups,
+            claimed: Vec::new(),
             path: String::new(),
             policy: ViolationPolicy::default(),
             log: Arc::default(),
@@ -74,6 +91,8 @@ impl<'a> Setup<'a> {
             inputs: Vec::new(),
             outputs: Vec::new(),
             params: Vec::new(),
+            services: Vec::new(),
+            clients: Vec::new(),
             locks: Vec::new(),
             errors: Vec::new(),
             activity_inputs: Vec::new(),
@@ -198,8 +217,14 @@ impl<'a> Setup<'a> {
         }
     }
 
-    fn record_port(&mut self, info: PortInfo) {
-        if self.interface.port(&info.name).is_some() {
+    /// The queue the model's connection gives input `name`, if any.
+    pub(crate) fn queue_of(&self, name: &str) -> Option<QueueConfig> {
+        self.queues.iter().find(|(n, _)| n == name).map(|(_, q)| *q)
+    }
+
+    pub(crate) fn record_port(&mut self, info: PortInfo) {
+        if self.interface.port(&info.name).is_some() || self.interface.service(&info.name).is_some()
+        {
             self.errors
                 .push(format!("the port `{}` is declared twice", info.name));
         }
@@ -281,11 +306,7 @@ impl<'s, 'a> InputDecl<'s, 'a> {
             meta,
         } = self.0;
         info.model_type = model_type;
-        let queue = setup
-            .queues
-            .iter()
-            .find(|(name, _)| *name == info.name)
-            .map(|(_, q)| *q);
+        let queue = setup.queue_of(&info.name);
         let (port, handle) = T::Kind::input(&info.name, queue);
         if meta == Some(MetaType::Activity) {
             // Only `f64` ports get here without an error (see `model_type`).

@@ -30,8 +30,9 @@ pub trait PortKind<T>: 'static {
     type Input: Send + Sync + 'static;
     /// The concrete output port.
     type Output: Send + Sync + 'static;
-    /// What reading an input gives: the value itself, or a shared reference to it.
-    type Read;
+    /// What reading an input gives: the value itself, or a shared reference to it
+    /// (either way it borrows as `&T`, which type-erased ports rely on).
+    type Read: std::borrow::Borrow<T>;
     /// A new input (queued if `queue` is given) and its handle for wiring.
     fn input(name: &str, queue: Option<QueueConfig>) -> (Self::Input, InputHandle);
     /// A new output and its handle for wiring.
@@ -229,6 +230,8 @@ macro_rules! builtin_copy {
 
 builtin_copy!(f64 => "f64", f32 => "f32", i8 => "i8", i16 => "i16", i32 => "i32",
     i64 => "i64", u8 => "u8", u16 => "u16", u32 => "u32", u64 => "u64");
+
+port_value!(super::Timestamp, "timestamp", copy);
 
 /// `bool` has no `NoUninit` (not every bit pattern is valid), so it travels pooled.
 impl PortValue for bool {

@@ -64,6 +64,12 @@ impl<T> Deref for PortRef<T> {
     }
 }
 
+impl<T> std::borrow::Borrow<T> for PortRef<T> {
+    fn borrow(&self) -> &T {
+        self
+    }
+}
+
 impl<T> Clone for PortRef<T> {
     fn clone(&self) -> Self {
         // SAFETY: our own reference keeps the slot live.

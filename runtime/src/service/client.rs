@@ -26,6 +26,20 @@ pub(crate) struct ClientCore<Req, Resp> {
 }
 
 impl<Req, Resp> ClientCore<Req, Resp> {
+    /// See [`ClientPort::set_notifier`].
+    pub(crate) fn set_notifier(&self, notifier: Notifier) -> Result<(), Notifier> {
+        let mut state = lock(&self.state);
+        if state.notifier.is_some() {
+            return Err(notifier);
+        }
+        state.notifier = Some(notifier);
+        Ok(())
+    }
+
+    pub(crate) fn name(&self) -> &str {
+        &self.name
+    }
+
     /// The identity a server files this client's requests under.
     fn id(this: &Arc<Self>) -> usize {
         Arc::as_ptr(this).cast::<()>() as usize
@@ -117,12 +131,12 @@ impl<Req: Send + 'static, Resp: Send + 'static> ClientPort<Req, Resp> {
     /// (once per port; a data-triggered container registers its wakeup). Gives it back
     /// if one is already set. Called on the answering thread: keep it short.
     pub fn set_notifier(&self, notifier: Notifier) -> Result<(), Notifier> {
-        let mut state = lock(&self.core.state);
-        if state.notifier.is_some() {
-            return Err(notifier);
-        }
-        state.notifier = Some(notifier);
-        Ok(())
+        self.core.set_notifier(notifier)
+    }
+
+    /// A type-erased handle for wiring by name (the runtime builder's use).
+    pub fn handle(&self) -> super::ClientHandle {
+        super::ClientHandle::new(&self.core)
     }
 
     /// Calls the service and waits for the answer — at most the client's
@@ -216,24 +230,30 @@ pub(crate) fn connect<Req, Resp>(
     client: &ClientPort<Req, Resp>,
     service: &ServicePort<Req, Resp>,
 ) -> Result<(), ServiceConnectError> {
-    let mut state = lock(&client.core.state);
+    connect_cores(&client.core, &service.core)
+}
+
+/// [`connect`] on the shared cores (what type-erased handles hold).
+pub(crate) fn connect_cores<Req, Resp>(
+    client: &Arc<ClientCore<Req, Resp>>,
+    service: &Arc<ServerCore<Req, Resp>>,
+) -> Result<(), ServiceConnectError> {
+    let mut state = lock(&client.state);
     if let Some(current) = &state.service {
-        return Err(if Arc::ptr_eq(current, &service.core) {
+        return Err(if Arc::ptr_eq(current, service) {
             ServiceConnectError::AlreadyConnected {
-                client: client.core.name.clone(),
+                client: client.name.clone(),
                 service: current.name.clone(),
             }
         } else {
             ServiceConnectError::ClientBusy {
-                client: client.core.name.clone(),
+                client: client.name.clone(),
                 connected_to: current.name.clone(),
             }
         });
     }
-    lock(&service.core.state)
-        .clients
-        .push(Arc::clone(&client.core));
-    state.service = Some(Arc::clone(&service.core));
+    lock(&service.state).clients.push(Arc::clone(client));
+    state.service = Some(Arc::clone(service));
     Ok(())
 }
 

@@ -75,12 +75,14 @@
 //! `docs/runtime-services.md` shows a whole module pair.
 
 mod client;
+mod handle;
 mod reply;
 mod server;
 
 use std::fmt;
 
 pub use client::ClientPort;
+pub use handle::{ClientHandle, ServiceHandle};
 pub use reply::{PendingResponse, Responder};
 pub use server::{Request, ServicePort};
 
@@ -148,6 +150,14 @@ pub enum ServiceConnectError {
         /// Name of the service it is connected to.
         connected_to: String,
     },
+    /// The client's request or response type differs from the service's (only
+    /// possible when wiring by name, through handles).
+    TypeMismatch {
+        /// The client: name (request → response).
+        client: String,
+        /// The service: name (request → response).
+        service: String,
+    },
 }
 
 impl fmt::Display for ServiceConnectError {
@@ -163,6 +173,11 @@ impl fmt::Display for ServiceConnectError {
                 f,
                 "client `{client}` is connected to `{connected_to}`; a client calls one \
                  service at a time (disconnect it first)"
+            ),
+            ServiceConnectError::TypeMismatch { client, service } => write!(
+                f,
+                "client {client} cannot call service {service}: request and response \
+                 types must be the same"
             ),
         }
     }

@@ -53,6 +53,16 @@ pub(crate) struct ServerCore<Req, Resp> {
 }
 
 impl<Req, Resp> ServerCore<Req, Resp> {
+    /// See [`ServicePort::set_notifier`].
+    pub(crate) fn set_notifier(&self, notifier: Notifier) -> Result<(), Notifier> {
+        let mut state = lock(&self.state);
+        if state.notifier.is_some() {
+            return Err(notifier);
+        }
+        state.notifier = Some(notifier);
+        Ok(())
+    }
+
     /// Queues a request (server-executed services), under the caller's client lock so
     /// that a concurrent disconnect either withdraws it or comes first. Returns the
     /// reply slot and the server's notifier, to call once every lock is released.
@@ -280,12 +290,12 @@ impl<Req: Send + 'static, Resp: Send + 'static> ServicePort<Req, Resp> {
     /// container registers its wakeup). Gives it back if one is already set. Called on
     /// the caller's thread after the request is queued: keep it short.
     pub fn set_notifier(&self, notifier: Notifier) -> Result<(), Notifier> {
-        let mut state = lock(&self.core.state);
-        if state.notifier.is_some() {
-            return Err(notifier);
-        }
-        state.notifier = Some(notifier);
-        Ok(())
+        self.core.set_notifier(notifier)
+    }
+
+    /// A type-erased handle for wiring by name (the runtime builder's use).
+    pub fn handle(&self) -> super::ServiceHandle {
+        super::ServiceHandle::new(&self.core, self.executes())
     }
 
     /// Serves the requests that are queued now, in arrival order, each with `handler`;

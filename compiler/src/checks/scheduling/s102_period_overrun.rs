@@ -30,7 +30,7 @@ or make the largest contributors cheaper (and lower their declared budgets).",
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for load in loads(ctx.app, ctx.libraries, false) {
+    for load in loads(ctx.app, ctx.libraries, None) {
         let Some(period) = load.period else { continue };
         if load.total() > period * (1.0 + EPS) {
             out.push(report(ctx, &load, period));

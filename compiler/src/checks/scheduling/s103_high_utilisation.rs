@@ -35,7 +35,7 @@ raise the threshold if the margin is known to be enough.",
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     let threshold = ctx.app.timing.warning.map_or(DEFAULT_THRESHOLD, |w| w.0);
-    for load in loads(ctx.app, ctx.libraries, true) {
+    for load in loads(ctx.app, ctx.libraries, Some(ctx.deadlock_model())) {
         let Some(period) = load.period else { continue };
         if load.total() > period * (1.0 + EPS) {
             continue; // S102

@@ -69,7 +69,7 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             hosts[h].cores = Some(*cores);
         }
     }
-    for load in loads(app, ctx.libraries, false) {
+    for load in loads(app, ctx.libraries, None) {
         let (Some(u), Some(part)) = (load.utilisation(), app.element(load.thread).part) else {
             continue;
         };

@@ -48,7 +48,7 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     if app.timing.priority.len() < 2 {
         return;
     }
-    let m = crate::deadlock::model(app, ctx.libraries);
+    let m = ctx.deadlock_model();
     let thread = |ec: u32| m.ecs[ec as usize].thread;
     // Who takes each lock.
     let mut takers: Vec<Vec<u32>> = vec![Vec::new(); m.locks.len()];

@@ -1,0 +1,181 @@
+//! The flexible modules of `ferroc_std` (`Sum`, `FlexiSelect`, `Dump`) and `Clock`.
+//!
+//! The instance declares the ports of a flexible type in the model (`<port name="in"
+//! dir="in" type="u32" count="3"/>`); the code receives them type-erased from
+//! [`Setup::flexible_inputs`] and works with them through the runtime's value-type
+//! table: numbers as `f64` (`Sum`), values forwarded unchanged (`FlexiSelect`), values
+//! as text (`Dump`, and `Logger` in `logger.rs`).
+
+use ferroc_runtime::console;
+use ferroc_runtime::module::{
+    DynIn, DynOut, In, Module, ModuleType, Out, Parameter, Setup, Timestamp,
+};
+
+/// `ferroc_std.Clock`: the wall-clock time and a cycle counter.
+pub struct Clock {
+    time: Out<Timestamp>,
+    tick: Out<u64>,
+    ticks: u64,
+}
+
+impl ModuleType for Clock {
+    const NAME: &'static str = "ferroc_std.Clock";
+    const DOC: &'static str =
+        "Publishes the current time and a monotonically increasing tick count";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Clock {
+            time: m
+                .output("time")
+                .doc("time at the start of the cycle")
+                .build(),
+            tick: m
+                .output("tick")
+                .doc("number of cycles executed so far")
+                .build(),
+            ticks: 0,
+        }
+    }
+}
+
+impl Module for Clock {
+    /// Publishes the time when its step runs (Clock is cheap: put it first in its
+    /// thread container to get the start of the cycle) and the number of cycles
+    /// including this one (1 in the first cycle).
+    fn update(&mut self) {
+        self.ticks = self.ticks.saturating_add(1);
+        self.time.publish(Timestamp::now());
+        self.tick.publish(self.ticks);
+    }
+}
+
+/// `ferroc_std.Sum`: `out = in/0 + in/1 + …`, in the inputs' (one, numeric) type.
+///
+/// Added as `f64` and converted back with `as` (saturating): exact for every number
+/// up to 2^53, which covers counters and sensor values; larger `i64`/`u64` sums round.
+pub struct Sum {
+    inputs: Vec<DynIn>,
+    out: DynOut,
+}
+
+impl ModuleType for Sum {
+    const NAME: &'static str = "ferroc_std.Sum";
+    const DOC: &'static str = "Adds all of its (instance-declared) inputs";
+    fn create(m: &mut Setup<'_>) -> Self {
+        let inputs = m.flexible_inputs("in").same_type().min_count(1).build_dyn();
+        if let Some(ty) = m.flexible_type("in") {
+            if m.value_type_of(ty).is_some_and(|v| !v.is_number()) {
+                m.problem(format!(
+                    "Sum adds numbers; its inputs have type `{ty}` (use a number type: f64, u32, …)"
+                ));
+            }
+        }
+        Sum {
+            inputs,
+            out: m.output_like("out", "in"),
+        }
+    }
+}
+
+impl Module for Sum {
+    fn update(&mut self) {
+        let sum: f64 = self.inputs.iter().filter_map(DynIn::get_f64).sum();
+        self.out.publish_f64(sum);
+    }
+}
+
+/// `ferroc_std.FlexiSelect`: forwards input `select` (clamped to the last input) to
+/// `out` and reports on `index` which one it forwarded.
+pub struct FlexiSelect {
+    inputs: Vec<DynIn>,
+    select: In<u32>,
+    out: DynOut,
+    index: Out<u32>,
+}
+
+impl ModuleType for FlexiSelect {
+    const NAME: &'static str = "ferroc_std.FlexiSelect";
+    const DOC: &'static str = "Forwards one of several inputs of the same type";
+    fn create(m: &mut Setup<'_>) -> Self {
+        let inputs = m.flexible_inputs("in").same_type().min_count(1).build_dyn();
+        FlexiSelect {
+            inputs,
+            select: m
+                .input("select")
+                .doc("index of the input to forward (default 0)")
+                .build(),
+            out: m.output_like("out", "in"),
+            index: m
+                .output("index")
+                .doc("index of the input actually forwarded")
+                .build(),
+        }
+    }
+}
+
+impl Module for FlexiSelect {
+    /// Forwards every cycle (latest-value semantics, like `Scale`): a pooled value is
+    /// cloned into a recycled buffer, a copy value copied.
+    fn update(&mut self) {
+        let Some(last) = self.inputs.len().checked_sub(1) else {
+            return;
+        };
+        let k = (self.select.get() as usize).min(last);
+        self.out.forward(&self.inputs[k]);
+        self.index.publish(k as u32);
+    }
+}
+
+/// `ferroc_std.Dump`: prints every input that received new data, one line each:
+/// `label: in/0 = 1.5` (library types by their `Debug` text).
+pub struct Dump {
+    inputs: Vec<DynIn>,
+    label: Parameter<String>,
+    line: String,
+    print: fn(&str),
+}
+
+impl ModuleType for Dump {
+    const NAME: &'static str = "ferroc_std.Dump";
+    const DOC: &'static str = "Prints its inputs to the console (debugging aid)";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Dump {
+            inputs: m.flexible_inputs("in").min_count(1).build_dyn(),
+            label: m
+                .param("label")
+                .default("dump".to_owned())
+                .doc("prefix of every printed line")
+                .build(),
+            line: String::new(),
+            print: console::line,
+        }
+    }
+}
+
+impl Dump {
+    /// The lines of this cycle, each handed to `emit` (the line buffer is reused:
+    /// no allocation once it is long enough).
+    fn dump(&mut self, mut emit: impl FnMut(&str)) {
+        let label = self.label.value();
+        for input in &self.inputs {
+            if input.changed() {
+                self.line.clear();
+                self.line.push_str(label);
+                self.line.push_str(": ");
+                self.line.push_str(input.name());
+                self.line.push_str(" = ");
+                input.write_human(&mut self.line);
+                emit(&self.line);
+            }
+        }
+    }
+}
+
+impl Module for Dump {
+    fn update(&mut self) {
+        let print = self.print;
+        self.dump(print);
+    }
+}
+
+#[cfg(test)]
+mod tests;

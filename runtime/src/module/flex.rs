@@ -1,0 +1,479 @@
+//! Ports whose value type the *model* names: the value-type table and the type-erased
+//! [`DynIn`] / [`DynOut`] a flexible module (`ferroc_std.Dump`, `FlexiSelect`, …) owns.
+//!
+//! A flexible module is compiled once but its instances declare their ports in the
+//! model (`<port name="in" dir="in" type="warehouse.RobotStatus" count="3"/>`), so the
+//! code cannot name the Rust type. The [`ValueTable`] maps each model type name to a
+//! [`ValueType`]: plain function pointers, monomorphised per Rust type when the type is
+//! registered, that create its ports through the ordinary [`PortKind`] machinery (copy
+//! or pooled, exactly as an `In<T>` would be) and read, forward, convert and format its
+//! values. Nothing here is new concurrency: a `DynIn` *is* an `In<T>` behind a trait
+//! object, so the lock-free port core (and its loom/Miri coverage) is reused as is.
+//!
+//! On the cycle path there are no locks and, for copy types, no allocations: a call is
+//! one virtual call plus, for forwarding, one `TypeId` comparison. Formatting writes
+//! into a caller-owned `String` that keeps its capacity; forwarding a pooled value
+//! `clone_from`s into a recycled buffer (allocation-free for `Vec`/`String`, and for
+//! any type whose `Clone::clone_from` reuses memory).
+
+use super::value::{In, Out, PortKind, PortValue};
+use super::Timestamp;
+use crate::port::{InputHandle, OutputHandle, QueueConfig};
+use std::any::Any;
+use std::borrow::Borrow;
+use std::collections::BTreeMap;
+use std::fmt::{Debug, Write};
+use std::marker::PhantomData;
+
+/// How a registered value type's values are read as numbers and written as text. Each
+/// built-in family has one; library types use [`DebugText`] (their `Debug` output).
+pub trait ValueText<T>: 'static {
+    /// For people (`ferroc_std.Dump`): `1.5`, `true`, `hello`, `Pose2D { x: 1.0, .. }`.
+    fn human(value: &T, out: &mut String);
+    /// For one JSON-lines record (`ferroc_std.Logger`): a JSON number, `true`, a
+    /// quoted string, `null` for a non-finite float.
+    fn json(value: &T, out: &mut String);
+    /// The value as a number, if the type is a number.
+    fn to_f64(_value: &T) -> Option<f64> {
+        None
+    }
+    /// A number as a value of the type (saturating), if the type is a number.
+    fn from_f64(_x: f64) -> Option<T> {
+        None
+    }
+}
+
+/// Library types: `Debug` for people, the `Debug` text as a JSON string for logs.
+pub struct DebugText;
+/// Built-in numbers: `Display`, JSON numbers, and conversions to and from `f64`.
+pub struct NumberText;
+/// `bool`, `string`, `timestamp`: their `Display`, quoted in JSON where needed.
+pub struct PlainText;
+
+impl<T: Debug> ValueText<T> for DebugText {
+    fn human(value: &T, out: &mut String) {
+        let _ = write!(out, "{value:?}");
+    }
+    fn json(value: &T, out: &mut String) {
+        let start = out.len();
+        let _ = write!(out, "{value:?}");
+        quote_tail(out, start);
+    }
+}
+
+/// A built-in number type (what [`NumberText`] can convert).
+pub trait Number: Copy + std::fmt::Display {
+    /// `self as f64`.
+    fn to_f64(self) -> f64;
+    /// `x as Self` (saturating; NaN gives 0 for integers).
+    fn from_f64(x: f64) -> Self;
+    /// Whether the value has a JSON spelling (integers always; finite floats).
+    fn is_finite(self) -> bool;
+}
+
+macro_rules! number {
+    ($($ty:ty: $finite:expr),*) => {$(
+        impl Number for $ty {
+            fn to_f64(self) -> f64 {
+                self as f64
+            }
+            fn from_f64(x: f64) -> Self {
+                x as $ty
+            }
+            fn is_finite(self) -> bool {
+                let check: fn($ty) -> bool = $finite;
+                check(self)
+            }
+        }
+    )*};
+}
+number!(f64: f64::is_finite, f32: f32::is_finite, i8: |_| true, i16: |_| true,
+    i32: |_| true, i64: |_| true, u8: |_| true, u16: |_| true, u32: |_| true,
+    u64: |_| true);
+
+impl<T: Number> ValueText<T> for NumberText {
+    fn human(value: &T, out: &mut String) {
+        let _ = write!(out, "{value}");
+    }
+    fn json(value: &T, out: &mut String) {
+        if value.is_finite() {
+            let _ = write!(out, "{value}");
+        } else {
+            out.push_str("null");
+        }
+    }
+    fn to_f64(value: &T) -> Option<f64> {
+        Some(value.to_f64())
+    }
+    fn from_f64(x: f64) -> Option<T> {
+        Some(T::from_f64(x))
+    }
+}
+
+impl ValueText<bool> for PlainText {
+    fn human(value: &bool, out: &mut String) {
+        out.push_str(if *value { "true" } else { "false" });
+    }
+    fn json(value: &bool, out: &mut String) {
+        Self::human(value, out)
+    }
+}
+
+impl ValueText<String> for PlainText {
+    fn human(value: &String, out: &mut String) {
+        out.push_str(value);
+    }
+    fn json(value: &String, out: &mut String) {
+        let start = out.len();
+        out.push_str(value);
+        quote_tail(out, start);
+    }
+}
+
+/// `1.5s` for people (`Debug`), seconds as a JSON number.
+impl ValueText<std::time::Duration> for PlainText {
+    fn human(value: &std::time::Duration, out: &mut String) {
+        let _ = write!(out, "{value:?}");
+    }
+    fn json(value: &std::time::Duration, out: &mut String) {
+        let _ = write!(out, "{}", value.as_secs_f64());
+    }
+}
+
+impl ValueText<Timestamp> for PlainText {
+    fn human(value: &Timestamp, out: &mut String) {
+        let _ = write!(out, "{value}");
+    }
+    fn json(value: &Timestamp, out: &mut String) {
+        let _ = write!(out, "\"{value}\"");
+    }
+}
+
+/// Turns `out[start..]` into a JSON string literal in place, without allocating once
+/// `out` has the capacity: the escaped text is appended behind the raw text, which is
+/// then drained away.
+pub(crate) fn quote_tail(out: &mut String, start: usize) {
+    let raw_end = out.len();
+    out.push('"');
+    let mut i = start;
+    while let Some(c) = out.get(i..raw_end).and_then(|rest| rest.chars().next()) {
+        i += c.len_utf8();
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if c < ' ' => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out.drain(start..raw_end);
+}
+
+/// What the runtime knows about one registered value type (the table's entry).
+#[derive(Clone, Copy)]
+pub struct ValueType {
+    rust: &'static str,
+    number: bool,
+    copy: bool,
+    input: fn(&str, Option<QueueConfig>) -> (DynIn, InputHandle),
+    output: fn(&str) -> (DynOut, OutputHandle),
+}
+
+impl ValueType {
+    /// The Rust type behind it (for messages).
+    pub fn rust(&self) -> &'static str {
+        self.rust
+    }
+    /// Whether values convert to and from `f64` (the built-in numbers).
+    pub fn is_number(&self) -> bool {
+        self.number
+    }
+    /// Whether its ports take the seqlock copy path (else the pooled path).
+    pub fn is_copy(&self) -> bool {
+        self.copy
+    }
+}
+
+impl std::fmt::Debug for ValueType {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "ValueType({})", self.rust)
+    }
+}
+
+/// Model type name → [`ValueType`]; the built-in types are always there.
+#[derive(Clone, Debug)]
+pub struct ValueTable {
+    types: BTreeMap<String, ValueType>,
+}
+
+impl Default for ValueTable {
+    fn default() -> Self {
+        let mut t = ValueTable {
+            types: BTreeMap::new(),
+        };
+        macro_rules! numbers {
+            ($($ty:ty),*) => {$(
+                t.insert::<$ty, NumberText>();
+                t.insert::<Vec<$ty>, DebugText>();
+            )*};
+        }
+        numbers!(f64, f32, i8, i16, i32, i64, u8, u16, u32, u64);
+        t.insert::<bool, PlainText>();
+        t.insert::<String, PlainText>();
+        t.insert::<Timestamp, PlainText>();
+        t.insert::<[f64; 2], DebugText>();
+        t.insert::<[f64; 3], DebugText>();
+        t.insert::<[f64; 4], DebugText>();
+        t.insert::<std::time::Duration, PlainText>();
+        // The iB2C meta signals travel as `f64` under their own model names.
+        for meta in ["Stimulation", "Inhibition", "Activity", "TargetRating"] {
+            t.insert_as::<f64, NumberText>(meta);
+        }
+        t
+    }
+}
+
+impl ValueTable {
+    /// Registers `T` under its model name, read and written through `S`; a later
+    /// registration of the same name replaces the earlier one.
+    pub fn insert<T, S>(&mut self) -> &mut Self
+    where
+        T: PortValue + Clone,
+        S: ValueText<T>,
+    {
+        self.insert_as::<T, S>(&T::model_type())
+    }
+
+    /// Registers `T` under another model name than its own (the meta types, which are
+    /// `f64` values with their own names).
+    fn insert_as<T, S>(&mut self, model_type: &str) -> &mut Self
+    where
+        T: PortValue + Clone,
+        S: ValueText<T>,
+    {
+        let copy = std::any::TypeId::of::<T::Kind>() == std::any::TypeId::of::<super::CopyKind>();
+        self.types.insert(
+            model_type.to_owned(),
+            ValueType {
+                rust: std::any::type_name::<T>(),
+                number: S::from_f64(0.0).is_some(),
+                copy,
+                input: new_input::<T, S>,
+                output: new_output::<T, S>,
+            },
+        );
+        self
+    }
+
+    /// The entry of a model type name (`f64`, `warehouse.RobotStatus`).
+    pub fn get(&self, model_type: &str) -> Option<&ValueType> {
+        self.types.get(model_type)
+    }
+
+    /// Registered model type names, sorted.
+    pub fn names(&self) -> impl Iterator<Item = &str> + '_ {
+        self.types.keys().map(String::as_str)
+    }
+}
+
+impl ValueType {
+    /// A new input port named `name` (a queue if `queue` is given) and its handle for
+    /// wiring (modules get theirs from [`Setup`](super::Setup); tools and tests that
+    /// observe a port of any type make one here).
+    pub fn input(&self, name: &str, queue: Option<QueueConfig>) -> (DynIn, InputHandle) {
+        (self.input)(name, queue)
+    }
+    /// A new output port named `name` and its handle for wiring.
+    pub fn output(&self, name: &str) -> (DynOut, OutputHandle) {
+        (self.output)(name)
+    }
+}
+
+/// The typed port behind a [`DynIn`].
+trait ErasedIn: Send + Sync + 'static {
+    fn changed(&self) -> bool;
+    fn human(&self, out: &mut String);
+    fn json(&self, out: &mut String);
+    fn to_f64(&self) -> Option<f64>;
+    /// The `In<T>` inside.
+    fn port_any(&self) -> &dyn Any;
+}
+
+/// The typed port behind a [`DynOut`].
+trait ErasedOut: Send + Sync + 'static {
+    fn publish_f64(&self, x: f64) -> bool;
+    fn forward(&self, from: &dyn ErasedIn) -> bool;
+    /// The `Out<T>` inside.
+    fn port_any(&self) -> &dyn Any;
+}
+
+struct TypedIn<T: PortValue, S> {
+    port: In<T>,
+    _text: PhantomData<fn() -> S>,
+}
+
+struct TypedOut<T: PortValue, S> {
+    port: Out<T>,
+    _text: PhantomData<fn() -> S>,
+}
+
+impl<T: PortValue + Clone, S: ValueText<T>> ErasedIn for TypedIn<T, S> {
+    fn changed(&self) -> bool {
+        self.port.changed()
+    }
+    fn human(&self, out: &mut String) {
+        S::human(self.port.get().borrow(), out)
+    }
+    fn json(&self, out: &mut String) {
+        S::json(self.port.get().borrow(), out)
+    }
+    fn to_f64(&self) -> Option<f64> {
+        S::to_f64(self.port.get().borrow())
+    }
+    fn port_any(&self) -> &dyn Any {
+        &self.port
+    }
+}
+
+impl<T: PortValue + Clone, S: ValueText<T>> ErasedOut for TypedOut<T, S> {
+    fn publish_f64(&self, x: f64) -> bool {
+        match S::from_f64(x) {
+            Some(v) => {
+                self.port.publish(v);
+                true
+            }
+            None => false,
+        }
+    }
+    fn forward(&self, from: &dyn ErasedIn) -> bool {
+        // The Rust type decides (whatever text style either side was registered with).
+        let Some(from) = from.port_any().downcast_ref::<In<T>>() else {
+            return false;
+        };
+        let value = from.get();
+        self.port
+            .publish_with(|buffer| buffer.clone_from(value.borrow()));
+        true
+    }
+    fn port_any(&self) -> &dyn Any {
+        &self.port
+    }
+}
+
+fn new_input<T: PortValue + Clone, S: ValueText<T>>(
+    name: &str,
+    queue: Option<QueueConfig>,
+) -> (DynIn, InputHandle) {
+    let (port, handle) = <T::Kind as PortKind<T>>::input(name, queue);
+    let port = TypedIn::<T, S> {
+        port: In::from_port(port),
+        _text: PhantomData,
+    };
+    (
+        DynIn {
+            name: name.to_owned(),
+            port: Box::new(port),
+        },
+        handle,
+    )
+}
+
+fn new_output<T: PortValue + Clone, S: ValueText<T>>(name: &str) -> (DynOut, OutputHandle) {
+    let (port, handle) = <T::Kind as PortKind<T>>::output(name);
+    let port = TypedOut::<T, S> {
+        port: Out::from_port(port),
+        _text: PhantomData,
+    };
+    (
+        DynOut {
+            name: name.to_owned(),
+            port: Some(Box::new(port)),
+        },
+        handle,
+    )
+}
+
+/// An input port whose value type the model chose (see the [module docs](self)).
+pub struct DynIn {
+    name: String,
+    port: Box<dyn ErasedIn>,
+}
+
+impl DynIn {
+    /// The port's name (`in/2`).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// True if a value arrived since the last call ("input changed").
+    #[inline]
+    pub fn changed(&self) -> bool {
+        self.port.changed()
+    }
+    /// Appends the latest value, written for people.
+    pub fn write_human(&self, out: &mut String) {
+        self.port.human(out)
+    }
+    /// Appends the latest value as one JSON value.
+    pub fn write_json(&self, out: &mut String) {
+        self.port.json(out)
+    }
+    /// The latest value as a number; `None` if the type is not a built-in number.
+    #[inline]
+    pub fn get_f64(&self) -> Option<f64> {
+        self.port.to_f64()
+    }
+    /// The typed port, if the model's type is `T` (a module that knows its type after
+    /// all, e.g. to read a library struct's fields).
+    pub fn typed<T: PortValue>(&self) -> Option<&In<T>> {
+        self.port.port_any().downcast_ref::<In<T>>()
+    }
+}
+
+/// An output port whose value type the model chose. Created unbound (publishing does
+/// nothing) when the type is unknown: while the registry learns a type's interface,
+/// or when creation has already failed with an error.
+pub struct DynOut {
+    name: String,
+    port: Option<Box<dyn ErasedOut>>,
+}
+
+impl DynOut {
+    pub(crate) fn unbound(name: &str) -> Self {
+        DynOut {
+            name: name.to_owned(),
+            port: None,
+        }
+    }
+    /// The port's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// Publishes `x` converted to the port's number type (`as` semantics: saturating,
+    /// NaN → 0 for integers). False if the type is not a number or the port unbound.
+    #[inline]
+    pub fn publish_f64(&self, x: f64) -> bool {
+        self.port.as_ref().is_some_and(|p| p.publish_f64(x))
+    }
+    /// Publishes the latest value of `from`, which must carry the same value type.
+    /// False (nothing published) if the types differ or the port is unbound.
+    #[inline]
+    pub fn forward(&self, from: &DynIn) -> bool {
+        self.port.as_ref().is_some_and(|p| p.forward(&*from.port))
+    }
+    /// Whether the port exists (its type was known at creation).
+    pub fn is_bound(&self) -> bool {
+        self.port.is_some()
+    }
+    /// The typed port, if the model's type is `T`.
+    pub fn typed<T: PortValue>(&self) -> Option<&Out<T>> {
+        self.port.as_ref()?.port_any().downcast_ref::<Out<T>>()
+    }
+}
+
+#[cfg(test)]
+mod tests;
