@@ -295,6 +295,13 @@ pub fn build(
             ConnectOptions::default(),
         )?;
     }
+    for link in &plan.param_links {
+        builder.connect_param(
+            (&link.from.0, &link.from.1),
+            (&link.to.0, &link.to.1),
+            Conversion::linear(link.scale, 0.0),
+        )?;
+    }
     for call in &plan.calls {
         builder.connect_service(
             (&call.client.0, &call.client.1),

@@ -6,7 +6,7 @@
 //! group ports flattened away and unit scales folded into one conversion, and each
 //! thread container's step order from the scheduling pass.
 
-use crate::ir::{Application, ElementId, ElementKind, ParamSource, PortView};
+use crate::ir::{Application, ElementId, ElementKind, Endpoint, ParamSource, PortView};
 use crate::library::{LibrarySet, PortDir, PortRole};
 use crate::schedule::{self, call_edges, data_edges, DataEdge, StepKind};
 use crate::source::Span;
@@ -86,6 +86,19 @@ pub struct PlannedCall {
     pub span: Span,
 }
 
+/// A module output setting a module parameter while running
+/// (`<connect from="…/max_speed" to="…/param/max_speed"/>`).
+#[derive(Clone, Debug)]
+pub struct PlannedParamLink {
+    /// Module path and output name.
+    pub from: (String, String),
+    /// Module path and parameter name.
+    pub to: (String, String),
+    /// Unit scale from the port's unit to the parameter's.
+    pub scale: f64,
+    pub span: Span,
+}
+
 /// One thread container.
 #[derive(Clone, Debug)]
 pub struct PlannedThread {
@@ -108,6 +121,7 @@ pub struct Plan {
     pub modules: Vec<PlannedModule>,
     pub connections: Vec<PlannedConnection>,
     pub calls: Vec<PlannedCall>,
+    pub param_links: Vec<PlannedParamLink>,
     pub threads: Vec<PlannedThread>,
     pub locks: PlannedLocks,
 }
@@ -295,6 +309,7 @@ pub fn plan(
                 }),
         });
     }
+    plan_param_links(app, libs, &paths, &mut plan, &mut problems);
     for container in schedule::compute(app, libs).containers {
         let ElementKind::Thread {
             period, continuous, ..
@@ -389,6 +404,54 @@ pub fn module_edges<'a>(
         let to = app.view(libs, app.connections[last].to)?;
         (from.dir == PortDir::Out && to.dir == PortDir::In).then_some((edge, from, to))
     })
+}
+
+/// Connections into module parameters. Only a module output straight into a module's
+/// parameter is realised; through group ports it is refused by name (not ignored).
+fn plan_param_links(
+    app: &Application,
+    libs: &LibrarySet,
+    paths: &[String],
+    plan: &mut Plan,
+    problems: &mut Vec<Unsupported>,
+) {
+    for c in &app.connections {
+        let Endpoint::Param {
+            element: target, ..
+        } = c.to
+        else {
+            continue;
+        };
+        let (Some(from), Some(to)) = (app.view(libs, c.from), app.view(libs, c.to)) else {
+            continue;
+        };
+        let Endpoint::Port {
+            element: source, ..
+        } = c.from
+        else {
+            problems.push(Unsupported {
+                what:
+                    "a parameter driven through a group port is not supported by the runtime yet; \
+                       connect the module output to the parameter directly"
+                        .into(),
+                span: c.span,
+            });
+            continue;
+        };
+        let scale = match (from.unit, to.unit) {
+            (Some(a), Some(b)) => match relate(a, b) {
+                UnitRelation::Scaled(f) => f,
+                _ => 1.0,
+            },
+            _ => 1.0,
+        };
+        plan.param_links.push(PlannedParamLink {
+            from: (paths[source.0 as usize].clone(), from.name.to_string()),
+            to: (paths[target.0 as usize].clone(), to.name.to_string()),
+            scale,
+            span: c.span,
+        });
+    }
 }
 
 fn plan_locks(app: &Application, libs: &LibrarySet, paths: &[String]) -> PlannedLocks {

@@ -3,7 +3,9 @@
 
 use ferroc_compiler::ir::{Application, ElementKind};
 use ferroc_compiler::library::LibrarySet;
-use ferroc_compiler::plan::{Plan, PlannedCall, PlannedConnection, PlannedModule, PlannedThread};
+use ferroc_compiler::plan::{
+    Plan, PlannedCall, PlannedConnection, PlannedModule, PlannedParamLink, PlannedThread,
+};
 use ferroc_compiler::source::Span;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -19,6 +21,7 @@ pub struct Part<'p> {
     pub modules: Vec<&'p PlannedModule>,
     pub connections: Vec<&'p PlannedConnection>,
     pub calls: Vec<&'p PlannedCall>,
+    pub param_links: Vec<&'p PlannedParamLink>,
     pub threads: Vec<&'p PlannedThread>,
     /// Libraries (by name) whose module types this part creates.
     pub libraries: Vec<String>,
@@ -95,6 +98,7 @@ pub fn layout<'p>(
             modules: Vec::new(),
             connections: Vec::new(),
             calls: Vec::new(),
+            param_links: Vec::new(),
             threads: Vec::new(),
             libraries: Vec::new(),
             behaviours: Vec::new(),
@@ -200,6 +204,16 @@ pub fn layout<'p>(
                 }
             }
             parts[p].connections.push(c);
+        }
+    }
+    for link in &plan.param_links {
+        let what = format!(
+            "parameter link `{}/{}` → `{}/param/{}`",
+            link.from.0, link.from.1, link.to.0, link.to.1
+        );
+        let ends = (&link.from.0, &link.to.0);
+        if let Some(p) = one_part(&module_part, &parts, ends, &what, link.span, &mut problems) {
+            parts[p].param_links.push(link);
         }
     }
     for call in &plan.calls {

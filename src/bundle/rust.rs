@@ -121,6 +121,22 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         body.line(2, "ConnectOptions::default(),");
         body.line(1, ")?;");
     }
+    for link in &part.param_links {
+        body.blank();
+        body.line(1, &format!("// {}", comment(&(cx.at)(link.span))));
+        body.line(1, "builder.connect_param(");
+        for (module, name) in [&link.from, &link.to] {
+            body.line(
+                2,
+                &format!("{},", call("", &[name_of(module), rust_str(name)])),
+            );
+        }
+        body.line(
+            2,
+            &format!("Conversion::linear({}, 0.0),", float(link.scale)),
+        );
+        body.line(1, ")?;");
+    }
     for link in &part.calls {
         body.blank();
         body.line(1, &format!("// {}", comment(&(cx.at)(link.span))));

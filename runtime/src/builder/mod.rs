@@ -8,6 +8,7 @@
 //! port, never a panic.
 
 mod convert;
+mod param_links;
 mod registry;
 mod running;
 mod services;
@@ -149,7 +150,8 @@ struct Instance {
     interface: Interface,
     inputs: Vec<(String, InputHandle)>,
     outputs: Vec<(String, OutputHandle)>,
-    params: Vec<(String, ParamHandle)>,
+    /// Shared: a parameter driven by a port is set by a step as well as by the app.
+    params: Vec<(String, Arc<ParamHandle>)>,
     services: Vec<(String, crate::service::ServiceHandle)>,
     clients: Vec<(String, crate::service::ClientHandle)>,
     locks: Vec<crate::module::setup::SlotBinding>,
@@ -316,7 +318,11 @@ impl<'r> Builder<'r> {
             interface: setup.interface,
             inputs: setup.inputs,
             outputs: setup.outputs,
-            params: setup.params,
+            params: setup
+                .params
+                .into_iter()
+                .map(|(name, handle)| (name, Arc::new(handle)))
+                .collect(),
             services: setup.services,
             clients: setup.clients,
             locks: setup.locks,
@@ -498,7 +504,7 @@ impl<'r> Builder<'r> {
         )
     }
 
-    fn take_params(&mut self) -> HashMap<(String, String), ParamHandle> {
+    fn take_params(&mut self) -> HashMap<(String, String), Arc<ParamHandle>> {
         let mut params = HashMap::new();
         for m in &mut self.modules {
             for (name, handle) in m.params.drain(..) {

@@ -29,7 +29,7 @@ pub struct RunningApp {
     /// Kept apart from the threads so figures stay readable after [`join`](Self::join).
     stats: Vec<Arc<ContainerStats>>,
     stop: Arc<AtomicBool>,
-    params: HashMap<(String, String), ParamHandle>,
+    params: HashMap<(String, String), std::sync::Arc<ParamHandle>>,
     warnings: Vec<String>,
     lock_order: Arc<LockOrder>,
     violations: Arc<ViolationLog>,
@@ -38,7 +38,7 @@ pub struct RunningApp {
 impl RunningApp {
     pub(super) fn start(
         containers: Vec<(ThreadContainer, ThreadOptions)>,
-        params: HashMap<(String, String), ParamHandle>,
+        params: HashMap<(String, String), std::sync::Arc<ParamHandle>>,
         lock_order: Arc<LockOrder>,
         violations: Arc<ViolationLog>,
         limit: Option<u64>,

@@ -377,3 +377,60 @@ fn a_data_triggered_container_is_not_woken_by_its_own_outputs() {
     assert_eq!(stats.cycles(), 2);
     app.stop();
 }
+
+/// `count → gain/input` and `count → gain/param/factor`: gain = count · count.
+fn squares(cycles: u64) -> f64 {
+    let registry = registry();
+    let mut b = Builder::new(&registry);
+    add(&mut b, "count", "test.Counter", &[]);
+    add(&mut b, "gain", "test.Gain", &[]);
+    b.connect(
+        ("count", "out"),
+        ("gain", "input"),
+        Conversion::default(),
+        ConnectOptions::default(),
+    )
+    .unwrap();
+    b.connect_param(("count", "out"), ("gain", "factor"), Conversion::default())
+        .unwrap();
+    let probe = CopyInputPort::<f64>::new("probe");
+    b.output("gain", "output")
+        .unwrap()
+        .connect(&probe.handle(), ConnectOptions::default())
+        .unwrap();
+    b.add_thread(thread(
+        "main",
+        &[("count", StepKind::Update), ("gain", StepKind::Update)],
+    ))
+    .unwrap();
+    let mut app = b.start(Some(cycles)).unwrap();
+    app.join();
+    probe.get()
+}
+
+#[test]
+fn a_port_drives_a_parameter_in_the_same_cycle_within_its_range() {
+    assert_eq!(squares(3), 9.0);
+    // factor's range is 0..10: 11 and 12 are refused and it stays 10.
+    assert_eq!(squares(12), 120.0);
+}
+
+#[test]
+fn driving_a_missing_or_text_parameter_is_an_error_value() {
+    let registry = registry();
+    let mut b = Builder::new(&registry);
+    add(&mut b, "count", "test.Counter", &[]);
+    add(&mut b, "gain", "test.Gain", &[]);
+    assert!(matches!(
+        b.connect_param(("count", "out"), ("gain", "gain"), Conversion::default()),
+        Err(BuildError::Create { .. })
+    ));
+    assert!(matches!(
+        b.connect_param(
+            ("count", "nothing"),
+            ("gain", "factor"),
+            Conversion::default()
+        ),
+        Err(BuildError::UnknownPort { .. })
+    ));
+}
