@@ -8,9 +8,11 @@
 //! validation in `layout.rs` and the escaping in `text.rs`; files are written only below
 //! the output folder (`out.rs`).
 
+mod code;
 mod fields;
 mod files;
 mod layout;
+mod literals;
 mod out;
 mod resolved;
 mod rust;

@@ -10,15 +10,12 @@ use super::text::{comment, rust_str};
 use ferroc_compiler::plan::Part as ValuePart;
 use ferroc_compiler::schedule::StepKind;
 use ferroc_compiler::source::Span;
-use ferroc_compiler::values::Value;
 use ferroc_runtime::container::ThreadOptions;
 use std::collections::{BTreeSet, HashMap};
 use std::time::Duration;
 
-/// rustfmt's default line width and width for one-line lists (`fn_call_width`,
-/// `array_width`).
-const MAX_WIDTH: usize = 100;
-const LIST_WIDTH: usize = 60;
+use super::code::Code;
+use super::literals::{call, duration, float, human_duration, port_group, value};
 
 /// What a generated file needs to know besides the part.
 pub struct Context<'a> {
@@ -452,152 +449,6 @@ fn module_constants(part: &Part<'_>) -> HashMap<String, String> {
                 out.insert(part.modules[i].path.clone(), n);
             }
             return out;
-        }
-    }
-}
-
-/// `head(args)` (a tuple without head) on one line when it is short enough for rustfmt
-/// (`fn_call_width`), else one argument a line.
-fn call(head: &str, args: &[String]) -> String {
-    let one_line = format!("{head}({})", args.join(", "));
-    if one_line.len() <= LIST_WIDTH && !one_line.contains('\n') {
-        return one_line;
-    }
-    let mut out = format!("{head}(\n");
-    for a in args {
-        for l in format!("{a},").lines() {
-            out.push_str("    ");
-            out.push_str(l);
-            out.push('\n');
-        }
-    }
-    out.push(')');
-    out
-}
-
-/// One entry of `ModuleSpec::ports`: `PortGroup::new("in", Direction::In, "f64", Some(3))`.
-fn port_group(g: &ferroc_compiler::plan::PlannedPortGroup) -> String {
-    let dir = match g.dir {
-        ferroc_compiler::library::PortDir::In => "Direction::In",
-        ferroc_compiler::library::PortDir::Out => "Direction::Out",
-    };
-    let count = g.count.map_or("None".to_string(), |n| format!("Some({n})"));
-    call(
-        "PortGroup::new",
-        &[rust_str(&g.name), dir.to_string(), rust_str(&g.ty), count],
-    )
-}
-
-/// The Rust expression of a parameter value (the conversion `ferroc run` makes).
-fn value(v: &Value, uses_duration: &mut bool) -> String {
-    match v {
-        Value::Bool(b) => format!("Value::Bool({b})"),
-        Value::Int(i) if *i == i128::MIN => "Value::Int(i128::MIN)".into(),
-        Value::Int(i) => format!("Value::Int({i})"),
-        Value::Float(x) => format!("Value::Float({})", float(*x)),
-        Value::Str(s) | Value::Opaque(s) => format!("Value::Text({}.to_string())", rust_str(s)),
-        Value::Duration(s) => {
-            *uses_duration = true;
-            format!(
-                "Value::Duration({})",
-                duration(Duration::from_secs_f64(s.max(0.0)))
-            )
-        }
-        Value::List(items) => {
-            let items: Vec<String> = items.iter().map(|i| value(i, uses_duration)).collect();
-            format!("Value::List(vec![{}])", items.join(", "))
-        }
-    }
-}
-
-/// An `f64` literal that reads back as exactly the same number.
-fn float(x: f64) -> String {
-    if x.is_nan() {
-        "f64::NAN".into()
-    } else if x.is_infinite() {
-        if x > 0.0 {
-            "f64::INFINITY"
-        } else {
-            "f64::NEG_INFINITY"
-        }
-        .into()
-    } else {
-        format!("{x:?}")
-    }
-}
-
-/// The shortest constructor that gives exactly `d`.
-fn duration(d: Duration) -> String {
-    let nanos = d.as_nanos();
-    if nanos % 1_000_000_000 == 0 {
-        format!("Duration::from_secs({})", d.as_secs())
-    } else if nanos % 1_000_000 == 0 {
-        format!("Duration::from_millis({})", d.as_millis())
-    } else if nanos % 1_000 == 0 {
-        format!("Duration::from_micros({})", d.as_micros())
-    } else {
-        format!("Duration::new({}, {})", d.as_secs(), d.subsec_nanos())
-    }
-}
-
-fn human_duration(seconds: f64) -> String {
-    format!("{:?}", Duration::from_secs_f64(seconds))
-}
-
-/// Lines of code at an indentation of four spaces per level.
-#[derive(Default)]
-struct Code {
-    text: String,
-}
-
-impl Code {
-    fn line(&mut self, indent: usize, text: &str) {
-        for l in text.lines() {
-            self.text.push_str(&"    ".repeat(indent));
-            self.text.push_str(l);
-            self.text.push('\n');
-        }
-    }
-
-    fn blank(&mut self) {
-        self.text.push('\n');
-    }
-
-    /// A `use` list: on one line when it fits, else items filled into lines (rustfmt).
-    fn fill(&mut self, open: &str, items: &[&str], close: &str) {
-        let joined = items.join(", ");
-        if open.len() + joined.len() + close.len() <= MAX_WIDTH {
-            self.line(0, &format!("{open}{joined}{close}"));
-            return;
-        }
-        self.line(0, open);
-        let mut current = String::new();
-        for item in items {
-            if !current.is_empty() && 4 + current.len() + item.len() + 1 > MAX_WIDTH {
-                self.line(1, current.trim_end());
-                current.clear();
-            }
-            current.push_str(item);
-            current.push_str(", ");
-        }
-        self.line(1, current.trim_end_matches(' '));
-        self.line(0, close);
-    }
-
-    /// `open items close` on one line when it fits (as rustfmt does), else one item a line.
-    fn list(&mut self, indent: usize, open: &str, items: &[String], close: &str) {
-        let joined = items.join(", ");
-        if joined.len() <= LIST_WIDTH
-            && !joined.contains('\n')
-            && indent * 4 + open.len() + joined.len() + close.len() <= MAX_WIDTH
-        {
-            self.line(indent, &format!("{open}{joined}{close}"));
-        } else {
-            self.line(indent, open);
-            for item in items {
-                self.line(indent + 1, &format!("{item},"));
-            }
-            self.line(indent, close);
         }
     }
 }

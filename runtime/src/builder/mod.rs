@@ -7,6 +7,8 @@
 //! [`Builder::start`]. Every mistake is an error value naming the module path and
 //! port, never a panic.
 
+mod connect;
+mod containers;
 mod convert;
 mod param_links;
 mod registry;
@@ -381,78 +383,6 @@ impl<'r> Builder<'r> {
         })
     }
 
-    /// Connects `from` (module path, output name) to `to` (module path, input name),
-    /// converting values on the way if `conversion` is not the identity or the value
-    /// types differ (numbers only).
-    pub fn connect(
-        &mut self,
-        from: (&str, &str),
-        to: (&str, &str),
-        conversion: Conversion,
-        options: ConnectOptions,
-    ) -> Result<(), BuildError> {
-        let (writer, reader) = (self.module(from.0)?, self.module(to.0)?);
-        let output = find(&self.modules[writer].outputs, from, "output")?;
-        let input = find(&self.modules[reader].inputs, to, "input")?;
-        let describe = || format!("`{}/{}` → `{}/{}`", from.0, from.1, to.0, to.1);
-        if conversion.is_identity() && output.value_type() == input.value_type() {
-            output
-                .connect(input, options)
-                .map_err(|e| BuildError::Connect(format!("{}: {e}", describe())))?;
-            self.links.push((writer, reader, to.1.to_owned()));
-            return Ok(());
-        }
-        // A chain of converters: each selected part, then the numeric change.
-        let name = format!("{}/{} → {}/{}", from.0, from.1, to.0, to.1);
-        let mut chain: Vec<convert::Converter> = Vec::new();
-        for select in &conversion.select {
-            let value_type = chain
-                .last()
-                .map_or(output.value_type(), |c| c.output.value_type());
-            let (part, index, what) = match select {
-                Select::Field(f) => (f.as_str(), 0, format!("the field `{f}`")),
-                Select::Index(i) => ("[]", *i, format!("element {i}")),
-            };
-            let make = self.registry.part(value_type, part).ok_or_else(|| {
-                BuildError::Connect(format!(
-                    "{}: cannot take {what} of {value_type}: no library registered it \
-                     (its crate's register function should call `register_field` or \
-                     `register_index` for it)",
-                    describe()
-                ))
-            })?;
-            chain.push(make(format!("{name} ({what})"), index));
-        }
-        let selected = chain
-            .last()
-            .map_or(output.value_type(), |c| c.output.value_type());
-        if conversion.scales() || selected != input.value_type() {
-            let numeric = convert::numeric(selected, input.value_type(), name, conversion.clone())
-                .ok_or_else(|| {
-                    BuildError::Connect(format!(
-                        "{}: cannot convert {selected} to {} (only numbers are converted)",
-                        describe(),
-                        input.value_type()
-                    ))
-                })?;
-            chain.push(numeric);
-        }
-        let fail =
-            |e: crate::port::ConnectError| BuildError::Connect(format!("{}: {e}", describe()));
-        let mut upstream = output;
-        for converter in &chain {
-            upstream
-                .connect(&converter.input, ConnectOptions::default())
-                .map_err(fail)?;
-            upstream = &converter.output;
-        }
-        upstream.connect(input, options).map_err(fail)?;
-        let steps = &mut self.modules[writer].converters;
-        steps.extend(chain.into_iter().map(|c| c.step));
-        self.links.push((writer, reader, to.1.to_owned()));
-        Ok(())
-    }
-
     /// Declares a thread container and the order of its steps.
     pub fn add_thread(&mut self, spec: ThreadSpec) -> Result<(), BuildError> {
         let id = self.threads.len();
@@ -512,105 +442,6 @@ impl<'r> Builder<'r> {
             }
         }
         params
-    }
-
-    /// Turns each thread spec into a container whose steps call the modules.
-    fn containers(&mut self) -> Result<Vec<(ThreadContainer, ThreadOptions)>, BuildError> {
-        // A sense-control module has two steps in one container: they share it behind
-        // an uncontended mutex. A plain module is owned by its single step.
-        let mut shared: HashMap<usize, Arc<Mutex<Box<dyn Module>>>> = HashMap::new();
-        let threads = std::mem::take(&mut self.threads);
-        let mut out = Vec::new();
-        for spec in threads {
-            let wakeup = Wakeup::new();
-            let mut steps = Vec::new();
-            for (i, (path, kind)) in spec.steps.iter().enumerate() {
-                let m = self.module(path)?;
-                let instance = &mut self.modules[m];
-                let name = format!("{path}:{}", step_name(*kind));
-                match kind {
-                    StepKind::Update => {
-                        let mut module = instance.module.take().ok_or_else(|| {
-                            BuildError::Thread(format!("`{path}` has two update steps"))
-                        })?;
-                        steps.push(Step::new(name, move || module.update()));
-                    }
-                    StepKind::Sense | StepKind::Control => {
-                        let cell = match shared.get(&m) {
-                            Some(cell) => cell.clone(),
-                            None => {
-                                let module = instance.module.take().ok_or_else(|| {
-                                    BuildError::Thread(format!("`{path}` has no module"))
-                                })?;
-                                let cell = Arc::new(Mutex::new(module));
-                                shared.insert(m, cell.clone());
-                                cell
-                            }
-                        };
-                        let sense = *kind == StepKind::Sense;
-                        steps.push(Step::new(name, move || {
-                            // A panic in the other step poisons the lock: stop this
-                            // one too rather than run on half-updated state.
-                            let mut module = cell.lock().expect(
-                                "the module's other step panicked; this step is stopped too",
-                            );
-                            if sense {
-                                module.sense()
-                            } else {
-                                module.control()
-                            }
-                        }));
-                    }
-                }
-                // Converters after the module's last step in this container.
-                let last_of_module = !spec.steps[i + 1..].iter().any(|(p, _)| p == path);
-                if last_of_module {
-                    steps.append(&mut self.modules[m].converters);
-                }
-                if spec.schedule == Schedule::Data {
-                    for (name, input) in &self.modules[m].inputs {
-                        if self.fed_only_from_within(m, name) {
-                            continue;
-                        }
-                        let notifier: Notifier = wakeup.clone();
-                        let _ = input.set_notifier(notifier);
-                    }
-                    self.wake_on_calls(m, &wakeup);
-                }
-            }
-            let trigger = match spec.schedule {
-                Schedule::Periodic(period) => Trigger::Periodic(period),
-                Schedule::Data => Trigger::Data(wakeup),
-                Schedule::Continuous => Trigger::Continuous,
-            };
-            out.push((
-                ThreadContainer::new(spec.path, trigger, steps),
-                spec.options,
-            ));
-        }
-        Ok(out)
-    }
-}
-
-impl Builder<'_> {
-    /// Whether every known writer of `reader`'s input runs in the reader's own
-    /// container (an input nobody in the model feeds may be fed from outside: it wakes).
-    fn fed_only_from_within(&self, reader: usize, input: &str) -> bool {
-        let thread = self.modules[reader].thread;
-        let mut writers = self
-            .links
-            .iter()
-            .filter(|(_, r, name)| *r == reader && name == input)
-            .peekable();
-        writers.peek().is_some() && writers.all(|(w, ..)| self.modules[*w].thread == thread)
-    }
-}
-
-fn step_name(kind: StepKind) -> &'static str {
-    match kind {
-        StepKind::Update => "update",
-        StepKind::Sense => "sense",
-        StepKind::Control => "control",
     }
 }
 
