@@ -1,29 +1,15 @@
 //! `ferroc bundle`: determinism, the resolved model, safety against hostile models and
 //! output folders, and equivalence of a built bundle with `ferroc run`.
 
+mod common;
+use common::{build_bundle, ferroc};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn ferroc(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_ferroc"))
-        .args(args)
-        .output()
-        .expect("ferroc runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
+/// A scratch folder of this file's own (below `bundle/`).
 fn tempdir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("bundle")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::tempdir(&format!("bundle/{name}"))
 }
 
 fn bundle(model: &Path, out: &Path, extra: &[&str]) -> (i32, String) {
@@ -368,27 +354,7 @@ fn a_built_bundle_behaves_like_ferroc_run() {
     let out = dir.join("b");
     let (code, err) = bundle(Path::new("models/crash_course.xml"), &out, &[]);
     assert_eq!(code, 0, "{err}");
-    // The dependencies are this checkout's crates by path: building into the target
-    // folder of this test (…/target/debug/deps/bundle-…) reuses what is built already.
-    let exe = std::env::current_exe().unwrap();
-    let target = exe.ancestors().nth(3).unwrap().to_path_buf();
-    let build = Command::new(env!("CARGO"))
-        .args(["build", "--offline", "--quiet", "--manifest-path"])
-        .arg(out.join("Cargo.toml"))
-        .env("CARGO_TARGET_DIR", &target)
-        .env_remove("RUSTFLAGS")
-        .output()
-        .expect("cargo runs");
-    assert!(
-        build.status.success(),
-        "{}",
-        String::from_utf8_lossy(&build.stderr)
-    );
-    let build_log = String::from_utf8_lossy(&build.stderr);
-    assert!(
-        !build_log.contains("warning"),
-        "the generated code warns:\n{build_log}"
-    );
+    let target = build_bundle(&out);
     let program = target.join("debug/crash_course-fragile_bot");
     let bundled = Command::new(&program)
         .args(["--cycles", "20", "-q"])

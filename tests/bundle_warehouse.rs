@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{ferroc, tempdir};
+use common::{build_bundle, ferroc, tempdir};
 use std::process::Command;
 
 const MODEL: &str = "tests/fixtures/warehouse_one_agv.xml";
@@ -31,18 +31,7 @@ fn a_built_warehouse_bundle_prints_what_ferroc_run_prints() {
     );
 
     // Built into this test's target folder, which holds the dependencies already.
-    let exe = std::env::current_exe().unwrap();
-    let target = exe.ancestors().nth(3).unwrap().to_path_buf();
-    let build = Command::new(env!("CARGO"))
-        .args(["build", "--offline", "--quiet", "--manifest-path"])
-        .arg(out.join("Cargo.toml"))
-        .env("CARGO_TARGET_DIR", &target)
-        .env_remove("RUSTFLAGS")
-        .output()
-        .expect("cargo runs");
-    let build_log = String::from_utf8_lossy(&build.stderr);
-    assert!(build.status.success(), "{build_log}");
-    assert!(!build_log.contains("warning"), "{build_log}");
+    let target = build_bundle(&out);
 
     let bundled = Command::new(target.join("debug/warehouse_one_agv-agv"))
         .args(["--cycles", "3000", "-q"])

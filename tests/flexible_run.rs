@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{ferroc, tempdir};
+use common::{build_bundle, ferroc, tempdir};
 
 const MODEL: &str = "tests/fixtures/flexible_ports.xml";
 
@@ -107,18 +107,7 @@ fn the_bundle_declares_the_port_groups_and_behaves_like_ferroc_run() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stdout));
     }
     // Build it into this test's target folder (the crates are built already).
-    let exe = std::env::current_exe().unwrap();
-    let target = exe.ancestors().nth(3).unwrap().to_path_buf();
-    let build = std::process::Command::new(env!("CARGO"))
-        .args(["build", "--offline", "--quiet", "--manifest-path"])
-        .arg(out.join("Cargo.toml"))
-        .env("CARGO_TARGET_DIR", &target)
-        .env_remove("RUSTFLAGS")
-        .output()
-        .expect("cargo runs");
-    let log = String::from_utf8_lossy(&build.stderr);
-    assert!(build.status.success(), "{log}");
-    assert!(!log.contains("warning"), "the generated code warns:\n{log}");
+    let target = build_bundle(&out);
     let bundled = std::process::Command::new(target.join("debug/flexible_ports-bench"))
         .args(["--cycles", "3", "-q"])
         .output()

@@ -2,7 +2,7 @@
 //! run` and in bundles.
 
 mod common;
-use common::{ferroc, tempdir};
+use common::{bundle_ok, ferroc, tempdir};
 
 const MODEL: &str = r#"<application name="driven" version="1">
   <use library="ferroc_std"/>
@@ -41,13 +41,7 @@ fn bundles_write_the_same_link() {
     let path = dir.join("driven.xml");
     std::fs::write(&path, MODEL).unwrap();
     let out = dir.join("bundle");
-    let (code, _, stderr) = ferroc(&[
-        "bundle",
-        path.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
+    bundle_ok(&path, &out);
     let main = std::fs::read_to_string(out.join("parts/p/src/main.rs")).unwrap();
     assert!(main.contains("builder.connect_param("), "{main}");
     assert!(main.contains("Conversion::linear(1.0, 0.0),"), "{main}");

@@ -2,7 +2,7 @@
 //! the model declares, and run on (with a warning) where the OS refuses.
 
 mod common;
-use common::{ferroc, tempdir};
+use common::{bundle_ok, ferroc, tempdir};
 
 /// One periodic container pinned to `cpu` with `priority`.
 fn model(cpu: &str, priority: &str) -> String {
@@ -52,13 +52,7 @@ fn bundles_write_the_same_placement() {
     // Priorities above the OS range are clamped to it (SCHED_FIFO: 1-99).
     std::fs::write(&path, model("1", "250")).unwrap();
     let out = dir.join("bundle");
-    let (code, _, stderr) = ferroc(&[
-        "bundle",
-        path.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
+    bundle_ok(&path, &out);
     let main = std::fs::read_to_string(out.join("parts/p/src/main.rs")).unwrap();
     assert!(main.contains("priority: Some(99),"), "{main}");
     assert!(main.contains("cpu: Some(1),"), "{main}");

@@ -25,3 +25,33 @@ pub fn tempdir(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// `ferroc bundle MODEL -o OUT`, which must succeed.
+pub fn bundle_ok(model: &Path, out: &Path) {
+    let (code, _, stderr) = ferroc(&[
+        "bundle",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+}
+
+/// Builds the bundle in `out` into this test's target folder (its dependencies are
+/// this checkout's crates by path, built there already) and returns that folder; the
+/// build must succeed without a warning from the generated code.
+pub fn build_bundle(out: &Path) -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let target = exe.ancestors().nth(3).unwrap().to_path_buf();
+    let build = Command::new(env!("CARGO"))
+        .args(["build", "--offline", "--quiet", "--manifest-path"])
+        .arg(out.join("Cargo.toml"))
+        .env("CARGO_TARGET_DIR", &target)
+        .env_remove("RUSTFLAGS")
+        .output()
+        .expect("cargo runs");
+    let log = String::from_utf8_lossy(&build.stderr);
+    assert!(build.status.success(), "{log}");
+    assert!(!log.contains("warning"), "the generated code warns:\n{log}");
+    target
+}
