@@ -10,7 +10,7 @@ use crate::ir::{Application, ElementId, ElementKind, Endpoint, ParamSource, Port
 use crate::library::{LibrarySet, PortDir, PortRole};
 use crate::schedule::{self, call_edges, data_edges, DataEdge, StepKind};
 use crate::source::Span;
-use crate::units::{relate, UnitRelation};
+use crate::units::{relate, Unit, UnitRelation};
 use crate::values::{parse_value, Value};
 
 /// One module instance.
@@ -244,13 +244,7 @@ pub fn plan(
                 }
             }
         }
-        let mut scale = match (from_unit, to.unit) {
-            (Some(a), Some(b)) => match relate(a, b) {
-                UnitRelation::Scaled(f) => f,
-                _ => 1.0,
-            },
-            _ => 1.0,
-        };
+        let mut scale = unit_scale(from_unit, to.unit);
         let mut offset = 0.0;
         let mut select = Vec::new();
         for &hop in &edge.hops {
@@ -406,6 +400,18 @@ pub fn module_edges<'a>(
     })
 }
 
+/// The factor from values in unit `from` to unit `to` (1 unless both are given and
+/// differ by a scale; other mismatches are the checker's T10x findings).
+fn unit_scale(from: Option<&Unit>, to: Option<&Unit>) -> f64 {
+    match (from, to) {
+        (Some(a), Some(b)) => match relate(a, b) {
+            UnitRelation::Scaled(f) => f,
+            _ => 1.0,
+        },
+        _ => 1.0,
+    }
+}
+
 /// Connections into module parameters. Only a module output straight into a module's
 /// parameter is realised; through group ports it is refused by name (not ignored).
 fn plan_param_links(
@@ -438,13 +444,7 @@ fn plan_param_links(
             });
             continue;
         };
-        let scale = match (from.unit, to.unit) {
-            (Some(a), Some(b)) => match relate(a, b) {
-                UnitRelation::Scaled(f) => f,
-                _ => 1.0,
-            },
-            _ => 1.0,
-        };
+        let scale = unit_scale(from.unit, to.unit);
         plan.param_links.push(PlannedParamLink {
             from: (paths[source.0 as usize].clone(), from.name.to_string()),
             to: (paths[target.0 as usize].clone(), to.name.to_string()),

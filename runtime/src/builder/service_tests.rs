@@ -229,3 +229,43 @@ fn the_interface_lists_services_and_clients() {
     assert!(caller.services[0].client);
     assert_eq!(caller.services[0].timeout, Some(Duration::from_secs(5)));
 }
+
+/// A service named like one of the module's ports.
+struct Clash {
+    _out: Out<i64>,
+    _square: ServicePort<i64, i64>,
+}
+impl Module for Clash {}
+impl ModuleType for Clash {
+    const NAME: &'static str = "test.Clash";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Clash {
+            _out: m.output("square").build(),
+            _square: m.service("square").build(),
+        }
+    }
+}
+
+#[test]
+fn ports_services_and_clients_share_one_namespace() {
+    let mut registry = registry();
+    registry.register::<Clash>();
+    let mut b = Builder::new(&registry);
+    let e = b
+        .add_module(ModuleSpec {
+            path: "clash",
+            type_name: "test.Clash",
+            params: &[],
+            queues: &[],
+            ports: &[],
+            violations: Default::default(),
+        })
+        .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("the port `square` is declared twice"),
+        "{e}"
+    );
+    // Distinct names are fine (the silent case).
+    add(&mut b, "server", "test.Server");
+}

@@ -93,11 +93,7 @@ impl<'a> Setup<'a> {
     }
 
     fn record_service(&mut self, info: ServiceInfo) {
-        if self.interface.port(&info.name).is_some() || self.interface.service(&info.name).is_some()
-        {
-            self.errors
-                .push(format!("the port `{}` is declared twice", info.name));
-        }
+        self.refuse_taken_name(&info.name);
         self.interface.services.push(info);
     }
 }

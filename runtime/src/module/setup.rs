@@ -223,12 +223,16 @@ impl<'a> Setup<'a> {
     }
 
     pub(crate) fn record_port(&mut self, info: PortInfo) {
-        if self.interface.port(&info.name).is_some() || self.interface.service(&info.name).is_some()
-        {
-            self.errors
-                .push(format!("the port `{}` is declared twice", info.name));
-        }
+        self.refuse_taken_name(&info.name);
         self.interface.ports.push(info);
+    }
+
+    /// Ports, services and clients share one namespace per module.
+    pub(crate) fn refuse_taken_name(&mut self, name: &str) {
+        if self.interface.port(name).is_some() || self.interface.service(name).is_some() {
+            self.errors
+                .push(format!("the port `{name}` is declared twice"));
+        }
     }
 }
 
