@@ -34,6 +34,7 @@ pub mod behaviour;
 pub mod builder;
 pub mod console;
 pub mod container;
+pub mod link;
 pub mod module;
 pub mod port;
 pub mod resource;

@@ -10,12 +10,15 @@
 mod connect;
 mod containers;
 mod convert;
+mod links;
+mod lockstep;
 mod param_links;
 mod registry;
 mod running;
 mod services;
 
 pub use convert::{Conversion, Select};
+pub use lockstep::Lockstep;
 pub use registry::Registry;
 pub use running::{ContainerStatus, RunningApp};
 
@@ -160,6 +163,8 @@ struct Instance {
     /// Converters fed by this module's outputs, run right after its steps.
     converters: Vec<Step>,
     thread: Option<usize>,
+    /// One end of a connection between parts: ports only, run by no container.
+    link_end: bool,
 }
 
 /// Builds an application; see the [module documentation](self).
@@ -176,6 +181,25 @@ pub struct Builder<'r> {
     lock_order: Arc<LockOrder>,
     /// Where the behaviours report principle violations.
     violations: Arc<ViolationLog>,
+    /// Routes the values of links between parts.
+    hub: Arc<crate::link::Hub>,
+    /// The receiving ends of links, by link number.
+    receiving: std::collections::BTreeMap<u32, crate::link::Receiving>,
+    /// Link number → the part it comes from / goes to, for links built here.
+    received: std::collections::BTreeMap<u32, String>,
+    sent: std::collections::BTreeMap<u32, String>,
+}
+
+/// How [`Builder::start_with`] runs the application.
+#[derive(Clone, Debug, Default)]
+pub struct StartOptions {
+    /// Each container stops after this many cycles.
+    pub limit: Option<u64>,
+    /// Run in simulated time on one thread, the same way every time; `None`: every
+    /// container on its own thread, in real time.
+    pub lockstep: Option<Lockstep>,
+    /// Where the other parts are; needed when links leave this process.
+    pub network: Option<crate::link::net::Network>,
 }
 
 impl<'r> Builder<'r> {
@@ -190,6 +214,10 @@ impl<'r> Builder<'r> {
             violations: Arc::default(),
             resources: HashMap::new(),
             lock_order: Arc::new(LockOrder::new()),
+            hub: Arc::default(),
+            receiving: Default::default(),
+            received: Default::default(),
+            sent: Default::default(),
         }
     }
 
@@ -330,6 +358,7 @@ impl<'r> Builder<'r> {
             locks: setup.locks,
             converters: Vec::new(),
             thread: None,
+            link_end: false,
         });
         Ok(())
     }
@@ -415,8 +444,20 @@ impl<'r> Builder<'r> {
 
     /// Creates the thread containers and starts them; each runs `limit` cycles, or
     /// until [`RunningApp::stop`].
-    pub fn start(mut self, limit: Option<u64>) -> Result<RunningApp, BuildError> {
-        if let Some(m) = self.modules.iter().find(|m| m.thread.is_none()) {
+    pub fn start(self, limit: Option<u64>) -> Result<RunningApp, BuildError> {
+        self.start_with(StartOptions {
+            limit,
+            ..StartOptions::default()
+        })
+    }
+
+    /// Creates the thread containers and starts them as `options` say.
+    pub fn start_with(mut self, options: StartOptions) -> Result<RunningApp, BuildError> {
+        if let Some(m) = self
+            .modules
+            .iter()
+            .find(|m| m.thread.is_none() && !m.link_end)
+        {
             return Err(BuildError::Thread(format!(
                 "`{}` is not executed by any thread container",
                 m.path
@@ -425,13 +466,36 @@ impl<'r> Builder<'r> {
         self.bind_remaining_locks();
         let containers = self.containers()?;
         let params = self.take_params();
-        RunningApp::start(
-            containers,
+        let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let inbox = Arc::new(crate::link::Inbox::new(std::mem::take(&mut self.receiving)));
+        let shared = running::Shared {
             params,
-            Arc::clone(&self.lock_order),
-            self.violations.clone(),
-            limit,
-        )
+            lock_order: Arc::clone(&self.lock_order),
+            violations: self.violations.clone(),
+            hub: Arc::clone(&self.hub),
+            stop: Arc::clone(&stop),
+        };
+        let links = lockstep::Links {
+            hub: Arc::clone(&self.hub),
+            inbox,
+            network: options.network,
+            // Only links with one end elsewhere need the network.
+            receiving_from: (self.received.iter())
+                .filter(|(id, _)| !self.sent.contains_key(id))
+                .map(|(_, part)| part.clone())
+                .collect(),
+            sending_to: (self.sent.iter())
+                .filter(|(id, _)| !self.received.contains_key(id))
+                .map(|(_, part)| part.clone())
+                .collect(),
+        };
+        match options.lockstep {
+            Some(lockstep) => lockstep.start(containers, links, shared, options.limit),
+            None => {
+                links.start_direct(&stop).map_err(BuildError::Connect)?;
+                RunningApp::start(containers, shared, options.limit)
+            }
+        }
     }
 
     fn take_params(&mut self) -> HashMap<(String, String), Arc<ParamHandle>> {
@@ -463,6 +527,8 @@ fn find<'a, H>(
 
 #[cfg(test)]
 mod convert_tests;
+#[cfg(test)]
+mod link_tests;
 #[cfg(test)]
 mod lock_tests;
 #[cfg(test)]

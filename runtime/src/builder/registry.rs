@@ -122,6 +122,17 @@ impl Registry {
         self
     }
 
+    /// Registers the library value type `T` like [`register_value`](Self::register_value),
+    /// able to cross between parts: a connection from one part to another carries it
+    /// encoded (the model declares such types `serde="true"`).
+    pub fn register_serde<T>(&mut self) -> &mut Self
+    where
+        T: PortValue + Clone + std::fmt::Debug + serde::Serialize + serde::de::DeserializeOwned,
+    {
+        self.values.insert_serde::<T, DebugText>();
+        self
+    }
+
     /// Registers `T` with its own text style `S` (a [`ValueText`]): for a type that
     /// should print other than its `Debug` output, or a number-like type that `Sum`
     /// may add.

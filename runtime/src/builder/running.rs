@@ -3,6 +3,7 @@
 use super::BuildError;
 use crate::behaviour::{ViolationCount, ViolationLog};
 use crate::container::{ContainerStats, RunningContainer, ThreadContainer, ThreadOptions};
+use crate::link::Hub;
 use crate::module::{ParamHandle, Value};
 use crate::resource::LockOrder;
 use std::collections::HashMap;
@@ -33,26 +34,64 @@ pub struct RunningApp {
     warnings: Vec<String>,
     lock_order: Arc<LockOrder>,
     violations: Arc<ViolationLog>,
+    hub: Arc<Hub>,
+}
+
+/// What a running application keeps besides its threads.
+pub(super) struct Shared {
+    pub params: HashMap<(String, String), std::sync::Arc<ParamHandle>>,
+    pub lock_order: Arc<LockOrder>,
+    pub violations: Arc<ViolationLog>,
+    pub hub: Arc<Hub>,
+    pub stop: Arc<AtomicBool>,
 }
 
 impl RunningApp {
-    pub(super) fn start(
-        containers: Vec<(ThreadContainer, ThreadOptions)>,
-        params: HashMap<(String, String), std::sync::Arc<ParamHandle>>,
-        lock_order: Arc<LockOrder>,
-        violations: Arc<ViolationLog>,
-        limit: Option<u64>,
-    ) -> Result<Self, BuildError> {
-        let stop = Arc::new(AtomicBool::new(false));
-        let mut app = RunningApp {
+    fn new(shared: Shared) -> Self {
+        RunningApp {
             containers: Vec::new(),
             stats: Vec::new(),
-            stop: stop.clone(),
-            params,
+            stop: shared.stop,
+            params: shared.params,
             warnings: Vec::new(),
-            lock_order,
-            violations,
-        };
+            lock_order: shared.lock_order,
+            violations: shared.violations,
+            hub: shared.hub,
+        }
+    }
+
+    /// Runs `driver` on one thread that executes every container itself (lockstep).
+    pub(super) fn start_driver(
+        stats: Vec<Arc<ContainerStats>>,
+        shared: Shared,
+        driver: impl FnOnce(&AtomicBool) + Send + 'static,
+    ) -> Result<Self, BuildError> {
+        let mut app = RunningApp::new(shared);
+        let stop = app.stop.clone();
+        let join = std::thread::Builder::new()
+            .name("lockstep".into())
+            .spawn(move || driver(&stop))
+            .map_err(|e| BuildError::Thread(format!("the lockstep thread could not start: {e}")))?;
+        let first = stats.first().cloned().unwrap_or_else(|| {
+            Arc::new(ContainerStats::new(
+                "lockstep".into(),
+                Vec::new(),
+                None,
+                false,
+            ))
+        });
+        app.containers.push(RunningContainer::driver(first, join));
+        app.stats = stats;
+        Ok(app)
+    }
+
+    pub(super) fn start(
+        containers: Vec<(ThreadContainer, ThreadOptions)>,
+        shared: Shared,
+        limit: Option<u64>,
+    ) -> Result<Self, BuildError> {
+        let mut app = RunningApp::new(shared);
+        let stop = app.stop.clone();
         for (container, options) in containers {
             let name = container.stats().name.clone();
             match container.spawn(options, stop.clone(), limit) {
@@ -152,11 +191,12 @@ impl RunningApp {
         }
     }
 
-    /// Waits until every container has ended.
+    /// Waits until every container has ended (and closes the links to other parts).
     pub fn join(&mut self) {
         for c in self.containers.drain(..) {
             c.join();
         }
+        self.hub.close();
     }
 
     /// Waits until every container ended or `timeout` passed; true if all ended.

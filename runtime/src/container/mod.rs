@@ -116,6 +116,11 @@ impl ThreadContainer {
         Arc::clone(&self.stats)
     }
 
+    /// When it runs a cycle.
+    pub(crate) fn trigger(&self) -> &Trigger {
+        &self.trigger
+    }
+
     /// Runs every live step once, in order, timing each.
     pub fn run_cycle(&mut self) {
         let started = self.clock.now();
@@ -261,6 +266,16 @@ pub struct RunningContainer {
 }
 
 impl RunningContainer {
+    /// A thread that runs containers itself (the lockstep driver), reported as one.
+    pub(crate) fn driver(stats: Arc<ContainerStats>, join: std::thread::JoinHandle<()>) -> Self {
+        RunningContainer {
+            stats,
+            warnings: Vec::new(),
+            join,
+            wakeup: None,
+        }
+    }
+
     /// Wakes a data-triggered container so that it sees a stop flag set by the caller.
     pub fn nudge(&self) {
         if let Some(w) = &self.wakeup {

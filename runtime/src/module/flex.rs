@@ -17,6 +17,7 @@
 //! any type whose `Clone::clone_from` reuses memory).
 
 use super::value::{In, Out, PortKind, PortValue};
+use super::wire::Wire;
 use super::Timestamp;
 use crate::port::{InputHandle, OutputHandle, QueueConfig};
 use std::any::Any;
@@ -182,6 +183,7 @@ pub struct ValueType {
     copy: bool,
     input: fn(&str, Option<QueueConfig>) -> (DynIn, InputHandle),
     output: fn(&str) -> (DynOut, OutputHandle),
+    wire: Option<Wire>,
 }
 
 impl ValueType {
@@ -196,6 +198,10 @@ impl ValueType {
     /// Whether its ports take the seqlock copy path (else the pooled path).
     pub fn is_copy(&self) -> bool {
         self.copy
+    }
+    /// How its values cross between parts; `None` for a type registered without serde.
+    pub fn wire(&self) -> Option<&Wire> {
+        self.wire.as_ref()
     }
 }
 
@@ -218,21 +224,21 @@ impl Default for ValueTable {
         };
         macro_rules! numbers {
             ($($ty:ty),*) => {$(
-                t.insert::<$ty, NumberText>();
-                t.insert::<Vec<$ty>, DebugText>();
+                t.insert_serde::<$ty, NumberText>();
+                t.insert_serde::<Vec<$ty>, DebugText>();
             )*};
         }
         numbers!(f64, f32, i8, i16, i32, i64, u8, u16, u32, u64);
-        t.insert::<bool, PlainText>();
-        t.insert::<String, PlainText>();
-        t.insert::<Timestamp, PlainText>();
-        t.insert::<[f64; 2], DebugText>();
-        t.insert::<[f64; 3], DebugText>();
-        t.insert::<[f64; 4], DebugText>();
-        t.insert::<std::time::Duration, PlainText>();
+        t.insert_serde::<bool, PlainText>();
+        t.insert_serde::<String, PlainText>();
+        t.insert_serde::<Timestamp, PlainText>();
+        t.insert_serde::<[f64; 2], DebugText>();
+        t.insert_serde::<[f64; 3], DebugText>();
+        t.insert_serde::<[f64; 4], DebugText>();
+        t.insert_serde::<std::time::Duration, PlainText>();
         // The iB2C meta signals travel as `f64` under their own model names.
         for meta in ["Stimulation", "Inhibition", "Activity", "TargetRating"] {
-            t.insert_as::<f64, NumberText>(meta);
+            t.insert_as::<f64, NumberText>(meta, Some(Wire::of::<f64>()));
         }
         t
     }
@@ -246,12 +252,21 @@ impl ValueTable {
         T: PortValue + Clone,
         S: ValueText<T>,
     {
-        self.insert_as::<T, S>(&T::model_type())
+        self.insert_as::<T, S>(&T::model_type(), None)
+    }
+
+    /// Registers `T` like [`insert`](Self::insert), able to cross between parts.
+    pub fn insert_serde<T, S>(&mut self) -> &mut Self
+    where
+        T: PortValue + Clone + serde::Serialize + serde::de::DeserializeOwned,
+        S: ValueText<T>,
+    {
+        self.insert_as::<T, S>(&T::model_type(), Some(Wire::of::<T>()))
     }
 
     /// Registers `T` under another model name than its own (the meta types, which are
     /// `f64` values with their own names).
-    fn insert_as<T, S>(&mut self, model_type: &str) -> &mut Self
+    fn insert_as<T, S>(&mut self, model_type: &str, wire: Option<Wire>) -> &mut Self
     where
         T: PortValue + Clone,
         S: ValueText<T>,
@@ -265,6 +280,7 @@ impl ValueTable {
                 copy,
                 input: new_input::<T, S>,
                 output: new_output::<T, S>,
+                wire,
             },
         );
         self

@@ -15,6 +15,7 @@ mod services;
 pub(crate) mod setup;
 mod time;
 mod value;
+mod wire;
 
 pub use flex::{
     DebugText, DynIn, DynOut, Number, NumberText, PlainText, ValueTable, ValueText, ValueType,
@@ -26,8 +27,10 @@ pub use interface::{
 pub use param::{ParamHandle, ParamValue, Parameter, Value};
 pub use services::{ClientDecl, ServiceDecl};
 pub use setup::{InputDecl, OutputDecl, ParamDecl, PortDecl, Setup};
+pub(crate) use time::set_model_time;
 pub use time::Timestamp;
 pub use value::{CopyKind, In, Out, PooledKind, PortKind, PortValue};
+pub use wire::Wire;
 
 /// What a module does in a cycle. Plain modules implement `update`; sense-control
 /// modules `sense` (read sensor inputs, publish sensor outputs) and `control` (read

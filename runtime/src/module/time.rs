@@ -5,11 +5,25 @@
 //! must not allocate or count references for it. `i64` nanoseconds cover the years
 //! 1678 to 2262, which is enough for robots.
 
+use std::cell::Cell;
 use std::fmt;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 /// A wall-clock instant (model type `timestamp`): nanoseconds since 1970-01-01 UTC.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, bytemuck::NoUninit)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    PartialOrd,
+    Ord,
+    Hash,
+    bytemuck::NoUninit,
+    serde::Serialize,
+    serde::Deserialize,
+)]
 #[repr(C)]
 pub struct Timestamp {
     /// Nanoseconds since the Unix epoch (negative: before it).
@@ -17,10 +31,22 @@ pub struct Timestamp {
 }
 
 impl Timestamp {
-    /// The current wall-clock time (saturating outside the representable years).
+    /// The current time: the wall clock, or on a thread that runs the application in
+    /// simulated time (lockstep) the model time, counted from [`Self::LOCKSTEP_EPOCH`].
+    /// Modules that read the time through here run the same way in every lockstep run.
     pub fn now() -> Self {
-        Self::from_system_time(SystemTime::now())
+        match MODEL_TIME.with(Cell::get) {
+            Some(since_start) => Timestamp {
+                nanos: Self::LOCKSTEP_EPOCH.nanos.saturating_add(since_start),
+            },
+            None => Self::from_system_time(SystemTime::now()),
+        }
     }
+
+    /// Where model time starts in a lockstep run: 2000-01-01T00:00:00Z.
+    pub const LOCKSTEP_EPOCH: Timestamp = Timestamp {
+        nanos: 946_684_800_000_000_000,
+    };
 
     /// Converts a `SystemTime`, saturating at the `i64` range.
     pub fn from_system_time(t: SystemTime) -> Self {
@@ -40,6 +66,18 @@ impl Timestamp {
             UNIX_EPOCH - magnitude
         }
     }
+}
+
+thread_local! {
+    /// Nanoseconds of model time since the start, on a thread running in lockstep.
+    static MODEL_TIME: Cell<Option<i64>> = const { Cell::new(None) };
+}
+
+/// Makes [`Timestamp::now`] on this thread return model time (`Some`: time since the
+/// start) or the wall clock again (`None`).
+pub(crate) fn set_model_time(since_start: Option<std::time::Duration>) {
+    let nanos = since_start.map(|d| i64::try_from(d.as_nanos()).unwrap_or(i64::MAX));
+    MODEL_TIME.with(|t| t.set(nanos));
 }
 
 /// RFC 3339 in UTC with microseconds: `2026-12-01T16:10:20.123456Z`. Written without

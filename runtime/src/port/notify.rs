@@ -70,6 +70,11 @@ impl Wakeup {
         *p = false;
     }
 
+    /// Clears a pending notification without waiting; true if there was one.
+    pub fn take(&self) -> bool {
+        std::mem::replace(&mut *self.pending(), false)
+    }
+
     /// Like [`Self::wait`] with a time limit; true if notified, false on timeout.
     pub fn wait_timeout(&self, timeout: Duration) -> bool {
         let deadline = Instant::now() + timeout;

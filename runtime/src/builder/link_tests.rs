@@ -1,0 +1,238 @@
+//! Links between parts: the same two-part application run in lockstep in one process
+//! and as two "programs" (two builders) talking over TCP gives the same record, and
+//! running freely values still arrive.
+
+use super::*;
+use crate::link::net::Network;
+use crate::link::{LinkSpec, Sharing};
+use crate::module::{In, ModuleType, Out, Parameter, Timestamp};
+use std::collections::BTreeMap;
+use std::sync::Mutex;
+
+/// What each module saw, by its `tag` parameter (tests run in parallel).
+static RECORD: Mutex<BTreeMap<u64, Vec<String>>> = Mutex::new(BTreeMap::new());
+
+fn record(tag: u64) -> Vec<String> {
+    RECORD
+        .lock()
+        .unwrap()
+        .get(&tag)
+        .cloned()
+        .unwrap_or_default()
+}
+
+/// Publishes `n · step + what it last received` and records what it saw when.
+struct Echo {
+    input: In<u32>,
+    out: Out<u32>,
+    step: Parameter<f64>,
+    tag: Parameter<f64>,
+    path: String,
+    n: u32,
+}
+impl Module for Echo {
+    fn update(&mut self) {
+        self.n += 1;
+        let got = self.input.get();
+        let ms = (Timestamp::now().nanos - Timestamp::LOCKSTEP_EPOCH.nanos) / 1_000_000;
+        let line = format!("{} @{ms}ms got {got}", self.path);
+        RECORD
+            .lock()
+            .unwrap()
+            .entry(self.tag.get() as u64)
+            .or_default()
+            .push(line);
+        self.out.publish(self.n * self.step.get() as u32 + got);
+    }
+}
+impl ModuleType for Echo {
+    const NAME: &'static str = "test.Echo";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Echo {
+            input: m.input("in").build(),
+            out: m.output("out").build(),
+            step: m.param("step").default(1.0).build(),
+            tag: m.param("tag").default(0.0).build(),
+            path: m.path().to_owned(),
+            n: 0,
+        }
+    }
+}
+
+const A_TO_B: LinkSpec<'static> = LinkSpec {
+    id: 0,
+    from_part: "a",
+    to_part: "b",
+    model_type: "u32",
+    sharing: Sharing::OnChange {
+        min_interval: Duration::ZERO,
+    },
+};
+const B_TO_A: LinkSpec<'static> = LinkSpec {
+    id: 1,
+    from_part: "b",
+    to_part: "a",
+    model_type: "u32",
+    sharing: Sharing::Periodic(Duration::from_millis(50)),
+};
+
+/// Part `a` (10 ms) and/or part `b` (25 ms), each end of each link in its own part.
+fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64) -> Builder<'r> {
+    let mut b = Builder::new(registry);
+    let specs = [("a", 10, 1.0), ("b", 25, 100.0)];
+    for &(part, ms, step) in specs.iter().filter(|(p, ..)| parts.contains(p)) {
+        let path = format!("{part}/echo");
+        b.add_module(ModuleSpec {
+            path: &path,
+            type_name: "test.Echo",
+            params: &[
+                ("step".into(), Value::Float(step)),
+                ("tag".into(), Value::Float(tag)),
+            ],
+            queues: &[],
+            ports: &[],
+            violations: Default::default(),
+        })
+        .unwrap();
+        b.add_thread(ThreadSpec {
+            path: part.into(),
+            schedule: Schedule::Periodic(Duration::from_millis(ms)),
+            options: ThreadOptions::default(),
+            steps: vec![(path, StepKind::Update)],
+        })
+        .unwrap();
+    }
+    for spec in [A_TO_B, B_TO_A] {
+        let (from, to) = (
+            format!("{}/echo", spec.from_part),
+            format!("{}/echo", spec.to_part),
+        );
+        if parts.contains(&spec.from_part) {
+            b.link_out(&spec, (&from, "out"), Conversion::default())
+                .unwrap();
+        }
+        if parts.contains(&spec.to_part) {
+            b.link_in(&spec, (&to, "in"), ConnectOptions::default())
+                .unwrap();
+        }
+    }
+    b
+}
+
+fn registry() -> Registry {
+    let mut r = Registry::new();
+    r.register::<Echo>();
+    r
+}
+
+fn lockstep(cycles: u64) -> StartOptions {
+    StartOptions {
+        limit: Some(cycles),
+        lockstep: Some(Lockstep {
+            periods: vec![Duration::from_millis(10), Duration::from_millis(25)],
+        }),
+        network: None,
+    }
+}
+
+fn run_to_end(app: RunningApp) {
+    assert!(
+        app.wait_timeout(Duration::from_secs(20)),
+        "the run did not end"
+    );
+    drop(app);
+}
+
+#[test]
+fn in_lockstep_values_cross_at_the_next_instant_paced_by_their_sharing() {
+    let registry = registry();
+    let app = build(&registry, &["a", "b"], 1.0)
+        .start_with(lockstep(4))
+        .unwrap();
+    run_to_end(app);
+    // a runs at 0, 10, 20, 30 ms and publishes n + what it got; b runs at 0, 25, 50,
+    // 75 ms and publishes 100·n + what it got. Values reach the other part one instant
+    // later (b sees a's 103 of 20 ms at 25 ms); b's link is periodic, 50 ms, so its
+    // 25 ms value (303) is never sent and a keeps seeing the 100 sent at 0 ms.
+    assert_eq!(
+        record(1),
+        [
+            "a/echo @0ms got 0",
+            "b/echo @0ms got 0",
+            "a/echo @10ms got 100",
+            "a/echo @20ms got 100",
+            "b/echo @25ms got 103",
+            "a/echo @30ms got 100",
+            "b/echo @50ms got 104",
+            "b/echo @75ms got 104",
+        ]
+    );
+}
+
+fn free_port() -> String {
+    let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    l.local_addr().unwrap().to_string()
+}
+
+#[test]
+fn two_programs_over_tcp_see_what_one_process_sees() {
+    let registry = registry();
+    run_to_end(
+        build(&registry, &["a", "b"], 2.0)
+            .start_with(lockstep(6))
+            .unwrap(),
+    );
+    let (a_at, b_at) = (free_port(), free_port());
+    let peers: BTreeMap<String, String> = [
+        ("a".to_string(), a_at.clone()),
+        ("b".to_string(), b_at.clone()),
+    ]
+    .into();
+    let start = |part: &str, listen: &str| {
+        let mut options = lockstep(6);
+        options.network = Some(Network {
+            part: part.into(),
+            listen: listen.into(),
+            peers: peers.clone(),
+        });
+        build(&registry, &[part], 3.0).start_with(options).unwrap()
+    };
+    let (a, b) = (start("a", &a_at), start("b", &b_at));
+    run_to_end(a);
+    run_to_end(b);
+    let split = |tag, part: &str| -> Vec<String> {
+        record(tag)
+            .into_iter()
+            .filter(|l| l.starts_with(part))
+            .collect()
+    };
+    for part in ["a/", "b/"] {
+        assert_eq!(split(3, part), split(2, part), "{part}");
+        assert_eq!(split(3, part).len(), 6);
+    }
+}
+
+#[test]
+fn running_freely_values_arrive_and_a_type_without_serde_is_refused() {
+    let registry = registry();
+    let app = build(&registry, &["a", "b"], 4.0).start(Some(40)).unwrap();
+    run_to_end(app);
+    let got_from_a = record(4)
+        .iter()
+        .filter(|l| l.starts_with("b/") && !l.ends_with("got 0"))
+        .count();
+    assert!(got_from_a > 0, "{:?}", record(4));
+
+    let mut b = Builder::new(&registry);
+    let mut spec = A_TO_B;
+    spec.model_type = "no.SuchType";
+    let err = b.link_in(&spec, ("b/echo", "in"), ConnectOptions::default());
+    assert!(err.unwrap_err().to_string().contains("not registered"));
+}
+
+#[test]
+fn a_link_to_a_part_without_an_address_is_refused_at_start() {
+    let registry = registry();
+    let err = build(&registry, &["a"], 5.0).start(Some(1)).err().unwrap();
+    assert!(err.to_string().contains("no network addresses"), "{err}");
+}

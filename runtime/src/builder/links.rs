@@ -1,0 +1,136 @@
+//! The two ends of a connection between parts (see [`crate::link`]): the sending end
+//! runs after the writer in the writer's container, the receiving end feeds the reader
+//! like any output. Both reuse [`Builder::connect`], so conversions, queues and
+//! wakeups behave exactly as on a connection inside one part.
+
+use super::*;
+use crate::link::{Frame, LinkSpec, Pace, Receiving};
+use crate::module::{Timestamp, ValueType};
+
+impl Builder<'_> {
+    /// The sending end of the link `spec.id`: values of `from` (module path, output),
+    /// converted by `conversion` into the reader's type `spec.model_type`, are sent to
+    /// the part `spec.to_part` as `spec.sharing` says.
+    pub fn link_out(
+        &mut self,
+        spec: &LinkSpec<'_>,
+        from: (&str, &str),
+        conversion: Conversion,
+    ) -> Result<(), BuildError> {
+        let describe = format!("`{}/{}` → part `{}`", from.0, from.1, spec.to_part);
+        let value_type = self.link_type(spec, &describe)?;
+        let wire = *value_type.wire().expect("link_type checked it");
+        let writer = self.module(from.0)?;
+        let (input, handle) = value_type.input(&format!("link {} out", spec.id), None);
+        let end = self.link_end(
+            format!("link {} out", spec.id),
+            vec![("in".into(), handle)],
+            vec![],
+        );
+        self.connect(from, (&end, "in"), conversion, ConnectOptions::default())?;
+        let hub = Arc::clone(&self.hub);
+        let (link, to_part) = (spec.id, Arc::<str>::from(spec.to_part));
+        let mut pace = Pace::new(spec.sharing);
+        let mut failed = false;
+        let step = Step::new(describe.clone(), move || {
+            if !pace.send(input.changed(), Timestamp::now()) {
+                return;
+            }
+            let mut bytes = Vec::new();
+            match wire.encode(&input, &mut bytes) {
+                Ok(()) => hub.send(&to_part, Frame { link, bytes }),
+                Err(why) if !std::mem::replace(&mut failed, true) => {
+                    crate::console::line(&format!("warning: {describe}: not sent: {why}"))
+                }
+                Err(_) => {}
+            }
+        });
+        self.modules[writer].converters.push(step);
+        self.sent.insert(spec.id, spec.to_part.to_owned());
+        Ok(())
+    }
+
+    /// The receiving end of the link `spec.id`: values arriving from the part
+    /// `spec.from_part` are published into `to` (module path, input) with `options`.
+    pub fn link_in(
+        &mut self,
+        spec: &LinkSpec<'_>,
+        to: (&str, &str),
+        options: ConnectOptions,
+    ) -> Result<(), BuildError> {
+        let describe = format!("part `{}` → `{}/{}`", spec.from_part, to.0, to.1);
+        let value_type = self.link_type(spec, &describe)?;
+        let wire = *value_type.wire().expect("link_type checked it");
+        if self.receiving.contains_key(&spec.id) {
+            return Err(BuildError::Connect(format!(
+                "{describe}: the link {} is received twice",
+                spec.id
+            )));
+        }
+        let (out, handle) = value_type.output(&format!("link {} in", spec.id));
+        let end = self.link_end(
+            format!("link {} in", spec.id),
+            vec![],
+            vec![("out".into(), handle)],
+        );
+        self.connect((&end, "out"), to, Conversion::default(), options)?;
+        self.receiving
+            .insert(spec.id, Receiving::new(out, wire, describe));
+        self.received.insert(spec.id, spec.from_part.to_owned());
+        Ok(())
+    }
+
+    /// The value-table entry of a link's type, which must be able to cross.
+    fn link_type(&self, spec: &LinkSpec<'_>, describe: &str) -> Result<ValueType, BuildError> {
+        let value_type = self.registry.values().get(spec.model_type).ok_or_else(|| {
+            BuildError::Connect(format!(
+                "{describe}: the type `{}` is not registered in this binary (its crate's \
+                 register function should call `register_serde` for it)",
+                spec.model_type
+            ))
+        })?;
+        if value_type.wire().is_none() {
+            return Err(BuildError::Connect(format!(
+                "{describe}: values of `{}` cannot cross between parts: register it with \
+                 `register_serde` (and mark it serde=\"true\" in its library manifest)",
+                spec.model_type
+            )));
+        }
+        Ok(*value_type)
+    }
+
+    /// A port-only instance standing for one end of a link (no module, no thread).
+    fn link_end(
+        &mut self,
+        path: String,
+        inputs: Vec<(String, InputHandle)>,
+        outputs: Vec<(String, OutputHandle)>,
+    ) -> String {
+        self.index.insert(path.clone(), self.modules.len());
+        self.modules.push(Instance {
+            path: path.clone(),
+            kind: Kind::Plain,
+            module: None,
+            interface: Interface {
+                name: "link".into(),
+                rust: String::new(),
+                kind: Kind::Plain,
+                doc: None,
+                ports: Vec::new(),
+                params: Vec::new(),
+                flexible: Vec::new(),
+                services: Vec::new(),
+            },
+            inputs,
+            outputs,
+            params: Vec::new(),
+            services: Vec::new(),
+            clients: Vec::new(),
+            locks: Vec::new(),
+            converters: Vec::new(),
+            thread: None,
+            link_end: true,
+        });
+        path
+    }
+}

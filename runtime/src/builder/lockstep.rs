@@ -1,0 +1,282 @@
+//! Lockstep: the whole application (or this part of it) run in simulated time on one
+//! thread, the same way every time.
+//!
+//! Model time jumps from one release instant to the next: the instants `k·period` of
+//! every periodic container of the application (all parts, so that separate programs
+//! agree on them). At each instant the driver
+//!
+//! 1. delivers the values links carried since the previous instant (sorted by link),
+//! 2. runs the periodic containers due now, in declaration order, and every continuous
+//!    container once,
+//! 3. runs each data-triggered container that was woken, in declaration order, until
+//!    none is left (each at most once per instant: a container woken again waits for
+//!    the next instant),
+//! 4. sends what the links produced; a part's values reach other parts at the next
+//!    instant, in one process or over the network alike.
+//!
+//! Modules reading [`Timestamp::now`](crate::module::Timestamp::now) get model time.
+//! Because links deliver one instant later, running all parts in one process gives
+//! each part exactly what it gets when the parts run as separate programs.
+
+use super::running::Shared;
+use super::{BuildError, RunningApp};
+use crate::container::{ThreadContainer, ThreadOptions, Trigger};
+use crate::link::net::{self, Message, Network, Outgoing, Sink, Ticks};
+use crate::link::{Frame, Hub, Inbox, Route};
+use std::collections::BTreeSet;
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+/// Lockstep settings.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Lockstep {
+    /// The periods of every periodic container of the whole application. Empty: the
+    /// periods of the containers built here (enough when every part is here).
+    pub periods: Vec<Duration>,
+}
+
+/// The links of the application being started.
+pub(super) struct Links {
+    pub hub: Arc<Hub>,
+    pub inbox: Arc<Inbox>,
+    pub network: Option<Network>,
+    pub receiving_from: BTreeSet<String>,
+    pub sending_to: BTreeSet<String>,
+}
+
+impl Links {
+    fn remote(&self) -> bool {
+        !self.receiving_from.is_empty() || !self.sending_to.is_empty()
+    }
+
+    fn network(&self) -> Result<&Network, String> {
+        self.network.as_ref().ok_or_else(|| {
+            let parts: Vec<&String> = self.receiving_from.union(&self.sending_to).collect();
+            format!("this part is linked to {parts:?} but no network addresses were given")
+        })
+    }
+
+    /// Running freely: values go out as soon as they are sent and are published as
+    /// soon as they arrive.
+    pub(super) fn start_direct(self, stop: &Arc<AtomicBool>) -> Result<(), String> {
+        let mut outgoing = None;
+        if self.remote() {
+            let network = self.network()?;
+            outgoing = Some(Outgoing::start(network, &self.sending_to, stop)?);
+            if !self.receiving_from.is_empty() {
+                let sink = Sink::Deliver(Arc::clone(&self.inbox));
+                net::listen(network, self.receiving_from.clone(), sink, stop)?;
+            }
+        }
+        self.hub.set_route(Route::Direct {
+            inbox: self.inbox,
+            network: outgoing,
+        });
+        Ok(())
+    }
+}
+
+impl Lockstep {
+    pub(super) fn start(
+        self,
+        containers: Vec<(ThreadContainer, ThreadOptions)>,
+        links: Links,
+        shared: Shared,
+        limit: Option<u64>,
+    ) -> Result<RunningApp, BuildError> {
+        let containers: Vec<ThreadContainer> = containers.into_iter().map(|(c, _)| c).collect();
+        let mut periods = self.periods;
+        if periods.is_empty() {
+            periods = containers
+                .iter()
+                .filter_map(|c| match c.trigger() {
+                    Trigger::Periodic(p) => Some(*p),
+                    _ => None,
+                })
+                .collect();
+        }
+        links.hub.set_route(Route::Collect(Mutex::default()));
+        let (mut outgoing, mut ticks) = (None, None);
+        if links.remote() {
+            let network = links.network().map_err(BuildError::Connect)?;
+            outgoing = Some(
+                Outgoing::start(network, &links.sending_to, &shared.stop)
+                    .map_err(BuildError::Connect)?,
+            );
+            if !links.receiving_from.is_empty() {
+                let (tx, rx) = std::sync::mpsc::channel();
+                net::listen(
+                    network,
+                    links.receiving_from.clone(),
+                    Sink::Queue(tx),
+                    &shared.stop,
+                )
+                .map_err(BuildError::Connect)?;
+                ticks = Some(Ticks::new(rx, links.receiving_from.clone()));
+            }
+        }
+        let stats = containers.iter().map(|c| c.stats()).collect();
+        let mut driver = Driver {
+            containers,
+            timeline: Timeline::new(&periods, limit),
+            limit,
+            hub: links.hub,
+            inbox: links.inbox,
+            outgoing,
+            ticks,
+        };
+        RunningApp::start_driver(stats, shared, move |stop| driver.run(stop))
+    }
+}
+
+/// The release instants of the application, in nanoseconds of model time.
+struct Timeline {
+    periods: Vec<u128>,
+    limit: Option<u64>,
+}
+
+impl Timeline {
+    fn new(periods: &[Duration], limit: Option<u64>) -> Self {
+        let mut periods: Vec<u128> = periods
+            .iter()
+            .map(|p| p.as_nanos())
+            .filter(|p| *p > 0)
+            .collect();
+        if periods.is_empty() {
+            // Only continuous and data-triggered containers: one instant per millisecond.
+            periods.push(1_000_000);
+        }
+        periods.sort_unstable();
+        periods.dedup();
+        Timeline { periods, limit }
+    }
+
+    /// The first instant after `after` (or the start).
+    fn next(&self, after: Option<u128>) -> Option<u128> {
+        self.periods
+            .iter()
+            .filter_map(|&p| {
+                let k = after.map_or(0, |a| a / p + 1);
+                let within = self.limit.is_none_or(|l| k < u128::from(l));
+                within.then(|| k * p)
+            })
+            .min()
+    }
+}
+
+struct Driver {
+    containers: Vec<ThreadContainer>,
+    timeline: Timeline,
+    limit: Option<u64>,
+    hub: Arc<Hub>,
+    inbox: Arc<Inbox>,
+    outgoing: Option<Outgoing>,
+    ticks: Option<Ticks>,
+}
+
+impl Driver {
+    fn run(&mut self, stop: &AtomicBool) {
+        let mut done = vec![0u64; self.containers.len()];
+        let mut pending: Vec<Frame> = Vec::new();
+        let mut previous: Option<u128> = None;
+        while let Some(now) = self.timeline.next(previous) {
+            if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                break;
+            }
+            let nanos = u64::try_from(now).unwrap_or(u64::MAX);
+            crate::module::set_model_time(Some(Duration::from_nanos(nanos)));
+            let mut frames = std::mem::take(&mut pending);
+            if let (Some(before), Some(ticks)) = (previous, self.ticks.as_mut()) {
+                match ticks.frames_until(u64::try_from(before).unwrap_or(u64::MAX), stop) {
+                    Ok(arrived) => frames.extend(arrived),
+                    Err(why) => {
+                        crate::console::line(&format!("lockstep stopped: {why}"));
+                        break;
+                    }
+                }
+            }
+            frames.sort_by_key(|f| f.link);
+            for frame in &frames {
+                self.inbox.deliver(frame);
+            }
+            self.run_instant(now, &mut done);
+            for (to_part, frame) in self.hub.take_collected() {
+                if self.inbox.has(frame.link) {
+                    pending.push(frame);
+                } else if let Some(out) = &self.outgoing {
+                    out.send_waiting(&to_part, Message::Frame(frame));
+                }
+            }
+            if let Some(out) = &self.outgoing {
+                let parts: Vec<String> = out.parts().map(str::to_owned).collect();
+                for part in parts {
+                    out.send_waiting(&part, Message::Tick(nanos));
+                }
+            }
+            previous = Some(now);
+        }
+        crate::module::set_model_time(None);
+        if let Some(out) = &self.outgoing {
+            out.close();
+        }
+    }
+
+    /// Steps 2 and 3 of the module documentation.
+    fn run_instant(&mut self, now: u128, done: &mut [u64]) {
+        let limit = self.limit;
+        let more = |n: u64| limit.is_none_or(|l| n < l);
+        for (i, c) in self.containers.iter_mut().enumerate() {
+            let due = match c.trigger() {
+                Trigger::Periodic(p) => now % p.as_nanos().max(1) == 0,
+                Trigger::Continuous => true,
+                Trigger::Data(_) => false,
+            };
+            if due && more(done[i]) {
+                c.run_cycle();
+                done[i] += 1;
+            }
+        }
+        let mut ran = vec![false; self.containers.len()];
+        loop {
+            let mut any = false;
+            for (i, c) in self.containers.iter_mut().enumerate() {
+                let Trigger::Data(wakeup) = c.trigger() else {
+                    continue;
+                };
+                if !ran[i] && more(done[i]) && wakeup.take() {
+                    c.run_cycle();
+                    done[i] += 1;
+                    ran[i] = true;
+                    any = true;
+                }
+            }
+            if !any {
+                break;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_timeline_is_the_union_of_the_release_instants() {
+        let ms = Duration::from_millis;
+        let t = Timeline::new(&[ms(20), ms(50), ms(20)], Some(3));
+        let mut instants = Vec::new();
+        let mut previous = None;
+        while let Some(n) = t.next(previous) {
+            instants.push(n / 1_000_000);
+            previous = Some(n);
+        }
+        // 20 ms three times (0, 20, 40), 50 ms three times (0, 50, 100).
+        assert_eq!(instants, [0, 20, 40, 50, 100]);
+        let only_data = Timeline::new(&[], Some(2));
+        assert_eq!(only_data.next(None), Some(0));
+        assert_eq!(only_data.next(Some(0)), Some(1_000_000));
+        assert_eq!(only_data.next(Some(1_000_000)), None);
+    }
+}

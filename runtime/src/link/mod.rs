@@ -1,0 +1,223 @@
+//! Links: connections between parts.
+//!
+//! A part is one program, possibly on another computer, so a connection from one part
+//! to another cannot share a port. Its sending end is a step right after the writer
+//! (like a converter) that encodes each new value of the reader's type
+//! ([`Wire`](crate::module::Wire)) into a [`Frame`], paced by the connection's
+//! `sharing=`; its receiving end publishes decoded values into the reader's input
+//! through an ordinary port connection, so queues and wakeups work as for any input.
+//!
+//! The [`Hub`] routes frames. A link whose receiving end is in this process is
+//! delivered here: at once when running freely (`ferroc run` runs every part in one
+//! process), or at the next instant of model time in lockstep. Any other link goes to
+//! its part over the network ([`net`]).
+
+pub mod net;
+
+use crate::module::{DynOut, Timestamp, Wire};
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
+use std::time::Duration;
+
+/// How often a link sends: the connection's `sharing=`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sharing {
+    /// Every new value, but at most one per `min_interval`; a value published within
+    /// the interval is sent once it has passed (`sharing="on-change"`, the default).
+    OnChange {
+        /// `min-interval=` (zero: no limit).
+        min_interval: Duration,
+    },
+    /// The latest value every `period` (`sharing="periodic"`).
+    Periodic(Duration),
+}
+
+impl Default for Sharing {
+    fn default() -> Self {
+        Sharing::OnChange {
+            min_interval: Duration::ZERO,
+        }
+    }
+}
+
+/// One connection between parts, as both of its ends are built.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinkSpec<'a> {
+    /// Its number, the same in every part (the model's connection order).
+    pub id: u32,
+    /// The part of the writer.
+    pub from_part: &'a str,
+    /// The part of the reader.
+    pub to_part: &'a str,
+    /// The value type on the link: the reader's model type (`rescue.VictimList`).
+    pub model_type: &'a str,
+    /// When values are sent.
+    pub sharing: Sharing,
+}
+
+/// One encoded value on its way.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Frame {
+    /// The link it travels on.
+    pub link: u32,
+    /// The value, encoded.
+    pub bytes: Vec<u8>,
+}
+
+/// Decides when a link's sending end sends, from the model time of each writer cycle.
+#[derive(Debug)]
+pub(crate) struct Pace {
+    sharing: Sharing,
+    last_sent: Option<Timestamp>,
+    waiting: bool,
+}
+
+impl Pace {
+    pub(crate) fn new(sharing: Sharing) -> Self {
+        Pace {
+            sharing,
+            last_sent: None,
+            waiting: false,
+        }
+    }
+
+    /// Whether to send now, given whether the writer published since the last cycle.
+    pub(crate) fn send(&mut self, published: bool, now: Timestamp) -> bool {
+        self.waiting |= published;
+        let every = match self.sharing {
+            Sharing::OnChange { min_interval } => min_interval,
+            Sharing::Periodic(period) => period,
+        };
+        let elapsed = |last: Timestamp| {
+            u128::try_from(now.nanos.saturating_sub(last.nanos)).unwrap_or(0) >= every.as_nanos()
+        };
+        let due = self.waiting && self.last_sent.is_none_or(elapsed);
+        if due {
+            self.last_sent = Some(now);
+            // A periodic link keeps sending the latest value; on-change waits for news.
+            self.waiting = matches!(self.sharing, Sharing::Periodic(_));
+        }
+        due
+    }
+}
+
+/// The receiving ends of the links whose reader is in this process.
+pub(crate) struct Inbox {
+    links: BTreeMap<u32, Receiving>,
+}
+
+pub(crate) struct Receiving {
+    pub(crate) out: DynOut,
+    pub(crate) wire: Wire,
+    /// `robot/vision/detector/victims → station/…`, for reports.
+    pub(crate) describe: String,
+    failures: AtomicU64,
+}
+
+impl Receiving {
+    pub(crate) fn new(out: DynOut, wire: Wire, describe: String) -> Self {
+        Receiving {
+            out,
+            wire,
+            describe,
+            failures: AtomicU64::new(0),
+        }
+    }
+}
+
+impl Inbox {
+    pub(crate) fn new(links: BTreeMap<u32, Receiving>) -> Self {
+        Inbox { links }
+    }
+
+    /// Whether the reader of `link` is in this process.
+    pub(crate) fn has(&self, link: u32) -> bool {
+        self.links.contains_key(&link)
+    }
+
+    /// Publishes a frame's value into its reader. A frame for an unknown link or one
+    /// that does not decode is reported (the first time) and dropped.
+    pub(crate) fn deliver(&self, frame: &Frame) {
+        let Some(link) = self.links.get(&frame.link) else {
+            crate::console::line(&format!(
+                "warning: a peer sent a value for link {}, which this part does not receive; \
+                 are both programs built from the same model?",
+                frame.link
+            ));
+            return;
+        };
+        if let Err(why) = link.wire.decode(&link.out, &frame.bytes) {
+            if link.failures.fetch_add(1, Ordering::Relaxed) == 0 {
+                crate::console::line(&format!(
+                    "warning: {}: a value could not be decoded ({why}); it is dropped",
+                    link.describe
+                ));
+            }
+        }
+    }
+}
+
+/// Where the sending ends put their frames; told how to route them at start.
+#[derive(Default)]
+pub(crate) struct Hub {
+    route: OnceLock<Route>,
+}
+
+pub(crate) enum Route {
+    /// Running freely: deliver local links at once, send the others.
+    Direct {
+        inbox: Arc<Inbox>,
+        network: Option<net::Outgoing>,
+    },
+    /// In lockstep: collect everything; the driver delivers at the next instant.
+    Collect(Mutex<Vec<(Arc<str>, Frame)>>),
+}
+
+impl Hub {
+    pub(crate) fn set_route(&self, route: Route) {
+        let _ = self.route.set(route);
+    }
+
+    /// Sends a frame towards the part `to_part`.
+    pub(crate) fn send(&self, to_part: &Arc<str>, frame: Frame) {
+        match self.route.get() {
+            Some(Route::Direct { inbox, network }) => {
+                if inbox.has(frame.link) {
+                    inbox.deliver(&frame);
+                } else if let Some(network) = network {
+                    network.send(to_part, frame);
+                }
+            }
+            Some(Route::Collect(frames)) => frames
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push((Arc::clone(to_part), frame)),
+            None => {}
+        }
+    }
+
+    /// Ends the network streams (after the containers stopped).
+    pub(crate) fn close(&self) {
+        if let Some(Route::Direct {
+            network: Some(network),
+            ..
+        }) = self.route.get()
+        {
+            network.close();
+        }
+    }
+
+    /// In lockstep: the frames sent since the last call.
+    pub(crate) fn take_collected(&self) -> Vec<(Arc<str>, Frame)> {
+        match self.route.get() {
+            Some(Route::Collect(frames)) => {
+                std::mem::take(&mut *frames.lock().unwrap_or_else(|e| e.into_inner()))
+            }
+            _ => Vec::new(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
