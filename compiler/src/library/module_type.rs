@@ -3,14 +3,17 @@
 
 use super::{unit_attr, LibraryId, LibrarySet};
 use crate::checks::model::{m105_misplaced_element, m109_duplicate_name};
-use crate::checks::parameters::{p103_unparsable_value, p104_out_of_range};
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::source::Span;
 use crate::syntax::Element;
-use crate::types::{Meta, Type};
+use crate::types::Type;
 use crate::units::Unit;
-use crate::values::{parse_value, Value};
 use hashbrown::HashMap;
+
+mod behaviour;
+mod params;
+
+pub use params::check_value;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ModuleKind {
@@ -200,7 +203,7 @@ fn build(
             "controller-in" => (PortDir::In, PortRole::Controller),
             "controller-out" => (PortDir::Out, PortRole::Controller),
             "param" => {
-                if let Some(p) = param_decl(set, &lib.visible, child, diags) {
+                if let Some(p) = params::param_decl(set, &lib.visible, child, diags) {
                     if unique(&mut param_names, &p.name, p.span, diags) {
                         mt.params.push(p);
                     }
@@ -277,7 +280,7 @@ fn build(
     }
     super::steps::add_rpc_ports(set, &lib.visible, element, &mut mt, &mut names, diags);
     if mt.is_behaviour() {
-        add_behaviour_interface(&mut mt);
+        behaviour::add_behaviour_interface(&mut mt);
     }
     mt.port_index = mt
         .ports
@@ -332,65 +335,6 @@ pub(super) fn unique(
     true
 }
 
-/// The iB2C interface every behaviour has (model-language.md §4). Instance-sized ports
-/// (`inhibition/k`, fusion channels) are added per instance by the resolver.
-fn add_behaviour_interface(mt: &mut ModuleType) {
-    let span = mt.span;
-    let meta = |name: &str, dir, m| PortDecl {
-        name: name.to_string(),
-        dir,
-        role: PortRole::Meta,
-        ty: PortType::Fixed(Type::Meta(m)),
-        unit: None,
-        required: false,
-        blocking_read: false,
-        read_timeout: None,
-        merge: false,
-        span,
-    };
-    mt.ports
-        .push(meta("stimulation", PortDir::In, Meta::Stimulation));
-    mt.ports
-        .push(meta("activity", PortDir::Out, Meta::Activity));
-    mt.ports
-        .push(meta("target_rating", PortDir::Out, Meta::TargetRating));
-    for d in &mt.derived_activities {
-        mt.ports
-            .push(meta(&format!("activity/{d}"), PortDir::Out, Meta::Activity));
-    }
-    let param = |name: &str, ty: Type, default: &str, choices: &[&str]| ParamDecl {
-        name: name.to_string(),
-        ty,
-        unit: None,
-        min: None,
-        max: None,
-        default: Some(default.to_string()),
-        required: false,
-        choices: choices.iter().map(|c| c.to_string()).collect(),
-        span,
-    };
-    let u32t = Type::Int {
-        signed: false,
-        bits: 32,
-    };
-    mt.params.push(param(
-        "stimulation_mode",
-        Type::String,
-        "auto",
-        &["auto", "enabled", "disabled"],
-    ));
-    mt.params.push(param("inhibitions", u32t.clone(), "1", &[]));
-    if mt.kind == ModuleKind::Fusion {
-        mt.params.push(param("channels", u32t, "2", &[]));
-        mt.params.push(param(
-            "method",
-            Type::String,
-            "max",
-            &["max", "weighted_average", "weighted_sum"],
-        ));
-    }
-}
-
 fn port_decl(
     set: &LibrarySet,
     visible: &[LibraryId],
@@ -417,171 +361,4 @@ fn port_decl(
         merge: e.value("fan-in") == Some("merge"),
         span: e.value_span("name"),
     })
-}
-
-fn param_decl(
-    set: &LibrarySet,
-    visible: &[LibraryId],
-    e: &Element,
-    diags: &mut Diagnostics,
-) -> Option<ParamDecl> {
-    let name = e.value("name")?;
-    let ty = set.resolve_type(e.value("type")?, e.value_span("type"), visible, diags)?;
-    let unit = unit_attr(e, diags);
-    // Bounds are values of the parameter's type: `15 cm`, `10ms` and plain numbers work.
-    let mut bound = |attr: &str| -> Option<f64> {
-        let a = e.attr(attr)?;
-        match parse_value(&a.value, &ty, unit.as_ref()) {
-            Ok(Value::Int(i)) => Some(i as f64),
-            Ok(Value::Float(f)) => Some(f),
-            Ok(Value::Duration(s)) => Some(s),
-            _ => {
-                diags.push(
-                    Diagnostic::new(&p103_unparsable_value::CHECK, a.value_span, format!("`{}` is not a number of type `{ty}`", a.value))
-                        .label(format!("`{attr}` must be a number in the parameter's type and unit"))
-                        .help("write a plain number, or a number with a unit of the parameter's dimension"),
-                );
-                None
-            }
-        }
-    };
-    let min = bound("min");
-    let max = bound("max");
-    let decl = ParamDecl {
-        name: name.to_string(),
-        ty,
-        unit,
-        min,
-        max,
-        default: e.value("default").map(str::to_string),
-        required: e.value("required") == Some("true"),
-        choices: e
-            .value("choices")
-            .map(|c| c.split_whitespace().map(str::to_string).collect())
-            .unwrap_or_default(),
-        span: e.value_span("name"),
-    };
-    if let Some(default) = e.attr("default") {
-        check_value(&decl, &default.value, default.value_span, None, diags);
-    }
-    Some(decl)
-}
-
-/// Parses a value for a parameter and checks choices and range. Shared by defaults in
-/// manifests and `<param>` values in models. Returns the value when it is acceptable.
-pub fn check_value(
-    decl: &ParamDecl,
-    text: &str,
-    span: Span,
-    context: Option<Span>,
-    diags: &mut Diagnostics,
-) -> Option<Value> {
-    use crate::checks::parameters::p105_wrong_unit_dimension;
-    let with_context = |d: Diagnostic| match context {
-        Some(c) => d.secondary(c, "the parameter is declared here"),
-        None => d,
-    };
-    if !decl.choices.is_empty() && !decl.choices.iter().any(|c| c == text.trim()) {
-        diags.push(with_context(
-            Diagnostic::new(
-                &p103_unparsable_value::CHECK,
-                span,
-                format!(
-                    "`{}` is not one of the choices of `{}`",
-                    text.trim(),
-                    decl.name
-                ),
-            )
-            .label("not a valid choice")
-            .help(format!("use one of: {}", decl.choices.join(", "))),
-        ));
-        return None;
-    }
-    match parse_value(text, &decl.ty, decl.unit.as_ref()) {
-        Ok(value) => {
-            let number = match &value {
-                Value::Int(i) => Some(*i as f64),
-                Value::Float(f) => Some(*f),
-                Value::Duration(s) => Some(*s),
-                _ => None,
-            };
-            if let Some(n) = number {
-                let below = decl.min.filter(|m| n < *m);
-                let above = decl.max.filter(|m| n > *m);
-                if below.is_some() || above.is_some() {
-                    // Durations are compared in seconds; say so.
-                    let unit = match (&decl.unit, &decl.ty) {
-                        (Some(u), _) => format!(" {u}"),
-                        (None, Type::Duration) => " s".to_string(),
-                        _ => String::new(),
-                    };
-                    let written = text.trim();
-                    let value = if written == format!("{n}{unit}") || written == n.to_string() {
-                        format!("{n}{unit}")
-                    } else {
-                        format!("`{written}` (= {n}{unit})")
-                    };
-                    let range = match (decl.min, decl.max) {
-                        (Some(a), Some(b)) => format!("{a}{unit} ..= {b}{unit}"),
-                        (Some(a), None) => format!(">= {a}{unit}"),
-                        (None, Some(b)) => format!("<= {b}{unit}"),
-                        _ => String::new(),
-                    };
-                    diags.push(with_context(
-                        Diagnostic::new(
-                            &p104_out_of_range::CHECK,
-                            span,
-                            format!("{value} is outside the range of `{}` ({range})", decl.name),
-                        )
-                        .label(if below.is_some() {
-                            "too small"
-                        } else {
-                            "too large"
-                        })
-                        .help(format!("use a value in {range}")),
-                    ));
-                    return None;
-                }
-                if matches!(decl.ty, Type::Meta(_)) && !(0.0..=1.0).contains(&n) {
-                    use crate::checks::behaviour::b101_meta_constant_out_of_range as b101;
-                    diags.push(b101::report(decl, text, n, span, context));
-                    return None;
-                }
-            }
-            Some(value)
-        }
-        Err(crate::values::ValueError::Syntax(msg)) => {
-            diags.push(with_context(
-                Diagnostic::new(
-                    &p103_unparsable_value::CHECK,
-                    span,
-                    format!("invalid value for `{}`: {msg}", decl.name),
-                )
-                .label(format!("expected a `{}`", decl.ty))
-                .help(match &decl.unit {
-                    Some(u) => format!(
-                        "write a `{}` value, optionally with a unit of the same dimension as `{u}`",
-                        decl.ty
-                    ),
-                    None => format!("write a `{}` value", decl.ty),
-                }),
-            ));
-            None
-        }
-        Err(crate::values::ValueError::WrongDimension(msg)) => {
-            diags.push(with_context(
-                Diagnostic::new(
-                    &p105_wrong_unit_dimension::CHECK,
-                    span,
-                    format!("wrong unit for `{}`: {msg}", decl.name),
-                )
-                .label("unit of another dimension")
-                .help(match &decl.unit {
-                    Some(u) => format!("write the value in `{u}` or a unit of the same dimension"),
-                    None => "write the value without a unit".to_string(),
-                }),
-            ));
-            None
-        }
-    }
 }

@@ -1,7 +1,7 @@
 //! B101 `meta-constant-out-of-range`: A constant given for an iB2C meta signal lies
 //! outside [0, 1].
 //!
-//! Raised by the parameter value check (`check_value` in `library/module_type.rs`), which
+//! Raised by the parameter value check (`check_value` in `library/module_type/params.rs`), which
 //! sees `<param>` values in models (inline or from config files) and `default`s in
 //! manifests: one parse, every verdict.
 
