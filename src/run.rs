@@ -8,8 +8,10 @@ use ferroc_compiler::source::{SourceMap, Span};
 use ferroc_compiler::values::Value as ModelValue;
 use ferroc_runtime::behaviour::ViolationPolicy;
 use ferroc_runtime::builder::{
-    Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StepKind, ThreadSpec,
+    Builder, Conversion, Lockstep, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,
+    StepKind, ThreadSpec,
 };
+use ferroc_runtime::link::{LinkSpec, Sharing};
 use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::module::{Direction, PortGroup, Value};
 use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig};
@@ -31,6 +33,12 @@ pub struct RunArgs {
     /// Stop after this many cycles of every thread container
     #[arg(long, value_name = "N")]
     cycles: Option<u64>,
+    /// Run in simulated time on one thread: every periodic container at its instants
+    /// of model time, links between parts delivering at the next instant. The output
+    /// is the same on every run, and the same as the bundle's programs with
+    /// `--lockstep` (use with --cycles)
+    #[arg(long)]
+    lockstep: bool,
     /// A value for a parameter declared with `cmdline=NAME` (repeatable)
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
@@ -122,7 +130,12 @@ pub fn run(args: RunArgs) -> ExitCode {
     if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
         eprintln!("warning: Ctrl-C will not stop cleanly: {e}");
     }
-    let app = match build(&plan, &registry, args.cycles) {
+    let start = StartOptions {
+        limit: args.cycles,
+        lockstep: args.lockstep.then(Lockstep::default),
+        network: None,
+    };
+    let app = match build(&plan, &registry, start) {
         Ok(app) => app,
         Err(e) => {
             eprintln!("error: {e}");
@@ -227,11 +240,30 @@ fn conversion(c: &plan::PlannedConnection) -> Conversion {
     )
 }
 
-/// The Builder calls for a plan (the bundle writes the same calls as source).
+/// The runtime's description of a planned link.
+fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
+    let seconds = |s: f64| Duration::from_secs_f64(s.clamp(0.0, 1e9));
+    LinkSpec {
+        id: link.id,
+        from_part: &link.from_part,
+        to_part: &link.to_part,
+        model_type: &link.ty,
+        sharing: match link.sharing {
+            plan::LinkSharing::OnChange { min_interval } => Sharing::OnChange {
+                min_interval: seconds(min_interval),
+            },
+            plan::LinkSharing::Periodic { period } => Sharing::Periodic(seconds(period)),
+        },
+    }
+}
+
+/// The Builder calls for a plan (the bundle writes the same calls as source). Every
+/// part runs in this process; connections between parts still travel as links (their
+/// values encoded, paced by their `sharing=`), as they will between programs.
 pub fn build(
     plan: &Plan,
     registry: &Registry,
-    cycles: Option<u64>,
+    start: StartOptions,
 ) -> Result<RunningApp, ferroc_runtime::builder::BuildError> {
     let mut builder = Builder::new(registry);
     for m in &plan.modules {
@@ -288,12 +320,15 @@ pub fn build(
         builder.declare_lock_order(first, second, why)?;
     }
     for c in &plan.connections {
-        builder.connect(
-            (&c.from.0, &c.from.1),
-            (&c.to.0, &c.to.1),
-            conversion(c),
-            ConnectOptions::default(),
-        )?;
+        let (from, to) = ((c.from.0.as_str(), c.from.1.as_str()), (c.to.0.as_str(), c.to.1.as_str()));
+        match &c.link {
+            None => builder.connect(from, to, conversion(c), ConnectOptions::default())?,
+            Some(link) => {
+                let spec = link_spec(link);
+                builder.link_out(&spec, from, conversion(c))?;
+                builder.link_in(&spec, to, ConnectOptions::default())?;
+            }
+        }
     }
     for link in &plan.param_links {
         builder.connect_param(
@@ -331,5 +366,5 @@ pub fn build(
                 .collect(),
         })?;
     }
-    builder.start(cycles)
+    builder.start_with(start)
 }

@@ -164,6 +164,9 @@ pub struct Connection {
     pub sharing: Option<(String, Span)>,
     pub min_interval: Option<Span>,
     pub period: Option<Span>,
+    /// The values of `min-interval=` and `period=`, in seconds.
+    pub min_interval_seconds: Option<f64>,
+    pub period_seconds: Option<f64>,
     pub reliability: Option<Span>,
     pub converts: Vec<ConvertStep>,
     pub instantiated_at: Option<Span>,

@@ -6,6 +6,10 @@
 //! group ports flattened away and unit scales folded into one conversion, and each
 //! thread container's step order from the scheduling pass.
 
+mod links;
+
+pub use links::{LinkSharing, PlannedLink};
+
 use crate::ir::{Application, ElementId, ElementKind, Endpoint, ParamSource, PortView};
 use crate::library::{LibrarySet, PortDir, PortRole};
 use crate::schedule::{self, call_edges, data_edges, DataEdge, StepKind};
@@ -64,6 +68,8 @@ pub struct PlannedConnection {
     /// Then `to = part · scale + offset` (unit scales and `<convert>` steps combined).
     pub scale: f64,
     pub offset: f64,
+    /// Set when the connection joins two parts: it travels as a link.
+    pub link: Option<PlannedLink>,
     pub span: Span,
 }
 
@@ -283,6 +289,7 @@ pub fn plan(
                 }
             }
         }
+        let next_link = plan.connections.iter().filter(|c| c.link.is_some()).count() as u32;
         plan.connections.push(PlannedConnection {
             from: (
                 paths[edge.from_module.0 as usize].clone(),
@@ -295,6 +302,7 @@ pub fn plan(
             select,
             scale,
             offset,
+            link: links::link_of(app, libs, &edge, to.ty, next_link),
             span: edge
                 .hops
                 .last()

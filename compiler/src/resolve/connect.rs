@@ -59,6 +59,10 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             });
         }
         let attr_span = |name: &str| e.attr(name).map(|a| a.value_span);
+        let seconds = |name: &str| {
+            e.value(name)
+                .and_then(|v| crate::values::parse_duration(v).ok())
+        };
         let index = self.app.connections.len();
         self.app.connections.push(Connection {
             from: from_ep,
@@ -77,6 +81,8 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 .map(|a| (a.value.to_string(), a.value_span)),
             min_interval: attr_span("min-interval"),
             period: attr_span("period"),
+            min_interval_seconds: seconds("min-interval"),
+            period_seconds: seconds("period"),
             reliability: attr_span("reliability"),
             converts,
             instantiated_at: p.instantiated_at,

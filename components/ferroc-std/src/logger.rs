@@ -19,7 +19,7 @@ use ferroc_runtime::module::{DynIn, Module, ModuleType, Parameter, Setup, Timest
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Component, Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// `ferroc_std.Logger`: writes its inputs to a log file at a fixed period.
 pub struct Logger {
@@ -29,8 +29,9 @@ pub struct Logger {
     file: Option<File>,
     /// Writing failed once: reported, nothing more is written.
     failed: bool,
-    /// When the next line is due (`None`: at once).
-    next: Option<Instant>,
+    /// When the next line is due (`None`: at once), on `Timestamp::now`'s clock (model
+    /// time in lockstep, so a lockstep run logs the same lines every time).
+    next: Option<Duration>,
     line: String,
 }
 
@@ -155,7 +156,8 @@ impl Module for Logger {
         if self.failed {
             return;
         }
-        let now = Instant::now();
+        let stamp = Timestamp::now();
+        let now = Duration::from_nanos(u64::try_from(stamp.nanos).unwrap_or(0));
         let period = self.period.get();
         // Due from half a period before the deadline: a thread container of the same
         // period starts each cycle a little late or early, and a strict comparison
@@ -168,7 +170,7 @@ impl Module for Logger {
             Some(next) if now < next + period => next + period,
             _ => now + period,
         });
-        self.format_line(Timestamp::now());
+        self.format_line(stamp);
         if let Err(e) = self.write_line() {
             self.failed = true;
             eprintln!(

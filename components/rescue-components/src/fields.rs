@@ -25,11 +25,11 @@ pub fn register_fields(registry: &mut Registry) {
 /// ports (`models/rescue_robot.xml` logs victim lists on the station).
 pub fn register_values(registry: &mut Registry) {
     registry
-        .register_value::<Pose2D>()
-        .register_value::<Velocity2D>()
-        .register_value::<LaserScan>()
+        .register_serde::<Pose2D>()
+        .register_serde::<Velocity2D>()
+        .register_serde::<LaserScan>()
         .register_value::<Image>()
-        .register_value::<Victim>()
-        .register_value::<VictimList>()
-        .register_value::<Map>();
+        .register_serde::<Victim>()
+        .register_serde::<VictimList>()
+        .register_serde::<Map>();
 }

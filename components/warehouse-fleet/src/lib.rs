@@ -128,10 +128,10 @@ pub fn register(registry: &mut Registry) {
 /// rescue library's poses, registered here too: registering a type twice is harmless).
 fn register_values(registry: &mut Registry) {
     registry
-        .register_value::<RobotStatus>()
-        .register_value::<Task>()
-        .register_value::<Pose2D>()
-        .register_value::<LaserScan>();
+        .register_serde::<RobotStatus>()
+        .register_serde::<Task>()
+        .register_serde::<Pose2D>()
+        .register_serde::<LaserScan>();
 }
 
 /// Field accessors for `<convert field="…"/>` on connections carrying a robot status

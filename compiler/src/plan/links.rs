@@ -1,0 +1,88 @@
+//! Connections between parts: which of the plan's connections cross from one part to
+//! another, with the value type they carry and how often they send (`sharing=`).
+//! The runtime turns each into a link ([`ferroc_runtime::link`] in the runtime crate);
+//! a bundle writes both of its ends, one in each part's program.
+
+use crate::ir::{Application, ElementId};
+use crate::library::LibrarySet;
+use crate::schedule::DataEdge;
+use crate::types::Type;
+
+/// A connection that crosses from one part to another.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedLink {
+    /// Its number: the order of the plan's links, the same in every part's program.
+    pub id: u32,
+    pub from_part: String,
+    pub to_part: String,
+    /// The reader's model type (what travels, after any conversion).
+    pub ty: String,
+    /// For a library type: its library and Rust path (a bundle registers it).
+    pub library: Option<String>,
+    pub rust: Option<String>,
+    pub sharing: LinkSharing,
+}
+
+/// `sharing=` with its time, in seconds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LinkSharing {
+    /// Every new value, at most one per `min-interval` (0: no limit).
+    OnChange { min_interval: f64 },
+    /// The latest value every `period`.
+    Periodic { period: f64 },
+}
+
+/// The link of a connection from `from_module` to `to_module` through `edge`'s hops,
+/// if the two modules are in different parts; `id` is the number it gets.
+pub(super) fn link_of(
+    app: &Application,
+    libs: &LibrarySet,
+    edge: &DataEdge,
+    to_type: &Type,
+    id: u32,
+) -> Option<PlannedLink> {
+    let part_of = |m: ElementId| app.element(m).part;
+    let (from, to) = (part_of(edge.from_module)?, part_of(edge.to_module)?);
+    if from == to {
+        return None;
+    }
+    // The hop that says how (normally the one between the parts) decides.
+    let mut sharing = LinkSharing::OnChange { min_interval: 0.0 };
+    for &hop in &edge.hops {
+        let c = &app.connections[hop];
+        match c.sharing.as_ref().map(|(s, _)| s.as_str()) {
+            Some("periodic") => {
+                sharing = LinkSharing::Periodic {
+                    period: c.period_seconds.unwrap_or(0.0),
+                };
+                break;
+            }
+            Some(_) | None if c.min_interval_seconds.is_some() || c.sharing.is_some() => {
+                sharing = LinkSharing::OnChange {
+                    min_interval: c.min_interval_seconds.unwrap_or(0.0),
+                };
+                break;
+            }
+            _ => {}
+        }
+    }
+    let (library, rust) = match to_type {
+        Type::Named(named, _) => {
+            let named = libs.named_type(*named);
+            (
+                Some(libs.get(named.library).name.clone()),
+                Some(named.rust.clone()),
+            )
+        }
+        _ => (None, None),
+    };
+    Some(PlannedLink {
+        id,
+        from_part: app.element(from).name.clone(),
+        to_part: app.element(to).name.clone(),
+        ty: to_type.to_string(),
+        library,
+        rust,
+        sharing,
+    })
+}
