@@ -11,8 +11,8 @@ use ferroc_runtime::builder::{
     Builder, Conversion, Lockstep, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,
     StepKind, ThreadSpec,
 };
-use ferroc_runtime::link::{LinkSpec, Sharing};
 use ferroc_runtime::container::ThreadOptions;
+use ferroc_runtime::link::{LinkSpec, Sharing};
 use ferroc_runtime::module::{Direction, PortGroup, Value};
 use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig};
 use ferroc_runtime::supervise;
@@ -320,7 +320,10 @@ pub fn build(
         builder.declare_lock_order(first, second, why)?;
     }
     for c in &plan.connections {
-        let (from, to) = ((c.from.0.as_str(), c.from.1.as_str()), (c.to.0.as_str(), c.to.1.as_str()));
+        let (from, to) = (
+            (c.from.0.as_str(), c.from.1.as_str()),
+            (c.to.0.as_str(), c.to.1.as_str()),
+        );
         match &c.link {
             None => builder.connect(from, to, conversion(c), ConnectOptions::default())?,
             Some(link) => {

@@ -140,6 +140,14 @@ pub struct Args {
     pub duration: Option<Duration>,
     /// `--quiet` / `-q`: no live status line.
     pub quiet: bool,
+    /// `--lockstep`: simulated time, the same output on every run.
+    pub lockstep: bool,
+    /// `--local`: every part on this computer (127.0.0.1, ports unchanged).
+    pub local: bool,
+    /// `--peer PART=HOST:PORT`: where a part listens (repeatable).
+    pub peers: Vec<(String, String)>,
+    /// `--listen ADDR`: where this part listens (default: its own port, all interfaces).
+    pub listen: Option<String>,
 }
 
 impl Args {
@@ -188,10 +196,74 @@ impl Args {
                     let v = value("a duration, e.g. --for 10s")?;
                     out.duration = Some(parse_duration(&v)?);
                 }
+                "--lockstep" => out.lockstep = true,
+                "--local" => out.local = true,
+                "--peer" => {
+                    let v = value("a part and its address, e.g. --peer station=10.0.0.2:47801")?;
+                    let (part, address) = v
+                        .split_once('=')
+                        .filter(|(p, a)| !p.is_empty() && a.contains(':'))
+                        .ok_or_else(|| format!("--peer {v}: write PART=HOST:PORT"))?;
+                    out.peers.push((part.to_owned(), address.to_owned()));
+                }
+                "--listen" => {
+                    let v = value("an address, e.g. --listen 0.0.0.0:47801")?;
+                    out.listen = Some(v);
+                }
                 _ => return Err(format!("unknown argument `{arg}`")),
             }
         }
         Ok(Some(out))
+    }
+
+    /// How to start the part `part` of an application whose parts listen at `parts`
+    /// (name, `host:port`) and whose periodic containers have `periods` (lockstep).
+    pub fn start_options(
+        &self,
+        part: &str,
+        parts: &[(&str, &str)],
+        periods: &[Duration],
+    ) -> Result<crate::builder::StartOptions, String> {
+        let mut peers: std::collections::BTreeMap<String, String> = parts
+            .iter()
+            .map(|(name, address)| {
+                let address = match address.rsplit_once(':') {
+                    Some((_, port)) if self.local => format!("127.0.0.1:{port}"),
+                    _ => address.to_string(),
+                };
+                (name.to_string(), address)
+            })
+            .collect();
+        for (name, address) in &self.peers {
+            if !peers.contains_key(name) {
+                let known: Vec<&str> = parts.iter().map(|(n, _)| *n).collect();
+                return Err(format!(
+                    "--peer {name}=…: the application has no part `{name}` (its parts: {})",
+                    known.join(", ")
+                ));
+            }
+            peers.insert(name.clone(), address.clone());
+        }
+        let own_port = peers
+            .get(part)
+            .and_then(|a| a.rsplit_once(':'))
+            .map(|(_, port)| port.to_owned())
+            .unwrap_or_else(|| "0".into());
+        let listen = self.listen.clone().unwrap_or_else(|| {
+            let any = if self.local { "127.0.0.1" } else { "0.0.0.0" };
+            format!("{any}:{own_port}")
+        });
+        Ok(crate::builder::StartOptions {
+            limit: self.cycles,
+            lockstep: self.lockstep.then(|| crate::builder::Lockstep {
+                periods: periods.to_vec(),
+            }),
+            network: Some(crate::link::net::Network {
+                part: part.to_owned(),
+                listen,
+                peers,
+            }),
+        })
     }
 
     /// The supervision options these arguments ask for (status line only on a terminal).
@@ -205,10 +277,16 @@ impl Args {
 
 fn usage(program: &str) -> String {
     format!(
-        "Usage: {program} [--cycles N] [--for DURATION] [--quiet]\n\n\
+        "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--local] [--peer PART=HOST:PORT]... [--quiet]\n\n\
          Options:\n  \
          --cycles N        stop after N cycles of every thread container\n  \
          --for DURATION    stop after this long: 500ms, 10s, 2min, 1h\n  \
+         --lockstep        run in simulated time, in step with the other parts: the same\n                    \
+         output on every run, and the same as `ferroc run --lockstep`\n  \
+         --local           every part runs on this computer (127.0.0.1, same ports)\n  \
+         --peer PART=HOST:PORT\n                    \
+         where another part listens (default: its host and port in the model)\n  \
+         --listen ADDR     where this part listens (default: its port on all interfaces)\n  \
          -q, --quiet       no live status line\n  \
          -h, --help        this text\n\n\
          Ctrl-C or SIGTERM stops after the current cycle. A summary (cycles, overruns and\n\
@@ -278,6 +356,20 @@ mod tests {
         assert!(parse(&["--bogus"])
             .unwrap_err()
             .contains("unknown argument"));
+        let args = parse(&["--lockstep", "--local", "--peer", "b=10.0.0.2:9"])
+            .unwrap()
+            .unwrap();
+        let parts = [("a", "robot-pc:47800"), ("b", "base-pc:47801")];
+        let start = args.start_options("a", &parts, &[]).unwrap();
+        let network = start.network.unwrap();
+        assert_eq!(network.listen, "127.0.0.1:47800");
+        assert_eq!(network.peers["a"], "127.0.0.1:47800", "--local");
+        assert_eq!(network.peers["b"], "10.0.0.2:9", "--peer wins");
+        assert!(start.lockstep.is_some());
+        let stranger = parse(&["--peer", "c=h:1"]).unwrap().unwrap();
+        let err = stranger.start_options("a", &parts, &[]).unwrap_err();
+        assert!(err.contains("no part `c`"), "{err}");
+        assert!(parse(&["--peer", "nocolon"]).is_err());
         assert_eq!(
             parse_duration("2min"),
             Ok(Duration::from_secs(120)),

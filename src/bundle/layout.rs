@@ -20,6 +20,12 @@ pub struct Part<'p> {
     pub package: String,
     pub modules: Vec<&'p PlannedModule>,
     pub connections: Vec<&'p PlannedConnection>,
+    /// Connections to and from other parts: this part writes / reads them.
+    pub links_out: Vec<&'p PlannedConnection>,
+    pub links_in: Vec<&'p PlannedConnection>,
+    /// Where it listens for the parts that send to it: `host:port`, the port being
+    /// [`BASE_PORT`] plus its position in the model.
+    pub address: String,
     pub calls: Vec<&'p PlannedCall>,
     pub param_links: Vec<&'p PlannedParamLink>,
     pub threads: Vec<&'p PlannedThread>,
@@ -31,6 +37,9 @@ pub struct Part<'p> {
     /// Field accessors its connections use, sorted, each once.
     pub fields: Vec<super::fields::FieldAccessor>,
 }
+
+/// The port of the first part; the next ones count up from it.
+pub const BASE_PORT: u16 = 47800;
 
 /// A component library a part depends on.
 pub struct Library {
@@ -46,6 +55,9 @@ pub struct Library {
 pub struct Layout<'p> {
     pub application: String,
     pub parts: Vec<Part<'p>>,
+    /// The periods of every periodic thread container, sorted, each once: every
+    /// program needs them all to keep in step with the others (`--lockstep`).
+    pub periods: Vec<std::time::Duration>,
     /// Libraries used by at least one part, by name.
     pub libraries: BTreeMap<String, Library>,
 }
@@ -91,12 +103,19 @@ pub fn layout<'p>(
                 what: format!("the part name `{}` cannot name a program: use letters, digits and `_` (not a Rust keyword)", text::comment(&e.name)),
             });
         }
+        let port = u16::try_from(parts.len())
+            .ok()
+            .and_then(|i| BASE_PORT.checked_add(i))
+            .unwrap_or(0);
         parts.push(Part {
             package: format!("{application}-{}", e.name),
             name: e.name.clone(),
+            address: format!("{host}:{port}"),
             host,
             modules: Vec::new(),
             connections: Vec::new(),
+            links_out: Vec::new(),
+            links_in: Vec::new(),
             calls: Vec::new(),
             param_links: Vec::new(),
             threads: Vec::new(),
@@ -185,6 +204,41 @@ pub fn layout<'p>(
                     what: format!("`{}` is not a valid port name", text::comment(port)),
                 });
             }
+        }
+        if let Some(link) = &c.link {
+            let ends = (
+                module_part.get(c.from.0.as_str()),
+                module_part.get(c.to.0.as_str()),
+            );
+            let (Some(&writer), Some(&reader)) = ends else {
+                continue; // an endpoint outside every part was reported above
+            };
+            if let Some(rust) = link.rust.as_deref().filter(|r| !text::is_rust_path(r)) {
+                problems.push(Problem {
+                    span: c.span,
+                    what: format!(
+                        "the type `{}` of this connection names the Rust type `{}`, which is not a Rust path (`crate_name::Type`)",
+                        link.ty,
+                        text::comment(rust)
+                    ),
+                });
+            }
+            // The writer's program converts, so it needs the field accessors.
+            for f in super::fields::accessors(c, &parts[writer].modules, libs) {
+                if let Err(at) = parts[writer].fields.binary_search(&f) {
+                    parts[writer].fields.insert(at, f);
+                }
+            }
+            for p in [writer, reader] {
+                if let Some(name) = link.library.clone() {
+                    if !parts[p].libraries.contains(&name) {
+                        parts[p].libraries.push(name);
+                    }
+                }
+            }
+            parts[writer].links_out.push(c);
+            parts[reader].links_in.push(c);
+            continue;
         }
         let what = format!(
             "connection `{}/{}` → `{}/{}`",
@@ -282,9 +336,18 @@ pub fn layout<'p>(
         }
     }
     if problems.is_empty() {
+        let mut periods: Vec<std::time::Duration> = plan
+            .threads
+            .iter()
+            .filter_map(|t| t.period)
+            .map(|p| std::time::Duration::from_secs_f64(p.clamp(0.0, 1e9)))
+            .collect();
+        periods.sort();
+        periods.dedup();
         Ok(Layout {
             application,
             parts,
+            periods,
             libraries,
         })
     } else {
@@ -292,8 +355,8 @@ pub fn layout<'p>(
     }
 }
 
-/// The part both modules of a connection or call are in; a link between two parts is a
-/// problem (the runtime has no transport between processes yet).
+/// The part both modules of a call or parameter link are in; one between two parts is
+/// a problem (links between parts carry data connections only, so far).
 fn one_part(
     module_part: &BTreeMap<&str, usize>,
     parts: &[Part<'_>],
@@ -308,7 +371,7 @@ fn one_part(
             problems.push(Problem {
                 span,
                 what: format!(
-                    "the {what} joins the parts `{}` and `{}`: links between parts need the distributed transport, which the runtime does not have yet",
+                    "the {what} joins the parts `{}` and `{}`: only data connections cross between parts so far; move both ends into one part",
                     parts[a].name, parts[b].name
                 ),
             });

@@ -12,6 +12,7 @@ mod code;
 mod fields;
 mod files;
 mod layout;
+mod links;
 mod literals;
 mod out;
 mod resolved;
@@ -338,8 +339,13 @@ fn generate(
 ) -> Result<out::Files, String> {
     let mut files = out::Files::default();
     let at = |span: Span| names.at(span);
+    let addresses: Vec<(String, String)> = (layout.parts.iter())
+        .map(|p| (p.name.clone(), p.address.clone()))
+        .collect();
     let cx = rust::Context {
         application: &layout.application,
+        parts: &addresses,
+        periods: &layout.periods,
         model_file: &names.model_file,
         tool_version: TOOL_VERSION,
         at: &at,

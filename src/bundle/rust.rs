@@ -7,7 +7,6 @@
 
 use super::layout::Part;
 use super::text::{comment, rust_str};
-use ferroc_compiler::plan::Part as ValuePart;
 use ferroc_compiler::schedule::StepKind;
 use ferroc_compiler::source::Span;
 use ferroc_runtime::container::ThreadOptions;
@@ -22,6 +21,10 @@ pub struct Context<'a> {
     pub application: &'a str,
     pub model_file: &'a str,
     pub tool_version: &'a str,
+    /// Every part's name and address (`host:port`).
+    pub parts: &'a [(String, String)],
+    /// The periods of every periodic container of the application.
+    pub periods: &'a [Duration],
     /// `file:line:col` of a span, relative to the model's folder.
     pub at: &'a dyn Fn(Span) -> String,
 }
@@ -98,26 +101,11 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
                 &format!("{},", call("", &[name_of(module), rust_str(port)])),
             );
         }
-        if c.scale == 1.0 && c.offset == 0.0 && c.select.is_empty() {
-            body.line(2, "Conversion::default(),");
-        } else {
-            // One line, as rustfmt leaves a short method chain.
-            let mut line = format!(
-                "Conversion::linear({}, {})",
-                float(c.scale),
-                float(c.offset)
-            );
-            for part in &c.select {
-                match part {
-                    ValuePart::Field(f) => line.push_str(&format!(".field({})", rust_str(f))),
-                    ValuePart::Index(i) => line.push_str(&format!(".index({i})")),
-                }
-            }
-            body.line(2, &format!("{line},"));
-        }
+        body.line(2, &format!("{},", super::links::conversion(c)));
         body.line(2, "ConnectOptions::default(),");
         body.line(1, ")?;");
     }
+    super::links::calls(&mut body, part, cx.at, &name_of);
     for link in &part.param_links {
         body.blank();
         body.line(1, &format!("// {}", comment(&(cx.at)(link.span))));
@@ -199,18 +187,22 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         body.line(1, "})?;");
     }
     body.blank();
-    body.line(1, "builder.start(cycles)");
+    body.line(1, "builder.start_with(start)");
 
     let mut out = Code::default();
     header(&mut out, part, cx);
+    let _ = uses_duration; // `PERIODS` always names `Duration`
     imports(
         &mut out,
-        !part.connections.is_empty(),
-        uses_queue,
-        !part.threads.is_empty(),
-        uses_param || uses_queue,
-        uses_ports,
-        uses_duration,
+        Uses {
+            connect: !part.connections.is_empty() || !part.links_out.is_empty(),
+            connect_options: !part.connections.is_empty() || !part.links_in.is_empty(),
+            links: !part.links_out.is_empty() || !part.links_in.is_empty(),
+            queue: uses_queue,
+            thread: !part.threads.is_empty(),
+            value: uses_param || uses_queue,
+            ports: uses_ports,
+        },
     );
     out.blank();
     let about = format!(
@@ -229,6 +221,8 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         &format!("const PROGRAM: &str = {};", rust_str(&part.package)),
     );
     out.line(0, &format!("const ABOUT: &str = {};", rust_str(&about)));
+    super::links::constants(&mut out, cx.parts, cx.periods);
+    super::links::specs(&mut out, part);
     if !consts.is_empty() {
         out.blank();
         out.line(0, "// Module paths, as in the model.");
@@ -261,8 +255,16 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         .flat_map(|m| &m.ports)
         .filter_map(|g| g.rust.as_deref())
         .collect();
-    for rust in values {
+    // Library types on links cross between programs: they register with serde.
+    let crossing: BTreeSet<&str> = (part.links_out.iter())
+        .chain(&part.links_in)
+        .filter_map(|c| c.link.as_ref()?.rust.as_deref())
+        .collect();
+    for rust in values.iter().filter(|r| !crossing.contains(*r)) {
         out.line(1, &format!("registry.register_value::<{rust}>();"));
+    }
+    for rust in crossing {
+        out.line(1, &format!("registry.register_serde::<{rust}>();"));
     }
     for accessor in &part.fields {
         out.line(1, &accessor.call());
@@ -276,7 +278,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     );
     out.line(
         0,
-        "fn build(registry: &Registry, cycles: Option<u64>) -> Result<RunningApp, BuildError> {",
+        "fn build(registry: &Registry, start: StartOptions) -> Result<RunningApp, BuildError> {",
     );
     out.text.push_str(&body.text);
     out.line(0, "}");
@@ -327,29 +329,39 @@ fn header(out: &mut Code, part: &Part<'_>, cx: &Context<'_>) {
     out.blank();
 }
 
-fn imports(
-    out: &mut Code,
+/// Which imports the generated code needs.
+struct Uses {
     connect: bool,
+    connect_options: bool,
+    links: bool,
     queue: bool,
     thread: bool,
     value: bool,
     ports: bool,
-    dur: bool,
-) {
+}
+
+fn imports(out: &mut Code, uses: Uses) {
     let mut builder = vec!["BuildError", "Builder"];
-    if connect {
+    if uses.connect {
         builder.push("Conversion");
     }
     builder.extend(["ModuleSpec", "Registry", "RunningApp"]);
-    if thread {
-        builder.extend(["Schedule", "StepKind", "ThreadSpec"]);
+    if uses.thread {
+        builder.push("Schedule");
+    }
+    builder.push("StartOptions");
+    if uses.thread {
+        builder.extend(["StepKind", "ThreadSpec"]);
     }
     out.line(0, "use ferroc_runtime::behaviour::ViolationPolicy;");
     out.fill("use ferroc_runtime::builder::{", &builder, "};");
-    if thread {
+    if uses.thread {
         out.line(0, "use ferroc_runtime::container::ThreadOptions;");
     }
-    match (ports, value) {
+    if uses.links {
+        out.line(0, "use ferroc_runtime::link::{LinkSpec, Sharing};");
+    }
+    match (uses.ports, uses.value) {
         (true, true) => out.line(
             0,
             "use ferroc_runtime::module::{Direction, PortGroup, Value};",
@@ -358,7 +370,7 @@ fn imports(
         (false, true) => out.line(0, "use ferroc_runtime::module::Value;"),
         (false, false) => {}
     }
-    match (connect, queue) {
+    match (uses.connect_options, uses.queue) {
         (true, true) => out.line(
             0,
             "use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig};",
@@ -371,9 +383,7 @@ fn imports(
     out.line(0, "use std::process::ExitCode;");
     out.line(0, "use std::sync::atomic::{AtomicBool, Ordering};");
     out.line(0, "use std::sync::Arc;");
-    if dur {
-        out.line(0, "use std::time::Duration;");
-    }
+    out.line(0, "use std::time::Duration;");
 }
 
 fn main_fn(out: &mut Code) {
@@ -388,8 +398,15 @@ fn main_fn(out: &mut Code) {
     if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
         eprintln!(\"warning: Ctrl-C will not stop cleanly: {e}\");
     }
+    let start = match args.start_options(PART, PARTS, PERIODS) {
+        Ok(start) => start,
+        Err(e) => {
+            eprintln!(\"error: {e}\");
+            return ExitCode::from(2);
+        }
+    };
     let registry = registry();
-    let app = match build(&registry, args.cycles) {
+    let app = match build(&registry, start) {
         Ok(app) => app,
         Err(e) => {
             eprintln!(\"error: part `{PART}`: {e}\");

@@ -1,0 +1,173 @@
+//! The parts of a generated `main.rs` that concern other parts: where every part
+//! listens, the periods that keep lockstep programs in step, and the two ends of each
+//! connection between parts (`Builder::link_out` in the writer's program,
+//! `Builder::link_in` in the reader's), each link a named constant.
+
+use super::code::{Code, LIST_WIDTH, MAX_WIDTH};
+use super::layout::Part;
+use super::literals::{call, duration, float};
+use super::text::{comment, rust_str};
+use ferroc_compiler::plan::{LinkSharing, Part as ValuePart, PlannedConnection, PlannedLink};
+use std::time::Duration;
+
+/// `Conversion::default()` or the one-line chain of a connection's conversion.
+pub fn conversion(c: &PlannedConnection) -> String {
+    if c.scale == 1.0 && c.offset == 0.0 && c.select.is_empty() {
+        return "Conversion::default()".into();
+    }
+    // One line, as rustfmt leaves a short method chain.
+    let mut line = format!(
+        "Conversion::linear({}, {})",
+        float(c.scale),
+        float(c.offset)
+    );
+    for part in &c.select {
+        match part {
+            ValuePart::Field(f) => line.push_str(&format!(".field({})", rust_str(f))),
+            ValuePart::Index(i) => line.push_str(&format!(".index({i})")),
+        }
+    }
+    line
+}
+
+/// `PARTS` and `PERIODS`, the constants `main` gives the runtime.
+pub fn constants(out: &mut Code, parts: &[(String, String)], periods: &[Duration]) {
+    out.blank();
+    out.line(
+        0,
+        "/// Every part of the application and where it listens (`--peer PART=HOST:PORT`",
+    );
+    out.line(
+        0,
+        "/// says otherwise, `--local` puts every part on this computer).",
+    );
+    let entries: Vec<String> = parts
+        .iter()
+        .map(|(name, address)| format!("({}, {})", rust_str(name), rust_str(address)))
+        .collect();
+    out.list(0, "const PARTS: &[(&str, &str)] = &[", &entries, "];");
+    out.blank();
+    out.line(
+        0,
+        "/// The periods of all periodic thread containers of the application: lockstep",
+    );
+    out.line(
+        0,
+        "/// programs step through the same instants of model time.",
+    );
+    let periods: Vec<String> = periods.iter().map(|p| duration(*p)).collect();
+    out.list(0, "const PERIODS: &[Duration] = &[", &periods, "];");
+}
+
+fn constant_name(link: &PlannedLink) -> String {
+    format!("LINK_{}", link.id)
+}
+
+/// One `const LINK_n: LinkSpec` for every link of the part, in link order.
+pub fn specs(out: &mut Code, part: &Part<'_>) {
+    let mut links: Vec<&PlannedConnection> = part
+        .links_out
+        .iter()
+        .chain(&part.links_in)
+        .copied()
+        .collect();
+    links.sort_by_key(|c| c.link.as_ref().map(|l| l.id));
+    for c in links {
+        let Some(link) = &c.link else { continue };
+        out.blank();
+        out.line(
+            0,
+            &format!(
+                "/// `{}/{}` → `{}/{}`",
+                comment(&c.from.0),
+                comment(&c.from.1),
+                comment(&c.to.0),
+                comment(&c.to.1)
+            ),
+        );
+        out.line(
+            0,
+            &format!("const {}: LinkSpec = LinkSpec {{", constant_name(link)),
+        );
+        out.line(1, &format!("id: {},", link.id));
+        out.line(1, &format!("from_part: {},", rust_str(&link.from_part)));
+        out.line(1, &format!("to_part: {},", rust_str(&link.to_part)));
+        out.line(1, &format!("model_type: {},", rust_str(&link.ty)));
+        let seconds = |s: f64| duration(Duration::from_secs_f64(s.clamp(0.0, 1e9)));
+        match link.sharing {
+            LinkSharing::OnChange { min_interval } => {
+                out.line(1, "sharing: Sharing::OnChange {");
+                out.line(2, &format!("min_interval: {},", seconds(min_interval)));
+                out.line(1, "},");
+            }
+            LinkSharing::Periodic { period } => {
+                out.line(
+                    1,
+                    &format!("sharing: Sharing::Periodic({}),", seconds(period)),
+                );
+            }
+        }
+        out.line(0, "};");
+    }
+}
+
+/// The `link_out` / `link_in` calls of `build`.
+pub fn calls(
+    body: &mut Code,
+    part: &Part<'_>,
+    at: &dyn Fn(ferroc_compiler::source::Span) -> String,
+    name_of: &dyn Fn(&str) -> String,
+) {
+    for c in &part.links_out {
+        let Some(link) = &c.link else { continue };
+        body.blank();
+        body.line(
+            1,
+            &format!(
+                "// to the part `{}`, {}",
+                link.to_part,
+                comment(&at(c.span))
+            ),
+        );
+        let args = [
+            format!("&{}", constant_name(link)),
+            call("", &[name_of(&c.from.0), rust_str(&c.from.1)]),
+            conversion(c),
+        ];
+        method_call(body, "builder.link_out", &args);
+    }
+    for c in &part.links_in {
+        let Some(link) = &c.link else { continue };
+        body.blank();
+        body.line(
+            1,
+            &format!(
+                "// from the part `{}`, {}",
+                link.from_part,
+                comment(&at(c.span))
+            ),
+        );
+        let args = [
+            format!("&{}", constant_name(link)),
+            call("", &[name_of(&c.to.0), rust_str(&c.to.1)]),
+            "ConnectOptions::default()".into(),
+        ];
+        method_call(body, "builder.link_in", &args);
+    }
+}
+
+/// `head(args)?;` in `build` (indent 1): on one line when the arguments fit rustfmt's
+/// `fn_call_width` and the line its width, else one argument a line.
+fn method_call(body: &mut Code, head: &str, args: &[String]) {
+    let joined = args.join(", ");
+    let line = format!("{head}({joined})?;");
+    if joined.len() <= LIST_WIDTH && !joined.contains('\n') && 4 + line.len() <= MAX_WIDTH {
+        body.line(1, &line);
+        return;
+    }
+    body.line(1, &format!("{head}("));
+    for a in args {
+        body.line(2, &format!("{a},"));
+    }
+    body.line(1, ")?;");
+}
