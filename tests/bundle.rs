@@ -331,10 +331,14 @@ fn hostile_models_cannot_inject_code_or_escape_the_folder() {
 #[test]
 fn models_the_runtime_cannot_run_are_refused() {
     let dir = tempdir("unsupported");
-    // Its parts are linked, and the runtime has no transport between processes yet.
-    let (code, err) = bundle(Path::new("models/warehouse_fleet.xml"), &dir.join("b"), &[]);
+    // Its parts call each other's services; links between parts carry data only.
+    let model = Path::new("compiler/tests/deadlock_acceptance/call_cycle_three_parts_timeout.xml");
+    let (code, err) = bundle(model, &dir.join("b"), &[]);
     assert_eq!(code, 1, "{err}");
-    assert!(err.contains("need the distributed transport"), "{err}");
+    assert!(
+        err.contains("call_cycle_three_parts_timeout.xml:23:4: error: the call `base/dispatch/dispatcher/job` → `arm/ctrl/controller/work` joins the parts `base` and `arm`: only data connections cross between parts so far"),
+        "{err}"
+    );
     assert!(!dir.join("b").exists());
     let (code, err) = bundle(Path::new("models/missing.xml"), &dir.join("c"), &[]);
     assert_eq!(code, 2, "{err}");

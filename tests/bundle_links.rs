@@ -1,0 +1,149 @@
+//! Bundles of the models whose parts are linked (`models/rescue_robot.xml`: robot ↔
+//! station; `models/warehouse_fleet.xml`: three AGVs ↔ fleet server). Each part is a
+//! program of its own; the programs talk over TCP on this computer. Run in lockstep,
+//! together they print exactly what `ferroc run --lockstep` prints for the whole model:
+//! the same lines, and each program's lines in the same order.
+//!
+//! The models run as they are, with their log and report files moved into a scratch
+//! folder.
+
+mod common;
+
+use common::{build_bundle, bundle_ok, ferroc, tempdir};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A copy of `models/NAME.xml` (and its fragments) in `dir` whose files live in `dir`.
+fn copy_model(name: &str, dir: &Path) -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scratch = format!("{}/var/", dir.display());
+    let copy = |from: &Path, to: &Path| {
+        let text = std::fs::read_to_string(from).unwrap();
+        let components = format!("manifest=\"{}/", root.join("components").display());
+        let text = text
+            .replace("manifest=\"../components/", &components)
+            .replace("/var/", &scratch);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::write(to, text).unwrap();
+    };
+    for fragment in std::fs::read_dir(root.join("models/fragments")).unwrap() {
+        let path = fragment.unwrap().path();
+        copy(
+            &path,
+            &dir.join("fragments").join(path.file_name().unwrap()),
+        );
+    }
+    let model = dir.join(format!("{name}.xml"));
+    copy(&root.join(format!("models/{name}.xml")), &model);
+    model
+}
+
+fn free_address() -> String {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    listener.local_addr().unwrap().to_string()
+}
+
+/// Runs every part's program in lockstep for `cycles`; their standard outputs.
+fn run_parts(bin: &Path, application: &str, parts: &[&str], cycles: u32) -> Vec<String> {
+    let addresses: Vec<String> = parts.iter().map(|_| free_address()).collect();
+    let mut children = Vec::new();
+    for (part, listen) in parts.iter().zip(&addresses) {
+        let mut command = Command::new(bin.join(format!("{application}-{part}")));
+        command.args(["--lockstep", "-q", "--cycles", &cycles.to_string()]);
+        command.args(["--listen", listen]);
+        for (peer, address) in parts.iter().zip(&addresses) {
+            command.args(["--peer", &format!("{peer}={address}")]);
+        }
+        let child = command
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        children.push(child);
+    }
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while children.iter_mut().any(|c| c.try_wait().unwrap().is_none()) {
+        assert!(Instant::now() < deadline, "the programs did not finish");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    children
+        .into_iter()
+        .zip(parts)
+        .map(|(child, part)| {
+            let out = child.wait_with_output().unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(out.status.success(), "part {part}: {err}");
+            assert!(err.contains("cycle limit reached"), "part {part}: {err}");
+            String::from_utf8_lossy(&out.stdout).into_owned()
+        })
+        .collect()
+}
+
+/// Whether `part` appears in `whole` in order (other lines may come between).
+fn in_order(part: &[&str], whole: &[&str]) -> bool {
+    let mut rest = whole.iter();
+    part.iter().all(|line| rest.any(|l| l == line))
+}
+
+fn programs_match_ferroc_run(name: &str, parts: &[&str], cycles: u32, must_print: &str) {
+    let dir = tempdir(&format!("bundle_links_{name}"));
+    let model = copy_model(name, &dir);
+    let out = dir.join("bundle");
+    bundle_ok(&model, &out);
+    let target = build_bundle(&out);
+    let outputs = run_parts(&target.join("debug"), name, parts, cycles);
+
+    let cycles = cycles.to_string();
+    let args = [
+        "run",
+        model.to_str().unwrap(),
+        "--lockstep",
+        "-q",
+        "--cycles",
+        &cycles,
+    ];
+    let (code, run_out, run_err) = ferroc(&args);
+    assert_eq!(code, 0, "{run_err}");
+    assert!(run_out.contains(must_print), "{run_out}");
+    let whole: Vec<&str> = run_out.lines().collect();
+    let mut all: Vec<&str> = outputs.iter().flat_map(|o| o.lines()).collect();
+    for (part, output) in parts.iter().zip(&outputs) {
+        let lines: Vec<&str> = output.lines().collect();
+        assert!(
+            in_order(&lines, &whole),
+            "part {part} printed, in this order:\n{output}"
+        );
+    }
+    let mut expected = whole.clone();
+    all.sort_unstable();
+    expected.sort_unstable();
+    assert_eq!(
+        all, expected,
+        "the programs together print what ferroc run prints"
+    );
+}
+
+#[test]
+fn the_rescue_robot_and_its_station_as_two_programs() {
+    let dir = tempdir("bundle_links_rescue_source");
+    let model = copy_model("rescue_robot", &dir);
+    bundle_ok(&model, &dir.join("b"));
+    let robot = std::fs::read_to_string(dir.join("b/parts/robot/src/main.rs")).unwrap();
+    for line in [
+        "builder.link_out(&LINK_4, (DETECTOR, \"victims\"), Conversion::default())?;",
+        "builder.link_in(&LINK_9, (PLANNER, \"goal\"), ConnectOptions::default())?;",
+        "registry.register_serde::<rescue_components::VictimList>();",
+        "const PARTS: &[(&str, &str)] = &[(\"robot\", \"robot-pc:47800\"), (\"station\", \"base-pc:47801\")];",
+    ] {
+        assert!(robot.contains(line), "{line} missing in\n{robot}");
+    }
+    // 100 cycles: 2.5 s of the 25 ms driver, 100 s of the station's heartbeat.
+    programs_match_ferroc_run("rescue_robot", &["robot", "station"], 100, "station alive");
+}
+
+#[test]
+fn the_warehouse_fleet_as_four_programs() {
+    let parts = ["agv_1", "agv_2", "agv_3", "fleet_server"];
+    programs_match_ferroc_run("warehouse_fleet", &parts, 60, "Hamburg DC2 - AGV fleet");
+}
