@@ -177,9 +177,16 @@ impl RunningApp {
         handle.set(value)
     }
 
-    /// Whether every container has ended (its cycle limit reached, or stopped).
+    /// Whether the application has ended: every periodic and continuous container
+    /// reached its cycle limit or stopped. Data-triggered containers do not count when
+    /// there are others: they run only as often as data arrives, which may be fewer
+    /// times than the limit, so waiting for them could take forever.
     pub fn is_finished(&self) -> bool {
-        self.containers.iter().all(|c| c.is_finished())
+        let clocked = self.containers.iter().filter(|c| !c.is_data_triggered());
+        if clocked.clone().next().is_none() {
+            return self.containers.iter().all(|c| c.is_finished());
+        }
+        clocked.into_iter().all(|c| c.is_finished())
     }
 
     /// Asks every container to stop after its current cycle (also wakes data-triggered

@@ -434,3 +434,23 @@ fn driving_a_missing_or_text_parameter_is_an_error_value() {
         Err(BuildError::UnknownPort { .. })
     ));
 }
+
+#[test]
+fn a_starved_data_triggered_container_does_not_hold_up_the_cycle_limit() {
+    let registry = registry();
+    let mut b = Builder::new(&registry);
+    add(&mut b, "clocked", "test.Counter", &[]);
+    add(&mut b, "starved", "test.Counter", &[]);
+    b.add_thread(thread("clock", &[("clocked", StepKind::Update)]))
+        .unwrap();
+    let mut data = thread("data", &[("starved", StepKind::Update)]);
+    data.schedule = Schedule::Data;
+    b.add_thread(data).unwrap();
+    let mut app = b.start(Some(3)).unwrap();
+    // Nothing ever feeds `starved`: the application ends with the clocked container.
+    assert!(app.wait_timeout(Duration::from_secs(10)));
+    app.stop();
+    app.join();
+    let cycles: Vec<u64> = app.status().iter().map(|s| s.cycles).collect();
+    assert_eq!(cycles, [3, 0]);
+}

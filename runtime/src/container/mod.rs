@@ -283,6 +283,11 @@ impl RunningContainer {
         }
     }
 
+    /// Whether it runs when data arrives (rather than by the clock).
+    pub fn is_data_triggered(&self) -> bool {
+        self.wakeup.is_some()
+    }
+
     /// Whether the thread has ended (cycle limit reached, or stopped).
     pub fn is_finished(&self) -> bool {
         self.join.is_finished()
