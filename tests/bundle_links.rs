@@ -4,8 +4,9 @@
 //! together they print exactly what `ferroc run --lockstep` prints for the whole model:
 //! the same lines, and each program's lines in the same order.
 //!
-//! The models run as they are, with their log and report files moved into a scratch
-//! folder.
+//! The single-part models are checked the same way: one program, the same lines in
+//! the same order. The models run as they are, with their log and report files moved
+//! into a scratch folder.
 
 mod common;
 
@@ -14,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// A copy of `models/NAME.xml` (and its fragments) in `dir` whose files live in `dir`.
+/// A copy of `models/NAME.xml` (and its fragments and config files) in `dir` whose files live in `dir`.
 fn copy_model(name: &str, dir: &Path) -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let scratch = format!("{}/var/", dir.display());
@@ -27,12 +28,11 @@ fn copy_model(name: &str, dir: &Path) -> PathBuf {
         std::fs::create_dir_all(to.parent().unwrap()).unwrap();
         std::fs::write(to, text).unwrap();
     };
-    for fragment in std::fs::read_dir(root.join("models/fragments")).unwrap() {
-        let path = fragment.unwrap().path();
-        copy(
-            &path,
-            &dir.join("fragments").join(path.file_name().unwrap()),
-        );
+    for folder in ["fragments", "etc"] {
+        for file in std::fs::read_dir(root.join("models").join(folder)).unwrap() {
+            let path = file.unwrap().path();
+            copy(&path, &dir.join(folder).join(path.file_name().unwrap()));
+        }
     }
     let model = dir.join(format!("{name}.xml"));
     copy(&root.join(format!("models/{name}.xml")), &model);
@@ -146,4 +146,15 @@ fn the_rescue_robot_and_its_station_as_two_programs() {
 fn the_warehouse_fleet_as_four_programs() {
     let parts = ["agv_1", "agv_2", "agv_3", "fleet_server"];
     programs_match_ferroc_run("warehouse_fleet", &parts, 60, "Hamburg DC2 - AGV fleet");
+}
+
+#[test]
+fn every_single_part_model_as_one_program() {
+    for (name, part, cycles, must_print) in [
+        ("crash_course", "fragile_bot", 60, "[ferroc crash course] robot 1"),
+        ("nav_behaviours", "robot", 60, "[nav] t=  1.0 s"),
+        ("control_loop", "bench", 1000, ""),
+    ] {
+        programs_match_ferroc_run(name, &[part], cycles, must_print);
+    }
 }
