@@ -177,6 +177,23 @@ fn the_resolved_model_checks_clean_and_plans_the_same() {
     assert!(original.contains("fragile_bot/main/control/controller"));
 }
 
+#[test]
+fn the_resolved_multi_part_model_keeps_its_links() {
+    let dir = tempdir("resolved_links");
+    let model = Path::new("models/rescue_robot.xml");
+    let (code, err) = bundle(model, &dir.join("b"), &[]);
+    assert_eq!(code, 0, "{err}");
+    let resolved = dir.join("b/model/rescue_robot.xml");
+    let text = std::fs::read_to_string(&resolved).unwrap();
+    assert!(text.contains(r#"sharing="periodic" period="2s""#), "{text}");
+    assert!(text.contains(r#"min-interval="0.1s""#), "{text}");
+    let (code, out, err) = ferroc(&["check", resolved.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}{err}");
+    let original = plan_of(model);
+    assert_eq!(plan_of(&resolved), original);
+    assert!(original.contains("Periodic { period: 2.0 }"), "{original}");
+}
+
 /// The plan of a model without source spans, connections sorted.
 fn plan_of(model: &Path) -> String {
     use ferroc_compiler::load::{BuiltinLibrary, Options};
@@ -204,7 +221,13 @@ fn plan_of(model: &Path) -> String {
     let mut connections: Vec<String> = plan
         .connections
         .iter()
-        .map(|c| format!("{:?} -> {:?} ·{:?} +{:?}", c.from, c.to, c.scale, c.offset))
+        .map(|c| {
+            let link = (c.link.as_ref()).map(|l| (&l.from_part, &l.to_part, &l.ty, l.sharing));
+            format!(
+                "{:?} -> {:?} {:?} ·{:?} +{:?} {link:?}",
+                c.from, c.to, c.select, c.scale, c.offset
+            )
+        })
         .collect();
     connections.sort();
     let threads: Vec<String> = plan

@@ -151,7 +151,12 @@ fn the_warehouse_fleet_as_four_programs() {
 #[test]
 fn every_single_part_model_as_one_program() {
     for (name, part, cycles, must_print) in [
-        ("crash_course", "fragile_bot", 60, "[ferroc crash course] robot 1"),
+        (
+            "crash_course",
+            "fragile_bot",
+            60,
+            "[ferroc crash course] robot 1",
+        ),
         ("nav_behaviours", "robot", 60, "[nav] t=  1.0 s"),
         ("control_loop", "bench", 1000, ""),
     ] {

@@ -180,6 +180,27 @@ fn element(
     out.push_str(&format!("{pad}</{tag}>\n"));
 }
 
+/// The transport settings of a connection between parts: those of the first hop that
+/// has any (what the plan's link takes), durations written back exactly in seconds.
+fn sharing(app: &Application, hops: &[usize]) -> String {
+    let Some(c) = hops.iter().map(|&h| &app.connections[h]).find(|c| {
+        c.sharing.is_some() || c.min_interval_seconds.is_some() || c.period_seconds.is_some()
+    }) else {
+        return String::new();
+    };
+    let mut attrs = String::new();
+    if let Some((mode, _)) = &c.sharing {
+        attrs.push_str(&format!(" sharing=\"{}\"", xml(mode)));
+    }
+    if let Some(s) = c.min_interval_seconds {
+        attrs.push_str(&format!(" min-interval=\"{s}s\""));
+    }
+    if let Some(s) = c.period_seconds {
+        attrs.push_str(&format!(" period=\"{s}s\""));
+    }
+    attrs
+}
+
 /// Module-to-module connections, found the way the plan finds them, each with the
 /// conversion steps of every hop it replaces (so scales combine in the same order).
 fn connections(app: &Application, libs: &LibrarySet, out: &mut String) {
@@ -205,9 +226,26 @@ fn connections(app: &Application, libs: &LibrarySet, out: &mut String) {
         if edge.delayed {
             attrs.push_str(" delay=\"1\"");
         }
+        if app.element(edge.from_module).part != app.element(edge.to_module).part {
+            attrs.push_str(&sharing(app, &edge.hops));
+        }
         let mut steps = String::new();
         for &h in &edge.hops {
-            for step in &app.connections[h].converts {
+            let c = &app.connections[h];
+            // Parts taken out of the value, in the plan's order: `port[i]`, then each
+            // step's index and field (the scales below combine independently).
+            if let Some(i) = c.from_index {
+                steps.push_str(&format!("    <convert index=\"{i}\"/>\n"));
+            }
+            for step in &c.converts {
+                if let Some((i, _)) = step.index {
+                    steps.push_str(&format!("    <convert index=\"{i}\"/>\n"));
+                }
+                if let Some((f, _)) = &step.field {
+                    steps.push_str(&format!("    <convert field=\"{}\"/>\n", xml(f)));
+                }
+            }
+            for step in &c.converts {
                 let mut s = String::new();
                 if let Some((t, _)) = &step.to_type {
                     s.push_str(&format!(" to-type=\"{}\"", xml(&t.to_string())));
