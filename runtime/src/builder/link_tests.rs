@@ -236,3 +236,62 @@ fn a_link_to_a_part_without_an_address_is_refused_at_start() {
     let err = build(&registry, &["a"], 5.0).start(Some(1)).err().unwrap();
     assert!(err.to_string().contains("no network addresses"), "{err}");
 }
+
+fn network(part: &str, listen: &str, peers: &BTreeMap<String, String>) -> Option<Network> {
+    Some(Network {
+        part: part.into(),
+        listen: listen.into(),
+        peers: peers.clone(),
+    })
+}
+
+#[test]
+fn running_freely_over_tcp_values_arrive_in_both_directions() {
+    let registry = registry();
+    let (a_at, b_at) = (free_port(), free_port());
+    let peers: BTreeMap<String, String> = [
+        ("a".to_string(), a_at.clone()),
+        ("b".to_string(), b_at.clone()),
+    ]
+    .into();
+    let start = |part: &str, listen: &str| {
+        let options = StartOptions {
+            limit: Some(60),
+            lockstep: None,
+            network: network(part, listen, &peers),
+        };
+        build(&registry, &[part], 6.0).start_with(options).unwrap()
+    };
+    let (a, b) = (start("a", &a_at), start("b", &b_at));
+    run_to_end(a);
+    run_to_end(b);
+    let heard = |part: &str| {
+        record(6)
+            .iter()
+            .filter(|l| l.starts_with(part) && !l.ends_with("got 0"))
+            .count()
+    };
+    assert!(heard("a/") > 0 && heard("b/") > 0, "{:?}", record(6));
+}
+
+#[test]
+fn a_lockstep_part_waiting_for_a_missing_peer_still_stops_when_asked() {
+    let registry = registry();
+    let peers: BTreeMap<String, String> = [
+        ("a".to_string(), free_port()),
+        ("b".to_string(), free_port()),
+    ]
+    .into();
+    let mut options = lockstep(1000);
+    options.network = network("b", &peers["b"], &peers);
+    // `a` never starts: `b` runs its first instant, then waits for `a`'s.
+    let app = build(&registry, &["b"], 7.0).start_with(options).unwrap();
+    std::thread::sleep(Duration::from_millis(200));
+    assert!(!app.is_finished(), "it waits for the part `a`");
+    app.stop();
+    assert!(
+        app.wait_timeout(Duration::from_secs(10)),
+        "stopped while waiting"
+    );
+    assert_eq!(record(7), ["b/echo @0ms got 0"]);
+}
