@@ -175,6 +175,7 @@ fn free_port() -> String {
 }
 
 #[test]
+#[cfg_attr(miri, ignore = "Miri has no sockets")]
 fn two_programs_over_tcp_see_what_one_process_sees() {
     let registry = registry();
     run_to_end(
@@ -246,6 +247,7 @@ fn network(part: &str, listen: &str, peers: &BTreeMap<String, String>) -> Option
 }
 
 #[test]
+#[cfg_attr(miri, ignore = "Miri has no sockets")]
 fn running_freely_over_tcp_values_arrive_in_both_directions() {
     let registry = registry();
     let (a_at, b_at) = (free_port(), free_port());
@@ -275,6 +277,7 @@ fn running_freely_over_tcp_values_arrive_in_both_directions() {
 }
 
 #[test]
+#[cfg_attr(miri, ignore = "Miri has no sockets")]
 fn a_lockstep_part_waiting_for_a_missing_peer_still_stops_when_asked() {
     let registry = registry();
     let peers: BTreeMap<String, String> = [
