@@ -298,3 +298,33 @@ fn a_lockstep_part_waiting_for_a_missing_peer_still_stops_when_asked() {
     );
     assert_eq!(record(7), ["b/echo @0ms got 0"]);
 }
+
+#[test]
+#[cfg_attr(miri, ignore = "Miri has no sockets")]
+fn running_freely_a_sender_connects_again_after_its_peer_restarted() {
+    let registry = registry();
+    let (a_at, b_at) = (free_port(), free_port());
+    let peers: BTreeMap<String, String> = [
+        ("a".to_string(), a_at.clone()),
+        ("b".to_string(), b_at.clone()),
+    ]
+    .into();
+    let start = |part: &str, listen: &str, limit: u64, tag: f64| {
+        let options = StartOptions {
+            limit: Some(limit),
+            lockstep: None,
+            network: network(part, listen, &peers),
+        };
+        build(&registry, &[part], tag).start_with(options).unwrap()
+    };
+    let a = start("a", &a_at, 1000, 8.0);
+    run_to_end(start("b", &b_at, 20, 9.0));
+    // `b` is gone; `a` notices when a write fails and connects to the new `b`.
+    std::thread::sleep(Duration::from_millis(100));
+    run_to_end(start("b", &b_at, 40, 10.0));
+    a.stop();
+    run_to_end(a);
+    let heard = |tag| record(tag).iter().filter(|l| !l.ends_with("got 0")).count();
+    assert!(heard(9) > 0, "the first b heard a: {:?}", record(9));
+    assert!(heard(10) > 0, "the second b heard a: {:?}", record(10));
+}

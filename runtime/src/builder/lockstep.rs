@@ -63,7 +63,7 @@ impl Links {
         let mut outgoing = None;
         if self.remote() {
             let network = self.network()?;
-            outgoing = Some(Outgoing::start(network, &self.sending_to, stop)?);
+            outgoing = Some(Outgoing::start(network, &self.sending_to, stop, true)?);
             if !self.receiving_from.is_empty() {
                 let sink = Sink::Deliver(Arc::clone(&self.inbox));
                 net::listen(network, self.receiving_from.clone(), sink, stop)?;
@@ -101,7 +101,7 @@ impl Lockstep {
         if links.remote() {
             let network = links.network().map_err(BuildError::Connect)?;
             outgoing = Some(
-                Outgoing::start(network, &links.sending_to, &shared.stop)
+                Outgoing::start(network, &links.sending_to, &shared.stop, false)
                     .map_err(BuildError::Connect)?,
             );
             if !links.receiving_from.is_empty() {

@@ -118,6 +118,7 @@ impl Outgoing {
         network: &Network,
         to: &BTreeSet<String>,
         stop: &Arc<AtomicBool>,
+        reconnect: bool,
     ) -> Result<Self, String> {
         let mut peers = BTreeMap::new();
         for part in to {
@@ -128,7 +129,7 @@ impl Outgoing {
             let (me, part_name, stop) = (network.part.clone(), part.clone(), Arc::clone(stop));
             let join = std::thread::Builder::new()
                 .name(format!("to {part}").chars().take(15).collect())
-                .spawn(move || send_loop(&me, &part_name, &address, &rx, &stop))
+                .spawn(move || send_loop(&me, &part_name, &address, &rx, &stop, reconnect))
                 .map_err(|e| format!("cannot start the sender to `{part}`: {e}"))?;
             peers.insert(part.clone(), (tx, join));
         }
@@ -175,39 +176,68 @@ impl Outgoing {
     }
 }
 
-fn send_loop(me: &str, part: &str, address: &str, rx: &Receiver<Message>, stop: &AtomicBool) {
+/// Connects to the part (retrying until it is up or `stop` is set) and introduces
+/// this one; `None` once stopped.
+fn connect(me: &str, part: &str, address: &str, stop: &AtomicBool) -> Option<BufWriter<TcpStream>> {
     let started = Instant::now();
     let mut told = false;
-    let stream = loop {
+    loop {
         match TcpStream::connect(address) {
-            Ok(s) => break s,
-            Err(e) => {
-                if stop.load(Ordering::Relaxed) {
-                    return;
+            Ok(stream) => {
+                let _ = stream.set_nodelay(true);
+                let mut out = BufWriter::new(stream);
+                let hello = write_message(&mut out, &Message::Hello(me.to_owned()));
+                if hello.and_then(|()| out.flush()).is_ok() {
+                    return Some(out);
                 }
-                if !told && started.elapsed() > Duration::from_secs(5) {
-                    told = true;
-                    crate::console::line(&format!(
-                        "waiting for the part `{part}` at {address} ({e}); is it running?"
-                    ));
-                }
-                std::thread::sleep(Duration::from_millis(50));
             }
+            Err(e) if !told && started.elapsed() > Duration::from_secs(5) => {
+                told = true;
+                crate::console::line(&format!(
+                    "waiting for the part `{part}` at {address} ({e}); is it running?"
+                ));
+            }
+            Err(_) => {}
         }
-    };
-    let _ = stream.set_nodelay(true);
-    let mut out = BufWriter::new(stream);
-    if write_message(&mut out, &Message::Hello(me.to_owned())).is_err() {
-        return;
+        if stop.load(Ordering::Relaxed) {
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(50));
     }
+}
+
+/// Sends what the channel brings. Running freely, a lost connection is made again
+/// (what was sent meanwhile is lost, as over a wireless link); in lockstep the
+/// peer has stopped, so this ends.
+fn send_loop(
+    me: &str,
+    part: &str,
+    address: &str,
+    rx: &Receiver<Message>,
+    stop: &AtomicBool,
+    reconnect: bool,
+) {
+    let Some(mut out) = connect(me, part, address, stop) else {
+        return;
+    };
     while let Ok(first) = rx.recv() {
         let mut batch = vec![first];
         batch.extend(rx.try_iter());
         let bye = batch.contains(&Message::Bye);
         let written = batch.iter().try_for_each(|m| write_message(&mut out, m));
         if let Err(e) = written.and_then(|()| out.flush()) {
-            crate::console::line(&format!("warning: lost the connection to `{part}`: {e}"));
-            return;
+            if bye || !reconnect {
+                crate::console::line(&format!("warning: lost the connection to `{part}`: {e}"));
+                return;
+            }
+            crate::console::line(&format!(
+                "warning: lost the connection to `{part}` ({e}); connecting again"
+            ));
+            match connect(me, part, address, stop) {
+                Some(again) => out = again,
+                None => return,
+            }
+            continue;
         }
         if bye {
             return;
@@ -245,9 +275,10 @@ pub(crate) fn listen(
                 match listener.accept() {
                     Ok((stream, _)) => {
                         let (from, sink) = (from.clone(), sink.clone());
+                        let stop = Arc::clone(&stop);
                         let _ = std::thread::Builder::new()
                             .name("link reader".into())
-                            .spawn(move || receive(stream, &from, &sink));
+                            .spawn(move || receive(stream, &from, &sink, &stop));
                     }
                     Err(_) => std::thread::sleep(Duration::from_millis(20)),
                 }
@@ -257,9 +288,12 @@ pub(crate) fn listen(
     Ok(())
 }
 
-fn receive(stream: TcpStream, from: &BTreeSet<String>, sink: &Sink) {
+fn receive(stream: TcpStream, from: &BTreeSet<String>, sink: &Sink, stop: &AtomicBool) {
     let _ = stream.set_nonblocking(false);
-    let mut input = BufReader::new(stream);
+    // Wake now and then to see the stop flag: a stopped part must close its end, so
+    // that a sender notices and connects to whoever listens next.
+    let _ = stream.set_read_timeout(Some(Duration::from_millis(100)));
+    let mut input = BufReader::new(UntilStopped { stream, stop });
     let peer = match read_message(&mut input) {
         Ok(Some(Message::Hello(name))) if from.contains(&name) => name,
         Ok(Some(Message::Hello(name))) => {
@@ -274,6 +308,7 @@ fn receive(stream: TcpStream, from: &BTreeSet<String>, sink: &Sink) {
         let message = match read_message(&mut input) {
             Ok(Some(m)) => m,
             Ok(None) => Message::Bye,
+            Err(_) if stop.load(Ordering::Relaxed) => Message::Bye,
             Err(why) => {
                 crate::console::line(&format!(
                     "warning: the part `{peer}` sent {why}; its connection is closed"
@@ -293,6 +328,30 @@ fn receive(stream: TcpStream, from: &BTreeSet<String>, sink: &Sink) {
         }
         if bye {
             return;
+        }
+    }
+}
+
+/// A stream whose reads wait through timeouts until `stop` is set.
+struct UntilStopped<'a> {
+    stream: TcpStream,
+    stop: &'a AtomicBool,
+}
+
+impl Read for UntilStopped<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        loop {
+            if self.stop.load(Ordering::Relaxed) {
+                return Err(std::io::Error::other("this part stops"));
+            }
+            match self.stream.read(buf) {
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                    ) => {}
+                other => return other,
+            }
         }
     }
 }
