@@ -27,7 +27,8 @@ use std::time::Duration;
 pub struct RunArgs {
     /// The application model
     model: PathBuf,
-    /// Stop after this long: `10s`, `500ms`, `2min`
+    /// Stop after this long: `10s`, `500ms`, `2min` (with --lockstep: this much model
+    /// time, however long it takes to compute)
     #[arg(long = "for", value_name = "DURATION", value_parser = parse_duration)]
     duration: Option<Duration>,
     /// Stop after this many cycles of every thread container
@@ -36,7 +37,7 @@ pub struct RunArgs {
     /// Run in simulated time on one thread: every periodic container at its instants
     /// of model time, links between parts delivering at the next instant. The output
     /// is the same on every run, and the same as the bundle's programs with
-    /// `--lockstep` (use with --cycles)
+    /// `--lockstep` (use with --cycles, or --for in model time)
     #[arg(long)]
     lockstep: bool,
     /// A value for a parameter declared with `cmdline=NAME` (repeatable)
@@ -132,7 +133,10 @@ pub fn run(args: RunArgs) -> ExitCode {
     }
     let start = StartOptions {
         limit: args.cycles,
-        lockstep: args.lockstep.then(Lockstep::default),
+        lockstep: args.lockstep.then(|| Lockstep {
+            periods: Vec::new(),
+            until: args.duration,
+        }),
         network: None,
     };
     let app = match build(&plan, &registry, start) {
@@ -143,7 +147,7 @@ pub fn run(args: RunArgs) -> ExitCode {
         }
     };
     let options = supervise::Options {
-        duration: args.duration,
+        duration: args.duration.filter(|_| !args.lockstep),
         status_line: !args.quiet && std::io::stderr().is_terminal(),
     };
     supervise::supervise(app, &interrupted, &options)

@@ -63,3 +63,18 @@ fn bundles_write_the_same_placement() {
         "{resolved}"
     );
 }
+
+/// `--lockstep --for` counts model time: 1 s of a 40 ms container is the instants 0,
+/// 40, …, 1000 ms, however fast the machine, and the run prints the same every time.
+#[test]
+fn lockstep_runs_for_model_time_and_repeats_exactly() {
+    let model = "models/nav_behaviours.xml";
+    let args = ["run", model, "--lockstep", "--for", "1s", "-q"];
+    let (code, out, err) = ferroc(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("stopped (model time is up)"), "{err}");
+    assert!(err.contains("robot/control: 26 cycles"), "{err}");
+    assert!(out.contains("[nav] t=  1.0 s"), "{out}");
+    let (_, again, _) = ferroc(&args);
+    assert_eq!(out, again);
+}

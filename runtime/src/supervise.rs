@@ -39,7 +39,7 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
     let mut reported_locks = 0;
     let reason = loop {
         if app.is_finished() {
-            break "cycle limit reached";
+            break app.end_reason();
         }
         if interrupted.load(Ordering::SeqCst) {
             break "interrupted";
@@ -257,6 +257,7 @@ impl Args {
             limit: self.cycles,
             lockstep: self.lockstep.then(|| crate::builder::Lockstep {
                 periods: periods.to_vec(),
+                until: self.duration,
             }),
             network: Some(crate::link::net::Network {
                 part: part.to_owned(),
@@ -266,10 +267,11 @@ impl Args {
         })
     }
 
-    /// The supervision options these arguments ask for (status line only on a terminal).
+    /// The supervision options these arguments ask for (status line only on a terminal;
+    /// in lockstep `--for` is model time, which the lockstep driver counts itself).
     pub fn options(&self) -> Options {
         Options {
-            duration: self.duration,
+            duration: self.duration.filter(|_| !self.lockstep),
             status_line: !self.quiet && std::io::stderr().is_terminal(),
         }
     }
@@ -280,7 +282,8 @@ fn usage(program: &str) -> String {
         "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--local] [--peer PART=HOST:PORT]... [--quiet]\n\n\
          Options:\n  \
          --cycles N        stop after N cycles of every thread container\n  \
-         --for DURATION    stop after this long: 500ms, 10s, 2min, 1h\n  \
+         --for DURATION    stop after this long: 500ms, 10s, 2min, 1h (model time in\n                    \
+         lockstep)\n  \
          --lockstep        run in simulated time, in step with the other parts: the same\n                    \
          output on every run, and the same as `ferroc run --lockstep`\n  \
          --local           every part runs on this computer (127.0.0.1, same ports)\n  \

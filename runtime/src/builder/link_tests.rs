@@ -130,6 +130,7 @@ fn lockstep(cycles: u64) -> StartOptions {
         limit: Some(cycles),
         lockstep: Some(Lockstep {
             periods: vec![Duration::from_millis(10), Duration::from_millis(25)],
+            until: None,
         }),
         network: None,
     }

@@ -34,6 +34,8 @@ pub struct Lockstep {
     /// The periods of every periodic container of the whole application. Empty: the
     /// periods of the containers built here (enough when every part is here).
     pub periods: Vec<Duration>,
+    /// Stop after this much model time (`--for` in lockstep): no instant after it runs.
+    pub until: Option<Duration>,
 }
 
 /// The links of the application being started.
@@ -119,7 +121,7 @@ impl Lockstep {
         let stats = containers.iter().map(|c| c.stats()).collect();
         let mut driver = Driver {
             containers,
-            timeline: Timeline::new(&periods, limit),
+            timeline: Timeline::new(&periods, limit, self.until),
             limit,
             hub: links.hub,
             inbox: links.inbox,
@@ -134,10 +136,11 @@ impl Lockstep {
 struct Timeline {
     periods: Vec<u128>,
     limit: Option<u64>,
+    until: Option<u128>,
 }
 
 impl Timeline {
-    fn new(periods: &[Duration], limit: Option<u64>) -> Self {
+    fn new(periods: &[Duration], limit: Option<u64>, until: Option<Duration>) -> Self {
         let mut periods: Vec<u128> = periods
             .iter()
             .map(|p| p.as_nanos())
@@ -149,11 +152,21 @@ impl Timeline {
         }
         periods.sort_unstable();
         periods.dedup();
-        Timeline { periods, limit }
+        Timeline {
+            periods,
+            limit,
+            until: until.map(|u| u.as_nanos()),
+        }
     }
 
     /// The first instant after `after` (or the start).
     fn next(&self, after: Option<u128>) -> Option<u128> {
+        self.next_within_limit(after)
+            .filter(|t| self.until.is_none_or(|u| *t <= u))
+    }
+
+    /// The first instant after `after` that the cycle limit allows.
+    fn next_within_limit(&self, after: Option<u128>) -> Option<u128> {
         self.periods
             .iter()
             .filter_map(|&p| {
@@ -176,7 +189,8 @@ struct Driver {
 }
 
 impl Driver {
-    fn run(&mut self, stop: &AtomicBool) {
+    /// Runs to the end; what ended it, if not the cycle limit.
+    fn run(&mut self, stop: &AtomicBool) -> Option<&'static str> {
         let mut done = vec![0u64; self.containers.len()];
         let mut pending: Vec<Frame> = Vec::new();
         let mut previous: Option<u128> = None;
@@ -220,6 +234,8 @@ impl Driver {
         if let Some(out) = &self.outgoing {
             out.close();
         }
+        let more = self.timeline.next_within_limit(previous).is_some();
+        (more && self.timeline.next(previous).is_none()).then_some("model time is up")
     }
 
     /// Steps 2 and 3 of the module documentation.
@@ -265,7 +281,7 @@ mod tests {
     #[test]
     fn the_timeline_is_the_union_of_the_release_instants() {
         let ms = Duration::from_millis;
-        let t = Timeline::new(&[ms(20), ms(50), ms(20)], Some(3));
+        let t = Timeline::new(&[ms(20), ms(50), ms(20)], Some(3), None);
         let mut instants = Vec::new();
         let mut previous = None;
         while let Some(n) = t.next(previous) {
@@ -274,9 +290,13 @@ mod tests {
         }
         // 20 ms three times (0, 20, 40), 50 ms three times (0, 50, 100).
         assert_eq!(instants, [0, 20, 40, 50, 100]);
-        let only_data = Timeline::new(&[], Some(2));
+        let only_data = Timeline::new(&[], Some(2), None);
         assert_eq!(only_data.next(None), Some(0));
         assert_eq!(only_data.next(Some(0)), Some(1_000_000));
         assert_eq!(only_data.next(Some(1_000_000)), None);
+        // `--for 45ms` of model time: the instants up to 45 ms, whatever the limit.
+        let short = Timeline::new(&[ms(20), ms(50)], None, Some(ms(45)));
+        assert_eq!(short.next(Some(20_000_000)), Some(40_000_000));
+        assert_eq!(short.next(Some(40_000_000)), None);
     }
 }

@@ -35,6 +35,8 @@ pub struct RunningApp {
     lock_order: Arc<LockOrder>,
     violations: Arc<ViolationLog>,
     hub: Arc<Hub>,
+    /// Why it ended by itself, when not by the cycle limit.
+    end_reason: Arc<std::sync::OnceLock<&'static str>>,
 }
 
 /// What a running application keeps besides its threads.
@@ -57,20 +59,35 @@ impl RunningApp {
             lock_order: shared.lock_order,
             violations: shared.violations,
             hub: shared.hub,
+            end_reason: Arc::default(),
         }
+    }
+
+    /// Why the application ended by itself: the cycle limit, or in lockstep with a
+    /// time limit, model time.
+    pub fn end_reason(&self) -> &'static str {
+        self.end_reason
+            .get()
+            .copied()
+            .unwrap_or("cycle limit reached")
     }
 
     /// Runs `driver` on one thread that executes every container itself (lockstep).
     pub(super) fn start_driver(
         stats: Vec<Arc<ContainerStats>>,
         shared: Shared,
-        driver: impl FnOnce(&AtomicBool) + Send + 'static,
+        driver: impl FnOnce(&AtomicBool) -> Option<&'static str> + Send + 'static,
     ) -> Result<Self, BuildError> {
         let mut app = RunningApp::new(shared);
         let stop = app.stop.clone();
+        let reason = Arc::clone(&app.end_reason);
         let join = std::thread::Builder::new()
             .name("lockstep".into())
-            .spawn(move || driver(&stop))
+            .spawn(move || {
+                if let Some(why) = driver(&stop) {
+                    let _ = reason.set(why);
+                }
+            })
             .map_err(|e| BuildError::Thread(format!("the lockstep thread could not start: {e}")))?;
         let first = stats.first().cloned().unwrap_or_else(|| {
             Arc::new(ContainerStats::new(
