@@ -103,3 +103,60 @@ fn a_value_that_does_not_decode_is_dropped_not_published() {
         bytes: vec![],
     });
 }
+
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn message() -> impl Strategy<Value = Message> {
+        prop_oneof![
+            "\\PC{0,40}".prop_map(Message::Hello),
+            (any::<u32>(), proptest::collection::vec(any::<u8>(), 0..300))
+                .prop_map(|(link, bytes)| Message::Frame(Frame { link, bytes })),
+            any::<u64>().prop_map(Message::Tick),
+            Just(Message::Bye),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+        /// Whatever bytes arrive, reading gives messages or an error, never a panic.
+        #[test]
+        fn any_bytes_read_without_panicking(bytes in proptest::collection::vec(any::<u8>(), 0..600)) {
+            let mut input = bytes.as_slice();
+            for _ in 0..64 {
+                match read_message(&mut input) {
+                    Ok(Some(_)) => {}
+                    Ok(None) | Err(_) => break,
+                }
+            }
+        }
+
+        /// What is written reads back the same.
+        #[test]
+        fn messages_round_trip(messages in proptest::collection::vec(message(), 0..8)) {
+            let mut bytes = Vec::new();
+            for m in &messages {
+                write_message(&mut bytes, m).unwrap();
+            }
+            let mut input = bytes.as_slice();
+            for m in &messages {
+                let got = read_message(&mut input).unwrap();
+                prop_assert_eq!(got.as_ref(), Some(m));
+            }
+            prop_assert_eq!(read_message(&mut input), Ok(None));
+        }
+
+        /// Any bytes given to a link's receiving end are a value or a reported error.
+        #[test]
+        fn any_bytes_decode_without_panicking(bytes in proptest::collection::vec(any::<u8>(), 0..64)) {
+            let table = crate::module::ValueTable::default();
+            for name in table.names() {
+                let value_type = table.get(name).unwrap();
+                let (out, _) = value_type.output("link in");
+                let _ = value_type.wire().unwrap().decode(&out, &bytes);
+            }
+        }
+    }
+}
