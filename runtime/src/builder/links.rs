@@ -4,7 +4,7 @@
 //! wakeups behave exactly as on a connection inside one part.
 
 use super::*;
-use crate::link::{Frame, LinkSpec, Pace, Receiving};
+use crate::link::{calls, CallSpec, Frame, LinkSpec, Pace, Receiving};
 use crate::module::{Timestamp, ValueType};
 
 impl Builder<'_> {
@@ -132,5 +132,96 @@ impl Builder<'_> {
             link_end: true,
         });
         path
+    }
+}
+
+impl Builder<'_> {
+    /// The client's end of the call `spec.id`: the client `client` (module path,
+    /// client name) calls, through the network, the service of `spec.server_part` that
+    /// the other end ([`Builder::call_in`]) names.
+    pub fn call_out(
+        &mut self,
+        spec: &CallSpec<'_>,
+        client: (&str, &str),
+    ) -> Result<(), BuildError> {
+        let m = self.module(client.0)?;
+        let describe = format!("`{}/{}` → part `{}`", client.0, client.1, spec.server_part);
+        let handle = super::find(&self.modules[m].clients, client, "client")?;
+        let wire = self.call_wire(handle.types(), &describe)?;
+        let route = self.route(calls::request_link(spec.id), spec.server_part);
+        let (service, end) = wire.remote_service(format!("{} (remote)", client.1), route);
+        let handle = super::find(&self.modules[m].clients, client, "client")?;
+        handle
+            .connect(&service)
+            .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
+        self.call_end(calls::answer_link(spec.id), end, &describe)?;
+        let part = spec.server_part.to_owned();
+        self.sent.insert(calls::request_link(spec.id), part.clone());
+        self.received.insert(calls::answer_link(spec.id), part);
+        Ok(())
+    }
+
+    /// The service's end of the call `spec.id`: requests from the client in
+    /// `spec.client_part` are executed by the service `service` (module path, name).
+    pub fn call_in(
+        &mut self,
+        spec: &CallSpec<'_>,
+        service: (&str, &str),
+    ) -> Result<(), BuildError> {
+        let m = self.module(service.0)?;
+        let describe = format!(
+            "part `{}` → `{}/{}`",
+            spec.client_part, service.0, service.1
+        );
+        let handle = super::find(&self.modules[m].services, service, "service")?;
+        let wire = self.call_wire(handle.types(), &describe)?;
+        let route = self.route(calls::answer_link(spec.id), spec.client_part);
+        let (client, end) = wire.remote_client(format!("{} (remote)", service.1), route);
+        let handle = super::find(&self.modules[m].services, service, "service")?;
+        client
+            .connect(handle)
+            .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
+        self.call_end(calls::request_link(spec.id), end, &describe)?;
+        let part = spec.client_part.to_owned();
+        self.received
+            .insert(calls::request_link(spec.id), part.clone());
+        self.sent.insert(calls::answer_link(spec.id), part);
+        Ok(())
+    }
+
+    fn call_wire(
+        &self,
+        types: (&str, &str),
+        describe: &str,
+    ) -> Result<calls::CallWire, BuildError> {
+        self.registry.call_wire(types).ok_or_else(|| {
+            BuildError::Connect(format!(
+                "{describe}: calls with requests `{}` and responses `{}` cannot cross between \
+                 parts: register them with `register_call::<{}, {}>()`",
+                types.0, types.1, types.0, types.1
+            ))
+        })
+    }
+
+    fn route(&self, link: u32, to_part: &str) -> calls::Route {
+        calls::Route {
+            hub: Arc::clone(&self.hub),
+            link,
+            to_part: Arc::from(to_part),
+        }
+    }
+
+    fn call_end(
+        &mut self,
+        link: u32,
+        end: Arc<dyn calls::Receive>,
+        describe: &str,
+    ) -> Result<(), BuildError> {
+        if self.call_ends.insert(link, end).is_some() {
+            return Err(BuildError::Connect(format!(
+                "{describe}: this call is built twice"
+            )));
+        }
+        Ok(())
     }
 }

@@ -185,6 +185,8 @@ pub struct Builder<'r> {
     hub: Arc<crate::link::Hub>,
     /// The receiving ends of links, by link number.
     receiving: std::collections::BTreeMap<u32, crate::link::Receiving>,
+    /// The ends of service calls between parts, by the link number they receive on.
+    call_ends: std::collections::BTreeMap<u32, Arc<dyn crate::link::calls::Receive>>,
     /// Link number → the part it comes from / goes to, for links built here.
     received: std::collections::BTreeMap<u32, String>,
     sent: std::collections::BTreeMap<u32, String>,
@@ -216,6 +218,7 @@ impl<'r> Builder<'r> {
             lock_order: Arc::new(LockOrder::new()),
             hub: Arc::default(),
             receiving: Default::default(),
+            call_ends: Default::default(),
             received: Default::default(),
             sent: Default::default(),
         }
@@ -467,7 +470,10 @@ impl<'r> Builder<'r> {
         let containers = self.containers()?;
         let params = self.take_params();
         let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
-        let inbox = Arc::new(crate::link::Inbox::new(std::mem::take(&mut self.receiving)));
+        let inbox = Arc::new(crate::link::Inbox::new(
+            std::mem::take(&mut self.receiving),
+            std::mem::take(&mut self.call_ends),
+        ));
         let shared = running::Shared {
             params,
             lock_order: Arc::clone(&self.lock_order),
@@ -525,6 +531,8 @@ fn find<'a, H>(
         })
 }
 
+#[cfg(test)]
+mod call_link_tests;
 #[cfg(test)]
 mod convert_tests;
 #[cfg(test)]

@@ -29,6 +29,8 @@ pub struct Registry {
     /// (Rust type of the value, field name or `[]` for an index) → converter factory.
     parts: BTreeMap<(&'static str, &'static str), Extract>,
     values: ValueTable,
+    /// (Rust request type, Rust response type) → how calls of them cross parts.
+    calls: BTreeMap<(&'static str, &'static str), crate::link::calls::CallWire>,
 }
 
 impl Default for Registry {
@@ -46,6 +48,7 @@ impl Registry {
             types: BTreeMap::new(),
             parts: BTreeMap::new(),
             values: ValueTable::default(),
+            calls: BTreeMap::new(),
         };
         macro_rules! lists {
             ($($ty:ty),*) => {$(
@@ -131,6 +134,28 @@ impl Registry {
     {
         self.values.insert_serde::<T, DebugText>();
         self
+    }
+
+    /// Lets calls with requests `Req` and responses `Resp` cross between parts (a
+    /// client in one part calling a service in another): both are encoded like values.
+    pub fn register_call<Req, Resp>(&mut self) -> &mut Self
+    where
+        Req: serde::Serialize + serde::de::DeserializeOwned + Send + 'static,
+        Resp: serde::Serialize + serde::de::DeserializeOwned + Send + 'static,
+    {
+        self.calls.insert(
+            (std::any::type_name::<Req>(), std::any::type_name::<Resp>()),
+            crate::link::calls::CallWire::of::<Req, Resp>(),
+        );
+        self
+    }
+
+    /// How calls of these Rust request and response types cross between parts.
+    pub(crate) fn call_wire(&self, types: (&str, &str)) -> Option<crate::link::calls::CallWire> {
+        self.calls
+            .iter()
+            .find(|((req, resp), _)| *req == types.0 && *resp == types.1)
+            .map(|(_, wire)| *wire)
     }
 
     /// Registers `T` with its own text style `S` (a [`ValueText`]): for a type that

@@ -12,6 +12,7 @@
 //! process), or at the next instant of model time in lockstep. Any other link goes to
 //! its part over the network ([`net`]).
 
+pub(crate) mod calls;
 pub mod net;
 
 use crate::module::{DynOut, Timestamp, Wire};
@@ -54,6 +55,18 @@ pub struct LinkSpec<'a> {
     pub model_type: &'a str,
     /// When values are sent.
     pub sharing: Sharing,
+}
+
+/// One service call between parts (`<connect from="…/client" to="…/service"/>` across
+/// parts), as both of its ends are built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CallSpec<'a> {
+    /// Its number, the same in every part (the model's call order).
+    pub id: u32,
+    /// The part of the client.
+    pub client_part: &'a str,
+    /// The part of the service.
+    pub server_part: &'a str,
 }
 
 /// One encoded value on its way.
@@ -102,9 +115,12 @@ impl Pace {
     }
 }
 
-/// The receiving ends of the links whose reader is in this process.
+/// The receiving ends of the links whose reader is in this process: data links, and
+/// the ends of service calls between parts.
 pub(crate) struct Inbox {
     links: BTreeMap<u32, Receiving>,
+    calls: BTreeMap<u32, Arc<dyn calls::Receive>>,
+    call_failures: AtomicU64,
 }
 
 pub(crate) struct Receiving {
@@ -127,18 +143,35 @@ impl Receiving {
 }
 
 impl Inbox {
-    pub(crate) fn new(links: BTreeMap<u32, Receiving>) -> Self {
-        Inbox { links }
+    pub(crate) fn new(
+        links: BTreeMap<u32, Receiving>,
+        calls: BTreeMap<u32, Arc<dyn calls::Receive>>,
+    ) -> Self {
+        Inbox {
+            links,
+            calls,
+            call_failures: AtomicU64::new(0),
+        }
     }
 
     /// Whether the reader of `link` is in this process.
     pub(crate) fn has(&self, link: u32) -> bool {
-        self.links.contains_key(&link)
+        self.links.contains_key(&link) || self.calls.contains_key(&link)
     }
 
     /// Publishes a frame's value into its reader. A frame for an unknown link or one
     /// that does not decode is reported (the first time) and dropped.
     pub(crate) fn deliver(&self, frame: &Frame) {
+        if let Some(end) = self.calls.get(&frame.link) {
+            if let Err(why) = end.receive(&frame.bytes) {
+                if self.call_failures.fetch_add(1, Ordering::Relaxed) == 0 {
+                    crate::console::line(&format!(
+                        "warning: a service call between parts went wrong: {why}"
+                    ));
+                }
+            }
+            return;
+        }
         let Some(link) = self.links.get(&frame.link) else {
             crate::console::line(&format!(
                 "warning: a peer sent a value for link {}, which this part does not receive; \

@@ -82,7 +82,10 @@ fn a_value_that_does_not_decode_is_dropped_not_published() {
         .connect(&input_handle, crate::port::ConnectOptions::default())
         .unwrap();
     let wire = *f64_type.wire().unwrap();
-    let inbox = Inbox::new([(0, Receiving::new(out, wire, "test".into()))].into());
+    let inbox = Inbox::new(
+        [(0, Receiving::new(out, wire, "test".into()))].into(),
+        Default::default(),
+    );
     inbox.deliver(&Frame {
         link: 0,
         bytes: vec![1, 2],

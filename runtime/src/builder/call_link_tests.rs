@@ -1,0 +1,281 @@
+//! Service calls between parts: a client in part `a` calls a service in part `b`. In
+//! lockstep, one process and two programs over TCP see the same answers at the same
+//! instants; running freely, blocking calls are answered; unregistered types are
+//! refused.
+
+use super::*;
+use crate::link::net::Network;
+use crate::link::CallSpec;
+use crate::module::{ModuleType, Parameter, Timestamp};
+use crate::service::{ClientPort, PendingResponse, ServicePort};
+use std::collections::BTreeMap;
+use std::sync::Mutex;
+
+static RECORD: Mutex<BTreeMap<u64, Vec<String>>> = Mutex::new(BTreeMap::new());
+
+fn record(tag: u64) -> Vec<String> {
+    RECORD
+        .lock()
+        .unwrap()
+        .get(&tag)
+        .cloned()
+        .unwrap_or_default()
+}
+
+fn note(tag: f64, line: String) {
+    RECORD
+        .lock()
+        .unwrap()
+        .entry(tag as u64)
+        .or_default()
+        .push(line);
+}
+
+fn model_ms() -> i64 {
+    (Timestamp::now().nanos - Timestamp::LOCKSTEP_EPOCH.nanos) / 1_000_000
+}
+
+/// Asks `ask` for n² (n = 1, 2, …) asynchronously, or blocking when `blocking` is set.
+struct Asker {
+    ask: ClientPort<i64, i64>,
+    pending: Option<PendingResponse<i64>>,
+    n: i64,
+    blocking: Parameter<bool>,
+    tag: Parameter<f64>,
+}
+impl Module for Asker {
+    fn update(&mut self) {
+        let tag = self.tag.get();
+        if self.blocking.get() {
+            self.n += 1;
+            let answer = self.ask.call(self.n);
+            note(tag, format!("{} → {answer:?}", self.n));
+            return;
+        }
+        let mut event = String::from("waits");
+        if let Some(pending) = self.pending.take() {
+            match pending.try_take() {
+                Ok(answer) => event = format!("answer {answer:?}"),
+                Err(pending) => self.pending = Some(pending),
+            }
+        }
+        if self.pending.is_none() {
+            self.n += 1;
+            self.pending = self.ask.call_async(self.n).ok();
+            event.push_str(&format!(", asks {}", self.n));
+        }
+        note(tag, format!("a @{}ms {event}", model_ms()));
+    }
+}
+impl ModuleType for Asker {
+    const NAME: &'static str = "test.Asker";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Asker {
+            ask: m.client("ask").timeout(Duration::from_secs(5)).build(),
+            pending: None,
+            n: 0,
+            blocking: m.param("blocking").default(false).build(),
+            tag: m.param("tag").default(0.0).build(),
+        }
+    }
+}
+
+/// Serves `square` in its step.
+struct Squarer {
+    square: ServicePort<i64, i64>,
+}
+impl Module for Squarer {
+    fn update(&mut self) {
+        self.square.serve_pending(|x| x * x);
+    }
+}
+impl ModuleType for Squarer {
+    const NAME: &'static str = "test.Squarer";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Squarer {
+            square: m.service("square").build(),
+        }
+    }
+}
+
+fn registry(with_call: bool) -> Registry {
+    let mut r = Registry::new();
+    r.register::<Asker>().register::<Squarer>();
+    if with_call {
+        r.register_call::<i64, i64>();
+    }
+    r
+}
+
+const CALL: CallSpec<'static> = CallSpec {
+    id: 0,
+    client_part: "a",
+    server_part: "b",
+};
+
+fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64, blocking: bool) -> Builder<'r> {
+    let mut b = Builder::new(registry);
+    if parts.contains(&"a") {
+        let params = [
+            ("tag".to_string(), Value::Float(tag)),
+            ("blocking".to_string(), Value::Bool(blocking)),
+        ];
+        b.add_module(ModuleSpec {
+            path: "a/asker",
+            type_name: "test.Asker",
+            params: &params,
+            queues: &[],
+            ports: &[],
+            violations: Default::default(),
+        })
+        .unwrap();
+        b.call_out(&CALL, ("a/asker", "ask")).unwrap();
+        b.add_thread(ThreadSpec {
+            path: "a".into(),
+            schedule: Schedule::Periodic(Duration::from_millis(10)),
+            options: ThreadOptions::default(),
+            steps: vec![("a/asker".into(), StepKind::Update)],
+        })
+        .unwrap();
+    }
+    if parts.contains(&"b") {
+        b.add_module(ModuleSpec {
+            path: "b/squarer",
+            type_name: "test.Squarer",
+            params: &[],
+            queues: &[],
+            ports: &[],
+            violations: Default::default(),
+        })
+        .unwrap();
+        b.call_in(&CALL, ("b/squarer", "square")).unwrap();
+        b.add_thread(ThreadSpec {
+            path: "b".into(),
+            schedule: Schedule::Periodic(Duration::from_millis(25)),
+            options: ThreadOptions::default(),
+            steps: vec![("b/squarer".into(), StepKind::Update)],
+        })
+        .unwrap();
+    }
+    b
+}
+
+fn lockstep(cycles: u64, network: Option<Network>) -> StartOptions {
+    StartOptions {
+        limit: Some(cycles),
+        lockstep: Some(Lockstep {
+            periods: vec![Duration::from_millis(10), Duration::from_millis(25)],
+            until: None,
+        }),
+        network,
+    }
+}
+
+fn run_to_end(app: RunningApp) {
+    assert!(
+        app.wait_timeout(Duration::from_secs(20)),
+        "the run did not end"
+    );
+    drop(app);
+}
+
+fn free_port() -> String {
+    let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    l.local_addr().unwrap().to_string()
+}
+
+#[test]
+fn in_lockstep_a_call_is_answered_two_instants_and_a_server_cycle_later() {
+    let registry = registry(true);
+    let app = build(&registry, &["a", "b"], 1.0, false).start_with(lockstep(6, None));
+    run_to_end(app.unwrap());
+    // Asked at 0 ms; the request reaches b at 10 ms, b serves it at 25 ms, the answer
+    // reaches a at 30 ms.
+    assert_eq!(
+        record(1),
+        [
+            "a @0ms waits, asks 1",
+            "a @10ms waits",
+            "a @20ms waits",
+            "a @30ms answer Ok(1), asks 2",
+            "a @40ms waits",
+            "a @50ms waits",
+        ]
+    );
+}
+
+#[test]
+#[cfg_attr(miri, ignore = "Miri has no sockets")]
+fn over_tcp_the_calls_see_what_one_process_sees() {
+    let registry = registry(true);
+    run_to_end(
+        build(&registry, &["a", "b"], 2.0, false)
+            .start_with(lockstep(40, None))
+            .unwrap(),
+    );
+    let (a_at, b_at) = (free_port(), free_port());
+    let peers: BTreeMap<String, String> = [
+        ("a".to_string(), a_at.clone()),
+        ("b".to_string(), b_at.clone()),
+    ]
+    .into();
+    let start = |part: &str, listen: &str| {
+        let network = Network {
+            part: part.into(),
+            listen: listen.into(),
+            peers: peers.clone(),
+        };
+        let options = lockstep(40, Some(network));
+        build(&registry, &[part], 3.0, false)
+            .start_with(options)
+            .unwrap()
+    };
+    let (a, b) = (start("a", &a_at), start("b", &b_at));
+    run_to_end(a);
+    run_to_end(b);
+    assert_eq!(record(3), record(2));
+    assert!(
+        record(2).iter().any(|l| l.contains("answer Ok(16)")),
+        "{:?}",
+        record(2)
+    );
+}
+
+#[test]
+fn running_freely_blocking_calls_between_parts_are_answered() {
+    let registry = registry(true);
+    let app = build(&registry, &["a", "b"], 4.0, true)
+        .start(Some(5))
+        .unwrap();
+    run_to_end(app);
+    assert_eq!(
+        record(4),
+        [
+            "1 → Ok(1)",
+            "2 → Ok(4)",
+            "3 → Ok(9)",
+            "4 → Ok(16)",
+            "5 → Ok(25)"
+        ]
+    );
+}
+
+#[test]
+fn calls_of_unregistered_types_cannot_cross() {
+    let registry = registry(false);
+    let mut b = Builder::new(&registry);
+    b.add_module(ModuleSpec {
+        path: "a/asker",
+        type_name: "test.Asker",
+        params: &[],
+        queues: &[],
+        ports: &[],
+        violations: Default::default(),
+    })
+    .unwrap();
+    let err = b
+        .call_out(&CALL, ("a/asker", "ask"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("register_call::<i64, i64>()"), "{err}");
+}
