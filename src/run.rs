@@ -12,7 +12,7 @@ use ferroc_runtime::builder::{
     StepKind, ThreadSpec,
 };
 use ferroc_runtime::container::ThreadOptions;
-use ferroc_runtime::link::{LinkSpec, Sharing};
+use ferroc_runtime::link::{CallSpec, LinkSpec, Sharing};
 use ferroc_runtime::module::{Direction, PortGroup, Value};
 use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig};
 use ferroc_runtime::supervise;
@@ -345,10 +345,24 @@ pub fn build(
         )?;
     }
     for call in &plan.calls {
-        builder.connect_service(
-            (&call.client.0, &call.client.1),
-            (&call.service.0, &call.service.1),
-        )?;
+        let (client, service) = (
+            (call.client.0.as_str(), call.client.1.as_str()),
+            (call.service.0.as_str(), call.service.1.as_str()),
+        );
+        match &call.link {
+            // Between parts, as between the bundle's programs; types the libraries
+            // did not register for crossing are called directly (one process).
+            Some(link) if builder.can_call_across(client) => {
+                let spec = CallSpec {
+                    id: link.id,
+                    client_part: &link.client_part,
+                    server_part: &link.server_part,
+                };
+                builder.call_out(&spec, client)?;
+                builder.call_in(&spec, service)?;
+            }
+            _ => builder.connect_service(client, service)?,
+        }
     }
     for t in &plan.threads {
         builder.add_thread(ThreadSpec {

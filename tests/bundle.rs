@@ -354,12 +354,27 @@ fn hostile_models_cannot_inject_code_or_escape_the_folder() {
 #[test]
 fn models_the_runtime_cannot_run_are_refused() {
     let dir = tempdir("unsupported");
-    // Its parts call each other's services; links between parts carry data only.
-    let model = Path::new("compiler/tests/deadlock_acceptance/call_cycle_three_parts_timeout.xml");
-    let (code, err) = bundle(model, &dir.join("b"), &[]);
+    // A port driving a parameter in another part: links carry data and calls only.
+    let model = dir.join("param_across.xml");
+    std::fs::write(
+        &model,
+        r#"<application name="param_across" version="1">
+  <use library="ferroc_std"/>
+  <part name="a">
+    <thread name="t" period="10ms"><module name="c" type="ferroc_std.Constant"/></thread>
+  </part>
+  <part name="b">
+    <thread name="t" period="10ms"><module name="d" type="ferroc_std.Constant"/></thread>
+  </part>
+  <connect from="a/t/c/value" to="b/t/d/param/value"/>
+</application>
+"#,
+    )
+    .unwrap();
+    let (code, err) = bundle(&model, &dir.join("b"), &[]);
     assert_eq!(code, 1, "{err}");
     assert!(
-        err.contains("call_cycle_three_parts_timeout.xml:23:4: error: the call `base/dispatch/dispatcher/job` → `arm/ctrl/controller/work` joins the parts `base` and `arm`: only data connections cross between parts so far"),
+        err.contains("param_across.xml:9:4: error: the parameter link `a/t/c/value` → `b/t/d/param/value` joins the parts `a` and `b`: only data connections and calls cross between parts"),
         "{err}"
     );
     assert!(!dir.join("b").exists());

@@ -17,6 +17,11 @@ use std::time::{Duration, Instant};
 
 /// A copy of `models/NAME.xml` (and its fragments and config files) in `dir` whose files live in `dir`.
 fn copy_model(name: &str, dir: &Path) -> PathBuf {
+    copy_model_from(&format!("models/{name}.xml"), name, dir)
+}
+
+/// A copy of the model `source` (relative to the project) as `dir/NAME.xml`.
+fn copy_model_from(source: &str, name: &str, dir: &Path) -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let scratch = format!("{}/var/", dir.display());
     let copy = |from: &Path, to: &Path| {
@@ -35,7 +40,7 @@ fn copy_model(name: &str, dir: &Path) -> PathBuf {
         }
     }
     let model = dir.join(format!("{name}.xml"));
-    copy(&root.join(format!("models/{name}.xml")), &model);
+    copy(&root.join(source), &model);
     model
 }
 
@@ -87,8 +92,13 @@ fn in_order(part: &[&str], whole: &[&str]) -> bool {
 }
 
 fn programs_match_ferroc_run(name: &str, parts: &[&str], cycles: u32, must_print: &str) {
+    let source = format!("models/{name}.xml");
+    programs_match(&source, name, parts, cycles, must_print);
+}
+
+fn programs_match(source: &str, name: &str, parts: &[&str], cycles: u32, must_print: &str) {
     let dir = tempdir(&format!("bundle_links_{name}"));
-    let model = copy_model(name, &dir);
+    let model = copy_model_from(source, name, &dir);
     let out = dir.join("bundle");
     bundle_ok(&model, &out);
     let target = build_bundle(&out);
@@ -162,4 +172,31 @@ fn every_single_part_model_as_one_program() {
     ] {
         programs_match_ferroc_run(name, &[part], cycles, must_print);
     }
+}
+
+/// A client in one part calling a service in another (`ferroc_std.Ask` and
+/// `ferroc_std.ScaleService`): the call and its answer cross over TCP.
+#[test]
+fn a_service_call_between_two_programs() {
+    let source = "tests/fixtures/calls_between_parts.xml";
+    let dir = tempdir("bundle_links_calls_source");
+    bundle_ok(
+        &copy_model_from(source, "remote_calls", &dir),
+        &dir.join("b"),
+    );
+    let asker = std::fs::read_to_string(dir.join("b/parts/asker/src/main.rs")).unwrap();
+    for line in [
+        "builder.call_out(&CALL_0, (ASK, \"ask\"))?;",
+        "registry.register_call::<f64, f64>();",
+        "    server_part: \"server\",",
+    ] {
+        assert!(asker.contains(line), "{line} missing in\n{asker}");
+    }
+    programs_match(
+        source,
+        "remote_calls",
+        &["asker", "server"],
+        40,
+        "twice the tick: in/0 = 8",
+    );
 }

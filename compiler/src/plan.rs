@@ -8,7 +8,7 @@
 
 mod links;
 
-pub use links::{LinkSharing, PlannedLink};
+pub use links::{LinkSharing, PlannedCallLink, PlannedLink};
 
 use crate::ir::{Application, ElementId, ElementKind, Endpoint, ParamSource, PortView};
 use crate::library::{LibrarySet, PortDir, PortRole};
@@ -89,6 +89,8 @@ pub struct PlannedCall {
     pub client: (String, String),
     /// Module path and service name.
     pub service: (String, String),
+    /// Set when the client and the service are in different parts.
+    pub link: Option<PlannedCallLink>,
     pub span: Span,
 }
 
@@ -221,7 +223,14 @@ pub fn plan(
         .collect();
     for (edge, from, to) in module_edges(app, libs) {
         if from.role == PortRole::Client {
+            let response = libs
+                .module_type(&plan.modules[module_index[&edge.from_module]].type_name)
+                .and_then(|(_, ty)| ty.clients.iter().find(|c| c.name == from.name))
+                .and_then(|c| c.response.clone());
+            let id = plan.calls.iter().filter(|c| c.link.is_some()).count() as u32;
+            let link = links::call_link_of(app, &edge, from.ty, response, id);
             plan.calls.push(PlannedCall {
+                link,
                 client: (
                     paths[edge.from_module.0 as usize].clone(),
                     from.name.to_string(),

@@ -36,7 +36,7 @@ impl FieldAccessor {
 
 /// The Rust type of a model type, and whether it is `Copy` (`None`: no port value type
 /// the generated code can name).
-fn rust_type(libs: &LibrarySet, t: &Type) -> Option<(String, bool)> {
+pub(super) fn rust_type(libs: &LibrarySet, t: &Type) -> Option<(String, bool)> {
     Some(match t {
         Type::Bool => ("bool".into(), true),
         Type::Int { signed, bits } => (format!("{}{bits}", if *signed { 'i' } else { 'u' }), true),

@@ -27,6 +27,11 @@ pub struct Part<'p> {
     /// [`BASE_PORT`] plus its position in the model.
     pub address: String,
     pub calls: Vec<&'p PlannedCall>,
+    /// Calls to and from other parts: this part's client calls / service answers.
+    pub calls_out: Vec<&'p PlannedCall>,
+    pub calls_in: Vec<&'p PlannedCall>,
+    /// `(request, response)` Rust types of the calls crossing to or from this part.
+    pub call_types: Vec<(String, String)>,
     pub param_links: Vec<&'p PlannedParamLink>,
     pub threads: Vec<&'p PlannedThread>,
     /// Libraries (by name) whose module types this part creates.
@@ -117,6 +122,9 @@ pub fn layout<'p>(
             links_out: Vec::new(),
             links_in: Vec::new(),
             calls: Vec::new(),
+            calls_out: Vec::new(),
+            calls_in: Vec::new(),
+            call_types: Vec::new(),
             param_links: Vec::new(),
             threads: Vec::new(),
             libraries: Vec::new(),
@@ -271,6 +279,65 @@ pub fn layout<'p>(
         }
     }
     for call in &plan.calls {
+        if let Some(link) = &call.link {
+            let ends = (
+                module_part.get(call.client.0.as_str()),
+                module_part.get(call.service.0.as_str()),
+            );
+            let (Some(&client), Some(&server)) = ends else {
+                continue; // an endpoint outside every part was reported above
+            };
+            let rust = |t: &ferroc_compiler::types::Type| {
+                super::fields::rust_type(libs, t).map(|(r, _)| r)
+            };
+            let types = link
+                .response
+                .as_ref()
+                .and_then(|resp| Some((rust(&link.request)?, rust(resp)?)));
+            let Some((request, response)) = types else {
+                problems.push(Problem {
+                    span: call.span,
+                    what: format!(
+                        "the call `{}/{}` → `{}/{}` crosses between parts, but its client declares no response type the generated code can name: add response=\"TYPE\" to the <client> in its manifest",
+                        call.client.0, call.client.1, call.service.0, call.service.1
+                    ),
+                });
+                continue;
+            };
+            for rust_path in [&request, &response] {
+                if !text::is_rust_type(rust_path) {
+                    problems.push(Problem {
+                        span: call.span,
+                        what: format!(
+                            "the call's type `{}` is not a Rust type",
+                            text::comment(rust_path)
+                        ),
+                    });
+                }
+            }
+            for t in [Some(&link.request), link.response.as_ref()]
+                .into_iter()
+                .flatten()
+            {
+                if let ferroc_compiler::types::Type::Named(id, _) = t {
+                    let name = libs.get(libs.named_type(*id).library).name.clone();
+                    for p in [client, server] {
+                        if !parts[p].libraries.contains(&name) {
+                            parts[p].libraries.push(name.clone());
+                        }
+                    }
+                }
+            }
+            for p in [client, server] {
+                let pair = (request.clone(), response.clone());
+                if !parts[p].call_types.contains(&pair) {
+                    parts[p].call_types.push(pair);
+                }
+            }
+            parts[client].calls_out.push(call);
+            parts[server].calls_in.push(call);
+            continue;
+        }
         let what = format!(
             "call `{}/{}` → `{}/{}`",
             call.client.0, call.client.1, call.service.0, call.service.1
@@ -355,8 +422,8 @@ pub fn layout<'p>(
     }
 }
 
-/// The part both modules of a call or parameter link are in; one between two parts is
-/// a problem (links between parts carry data connections only, so far).
+/// The part both modules of a parameter link are in; one between two parts is a
+/// problem (links between parts carry data connections and calls only, so far).
 fn one_part(
     module_part: &BTreeMap<&str, usize>,
     parts: &[Part<'_>],
@@ -371,7 +438,7 @@ fn one_part(
             problems.push(Problem {
                 span,
                 what: format!(
-                    "the {what} joins the parts `{}` and `{}`: only data connections cross between parts so far; move both ends into one part",
+                    "the {what} joins the parts `{}` and `{}`: only data connections and calls cross between parts so far; move both ends into one part",
                     parts[a].name, parts[b].name
                 ),
             });

@@ -7,7 +7,9 @@ use super::code::{Code, LIST_WIDTH, MAX_WIDTH};
 use super::layout::Part;
 use super::literals::{call, duration, float};
 use super::text::{comment, rust_str};
-use ferroc_compiler::plan::{LinkSharing, Part as ValuePart, PlannedConnection, PlannedLink};
+use ferroc_compiler::plan::{
+    LinkSharing, Part as ValuePart, PlannedCall, PlannedConnection, PlannedLink,
+};
 use std::time::Duration;
 
 /// `Conversion::default()` or the one-line chain of a connection's conversion.
@@ -111,6 +113,39 @@ pub fn specs(out: &mut Code, part: &Part<'_>) {
     }
 }
 
+/// One `const CALL_n: CallSpec` for every service call crossing to or from the part.
+pub fn call_specs(out: &mut Code, part: &Part<'_>) {
+    let mut calls: Vec<&PlannedCall> = part
+        .calls_out
+        .iter()
+        .chain(&part.calls_in)
+        .copied()
+        .collect();
+    calls.sort_by_key(|c| c.link.as_ref().map(|l| l.id));
+    for c in calls {
+        let Some(link) = &c.link else { continue };
+        out.blank();
+        out.line(
+            0,
+            &format!(
+                "/// `{}/{}` calls `{}/{}`",
+                comment(&c.client.0),
+                comment(&c.client.1),
+                comment(&c.service.0),
+                comment(&c.service.1)
+            ),
+        );
+        out.line(
+            0,
+            &format!("const CALL_{}: CallSpec = CallSpec {{", link.id),
+        );
+        out.line(1, &format!("id: {},", link.id));
+        out.line(1, &format!("client_part: {},", rust_str(&link.client_part)));
+        out.line(1, &format!("server_part: {},", rust_str(&link.server_part)));
+        out.line(0, "};");
+    }
+}
+
 /// The `link_out` / `link_in` calls of `build`.
 pub fn calls(
     body: &mut Code,
@@ -135,6 +170,40 @@ pub fn calls(
             conversion(c),
         ];
         method_call(body, "builder.link_out", &args);
+    }
+    for c in &part.calls_out {
+        let Some(link) = &c.link else { continue };
+        body.blank();
+        body.line(
+            1,
+            &format!(
+                "// calls the part `{}`, {}",
+                link.server_part,
+                comment(&at(c.span))
+            ),
+        );
+        let args = [
+            format!("&CALL_{}", link.id),
+            call("", &[name_of(&c.client.0), rust_str(&c.client.1)]),
+        ];
+        method_call(body, "builder.call_out", &args);
+    }
+    for c in &part.calls_in {
+        let Some(link) = &c.link else { continue };
+        body.blank();
+        body.line(
+            1,
+            &format!(
+                "// called from the part `{}`, {}",
+                link.client_part,
+                comment(&at(c.span))
+            ),
+        );
+        let args = [
+            format!("&CALL_{}", link.id),
+            call("", &[name_of(&c.service.0), rust_str(&c.service.1)]),
+        ];
+        method_call(body, "builder.call_in", &args);
     }
     for c in &part.links_in {
         let Some(link) = &c.link else { continue };

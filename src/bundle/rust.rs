@@ -198,6 +198,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             connect: !part.connections.is_empty() || !part.links_out.is_empty(),
             connect_options: !part.connections.is_empty() || !part.links_in.is_empty(),
             links: !part.links_out.is_empty() || !part.links_in.is_empty(),
+            calls: !part.calls_out.is_empty() || !part.calls_in.is_empty(),
             queue: uses_queue,
             thread: !part.threads.is_empty(),
             value: uses_param || uses_queue,
@@ -223,6 +224,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     out.line(0, &format!("const ABOUT: &str = {};", rust_str(&about)));
     super::links::constants(&mut out, cx.parts, cx.periods);
     super::links::specs(&mut out, part);
+    super::links::call_specs(&mut out, part);
     if !consts.is_empty() {
         out.blank();
         out.line(0, "// Module paths, as in the model.");
@@ -265,6 +267,12 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     }
     for rust in crossing {
         out.line(1, &format!("registry.register_serde::<{rust}>();"));
+    }
+    for (request, response) in &part.call_types {
+        out.line(
+            1,
+            &format!("registry.register_call::<{request}, {response}>();"),
+        );
     }
     for accessor in &part.fields {
         out.line(1, &accessor.call());
@@ -334,6 +342,7 @@ struct Uses {
     connect: bool,
     connect_options: bool,
     links: bool,
+    calls: bool,
     queue: bool,
     thread: bool,
     value: bool,
@@ -358,8 +367,14 @@ fn imports(out: &mut Code, uses: Uses) {
     if uses.thread {
         out.line(0, "use ferroc_runtime::container::ThreadOptions;");
     }
-    if uses.links {
-        out.line(0, "use ferroc_runtime::link::{LinkSpec, Sharing};");
+    match (uses.calls, uses.links) {
+        (true, true) => out.line(
+            0,
+            "use ferroc_runtime::link::{CallSpec, LinkSpec, Sharing};",
+        ),
+        (false, true) => out.line(0, "use ferroc_runtime::link::{LinkSpec, Sharing};"),
+        (true, false) => out.line(0, "use ferroc_runtime::link::CallSpec;"),
+        (false, false) => {}
     }
     match (uses.ports, uses.value) {
         (true, true) => out.line(

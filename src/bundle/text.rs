@@ -31,6 +31,18 @@ pub fn is_rust_path(s: &str) -> bool {
     segments.len() >= 2 && segments.iter().all(|seg| is_rust_ident(seg))
 }
 
+/// A Rust type as the bundle writes it for a model type: paths and primitive names,
+/// `Vec<…>` and `[…; N]` (nothing else can appear, so nothing else is accepted).
+pub fn is_rust_type(s: &str) -> bool {
+    let tokens = s
+        .split(['<', '>', '[', ']', ';', ' '])
+        .filter(|t| !t.is_empty());
+    s.len() <= 256
+        && tokens
+            .into_iter()
+            .all(|t| is_rust_path(t) || is_rust_ident(t) || t.bytes().all(|b| b.is_ascii_digit()))
+}
+
 /// A Cargo package name: ASCII letters, digits, `-` and `_`, starting with a letter.
 pub fn is_crate_name(s: &str) -> bool {
     s.starts_with(|c: char| c.is_ascii_alphabetic())
@@ -148,6 +160,24 @@ mod tests {
             "a::fn",
         ] {
             assert!(!is_rust_path(bad), "{bad:?}");
+        }
+        for good in [
+            "f64",
+            "Vec<String>",
+            "[f64; 3]",
+            "Vec<rescue_components::Pose2D>",
+        ] {
+            assert!(is_rust_type(good), "{good:?}");
+        }
+        for bad in [
+            "a::b(1)",
+            "Vec<a\"b>",
+            "x { }",
+            "a::b!",
+            "u8, exit()",
+            "&'static str",
+        ] {
+            assert!(!is_rust_type(bad), "{bad:?}");
         }
         assert!(is_host("robot-1.local"));
         for bad in ["..", "../etc", "a/b", "-rf", ".hidden", "a..b", ""] {

@@ -32,6 +32,38 @@ pub enum LinkSharing {
     Periodic { period: f64 },
 }
 
+/// A client → service call that crosses from one part to another.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedCallLink {
+    /// Its number: the order of the plan's calls between parts.
+    pub id: u32,
+    pub client_part: String,
+    pub server_part: String,
+    /// The request type (the client port's) and the response type (`response=`).
+    pub request: Type,
+    pub response: Option<Type>,
+}
+
+/// The call link of a call from `edge.from_module` to `edge.to_module`, if they are in
+/// different parts.
+pub(super) fn call_link_of(
+    app: &Application,
+    edge: &DataEdge,
+    request: &Type,
+    response: Option<Type>,
+    id: u32,
+) -> Option<PlannedCallLink> {
+    let part_of = |m: ElementId| app.element(m).part;
+    let (from, to) = (part_of(edge.from_module)?, part_of(edge.to_module)?);
+    (from != to).then(|| PlannedCallLink {
+        id,
+        client_part: app.element(from).name.clone(),
+        server_part: app.element(to).name.clone(),
+        request: request.clone(),
+        response,
+    })
+}
+
 /// The link of a connection from `from_module` to `to_module` through `edge`'s hops,
 /// if the two modules are in different parts; `id` is the number it gets.
 pub(super) fn link_of(

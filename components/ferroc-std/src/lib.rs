@@ -9,16 +9,19 @@
 //! The flexible types `Sum`, `FlexiSelect`, `Dump` and `Logger` take the ports their
 //! instance declares in the model, of any type in the runtime's value-type table
 //! (`flexible.rs`, `logger.rs`); `Clock` publishes `timestamp`s and a tick count.
+//! `ScaleService` and `Ask` are the smallest service and client (`services.rs`).
 
 mod basic;
 mod flexible;
 pub mod fusion;
 mod logger;
+mod services;
 
 pub use basic::{Constant, ConstantActivity, NumberToActivity, Scale};
 pub use flexible::{Clock, Dump, FlexiSelect, Sum};
 pub use fusion::Fusion;
 pub use logger::{check_log_path, Logger};
+pub use services::{Ask, ScaleService};
 
 use ferroc_runtime::builder::Registry;
 
@@ -34,5 +37,9 @@ pub fn register(registry: &mut Registry) {
         .register::<FlexiSelect>()
         .register::<Dump>()
         .register::<Logger>()
+        .register::<ScaleService>()
+        .register::<Ask>()
+        // `Ask` may call a `ScaleService` in another part.
+        .register_call::<f64, f64>()
         .register_behaviour::<Fusion>();
 }

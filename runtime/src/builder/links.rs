@@ -189,6 +189,16 @@ impl Builder<'_> {
         Ok(())
     }
 
+    /// Whether the calls of this client (module path, client name) can cross between
+    /// parts: their request and response types are registered with `register_call`.
+    pub fn can_call_across(&self, client: (&str, &str)) -> bool {
+        let Ok(m) = self.module(client.0) else {
+            return false;
+        };
+        super::find(&self.modules[m].clients, client, "client")
+            .is_ok_and(|c| self.registry.call_wire(c.types()).is_some())
+    }
+
     fn call_wire(
         &self,
         types: (&str, &str),
