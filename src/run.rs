@@ -338,11 +338,19 @@ pub fn build(
         }
     }
     for link in &plan.param_links {
-        builder.connect_param(
-            (&link.from.0, &link.from.1),
-            (&link.to.0, &link.to.1),
-            Conversion::linear(link.scale, 0.0),
-        )?;
+        let (from, to) = (
+            (link.from.0.as_str(), link.from.1.as_str()),
+            (link.to.0.as_str(), link.to.1.as_str()),
+        );
+        let scale = Conversion::linear(link.scale, 0.0);
+        match &link.link {
+            None => builder.connect_param(from, to, scale)?,
+            Some(between) => {
+                let spec = link_spec(between);
+                builder.link_out(&spec, from, scale)?;
+                builder.link_in_param(&spec, to)?;
+            }
+        }
     }
     for call in &plan.calls {
         let (client, service) = (

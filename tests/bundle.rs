@@ -354,27 +354,31 @@ fn hostile_models_cannot_inject_code_or_escape_the_folder() {
 #[test]
 fn models_the_runtime_cannot_run_are_refused() {
     let dir = tempdir("unsupported");
-    // A port driving a parameter in another part: links carry data and calls only.
-    let model = dir.join("param_across.xml");
+    // Writing into one element of an input: the runtime cannot realise it yet.
+    let model = dir.join("element_write.xml");
+    let ring = Path::new(env!("CARGO_MANIFEST_DIR")).join("components/ring.lib.xml");
     std::fs::write(
         &model,
-        r#"<application name="param_across" version="1">
-  <use library="ferroc_std"/>
-  <part name="a">
-    <thread name="t" period="10ms"><module name="c" type="ferroc_std.Constant"/></thread>
+        format!(
+            r#"<application name="element_write" version="1">
+  <use library="ring" manifest="{}"/>
+  <part name="p">
+    <thread name="t" period="10ms">
+      <module name="a" type="ring.Stage"/>
+      <module name="b" type="ring.Stage"/>
+      <connect from="a/output[1]" to="b/input[0]"/>
+    </thread>
   </part>
-  <part name="b">
-    <thread name="t" period="10ms"><module name="d" type="ferroc_std.Constant"/></thread>
-  </part>
-  <connect from="a/t/c/value" to="b/t/d/param/value"/>
 </application>
 "#,
+            ring.display()
+        ),
     )
     .unwrap();
     let (code, err) = bundle(&model, &dir.join("b"), &[]);
     assert_eq!(code, 1, "{err}");
     assert!(
-        err.contains("param_across.xml:9:4: error: the parameter link `a/t/c/value` → `b/t/d/param/value` joins the parts `a` and `b`: only data connections and calls cross between parts"),
+        err.contains("element_write.xml:7:39: error: writing into one element of an input (`to=\"port[i]\"`) is not supported"),
         "{err}"
     );
     assert!(!dir.join("b").exists());

@@ -200,3 +200,33 @@ fn a_service_call_between_two_programs() {
         "twice the tick: in/0 = 8",
     );
 }
+
+/// A port in one part driving a parameter in another (`tests/fixtures/param_between_parts.xml`).
+#[test]
+fn a_parameter_set_from_another_program() {
+    let source = "tests/fixtures/param_between_parts.xml";
+    let dir = tempdir("bundle_links_param_source");
+    bundle_ok(
+        &copy_model_from(source, "remote_param", &dir),
+        &dir.join("b"),
+    );
+    let robot = std::fs::read_to_string(dir.join("b/parts/robot/src/main.rs")).unwrap();
+    let tuning = std::fs::read_to_string(dir.join("b/parts/tuning/src/main.rs")).unwrap();
+    assert!(
+        robot.contains("builder.link_in_param(&LINK_0, (SCALED, \"factor\"))?;"),
+        "{robot}"
+    );
+    assert!(
+        tuning.contains(
+            "builder.link_out(&LINK_0, (GAIN, \"value\"), Conversion::linear(1.0, 0.0))?;"
+        ),
+        "{tuning}"
+    );
+    programs_match(
+        source,
+        "remote_param",
+        &["tuning", "robot"],
+        20,
+        "scaled speed: in/0 = 10",
+    );
+}

@@ -105,6 +105,9 @@ pub struct PlannedParamLink {
     pub to: (String, String),
     /// Unit scale from the port's unit to the parameter's.
     pub scale: f64,
+    /// Set when the output and the parameter are in different parts (numbered after
+    /// the data links).
+    pub link: Option<PlannedLink>,
     pub span: Span,
 }
 
@@ -386,7 +389,7 @@ fn plan_param_links(
     plan: &mut Plan,
     problems: &mut Vec<Unsupported>,
 ) {
-    for c in &app.connections {
+    for (hop, c) in app.connections.iter().enumerate() {
         let Endpoint::Param {
             element: target, ..
         } = c.to
@@ -410,10 +413,13 @@ fn plan_param_links(
             continue;
         };
         let scale = unit_scale(from.unit, to.unit);
+        let id = (plan.connections.iter().filter(|c| c.link.is_some()).count()
+            + plan.param_links.iter().filter(|l| l.link.is_some()).count()) as u32;
         plan.param_links.push(PlannedParamLink {
             from: (paths[source.0 as usize].clone(), from.name.to_string()),
             to: (paths[target.0 as usize].clone(), to.name.to_string()),
             scale,
+            link: links::param_link_of(app, hop, (source, target), id),
             span: c.span,
         });
     }

@@ -23,6 +23,9 @@ pub struct Part<'p> {
     /// Connections to and from other parts: this part writes / reads them.
     pub links_out: Vec<&'p PlannedConnection>,
     pub links_in: Vec<&'p PlannedConnection>,
+    /// Parameter links to and from other parts: this part's output / parameter.
+    pub param_links_out: Vec<&'p PlannedParamLink>,
+    pub param_links_in: Vec<&'p PlannedParamLink>,
     /// Where it listens for the parts that send to it: `host:port`, the port being
     /// [`BASE_PORT`] plus its position in the model.
     pub address: String,
@@ -121,6 +124,8 @@ pub fn layout<'p>(
             connections: Vec::new(),
             links_out: Vec::new(),
             links_in: Vec::new(),
+            param_links_out: Vec::new(),
+            param_links_in: Vec::new(),
             calls: Vec::new(),
             calls_out: Vec::new(),
             calls_in: Vec::new(),
@@ -269,6 +274,17 @@ pub fn layout<'p>(
         }
     }
     for link in &plan.param_links {
+        if link.link.is_some() {
+            let ends = (
+                module_part.get(link.from.0.as_str()),
+                module_part.get(link.to.0.as_str()),
+            );
+            if let (Some(&writer), Some(&reader)) = ends {
+                parts[writer].param_links_out.push(link);
+                parts[reader].param_links_in.push(link);
+            }
+            continue;
+        }
         let what = format!(
             "parameter link `{}/{}` → `{}/param/{}`",
             link.from.0, link.from.1, link.to.0, link.to.1
@@ -422,8 +438,8 @@ pub fn layout<'p>(
     }
 }
 
-/// The part both modules of a parameter link are in; one between two parts is a
-/// problem (links between parts carry data connections and calls only, so far).
+/// The part both modules of a connection are in, if they must share one; a problem
+/// otherwise (every kind of link between parts is carried now: this is a guard).
 fn one_part(
     module_part: &BTreeMap<&str, usize>,
     parts: &[Part<'_>],

@@ -67,26 +67,30 @@ fn constant_name(link: &PlannedLink) -> String {
 
 /// One `const LINK_n: LinkSpec` for every link of the part, in link order.
 pub fn specs(out: &mut Code, part: &Part<'_>) {
-    let mut links: Vec<&PlannedConnection> = part
-        .links_out
-        .iter()
-        .chain(&part.links_in)
-        .copied()
-        .collect();
-    links.sort_by_key(|c| c.link.as_ref().map(|l| l.id));
-    for c in links {
-        let Some(link) = &c.link else { continue };
+    // (link, from, to) of every link with an end here, data and parameter links.
+    let mut links: Vec<(&PlannedLink, String, String)> = Vec::new();
+    for c in part.links_out.iter().chain(&part.links_in) {
+        if let Some(link) = &c.link {
+            links.push((
+                link,
+                format!("{}/{}", c.from.0, c.from.1),
+                format!("{}/{}", c.to.0, c.to.1),
+            ));
+        }
+    }
+    for p in part.param_links_out.iter().chain(&part.param_links_in) {
+        if let Some(link) = &p.link {
+            links.push((
+                link,
+                format!("{}/{}", p.from.0, p.from.1),
+                format!("{}/param/{}", p.to.0, p.to.1),
+            ));
+        }
+    }
+    links.sort_by_key(|(link, ..)| link.id);
+    for (link, from, to) in links {
         out.blank();
-        out.line(
-            0,
-            &format!(
-                "/// `{}/{}` → `{}/{}`",
-                comment(&c.from.0),
-                comment(&c.from.1),
-                comment(&c.to.0),
-                comment(&c.to.1)
-            ),
-        );
+        out.line(0, &format!("/// `{}` → `{}`", comment(&from), comment(&to)));
         out.line(
             0,
             &format!("const {}: LinkSpec = LinkSpec {{", constant_name(link)),
@@ -170,6 +174,41 @@ pub fn calls(
             conversion(c),
         ];
         method_call(body, "builder.link_out", &args);
+    }
+    for p in &part.param_links_out {
+        let Some(link) = &p.link else { continue };
+        body.blank();
+        body.line(
+            1,
+            &format!(
+                "// to a parameter in the part `{}`, {}",
+                link.to_part,
+                comment(&at(p.span))
+            ),
+        );
+        let args = [
+            format!("&{}", constant_name(link)),
+            call("", &[name_of(&p.from.0), rust_str(&p.from.1)]),
+            format!("Conversion::linear({}, 0.0)", float(p.scale)),
+        ];
+        method_call(body, "builder.link_out", &args);
+    }
+    for p in &part.param_links_in {
+        let Some(link) = &p.link else { continue };
+        body.blank();
+        body.line(
+            1,
+            &format!(
+                "// set from the part `{}`, {}",
+                link.from_part,
+                comment(&at(p.span))
+            ),
+        );
+        let args = [
+            format!("&{}", constant_name(link)),
+            call("", &[name_of(&p.to.0), rust_str(&p.to.1)]),
+        ];
+        method_call(body, "builder.link_in_param", &args);
     }
     for c in &part.calls_out {
         let Some(link) = &c.link else { continue };

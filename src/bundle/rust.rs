@@ -195,9 +195,15 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     imports(
         &mut out,
         Uses {
-            connect: !part.connections.is_empty() || !part.links_out.is_empty(),
+            connect: !part.connections.is_empty()
+                || !part.links_out.is_empty()
+                || !part.param_links.is_empty()
+                || !part.param_links_out.is_empty(),
             connect_options: !part.connections.is_empty() || !part.links_in.is_empty(),
-            links: !part.links_out.is_empty() || !part.links_in.is_empty(),
+            links: !part.links_out.is_empty()
+                || !part.links_in.is_empty()
+                || !part.param_links_out.is_empty()
+                || !part.param_links_in.is_empty(),
             calls: !part.calls_out.is_empty() || !part.calls_in.is_empty(),
             queue: uses_queue,
             thread: !part.threads.is_empty(),

@@ -78,26 +78,7 @@ pub(super) fn link_of(
     if from == to {
         return None;
     }
-    // The hop that says how (normally the one between the parts) decides.
-    let mut sharing = LinkSharing::OnChange { min_interval: 0.0 };
-    for &hop in &edge.hops {
-        let c = &app.connections[hop];
-        match c.sharing.as_ref().map(|(s, _)| s.as_str()) {
-            Some("periodic") => {
-                sharing = LinkSharing::Periodic {
-                    period: c.period_seconds.unwrap_or(0.0),
-                };
-                break;
-            }
-            Some(_) | None if c.min_interval_seconds.is_some() || c.sharing.is_some() => {
-                sharing = LinkSharing::OnChange {
-                    min_interval: c.min_interval_seconds.unwrap_or(0.0),
-                };
-                break;
-            }
-            _ => {}
-        }
-    }
+    let sharing = sharing_of(app, &edge.hops);
     let (library, rust) = match to_type {
         Type::Named(named, _) => {
             let named = libs.named_type(*named);
@@ -116,5 +97,52 @@ pub(super) fn link_of(
         library,
         rust,
         sharing,
+    })
+}
+
+/// The sharing of a connection made of `hops`: the first hop that says how (normally
+/// the one between the parts) decides; on-change without limit by default.
+pub(super) fn sharing_of(app: &Application, hops: &[usize]) -> LinkSharing {
+    for &hop in hops {
+        let c = &app.connections[hop];
+        match c.sharing.as_ref().map(|(s, _)| s.as_str()) {
+            Some("periodic") => {
+                return LinkSharing::Periodic {
+                    period: c.period_seconds.unwrap_or(0.0),
+                }
+            }
+            Some(_) => {
+                return LinkSharing::OnChange {
+                    min_interval: c.min_interval_seconds.unwrap_or(0.0),
+                }
+            }
+            None if c.min_interval_seconds.is_some() => {
+                return LinkSharing::OnChange {
+                    min_interval: c.min_interval_seconds.unwrap_or(0.0),
+                }
+            }
+            None => {}
+        }
+    }
+    LinkSharing::OnChange { min_interval: 0.0 }
+}
+
+/// The link of a parameter link (connection `hop`) from `source` to `target`, if they
+/// are in different parts: the value travels as an `f64`.
+pub(super) fn param_link_of(
+    app: &Application,
+    hop: usize,
+    (source, target): (ElementId, ElementId),
+    id: u32,
+) -> Option<PlannedLink> {
+    let (from, to) = (app.element(source).part?, app.element(target).part?);
+    (from != to).then(|| PlannedLink {
+        id,
+        from_part: app.element(from).name.clone(),
+        to_part: app.element(to).name.clone(),
+        ty: "f64".into(),
+        library: None,
+        rust: None,
+        sharing: sharing_of(app, &[hop]),
     })
 }

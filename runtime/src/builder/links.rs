@@ -154,7 +154,7 @@ impl Builder<'_> {
         handle
             .connect(&service)
             .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
-        self.call_end(calls::answer_link(spec.id), end, &describe)?;
+        self.direct_end(calls::answer_link(spec.id), end, &describe)?;
         let part = spec.server_part.to_owned();
         self.sent.insert(calls::request_link(spec.id), part.clone());
         self.received.insert(calls::answer_link(spec.id), part);
@@ -181,7 +181,7 @@ impl Builder<'_> {
         client
             .connect(handle)
             .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
-        self.call_end(calls::request_link(spec.id), end, &describe)?;
+        self.direct_end(calls::request_link(spec.id), end, &describe)?;
         let part = spec.client_part.to_owned();
         self.received
             .insert(calls::request_link(spec.id), part.clone());
@@ -221,15 +221,16 @@ impl Builder<'_> {
         }
     }
 
-    fn call_end(
+    /// Registers an end that handles its frames itself, refusing a link built twice.
+    pub(super) fn direct_end(
         &mut self,
         link: u32,
-        end: Arc<dyn calls::Receive>,
+        end: Arc<dyn crate::link::Receive>,
         describe: &str,
     ) -> Result<(), BuildError> {
-        if self.call_ends.insert(link, end).is_some() {
+        if self.direct_ends.insert(link, end).is_some() {
             return Err(BuildError::Connect(format!(
-                "{describe}: this call is built twice"
+                "{describe}: this link is received twice"
             )));
         }
         Ok(())

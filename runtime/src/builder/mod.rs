@@ -187,8 +187,9 @@ pub struct Builder<'r> {
     hub: Arc<crate::link::Hub>,
     /// The receiving ends of links, by link number.
     receiving: std::collections::BTreeMap<u32, crate::link::Receiving>,
-    /// The ends of service calls between parts, by the link number they receive on.
-    call_ends: std::collections::BTreeMap<u32, Arc<dyn crate::link::calls::Receive>>,
+    /// Receiving ends that handle their frames themselves (calls, parameters), by the
+    /// link number they receive on.
+    direct_ends: std::collections::BTreeMap<u32, Arc<dyn crate::link::Receive>>,
     /// Link number → the part it comes from / goes to, for links built here.
     received: std::collections::BTreeMap<u32, String>,
     sent: std::collections::BTreeMap<u32, String>,
@@ -208,7 +209,7 @@ impl<'r> Builder<'r> {
             lock_order: Arc::new(LockOrder::new()),
             hub: Arc::default(),
             receiving: Default::default(),
-            call_ends: Default::default(),
+            direct_ends: Default::default(),
             received: Default::default(),
             sent: Default::default(),
         }

@@ -27,25 +27,7 @@ impl Builder<'_> {
         let (writer, reader) = (self.module(from.0)?, self.module(to.0)?);
         let describe = format!("`{}/{}` → `{}/param/{}`", from.0, from.1, to.0, to.1);
         let output = find(&self.modules[writer].outputs, from, "output")?;
-        let param = self.modules[reader]
-            .params
-            .iter()
-            .find(|(n, _)| n == to.1)
-            .map(|(_, h)| Arc::clone(h))
-            .ok_or_else(|| BuildError::Create {
-                path: to.0.into(),
-                problems: vec![format!("the type has no parameter `{}`", to.1)],
-            })?;
-        let model_type = self.modules[reader]
-            .interface
-            .param(to.1)
-            .map(|p| p.model_type.clone())
-            .unwrap_or_default();
-        let make = value_maker(&model_type).ok_or_else(|| {
-            BuildError::Connect(format!(
-                "{describe}: only number, bool and duration parameters can be driven by a port, not `{model_type}`"
-            ))
-        })?;
+        let (param, make) = self.drivable_param(reader, to, &describe)?;
         let number = convert::numeric(output.value_type(), "f64", describe.clone(), conversion)
             .ok_or_else(|| {
                 BuildError::Connect(format!(
@@ -66,6 +48,82 @@ impl Builder<'_> {
         let steps = &mut self.modules[writer].converters;
         steps.push(number.step);
         steps.push(set);
+        Ok(())
+    }
+}
+
+impl Builder<'_> {
+    /// The receiving end of a parameter link from another part (`spec.model_type` is
+    /// `f64`; the sending end is an ordinary [`Builder::link_out`] with the unit scale):
+    /// each value that arrives sets the parameter `to` (module path, parameter name).
+    pub fn link_in_param(
+        &mut self,
+        spec: &crate::link::LinkSpec<'_>,
+        to: (&str, &str),
+    ) -> Result<(), BuildError> {
+        let reader = self.module(to.0)?;
+        let describe = format!("part `{}` → `{}/param/{}`", spec.from_part, to.0, to.1);
+        let (param, make) = self.drivable_param(reader, to, &describe)?;
+        let end = Arc::new(ParamEnd {
+            param,
+            make,
+            describe: describe.clone(),
+            warned: std::sync::atomic::AtomicBool::new(false),
+        });
+        self.direct_end(spec.id, end, &describe)?;
+        self.received.insert(spec.id, spec.from_part.to_owned());
+        Ok(())
+    }
+
+    /// The parameter `to` of module `reader` and how an `f64` becomes its value.
+    fn drivable_param(
+        &self,
+        reader: usize,
+        to: (&str, &str),
+        describe: &str,
+    ) -> Result<(Arc<ParamHandle>, fn(f64) -> Value), BuildError> {
+        let param = self.modules[reader]
+            .params
+            .iter()
+            .find(|(n, _)| n == to.1)
+            .map(|(_, h)| Arc::clone(h))
+            .ok_or_else(|| BuildError::Create {
+                path: to.0.into(),
+                problems: vec![format!("the type has no parameter `{}`", to.1)],
+            })?;
+        let model_type = self.modules[reader]
+            .interface
+            .param(to.1)
+            .map(|p| p.model_type.clone())
+            .unwrap_or_default();
+        let make = value_maker(&model_type).ok_or_else(|| {
+            BuildError::Connect(format!(
+                "{describe}: only number, bool and duration parameters can be driven by a port, not `{model_type}`"
+            ))
+        })?;
+        Ok((param, make))
+    }
+}
+
+/// Sets a parameter from the `f64`s that arrive from another part.
+struct ParamEnd {
+    param: Arc<ParamHandle>,
+    make: fn(f64) -> Value,
+    describe: String,
+    warned: std::sync::atomic::AtomicBool,
+}
+
+impl crate::link::Receive for ParamEnd {
+    fn receive(&self, bytes: &[u8]) -> Result<(), String> {
+        let x: f64 = postcard::from_bytes(bytes).map_err(|e| format!("{}: {e}", self.describe))?;
+        if let Err(why) = self.param.set(&(self.make)(x)) {
+            if !self.warned.swap(true, std::sync::atomic::Ordering::Relaxed) {
+                eprintln!(
+                    "warning: {}: {why}; the parameter keeps its value",
+                    self.describe
+                );
+            }
+        }
         Ok(())
     }
 }

@@ -43,7 +43,7 @@ impl Builder<'_> {
         let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
         let inbox = Arc::new(crate::link::Inbox::new(
             std::mem::take(&mut self.receiving),
-            std::mem::take(&mut self.call_ends),
+            std::mem::take(&mut self.direct_ends),
         ));
         let shared = running::Shared {
             params,

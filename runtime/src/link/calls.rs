@@ -10,7 +10,7 @@
 //! Request and response types cross encoded like values (postcard); they are
 //! registered in pairs with [`Registry::register_call`](crate::builder::Registry::register_call).
 
-use super::{Frame, Hub};
+use super::{Frame, Hub, Receive};
 use crate::port::{Notifier, Notify};
 use crate::service::{CallError, ClientHandle, ClientPort, PendingResponse, ServiceHandle};
 use crate::service::{Responder, ServicePort};
@@ -32,11 +32,6 @@ pub(crate) fn request_link(id: u32) -> u32 {
 /// The link number of call `id`'s answers.
 pub(crate) fn answer_link(id: u32) -> u32 {
     request_link(id).saturating_add(1)
-}
-
-/// One end of a call link receiving frames.
-pub(crate) trait Receive: Send + Sync {
-    fn receive(&self, bytes: &[u8]) -> Result<(), String>;
 }
 
 /// Where an end sends its frames.

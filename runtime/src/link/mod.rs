@@ -115,12 +115,18 @@ impl Pace {
     }
 }
 
-/// The receiving ends of the links whose reader is in this process: data links, and
-/// the ends of service calls between parts.
+/// A receiving end that handles its frames itself (the ends of service calls, and
+/// parameters set from another part).
+pub(crate) trait Receive: Send + Sync {
+    fn receive(&self, bytes: &[u8]) -> Result<(), String>;
+}
+
+/// The receiving ends of the links whose reader is in this process: data links
+/// publishing into inputs, and ends that handle their frames themselves.
 pub(crate) struct Inbox {
     links: BTreeMap<u32, Receiving>,
-    calls: BTreeMap<u32, Arc<dyn calls::Receive>>,
-    call_failures: AtomicU64,
+    direct: BTreeMap<u32, Arc<dyn Receive>>,
+    direct_failures: AtomicU64,
 }
 
 pub(crate) struct Receiving {
@@ -145,28 +151,28 @@ impl Receiving {
 impl Inbox {
     pub(crate) fn new(
         links: BTreeMap<u32, Receiving>,
-        calls: BTreeMap<u32, Arc<dyn calls::Receive>>,
+        direct: BTreeMap<u32, Arc<dyn Receive>>,
     ) -> Self {
         Inbox {
             links,
-            calls,
-            call_failures: AtomicU64::new(0),
+            direct,
+            direct_failures: AtomicU64::new(0),
         }
     }
 
     /// Whether the reader of `link` is in this process.
     pub(crate) fn has(&self, link: u32) -> bool {
-        self.links.contains_key(&link) || self.calls.contains_key(&link)
+        self.links.contains_key(&link) || self.direct.contains_key(&link)
     }
 
     /// Publishes a frame's value into its reader. A frame for an unknown link or one
     /// that does not decode is reported (the first time) and dropped.
     pub(crate) fn deliver(&self, frame: &Frame) {
-        if let Some(end) = self.calls.get(&frame.link) {
+        if let Some(end) = self.direct.get(&frame.link) {
             if let Err(why) = end.receive(&frame.bytes) {
-                if self.call_failures.fetch_add(1, Ordering::Relaxed) == 0 {
+                if self.direct_failures.fetch_add(1, Ordering::Relaxed) == 0 {
                     crate::console::line(&format!(
-                        "warning: a service call between parts went wrong: {why}"
+                        "warning: a call or parameter between parts went wrong: {why}"
                     ));
                 }
             }
