@@ -81,7 +81,7 @@ impl Builder<'_> {
         reader: usize,
         to: (&str, &str),
         describe: &str,
-    ) -> Result<(Arc<ParamHandle>, fn(f64) -> Value), BuildError> {
+    ) -> Result<(Arc<ParamHandle>, MakeValue), BuildError> {
         let param = self.modules[reader]
             .params
             .iter()
@@ -105,10 +105,13 @@ impl Builder<'_> {
     }
 }
 
+/// How an `f64` becomes a parameter's value (see [`value_maker`]).
+type MakeValue = fn(f64) -> Value;
+
 /// Sets a parameter from the `f64`s that arrive from another part.
 struct ParamEnd {
     param: Arc<ParamHandle>,
-    make: fn(f64) -> Value,
+    make: MakeValue,
     describe: String,
     warned: std::sync::atomic::AtomicBool,
 }
