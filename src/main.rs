@@ -65,8 +65,12 @@ line (cycles, overruns, load per thread container) is shown on a terminal. Ctrl-
 stops cleanly after the current cycle. A module that panics is reported with its path and \
 stopped; the others keep running, and the exit code is 1.\n\n\
 A module type whose Rust interface differs from its manifest is refused.\n\n\
+Connections, calls and parameter links between parts travel as links (encoded, paced by \
+`sharing=`), as between the programs of a bundle. --lockstep runs in simulated time and prints \
+the same on every run (docs/links-and-lockstep.md).\n\n\
 Examples:\n  ferroc run models/crash_course.xml\n  ferroc run models/crash_course.xml --for 10s\n  \
-ferroc run models/crash_course.xml --cycles 100 --param front-noise=5cm"
+ferroc run models/crash_course.xml --cycles 100 --param front-noise=5cm\n  \
+ferroc run models/rescue_robot.xml --lockstep --cycles 100"
     )]
     Run(run::RunArgs),
     /// Check a model, then write a Cargo workspace with one program per part (wiring only)
