@@ -245,7 +245,7 @@ fn conversion(c: &plan::PlannedConnection) -> Conversion {
 }
 
 /// The runtime's description of a planned link.
-fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
+pub(crate) fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
     let seconds = |s: f64| Duration::from_secs_f64(s.clamp(0.0, 1e9));
     LinkSpec {
         id: link.id,

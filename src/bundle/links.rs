@@ -7,9 +7,8 @@ use super::code::{Code, LIST_WIDTH, MAX_WIDTH};
 use super::layout::Part;
 use super::literals::{call, duration, float};
 use super::text::{comment, rust_str};
-use ferroc_compiler::plan::{
-    LinkSharing, Part as ValuePart, PlannedCall, PlannedConnection, PlannedLink,
-};
+use ferroc_compiler::plan::{Part as ValuePart, PlannedCall, PlannedConnection, PlannedLink};
+use ferroc_runtime::link::Sharing;
 use std::time::Duration;
 
 /// `Conversion::default()` or the one-line chain of a connection's conversion.
@@ -95,21 +94,22 @@ pub fn specs(out: &mut Code, part: &Part<'_>) {
             0,
             &format!("const {}: LinkSpec = LinkSpec {{", constant_name(link)),
         );
-        out.line(1, &format!("id: {},", link.id));
-        out.line(1, &format!("from_part: {},", rust_str(&link.from_part)));
-        out.line(1, &format!("to_part: {},", rust_str(&link.to_part)));
-        out.line(1, &format!("model_type: {},", rust_str(&link.ty)));
-        let seconds = |s: f64| duration(Duration::from_secs_f64(s.clamp(0.0, 1e9)));
-        match link.sharing {
-            LinkSharing::OnChange { min_interval } => {
+        // The same spec `ferroc run` gives the runtime, written out.
+        let spec = crate::run::link_spec(link);
+        out.line(1, &format!("id: {},", spec.id));
+        out.line(1, &format!("from_part: {},", rust_str(spec.from_part)));
+        out.line(1, &format!("to_part: {},", rust_str(spec.to_part)));
+        out.line(1, &format!("model_type: {},", rust_str(spec.model_type)));
+        match spec.sharing {
+            Sharing::OnChange { min_interval } => {
                 out.line(1, "sharing: Sharing::OnChange {");
-                out.line(2, &format!("min_interval: {},", seconds(min_interval)));
+                out.line(2, &format!("min_interval: {},", duration(min_interval)));
                 out.line(1, "},");
             }
-            LinkSharing::Periodic { period } => {
+            Sharing::Periodic(period) => {
                 out.line(
                     1,
-                    &format!("sharing: Sharing::Periodic({}),", seconds(period)),
+                    &format!("sharing: Sharing::Periodic({}),", duration(period)),
                 );
             }
         }

@@ -3,37 +3,11 @@
 //! instants; running freely, blocking calls are answered; unregistered types are
 //! refused.
 
+use super::link_test_support::*;
 use super::*;
-use crate::link::net::Network;
 use crate::link::CallSpec;
-use crate::module::{ModuleType, Parameter, Timestamp};
+use crate::module::{ModuleType, Parameter};
 use crate::service::{ClientPort, PendingResponse, ServicePort};
-use std::collections::BTreeMap;
-use std::sync::Mutex;
-
-static RECORD: Mutex<BTreeMap<u64, Vec<String>>> = Mutex::new(BTreeMap::new());
-
-fn record(tag: u64) -> Vec<String> {
-    RECORD
-        .lock()
-        .unwrap()
-        .get(&tag)
-        .cloned()
-        .unwrap_or_default()
-}
-
-fn note(tag: f64, line: String) {
-    RECORD
-        .lock()
-        .unwrap()
-        .entry(tag as u64)
-        .or_default()
-        .push(line);
-}
-
-fn model_ms() -> i64 {
-    (Timestamp::now().nanos - Timestamp::LOCKSTEP_EPOCH.nanos) / 1_000_000
-}
 
 /// Asks `ask` for n² (n = 1, 2, …) asynchronously, or blocking when `blocking` is set.
 struct Asker {
@@ -160,39 +134,15 @@ fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64, blocking: bool) -
     b
 }
 
-fn lockstep(cycles: u64, network: Option<Network>) -> StartOptions {
-    StartOptions {
-        limit: Some(cycles),
-        lockstep: Some(Lockstep {
-            periods: vec![Duration::from_millis(10), Duration::from_millis(25)],
-            until: None,
-        }),
-        network,
-    }
-}
-
-fn run_to_end(app: RunningApp) {
-    assert!(
-        app.wait_timeout(Duration::from_secs(20)),
-        "the run did not end"
-    );
-    drop(app);
-}
-
-fn free_port() -> String {
-    let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    l.local_addr().unwrap().to_string()
-}
-
 #[test]
 fn in_lockstep_a_call_is_answered_two_instants_and_a_server_cycle_later() {
     let registry = registry(true);
-    let app = build(&registry, &["a", "b"], 1.0, false).start_with(lockstep(6, None));
+    let app = build(&registry, &["a", "b"], 101.0, false).start_with(lockstep(6, None));
     run_to_end(app.unwrap());
     // Asked at 0 ms; the request reaches b at 10 ms, b serves it at 25 ms, the answer
     // reaches a at 30 ms.
     assert_eq!(
-        record(1),
+        record(101),
         [
             "a @0ms waits, asks 1",
             "a @10ms waits",
@@ -209,47 +159,37 @@ fn in_lockstep_a_call_is_answered_two_instants_and_a_server_cycle_later() {
 fn over_tcp_the_calls_see_what_one_process_sees() {
     let registry = registry(true);
     run_to_end(
-        build(&registry, &["a", "b"], 2.0, false)
+        build(&registry, &["a", "b"], 102.0, false)
             .start_with(lockstep(40, None))
             .unwrap(),
     );
-    let (a_at, b_at) = (free_port(), free_port());
-    let peers: BTreeMap<String, String> = [
-        ("a".to_string(), a_at.clone()),
-        ("b".to_string(), b_at.clone()),
-    ]
-    .into();
-    let start = |part: &str, listen: &str| {
-        let network = Network {
-            part: part.into(),
-            listen: listen.into(),
-            peers: peers.clone(),
-        };
-        let options = lockstep(40, Some(network));
-        build(&registry, &[part], 3.0, false)
+    let peers = two_peers();
+    let start = |part: &str| {
+        let options = lockstep(40, network(part, &peers));
+        build(&registry, &[part], 103.0, false)
             .start_with(options)
             .unwrap()
     };
-    let (a, b) = (start("a", &a_at), start("b", &b_at));
+    let (a, b) = (start("a"), start("b"));
     run_to_end(a);
     run_to_end(b);
-    assert_eq!(record(3), record(2));
+    assert_eq!(record(103), record(102));
     assert!(
-        record(2).iter().any(|l| l.contains("answer Ok(16)")),
+        record(102).iter().any(|l| l.contains("answer Ok(16)")),
         "{:?}",
-        record(2)
+        record(102)
     );
 }
 
 #[test]
 fn running_freely_blocking_calls_between_parts_are_answered() {
     let registry = registry(true);
-    let app = build(&registry, &["a", "b"], 4.0, true)
+    let app = build(&registry, &["a", "b"], 104.0, true)
         .start(Some(5))
         .unwrap();
     run_to_end(app);
     assert_eq!(
-        record(4),
+        record(104),
         [
             "1 → Ok(1)",
             "2 → Ok(4)",

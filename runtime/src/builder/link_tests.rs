@@ -2,24 +2,10 @@
 //! and as two "programs" (two builders) talking over TCP gives the same record, and
 //! running freely values still arrive.
 
+use super::link_test_support::*;
 use super::*;
-use crate::link::net::Network;
 use crate::link::{LinkSpec, Sharing};
-use crate::module::{In, ModuleType, Out, Parameter, Timestamp};
-use std::collections::BTreeMap;
-use std::sync::Mutex;
-
-/// What each module saw, by its `tag` parameter (tests run in parallel).
-static RECORD: Mutex<BTreeMap<u64, Vec<String>>> = Mutex::new(BTreeMap::new());
-
-fn record(tag: u64) -> Vec<String> {
-    RECORD
-        .lock()
-        .unwrap()
-        .get(&tag)
-        .cloned()
-        .unwrap_or_default()
-}
+use crate::module::{In, ModuleType, Out, Parameter};
 
 /// Publishes `n · step + what it last received` and records what it saw when.
 struct Echo {
@@ -34,14 +20,8 @@ impl Module for Echo {
     fn update(&mut self) {
         self.n += 1;
         let got = self.input.get();
-        let ms = (Timestamp::now().nanos - Timestamp::LOCKSTEP_EPOCH.nanos) / 1_000_000;
-        let line = format!("{} @{ms}ms got {got}", self.path);
-        RECORD
-            .lock()
-            .unwrap()
-            .entry(self.tag.get() as u64)
-            .or_default()
-            .push(line);
+        let line = format!("{} @{}ms got {got}", self.path, model_ms());
+        note(self.tag.get(), line);
         self.out.publish(self.n * self.step.get() as u32 + got);
     }
 }
@@ -125,30 +105,11 @@ fn registry() -> Registry {
     r
 }
 
-fn lockstep(cycles: u64) -> StartOptions {
-    StartOptions {
-        limit: Some(cycles),
-        lockstep: Some(Lockstep {
-            periods: vec![Duration::from_millis(10), Duration::from_millis(25)],
-            until: None,
-        }),
-        network: None,
-    }
-}
-
-fn run_to_end(app: RunningApp) {
-    assert!(
-        app.wait_timeout(Duration::from_secs(20)),
-        "the run did not end"
-    );
-    drop(app);
-}
-
 #[test]
 fn in_lockstep_values_cross_at_the_next_instant_paced_by_their_sharing() {
     let registry = registry();
     let app = build(&registry, &["a", "b"], 1.0)
-        .start_with(lockstep(4))
+        .start_with(lockstep(4, None))
         .unwrap();
     run_to_end(app);
     // a runs at 0, 10, 20, 30 ms and publishes n + what it got; b runs at 0, 25, 50,
@@ -170,36 +131,21 @@ fn in_lockstep_values_cross_at_the_next_instant_paced_by_their_sharing() {
     );
 }
 
-fn free_port() -> String {
-    let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    l.local_addr().unwrap().to_string()
-}
-
 #[test]
 #[cfg_attr(miri, ignore = "Miri has no sockets")]
 fn two_programs_over_tcp_see_what_one_process_sees() {
     let registry = registry();
     run_to_end(
         build(&registry, &["a", "b"], 2.0)
-            .start_with(lockstep(6))
+            .start_with(lockstep(6, None))
             .unwrap(),
     );
-    let (a_at, b_at) = (free_port(), free_port());
-    let peers: BTreeMap<String, String> = [
-        ("a".to_string(), a_at.clone()),
-        ("b".to_string(), b_at.clone()),
-    ]
-    .into();
-    let start = |part: &str, listen: &str| {
-        let mut options = lockstep(6);
-        options.network = Some(Network {
-            part: part.into(),
-            listen: listen.into(),
-            peers: peers.clone(),
-        });
+    let peers = two_peers();
+    let start = |part: &str| {
+        let options = lockstep(6, network(part, &peers));
         build(&registry, &[part], 3.0).start_with(options).unwrap()
     };
-    let (a, b) = (start("a", &a_at), start("b", &b_at));
+    let (a, b) = (start("a"), start("b"));
     run_to_end(a);
     run_to_end(b);
     let split = |tag, part: &str| -> Vec<String> {
@@ -239,33 +185,20 @@ fn a_link_to_a_part_without_an_address_is_refused_at_start() {
     assert!(err.to_string().contains("no network addresses"), "{err}");
 }
 
-fn network(part: &str, listen: &str, peers: &BTreeMap<String, String>) -> Option<Network> {
-    Some(Network {
-        part: part.into(),
-        listen: listen.into(),
-        peers: peers.clone(),
-    })
-}
-
 #[test]
 #[cfg_attr(miri, ignore = "Miri has no sockets")]
 fn running_freely_over_tcp_values_arrive_in_both_directions() {
     let registry = registry();
-    let (a_at, b_at) = (free_port(), free_port());
-    let peers: BTreeMap<String, String> = [
-        ("a".to_string(), a_at.clone()),
-        ("b".to_string(), b_at.clone()),
-    ]
-    .into();
-    let start = |part: &str, listen: &str| {
+    let peers = two_peers();
+    let start = |part: &str| {
         let options = StartOptions {
             limit: Some(60),
             lockstep: None,
-            network: network(part, listen, &peers),
+            network: network(part, &peers),
         };
         build(&registry, &[part], 6.0).start_with(options).unwrap()
     };
-    let (a, b) = (start("a", &a_at), start("b", &b_at));
+    let (a, b) = (start("a"), start("b"));
     run_to_end(a);
     run_to_end(b);
     let heard = |part: &str| {
@@ -281,13 +214,7 @@ fn running_freely_over_tcp_values_arrive_in_both_directions() {
 #[cfg_attr(miri, ignore = "Miri has no sockets")]
 fn a_lockstep_part_waiting_for_a_missing_peer_still_stops_when_asked() {
     let registry = registry();
-    let peers: BTreeMap<String, String> = [
-        ("a".to_string(), free_port()),
-        ("b".to_string(), free_port()),
-    ]
-    .into();
-    let mut options = lockstep(1000);
-    options.network = network("b", &peers["b"], &peers);
+    let options = lockstep(1000, network("b", &two_peers()));
     // `a` never starts: `b` runs its first instant, then waits for `a`'s.
     let app = build(&registry, &["b"], 7.0).start_with(options).unwrap();
     std::thread::sleep(Duration::from_millis(200));
@@ -304,25 +231,20 @@ fn a_lockstep_part_waiting_for_a_missing_peer_still_stops_when_asked() {
 #[cfg_attr(miri, ignore = "Miri has no sockets")]
 fn running_freely_a_sender_connects_again_after_its_peer_restarted() {
     let registry = registry();
-    let (a_at, b_at) = (free_port(), free_port());
-    let peers: BTreeMap<String, String> = [
-        ("a".to_string(), a_at.clone()),
-        ("b".to_string(), b_at.clone()),
-    ]
-    .into();
-    let start = |part: &str, listen: &str, limit: u64, tag: f64| {
+    let peers = two_peers();
+    let start = |part: &str, limit: u64, tag: f64| {
         let options = StartOptions {
             limit: Some(limit),
             lockstep: None,
-            network: network(part, listen, &peers),
+            network: network(part, &peers),
         };
         build(&registry, &[part], tag).start_with(options).unwrap()
     };
-    let a = start("a", &a_at, 1000, 8.0);
-    run_to_end(start("b", &b_at, 20, 9.0));
+    let a = start("a", 1000, 8.0);
+    run_to_end(start("b", 20, 9.0));
     // `b` is gone; `a` notices when a write fails and connects to the new `b`.
     std::thread::sleep(Duration::from_millis(100));
-    run_to_end(start("b", &b_at, 40, 10.0));
+    run_to_end(start("b", 40, 10.0));
     a.stop();
     run_to_end(a);
     let heard = |tag| record(tag).iter().filter(|l| !l.ends_with("got 0")).count();

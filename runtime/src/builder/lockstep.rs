@@ -19,11 +19,11 @@
 //! each part exactly what it gets when the parts run as separate programs.
 
 use super::running::Shared;
+use super::start::Links;
 use super::{BuildError, RunningApp};
 use crate::container::{ThreadContainer, ThreadOptions, Trigger};
-use crate::link::net::{self, Message, Network, Outgoing, Sink, Ticks};
+use crate::link::net::{self, Message, Outgoing, Sink, Ticks};
 use crate::link::{Frame, Hub, Inbox, Route};
-use std::collections::BTreeSet;
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -36,47 +36,6 @@ pub struct Lockstep {
     pub periods: Vec<Duration>,
     /// Stop after this much model time (`--for` in lockstep): no instant after it runs.
     pub until: Option<Duration>,
-}
-
-/// The links of the application being started.
-pub(super) struct Links {
-    pub hub: Arc<Hub>,
-    pub inbox: Arc<Inbox>,
-    pub network: Option<Network>,
-    pub receiving_from: BTreeSet<String>,
-    pub sending_to: BTreeSet<String>,
-}
-
-impl Links {
-    fn remote(&self) -> bool {
-        !self.receiving_from.is_empty() || !self.sending_to.is_empty()
-    }
-
-    fn network(&self) -> Result<&Network, String> {
-        self.network.as_ref().ok_or_else(|| {
-            let parts: Vec<&String> = self.receiving_from.union(&self.sending_to).collect();
-            format!("this part is linked to {parts:?} but no network addresses were given")
-        })
-    }
-
-    /// Running freely: values go out as soon as they are sent and are published as
-    /// soon as they arrive.
-    pub(super) fn start_direct(self, stop: &Arc<AtomicBool>) -> Result<(), String> {
-        let mut outgoing = None;
-        if self.remote() {
-            let network = self.network()?;
-            outgoing = Some(Outgoing::start(network, &self.sending_to, stop, true)?);
-            if !self.receiving_from.is_empty() {
-                let sink = Sink::Deliver(Arc::clone(&self.inbox));
-                net::listen(network, self.receiving_from.clone(), sink, stop)?;
-            }
-        }
-        self.hub.set_route(Route::Direct {
-            inbox: self.inbox,
-            network: outgoing,
-        });
-        Ok(())
-    }
 }
 
 impl Lockstep {

@@ -2,6 +2,10 @@
 //! lockstep, with the links to other parts set up first.
 
 use super::*;
+use crate::link::net::{self, Network, Outgoing, Sink};
+use crate::link::{Hub, Inbox, Route};
+use std::collections::BTreeSet;
+use std::sync::atomic::AtomicBool;
 
 /// How [`Builder::start_with`] runs the application.
 #[derive(Clone, Debug, Default)]
@@ -52,7 +56,7 @@ impl Builder<'_> {
             hub: Arc::clone(&self.hub),
             stop: Arc::clone(&stop),
         };
-        let links = lockstep::Links {
+        let links = Links {
             hub: Arc::clone(&self.hub),
             inbox,
             network: options.network,
@@ -83,5 +87,46 @@ impl Builder<'_> {
             }
         }
         params
+    }
+}
+
+/// The links of the application being started.
+pub(super) struct Links {
+    pub hub: Arc<Hub>,
+    pub inbox: Arc<Inbox>,
+    pub network: Option<Network>,
+    pub receiving_from: BTreeSet<String>,
+    pub sending_to: BTreeSet<String>,
+}
+
+impl Links {
+    pub(super) fn remote(&self) -> bool {
+        !self.receiving_from.is_empty() || !self.sending_to.is_empty()
+    }
+
+    pub(super) fn network(&self) -> Result<&Network, String> {
+        self.network.as_ref().ok_or_else(|| {
+            let parts: Vec<&String> = self.receiving_from.union(&self.sending_to).collect();
+            format!("this part is linked to {parts:?} but no network addresses were given")
+        })
+    }
+
+    /// Running freely: values go out as soon as they are sent and are published as
+    /// soon as they arrive.
+    pub(super) fn start_direct(self, stop: &Arc<AtomicBool>) -> Result<(), String> {
+        let mut outgoing = None;
+        if self.remote() {
+            let network = self.network()?;
+            outgoing = Some(Outgoing::start(network, &self.sending_to, stop, true)?);
+            if !self.receiving_from.is_empty() {
+                let sink = Sink::Deliver(Arc::clone(&self.inbox));
+                net::listen(network, self.receiving_from.clone(), sink, stop)?;
+            }
+        }
+        self.hub.set_route(Route::Direct {
+            inbox: self.inbox,
+            network: outgoing,
+        });
+        Ok(())
     }
 }
