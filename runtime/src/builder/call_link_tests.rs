@@ -4,6 +4,7 @@
 //! refused.
 
 use super::link_test_support::*;
+use super::tests::add;
 use super::*;
 use crate::link::CallSpec;
 use crate::module::{ModuleType, Parameter};
@@ -94,15 +95,7 @@ fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64, blocking: bool) -
             ("tag".to_string(), Value::Float(tag)),
             ("blocking".to_string(), Value::Bool(blocking)),
         ];
-        b.add_module(ModuleSpec {
-            path: "a/asker",
-            type_name: "test.Asker",
-            params: &params,
-            queues: &[],
-            ports: &[],
-            violations: Default::default(),
-        })
-        .unwrap();
+        add(&mut b, "a/asker", "test.Asker", &params);
         b.call_out(&CALL, ("a/asker", "ask")).unwrap();
         b.add_thread(ThreadSpec {
             path: "a".into(),
@@ -113,15 +106,7 @@ fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64, blocking: bool) -
         .unwrap();
     }
     if parts.contains(&"b") {
-        b.add_module(ModuleSpec {
-            path: "b/squarer",
-            type_name: "test.Squarer",
-            params: &[],
-            queues: &[],
-            ports: &[],
-            violations: Default::default(),
-        })
-        .unwrap();
+        add(&mut b, "b/squarer", "test.Squarer", &[]);
         b.call_in(&CALL, ("b/squarer", "square")).unwrap();
         b.add_thread(ThreadSpec {
             path: "b".into(),
@@ -204,15 +189,7 @@ fn running_freely_blocking_calls_between_parts_are_answered() {
 fn calls_of_unregistered_types_cannot_cross() {
     let registry = registry(false);
     let mut b = Builder::new(&registry);
-    b.add_module(ModuleSpec {
-        path: "a/asker",
-        type_name: "test.Asker",
-        params: &[],
-        queues: &[],
-        ports: &[],
-        violations: Default::default(),
-    })
-    .unwrap();
+    add(&mut b, "a/asker", "test.Asker", &[]);
     let err = b
         .call_out(&CALL, ("a/asker", "ask"))
         .unwrap_err()

@@ -1,5 +1,6 @@
 //! Connections that take values apart: `<convert field>` and `<convert index>`.
 
+use super::tests::add;
 use super::*;
 use crate::module::{In, ModuleType, Out};
 use crate::port::CopyInputPort;
@@ -74,23 +75,11 @@ fn registry(with_fields: bool) -> Registry {
     r
 }
 
-fn add(b: &mut Builder<'_>, path: &str, type_name: &str) {
-    b.add_module(ModuleSpec {
-        path,
-        type_name,
-        params: &[],
-        queues: &[],
-        ports: &[],
-        violations: Default::default(),
-    })
-    .unwrap();
-}
-
 /// Runs `source → relay` with `conversion` for three cycles; what the relay saw last.
 fn deliver(registry: &Registry, port: &str, conversion: Conversion) -> Result<f64, BuildError> {
     let mut b = Builder::new(registry);
-    add(&mut b, "source", "test.Source");
-    add(&mut b, "relay", "test.Relay");
+    add(&mut b, "source", "test.Source", &[]);
+    add(&mut b, "relay", "test.Relay", &[]);
     b.connect(
         ("source", port),
         ("relay", "input"),

@@ -3,6 +3,7 @@
 //! running freely values still arrive.
 
 use super::link_test_support::*;
+use super::tests::add;
 use super::*;
 use crate::link::{LinkSpec, Sharing};
 use crate::module::{In, ModuleType, Out, Parameter};
@@ -62,18 +63,11 @@ fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64) -> Builder<'r> {
     let specs = [("a", 10, 1.0), ("b", 25, 100.0)];
     for &(part, ms, step) in specs.iter().filter(|(p, ..)| parts.contains(p)) {
         let path = format!("{part}/echo");
-        b.add_module(ModuleSpec {
-            path: &path,
-            type_name: "test.Echo",
-            params: &[
-                ("step".into(), Value::Float(step)),
-                ("tag".into(), Value::Float(tag)),
-            ],
-            queues: &[],
-            ports: &[],
-            violations: Default::default(),
-        })
-        .unwrap();
+        let params = [
+            ("step".into(), Value::Float(step)),
+            ("tag".into(), Value::Float(tag)),
+        ];
+        add(&mut b, &path, "test.Echo", &params);
         b.add_thread(ThreadSpec {
             path: part.into(),
             schedule: Schedule::Periodic(Duration::from_millis(ms)),

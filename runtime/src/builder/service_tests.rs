@@ -1,5 +1,6 @@
 //! Services wired by the Builder: by name, typed, waking their server's container.
 
+use super::tests::add;
 use super::*;
 use crate::module::{ModuleType, Out, ServiceInfo};
 use crate::port::CopyInputPort;
@@ -90,18 +91,6 @@ fn registry() -> Registry {
     r
 }
 
-fn add(b: &mut Builder<'_>, path: &str, type_name: &str) {
-    b.add_module(ModuleSpec {
-        path,
-        type_name,
-        params: &[],
-        queues: &[],
-        ports: &[],
-        violations: Default::default(),
-    })
-    .unwrap();
-}
-
 fn thread(path: &str, schedule: Schedule, module: &str) -> ThreadSpec {
     ThreadSpec {
         path: path.into(),
@@ -115,8 +104,8 @@ fn thread(path: &str, schedule: Schedule, module: &str) -> ThreadSpec {
 fn caller_and(server_type: &str, service: &str, connect: bool) -> (StopOnDrop, CopyInputPort<i64>) {
     let registry = registry();
     let mut b = Builder::new(&registry);
-    add(&mut b, "caller", "test.Caller");
-    add(&mut b, "server", server_type);
+    add(&mut b, "caller", "test.Caller", &[]);
+    add(&mut b, "server", server_type, &[]);
     if connect {
         b.connect_service(("caller", "ask"), ("server", service))
             .unwrap();
@@ -176,9 +165,9 @@ fn an_unconnected_client_gets_an_error_value_not_a_hang() {
 fn wiring_mistakes_are_error_values() {
     let registry = registry();
     let mut b = Builder::new(&registry);
-    add(&mut b, "mismatched", "test.Mismatched");
-    add(&mut b, "server", "test.Server");
-    add(&mut b, "caller", "test.Caller");
+    add(&mut b, "mismatched", "test.Mismatched", &[]);
+    add(&mut b, "server", "test.Server", &[]);
+    add(&mut b, "caller", "test.Caller", &[]);
     let Err(BuildError::Connect(why)) =
         b.connect_service(("mismatched", "ask"), ("server", "square"))
     else {
@@ -267,5 +256,5 @@ fn ports_services_and_clients_share_one_namespace() {
         "{e}"
     );
     // Distinct names are fine (the silent case).
-    add(&mut b, "server", "test.Server");
+    add(&mut b, "server", "test.Server", &[]);
 }

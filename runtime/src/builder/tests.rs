@@ -95,7 +95,8 @@ fn registry() -> Registry {
     r
 }
 
-fn add(b: &mut Builder<'_>, path: &str, type_name: &str, params: &[(String, Value)]) {
+/// Adds a module with these parameter values (shared by the Builder's test files).
+pub(super) fn add(b: &mut Builder<'_>, path: &str, type_name: &str, params: &[(String, Value)]) {
     b.add_module(ModuleSpec {
         path,
         type_name,
