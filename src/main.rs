@@ -3,7 +3,7 @@
 use clap::{Parser, Subcommand, ValueEnum};
 use ferroc_compiler::checks::REGISTRY;
 use ferroc_compiler::diagnostic::Severity;
-use ferroc_compiler::load::{BuiltinLibrary, Options};
+use ferroc_compiler::load::Options;
 use ferroc_compiler::report::{self, ModelReport};
 use ferroc_compiler::{check_model, CheckResult, Policy};
 use std::io::{IsTerminal, Write};
@@ -11,20 +11,18 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 mod bundle;
-mod checked;
 mod graph;
-mod interface;
-mod run;
+mod new;
+mod runner;
 mod schedule;
-mod types;
+
+// `run` and `types` live in ferroc_host, shared with the runners ferroc generates.
+pub(crate) use ferroc_host::{checked, run, types};
 
 /// mimalloc: checking a large model makes millions of small allocations, and glibc's
 /// allocator spent a sixth of the run in malloc/free (measured on B1).
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
-/// The standard library's manifest, built into the tool.
-const FERROC_STD: &str = include_str!("../components/ferroc_std.lib.xml");
 
 #[derive(Parser)]
 #[command(
@@ -59,8 +57,11 @@ Example:\n  ferroc schedule models/crash_course.xml"
     Schedule(schedule::ScheduleArgs),
     /// Check a model, then run it in the ferroc runtime until Ctrl-C, --for or --cycles
     #[command(
-        long_about = "Check a model (errors stop here), build it in the runtime from the module \
-types built into this binary, and run every thread container in this process. A live status \
+        long_about = "Check a model (errors stop here), build it in the runtime with the module \
+types of its libraries, and run every thread container in one process. The standard library \
+is built into ferroc; for other libraries ferroc builds a runner program linking their crates \
+(the manifests' `rust-crate`, next to the manifest), once per set of libraries, with cargo in \
+their target folder; a changed model needs no rebuild. A live status \
 line (cycles, overruns, load per thread container) is shown on a terminal. Ctrl-C or SIGTERM \
 stops cleanly after the current cycle. A module that panics is reported with its path and \
 stopped; the others keep running, and the exit code is 1.\n\n\
@@ -103,8 +104,10 @@ Examples:\n  ferroc graph models/warehouse_fleet.xml > fleet.dot\n  \
 ferroc graph models/warehouse_fleet.xml --format svg -o fleet.svg"
     )]
     Graph(graph::GraphArgs),
-    /// The module types built into this binary: list them, export or check their manifests
+    /// The module types of libraries' crates: list them, export or check their manifests
     Types(types::TypesArgs),
+    /// Start a library crate (module, manifest, test, model) or a model
+    New(new::NewArgs),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -183,10 +186,11 @@ fn main() -> ExitCode {
     match cli.command {
         Command::Check(args) => check(args),
         Command::Schedule(args) => schedule::run(args),
-        Command::Run(args) => run::run(args),
+        Command::Run(args) => runner::run(args),
         Command::Bundle(args) => bundle::run(args),
         Command::Graph(args) => graph::run(args),
-        Command::Types(args) => types::run(args),
+        Command::Types(args) => runner::types(args),
+        Command::New(args) => new::run(args),
         Command::Explain { code, list } => explain(code, list),
     }
 }
@@ -283,19 +287,7 @@ fn is_checkable(path: &Path) -> bool {
 
 /// Loader options shared by every command that reads models.
 pub(crate) fn loader_options(lib_path: &[PathBuf], allow_outside_includes: bool) -> Options {
-    let mut lib_path = lib_path.to_vec();
-    if let Ok(env) = std::env::var("FERROC_LIB_PATH") {
-        lib_path.extend(std::env::split_paths(&env));
-    }
-    Options {
-        lib_path,
-        builtins: vec![BuiltinLibrary {
-            name: "ferroc_std".into(),
-            text: FERROC_STD.into(),
-        }],
-        allow_outside_includes,
-        ..Options::default()
-    }
+    ferroc_host::loader_options(lib_path, allow_outside_includes)
 }
 
 /// `--profile`: the execution semantics deadlocks are judged by.

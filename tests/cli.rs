@@ -208,9 +208,8 @@ fn run_refuses_a_rust_type_that_disagrees_with_its_manifest() {
 }
 
 #[test]
-fn run_refuses_types_not_built_in_and_models_with_errors() {
-    // A library whose module type has no Rust code in this binary (the example models'
-    // libraries all get crates in time, so the test brings its own).
+fn run_refuses_libraries_without_a_crate_and_models_with_errors() {
+    // A library that names no crate for its module types.
     let dir = tempdir("not_built_in");
     std::fs::write(
         dir.join("phantom.lib.xml"),
@@ -232,10 +231,11 @@ fn run_refuses_types_not_built_in_and_models_with_errors() {
     assert_eq!(code, 1, "{stderr}");
     assert!(
         stderr.contains(
-            "the module type `phantom.Ghost` of `p/t/ghost` is not built into this ferroc binary"
+            "phantom.lib.xml:1:16: error: the library `phantom` has no `rust-crate`: ferroc cannot find the Rust code of its module types"
         ),
         "{stderr}"
     );
+    assert!(stderr.contains("help: add rust-crate="), "{stderr}");
     let (code, _, stderr) = ferroc(&["run", "models/crash_course.xml", "--for", "soon"]);
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("is not a duration"), "{stderr}");

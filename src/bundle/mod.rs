@@ -17,8 +17,8 @@ mod literals;
 mod out;
 mod resolved;
 mod rust;
-mod sha256;
-mod text;
+pub(crate) mod sha256;
+pub(crate) mod text;
 
 use ferroc_compiler::plan;
 use ferroc_compiler::source::{SourceMap, Span};

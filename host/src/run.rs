@@ -1,6 +1,7 @@
 //! `ferroc run`: check a model, build it in the runtime, run it, stop cleanly.
 
 use ferroc_compiler::library::LibrarySet;
+use ferroc_compiler::CheckResult;
 use ferroc_compiler::plan::{self, Plan};
 use ferroc_compiler::report::json::location;
 use ferroc_compiler::schedule::StepKind as PlanStep;
@@ -26,7 +27,7 @@ use std::time::Duration;
 #[derive(clap::Args)]
 pub struct RunArgs {
     /// The application model
-    model: PathBuf,
+    pub model: PathBuf,
     /// Stop after this long: `10s`, `500ms`, `2min` (with --lockstep: this much model
     /// time, however long it takes to compute)
     #[arg(long = "for", value_name = "DURATION", value_parser = parse_duration)]
@@ -48,7 +49,7 @@ pub struct RunArgs {
     quiet: bool,
     /// Extra folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH)
     #[arg(long, value_name = "DIR")]
-    lib_path: Vec<PathBuf>,
+    pub lib_path: Vec<PathBuf>,
 }
 
 fn parse_duration(text: &str) -> Result<Duration, String> {
@@ -60,19 +61,16 @@ fn parse_duration(text: &str) -> Result<Duration, String> {
     Ok(Duration::from_secs_f64(seconds))
 }
 
-/// Every module type this binary can run.
+/// The module types built into `ferroc` itself: the standard library's. A runner adds
+/// those of the libraries it links.
 pub fn registry() -> Registry {
     let mut registry = Registry::new();
     ferroc_std::register(&mut registry);
-    crash_course::register(&mut registry);
-    ring::register(&mut registry);
-    nav_behaviours::register(&mut registry);
-    rescue_components::register(&mut registry);
-    warehouse_fleet::register(&mut registry);
     registry
 }
 
-pub fn run(args: RunArgs) -> ExitCode {
+/// The `--param NAME=VALUE` pairs, or the exit code of a malformed one (reported).
+pub fn cmdline_params(args: &RunArgs) -> Result<Vec<(String, String)>, ExitCode> {
     let mut cmdline = Vec::new();
     for p in &args.params {
         match p.split_once('=') {
@@ -81,12 +79,29 @@ pub fn run(args: RunArgs) -> ExitCode {
             }
             _ => {
                 eprintln!("error: --param {p}: write NAME=VALUE, e.g. --param front-noise=5cm");
-                return ExitCode::from(2);
+                return Err(ExitCode::from(2));
             }
         }
     }
+    Ok(cmdline)
+}
+
+/// `ferroc run` with the module types of `registry`: check, plan, build, supervise.
+pub fn run(args: RunArgs, registry: &Registry) -> ExitCode {
+    if let Err(code) = cmdline_params(&args) {
+        return code;
+    }
     let result = match crate::checked::without_errors(&args.model, &args.lib_path) {
         Ok(r) => r,
+        Err(code) => return code,
+    };
+    run_checked(args, &result, registry)
+}
+
+/// `ferroc run` of a model checked without errors.
+pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> ExitCode {
+    let cmdline = match cmdline_params(&args) {
+        Ok(c) => c,
         Err(code) => return code,
     };
     let Some(app) = result.app.as_ref() else {
@@ -115,8 +130,7 @@ pub fn run(args: RunArgs) -> ExitCode {
     for p in &unsupported {
         eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);
     }
-    let registry = registry();
-    let agree = interfaces_agree(&plan, &registry, &result.libraries, &result.sources);
+    let agree = interfaces_agree(&plan, registry, &result.libraries, &result.sources);
     if let Err(lines) = &agree {
         for line in lines {
             eprintln!("{line}");
@@ -139,7 +153,7 @@ pub fn run(args: RunArgs) -> ExitCode {
         }),
         network: None,
     };
-    let app = match build(&plan, &registry, start) {
+    let app = match build(&plan, registry, start) {
         Ok(app) => app,
         Err(e) => {
             eprintln!("error: {e}");
@@ -153,7 +167,8 @@ pub fn run(args: RunArgs) -> ExitCode {
     supervise::supervise(app, &interrupted, &options)
 }
 
-fn at(sources: &SourceMap, span: Span) -> String {
+/// `FILE:LINE:COL` of a span.
+pub fn at(sources: &SourceMap, span: Span) -> String {
     let l = location(sources, span);
     format!(
         "{}:{}:{}",
@@ -164,7 +179,7 @@ fn at(sources: &SourceMap, span: Span) -> String {
 }
 
 /// Refuses to run a module type whose Rust interface differs from its manifest.
-pub(crate) fn interfaces_agree(
+pub fn interfaces_agree(
     plan: &Plan,
     registry: &Registry,
     libs: &LibrarySet,
@@ -177,14 +192,7 @@ pub(crate) fn interfaces_agree(
             continue;
         }
         let Some(code) = registry.interface(&m.type_name) else {
-            lines.push(format!(
-                "{}: error: the module type `{}` of `{}` is not built into this ferroc binary\n  \
-                 help: registered types: {}",
-                at(sources, m.span),
-                m.type_name,
-                m.path,
-                registry.names().collect::<Vec<_>>().join(", ")
-            ));
+            lines.push(not_registered(m, registry, libs, sources));
             continue;
         };
         let Some((_, manifest)) = libs.module_type(&m.type_name) else {
@@ -213,6 +221,50 @@ pub(crate) fn interfaces_agree(
     }
 }
 
+/// A module type the model uses that no linked crate registers: the library's crate
+/// lacks the `register` call (or the manifest names a type the crate does not have).
+fn not_registered(
+    m: &plan::PlannedModule,
+    registry: &Registry,
+    libs: &LibrarySet,
+    sources: &SourceMap,
+) -> String {
+    let (library, rust) = match libs.module_type(&m.type_name) {
+        Some((id, t)) => (Some(libs.get(id)), t.rust.as_str()),
+        None => (None, "the Rust type"),
+    };
+    let prefix = library.map(|l| format!("{}.", l.name)).unwrap_or_default();
+    let mut same_library: Vec<&str> = registry
+        .names()
+        .filter(|n| !prefix.is_empty() && n.starts_with(&prefix))
+        .collect();
+    same_library.sort_unstable();
+    let registers = if same_library.is_empty() {
+        "none of its types".to_string()
+    } else {
+        same_library.join(", ")
+    };
+    match library.and_then(|l| l.rust_crate.as_deref().map(|c| (l, c))) {
+        Some((lib, krate)) if lib.name != "ferroc_std" => format!(
+            "{}: error: the module type `{}` of `{}` is not registered by the crate `{krate}` of library `{}` ({})\n  \
+             help: its `register` function must call `registry.register::<{rust}>()`; it registers {registers}",
+            at(sources, m.span),
+            m.type_name,
+            m.path,
+            lib.name,
+            at(sources, lib.name_span),
+        ),
+        _ => format!(
+            "{}: error: the module type `{}` of `{}` is not built into this ferroc binary\n  \
+             help: registered types: {}",
+            at(sources, m.span),
+            m.type_name,
+            m.path,
+            registry.names().collect::<Vec<_>>().join(", ")
+        ),
+    }
+}
+
 fn value(v: &ModelValue) -> Value {
     match v {
         ModelValue::Bool(b) => Value::Bool(*b),
@@ -226,7 +278,7 @@ fn value(v: &ModelValue) -> Value {
 
 /// Priority and CPU of a planned thread. Model priorities are "higher runs first" like
 /// SCHED_FIFO's, whose range is 1–99 on Linux; values beyond are clamped to it.
-pub(crate) fn thread_options(t: &plan::PlannedThread) -> ThreadOptions {
+pub fn thread_options(t: &plan::PlannedThread) -> ThreadOptions {
     ThreadOptions {
         priority: t.priority.map(|p| p.clamp(1, 99) as i32),
         cpu: t.cpu.map(|c| c as usize),
@@ -245,7 +297,7 @@ fn conversion(c: &plan::PlannedConnection) -> Conversion {
 }
 
 /// The runtime's description of a planned link.
-pub(crate) fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
+pub fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
     let seconds = |s: f64| Duration::from_secs_f64(s.clamp(0.0, 1e9));
     LinkSpec {
         id: link.id,

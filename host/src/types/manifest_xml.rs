@@ -1,4 +1,4 @@
-//! Writes a library manifest from the module types built into this binary.
+//! Writes a library manifest from the module types its crate registers.
 //!
 //! The Rust code knows a module type's ports, parameters, kind, docs and Rust path; it
 //! does not know the library's data types, its dependencies, budgets, how an input is
@@ -76,7 +76,7 @@ pub fn library_xml(
 fn new_library(name: &str, types: &[&Interface]) -> String {
     let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     out.push_str(
-        "<!--\n  Written by `ferroc types export` from the module types built into ferroc.\n  \
+        "<!--\n  Written by `ferroc types export` from the module types its crate registers.\n  \
          Add the library's data types, dependencies and budgets by hand.\n-->\n<library",
     );
     attr(&mut out, "name", name);

@@ -1,4 +1,4 @@
-//! `ferroc types`: the module types built into this binary, and their manifests.
+//! `ferroc types`: the module types a binary (ferroc or a runner) registers, and their manifests.
 //!
 //! A model is checked against manifests; the binary runs Rust types. `list` shows what
 //! is built in, `export` writes the manifests the code implies (keeping what only a
@@ -10,6 +10,7 @@ mod manifest_xml;
 use crate::interface::differences;
 use ferroc_compiler::diagnostic::Severity;
 use ferroc_compiler::report::{self, ModelReport};
+use ferroc_runtime::builder::Registry;
 use ferroc_runtime::module::Interface;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -21,14 +22,37 @@ pub struct TypesArgs {
     command: TypesCommand,
 }
 
+impl TypesArgs {
+    /// The libraries asked for with `--library` (none: every one found).
+    pub fn libraries(&self) -> &[String] {
+        match &self.command {
+            TypesCommand::List(a) => &a.library,
+            TypesCommand::Export(a) => &a.library,
+        }
+    }
+
+    /// The folders searched for manifests (`--lib-path`).
+    pub fn lib_path(&self) -> &[PathBuf] {
+        match &self.command {
+            TypesCommand::List(a) => &a.lib_path,
+            TypesCommand::Export(a) => &a.lib_path,
+        }
+    }
+}
+
 #[derive(clap::Subcommand)]
 enum TypesCommand {
-    /// List the module types built into this binary
-    List,
-    /// Write library manifests from the module types built into this binary
+    /// List the module types of the standard library and of the libraries on the lib path
     #[command(
-        long_about = "Write `NAME.lib.xml` for every library that has module types built into \
-this binary. Ports, parameters, kind, docs and Rust paths come from the code. Everything the \
+        long_about = "List the module types of the standard library (built into ferroc) and of every library whose manifest `NAME.lib.xml` is in a --lib-path folder (their crates are built into a runner first, as `ferroc run` does).\n\n\
+Examples:\n  ferroc types list\n  ferroc types list --lib-path components"
+    )]
+    List(ListArgs),
+    /// Write library manifests from the module types of their crates
+    #[command(
+        long_about = "Write `NAME.lib.xml` for every library found on the lib path (and the standard \
+library), from the module types its crate registers: the crates are built into a runner \
+first, as `ferroc run` does. Ports, parameters, kind, docs and Rust paths come from the code. Everything the \
 code cannot say (data types, dependencies, budgets, read modes, services, locks, module types \
 without Rust code here) is kept from the existing manifest found on the lib path.\n\n\
 With --check nothing is written: each built-in module type is compared with its manifest and \
@@ -42,8 +66,18 @@ ferroc types export --library crash_course --lib-path components"
 }
 
 #[derive(clap::Args)]
+struct ListArgs {
+    /// Only these libraries (repeatable); default: every library on the lib path
+    #[arg(long, value_name = "NAME")]
+    library: Vec<String>,
+    /// Folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH)
+    #[arg(long, value_name = "DIR")]
+    lib_path: Vec<PathBuf>,
+}
+
+#[derive(clap::Args)]
 struct ExportArgs {
-    /// Only these libraries (repeatable); default: every library with built-in types
+    /// Only these libraries (repeatable); default: every library on the lib path
     #[arg(long, value_name = "NAME")]
     library: Vec<String>,
     /// Write `NAME.lib.xml` files into this folder (default: stdout, one library only)
@@ -57,16 +91,15 @@ struct ExportArgs {
     lib_path: Vec<PathBuf>,
 }
 
-pub fn run(args: TypesArgs) -> ExitCode {
+pub fn run(args: TypesArgs, registry: &Registry) -> ExitCode {
     match args.command {
-        TypesCommand::List => list(),
-        TypesCommand::Export(args) => export(args),
+        TypesCommand::List(args) => list(args, registry),
+        TypesCommand::Export(args) => export(args, registry),
     }
 }
 
 /// Built-in interfaces grouped by library, in name order.
-fn by_library() -> BTreeMap<String, Vec<Interface>> {
-    let registry = crate::run::registry();
+fn by_library(registry: &Registry) -> BTreeMap<String, Vec<Interface>> {
     let mut names: Vec<&str> = registry.names().collect();
     names.sort_unstable();
     let mut out: BTreeMap<String, Vec<Interface>> = BTreeMap::new();
@@ -80,8 +113,11 @@ fn by_library() -> BTreeMap<String, Vec<Interface>> {
     out
 }
 
-fn list() -> ExitCode {
-    for (_, types) in by_library() {
+fn list(args: ListArgs, registry: &Registry) -> ExitCode {
+    for (name, types) in by_library(registry) {
+        if !args.library.is_empty() && !args.library.contains(&name) {
+            continue;
+        }
         for t in types {
             println!(
                 "{:<32} {:<14} {} ({} ports, {} parameters)",
@@ -96,13 +132,13 @@ fn list() -> ExitCode {
     ExitCode::SUCCESS
 }
 
-fn export(args: ExportArgs) -> ExitCode {
-    let mut libraries = by_library();
+fn export(args: ExportArgs, registry: &Registry) -> ExitCode {
+    let mut libraries = by_library(registry);
     for wanted in &args.library {
         if !libraries.contains_key(wanted) {
             eprintln!(
-                "error: --library {wanted}: no module type of this library is built into ferroc\n\
-                 help: libraries with built-in types: {}",
+                "error: --library {wanted}: no module type of this library is registered here\n\
+                 help: libraries with registered types: {}",
                 libraries.keys().cloned().collect::<Vec<_>>().join(", ")
             );
             return ExitCode::from(2);
@@ -206,7 +242,7 @@ fn check(
             let Some((id, manifest)) = loaded.libraries.module_type(&code.name) else {
                 let lib = loaded.libraries.get(loaded.libraries.by_name[name]);
                 eprintln!(
-                    "{}: error: `{}` is built into ferroc but its manifest does not declare it\n  \
+                    "{}: error: `{}` is registered by its crate but its manifest does not declare it\n  \
                      help: `ferroc types export --library {name} -o DIR` writes it",
                     loaded.sources.get(lib.file).name,
                     code.name

@@ -1,0 +1,71 @@
+//! Hosting module types: everything between a checked model and a running application
+//! that depends on which module types are linked in.
+//!
+//! The `ferroc` CLI links only the standard library (`ferroc_std`); for a model using
+//! other libraries it generates a small runner program that links exactly their crates
+//! and calls [`main`] with a registry of their types. Both run the same code: the
+//! plan → Builder wiring ([`run::build`]), `run` and `types`.
+
+use ferroc_compiler::load::{BuiltinLibrary, Options};
+use ferroc_runtime::builder::Registry;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+pub mod checked;
+pub mod interface;
+pub mod run;
+pub mod types;
+
+pub use ferroc_runtime;
+
+/// The standard library's manifest, built into the tool.
+pub const FERROC_STD: &str = include_str!("../../components/ferroc_std.lib.xml");
+
+/// Loader options shared by every command that reads models.
+pub fn loader_options(lib_path: &[PathBuf], allow_outside_includes: bool) -> Options {
+    let mut lib_path = lib_path.to_vec();
+    if let Ok(env) = std::env::var("FERROC_LIB_PATH") {
+        lib_path.extend(std::env::split_paths(&env));
+    }
+    Options {
+        lib_path,
+        builtins: vec![BuiltinLibrary {
+            name: "ferroc_std".into(),
+            text: FERROC_STD.into(),
+        }],
+        allow_outside_includes,
+        ..Options::default()
+    }
+}
+
+/// The commands a runner answers: `run` and `types`, with `ferroc`'s arguments.
+#[derive(clap::Parser)]
+#[command(name = "ferroc", about = "A ferroc runner: runs models with the module types linked in")]
+struct Runner {
+    #[command(subcommand)]
+    command: RunnerCommand,
+}
+
+#[derive(clap::Subcommand)]
+enum RunnerCommand {
+    Run(run::RunArgs),
+    Types(types::TypesArgs),
+}
+
+/// The `main` of a generated runner: `registry` holds the standard library's types and
+/// those of the libraries linked in. `ferroc` passes its own command line on.
+pub fn main(registry: Registry) -> ExitCode {
+    main_from(registry, std::env::args_os())
+}
+
+/// [`main`] with these arguments (the first is the program's name).
+pub fn main_from(
+    registry: Registry,
+    args: impl IntoIterator<Item = std::ffi::OsString>,
+) -> ExitCode {
+    let runner = <Runner as clap::Parser>::parse_from(args);
+    match runner.command {
+        RunnerCommand::Run(args) => run::run(args, &registry),
+        RunnerCommand::Types(args) => types::run(args, &registry),
+    }
+}

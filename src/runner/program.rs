@@ -1,0 +1,362 @@
+//! The runner program of a set of libraries: generated once, built by cargo in the
+//! libraries' target folder, rebuilt only when one of its sources changed.
+//!
+//! The package lives in `TARGET/ferroc-runner/KEY/` (KEY: a hash of the libraries'
+//! crates, ferroc's sources and the profile), its binary in `TARGET/PROFILE/`. Sharing
+//! the target folder with the libraries' own workspace means their dependencies are
+//! compiled once for both. A model is not part of the runner: the runner checks and
+//! plans the model it is given, so editing a model never rebuilds anything.
+
+use super::crates::LibraryCrate;
+use crate::bundle::text::{comment, toml_str};
+use std::io::{BufRead, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode, Stdio};
+
+/// The checkout this ferroc was built from: the runner depends on its `host/` crate.
+const CHECKOUT: &str = env!("CARGO_MANIFEST_DIR");
+
+/// ferroc's sources: `FERROC_SOURCE` if set (an installed ferroc whose checkout moved),
+/// else the checkout it was built from.
+pub fn source_dir() -> PathBuf {
+    std::env::var_os("FERROC_SOURCE")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(CHECKOUT))
+}
+
+/// The cargo profile runners are built with: ferroc's own (a release ferroc runs
+/// release runners).
+fn profile() -> (&'static str, Option<&'static str>) {
+    if cfg!(debug_assertions) {
+        ("debug", None)
+    } else {
+        ("release", Some("--release"))
+    }
+}
+
+/// A built runner for `crates`: its executable, built now if needed (cargo's progress on
+/// stderr). On failure the cause is reported, pointing at the manifests.
+pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
+    let source = source_dir();
+    let host = source.join("host");
+    if !host.join("Cargo.toml").is_file() {
+        eprintln!(
+            "error: ferroc's sources are not at {} (a runner for your libraries is built from them)\n  \
+             help: set FERROC_SOURCE to a ferroc checkout of version {}",
+            source.display(),
+            env!("CARGO_PKG_VERSION")
+        );
+        return Err(ExitCode::from(2));
+    }
+    let (profile, flag) = profile();
+    let key = key(&source, crates, profile);
+    let target = target_dir(crates);
+    let name = format!("ferroc-runner-{key}");
+    let dir = target.join("ferroc-runner").join(&key);
+    let exe = target.join(profile).join(&name);
+    if let Err(e) = write_package(&dir, &name, &host, crates, &source) {
+        eprintln!("error: cannot write the runner package in {}: {e}", dir.display());
+        return Err(ExitCode::from(2));
+    }
+    if is_fresh(&exe, &dir, crates) {
+        return Ok(exe);
+    }
+    eprintln!(
+        "building the runner for {} in {} (once; again only when a library changes)",
+        crates
+            .iter()
+            .map(|c| format!("`{}`", c.library))
+            .collect::<Vec<_>>()
+            .join(", "),
+        target.display()
+    );
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut command = Command::new(cargo);
+    command
+        .arg("build")
+        .arg("--manifest-path")
+        .arg(dir.join("Cargo.toml"))
+        .arg("--target-dir")
+        .arg(&target)
+        .args(flag)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
+    if std::io::stderr().is_terminal() {
+        command.arg("--color=always");
+    }
+    let mut child = match command.spawn() {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: cannot start cargo to build the runner: {e}\n  help: install Rust (rustup.rs) or set CARGO to cargo's path");
+            return Err(ExitCode::from(2));
+        }
+    };
+    // cargo's output as it comes, remembering which packages failed.
+    let mut failed = Vec::new();
+    if let Some(err) = child.stderr.take() {
+        let mut stderr = std::io::stderr();
+        for line in std::io::BufReader::new(err).split(b'\n').map_while(Result::ok) {
+            let _ = stderr.write_all(&line);
+            let _ = stderr.write_all(b"\n");
+            if let Some(package) = failed_package(&String::from_utf8_lossy(&line)) {
+                failed.push(package);
+            }
+        }
+    }
+    let status = child.wait();
+    if status.as_ref().is_ok_and(|s| s.success()) && exe.is_file() {
+        return Ok(exe);
+    }
+    report_failure(crates, &failed, &name, &dir);
+    Err(ExitCode::from(1))
+}
+
+/// `could not compile `NAME`` in one of cargo's lines (colours stripped).
+fn failed_package(line: &str) -> Option<String> {
+    let plain = strip_ansi(line);
+    let rest = plain.split("could not compile `").nth(1)?;
+    Some(rest.split('`').next()?.to_string())
+}
+
+fn strip_ansi(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    let mut chars = s.chars();
+    while let Some(c) = chars.next() {
+        if c == '\x1b' {
+            for c in chars.by_ref() {
+                if c.is_ascii_alphabetic() {
+                    break;
+                }
+            }
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// After cargo's own errors: which library's crate they belong to, at its manifest.
+fn report_failure(crates: &[LibraryCrate], failed: &[String], runner: &str, dir: &Path) {
+    let mut explained = false;
+    for c in crates {
+        if failed.contains(&c.package) {
+            eprintln!(
+                "{}: error: the crate `{}` of library `{}` does not build (cargo's errors above)\n  \
+                 = crate: {}\n  \
+                 help: fix the crate; `cargo build --manifest-path {}` shows the same errors",
+                c.manifest_at,
+                c.package,
+                c.library,
+                c.dir.display(),
+                c.dir.join("Cargo.toml").display()
+            );
+            explained = true;
+        }
+    }
+    if failed.iter().any(|p| p == runner) {
+        for c in crates {
+            eprintln!(
+                "{}: error: the runner could not call `{}::register` of library `{}` (cargo's errors above)\n  \
+                 help: the crate `{}` must have `pub fn register(registry: &mut ferroc_runtime::builder::Registry)` registering its module types",
+                c.manifest_at, c.package, c.library, c.package
+            );
+        }
+        explained = true;
+    }
+    if !explained {
+        eprintln!(
+            "error: the runner for these libraries did not build (cargo's output above; package in {}):",
+            dir.display()
+        );
+        for c in crates {
+            eprintln!(
+                "{}: note: library `{}`, crate `{}` at {}",
+                c.manifest_at,
+                c.library,
+                c.package,
+                c.dir.display()
+            );
+        }
+    }
+}
+
+/// A short stable name for this set of crates with these sources and profile.
+fn key(source: &Path, crates: &[LibraryCrate], profile: &str) -> String {
+    let mut text = format!(
+        "ferroc {}\n{}\n{profile}\n",
+        env!("CARGO_PKG_VERSION"),
+        source.display()
+    );
+    for c in crates {
+        text.push_str(&format!("{}\n{}\n", c.package, c.dir.display()));
+    }
+    crate::bundle::sha256::hex(text.as_bytes())[..16].to_string()
+}
+
+/// `CARGO_TARGET_DIR` if set; else the `target/` of the first library's workspace (the
+/// nearest folder above its crate whose Cargo.toml declares `[workspace]`), or of the
+/// crate itself.
+fn target_dir(crates: &[LibraryCrate]) -> PathBuf {
+    if let Some(dir) = std::env::var_os("CARGO_TARGET_DIR").filter(|d| !d.is_empty()) {
+        let dir = PathBuf::from(dir);
+        return std::path::absolute(&dir).unwrap_or(dir);
+    }
+    let first = &crates[0].dir;
+    let root = first
+        .ancestors()
+        .find(|d| {
+            std::fs::read_to_string(d.join("Cargo.toml"))
+                .is_ok_and(|t| t.lines().any(|l| l.trim() == "[workspace]"))
+        })
+        .unwrap_or(first);
+    root.join("target")
+}
+
+/// Writes the runner's Cargo.toml, main.rs and (first time) Cargo.lock, each only when
+/// its text changes, through a rename (runs started together write the same files).
+fn write_package(
+    dir: &Path,
+    name: &str,
+    host: &Path,
+    crates: &[LibraryCrate],
+    source: &Path,
+) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir.join("src"))?;
+    let version = env!("CARGO_PKG_VERSION");
+    let libraries: Vec<String> = crates
+        .iter()
+        .map(|c| format!("{} ({})", comment(&c.library), comment(&c.package)))
+        .collect();
+    let mut toml = format!(
+        "# Generated by ferroc {version}: the runner of the libraries {}.\n\
+         # ferroc rewrites this file; build output goes to the libraries' target folder.\n\
+         [package]\nname = \"{name}\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
+         [dependencies]\nferroc-host = {{ path = {} }}\n",
+        libraries.join(", "),
+        toml_str(&host.to_string_lossy())
+    );
+    for (i, c) in crates.iter().enumerate() {
+        toml.push_str(&format!(
+            "library_{i} = {{ package = {}, path = {} }}\n",
+            toml_str(&c.package),
+            toml_str(&c.dir.to_string_lossy())
+        ));
+    }
+    // The checkout's profile, so that its already compiled dependencies are reused.
+    toml.push_str("\n[profile.release]\ndebug = 1\n\n# Not a member of any enclosing workspace.\n[workspace]\n");
+    let mut main = format!(
+        "//! Generated by ferroc {version}: runs `ferroc run` and `ferroc types` with the module\n\
+         //! types of the standard library and of the libraries linked here.\n\n\
+         fn main() -> std::process::ExitCode {{\n    let mut registry = ferroc_host::run::registry();\n"
+    );
+    for (i, c) in crates.iter().enumerate() {
+        main.push_str(&format!(
+            "    // The library `{}`.\n    library_{i}::register(&mut registry);\n",
+            comment(&c.library)
+        ));
+    }
+    main.push_str("    ferroc_host::main(registry)\n}\n");
+    replace_if_changed(&dir.join("Cargo.toml"), toml.as_bytes())?;
+    replace_if_changed(&dir.join("src/main.rs"), main.as_bytes())?;
+    let lock = dir.join("Cargo.lock");
+    if !lock.exists() {
+        // The versions ferroc is built and tested with (cargo adds the libraries' own).
+        if let Ok(text) = std::fs::read(source.join("Cargo.lock")) {
+            replace_if_changed(&lock, &text)?;
+        }
+    }
+    Ok(())
+}
+
+fn replace_if_changed(path: &Path, text: &[u8]) -> std::io::Result<()> {
+    if std::fs::read(path).is_ok_and(|old| old == text) {
+        return Ok(());
+    }
+    let temporary = path.with_extension(format!("tmp{}", std::process::id()));
+    std::fs::write(&temporary, text)?;
+    std::fs::rename(&temporary, path).inspect_err(|_| {
+        let _ = std::fs::remove_file(&temporary);
+    })
+}
+
+/// Whether `exe` is newer than everything it was built from: the source files cargo
+/// listed in its dep-info (`exe.d`: every local crate's sources), the Cargo.toml of
+/// the runner, of ferroc's host crate and of every library crate, and the lock file.
+/// Anything else (or no dep-info) leaves the decision to cargo.
+fn is_fresh(exe: &Path, dir: &Path, crates: &[LibraryCrate]) -> bool {
+    let Some(built) = modified(exe) else {
+        return false;
+    };
+    let Ok(dep_info) = std::fs::read_to_string(exe.with_extension("d")) else {
+        return false;
+    };
+    let Some((_, deps)) = dep_info.split_once(": ") else {
+        return false;
+    };
+    let mut inputs: Vec<PathBuf> = split_dep_info(deps);
+    if inputs.is_empty() {
+        return false;
+    }
+    inputs.push(dir.join("Cargo.toml"));
+    inputs.push(dir.join("Cargo.lock"));
+    inputs.push(source_dir().join("host/Cargo.toml"));
+    inputs.extend(crates.iter().map(|c| c.dir.join("Cargo.toml")));
+    inputs
+        .iter()
+        .all(|p| modified(p).is_some_and(|m| m <= built))
+}
+
+fn modified(path: &Path) -> Option<std::time::SystemTime> {
+    std::fs::metadata(path).and_then(|m| m.modified()).ok()
+}
+
+/// The paths of a make-style dependency list (`\ ` is a space inside a path).
+fn split_dep_info(deps: &str) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut current = String::new();
+    let mut chars = deps.trim().chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' if chars.peek().is_some_and(|n| *n == ' ' || *n == '\\') => {
+                current.push(chars.next().unwrap_or(' '));
+            }
+            c if c.is_whitespace() => {
+                if !current.is_empty() {
+                    out.push(PathBuf::from(std::mem::take(&mut current)));
+                }
+            }
+            c => current.push(c),
+        }
+    }
+    if !current.is_empty() {
+        out.push(PathBuf::from(current));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dep_info_paths_keep_escaped_spaces() {
+        assert_eq!(
+            split_dep_info("/a/b.rs /c\\ d/e.rs\n"),
+            vec![PathBuf::from("/a/b.rs"), PathBuf::from("/c d/e.rs")]
+        );
+    }
+
+    #[test]
+    fn failed_packages_are_read_from_cargo_lines_with_or_without_colour() {
+        assert_eq!(
+            failed_package("error: could not compile `my-lib` (lib) due to 1 previous error"),
+            Some("my-lib".into())
+        );
+        assert_eq!(
+            failed_package("\x1b[1m\x1b[31merror\x1b[0m: could not compile `x` (bin \"x\")"),
+            Some("x".into())
+        );
+        assert_eq!(failed_package("   Compiling my-lib v0.1.0"), None);
+    }
+}
