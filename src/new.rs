@@ -18,12 +18,14 @@ pub struct NewArgs {
 enum What {
     /// A library crate: Cargo.toml, NAME.lib.xml, src/lib.rs (one module type with a
     /// test) and demo.xml, a model using it
-    #[command(long_about = "Write a library crate in DIR (default: ./NAME): Cargo.toml \
+    #[command(
+        long_about = "Write a library crate in DIR (default: ./NAME): Cargo.toml \
 (depending on this ferroc's runtime by path), the manifest NAME.lib.xml, src/lib.rs with one \
 module type (an input, an output, a parameter), its registration and a unit test, and demo.xml, \
 a model using it. Then:\n\n  ferroc run NAME/demo.xml --cycles 5\n  \
 ferroc types export --check --lib-path NAME\n  cargo test --manifest-path NAME/Cargo.toml\n\n\
-docs/writing-modules.md explains every file.")]
+docs/writing-modules.md explains every file."
+    )]
     Library {
         /// The library's name: lowercase letters, digits and `_` (the package name is
         /// the same with `-`)
@@ -272,7 +274,11 @@ fn model(file: &Path, library: Option<&Path>) -> Result<(), String> {
         .file_stem()
         .map(|s| s.to_string_lossy().replace(['-', '.', ' '], "_"))
         .unwrap_or_default();
-    let app = if is_name(&stem) { stem } else { "app".to_string() };
+    let app = if is_name(&stem) {
+        stem
+    } else {
+        "app".to_string()
+    };
     let mut uses = String::from("  <use library=\"ferroc_std\"/>\n");
     let mut modules = String::new();
     match library {
@@ -351,6 +357,10 @@ fn relative_to(from: &Path, to: &Path) -> String {
         return to_abs.to_string_lossy().into_owned();
     }
     let mut parts: Vec<String> = vec!["..".into(); b.len() - common];
-    parts.extend(t[common..].iter().map(|c| c.as_os_str().to_string_lossy().into_owned()));
+    parts.extend(
+        t[common..]
+            .iter()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+    );
     parts.join("/")
 }

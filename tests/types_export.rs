@@ -130,27 +130,51 @@ fn a_drifted_manifest_fails_the_check_and_export_repairs_only_that_type() {
 }
 
 #[test]
-fn export_without_a_manifest_and_bad_arguments() {
-    let (code, out, err) = ferroc(&["types", "export", "--library", "crash_course"]);
-    assert_eq!(code, 0, "{err}");
+fn a_type_the_manifest_lacks_is_reported_and_exported_and_bad_arguments() {
+    // The crate registers crash_course.AddNoise; this copy of the manifest lacks it.
+    let dir = tempdir("types_lacking");
+    let original = std::fs::read_to_string("components/crash_course.lib.xml").unwrap();
+    let a = original.find(r#"<module-type name="AddNoise""#).unwrap();
+    let b = a + original[a..].find("</module-type>").unwrap() + "</module-type>".len();
+    let lacking = format!("{}{}", &original[..a], &original[b..]);
+    std::fs::write(dir.join("crash_course.lib.xml"), &lacking).unwrap();
+    let lib_path = dir.to_str().unwrap();
+    let (code, _, err) = ferroc(&["types", "export", "--check", "--lib-path", lib_path]);
+    assert_eq!(code, 1, "{err}");
     assert!(
-        err.contains("no manifest of `crash_course` on the lib path"),
+        err.contains(
+            "crash_course.lib.xml: error: `crash_course.AddNoise` is registered by its crate but its manifest does not declare it"
+        ),
         "{err}"
     );
-    assert!(out.contains("<library name=\"crash_course\">"), "{out}");
+    let (code, out, err) = ferroc(&[
+        "types",
+        "export",
+        "--library",
+        "crash_course",
+        "--lib-path",
+        lib_path,
+    ]);
+    assert_eq!(code, 0, "{err}");
     assert!(out.contains("<module-type name=\"AddNoise\""), "{out}");
+    assert!(
+        out.contains("<module-type name=\"MainSimulation\""),
+        "{out}"
+    );
+
     let (code, _, err) = ferroc(&["types", "export", "--library", "nope"]);
     assert_eq!(code, 2);
     assert!(
         err.contains("--library nope: no module type of this library"),
         "{err}"
     );
-    assert!(err.contains("crash_course"), "{err}");
-    let (code, _, err) = ferroc(&["types", "export", "--check"]);
-    assert_eq!(code, 1);
-    assert!(err.contains("no manifest of `crash_course` found"), "{err}");
-    assert!(err.contains("--lib-path"), "{err}");
+    assert!(err.contains("ferroc_std"), "{err}");
+    // Without a lib path: the standard library, built in.
     let (code, out, _) = ferroc(&["types", "list"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("ferroc_std.Constant"), "{out}");
+    assert!(!out.contains("crash_course"), "{out}");
+    let (code, out, _) = ferroc(&["types", "list", "--lib-path", "components"]);
     assert_eq!(code, 0);
     assert!(out.contains("crash_course.MainSimulation"), "{out}");
     assert!(out.contains("sense-control"), "{out}");

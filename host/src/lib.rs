@@ -40,7 +40,10 @@ pub fn loader_options(lib_path: &[PathBuf], allow_outside_includes: bool) -> Opt
 
 /// The commands a runner answers: `run` and `types`, with `ferroc`'s arguments.
 #[derive(clap::Parser)]
-#[command(name = "ferroc", about = "A ferroc runner: runs models with the module types linked in")]
+#[command(
+    name = "ferroc",
+    about = "A ferroc runner: runs models with the module types linked in"
+)]
 struct Runner {
     #[command(subcommand)]
     command: RunnerCommand,

@@ -1,12 +1,12 @@
 //! `ferroc run`: check a model, build it in the runtime, run it, stop cleanly.
 
 use ferroc_compiler::library::LibrarySet;
-use ferroc_compiler::CheckResult;
 use ferroc_compiler::plan::{self, Plan};
 use ferroc_compiler::report::json::location;
 use ferroc_compiler::schedule::StepKind as PlanStep;
 use ferroc_compiler::source::{SourceMap, Span};
 use ferroc_compiler::values::Value as ModelValue;
+use ferroc_compiler::CheckResult;
 use ferroc_runtime::behaviour::ViolationPolicy;
 use ferroc_runtime::builder::{
     Builder, Conversion, Lockstep, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,

@@ -96,7 +96,13 @@ pub fn find(lib: &Library, sources: &SourceMap) -> Result<LibraryCrate, String> 
     let manifest_dir = lib
         .path
         .parent()
-        .map(|d| if d.as_os_str().is_empty() { Path::new(".") } else { d })
+        .map(|d| {
+            if d.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                d
+            }
+        })
         .unwrap_or(Path::new("."));
     let candidates = [
         manifest_dir.to_path_buf(),

@@ -52,8 +52,7 @@ pub fn types(args: TypesArgs) -> ExitCode {
         .map(String::as_str)
         .filter(|n| loaded.libraries.by_name.contains_key(*n))
         .collect();
-    let crates = match crates::find_all(found.iter().copied(), &loaded.libraries, &loaded.sources)
-    {
+    let crates = match crates::find_all(found.iter().copied(), &loaded.libraries, &loaded.sources) {
         Ok(c) => c,
         Err(problems) => return report(&problems),
     };

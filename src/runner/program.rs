@@ -55,7 +55,10 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
     let dir = target.join("ferroc-runner").join(&key);
     let exe = target.join(profile).join(&name);
     if let Err(e) = write_package(&dir, &name, &host, crates, &source) {
-        eprintln!("error: cannot write the runner package in {}: {e}", dir.display());
+        eprintln!(
+            "error: cannot write the runner package in {}: {e}",
+            dir.display()
+        );
         return Err(ExitCode::from(2));
     }
     if is_fresh(&exe, &dir, crates) {
@@ -96,7 +99,10 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
     let mut failed = Vec::new();
     if let Some(err) = child.stderr.take() {
         let mut stderr = std::io::stderr();
-        for line in std::io::BufReader::new(err).split(b'\n').map_while(Result::ok) {
+        for line in std::io::BufReader::new(err)
+            .split(b'\n')
+            .map_while(Result::ok)
+        {
             let _ = stderr.write_all(&line);
             let _ = stderr.write_all(b"\n");
             if let Some(package) = failed_package(&String::from_utf8_lossy(&line)) {
