@@ -30,8 +30,8 @@ pub fn find_all<'a>(
             continue;
         };
         let lib = libs.get(id);
-        if lib.path.as_os_str().is_empty() {
-            continue; // built into ferroc (the standard library)
+        if lib.path.as_os_str().is_empty() || lib.name == "ferroc_std" {
+            continue; // built into ferroc (the standard library), its manifest or a copy
         }
         match find(lib, sources) {
             Ok(c) => found.push(c),
@@ -166,4 +166,27 @@ pub fn package_name(cargo_toml: &Path) -> Option<String> {
         }
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::package_name;
+
+    #[test]
+    fn the_package_name_is_read_from_the_package_table_only() {
+        let dir = std::env::temp_dir().join(format!("ferroc-crates-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("Cargo.toml");
+        let read = |text: &str| {
+            std::fs::write(&file, text).unwrap();
+            package_name(&file)
+        };
+        assert_eq!(
+            read("[lib]\nname = \"beep\"\n\n[package]\nversion = \"1\"\nname = \"beep-lib\" # the crate\n"),
+            Some("beep-lib".into())
+        );
+        assert_eq!(read("[workspace]\nmembers = [\"a\"]\n"), None);
+        assert_eq!(read("[package]\nname.workspace = true\n"), None);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

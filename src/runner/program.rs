@@ -9,7 +9,7 @@
 
 use super::crates::LibraryCrate;
 use crate::bundle::text::{comment, toml_str};
-use std::io::{BufRead, IsTerminal, Write};
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 
@@ -65,7 +65,7 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
         return Ok(exe);
     }
     eprintln!(
-        "building the runner for {} in {} (once; again only when a library changes)",
+        "building the runner of {} in {} (first use, or a crate changed)",
         crates
             .iter()
             .map(|c| format!("`{}`", c.library))
@@ -86,7 +86,18 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
     if std::io::stderr().is_terminal() {
-        command.arg("--color=always");
+        // cargo sees a pipe: ask for its colours and progress bar all the same.
+        let width = std::env::var("COLUMNS")
+            .ok()
+            .and_then(|c| c.parse::<u16>().ok())
+            .unwrap_or(80);
+        command.args([
+            "--color=always",
+            "--config",
+            "term.progress.when=\"always\"",
+            "--config",
+        ]);
+        command.arg(format!("term.progress.width={width}"));
     }
     let mut child = match command.spawn() {
         Ok(c) => c,
@@ -95,18 +106,28 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
             return Err(ExitCode::from(2));
         }
     };
-    // cargo's output as it comes, remembering which packages failed.
+    // cargo's output as it comes (progress bar included), remembering which packages
+    // failed to compile.
     let mut failed = Vec::new();
-    if let Some(err) = child.stderr.take() {
+    if let Some(mut err) = child.stderr.take() {
         let mut stderr = std::io::stderr();
-        for line in std::io::BufReader::new(err)
-            .split(b'\n')
-            .map_while(Result::ok)
-        {
-            let _ = stderr.write_all(&line);
-            let _ = stderr.write_all(b"\n");
-            if let Some(package) = failed_package(&String::from_utf8_lossy(&line)) {
-                failed.push(package);
+        let mut line = Vec::new();
+        let mut buffer = [0u8; 4096];
+        loop {
+            let n = match std::io::Read::read(&mut err, &mut buffer) {
+                Ok(0) | Err(_) => break,
+                Ok(n) => n,
+            };
+            let _ = stderr.write_all(&buffer[..n]);
+            for &b in &buffer[..n] {
+                if b == b'\n' || b == b'\r' {
+                    if let Some(package) = failed_package(&String::from_utf8_lossy(&line)) {
+                        failed.push(package);
+                    }
+                    line.clear();
+                } else if line.len() < 4096 {
+                    line.push(b);
+                }
             }
         }
     }
@@ -204,11 +225,14 @@ fn key(source: &Path, crates: &[LibraryCrate], profile: &str) -> String {
 /// nearest folder above its crate whose Cargo.toml declares `[workspace]`), or of the
 /// crate itself.
 fn target_dir(crates: &[LibraryCrate]) -> PathBuf {
-    if let Some(dir) = std::env::var_os("CARGO_TARGET_DIR").filter(|d| !d.is_empty()) {
+    target_dir_from(std::env::var_os("CARGO_TARGET_DIR"), &crates[0].dir)
+}
+
+fn target_dir_from(env: Option<std::ffi::OsString>, first: &Path) -> PathBuf {
+    if let Some(dir) = env.filter(|d| !d.is_empty()) {
         let dir = PathBuf::from(dir);
         return std::path::absolute(&dir).unwrap_or(dir);
     }
-    let first = &crates[0].dir;
     let root = first
         .ancestors()
         .find(|d| {
@@ -344,6 +368,34 @@ fn split_dep_info(deps: &str) -> Vec<PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn runners_build_in_the_target_folder_of_the_library_s_workspace() {
+        let root = std::env::temp_dir().join(format!("ferroc-target-{}", std::process::id()));
+        let member = root.join("crates/beep");
+        std::fs::create_dir_all(&member).unwrap();
+        std::fs::write(
+            root.join("Cargo.toml"),
+            "[workspace]\nmembers = [\"crates/*\"]\n",
+        )
+        .unwrap();
+        std::fs::write(member.join("Cargo.toml"), "[package]\nname = \"beep\"\n").unwrap();
+        assert_eq!(target_dir_from(None, &member), root.join("target"));
+        // A crate of its own (no workspace above declares it).
+        std::fs::write(root.join("Cargo.toml"), "[package]\nname = \"top\"\n").unwrap();
+        assert_eq!(target_dir_from(None, &member), member.join("target"));
+        // CARGO_TARGET_DIR wins, made absolute; empty counts as unset.
+        let shared = root.join("shared");
+        assert_eq!(
+            target_dir_from(Some(shared.clone().into()), &member),
+            shared
+        );
+        assert_eq!(
+            target_dir_from(Some("".into()), &member),
+            member.join("target")
+        );
+        std::fs::remove_dir_all(&root).unwrap();
+    }
 
     #[test]
     fn dep_info_paths_keep_escaped_spaces() {
