@@ -75,14 +75,9 @@ fn library(name: &str, dir: Option<PathBuf>) -> Result<(), String> {
     empty_or_new(&dir)?;
     let package = name.replace('_', "-");
     let runtime = crate::runner::program::source_dir().join("runtime");
-    let files = [
-        ("Cargo.toml", cargo_toml(&package, name, &runtime)),
-        (&format!("{name}.lib.xml") as &str, manifest(name, &package)),
-        ("src/lib.rs", lib_rs(name)),
-        ("demo.xml", demo_model(name)),
-    ];
-    for (file, text) in &files {
-        write_new(&dir.join(file), text)?;
+    for (file, text) in LIBRARY {
+        let file = fill(file, name, &package, &runtime);
+        write_new(&dir.join(file), &fill(text, name, &package, &runtime))?;
     }
     let shown = dir.display();
     eprintln!(
@@ -122,149 +117,20 @@ fn write_new(path: &Path, text: &str) -> Result<(), String> {
         .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-fn cargo_toml(package: &str, name: &str, runtime: &Path) -> String {
-    format!(
-        "[package]\nname = \"{package}\"\nversion = \"0.1.0\"\nedition = \"2021\"\npublish = false\n\n\
-         [lib]\nname = \"{name}\"\n\n\
-         [dependencies]\n\
-         # The ferroc runtime: ports, parameters, the module traits. `ferroc run` links this\n\
-         # crate into a runner together with the runtime, so both must be the same one.\n\
-         ferroc-runtime = {{ path = {} }}\n\n\
-         # A crate of its own; delete this line to make it a member of an enclosing workspace.\n\
-         [workspace]\n",
-        toml_str(&runtime.to_string_lossy())
-    )
-}
+/// The files of a new library, with `@name@`, `@package@` and `@runtime@` to fill in
+/// (kept as files so they read, and are reviewed, as what they become).
+const LIBRARY: [(&str, &str); 4] = [
+    ("Cargo.toml", include_str!("new/library/Cargo.toml.in")),
+    ("@name@.lib.xml", include_str!("new/library/NAME.lib.xml")),
+    ("src/lib.rs", include_str!("new/library/lib.rs")),
+    ("demo.xml", include_str!("new/library/demo.xml")),
+];
 
-fn manifest(name: &str, package: &str) -> String {
-    format!(
-        r#"<?xml version="1.0" encoding="UTF-8"?>
-<!--
-  The library `{name}`: what its module types look like to a model. ferroc checks models
-  against this file; `ferroc types export --check` checks it against the Rust code of
-  the crate `{package}` (rust-crate=, in this folder).
--->
-<library name="{name}" version="0.1.0" rust-crate="{package}"
-         doc="Started with ferroc new library">
-
-  <module-type name="Accumulator" rust="{name}::Accumulator" budget="20us"
-               doc="Adds gain times step to its total every cycle">
-    <in name="step" type="f64" doc="added every cycle, times gain"/>
-    <out name="total" type="f64" doc="the sum so far"/>
-    <param name="gain" type="f64" default="1" min="0" max="100" doc="factor applied to every step"/>
-  </module-type>
-</library>
-"#
-    )
-}
-
-fn lib_rs(name: &str) -> String {
-    format!(
-        r#"//! The library `{name}`: the Rust code of the module types in `{name}.lib.xml`.
-
-use ferroc_runtime::builder::Registry;
-use ferroc_runtime::module::{{In, Module, ModuleType, Out, Parameter, Setup}};
-
-/// Adds `gain` times its input `step` to a running total and publishes it.
-pub struct Accumulator {{
-    step: In<f64>,
-    total_out: Out<f64>,
-    gain: Parameter<f64>,
-    total: f64,
-}}
-
-impl ModuleType for Accumulator {{
-    /// The model's name of the type: library, dot, module type.
-    const NAME: &'static str = "{name}.Accumulator";
-    const DOC: &'static str = "Adds gain times step to its total every cycle";
-
-    /// Declares the ports and parameters (`ferroc types export` reads them from here).
-    fn create(m: &mut Setup<'_>) -> Self {{
-        Accumulator {{
-            step: m.input("step").doc("added every cycle, times gain").build(),
-            total_out: m.output("total").doc("the sum so far").build(),
-            gain: m
-                .param("gain")
-                .default(1.0)
-                .range(0.0, 100.0)
-                .doc("factor applied to every step")
-                .build(),
-            total: 0.0,
-        }}
-    }}
-}}
-
-impl Module for Accumulator {{
-    /// Runs once per cycle of the thread container the model puts it in.
-    fn update(&mut self) {{
-        self.total = accumulate(self.total, self.step.get(), self.gain.get());
-        self.total_out.publish(self.total);
-        println!("[{name}] total = {{:.2}}", self.total);
-    }}
-}}
-
-/// The arithmetic, kept apart from the ports so it is easy to test.
-pub fn accumulate(total: f64, step: f64, gain: f64) -> f64 {{
-    total + gain * step
-}}
-
-/// Registers the library's module types; the runner `ferroc run` builds calls this.
-pub fn register(registry: &mut Registry) {{
-    registry.register::<Accumulator>();
-}}
-
-#[cfg(test)]
-mod tests {{
-    use super::*;
-
-    #[test]
-    fn each_step_adds_gain_times_step() {{
-        let total = accumulate(0.0, 0.5, 2.0);
-        assert_eq!(total, 1.0);
-        assert_eq!(accumulate(total, 0.25, 4.0), 2.0);
-    }}
-
-    #[test]
-    fn the_registered_interface_has_the_ports_and_parameter_of_the_manifest() {{
-        let mut registry = Registry::new();
-        register(&mut registry);
-        let interface = registry.interface("{name}.Accumulator").expect("registered");
-        assert!(interface.port("step").is_some());
-        assert!(interface.port("total").is_some());
-        assert_eq!(interface.params.len(), 1);
-        assert_eq!(interface.params[0].name, "gain");
-    }}
-}}
-"#
-    )
-}
-
-fn demo_model(name: &str) -> String {
-    format!(
-        r#"<?xml version="1.0" encoding="UTF-8"?>
-<!--
-  A model using the library `{name}`: a constant feeds an accumulator ten times a second.
-    ferroc check demo.xml
-    ferroc run demo.xml --cycles 5
--->
-<application name="{name}_demo" version="1">
-  <use library="ferroc_std"/>
-  <use library="{name}" manifest="{name}.lib.xml"/>
-
-  <part name="main" host="localhost">
-    <thread name="loop" period="100ms">
-      <module name="source" type="ferroc_std.Constant">
-        <param name="value">0.5</param>
-      </module>
-      <module name="sum" type="{name}.Accumulator">
-        <param name="gain">2</param>
-      </module>
-      <connect from="source/value" to="sum/step"/>
-    </thread>
-  </part>
-</application>
-"#
-    )
+fn fill(template: &str, name: &str, package: &str, runtime: &Path) -> String {
+    template
+        .replace("@name@", name)
+        .replace("@package@", package)
+        .replace("@runtime@", &toml_str(&runtime.to_string_lossy()))
 }
 
 /// `ferroc new model FILE`: one part and thread container; with `--library`, one

@@ -17,6 +17,7 @@ pub mod run;
 pub mod types;
 
 pub use ferroc_runtime;
+pub use mimalloc;
 
 /// The standard library's manifest, built into the tool.
 pub const FERROC_STD: &str = include_str!("../../components/ferroc_std.lib.xml");
