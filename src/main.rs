@@ -150,6 +150,14 @@ unconnected call fails at once (D111)."
     /// Colour in human output: auto, always, never
     #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
     color: ColorChoice,
+    /// FINROC files: the checkout root their group and config files are looked up in
+    /// (default: the nearest folder above holding a make.xml, else the file's folder)
+    #[arg(long, value_name = "DIR")]
+    finroc_root: Option<PathBuf>,
+    /// FINROC make.xml: the checkout's target prefix (`rrlib_math`, `finroc_plugins_ib2c`)
+    /// when the folder name does not tell it
+    #[arg(long, value_name = "PREFIX")]
+    finroc_prefix: Option<String>,
 }
 
 #[derive(Clone, Copy, ValueEnum, PartialEq)]
@@ -225,13 +233,17 @@ fn explain(code: Option<String>, list: bool) -> ExitCode {
 }
 
 /// Model files under the given paths: files as given, folders searched recursively
-/// for `*.xml` files whose root element is <application>.
-fn collect_models(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+/// for application models and FINROC files; every other file found is named in
+/// `skipped` with the reason.
+fn collect_models(
+    paths: &[PathBuf],
+    skipped: &mut Vec<(PathBuf, String)>,
+) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
             let mut found = Vec::new();
-            walk(p, &mut found, 0);
+            walk(p, &mut found, skipped, 0);
             found.sort();
             if found.is_empty() {
                 return Err(format!(
@@ -249,8 +261,9 @@ fn collect_models(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     Ok(out)
 }
 
-fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
+fn walk(dir: &Path, out: &mut Vec<PathBuf>, skipped: &mut Vec<(PathBuf, String)>, depth: usize) {
     let Ok(entries) = std::fs::read_dir(dir) else {
+        skipped.push((dir.to_path_buf(), "folder cannot be read".into()));
         return;
     };
     for entry in entries.flatten() {
@@ -262,23 +275,39 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
             continue; // hidden files and folders (.git, editor backups)
         }
         if kind.is_dir() && depth < 16 {
-            walk(&path, out, depth + 1);
-        } else if kind.is_file()
-            && path.extension().is_some_and(|e| e == "xml")
-            && !path.to_string_lossy().ends_with(".lib.xml")
-            && is_checkable(&path)
-        {
+            walk(&path, out, skipped, depth + 1);
+        } else if kind.is_dir() {
+            skipped.push((path, "folder nested deeper than 16 levels".into()));
+        } else if !kind.is_file() {
+            skipped.push((path, "not a regular file".into()));
+        } else if let Some(reason) = skip_reason(&path) {
+            skipped.push((path, reason));
+        } else {
             out.push(path);
         }
     }
 }
 
-/// Files a folder scan picks up: application models and FINROC `make.xml` files.
-fn is_checkable(path: &Path) -> bool {
-    matches!(
-        ferroc_compiler::load::root_element(path).as_deref(),
-        Some("application" | "targets")
-    )
+/// Why a folder scan does not check a file, or `None` for application models and the
+/// FINROC files ferroc reads (make.xml, applications, groups, config files, sync configs).
+fn skip_reason(path: &Path) -> Option<String> {
+    let name = path.to_string_lossy();
+    if name.ends_with(".lib.xml") {
+        return Some("a library manifest (checked where a model uses it)".into());
+    }
+    let finroc_ext = path.extension().is_some_and(|e| e == "finroc");
+    if !finroc_ext && path.extension().is_none_or(|e| e != "xml") {
+        return Some("not an .xml or .finroc file".into());
+    }
+    if ferroc_compiler::finroc::kind_of(path).is_some() {
+        return None;
+    }
+    Some(match ferroc_compiler::load::root_element(path) {
+        Some(r) if r == "application" => return None,
+        Some(r) if r == "fragment" => "a model fragment (checked where a model includes it)".into(),
+        Some(r) => format!("root element <{r}> is neither a ferroc model nor a FINROC file"),
+        None => "no XML root element could be read".into(),
+    })
 }
 
 /// Loader options shared by every command that reads models.
@@ -321,7 +350,10 @@ fn check(args: CheckArgs) -> ExitCode {
         allow: args.allow.clone(),
         deny_warnings: !args.deny.is_empty(),
     };
-    let models = match collect_models(&args.paths) {
+    options.finroc_root = args.finroc_root.clone();
+    options.finroc_prefix = args.finroc_prefix.clone();
+    let mut skipped = Vec::new();
+    let models = match collect_models(&args.paths, &mut skipped) {
         Ok(m) => m,
         Err(e) => {
             eprintln!("error: {e}");
@@ -375,9 +407,18 @@ fn check(args: CheckArgs) -> ExitCode {
                     .map(|(_, r)| r.diagnostics.iter().filter(|d| d.severity == s).count())
                     .sum::<usize>()
             };
+            for (path, why) in &skipped {
+                out.push_str(&format!("skipped {}: {why}\n", path.display()));
+            }
+            for (_, r) in &results {
+                for line in &r.not_checked {
+                    out.push_str(&format!("not checked: {line}\n"));
+                }
+            }
             out.push_str(&format!(
-                "checked {} model(s): {} error(s), {} warning(s), {} note(s)\n",
+                "checked {} file(s), skipped {}: {} error(s), {} warning(s), {} note(s)\n",
                 reports.len(),
+                skipped.len(),
                 count(Severity::Error),
                 count(Severity::Warning),
                 count(Severity::Note)
