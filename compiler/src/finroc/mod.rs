@@ -17,6 +17,7 @@ pub mod make_xml;
 pub mod read;
 pub mod resolve;
 pub mod text;
+pub mod write;
 
 use crate::checks::libraries::{l106_make_cycle, l107_duplicate_make_lib};
 use crate::diagnostic::Diagnostics;
