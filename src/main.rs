@@ -12,6 +12,7 @@ use std::process::ExitCode;
 
 mod bundle;
 mod checked;
+mod finroc;
 mod graph;
 mod interface;
 mod run;
@@ -105,6 +106,12 @@ ferroc graph models/warehouse_fleet.xml --format svg -o fleet.svg"
     Graph(graph::GraphArgs),
     /// The module types built into this binary: list them, export or check their manifests
     Types(types::TypesArgs),
+    /// Import an application from another framework as a ferroc model
+    #[command(subcommand)]
+    Import(finroc::ImportFormat),
+    /// Export a file in another framework's format
+    #[command(subcommand)]
+    Export(finroc::ExportFormat),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -195,6 +202,8 @@ fn main() -> ExitCode {
         Command::Bundle(args) => bundle::run(args),
         Command::Graph(args) => graph::run(args),
         Command::Types(args) => types::run(args),
+        Command::Import(format) => finroc::import(format),
+        Command::Export(format) => finroc::export(format),
         Command::Explain { code, list } => explain(code, list),
     }
 }

@@ -30,7 +30,7 @@ fn finrocs_own_round_trip_file_comes_back_byte_identical() {
     for name in [
         "type_conversion.finroc",
         "type_conversion_group.xml",
-        "CrashCourse.finroc",
+        "crash_course/CrashCourse.finroc",
     ] {
         let text = file(name);
         let (written, diags) = round_trip(&text);
@@ -75,7 +75,7 @@ fn reader_decodes_paths_and_keeps_their_places() {
         "plugins/runtime_construction/tests/type_conversion_group.xml"
     );
     // A legacy file: paths literal, links legacy.
-    let cc = file("CrashCourse.finroc");
+    let cc = file("crash_course/CrashCourse.finroc");
     let root = xml::parse(FileId(0), &cc, 256).unwrap();
     let doc = read::read(FileId(0), &root, &mut diags);
     assert_eq!(doc.version, None);
@@ -127,7 +127,7 @@ proptest! {
         which in 0usize..3, at in 0usize..4000, len in 0usize..60, how in 0u8..8,
         junk in "[<>/%&\"a-z =]{0,12}",
     ) {
-        let name = ["type_conversion.finroc", "type_conversion_group.xml", "CrashCourse.finroc"][which];
+        let name = ["type_conversion.finroc", "type_conversion_group.xml", "crash_course/CrashCourse.finroc"][which];
         let text = mutate(&file(name), at, len, how, &junk);
         if let Ok(root) = xml::parse(FileId(0), &text, 256) {
             let mut diags = Diagnostics::default();

@@ -87,6 +87,9 @@ impl Component {
 #[derive(Default)]
 pub struct Catalogue {
     pub components: HashMap<(String, String), Component>,
+    /// rrlib type name → ferroc type (`double` → `f64`, `rrlib.localization.Pose2D` →
+    /// `finroc_projects_crash_course.Pose2D`), for writing ferroc models.
+    pub ferroc_types: HashMap<String, String>,
 }
 
 impl Catalogue {
@@ -183,10 +186,9 @@ fn manifest(root: &Xml, c: &mut Catalogue) {
                 last.remove(0);
             }
         }
-        named.insert(
-            format!("{library}.{}", t.value("name").unwrap_or_default()),
-            parts.join("."),
-        );
+        let ferroc = format!("{library}.{}", t.value("name").unwrap_or_default());
+        c.ferroc_types.insert(parts.join("."), ferroc.clone());
+        named.insert(ferroc, parts.join("."));
     }
     for m in root.children_named("module-type") {
         let kind = m.value("kind").unwrap_or("module");
@@ -219,10 +221,14 @@ fn manifest(root: &Xml, c: &mut Catalogue) {
                 }
                 _ => continue,
             };
+            let ty = p.value("type").unwrap_or_default();
+            c.ferroc_types
+                .entry(rrlib_type(ty, &named))
+                .or_insert_with(|| ty.to_string());
             component.ports.push(Port {
                 interface: interface.into(),
                 name: finroc_port_name(p.value("name").unwrap_or_default()),
-                ty: rrlib_type(p.value("type").unwrap_or_default(), &named),
+                ty: rrlib_type(ty, &named),
                 unit: p.value("unit").map(str::to_string),
                 output,
             });

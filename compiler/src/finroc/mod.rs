@@ -13,6 +13,7 @@ pub mod catalogue;
 pub mod checkout;
 pub mod config;
 pub mod finstructable;
+pub mod import;
 pub mod make_xml;
 pub mod read;
 pub mod resolve;

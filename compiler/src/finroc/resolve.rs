@@ -245,18 +245,20 @@ impl Scope<'_> {
             .doc
             .interfaces
             .iter()
-            .find(|i| i.name.text == interface)?;
-        Some(match declared.ports.iter().find(|p| p.name.text == port) {
-            Some(p) => End::Port {
-                interface: interface.into(),
-                ty: p.ty.as_ref().map(|t| t.text.clone()),
-                unit: None,
+            .find(|i| i.name.text == interface);
+        Some(
+            match declared.and_then(|d| d.ports.iter().find(|p| p.name.text == port)) {
+                Some(p) => End::Port {
+                    interface: interface.into(),
+                    ty: p.ty.as_ref().map(|t| t.text.clone()),
+                    unit: None,
+                },
+                None => End::Missing(format!(
+                    "`{}` loads {}, which declares no port `{port}` in `{interface}`",
+                    element.name.text,
+                    group.path.display()
+                )),
             },
-            None => End::Missing(format!(
-                "`{}` loads {} whose `{interface}` has no port `{port}`",
-                element.name.text,
-                group.path.display()
-            )),
-        })
+        )
     }
 }

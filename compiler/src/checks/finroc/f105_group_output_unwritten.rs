@@ -71,4 +71,33 @@ pub fn check(ctx: &Context<'_>, facts: &Facts<'_>, out: &mut Diagnostics) {
             }
         }
     }
+    // The group type's own outputs (C++ members, catalogue), in the group's file.
+    let Some(owner) = facts
+        .scope
+        .owner
+        .filter(|o| o.composite && o.xml_file.is_some())
+    else {
+        return;
+    };
+    let unwritten: Vec<String> = owner
+        .ports
+        .iter()
+        .filter(|p| is_output_interface(&p.interface) && !written(&p.interface, &p.name))
+        .map(|p| format!("`{}/{}`", p.interface, p.name))
+        .collect();
+    if !unwritten.is_empty() {
+        out.push(
+            Diagnostic::new(
+                &CHECK,
+                ctx.doc.root_span,
+                format!(
+                    "nothing in group `{}` writes its output(s) {}",
+                    owner.name,
+                    unwritten.join(", ")
+                ),
+            )
+            .label(format!("the group file of `{}` (its C++ constructor writes none of them either)", owner.name))
+            .help("connect an inner output to each, e.g. <edge src=\"Element/Controller Output/…\" dest=\"Controller Output/…\"/>"),
+        );
+    }
 }
