@@ -165,3 +165,30 @@ fn broken_finroc_input_is_reported_at_its_place_never_a_panic() {
     assert!(code <= 1, "{out}{err}");
     assert!(out.contains("b.xml:5:14: error[F102]"), "{out}");
 }
+
+#[test]
+fn a_make_cycle_in_a_folder_finroc_does_not_name_is_found_with_the_prefix_given() {
+    let dir = tempdir("finroc_prefix").join("my checkout");
+    std::fs::create_dir_all(&dir).unwrap();
+    let make = dir.join("make.xml");
+    std::fs::write(
+        &make,
+        "<targets>\n  <library name=\"a\" libs=\"myproj_b\"><sources>a.cpp</sources></library>\n  <library name=\"b\" libs=\"myproj_a\"><sources>b.cpp</sources></library>\n</targets>\n",
+    )
+    .unwrap();
+    let make = make.to_str().unwrap();
+    // The folder's name tells no prefix: the names cannot be resolved, and ferroc says so.
+    let (code, out, _) = ferroc(&["check", make]);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("tells no FINROC target prefix"), "{out}");
+    let (code, out, _) = ferroc(&[
+        "check",
+        make,
+        "--finroc-prefix",
+        "myproj",
+        "--format",
+        "short",
+    ]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("make.xml:2:27: error[L106]"), "{out}");
+}
