@@ -45,8 +45,11 @@ struct Cli {
 enum Command {
     /// Check models and report findings (exit 0 clean, 1 findings that fail, 2 could not run)
     #[command(
-        long_about = "Check one or more application models. Folders are searched for `*.xml` files \
-whose root is <application> (manifests `*.lib.xml` and fragments are skipped).\n\n\
+        long_about = "Check application models and FINROC files (make.xml, .finroc applications, \
+group files, config files, finroc_sync configs; docs/finroc.md). Folders are searched for \
+`*.xml` and `*.finroc` files; every other file found is named with the reason it was skipped \
+(manifests `*.lib.xml` and fragments are checked where they are used), and what could not be \
+checked is listed (human format on stdout, other formats on stderr).\n\n\
 Exit codes: 0 no errors (warnings allowed), 1 errors (or warnings with --deny warnings), 2 ferroc could not run."
     )]
     Check(CheckArgs),
@@ -456,6 +459,17 @@ fn check(args: CheckArgs) -> ExitCode {
             out = serde_json_pretty(&report::sarif::document(&rs));
         }
         Format::Junit => out = report::junit::document(&reports),
+    }
+    if args.format != Format::Human {
+        // Machine formats keep stdout to themselves; what was skipped goes to stderr.
+        for (path, why) in &skipped {
+            eprintln!("skipped {}: {why}", path.display());
+        }
+        for (_, r) in &results {
+            for line in &r.not_checked {
+                eprintln!("not checked: {line}");
+            }
+        }
     }
     let mut stdout = std::io::stdout().lock();
     let _ = stdout.write_all(out.as_bytes());

@@ -138,3 +138,44 @@ proptest! {
         }
     }
 }
+
+/// A checkout holding the crash course's files, one of them mutated, checked as a user
+/// runs `ferroc check`: findings or a read error, never a panic.
+fn check_mutated(which: usize, at: usize, len: usize, how: u8, junk: &str) -> Result<(), String> {
+    use ferroc_compiler::{check_model, load::Options, Policy};
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/finroc_files/crash_course");
+    let files = [
+        "CrashCourse.finroc",
+        "gSimulation.h.xml",
+        "control/gControl.h.xml",
+        "etc/fragile_bot.xml",
+        "make.xml",
+    ];
+    let dir = std::env::temp_dir().join(format!("ferroc-finroc-mut-{}", std::process::id()));
+    for f in files {
+        let to = dir.join(f);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(src.join(f), &to).unwrap();
+    }
+    let target = dir.join(files[which % files.len()]);
+    let text = std::fs::read_to_string(&target).unwrap();
+    std::fs::write(&target, mutate(&text, at, len, how, junk)).unwrap();
+    for f in files {
+        let _ = check_model(&dir.join(f), &Options::default(), &Policy::default())
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// Mutations of any file of a checkout reach every check (resolution across files,
+    /// catalogue, config links) without a panic.
+    #[test]
+    fn mutated_checkouts_check_without_panic(
+        which in 0usize..5, at in 0usize..1500, len in 0usize..40, how in 0u8..8,
+        junk in "[<>/%&\"a-zA-Z ,.=]{0,12}",
+    ) {
+        prop_assert!(check_mutated(which, at, len, how, &junk).is_ok());
+    }
+}
