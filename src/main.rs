@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 mod bundle;
+mod finroc;
 mod graph;
 mod new;
 mod runner;
@@ -42,8 +43,11 @@ struct Cli {
 enum Command {
     /// Check models and report findings (exit 0 clean, 1 findings that fail, 2 could not run)
     #[command(
-        long_about = "Check one or more application models. Folders are searched for `*.xml` files \
-whose root is <application> (manifests `*.lib.xml` and fragments are skipped).\n\n\
+        long_about = "Check application models and FINROC files (make.xml, .finroc applications, \
+group files, config files, finroc_sync configs; docs/finroc.md). Folders are searched for \
+`*.xml` and `*.finroc` files; every other file found is named with the reason it was skipped \
+(manifests `*.lib.xml` and fragments are checked where they are used), and what could not be \
+checked is listed (human format on stdout, other formats on stderr).\n\n\
 Exit codes: 0 no errors (warnings allowed), 1 errors (or warnings with --deny warnings), 2 ferroc could not run."
     )]
     Check(CheckArgs),
@@ -108,6 +112,12 @@ ferroc graph models/warehouse_fleet.xml --format svg -o fleet.svg"
     Types(types::TypesArgs),
     /// Start a library crate (module, manifest, test, model) or a model
     New(new::NewArgs),
+    /// Import an application from another framework as a ferroc model
+    #[command(subcommand)]
+    Import(finroc::ImportFormat),
+    /// Export a file in another framework's format
+    #[command(subcommand)]
+    Export(finroc::ExportFormat),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -153,6 +163,14 @@ unconnected call fails at once (D111)."
     /// Colour in human output: auto, always, never
     #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
     color: ColorChoice,
+    /// FINROC files: the checkout root their group and config files are looked up in
+    /// (default: the nearest folder above holding a make.xml, else the file's folder)
+    #[arg(long, value_name = "DIR")]
+    finroc_root: Option<PathBuf>,
+    /// FINROC make.xml: the checkout's target prefix (`rrlib_math`, `finroc_plugins_ib2c`)
+    /// when the folder name does not tell it
+    #[arg(long, value_name = "PREFIX")]
+    finroc_prefix: Option<String>,
 }
 
 #[derive(Clone, Copy, ValueEnum, PartialEq)]
@@ -191,6 +209,8 @@ fn main() -> ExitCode {
         Command::Graph(args) => graph::run(args),
         Command::Types(args) => runner::types(args),
         Command::New(args) => new::run(args),
+        Command::Import(format) => finroc::import(format),
+        Command::Export(format) => finroc::export(format),
         Command::Explain { code, list } => explain(code, list),
     }
 }
@@ -229,13 +249,17 @@ fn explain(code: Option<String>, list: bool) -> ExitCode {
 }
 
 /// Model files under the given paths: files as given, folders searched recursively
-/// for `*.xml` files whose root element is <application>.
-fn collect_models(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+/// for application models and FINROC files; every other file found is named in
+/// `skipped` with the reason.
+fn collect_models(
+    paths: &[PathBuf],
+    skipped: &mut Vec<(PathBuf, String)>,
+) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
             let mut found = Vec::new();
-            walk(p, &mut found, 0);
+            walk(p, &mut found, skipped, 0);
             found.sort();
             if found.is_empty() {
                 return Err(format!(
@@ -253,8 +277,9 @@ fn collect_models(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     Ok(out)
 }
 
-fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
+fn walk(dir: &Path, out: &mut Vec<PathBuf>, skipped: &mut Vec<(PathBuf, String)>, depth: usize) {
     let Ok(entries) = std::fs::read_dir(dir) else {
+        skipped.push((dir.to_path_buf(), "folder cannot be read".into()));
         return;
     };
     for entry in entries.flatten() {
@@ -266,23 +291,39 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
             continue; // hidden files and folders (.git, editor backups)
         }
         if kind.is_dir() && depth < 16 {
-            walk(&path, out, depth + 1);
-        } else if kind.is_file()
-            && path.extension().is_some_and(|e| e == "xml")
-            && !path.to_string_lossy().ends_with(".lib.xml")
-            && is_checkable(&path)
-        {
+            walk(&path, out, skipped, depth + 1);
+        } else if kind.is_dir() {
+            skipped.push((path, "folder nested deeper than 16 levels".into()));
+        } else if !kind.is_file() {
+            skipped.push((path, "not a regular file".into()));
+        } else if let Some(reason) = skip_reason(&path) {
+            skipped.push((path, reason));
+        } else {
             out.push(path);
         }
     }
 }
 
-/// Files a folder scan picks up: application models and FINROC `make.xml` files.
-fn is_checkable(path: &Path) -> bool {
-    matches!(
-        ferroc_compiler::load::root_element(path).as_deref(),
-        Some("application" | "targets")
-    )
+/// Why a folder scan does not check a file, or `None` for application models and the
+/// FINROC files ferroc reads (make.xml, applications, groups, config files, sync configs).
+fn skip_reason(path: &Path) -> Option<String> {
+    let name = path.to_string_lossy();
+    if name.ends_with(".lib.xml") {
+        return Some("a library manifest (checked where a model uses it)".into());
+    }
+    let finroc_ext = path.extension().is_some_and(|e| e == "finroc");
+    if !finroc_ext && path.extension().is_none_or(|e| e != "xml") {
+        return Some("not an .xml or .finroc file".into());
+    }
+    if ferroc_compiler::finroc::kind_of(path).is_some() {
+        return None;
+    }
+    Some(match ferroc_compiler::load::root_element(path) {
+        Some(r) if r == "application" => return None,
+        Some(r) if r == "fragment" => "a model fragment (checked where a model includes it)".into(),
+        Some(r) => format!("root element <{r}> is neither a ferroc model nor a FINROC file"),
+        None => "no XML root element could be read".into(),
+    })
 }
 
 /// Loader options shared by every command that reads models.
@@ -313,7 +354,10 @@ fn check(args: CheckArgs) -> ExitCode {
         allow: args.allow.clone(),
         deny_warnings: !args.deny.is_empty(),
     };
-    let models = match collect_models(&args.paths) {
+    options.finroc_root = args.finroc_root.clone();
+    options.finroc_prefix = args.finroc_prefix.clone();
+    let mut skipped = Vec::new();
+    let models = match collect_models(&args.paths, &mut skipped) {
         Ok(m) => m,
         Err(e) => {
             eprintln!("error: {e}");
@@ -367,9 +411,18 @@ fn check(args: CheckArgs) -> ExitCode {
                     .map(|(_, r)| r.diagnostics.iter().filter(|d| d.severity == s).count())
                     .sum::<usize>()
             };
+            for (path, why) in &skipped {
+                out.push_str(&format!("skipped {}: {why}\n", path.display()));
+            }
+            for (_, r) in &results {
+                for line in &r.not_checked {
+                    out.push_str(&format!("not checked: {line}\n"));
+                }
+            }
             out.push_str(&format!(
-                "checked {} model(s): {} error(s), {} warning(s), {} note(s)\n",
+                "checked {} file(s), skipped {}: {} error(s), {} warning(s), {} note(s)\n",
                 reports.len(),
+                skipped.len(),
                 count(Severity::Error),
                 count(Severity::Warning),
                 count(Severity::Note)
@@ -398,6 +451,17 @@ fn check(args: CheckArgs) -> ExitCode {
             out = serde_json_pretty(&report::sarif::document(&rs));
         }
         Format::Junit => out = report::junit::document(&reports),
+    }
+    if args.format != Format::Human {
+        // Machine formats keep stdout to themselves; what was skipped goes to stderr.
+        for (path, why) in &skipped {
+            eprintln!("skipped {}: {why}", path.display());
+        }
+        for (_, r) in &results {
+            for line in &r.not_checked {
+                eprintln!("not checked: {line}");
+            }
+        }
     }
     let mut stdout = std::io::stdout().lock();
     let _ = stdout.write_all(out.as_bytes());

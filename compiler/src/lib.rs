@@ -32,6 +32,9 @@ pub struct CheckResult {
     pub diagnostics: Vec<Diagnostic>,
     pub app: Option<ir::Application>,
     pub libraries: library::LibrarySet,
+    /// What was not checked and why (FINROC files: types not in the catalogue, links
+    /// without a config file), one sentence each.
+    pub not_checked: Vec<String>,
     /// The syntax trees, handed back rather than dropped here: for a large model freeing
     /// them is a noticeable part of the run, and a short-lived caller (the CLI) can skip it.
     pub syntax: Option<load::ModelFiles>,
@@ -51,12 +54,15 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
     let mut sources = SourceMap::default();
     let mut diags = Diagnostics::default();
     let mut loader = Loader::new(&mut sources, &mut diags, options);
-    // A FINROC build description (make.xml) is checked as such: there is no model.
-    let model = if finroc::is_make_file(path) {
-        finroc::check_make_file(&mut loader, path)?;
-        None
-    } else {
-        loader.load_model(path)?
+    // A FINROC file (make.xml, application, group, config) is checked as such: there is
+    // no model.
+    let mut not_checked = Vec::new();
+    let model = match finroc::kind_of(path) {
+        Some(kind) => {
+            not_checked = finroc::check_file(&mut loader, path, kind)?;
+            None
+        }
+        None => loader.load_model(path)?,
     };
     let mut app = None;
     let mut libraries = library::LibrarySet::default();
@@ -136,6 +142,7 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
         diagnostics: items,
         app,
         libraries,
+        not_checked,
         syntax: model,
     })
 }

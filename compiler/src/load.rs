@@ -47,6 +47,10 @@ pub struct Options {
     /// profile>` says (`ferroc check --profile`: audit a configuration as another
     /// framework would run it).
     pub profile: Option<crate::ir::Profile>,
+    /// The root of the FINROC checkout FINROC files are resolved in (`--finroc-root`).
+    pub finroc_root: Option<PathBuf>,
+    /// The FINROC target prefix of make.xml files (`--finroc-prefix`, e.g. `rrlib_math`).
+    pub finroc_prefix: Option<String>,
 }
 
 /// A model file and the fragments it includes.

@@ -21,6 +21,7 @@ pub mod behaviour;
 pub mod connections;
 pub mod deadlocks;
 pub mod deployment;
+pub mod finroc;
 pub mod libraries;
 pub mod model;
 pub mod parameters;
@@ -187,6 +188,17 @@ registry![
     deployment::x103_host_label_conflict,
     deployment::x104_pointless_connection_settings,
     deployment::x105_bundle_output_collision,
+    finroc::f101_finroc_structure,
+    finroc::f102_edge_end_missing,
+    finroc::f103_duplicate_edge,
+    finroc::f104_sensor_controller_mix,
+    finroc::f105_group_output_unwritten,
+    finroc::f106_config_value_unparsable,
+    finroc::f107_lookup_keys_not_monotonic,
+    finroc::f108_config_link_missing,
+    finroc::f109_dependency_missing,
+    finroc::f110_unknown_component_type,
+    finroc::f111_edge_type_mismatch,
 ];
 
 /// Looks a check up by code (`t102` works too) or by name.
@@ -217,7 +229,7 @@ mod tests {
             assert!(seen.insert(c.code), "duplicate code {}", c.code);
             assert!(seen.insert(c.name), "duplicate name {}", c.name);
             let mut chars = c.code.chars();
-            assert!("MTPLBDSX".contains(chars.next().unwrap()), "{}", c.code);
+            assert!("MTPLBDSXF".contains(chars.next().unwrap()), "{}", c.code);
             assert!(
                 c.code.len() == 4 && chars.all(|d| d.is_ascii_digit()),
                 "{}",

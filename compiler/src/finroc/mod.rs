@@ -1,39 +1,130 @@
 //! FINROC files checked as they are (the "audit existing configurations" job).
 //!
-//! For now: build descriptions (`make.xml`), whose targets depend on each other through
-//! `libs`/`optionallibs` (checks L106 and L107). FINROC application models
-//! (`<Finstructable>`) are not read yet.
+//! - `make_xml.rs`: build descriptions (`make.xml`), checks L106 and L107;
+//! - `finstructable.rs`, `read.rs`: application and group files (`*.finroc`, `*.h.xml`,
+//!   `*.cpp.xml`), `config.rs`: config files, `text.rs`: FINROC's name and path rules;
+//! - `checkout.rs`: the files around the one checked (groups, config files);
+//! - `catalogue.rs`: FINROC component types (ports, types, units, C++-built content);
+//! - the checks themselves live in `checks/finroc/` (area F).
+//!
+//! `check_model` hands every FINROC file here instead of the model pipeline.
 
+pub mod catalogue;
+pub mod checkout;
+pub mod config;
+pub mod finstructable;
+pub mod import;
 pub mod make_xml;
+pub mod read;
+pub mod resolve;
+pub mod text;
+pub mod write;
 
 use crate::checks::libraries::{l106_make_cycle, l107_duplicate_make_lib};
 use crate::diagnostic::Diagnostics;
 use crate::load::{root_element, Loader};
 use std::path::Path;
 
-/// Whether `path` is a FINROC build description: its root element is `<targets>`, or it is
-/// named `make.xml` (as FINROC finds them) and is not a ferroc `<application>`.
-pub fn is_make_file(path: &Path) -> bool {
-    let named = path
-        .file_name()
-        .is_some_and(|n| n.eq_ignore_ascii_case("make.xml"));
-    match root_element(path).as_deref() {
-        Some("targets") => true,
-        Some("application") => false,
-        _ => named,
+/// The kinds of FINROC file the front end reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// `make.xml`: build targets.
+    Make,
+    /// An application (`*.finroc`) or group file: root `<Finstructable>` or
+    /// `<FinstructableGroup>` (FINROC does not check the name).
+    Structure,
+    /// A parameter config file: root `<root>`.
+    Config,
+    /// A `finroc_sync` deployment description: root `<sync_config>`.
+    SyncConfig,
+}
+
+impl Kind {
+    pub fn describe(self) -> &'static str {
+        match self {
+            Kind::Make => "FINROC make.xml",
+            Kind::Structure => "FINROC application/group",
+            Kind::Config => "FINROC config file",
+            Kind::SyncConfig => "finroc_sync deployment config",
+        }
     }
 }
 
-/// Reads one `make.xml` and runs the make-file checks; findings go to the loader's
-/// diagnostics. `Err` only when the file cannot be read (as for a model).
-pub fn check_make_file(loader: &mut Loader<'_>, path: &Path) -> Result<(), String> {
-    let (file, root) = loader.load_make_file(path)?;
-    if let Some(root) = root {
-        let prefix = make_xml::target_prefix(&loader.sources.get(file).path);
-        let make = make_xml::read(file, &root, prefix.as_deref());
-        check_make(&make, loader.diags);
+/// What kind of FINROC file `path` is, by its root element (a `.finroc` file or one
+/// named `make.xml` also when its XML is broken, so that the breakage is reported).
+pub fn kind_of(path: &Path) -> Option<Kind> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    match root_element(path).as_deref() {
+        Some("targets") => Some(Kind::Make),
+        Some("Finstructable" | "FinstructableGroup") => Some(Kind::Structure),
+        Some("root") => Some(Kind::Config),
+        Some("sync_config") => Some(Kind::SyncConfig),
+        Some("application") => None,
+        _ if name == "make.xml" => Some(Kind::Make),
+        _ if name.ends_with(".finroc") => Some(Kind::Structure),
+        _ => None,
     }
-    Ok(())
+}
+
+/// Whether `path` is a FINROC build description.
+pub fn is_make_file(path: &Path) -> bool {
+    kind_of(path) == Some(Kind::Make)
+}
+
+/// Checks one FINROC file; findings go to the loader's diagnostics. Returns what was
+/// not checked and why (one sentence each). `Err` only when the file cannot be read.
+pub fn check_file(loader: &mut Loader<'_>, path: &Path, kind: Kind) -> Result<Vec<String>, String> {
+    let (file, root) = loader.load_make_file(path)?;
+    let Some(root) = root else {
+        return Ok(vec![format!(
+            "{}: not well-formed XML, nothing else checked",
+            path.display()
+        )]);
+    };
+    let mut not_checked = Vec::new();
+    match kind {
+        Kind::Make => {
+            let prefix = loader
+                .options
+                .finroc_prefix
+                .clone()
+                .or_else(|| make_xml::target_prefix(&loader.sources.get(file).path));
+            let make = make_xml::read(file, &root, prefix.as_deref());
+            if prefix.is_none() {
+                not_checked.push(format!(
+                    "{}: its folder tells no FINROC target prefix, so only names FINROC forms without one resolve (give it with --finroc-prefix)",
+                    path.display()
+                ));
+            }
+            check_make(&make, loader.diags);
+        }
+        Kind::Config => {
+            let cfg = config::read(file, &root, loader.diags);
+            crate::checks::finroc::check_config(&cfg, loader.diags);
+        }
+        Kind::Structure => {
+            let doc = read::read(file, &root, loader.diags);
+            let root_dir = checkout::Checkout::root_of(path, loader.options.finroc_root.as_deref());
+            let checkout =
+                checkout::Checkout::discover(&root_dir, path, &loader.options.limits, loader.sources);
+            let ctx = crate::checks::finroc::Context {
+                doc: &doc,
+                path,
+                checkout: &checkout,
+                catalogue: catalogue::builtin(),
+                sources: loader.sources,
+            };
+            crate::checks::finroc::check_structure(&ctx, loader.diags, &mut not_checked);
+        }
+        Kind::SyncConfig => not_checked.push(format!(
+            "{}: a finroc_sync deployment config; only its XML was checked (no ferroc check applies)",
+            path.display()
+        )),
+    }
+    Ok(not_checked)
 }
 
 /// Runs every make-file check on the targets of one `make.xml`.

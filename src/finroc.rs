@@ -1,0 +1,184 @@
+//! `ferroc import finroc` and `ferroc export finroc`: FINROC applications in and out.
+
+use ferroc_compiler::diagnostic::Diagnostics;
+use ferroc_compiler::finroc::{catalogue, checkout::Checkout, import, read, write};
+use ferroc_compiler::load::{read_text, Limits};
+use ferroc_compiler::source::SourceMap;
+use ferroc_compiler::syntax::xml;
+use std::path::{Component, Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(clap::Subcommand)]
+pub enum ImportFormat {
+    /// A FINROC application (.finroc) as a ferroc model, with the catalogue manifests it
+    /// uses written beside it
+    #[command(
+        long_about = "Read a FINROC application (.finroc), the group files and config files \
+of its checkout (the nearest folder above holding a make.xml, or --finroc-root), and write a \
+ferroc model: the thread container finroc_run makes, a <module> per element whose type the \
+catalogue knows, a <group> per composite (what its C++ constructor builds and its group file \
+adds), <connect> per edge, <param config cmdline> per parameter link. The catalogue manifests \
+the model uses are written next to it. What cannot be imported is listed on stderr.\n\n\
+Example:\n  ferroc import finroc CrashCourse.finroc -o crash_course/model.xml\n  ferroc check crash_course/model.xml"
+    )]
+    Finroc(ImportArgs),
+}
+
+#[derive(clap::Args)]
+pub struct ImportArgs {
+    /// The .finroc file
+    input: PathBuf,
+    /// The model file to write
+    #[arg(short, long)]
+    output: PathBuf,
+    /// The FINROC checkout the application's group and config files are in
+    #[arg(long, value_name = "DIR")]
+    finroc_root: Option<PathBuf>,
+}
+
+#[derive(clap::Subcommand)]
+pub enum ExportFormat {
+    /// Write a FINROC application or group file as FINROC's writer does (an unchanged
+    /// FINROC-written file comes back byte for byte)
+    Finroc(ExportArgs),
+}
+
+#[derive(clap::Args)]
+pub struct ExportArgs {
+    /// A FINROC application or group file
+    input: PathBuf,
+    /// Where to write it (`-` for standard output)
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+/// Reads a FINROC application or group file; parse problems are printed (short form).
+fn read_doc(
+    path: &Path,
+    sources: &mut SourceMap,
+) -> Result<ferroc_compiler::finroc::finstructable::Finstructable, ExitCode> {
+    let limits = Limits::default();
+    let text = read_text(path, &limits).map_err(|e| {
+        eprintln!("error: cannot read {}: {e}", path.display());
+        ExitCode::from(2)
+    })?;
+    let file = sources.add(path.display().to_string(), path.to_path_buf(), text);
+    let root = xml::parse(file, &sources.get(file).text, limits.max_depth).map_err(|e| {
+        let (f, l, c) = sources.location(e.span);
+        eprintln!("{f}:{l}:{c}: error[M101]: {}", e.message);
+        ExitCode::from(1)
+    })?;
+    if !matches!(root.name.as_str(), "Finstructable" | "FinstructableGroup") {
+        let (f, l, c) = sources.location(root.name_span);
+        eprintln!("{f}:{l}:{c}: error: <{}> is not a FINROC application or group file (root <Finstructable>)", root.name);
+        return Err(ExitCode::from(1));
+    }
+    let mut diags = Diagnostics::default();
+    let doc = read::read(file, &root, &mut diags);
+    for d in &diags.items {
+        let (f, l, c) = sources.location(d.primary.span);
+        eprintln!(
+            "{f}:{l}:{c}: {}[{}]: {}",
+            d.severity.as_str(),
+            d.code(),
+            d.message
+        );
+    }
+    Ok(doc)
+}
+
+/// `to` relative to the folder `from` (both made absolute).
+fn relative(to: &Path, from: &Path) -> PathBuf {
+    let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let (to, from) = (abs(to), abs(from));
+    let t: Vec<Component> = to.components().collect();
+    let f: Vec<Component> = from.components().collect();
+    let common = t.iter().zip(&f).take_while(|(a, b)| a == b).count();
+    let mut out = PathBuf::new();
+    for _ in common..f.len() {
+        out.push("..");
+    }
+    for c in &t[common..] {
+        out.push(c);
+    }
+    out
+}
+
+pub fn import(format: ImportFormat) -> ExitCode {
+    let ImportFormat::Finroc(args) = format;
+    let mut sources = SourceMap::default();
+    let doc = match read_doc(&args.input, &mut sources) {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
+    let root = Checkout::root_of(&args.input, args.finroc_root.as_deref());
+    let checkout = Checkout::discover(&root, &args.input, &Limits::default(), &mut sources);
+    let out_dir = args
+        .output
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_default();
+    let config_ref = |c: &ferroc_compiler::finroc::config::ConfigFile| {
+        relative(&sources.get(c.file).path, &out_dir)
+            .display()
+            .to_string()
+    };
+    let name = doc
+        .defaultname
+        .as_ref()
+        .map(|d| d.text.clone())
+        .unwrap_or_else(|| {
+            args.input
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        });
+    let imported = import::import(&doc, &name, catalogue::builtin(), &checkout, &config_ref);
+    if !out_dir.as_os_str().is_empty() {
+        if let Err(e) = std::fs::create_dir_all(&out_dir) {
+            eprintln!("error: cannot create {}: {e}", out_dir.display());
+            return ExitCode::from(2);
+        }
+    }
+    let mut writes = vec![(args.output.clone(), imported.model.clone())];
+    for lib in &imported.libraries {
+        let file = format!("{lib}.lib.xml");
+        if let Some((_, text)) = catalogue::FILES.iter().find(|(n, _)| *n == file) {
+            writes.push((out_dir.join(&file), text.to_string()));
+        }
+    }
+    for (path, text) in writes {
+        if let Err(e) = std::fs::write(&path, text) {
+            eprintln!("error: cannot write {}: {e}", path.display());
+            return ExitCode::from(2);
+        }
+        eprintln!("wrote {}", path.display());
+    }
+    for n in &imported.notes {
+        eprintln!("not imported: {n}");
+    }
+    ExitCode::SUCCESS
+}
+
+pub fn export(format: ExportFormat) -> ExitCode {
+    let ExportFormat::Finroc(args) = format;
+    let mut sources = SourceMap::default();
+    let doc = match read_doc(&args.input, &mut sources) {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
+    let text = write::write(&doc);
+    let result = if args.output == Path::new("-") {
+        use std::io::Write;
+        std::io::stdout().lock().write_all(text.as_bytes())
+    } else {
+        std::fs::write(&args.output, text)
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: cannot write {}: {e}", args.output.display());
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,194 @@
+//! `ferroc check`, `import finroc` and `export finroc` on FINROC files: the crash
+//! course checkout (compiler/tests/finroc_files, copied from FINROC 17.03, see
+//! ORIGIN.md), FINROC's round-trip test file, and broken input.
+
+mod common;
+
+use common::{ferroc, tempdir};
+use std::path::Path;
+
+const FILES: &str = "compiler/tests/finroc_files";
+
+#[test]
+fn importing_the_crash_course_gives_a_model_that_checks_clean() {
+    let dir = tempdir("finroc_import");
+    let model = dir.join("cc/model.xml");
+    let (code, _, err) = ferroc(&[
+        "import",
+        "finroc",
+        &format!("{FILES}/crash_course/CrashCourse.finroc"),
+        "-o",
+        model.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("not imported"), "{err}");
+    let text = std::fs::read_to_string(&model).unwrap();
+    // What the C++ constructor of Simulation builds, what gSimulation.h.xml adds, the edges
+    // of CrashCourse.finroc and the parameter links with the config file and option.
+    for want in [
+        "<module name=\"mainsimulation\" type=\"finroc_projects_crash_course.MainSimulation\">",
+        "<module name=\"addnoise_rear\" type=\"finroc_projects_crash_course.AddNoise\">",
+        "<connect from=\"addnoise_rear/output\" to=\"ir_distance_rear\"/>",
+        "<connect from=\"control/velocity\" to=\"simulation/velocity\"/>",
+        "fragile_bot.xml#/noiselevel\" cmdline=\"front-noise\"",
+    ] {
+        assert!(text.contains(want), "{want} missing in\n{text}");
+    }
+    assert!(dir
+        .join("cc/finroc_projects_crash_course.lib.xml")
+        .is_file());
+    let (code, out, err) = ferroc(&["check", model.to_str().unwrap(), "--format", "short"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        !out.contains("error[") && !out.contains("warning["),
+        "{out}"
+    );
+}
+
+#[test]
+fn exporting_finrocs_round_trip_file_is_byte_identical() {
+    let dir = tempdir("finroc_export");
+    for name in [
+        "type_conversion.finroc",
+        "type_conversion_group.xml",
+        "crash_course/CrashCourse.finroc",
+    ] {
+        let input = Path::new(FILES).join(name);
+        let output = dir.join("out.finroc");
+        let (code, _, err) = ferroc(&[
+            "export",
+            "finroc",
+            input.to_str().unwrap(),
+            "-o",
+            output.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        assert_eq!(
+            std::fs::read(&output).unwrap(),
+            std::fs::read(&input).unwrap(),
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn checking_a_checkout_resolves_files_and_names_what_it_skipped() {
+    let dir = tempdir("finroc_checkout");
+    let src = Path::new(FILES).join("crash_course");
+    for f in [
+        "CrashCourse.finroc",
+        "gSimulation.h.xml",
+        "control/gControl.h.xml",
+        "etc/fragile_bot.xml",
+        "make.xml",
+    ] {
+        let to = dir.join(f);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(src.join(f), &to).unwrap();
+    }
+    std::fs::write(dir.join("README.txt"), "notes").unwrap();
+    std::fs::write(dir.join("etc/crash_course.fingui"), "<fingui/>").unwrap();
+    std::fs::write(dir.join("other.xml"), "<launch/>").unwrap();
+    let (code, out, err) = ferroc(&["check", dir.to_str().unwrap(), "--color", "never"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        out.contains("README.txt: not an .xml or .finroc file"),
+        "{out}"
+    );
+    assert!(
+        out.contains("crash_course.fingui: not an .xml or .finroc file"),
+        "{out}"
+    );
+    assert!(
+        out.contains(
+            "other.xml: root element <launch> is neither a ferroc model nor a FINROC file"
+        ),
+        "{out}"
+    );
+    assert!(out.contains("checked 5 file(s), skipped 3"), "{out}");
+    // Resolved against each other: the link to the config file and the group file of Control.
+    assert!(
+        out.contains("`0.1` has no unit, but `Destructive Collision Speed` is measured in m/s"),
+        "{out}"
+    );
+    assert!(
+        out.contains("nothing in group `Control` writes its output(s)"),
+        "{out}"
+    );
+    // The make.xml prefix can be given.
+    let (_, out, _) = ferroc(&[
+        "check",
+        dir.join("make.xml").to_str().unwrap(),
+        "--finroc-prefix",
+        "finroc_projects_crash_course",
+    ]);
+    assert!(!out.contains("not checked"), "{out}");
+}
+
+#[test]
+fn broken_finroc_input_is_reported_at_its_place_never_a_panic() {
+    let dir = tempdir("finroc_broken");
+    let cases = [
+        ("truncated.finroc", "<Finstructable>\n  <edge src=\"A/Output/x\"", "truncated.finroc:2:", 1),
+        ("escape.finroc", "<Finstructable version=\"1703\">\n  <edge src=\"A/Output/x%G1\" dest=\"B/Input/y\"/>\n</Finstructable>\n", "escape.finroc:2:24: error[F101]", 1),
+        ("cfg.xml", "<root>\n  <value name=\"k\">1,5 m</value>\n</root>\n", "cfg.xml:2:19: error[F106]", 1),
+        ("notfinroc.finroc", "<html><body/></html>", "notfinroc.finroc", 0),
+    ];
+    for (name, text, want, exit) in cases {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        let (code, out, err) = ferroc(&["check", p.to_str().unwrap(), "--format", "short"]);
+        assert!(code == exit || code == 1, "{name}: exit {code}\n{out}{err}");
+        assert!(code != 101 && !err.contains("panicked"), "{name}: {err}");
+        assert!(
+            out.contains(want) || err.contains(want),
+            "{name}: {out}{err}"
+        );
+    }
+    // A cycle of groups loading each other's files is read without looping.
+    std::fs::write(
+        dir.join("a.xml"),
+        "<Finstructable dependencies=\"finroc_plugins_structure\">\n  <element name=\"B\" group=\"finroc_plugins_structure\" type=\"Group\">\n    <parameters><parameter name=\"XML file\">b.xml</parameter></parameters>\n  </element>\n</Finstructable>\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("b.xml"),
+        "<Finstructable dependencies=\"finroc_plugins_structure\">\n  <element name=\"A\" group=\"finroc_plugins_structure\" type=\"Group\">\n    <parameters><parameter name=\"XML file\">a.xml</parameter></parameters>\n  </element>\n  <edge src=\"A/Output/x\" dest=\"A/Input/y\"/>\n</Finstructable>\n",
+    )
+    .unwrap();
+    let (code, out, err) = ferroc(&[
+        "check",
+        dir.join("b.xml").to_str().unwrap(),
+        "--format",
+        "short",
+    ]);
+    assert!(code <= 1, "{out}{err}");
+    assert!(out.contains("b.xml:5:14: error[F102]"), "{out}");
+}
+
+#[test]
+fn a_make_cycle_in_a_folder_finroc_does_not_name_is_found_with_the_prefix_given() {
+    let dir = tempdir("finroc_prefix").join("my checkout");
+    std::fs::create_dir_all(&dir).unwrap();
+    let make = dir.join("make.xml");
+    std::fs::write(
+        &make,
+        "<targets>\n  <library name=\"a\" libs=\"myproj_b\"><sources>a.cpp</sources></library>\n  <library name=\"b\" libs=\"myproj_a\"><sources>b.cpp</sources></library>\n</targets>\n",
+    )
+    .unwrap();
+    let make = make.to_str().unwrap();
+    // The folder's name tells no prefix: the names cannot be resolved, and ferroc says so.
+    let (code, out, _) = ferroc(&["check", make]);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("tells no FINROC target prefix"), "{out}");
+    let (code, out, _) = ferroc(&[
+        "check",
+        make,
+        "--finroc-prefix",
+        "myproj",
+        "--format",
+        "short",
+    ]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("make.xml:2:27: error[L106]"), "{out}");
+}
