@@ -63,6 +63,11 @@ pub const ROOT_ATTRS: &[&str] = &[
 ];
 
 pub const ON_FULL: &[&str] = &["block", "drop-oldest", "drop-newest"];
+/// What a queue does when full if `on-full=` is not written (the language's default).
+/// The deadlock analysis, the plan `ferroc run` executes and the bundles all read it
+/// through [`Connection::on_full_policy`](crate::ir::Connection::on_full_policy), so
+/// the checked behaviour and the run behaviour cannot differ.
+pub const DEFAULT_ON_FULL: &str = "drop-oldest";
 pub const DIRECTIONS: &[&str] = &["in", "out"];
 pub const PROFILES: &[&str] = &["generic", "finroc"];
 pub const MODULE_KINDS: &[&str] = &["module", "sense-control", "behaviour", "fusion"];

@@ -466,4 +466,6 @@ mod lock_tests;
 #[cfg(test)]
 mod service_tests;
 #[cfg(test)]
+mod stop_tests;
+#[cfg(test)]
 mod tests;

@@ -84,6 +84,7 @@ impl RunningApp {
         let join = std::thread::Builder::new()
             .name("lockstep".into())
             .spawn(move || {
+                crate::container::stopping::watch(Arc::clone(&stop));
                 if let Some(why) = driver(&stop) {
                     let _ = reason.set(why);
                 }
@@ -221,6 +222,29 @@ impl RunningApp {
             c.join();
         }
         self.hub.close();
+    }
+
+    /// Waits until every container has ended, but no longer than `grace`; returns the
+    /// paths of those still running then, which are left behind (their threads end
+    /// with the process). A step that never returns (a module looping or blocked
+    /// outside the port core) must not keep a stopped run from exiting.
+    pub fn join_within(&mut self, grace: Duration) -> Vec<String> {
+        let deadline = std::time::Instant::now() + grace;
+        while self.containers.iter().any(|c| !c.is_finished())
+            && std::time::Instant::now() < deadline
+        {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let mut stuck = Vec::new();
+        for c in self.containers.drain(..) {
+            if c.is_finished() {
+                c.join();
+            } else {
+                stuck.push(c.stats.name.clone());
+            }
+        }
+        self.hub.close();
+        stuck
     }
 
     /// Waits until every container ended or `timeout` passed; true if all ended.

@@ -20,6 +20,7 @@
 mod clock;
 mod os;
 mod stats;
+pub(crate) mod stopping;
 
 pub use clock::{Clock, ManualClock, SystemClock};
 pub use os::pin_current_thread;
@@ -190,7 +191,7 @@ impl ThreadContainer {
                     if !more(done) {
                         break;
                     }
-                    self.clock.sleep_until(deadline);
+                    self.clock.sleep_until_or_stop(deadline, stop);
                     deadline += period;
                 }
             }
@@ -243,6 +244,7 @@ impl ThreadContainer {
                     let _ = warn_tx.send(warning);
                 }
                 drop(warn_tx);
+                stopping::watch(Arc::clone(&stop));
                 self.run(&stop, limit);
             })?;
         let warnings = warn_rx.iter().collect();
@@ -276,11 +278,14 @@ impl RunningContainer {
         }
     }
 
-    /// Wakes a data-triggered container so that it sees a stop flag set by the caller.
+    /// Wakes the container so that it sees a stop flag set by the caller: a
+    /// data-triggered one waiting for data, a periodic one sleeping until its next
+    /// deadline (which may be a long period away).
     pub fn nudge(&self) {
         if let Some(w) = &self.wakeup {
             crate::port::Notify::notify(&**w);
         }
+        self.join.thread().unpark();
     }
 
     /// Whether it runs when data arrives (rather than by the clock).
