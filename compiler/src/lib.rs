@@ -52,7 +52,18 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
     let mut diags = Diagnostics::default();
     let mut loader = Loader::new(&mut sources, &mut diags, options);
     // A FINROC build description (make.xml) is checked as such: there is no model.
-    let model = if finroc::is_make_file(path) {
+    // Standard input is read once here to see its root element (a pipe cannot be
+    // read twice).
+    let make = if load::is_stdin(path) {
+        let text = load::read_bounded(std::io::stdin().lock(), &options.limits)
+            .map_err(|r| format!("cannot read {}: {r}", path.display()))?;
+        let root = load::root_element_of(text.as_bytes());
+        loader.set_stdin_text(text);
+        root.as_deref() == Some("targets")
+    } else {
+        finroc::is_make_file(path)
+    };
+    let model = if make {
         finroc::check_make_file(&mut loader, path)?;
         None
     } else {
