@@ -81,10 +81,11 @@ fn by_library() -> BTreeMap<String, Vec<Interface>> {
 }
 
 fn list() -> ExitCode {
+    let mut out = String::new();
     for (_, types) in by_library() {
         for t in types {
-            println!(
-                "{:<32} {:<14} {} ({} ports, {} parameters)",
+            out += &format!(
+                "{:<32} {:<14} {} ({} ports, {} parameters)\n",
                 t.name,
                 t.kind.as_str(),
                 t.rust,
@@ -93,7 +94,7 @@ fn list() -> ExitCode {
             );
         }
     }
-    ExitCode::SUCCESS
+    crate::output::stdout_then(out.as_bytes(), ExitCode::SUCCESS)
 }
 
 fn export(args: ExportArgs) -> ExitCode {
@@ -155,7 +156,11 @@ fn export(args: ExportArgs) -> ExitCode {
             .collect();
         let text = manifest_xml::library_xml(name, &rewrite, existing);
         match &args.output {
-            None => print!("{text}"),
+            None => {
+                if let Err(failed) = crate::output::stdout(text.as_bytes()) {
+                    return failed;
+                }
+            }
             Some(dir) => match write_atomically(dir, &format!("{name}.lib.xml"), &text) {
                 Ok(path) => written.push((path, rewrite.len())),
                 Err(e) => {
