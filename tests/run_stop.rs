@@ -86,3 +86,52 @@ fn sigterm_stops_a_run_of_that_model() {
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("stopped (interrupted)"), "{err}");
 }
+
+/// A fast container and a once-a-minute one: `--cycles` counts the application's cycles (the
+/// fast one's), and `--for` does not wait for the slow container's next deadline.
+const SLOW: &str = r#"<application name="slow" version="1">
+  <use library="ferroc_std"/>
+  <part name="p">
+    <thread name="fast" period="10ms">
+      <module name="c" type="ferroc_std.Constant"/>
+    </thread>
+    <thread name="slow" period="60s">
+      <module name="s" type="ferroc_std.Constant"/>
+    </thread>
+  </part>
+  <allow code="T110" reason="nothing to connect"/>
+</application>
+"#;
+
+#[test]
+fn cycles_count_the_application_and_a_slow_container_stops_with_it() {
+    let dir = tempdir("run_stop_cycles");
+    let model = dir.join("slow.xml");
+    std::fs::write(&model, SLOW).unwrap();
+    for args in [["--cycles", "5"], ["--for", "200ms"]] {
+        let mut run = vec!["run", model.to_str().unwrap(), "-q"];
+        run.extend(args);
+        let mut child = start(&run);
+        let (code, err) = wait_bounded(&mut child, Duration::from_secs(300));
+        assert_eq!(code, 0, "{err}");
+        // The slow container ran its first cycle and was stopped in its sleep.
+        assert!(err.contains("p/slow: 1 cycles"), "{err}");
+        if args[0] == "--cycles" {
+            assert!(err.contains("p/fast: 5 cycles"), "{err}");
+        }
+    }
+    // In lockstep exactly: the instants before 5 × 10 ms.
+    let mut child = start(&[
+        "run",
+        model.to_str().unwrap(),
+        "--lockstep",
+        "--cycles",
+        "5",
+    ]);
+    let (code, err) = wait_bounded(&mut child, Duration::from_secs(300));
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("p/fast: 5 cycles") && err.contains("p/slow: 1 cycles"),
+        "{err}"
+    );
+}

@@ -147,7 +147,8 @@ fn status_line(app: &RunningApp, elapsed: Duration) -> String {
 /// The command line of a generated program.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Args {
-    /// `--cycles N`: stop after N cycles of every thread container.
+    /// `--cycles N`: stop after N cycles of the application (of its fastest periodic
+    /// thread containers, see [`crate::builder::cycles_of`]).
     pub cycles: Option<u64>,
     /// `--for DURATION`: stop after this long.
     pub duration: Option<Duration>,
@@ -294,7 +295,8 @@ fn usage(program: &str) -> String {
     format!(
         "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--local] [--peer PART=HOST:PORT]... [--quiet]\n\n\
          Options:\n  \
-         --cycles N        stop after N cycles of every thread container\n  \
+         --cycles N        stop after N cycles of the application: of its fastest\n                    \
+         periodic thread containers; slower ones run until then\n  \
          --for DURATION    stop after this long: 500ms, 10s, 2min, 1h (model time in\n                    \
          lockstep)\n  \
          --lockstep        run in simulated time, in step with the other parts: the same\n                    \

@@ -21,7 +21,7 @@ mod start;
 pub use convert::{Conversion, Select};
 pub use lockstep::Lockstep;
 pub use registry::Registry;
-pub use running::{ContainerStatus, RunningApp};
+pub use running::{cycles_of, ContainerStatus, RunningApp};
 pub use start::StartOptions;
 
 use crate::behaviour::{ViolationLog, ViolationPolicy};

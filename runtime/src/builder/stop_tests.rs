@@ -3,6 +3,7 @@
 //! returns is left behind and named, instead of hanging the caller.
 
 use super::*;
+use crate::container::Trigger;
 use crate::module::{In, ModuleType, Out};
 use crate::port::{OnFull, QueueConfig};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -166,4 +167,86 @@ fn a_step_that_never_returns_is_named_and_left_behind() {
     let stuck = app.join_within(Duration::from_millis(200));
     RELEASE.store(true, Ordering::Relaxed);
     assert_eq!(stuck, ["p/t"]);
+}
+
+/// `--cycles N` is N cycles of the application's fastest periodic containers: with a
+/// 25 ms, a 1 s and a 40 ms container and N = 80, the 25 ms one runs 80 and ends the
+/// run, the others run until then (not 80 each, which kept the 1 s one running for 78 s
+/// after the fast one stopped).
+#[test]
+fn the_cycle_limit_counts_cycles_of_the_application() {
+    let ms = Duration::from_millis;
+    let data = Trigger::Data(crate::port::Wakeup::new());
+    let mixed = [
+        Trigger::Periodic(ms(25)),
+        Trigger::Periodic(ms(1000)),
+        Trigger::Periodic(ms(40)),
+        Trigger::Continuous,
+        data.clone(),
+    ];
+    assert_eq!(
+        cycles_of(&mixed, Some(80)),
+        [
+            (Some(80), true),
+            (None, false),
+            (None, false),
+            (None, false),
+            (None, false)
+        ]
+    );
+    assert_eq!(cycles_of(&mixed, None)[0], (None, true));
+    // Without periodic containers: continuous ones count, else data-triggered ones.
+    let unclocked = [Trigger::Continuous, data.clone()];
+    assert_eq!(
+        cycles_of(&unclocked, Some(5)),
+        [(Some(5), true), (None, false)]
+    );
+    assert_eq!(cycles_of(&[data], Some(5)), [(Some(5), true)]);
+}
+
+/// Free-running, a slow container stops with the fast one, having run about its
+/// share (its exact count depends on the machine; in lockstep it is exact).
+#[test]
+fn a_slow_container_stops_with_the_fast_one() {
+    let registry = registry();
+    let mut b = Builder::new(&registry);
+    module(&mut b, "p/fast/c", "stop.Counter", &[]);
+    module(&mut b, "p/slow/c", "stop.Counter", &[]);
+    b.add_thread(thread("p/fast", Duration::from_millis(2), &["p/fast/c"]))
+        .unwrap();
+    b.add_thread(thread("p/slow", Duration::from_secs(3600), &["p/slow/c"]))
+        .unwrap();
+    let mut app = b.start(Some(10)).unwrap();
+    assert!(app.wait_timeout(Duration::from_secs(120)), "the run ends");
+    app.stop();
+    assert!(app.join_within(Duration::from_secs(60)).is_empty());
+    let cycles: Vec<u64> = app.status().iter().map(|s| s.cycles).collect();
+    assert_eq!(
+        cycles,
+        [10, 1],
+        "the hourly container ran its first cycle only"
+    );
+}
+
+/// In lockstep the limit is exact: the instants before N times the shortest period.
+#[test]
+fn in_lockstep_each_container_runs_the_instants_before_the_end() {
+    let registry = registry();
+    let mut b = Builder::new(&registry);
+    module(&mut b, "p/fast/c", "stop.Counter", &[]);
+    module(&mut b, "p/slow/c", "stop.Counter", &[]);
+    b.add_thread(thread("p/fast", Duration::from_millis(2), &["p/fast/c"]))
+        .unwrap();
+    b.add_thread(thread("p/slow", Duration::from_millis(8), &["p/slow/c"]))
+        .unwrap();
+    let options = StartOptions {
+        limit: Some(10),
+        lockstep: Some(Lockstep::default()),
+        network: None,
+    };
+    let mut app = b.start_with(options).unwrap();
+    assert!(app.wait_timeout(Duration::from_secs(120)), "the run ends");
+    app.join();
+    let cycles: Vec<u64> = app.status().iter().map(|s| s.cycles).collect();
+    assert_eq!(cycles, [10, 3], "before 20 ms: 0, 8 and 16 ms");
 }

@@ -23,7 +23,7 @@ mod stats;
 pub(crate) mod stopping;
 
 pub use clock::{Clock, ManualClock, SystemClock};
-pub use os::pin_current_thread;
+pub use os::{pin_current_thread, summarise as summarise_refusals, Placement, Refusal};
 pub use stats::{ContainerStats, StepStats};
 
 use crate::port::Wakeup;
@@ -247,12 +247,14 @@ impl ThreadContainer {
                 stopping::watch(Arc::clone(&stop));
                 self.run(&stop, limit);
             })?;
-        let warnings = warn_rx.iter().collect();
+        let refusals: Vec<Refusal> = warn_rx.iter().collect();
         Ok(RunningContainer {
             stats,
             join,
             wakeup,
-            warnings,
+            warnings: refusals.iter().map(Refusal::line).collect(),
+            refusals,
+            ends_run: true,
         })
     }
 }
@@ -261,10 +263,15 @@ impl ThreadContainer {
 pub struct RunningContainer {
     /// Its statistics.
     pub stats: Arc<ContainerStats>,
-    /// What the operating system refused of the [`ThreadOptions`].
+    /// What the operating system refused of the [`ThreadOptions`], as warnings.
     pub warnings: Vec<String>,
+    /// The same refusals, to be summarised over containers.
+    pub refusals: Vec<Refusal>,
     join: std::thread::JoinHandle<()>,
     wakeup: Option<Arc<Wakeup>>,
+    /// Whether the run is over once this container has ended (see
+    /// `builder::cycles_of`); the others are stopped then.
+    pub(crate) ends_run: bool,
 }
 
 impl RunningContainer {
@@ -273,8 +280,10 @@ impl RunningContainer {
         RunningContainer {
             stats,
             warnings: Vec::new(),
+            refusals: Vec::new(),
             join,
             wakeup: None,
+            ends_run: true,
         }
     }
 
