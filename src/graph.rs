@@ -71,9 +71,7 @@ pub fn run(args: GraphArgs) -> ExitCode {
     let written = match &args.output {
         Some(path) => std::fs::write(path, &bytes)
             .map_err(|e| format!("cannot write {}: {e}", path.display())),
-        None => std::io::stdout()
-            .write_all(&bytes)
-            .map_err(|e| format!("cannot write the graph: {e}")),
+        None => return crate::output::stdout_then(&bytes, ExitCode::SUCCESS),
     };
     match written {
         Ok(()) => ExitCode::SUCCESS,

@@ -6,7 +6,7 @@ use ferroc_compiler::diagnostic::Severity;
 use ferroc_compiler::load::Options;
 use ferroc_compiler::report::{self, ModelReport};
 use ferroc_compiler::{check_model, CheckResult, Policy};
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -18,7 +18,7 @@ mod runner;
 mod schedule;
 
 // `run` and `types` live in ferroc_host, shared with the runners ferroc generates.
-pub(crate) use ferroc_host::{checked, run, types};
+pub(crate) use ferroc_host::{checked, output, run, types};
 
 /// mimalloc: checking a large model makes millions of small allocations, and glibc's
 /// allocator spent a sixth of the run in malloc/free (measured on B1).
@@ -217,29 +217,30 @@ fn main() -> ExitCode {
 
 fn explain(code: Option<String>, list: bool) -> ExitCode {
     if list || code.is_none() {
+        let mut out = String::new();
         for c in REGISTRY {
-            println!(
-                "{}  {:<8} {:<34} {}",
+            out.push_str(&format!(
+                "{}  {:<8} {:<34} {}\n",
                 c.code,
                 c.severity.as_str(),
                 c.name,
                 c.summary
-            );
+            ));
         }
-        return ExitCode::SUCCESS;
+        return output::stdout_then(out.as_bytes(), ExitCode::SUCCESS);
     }
     let code = code.unwrap_or_default();
     match ferroc_compiler::checks::find(&code) {
         Some(c) => {
-            println!(
-                "{} {} ({})\n\n{}\n\n{}",
+            let text = format!(
+                "{} {} ({})\n\n{}\n\n{}\n",
                 c.code,
                 c.name,
                 c.severity.as_str(),
                 c.summary,
                 c.explanation
             );
-            ExitCode::SUCCESS
+            output::stdout_then(text.as_bytes(), ExitCode::SUCCESS)
         }
         None => {
             eprintln!("error: no check has the code `{code}`\nhelp: `ferroc explain --list` shows every code");
@@ -257,7 +258,9 @@ fn collect_models(
 ) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for p in paths {
-        if p.is_dir() {
+        if ferroc_compiler::load::is_stdin(p) {
+            out.push(p.clone()); // read once, when it is checked
+        } else if p.is_dir() {
             let mut found = Vec::new();
             walk(p, &mut found, skipped, 0);
             found.sort();
@@ -463,9 +466,9 @@ fn check(args: CheckArgs) -> ExitCode {
             }
         }
     }
-    let mut stdout = std::io::stdout().lock();
-    let _ = stdout.write_all(out.as_bytes());
-    let _ = stdout.flush();
+    if let Err(failed) = output::stdout(out.as_bytes()) {
+        return failed; // the report is lost: never exit 0 or 1 as if it was read
+    }
     for e in &tool_errors {
         eprintln!("error: {e}");
     }

@@ -23,11 +23,8 @@ pub fn run(args: ScheduleArgs) -> ExitCode {
     let Some(app) = result.app.as_ref() else {
         return ExitCode::from(1);
     };
-    print!(
-        "{}",
-        render(app, &schedule::compute(app, &result.libraries))
-    );
-    ExitCode::SUCCESS
+    let text = render(app, &schedule::compute(app, &result.libraries));
+    crate::output::stdout_then(text.as_bytes(), ExitCode::SUCCESS)
 }
 
 fn render(app: &Application, schedule: &schedule::Schedule) -> String {

@@ -402,12 +402,19 @@ fn a_built_bundle_behaves_like_ferroc_run() {
     assert_eq!(code, 0, "{err}");
     let target = build_bundle(&out);
     let program = target.join("debug/crash_course-fragile_bot");
+    // In lockstep, so that the comparison does not depend on thread timing.
     let bundled = Command::new(&program)
-        .args(["--cycles", "20", "-q"])
+        .args(["--cycles", "50", "--lockstep", "-q"])
         .output()
         .unwrap();
-    let (code, run_out, run_err) =
-        ferroc(&["run", "models/crash_course.xml", "--cycles", "20", "-q"]);
+    let (code, run_out, run_err) = ferroc(&[
+        "run",
+        "models/crash_course.xml",
+        "--cycles",
+        "50",
+        "--lockstep",
+        "-q",
+    ]);
     assert_eq!(code, 0, "{run_err}");
     let (b_out, b_err) = (
         String::from_utf8_lossy(&bundled.stdout),
@@ -420,7 +427,7 @@ fn a_built_bundle_behaves_like_ferroc_run() {
         last(&run_out),
         "bundle:\n{b_out}\nrun:\n{run_out}"
     );
-    assert!(last(&b_out).contains("robot 1: x=+0.23 m"), "{b_out}");
+    assert!(last(&b_out).contains("robot 1: x=+0.30 m"), "{b_out}");
     // The same summary: reason and cycles per thread container.
     let summary = |s: &str| -> Vec<String> {
         s.lines()
@@ -433,7 +440,7 @@ fn a_built_bundle_behaves_like_ferroc_run() {
     };
     assert_eq!(summary(&b_err), summary(&run_err), "{b_err}\n{run_err}");
     assert!(
-        summary(&b_err).contains(&"  fragile_bot/main: 20".to_string()),
+        summary(&b_err).contains(&"  fragile_bot/main: 50".to_string()),
         "{b_err}"
     );
 

@@ -174,6 +174,20 @@ pub struct Connection {
     pub scope: ElementId,
 }
 
+impl Connection {
+    /// The `on-full=` policy in force: the one written, else the language's default.
+    pub fn on_full_policy(&self) -> &str {
+        self.on_full
+            .as_deref()
+            .unwrap_or(crate::syntax::vocabulary::DEFAULT_ON_FULL)
+    }
+
+    /// Whether a writer waits for room: a queue whose policy is `block`.
+    pub fn blocks_when_full(&self) -> bool {
+        self.queue.is_some() && self.on_full_policy() == "block"
+    }
+}
+
 /// What a check needs to know about one end of a connection.
 #[derive(Debug, Clone)]
 pub struct PortView<'a> {

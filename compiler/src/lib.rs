@@ -55,9 +55,19 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
     let mut diags = Diagnostics::default();
     let mut loader = Loader::new(&mut sources, &mut diags, options);
     // A FINROC file (make.xml, application, group, config) is checked as such: there is
-    // no model.
+    // no model. Standard input is read once here to see its root element (a pipe cannot
+    // be read twice).
+    let kind = if load::is_stdin(path) {
+        let text = load::read_bounded(std::io::stdin().lock(), &options.limits)
+            .map_err(|r| format!("cannot read {}: {r}", path.display()))?;
+        let root = load::root_element_of(text.as_bytes());
+        loader.set_stdin_text(text);
+        finroc::kind_of_root(root.as_deref(), path)
+    } else {
+        finroc::kind_of(path)
+    };
     let mut not_checked = Vec::new();
-    let model = match finroc::kind_of(path) {
+    let model = match kind {
         Some(kind) => {
             not_checked = finroc::check_file(&mut loader, path, kind)?;
             None

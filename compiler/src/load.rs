@@ -53,6 +53,15 @@ pub struct Options {
     pub finroc_prefix: Option<String>,
 }
 
+/// Why [`Loader::confine`] refused a path.
+#[derive(Debug)]
+pub enum Confined {
+    /// It leads outside the model's folder.
+    Outside,
+    /// It cannot be read (the reason in words).
+    Unreadable(String),
+}
+
 /// A model file and the fragments it includes.
 pub struct ModelFiles {
     pub file: FileId,
@@ -67,22 +76,46 @@ pub struct Loader<'a> {
     pub allows: Vec<AllowRegion>,
     pub options: &'a Options,
     root_dir: PathBuf,
+    /// Standard input, when the model comes from there and was read already.
+    stdin_text: Option<String>,
 }
 
-/// Why a file could not be read.
+/// Reads a file as text, refusing what could exhaust memory or block: folders, files
+/// over the size limit (judged on the bytes read, not only on the size the file system
+/// reports: `/proc` files and growing files report less) and anything that is not a
+/// regular file (a FIFO would block in `open` until a writer comes, a device such as
+/// `/dev/zero` never ends). `Err` says why, in words for a diagnostic.
 pub fn read_text(path: &Path, limits: &Limits) -> Result<String, String> {
     let meta = std::fs::metadata(path).map_err(|e| io_reason(&e))?;
     if meta.is_dir() {
         return Err("it is a directory".into());
     }
-    if meta.len() > limits.max_file_bytes {
-        return Err(format!(
-            "it is {} MiB, over the limit of {} MiB",
-            meta.len() >> 20,
-            limits.max_file_bytes >> 20
-        ));
+    if !meta.is_file() {
+        return Err(not_regular(&meta));
     }
-    let bytes = std::fs::read(path).map_err(|e| io_reason(&e))?;
+    if meta.len() > limits.max_file_bytes {
+        return Err(over_limit(meta.len(), limits));
+    }
+    let file = std::fs::File::open(path).map_err(|e| io_reason(&e))?;
+    // The path may have been replaced since the check above: judge the opened file.
+    let meta = file.metadata().map_err(|e| io_reason(&e))?;
+    if !meta.is_file() {
+        return Err(not_regular(&meta));
+    }
+    read_bounded(file, limits)
+}
+
+/// Reads `input` to its end, or fails once it holds more than the size limit.
+pub fn read_bounded(input: impl std::io::Read, limits: &Limits) -> Result<String, String> {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    input
+        .take(limits.max_file_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| io_reason(&e))?;
+    if bytes.len() as u64 > limits.max_file_bytes {
+        return Err(over_limit(bytes.len() as u64, limits));
+    }
     String::from_utf8(bytes).map_err(|e| {
         format!(
             "it is not UTF-8 text (invalid byte at offset {})",
@@ -91,13 +124,62 @@ pub fn read_text(path: &Path, limits: &Limits) -> Result<String, String> {
     })
 }
 
+/// Whether `path` names standard input (`-` or `/dev/stdin`): a model may come from a
+/// pipe, read once (a pipe cannot be read twice).
+pub fn is_stdin(path: &Path) -> bool {
+    path == Path::new("-") || path == Path::new("/dev/stdin")
+}
+
+fn over_limit(len: u64, limits: &Limits) -> String {
+    format!(
+        "it is {} MiB, over the limit of {} MiB",
+        len >> 20,
+        limits.max_file_bytes >> 20
+    )
+}
+
+fn not_regular(meta: &std::fs::Metadata) -> String {
+    #[cfg(unix)]
+    let kind = {
+        use std::os::unix::fs::FileTypeExt;
+        let t = meta.file_type();
+        if t.is_fifo() {
+            "a FIFO (named pipe)"
+        } else if t.is_char_device() || t.is_block_device() {
+            "a device"
+        } else if t.is_socket() {
+            "a socket"
+        } else {
+            "not a regular file"
+        }
+    };
+    #[cfg(not(unix))]
+    let kind = {
+        let _ = meta;
+        "not a regular file"
+    };
+    format!("it is {kind}; ferroc reads only regular files (a model may also come from standard input: `-`)")
+}
+
 /// The name of a file's first element, reading no further than that (at most 1 MiB);
-/// `None` when the file cannot be read or holds no element there.
+/// `None` when the file cannot be read, is not a regular file (nothing that could
+/// block or never end is opened) or holds no element there.
 pub fn root_element(path: &Path) -> Option<String> {
-    use quick_xml::events::Event;
     const LOOK_AT_MOST: u64 = 1 << 20;
+    if !std::fs::metadata(path).ok()?.is_file() {
+        return None;
+    }
     let file = std::fs::File::open(path).ok()?;
+    if !file.metadata().ok()?.is_file() {
+        return None;
+    }
     let input = std::io::BufReader::new(std::io::Read::take(file, LOOK_AT_MOST));
+    root_element_of(input)
+}
+
+/// The name of the first element of XML text (see [`root_element`]).
+pub fn root_element_of(input: impl std::io::BufRead) -> Option<String> {
+    use quick_xml::events::Event;
     let mut reader = quick_xml::Reader::from_reader(input);
     let mut buf = Vec::new();
     loop {
@@ -131,6 +213,7 @@ impl<'a> Loader<'a> {
             allows: Vec::new(),
             options,
             root_dir: PathBuf::new(),
+            stdin_text: None,
         }
     }
 
@@ -198,20 +281,44 @@ impl<'a> Loader<'a> {
     /// Reads a FINROC build description (`make.xml`): no vocabulary, no includes.
     /// `Err` when the file itself cannot be read (as for a model).
     pub fn load_make_file(&mut self, path: &Path) -> Result<(FileId, Option<Element>), String> {
-        let text = read_text(path, &self.options.limits)
-            .map_err(|r| format!("cannot read {}: {r}", path.display()))?;
-        let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        let (canonical, text) = self.read_top(path)?;
         let file = self
             .sources
             .add(path.display().to_string(), canonical, text);
         Ok((file, self.parse_tree(file)))
     }
 
+    /// The file a check starts from: its canonical path and its text. Standard input
+    /// (`-`, `/dev/stdin`) is read once, as if it were a file in the current folder.
+    fn read_top(&mut self, path: &Path) -> Result<(PathBuf, String), String> {
+        let cannot = |r: String| format!("cannot read {}: {r}", path.display());
+        if is_stdin(path) {
+            let text = match self.stdin_text.take() {
+                Some(text) => text,
+                None => {
+                    read_bounded(std::io::stdin().lock(), &self.options.limits).map_err(cannot)?
+                }
+            };
+            let cwd = std::env::current_dir()
+                .and_then(|c| c.canonicalize())
+                .unwrap_or_default();
+            return Ok((cwd.join("<stdin>"), text));
+        }
+        let text = read_text(path, &self.options.limits).map_err(cannot)?;
+        Ok((
+            path.canonicalize().unwrap_or_else(|_| path.to_path_buf()),
+            text,
+        ))
+    }
+
+    /// Hands the loader standard input already read (to look at its root element).
+    pub fn set_stdin_text(&mut self, text: String) {
+        self.stdin_text = Some(text);
+    }
+
     /// Loads a model and its includes. `Err` when the model file itself cannot be read.
     pub fn load_model(&mut self, path: &Path) -> Result<Option<ModelFiles>, String> {
-        let text = read_text(path, &self.options.limits)
-            .map_err(|r| format!("cannot read {}: {r}", path.display()))?;
-        let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        let (canonical, text) = self.read_top(path)?;
         self.root_dir = canonical
             .parent()
             .map(Path::to_path_buf)
@@ -260,32 +367,17 @@ impl<'a> Loader<'a> {
                 );
                 continue;
             }
-            // Confinement is judged on the written path first, so that a hostile
-            // `../../etc/passwd` is refused whether or not that file exists, and then
-            // again on the canonical path, so that a symlink cannot escape either.
-            let root_dir = self.root_dir.clone();
-            let outside = |p: &Path| !p.starts_with(&root_dir);
-            let lexical = lexical_join(&self.folder_of(parent_file), &href.value);
-            let escapes = !self.options.allow_outside_includes && outside(&lexical);
-            let target = if escapes {
-                lexical
-            } else {
-                match self.resolve_relative(parent_file, &href.value, span, "include") {
-                    Some(t) => t,
-                    None => continue,
+            let target = match self.confine(parent_file, &href.value) {
+                Ok(t) => t,
+                Err(Confined::Outside) => {
+                    self.report_outside(span, &href.value, "included fragments");
+                    continue;
+                }
+                Err(Confined::Unreadable(reason)) => {
+                    self.report_missing(parent_file, span, &href.value, "include", &reason);
+                    continue;
                 }
             };
-            if !self.options.allow_outside_includes && outside(&target) {
-                self.diags.push(
-                    Diagnostic::new(&m113_include_outside_root::CHECK, span, format!("`{}` lies outside the model's directory", href.value))
-                        .label("resolves outside the model root")
-                        .help(format!(
-                            "keep included fragments under {}, or pass --allow-outside-includes if you trust this model",
-                            self.display_name(&self.root_dir)
-                        )),
-                );
-                continue;
-            }
             if let Some(pos) = chain.iter().position(|(p, _)| *p == target) {
                 let mut d = Diagnostic::new(
                     &m114_include_cycle::CHECK,
@@ -343,26 +435,65 @@ impl<'a> Loader<'a> {
         span: Span,
         what: &str,
     ) -> Option<PathBuf> {
-        let base = self.folder_of(file);
-        let joined = base.join(rel);
-        match joined.canonicalize() {
+        match self.folder_of(file).join(rel).canonicalize() {
             Ok(p) => Some(p),
             Err(e) => {
-                self.diags.push(
-                    Diagnostic::new(
-                        &m115_file_not_found::CHECK,
-                        span,
-                        format!("cannot read {what} `{rel}`: {}", io_reason(&e)),
-                    )
-                    .label("named here")
-                    .help(format!(
-                        "the path is relative to {}",
-                        self.display_name(&base)
-                    )),
-                );
+                self.report_missing(file, span, rel, what, &io_reason(&e));
                 None
             }
         }
+    }
+
+    fn report_missing(&mut self, file: FileId, span: Span, rel: &str, what: &str, reason: &str) {
+        let base = self.folder_of(file);
+        self.diags.push(
+            Diagnostic::new(
+                &m115_file_not_found::CHECK,
+                span,
+                format!("cannot read {what} `{rel}`: {reason}"),
+            )
+            .label("named here")
+            .help(format!(
+                "the path is relative to {}",
+                self.display_name(&base)
+            )),
+        );
+    }
+
+    /// A path written in `file` (an include, a config file), resolved and confined to
+    /// the model's folder unless `--allow-outside-includes`. Confinement is judged on
+    /// the written path first, so that a hostile `../../etc/passwd` is refused whether
+    /// or not that file exists, and then again on the canonical path, so that a
+    /// symlink cannot escape either.
+    pub fn confine(&self, file: FileId, rel: &str) -> Result<PathBuf, Confined> {
+        let allowed = self.options.allow_outside_includes;
+        let inside = |p: &Path| allowed || p.starts_with(&self.root_dir);
+        if !inside(&lexical_join(&self.folder_of(file), rel)) {
+            return Err(Confined::Outside);
+        }
+        let target = (self.folder_of(file).join(rel).canonicalize())
+            .map_err(|e| Confined::Unreadable(io_reason(&e)))?;
+        if !inside(&target) {
+            return Err(Confined::Outside);
+        }
+        Ok(target)
+    }
+
+    /// M113 for a path that [`confine`](Self::confine) refused; `what` names what must
+    /// stay in the model's folder ("included fragments", "config files").
+    pub fn report_outside(&mut self, span: Span, rel: &str, what: &str) {
+        self.diags.push(
+            Diagnostic::new(
+                &m113_include_outside_root::CHECK,
+                span,
+                format!("`{rel}` lies outside the model's directory"),
+            )
+            .label("resolves outside the model root")
+            .help(format!(
+                "keep {what} under {}, or pass --allow-outside-includes if you trust this model",
+                self.display_name(&self.root_dir)
+            )),
+        );
     }
 
     /// The folder that relative paths written in `file` start from.

@@ -297,7 +297,7 @@ pub fn plan(
             if let Some(q) = c.queue {
                 let module = &mut plan.modules[module_index[&edge.to_module]];
                 if !module.queues.iter().any(|(p, ..)| p == to.name) {
-                    let policy = c.on_full.clone().unwrap_or_else(|| "block".into());
+                    let policy = c.on_full_policy().to_string();
                     module.queues.push((to.name.to_string(), q, policy));
                 }
             }

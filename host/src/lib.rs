@@ -13,6 +13,7 @@ use std::process::ExitCode;
 
 pub mod checked;
 pub mod interface;
+pub mod output;
 pub mod run;
 pub mod types;
 

@@ -28,11 +28,14 @@ use std::time::Duration;
 pub struct RunArgs {
     /// The application model
     pub model: PathBuf,
-    /// Stop after this long: `10s`, `500ms`, `2min` (with --lockstep: this much model
+    /// Stop after this long: `10s`, `500ms`, `2min` (each thread container stops after
+    /// the cycle it is in, a sleeping one at once; with --lockstep: this much model
     /// time, however long it takes to compute)
     #[arg(long = "for", value_name = "DURATION", value_parser = parse_duration)]
     duration: Option<Duration>,
-    /// Stop after this many cycles of every thread container
+    /// Stop after N cycles of the application: N cycles of its fastest periodic thread
+    /// containers (those with the shortest period); slower containers run until then
+    /// (in lockstep exactly the instants before N times the shortest period)
     #[arg(long, value_name = "N")]
     cycles: Option<u64>,
     /// Run in simulated time on one thread: every periodic container at its instants

@@ -26,7 +26,8 @@ pub struct Options {
 
 /// Runs `app` until every container reached its cycle limit, `options.duration` passed
 /// or `interrupted` is set; prints the operating system's warnings first, panics as they
-/// happen and a summary at the end. Exit code 1 if a module panicked, else 0.
+/// happen and a summary at the end. Exit code 1 if a module panicked or a container
+/// did not stop within a few seconds of being asked (it is left behind), else 0.
 pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Options) -> ExitCode {
     for w in app.warnings() {
         eprintln!("warning: {w}");
@@ -66,10 +67,17 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
         std::thread::sleep(Duration::from_millis(20));
     };
     app.stop();
-    app.join();
+    let stuck = app.join_within(STOP_GRACE);
     crate::console::set_status_line_active(false);
     if status {
         eprint!("\r\x1b[K");
+    }
+    for path in &stuck {
+        eprintln!(
+            "error: thread container `{path}` did not stop within {} s: one of its steps \
+             is still running (looping, or waiting outside the ports); exiting without it",
+            STOP_GRACE.as_secs()
+        );
     }
     report_violations(&app);
     let panics = app.panics();
@@ -110,12 +118,17 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
             eprintln!("  ({dropped} reports were dropped unread)");
         }
     }
-    if panics.is_empty() {
+    if panics.is_empty() && stuck.is_empty() {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
     }
 }
+
+/// How long a stopped application may take to finish its current cycles. Containers
+/// stop after the cycle they are in (a sleeping one at once, a write blocked on a full
+/// queue within 100 ms); a step that takes longer than this is left behind.
+const STOP_GRACE: Duration = Duration::from_secs(3);
 
 fn status_line(app: &RunningApp, elapsed: Duration) -> String {
     let mut line = format!("{:>6.1} s", elapsed.as_secs_f64());
@@ -134,7 +147,8 @@ fn status_line(app: &RunningApp, elapsed: Duration) -> String {
 /// The command line of a generated program.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Args {
-    /// `--cycles N`: stop after N cycles of every thread container.
+    /// `--cycles N`: stop after N cycles of the application (of its fastest periodic
+    /// thread containers, see [`crate::builder::cycles_of`]).
     pub cycles: Option<u64>,
     /// `--for DURATION`: stop after this long.
     pub duration: Option<Duration>,
@@ -281,7 +295,8 @@ fn usage(program: &str) -> String {
     format!(
         "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--local] [--peer PART=HOST:PORT]... [--quiet]\n\n\
          Options:\n  \
-         --cycles N        stop after N cycles of every thread container\n  \
+         --cycles N        stop after N cycles of the application: of its fastest\n                    \
+         periodic thread containers; slower ones run until then\n  \
          --for DURATION    stop after this long: 500ms, 10s, 2min, 1h (model time in\n                    \
          lockstep)\n  \
          --lockstep        run in simulated time, in step with the other parts: the same\n                    \

@@ -115,7 +115,7 @@ struct Builder<'a> {
 fn block_writers(app: &Application) -> HashSet<(ElementId, u32)> {
     let mut out = HashSet::new();
     for c in &app.connections {
-        if c.queue.is_none() || c.on_full.as_deref() != Some("block") {
+        if !c.blocks_when_full() {
             continue;
         }
         match c.from {
@@ -246,7 +246,7 @@ impl<'a> Builder<'a> {
                 q.is_queue = true;
                 q.capacity = Some(q.capacity.map_or(cap, |x: u32| x.min(cap)));
                 q.initial += c.initial;
-                if c.on_full.as_deref() == Some("block") {
+                if c.blocks_when_full() {
                     q.block_span = Some(c.to_span);
                 }
             }

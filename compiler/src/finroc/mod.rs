@@ -53,11 +53,17 @@ impl Kind {
 /// What kind of FINROC file `path` is, by its root element (a `.finroc` file or one
 /// named `make.xml` also when its XML is broken, so that the breakage is reported).
 pub fn kind_of(path: &Path) -> Option<Kind> {
+    kind_of_root(root_element(path).as_deref(), path)
+}
+
+/// [`kind_of`] for a file whose root element was already read (standard input, which
+/// cannot be read twice).
+pub fn kind_of_root(root: Option<&str>, path: &Path) -> Option<Kind> {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    match root_element(path).as_deref() {
+    match root {
         Some("targets") => Some(Kind::Make),
         Some("Finstructable" | "FinstructableGroup") => Some(Kind::Structure),
         Some("root") => Some(Kind::Config),

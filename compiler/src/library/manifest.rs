@@ -186,6 +186,26 @@ fn load_group_type(loader: &mut Loader<'_>, file: FileId, gt: &Element) -> Optio
     }
 }
 
+/// The include rule applied to `manifest=`: a manifest in the model's folder is read
+/// whatever its name; one outside it only if it is named `*.lib.xml`, as written and
+/// after symlinks (libraries usually sit next to the models, `../components/x.lib.xml`),
+/// unless `--allow-outside-includes`. So a model cannot make the checker read and
+/// show an arbitrary file (`/etc/shadow`). `Err` names what must stay inside.
+fn manifest_allowed(
+    loader: &Loader<'_>,
+    from: FileId,
+    rel: &str,
+    canonical: &Path,
+) -> Result<(), &'static str> {
+    let named = |p: &Path| p.to_string_lossy().ends_with(".lib.xml");
+    match loader.confine(from, rel) {
+        Err(crate::load::Confined::Outside) if !(named(Path::new(rel)) && named(canonical)) => {
+            Err("manifests not named *.lib.xml")
+        }
+        _ => Ok(()),
+    }
+}
+
 /// Finds a manifest: the `manifest` path, else the library path, else the built-ins.
 fn locate(loader: &mut Loader<'_>, request: &LibraryRequest) -> Option<(PathBuf, String)> {
     if let Some(rel) = &request.manifest {
@@ -198,6 +218,10 @@ fn locate(loader: &mut Loader<'_>, request: &LibraryRequest) -> Option<(PathBuf,
             .unwrap_or_default();
         let joined = base.join(rel);
         let path = joined.canonicalize().unwrap_or(joined);
+        if let Err(why) = manifest_allowed(loader, request.from_file, rel, &path) {
+            loader.report_outside(request.span, rel, why);
+            return None;
+        }
         return match crate::load::read_text(&path, &loader.options.limits) {
             Ok(text) => Some((path, text)),
             Err(reason) => {

@@ -72,7 +72,9 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             span: e.name_span,
             from_span: from.value_span,
             to_span: to.value_span,
-            queue: e.value("queue").and_then(|q| q.parse().ok()),
+            // Over the limit is reported (M116) when the file is validated.
+            queue: (e.value("queue").and_then(|q| q.parse::<u32>().ok()))
+                .map(|q| q.min(crate::syntax::vocabulary::MAX_QUEUE)),
             on_full: e.value("on-full").map(str::to_string),
             delay: e.value("delay") == Some("1"),
             initial: e.value("initial").and_then(|q| q.parse().ok()).unwrap_or(0),

@@ -7,6 +7,7 @@ use crate::diagnostic::{did_you_mean, Diagnostic};
 use crate::ir::*;
 use crate::library::module_type::{ModuleKind, PortType};
 use crate::library::{LibraryId, PortDecl, PortDir, PortRole};
+use crate::load::Confined;
 use crate::source::Span;
 use crate::syntax::Element;
 use crate::types::{Meta, Type};
@@ -349,13 +350,16 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             .map(|a| (a.value.to_string(), a.value_span));
         if let Some(config) = p.attr("config") {
             let entry = self.config_entry(&config.value, config.value_span);
-            if let Err(reason) = &entry {
-                self.loader.diags.push(
-                    Diagnostic::new(&p106_config_entry_missing::CHECK, config.value_span, format!("config entry `{}` not found: {reason}", config.value))
-                        .label("named here")
-                        .help("write `file.xml#/node/value`; the file is relative to this model, in FINROC's <root>/<node>/<value> format"),
-                );
-            }
+            // A config file outside the model's folder is reported as such (M113) and
+            // not again as a missing entry.
+            let entry = match entry {
+                Err(None) => Err(String::new()),
+                Err(Some(reason)) => {
+                    self.report_missing_entry(&config.value, config.value_span, &reason);
+                    Err(reason)
+                }
+                Ok(found) => Ok(found),
+            };
             let (text, span) = match &entry {
                 Ok((t, s)) => (t.clone(), *s),
                 Err(_) => (String::new(), config.value_span),
@@ -395,24 +399,32 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         })
     }
 
-    /// Reads `file.xml#/a/b` from a FINROC-style config file.
-    fn config_entry(&mut self, reference: &str, span: Span) -> Result<(String, Span), String> {
+    fn report_missing_entry(&mut self, reference: &str, span: Span, reason: &str) {
+        self.loader.diags.push(
+            Diagnostic::new(&p106_config_entry_missing::CHECK, span, format!("config entry `{reference}` not found: {reason}"))
+                .label("named here")
+                .help("write `file.xml#/node/value`; the file is relative to this model, in FINROC's <root>/<node>/<value> format"),
+        );
+    }
+
+    /// Reads `file.xml#/a/b` from a FINROC-style config file, which must lie in the
+    /// model's folder as includes must. `Err(None)`: refused and reported already.
+    fn config_entry(
+        &mut self,
+        reference: &str,
+        span: Span,
+    ) -> Result<(String, Span), Option<String>> {
         let (file, pointer) = reference
             .split_once('#')
-            .ok_or("no `#/entry` pointer in the reference")?;
-        let model_file = span.file;
-        let base = self
-            .loader
-            .sources
-            .get(model_file)
-            .path
-            .parent()
-            .map(|p| p.to_path_buf())
-            .unwrap_or_default();
-        let path = base
-            .join(file)
-            .canonicalize()
-            .map_err(|_| format!("cannot read `{file}`"))?;
+            .ok_or_else(|| "no `#/entry` pointer in the reference".to_string())?;
+        let path = match self.loader.confine(span.file, file) {
+            Ok(path) => path,
+            Err(Confined::Outside) => {
+                self.loader.report_outside(span, file, "config files");
+                return Err(None);
+            }
+            Err(Confined::Unreadable(_)) => return Err(Some(format!("cannot read `{file}`"))),
+        };
         let (_, root) = self.loader.read_plain(&path)?;
         let root = root.ok_or_else(|| format!("`{file}` is not well-formed XML"))?;
         let mut node = &root;

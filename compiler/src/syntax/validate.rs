@@ -183,10 +183,31 @@ fn check_value(element: &Element, attr: &super::xml::Attr, kind: AttrKind, out: 
             None
         }
         AttrKind::Bool => (!matches!(v, "true" | "false")).then(|| "`true` or `false`".to_string()),
-        AttrKind::Count => v
-            .parse::<u32>()
-            .is_err()
-            .then(|| "a non-negative whole number".to_string()),
+        AttrKind::Count => match v.parse::<u32>() {
+            Err(_) => Some("a non-negative whole number".to_string()),
+            Ok(n) if element.name == "connect" && attr.name == "queue" => {
+                if n > vocabulary::MAX_QUEUE {
+                    out.push(
+                        Diagnostic::new(
+                            &m116_limit_exceeded::CHECK,
+                            attr.value_span,
+                            format!(
+                                "a queue of {n} values is over the limit of {}",
+                                vocabulary::MAX_QUEUE
+                            ),
+                        )
+                        .label("too many values")
+                        .help(format!(
+                            "a queue is allocated in full when the run starts: give at most \
+                             queue=\"{}\" (a few values are usual)",
+                            vocabulary::MAX_QUEUE
+                        )),
+                    );
+                }
+                None
+            }
+            Ok(_) => None,
+        },
         AttrKind::Choice(options) => (!options.contains(&v)).then(|| {
             options
                 .iter()

@@ -63,6 +63,14 @@ pub const ROOT_ATTRS: &[&str] = &[
 ];
 
 pub const ON_FULL: &[&str] = &["block", "drop-oldest", "drop-newest"];
+/// What a queue does when full if `on-full=` is not written (the language's default).
+/// The deadlock analysis, the plan `ferroc run` executes and the bundles all read it
+/// through [`Connection::on_full_policy`](crate::ir::Connection::on_full_policy), so
+/// the checked behaviour and the run behaviour cannot differ.
+pub const DEFAULT_ON_FULL: &str = "drop-oldest";
+/// The largest `queue=`: the runtime allocates a queue in full when a run starts, so an
+/// unbounded size would let a model exhaust memory (M116 above it).
+pub const MAX_QUEUE: u32 = 65_536;
 pub const DIRECTIONS: &[&str] = &["in", "out"];
 pub const PROFILES: &[&str] = &["generic", "finroc"];
 pub const MODULE_KINDS: &[&str] = &["module", "sense-control", "behaviour", "fusion"];

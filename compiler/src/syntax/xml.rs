@@ -74,10 +74,19 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
     config.trim_text(false);
     let base = text.as_ptr() as usize;
     let offset_of = |slice: &[u8]| (slice.as_ptr() as usize).saturating_sub(base);
-    let malformed = |start: usize, end: usize, message: String| XmlError {
-        span: Span::new(file, start, end.max(start + 1).min(text.len().max(start))),
-        message,
-        too_deep: false,
+    // The span of a syntax error ends at the end of its first line: the file may not be
+    // XML at all (a `config=` or `manifest=` naming some other file), and a report must
+    // show the place, not the whole file.
+    let malformed = |start: usize, end: usize, message: String| {
+        let end = end.max(start + 1).min(text.len().max(start));
+        let line_end = (text.as_bytes().get(start..end))
+            .and_then(|b| b.iter().position(|&c| c == b'\n'))
+            .map_or(end, |n| start + n.max(1));
+        XmlError {
+            span: Span::new(file, start, line_end),
+            message,
+            too_deep: false,
+        }
     };
 
     let mut stack: Vec<Element> = Vec::new();

@@ -114,13 +114,14 @@ fn by_library(registry: &Registry) -> BTreeMap<String, Vec<Interface>> {
 }
 
 fn list(args: ListArgs, registry: &Registry) -> ExitCode {
+    let mut out = String::new();
     for (name, types) in by_library(registry) {
         if !args.library.is_empty() && !args.library.contains(&name) {
             continue;
         }
         for t in types {
-            println!(
-                "{:<32} {:<14} {} ({} ports, {} parameters)",
+            out += &format!(
+                "{:<32} {:<14} {} ({} ports, {} parameters)\n",
                 t.name,
                 t.kind.as_str(),
                 t.rust,
@@ -129,7 +130,7 @@ fn list(args: ListArgs, registry: &Registry) -> ExitCode {
             );
         }
     }
-    ExitCode::SUCCESS
+    crate::output::stdout_then(out.as_bytes(), ExitCode::SUCCESS)
 }
 
 fn export(args: ExportArgs, registry: &Registry) -> ExitCode {
@@ -191,7 +192,11 @@ fn export(args: ExportArgs, registry: &Registry) -> ExitCode {
             .collect();
         let text = manifest_xml::library_xml(name, &rewrite, existing);
         match &args.output {
-            None => print!("{text}"),
+            None => {
+                if let Err(failed) = crate::output::stdout(text.as_bytes()) {
+                    return failed;
+                }
+            }
             Some(dir) => match write_atomically(dir, &format!("{name}.lib.xml"), &text) {
                 Ok(path) => written.push((path, rewrite.len())),
                 Err(e) => {

@@ -103,13 +103,15 @@ fn registry() -> Registry {
 fn in_lockstep_values_cross_at_the_next_instant_paced_by_their_sharing() {
     let registry = registry();
     let app = build(&registry, &["a", "b"], 1.0)
-        .start_with(lockstep(4, None))
+        .start_with(lockstep(8, None))
         .unwrap();
     run_to_end(app);
-    // a runs at 0, 10, 20, 30 ms and publishes n + what it got; b runs at 0, 25, 50,
-    // 75 ms and publishes 100·n + what it got. Values reach the other part one instant
-    // later (b sees a's 103 of 20 ms at 25 ms); b's link is periodic, 50 ms, so its
-    // 25 ms value (303) is never sent and a keeps seeing the 100 sent at 0 ms.
+    // Eight cycles of the faster part: a runs at 0, 10, …, 70 ms and publishes n +
+    // what it got; b runs at 0, 25, 50, 75 ms (the instants before 80 ms) and
+    // publishes 100·n + what it got. Values reach the other part one instant later (b
+    // sees a's 103 of 20 ms at 25 ms); b's link is periodic, 50 ms, so its 25 ms value
+    // (303) is never sent and a keeps seeing the 100 sent at 0 ms until b's 50 ms value
+    // (405) arrives at 60 ms.
     assert_eq!(
         record(1),
         [
@@ -119,8 +121,12 @@ fn in_lockstep_values_cross_at_the_next_instant_paced_by_their_sharing() {
             "a/echo @20ms got 100",
             "b/echo @25ms got 103",
             "a/echo @30ms got 100",
-            "b/echo @50ms got 104",
-            "b/echo @75ms got 104",
+            "a/echo @40ms got 100",
+            "a/echo @50ms got 100",
+            "b/echo @50ms got 105",
+            "a/echo @60ms got 405",
+            "a/echo @70ms got 405",
+            "b/echo @75ms got 413",
         ]
     );
 }
@@ -148,9 +154,10 @@ fn two_programs_over_tcp_see_what_one_process_sees() {
             .filter(|l| l.starts_with(part))
             .collect()
     };
-    for part in ["a/", "b/"] {
+    // Six cycles of a (10 ms); b (25 ms) runs the instants before 60 ms: 0, 25, 50.
+    for (part, cycles) in [("a/", 6), ("b/", 3)] {
         assert_eq!(split(3, part), split(2, part), "{part}");
-        assert_eq!(split(3, part).len(), 6);
+        assert_eq!(split(3, part).len(), cycles);
     }
 }
 

@@ -81,7 +81,6 @@ impl Lockstep {
         let mut driver = Driver {
             containers,
             timeline: Timeline::new(&periods, limit, self.until),
-            limit,
             hub: links.hub,
             inbox: links.inbox,
             outgoing,
@@ -124,23 +123,24 @@ impl Timeline {
             .filter(|t| self.until.is_none_or(|u| *t <= u))
     }
 
-    /// The first instant after `after` that the cycle limit allows.
+    /// The first instant after `after` that the cycle limit allows: `--cycles N` is N
+    /// cycles of the application's fastest container, so the instants before N times
+    /// the shortest period (see [`crate::builder::cycles_of`]).
     fn next_within_limit(&self, after: Option<u128>) -> Option<u128> {
+        let end = self
+            .limit
+            .map(|l| u128::from(l).saturating_mul(self.periods[0]));
         self.periods
             .iter()
-            .filter_map(|&p| {
-                let k = after.map_or(0, |a| a / p + 1);
-                let within = self.limit.is_none_or(|l| k < u128::from(l));
-                within.then(|| k * p)
-            })
+            .map(|&p| after.map_or(0, |a| a / p + 1) * p)
             .min()
+            .filter(|t| end.is_none_or(|end| *t < end))
     }
 }
 
 struct Driver {
     containers: Vec<ThreadContainer>,
     timeline: Timeline,
-    limit: Option<u64>,
     hub: Arc<Hub>,
     inbox: Arc<Inbox>,
     outgoing: Option<Outgoing>,
@@ -150,7 +150,6 @@ struct Driver {
 impl Driver {
     /// Runs to the end; what ended it, if not the cycle limit.
     fn run(&mut self, stop: &AtomicBool) -> Option<&'static str> {
-        let mut done = vec![0u64; self.containers.len()];
         let mut pending: Vec<Frame> = Vec::new();
         let mut previous: Option<u128> = None;
         while let Some(now) = self.timeline.next(previous) {
@@ -173,7 +172,7 @@ impl Driver {
             for frame in &frames {
                 self.inbox.deliver(frame);
             }
-            self.run_instant(now, &mut done);
+            self.run_instant(now);
             for (to_part, frame) in self.hub.take_collected() {
                 if self.inbox.has(frame.link) {
                     pending.push(frame);
@@ -197,19 +196,16 @@ impl Driver {
         (more && self.timeline.next(previous).is_none()).then_some("model time is up")
     }
 
-    /// Steps 2 and 3 of the module documentation.
-    fn run_instant(&mut self, now: u128, done: &mut [u64]) {
-        let limit = self.limit;
-        let more = |n: u64| limit.is_none_or(|l| n < l);
-        for (i, c) in self.containers.iter_mut().enumerate() {
+    /// Steps 2 and 3 of the module documentation (the timeline holds the cycle limit).
+    fn run_instant(&mut self, now: u128) {
+        for c in self.containers.iter_mut() {
             let due = match c.trigger() {
                 Trigger::Periodic(p) => now % p.as_nanos().max(1) == 0,
                 Trigger::Continuous => true,
                 Trigger::Data(_) => false,
             };
-            if due && more(done[i]) {
+            if due {
                 c.run_cycle();
-                done[i] += 1;
             }
         }
         let mut ran = vec![false; self.containers.len()];
@@ -219,9 +215,8 @@ impl Driver {
                 let Trigger::Data(wakeup) = c.trigger() else {
                     continue;
                 };
-                if !ran[i] && more(done[i]) && wakeup.take() {
+                if !ran[i] && wakeup.take() {
                     c.run_cycle();
-                    done[i] += 1;
                     ran[i] = true;
                     any = true;
                 }
@@ -247,8 +242,9 @@ mod tests {
             instants.push(n / 1_000_000);
             previous = Some(n);
         }
-        // 20 ms three times (0, 20, 40), 50 ms three times (0, 50, 100).
-        assert_eq!(instants, [0, 20, 40, 50, 100]);
+        // Three cycles of the fastest container (20 ms): the instants before 60 ms,
+        // 0, 20, 40 of the 20 ms container and 0, 50 of the 50 ms one.
+        assert_eq!(instants, [0, 20, 40, 50]);
         let only_data = Timeline::new(&[], Some(2), None);
         assert_eq!(only_data.next(None), Some(0));
         assert_eq!(only_data.next(Some(0)), Some(1_000_000));

@@ -21,7 +21,7 @@ mod start;
 pub use convert::{Conversion, Select};
 pub use lockstep::Lockstep;
 pub use registry::Registry;
-pub use running::{ContainerStatus, RunningApp};
+pub use running::{cycles_of, ContainerStatus, RunningApp};
 pub use start::StartOptions;
 
 use crate::behaviour::{ViolationLog, ViolationPolicy};
@@ -465,5 +465,7 @@ mod link_tests;
 mod lock_tests;
 #[cfg(test)]
 mod service_tests;
+#[cfg(test)]
+mod stop_tests;
 #[cfg(test)]
 mod tests;

@@ -2,7 +2,7 @@
 
 use super::BuildError;
 use crate::behaviour::{ViolationCount, ViolationLog};
-use crate::container::{ContainerStats, RunningContainer, ThreadContainer, ThreadOptions};
+use crate::container::{ContainerStats, RunningContainer, ThreadContainer, ThreadOptions, Trigger};
 use crate::link::Hub;
 use crate::module::{ParamHandle, Value};
 use crate::resource::LockOrder;
@@ -10,6 +10,39 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
+
+/// The cycles each container runs when the application runs `limit` cycles (`--cycles
+/// N`), and whether it ends the run (the run is over when those have ended, and the
+/// others are stopped then, after their current cycle).
+///
+/// `--cycles N` counts cycles of the application, not of each container: N cycles of
+/// its fastest periodic containers (those of the shortest period), which end the run;
+/// slower periodic, continuous and data-triggered containers run until then. (Each
+/// container counting N kept a slow container running long after the fast ones had
+/// stopped.) In lockstep the same limit is exact: the instants before N times the
+/// shortest period. Without periodic containers, each continuous one runs N cycles
+/// (data-triggered ones until those end); with only data-triggered containers, each
+/// runs N.
+pub fn cycles_of(triggers: &[Trigger], limit: Option<u64>) -> Vec<(Option<u64>, bool)> {
+    let shortest = triggers
+        .iter()
+        .filter_map(|t| match t {
+            Trigger::Periodic(p) => Some(p.as_nanos().max(1)),
+            _ => None,
+        })
+        .min();
+    let any_continuous = triggers.iter().any(|t| matches!(t, Trigger::Continuous));
+    triggers
+        .iter()
+        .map(|t| match (t, shortest) {
+            (Trigger::Periodic(p), Some(min)) if p.as_nanos().max(1) == min => (limit, true),
+            (_, Some(_)) => (None, false),
+            (Trigger::Continuous, None) => (limit, true),
+            (_, None) if any_continuous => (None, false),
+            (_, None) => (limit, true),
+        })
+        .collect()
+}
 
 /// The figures of one container at a moment, for status lines and reports.
 #[derive(Clone, Debug, PartialEq)]
@@ -84,6 +117,7 @@ impl RunningApp {
         let join = std::thread::Builder::new()
             .name("lockstep".into())
             .spawn(move || {
+                crate::container::stopping::watch(Arc::clone(&stop));
                 if let Some(why) = driver(&stop) {
                     let _ = reason.set(why);
                 }
@@ -109,16 +143,18 @@ impl RunningApp {
     ) -> Result<Self, BuildError> {
         let mut app = RunningApp::new(shared);
         let stop = app.stop.clone();
-        for (container, options) in containers {
+        let mut refusals = Vec::new();
+        let triggers: Vec<Trigger> = containers
+            .iter()
+            .map(|(c, _)| c.trigger().clone())
+            .collect();
+        let limits = cycles_of(&triggers, limit);
+        for ((container, options), (limit, ends_run)) in containers.into_iter().zip(limits) {
             let name = container.stats().name.clone();
             match container.spawn(options, stop.clone(), limit) {
-                Ok(running) => {
-                    app.warnings.extend(
-                        running
-                            .warnings
-                            .iter()
-                            .map(|w| format!("thread container `{name}`: {w}")),
-                    );
+                Ok(mut running) => {
+                    running.ends_run = ends_run;
+                    refusals.extend(running.refusals.iter().map(|r| (name.clone(), r.clone())));
                     app.stats.push(running.stats.clone());
                     app.containers.push(running);
                 }
@@ -131,6 +167,7 @@ impl RunningApp {
                 }
             }
         }
+        app.warnings = crate::container::summarise_refusals(&refusals);
         Ok(app)
     }
 
@@ -194,16 +231,15 @@ impl RunningApp {
         handle.set(value)
     }
 
-    /// Whether the application has ended: every periodic and continuous container
-    /// reached its cycle limit or stopped. Data-triggered containers do not count when
-    /// there are others: they run only as often as data arrives, which may be fewer
-    /// times than the limit, so waiting for them could take forever.
+    /// Whether the application has ended: every container that ends the run (see
+    /// [`cycles_of`]) reached its cycle limit or stopped. Data-triggered containers do
+    /// not count when there are others: they run only as often as data arrives, which
+    /// may be fewer times than the limit, so waiting for them could take forever.
     pub fn is_finished(&self) -> bool {
-        let clocked = self.containers.iter().filter(|c| !c.is_data_triggered());
-        if clocked.clone().next().is_none() {
-            return self.containers.iter().all(|c| c.is_finished());
-        }
-        clocked.into_iter().all(|c| c.is_finished())
+        self.containers
+            .iter()
+            .filter(|c| c.ends_run)
+            .all(|c| c.is_finished())
     }
 
     /// Asks every container to stop after its current cycle (also wakes data-triggered
@@ -221,6 +257,29 @@ impl RunningApp {
             c.join();
         }
         self.hub.close();
+    }
+
+    /// Waits until every container has ended, but no longer than `grace`; returns the
+    /// paths of those still running then, which are left behind (their threads end
+    /// with the process). A step that never returns (a module looping or blocked
+    /// outside the port core) must not keep a stopped run from exiting.
+    pub fn join_within(&mut self, grace: Duration) -> Vec<String> {
+        let deadline = std::time::Instant::now() + grace;
+        while self.containers.iter().any(|c| !c.is_finished())
+            && std::time::Instant::now() < deadline
+        {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let mut stuck = Vec::new();
+        for c in self.containers.drain(..) {
+            if c.is_finished() {
+                c.join();
+            } else {
+                stuck.push(c.stats.name.clone());
+            }
+        }
+        self.hub.close();
+        stuck
     }
 
     /// Waits until every container ended or `timeout` passed; true if all ended.

@@ -1,7 +1,7 @@
 //! Time as a thread container sees it: the real monotonic clock, or a manual clock that
 //! tests advance by hand so that timing logic is tested without wall-clock assertions.
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -11,6 +11,12 @@ pub trait Clock: Send + Sync + 'static {
     fn now(&self) -> Duration;
     /// Sleeps until `deadline` (returns at once if it has passed).
     fn sleep_until(&self, deadline: Duration);
+    /// Like [`sleep_until`](Self::sleep_until), but returns early once `stop` is set
+    /// and the sleeping thread is unparked (a stop must not wait for a long period).
+    fn sleep_until_or_stop(&self, deadline: Duration, stop: &AtomicBool) {
+        let _ = stop;
+        self.sleep_until(deadline);
+    }
 }
 
 /// The operating system's monotonic clock.
@@ -36,6 +42,18 @@ impl Clock for SystemClock {
         let now = self.now();
         if deadline > now {
             std::thread::sleep(deadline - now);
+        }
+    }
+
+    fn sleep_until_or_stop(&self, deadline: Duration, stop: &AtomicBool) {
+        // Parking may wake early (spuriously, or by an unpark meant for the stop):
+        // sleep again until the deadline unless the stop is what woke us.
+        loop {
+            let now = self.now();
+            if deadline <= now || stop.load(Ordering::Relaxed) {
+                return;
+            }
+            std::thread::park_timeout(deadline - now);
         }
     }
 }

@@ -20,9 +20,10 @@
 mod clock;
 mod os;
 mod stats;
+pub(crate) mod stopping;
 
 pub use clock::{Clock, ManualClock, SystemClock};
-pub use os::pin_current_thread;
+pub use os::{pin_current_thread, summarise as summarise_refusals, Placement, Refusal};
 pub use stats::{ContainerStats, StepStats};
 
 use crate::port::Wakeup;
@@ -190,7 +191,7 @@ impl ThreadContainer {
                     if !more(done) {
                         break;
                     }
-                    self.clock.sleep_until(deadline);
+                    self.clock.sleep_until_or_stop(deadline, stop);
                     deadline += period;
                 }
             }
@@ -243,14 +244,17 @@ impl ThreadContainer {
                     let _ = warn_tx.send(warning);
                 }
                 drop(warn_tx);
+                stopping::watch(Arc::clone(&stop));
                 self.run(&stop, limit);
             })?;
-        let warnings = warn_rx.iter().collect();
+        let refusals: Vec<Refusal> = warn_rx.iter().collect();
         Ok(RunningContainer {
             stats,
             join,
             wakeup,
-            warnings,
+            warnings: refusals.iter().map(Refusal::line).collect(),
+            refusals,
+            ends_run: true,
         })
     }
 }
@@ -259,10 +263,15 @@ impl ThreadContainer {
 pub struct RunningContainer {
     /// Its statistics.
     pub stats: Arc<ContainerStats>,
-    /// What the operating system refused of the [`ThreadOptions`].
+    /// What the operating system refused of the [`ThreadOptions`], as warnings.
     pub warnings: Vec<String>,
+    /// The same refusals, to be summarised over containers.
+    pub refusals: Vec<Refusal>,
     join: std::thread::JoinHandle<()>,
     wakeup: Option<Arc<Wakeup>>,
+    /// Whether the run is over once this container has ended (see
+    /// `builder::cycles_of`); the others are stopped then.
+    pub(crate) ends_run: bool,
 }
 
 impl RunningContainer {
@@ -271,16 +280,21 @@ impl RunningContainer {
         RunningContainer {
             stats,
             warnings: Vec::new(),
+            refusals: Vec::new(),
             join,
             wakeup: None,
+            ends_run: true,
         }
     }
 
-    /// Wakes a data-triggered container so that it sees a stop flag set by the caller.
+    /// Wakes the container so that it sees a stop flag set by the caller: a
+    /// data-triggered one waiting for data, a periodic one sleeping until its next
+    /// deadline (which may be a long period away).
     pub fn nudge(&self) {
         if let Some(w) = &self.wakeup {
             crate::port::Notify::notify(&**w);
         }
+        self.join.thread().unpark();
     }
 
     /// Whether it runs when data arrives (rather than by the clock).

@@ -4,25 +4,108 @@
 
 use super::ThreadOptions;
 
-/// Applies `options` to the calling thread; returns one warning per refused request.
-pub(crate) fn place_current_thread(options: &ThreadOptions) -> Vec<String> {
-    let mut warnings = Vec::new();
+/// A placement the operating system refused.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Refusal {
+    /// What was asked for.
+    pub asked: Placement,
+    /// The operating system's answer.
+    pub why: String,
+}
+
+/// A placement request of [`ThreadOptions`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Placement {
+    /// Real-time priority.
+    Priority(i32),
+    /// Pinning to a CPU.
+    Cpu(usize),
+}
+
+impl Refusal {
+    /// The refusal as a warning about one thread.
+    pub fn line(&self) -> String {
+        match self.asked {
+            Placement::Priority(p) => format!(
+                "real-time priority {p} refused ({}); running with normal priority ({PRIORITY_HELP})",
+                self.why
+            ),
+            Placement::Cpu(c) => format!(
+                "pinning to CPU {c} refused ({}); the thread may run on any CPU",
+                self.why
+            ),
+        }
+    }
+}
+
+const PRIORITY_HELP: &str = "grant CAP_SYS_NICE or an rtprio limit in /etc/security/limits.conf";
+
+/// The refusals of several containers (path, refusal) as warnings: one line per kind of
+/// request and answer, naming every container it concerns, so that an application of
+/// seven containers on a machine without real-time rights gives one line, not seven.
+pub fn summarise(refusals: &[(String, Refusal)]) -> Vec<String> {
+    let mut groups: Vec<(bool, &str, Vec<(&str, &Refusal)>)> = Vec::new();
+    for (path, r) in refusals {
+        let priority = matches!(r.asked, Placement::Priority(_));
+        match groups
+            .iter_mut()
+            .find(|(p, why, _)| *p == priority && *why == r.why)
+        {
+            Some((_, _, members)) => members.push((path, r)),
+            None => groups.push((priority, &r.why, vec![(path, r)])),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|(priority, why, members)| {
+            if let [(path, r)] = members[..] {
+                return format!("thread container `{path}`: {}", r.line());
+            }
+            let list: Vec<String> = members
+                .iter()
+                .map(|(path, r)| match r.asked {
+                    Placement::Priority(v) => format!("`{path}` {v}"),
+                    Placement::Cpu(v) => format!("`{path}` CPU {v}"),
+                })
+                .collect();
+            if priority {
+                format!(
+                    "real-time priority refused for {} thread containers ({why}): {}; they run \
+                     with normal priority ({PRIORITY_HELP})",
+                    members.len(),
+                    list.join(", ")
+                )
+            } else {
+                format!(
+                    "pinning refused for {} thread containers ({why}): {}; they may run on any CPU",
+                    members.len(),
+                    list.join(", ")
+                )
+            }
+        })
+        .collect()
+}
+
+/// Applies `options` to the calling thread; returns what was refused.
+pub(crate) fn place_current_thread(options: &ThreadOptions) -> Vec<Refusal> {
+    let mut refused = Vec::new();
     if let Some(priority) = options.priority {
         if let Err(e) = set_priority(priority) {
-            warnings.push(format!(
-                "real-time priority {priority} refused ({e}); running with normal priority \
-                 (grant CAP_SYS_NICE or an rtprio limit in /etc/security/limits.conf)"
-            ));
+            refused.push(Refusal {
+                asked: Placement::Priority(priority),
+                why: e.to_string(),
+            });
         }
     }
     if let Some(cpu) = options.cpu {
         if let Err(e) = set_affinity(cpu) {
-            warnings.push(format!(
-                "pinning to CPU {cpu} refused ({e}); the thread may run on any CPU"
-            ));
+            refused.push(Refusal {
+                asked: Placement::Cpu(cpu),
+                why: e.to_string(),
+            });
         }
     }
-    warnings
+    refused
 }
 
 #[cfg(target_os = "linux")]

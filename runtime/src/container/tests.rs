@@ -219,3 +219,42 @@ fn a_continuous_container_stops_inside_a_batch() {
     assert_eq!(runs.load(Ordering::SeqCst), 10);
     assert_eq!(c.stats().cycles(), 10);
 }
+
+/// Seven containers refused real-time priority for one reason are one warning naming
+/// them all; another reason, or a CPU, is a line of its own; one container keeps the
+/// one-thread wording.
+#[test]
+fn refusals_are_summarised_per_request_and_reason() {
+    let eperm = "Operation not permitted (os error 1)";
+    let mut refusals: Vec<(String, Refusal)> = (0..7)
+        .map(|i| {
+            let asked = Placement::Priority(70 - i);
+            let why = eperm.to_string();
+            (format!("robot/t{i}"), Refusal { asked, why })
+        })
+        .collect();
+    refusals.push((
+        "robot/t0".into(),
+        Refusal {
+            asked: Placement::Cpu(9),
+            why: "Invalid argument (os error 22)".into(),
+        },
+    ));
+    let lines = summarise_refusals(&refusals);
+    assert_eq!(lines.len(), 2, "{lines:#?}");
+    assert!(
+        lines[0].starts_with(
+            "real-time priority refused for 7 thread containers \
+             (Operation not permitted (os error 1)): `robot/t0` 70, `robot/t1` 69,"
+        ),
+        "{}",
+        lines[0]
+    );
+    assert!(lines[0].contains("`robot/t6` 64; they run with normal priority"));
+    assert_eq!(
+        lines[1],
+        "thread container `robot/t0`: pinning to CPU 9 refused (Invalid argument (os error \
+         22)); the thread may run on any CPU"
+    );
+    assert!(summarise_refusals(&[]).is_empty());
+}

@@ -151,12 +151,15 @@ impl Signal {
         self.wait(&self.data, &self.data_waiters, ready, deadline, None)
     }
 
-    /// Waits until `ready()` (which tries the push and checks the connection).
-    pub(crate) fn wait_space(&self, ready: impl FnMut() -> bool) {
+    /// Waits until `ready()` (which tries the push and checks the connection), or
+    /// until the application running on this thread is asked to stop (seen within
+    /// [`BLOCK_BACKSTOP`]): a write into a queue nobody drains must not keep a run
+    /// from ending. The caller then drops the value.
+    pub(crate) fn wait_space(&self, mut ready: impl FnMut() -> bool) {
         self.wait(
             &self.space,
             &self.space_waiters,
-            ready,
+            || ready() || crate::container::stopping::requested(),
             None,
             Some(BLOCK_BACKSTOP),
         );

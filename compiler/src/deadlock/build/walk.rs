@@ -139,7 +139,7 @@ impl<'a> Builder<'a> {
                             let Some(c) = r.queued.map(|hop| &app.connections[hop]) else {
                                 continue;
                             };
-                            if c.on_full.as_deref() == Some("block") {
+                            if c.blocks_when_full() {
                                 queues.push(self.queue(element, port));
                                 site.get_or_insert(c.to_span);
                             }

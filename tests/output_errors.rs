@@ -1,0 +1,68 @@
+//! A report that cannot be written is never lost silently and never panics: a reader
+//! that closed the pipe ends the output quietly (the exit code stands), a full disk is
+//! exit code 2 with a message.
+
+use std::process::{Command, Stdio};
+
+/// Runs ferroc with standard output as given: (exit code, stderr).
+fn run_into(args: &[&str], stdout: Stdio) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(stdout)
+        .stderr(Stdio::piped())
+        .output()
+        .expect("ferroc runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A pipe whose reader is gone before ferroc writes: every write fails with EPIPE.
+fn closed_pipe() -> Stdio {
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    writer.into()
+}
+
+fn full_disk() -> Stdio {
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap()
+        .into()
+}
+
+const COMMANDS: &[&[&str]] = &[
+    &["explain", "--list"],
+    &["explain", "T102"],
+    &["types", "list"],
+    &["schedule", "models/crash_course.xml"],
+    &["check", "models/crash_course.xml", "--format", "json"],
+    &["check", "models/crash_course.xml", "--format", "sarif"],
+    &["check", "models/crash_course.xml"],
+    &["graph", "models/crash_course.xml"],
+];
+
+#[test]
+fn a_closed_pipe_ends_the_output_quietly() {
+    for args in COMMANDS {
+        let (code, err) = run_into(args, closed_pipe());
+        assert_eq!(code, 0, "{args:?}: {err}");
+        assert!(err.is_empty(), "{args:?} says nothing: {err}");
+    }
+}
+
+#[test]
+fn a_full_disk_is_an_error_with_exit_code_2() {
+    for args in COMMANDS {
+        let (code, err) = run_into(args, full_disk());
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.contains("error: cannot write to standard output: No space left on device"),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}
