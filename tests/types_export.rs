@@ -104,10 +104,7 @@ fn a_drifted_manifest_fails_the_check_and_export_repairs_only_that_type() {
         repaired.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
-    assert!(
-        err.contains("(1 module type generated from code)"),
-        "{err}"
-    );
+    assert!(err.contains("(1 module type generated from code)"), "{err}");
     // Only libraries with built-in module types are written; a written manifest's
     // `<depends manifest="rescue.lib.xml">` still needs that file next to it.
     for entry in std::fs::read_dir(&components).unwrap() {
