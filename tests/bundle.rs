@@ -420,7 +420,11 @@ fn a_built_bundle_behaves_like_ferroc_run() {
         last(&run_out),
         "bundle:\n{b_out}\nrun:\n{run_out}"
     );
-    assert!(last(&b_out).contains("robot 1: x=+0.23 m"), "{b_out}");
+    // 20 cycles into its first look around: turned 19 × 0.048 rad to the right.
+    assert!(
+        last(&b_out).contains("robot 1: x=+0.00 m y=+0.00 m heading=307.7°"),
+        "{b_out}"
+    );
     // The same summary: reason and cycles per thread container.
     let summary = |s: &str| -> Vec<String> {
         s.lines()
