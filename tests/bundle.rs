@@ -427,7 +427,11 @@ fn a_built_bundle_behaves_like_ferroc_run() {
         last(&run_out),
         "bundle:\n{b_out}\nrun:\n{run_out}"
     );
-    assert!(last(&b_out).contains("robot 1: x=+0.30 m"), "{b_out}");
+    // 50 cycles into its first look around: turned 49 × 0.048 rad to the right.
+    assert!(
+        last(&b_out).contains("robot 1: x=+0.00 m y=+0.00 m heading=XXX"),
+        "{b_out}"
+    );
     // The same summary: reason and cycles per thread container.
     let summary = |s: &str| -> Vec<String> {
         s.lines()
@@ -462,4 +466,55 @@ fn a_built_bundle_behaves_like_ferroc_run() {
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
+}
+
+/// Modules named like the other constants of `main.rs` (`parts`, `periods`, `link_0`)
+/// get other constant names: each constant is defined once, or the bundle would not
+/// compile.
+#[test]
+fn module_names_that_match_generated_constants_get_other_constant_names() {
+    let model = std::fs::read_to_string("models/rescue_robot.xml").unwrap();
+    let renamed = model
+        .replace("mapper", "link_0")
+        .replace("name=\"clock\"", "name=\"periods\"")
+        .replace("\"clock/tick\"", "\"periods/tick\"")
+        .replace("name=\"heartbeat\"", "name=\"parts\"")
+        .replace("\"heartbeat/in/0\"", "\"parts/in/0\"");
+    // Next to the real model, so that its includes and manifests resolve.
+    let path = format!("models/.bundle-names-{}.xml", std::process::id());
+    std::fs::write(&path, renamed).unwrap();
+    let out = tempdir("constant_names");
+    let (code, err) = bundle(Path::new(&path), &out, &[]);
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(code, 0, "{err}");
+    let mut seen_link = false;
+    for part in ["robot", "station"] {
+        let main = std::fs::read_to_string(out.join(format!("parts/{part}/src/main.rs"))).unwrap();
+        let mut names: Vec<&str> = main
+            .lines()
+            .filter_map(|l| l.strip_prefix("const ")?.split(':').next())
+            .collect();
+        let count = names.len();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), count, "a constant defined twice:\n{main}");
+        assert!(names.contains(&"PARTS") && names.contains(&"PERIODS"));
+        seen_link |= main.contains("const LINK_0: LinkSpec");
+        if part == "robot" {
+            assert!(
+                main.contains("const MAPPING_LINK_0: &str = \"robot/mapping/link_0\";"),
+                "{main}"
+            );
+        } else {
+            assert!(
+                main.contains("const LOGGING_PERIODS: &str = \"station/logging/periods\";"),
+                "{main}"
+            );
+            assert!(
+                main.contains("const LOGGING_PARTS: &str = \"station/logging/parts\";"),
+                "{main}"
+            );
+        }
+    }
+    assert!(seen_link, "the model has a link numbered 0");
 }

@@ -35,6 +35,19 @@ fn checked_in_manifests_agree_with_the_code_and_export_to_themselves() {
         compared += 1;
     }
     assert!(compared >= 1);
+    assert!(err.contains("wrote "), "{err}");
+    // Exported again into the same folder: nothing changes, and it says so.
+    let (code, _, err) = ferroc(&[
+        "types",
+        "export",
+        "--lib-path",
+        "components",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("wrote "), "{err}");
+    assert_eq!(err.matches("unchanged ").count(), compared, "{err}");
 }
 
 #[test]
@@ -91,10 +104,7 @@ fn a_drifted_manifest_fails_the_check_and_export_repairs_only_that_type() {
         repaired.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
-    assert!(
-        err.contains("(1 module types generated from code)"),
-        "{err}"
-    );
+    assert!(err.contains("(1 module type generated from code)"), "{err}");
     // Only libraries with built-in module types are written; a written manifest's
     // `<depends manifest="rescue.lib.xml">` still needs that file next to it.
     for entry in std::fs::read_dir(&components).unwrap() {
@@ -178,4 +188,14 @@ fn a_type_the_manifest_lacks_is_reported_and_exported_and_bad_arguments() {
     assert_eq!(code, 0);
     assert!(out.contains("crash_course.MainSimulation"), "{out}");
     assert!(out.contains("sense-control"), "{out}");
+    // Counts agree with their nouns.
+    assert!(
+        out.contains("ferroc_std::basic::Constant (1 port, 1 parameter)"),
+        "{out}"
+    );
+    assert!(out.contains("(2 ports, "), "{out}");
+    assert!(
+        !out.contains(" 1 ports") && !out.contains(" 1 parameters"),
+        "{out}"
+    );
 }

@@ -5,7 +5,7 @@
 //! is the real `ferroc` binary, not a library call, so start-up, file reading and
 //! report writing are part of the figure, as a user sees it.
 
-use crate::generate::write_model;
+use crate::generate::{findings_in, write_model, write_model_with_findings};
 use crate::measure::{best_of, Run};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -13,6 +13,9 @@ use std::time::Duration;
 
 /// Model sizes measured, smallest first; the last one is the RESULT line.
 const SIZES: [usize; 3] = [1_000, 10_000, 100_000];
+/// Size of the model with findings (one T107 per third group), checked in both the
+/// default (human) format and `--format short`.
+const FINDINGS_SIZE: usize = 100_000;
 /// Repeats per measurement (best wall time wins; the machines are shared and noisy) ...
 const RUNS: usize = 5;
 /// ... unless the runs so far already took this long.
@@ -60,6 +63,13 @@ pub fn run() -> u8 {
             }
         }
     }
+    let many = match measure_findings(&ferroc, &dir, FINDINGS_SIZE) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("b1: N={FINDINGS_SIZE} with findings: {e}");
+            return 1;
+        }
+    };
     let secs = |r: &Run| r.wall.as_secs_f64();
     let check_s = |n: usize| {
         rows.iter()
@@ -71,12 +81,16 @@ pub fn run() -> u8 {
     let last = rows.last().expect("three sizes");
     let x = last.xmllint.as_ref().map_or(f64::NAN, secs);
     println!(
-        "RESULT b1 modules={} check_s={:.3} xmllint_s={x:.3} ratio={:.2} peak_mib={:.1} growth_10k_100k={growth:.2} check_cpu_s={:.3}",
+        "RESULT b1 modules={} check_s={:.3} xmllint_s={x:.3} ratio={:.2} peak_mib={:.1} growth_10k_100k={growth:.2} check_cpu_s={:.3} findings={} findings_short_s={:.3} findings_human_s={:.3} human_vs_short={:.2}",
         last.n,
         secs(&last.check),
         secs(&last.check) / x,
         mib(last.check.peak_rss),
         last.check.cpu.as_secs_f64(),
+        many.findings,
+        secs(&many.short),
+        secs(&many.human),
+        secs(&many.human) / secs(&many.short),
     );
     0
 }
@@ -140,6 +154,62 @@ fn measure(ferroc: &Path, dir: &Path, n: usize, xmllint: bool) -> Result<Row, St
         mib(check.peak_rss)
     );
     Ok(Row { n, check, xmllint })
+}
+
+/// The model with findings, checked in both formats.
+struct Findings {
+    findings: usize,
+    short: Run,
+    human: Run,
+}
+
+/// Checks the model with findings in `--format short` and in the default human format:
+/// the human format renders a snippet per finding, and must cost what the snippets cost
+/// (target: within 2 × of short). Exit code 0 is expected: the findings are warnings.
+fn measure_findings(ferroc: &Path, dir: &Path, n: usize) -> Result<Findings, String> {
+    let file = dir.join(format!("b1-{n}-findings.xml"));
+    write_model_with_findings(&file, n)
+        .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
+    let findings = findings_in(n);
+    let run = |format: &str| {
+        let log = dir.join(format!("b1-{n}-findings.{format}.log"));
+        let check = best_of(
+            || {
+                let mut c = Command::new(ferroc);
+                c.arg("check").arg(&file).args(["--format", format]);
+                c
+            },
+            &log,
+            RUNS,
+            BUDGET,
+        )
+        .map_err(|e| format!("cannot run {}: {e}", ferroc.display()))?;
+        let out = std::fs::read_to_string(&log).unwrap_or_default();
+        let seen = out.matches("T107").count();
+        if check.code != Some(0) || seen < findings {
+            return Err(format!(
+                "ferroc check --format {format} {}: exit {:?}, {seen} of {findings} T107 findings printed (see {})",
+                file.display(),
+                check.code,
+                log.display()
+            ));
+        }
+        Ok(check)
+    };
+    let short = run("short")?;
+    let human = run("human")?;
+    let (s, h) = (short.wall.as_secs_f64(), human.wall.as_secs_f64());
+    println!(
+        "b1 N={n:>6}  with {findings} findings: short={s:7.3} s (cpu {:6.3} s)  human={h:7.3} s (cpu {:6.3} s)  human/short={:5.2} (target <= 2)",
+        short.cpu.as_secs_f64(),
+        human.cpu.as_secs_f64(),
+        h / s
+    );
+    Ok(Findings {
+        findings,
+        short,
+        human,
+    })
 }
 
 fn mib(bytes: u64) -> f64 {

@@ -54,10 +54,32 @@ pub const MANIFEST: &str = include_str!("generate/b1.lib.xml");
 /// The model for `n_modules` modules (rounded up to a multiple of [`GROUP_SIZE`]).
 /// It needs [`MANIFEST`] as [`MANIFEST_FILE`] in its folder; see [`write_model`].
 pub fn generate(n_modules: usize) -> String {
+    generate_with(n_modules, false)
+}
+
+/// Every how many groups the model with findings repeats a connection.
+pub const DUPLICATE_EVERY: usize = 3;
+
+/// The model for `n_modules` modules that also has findings: the `level → aux`
+/// connection of every [`DUPLICATE_EVERY`]th group is written a second time at the end
+/// of the file, one T107 warning each, whose secondary label points at the first
+/// connection far above. This is the "many findings" case of B1: rendering thousands
+/// of findings must cost what their snippets cost.
+pub fn generate_with_findings(n_modules: usize) -> String {
+    generate_with(n_modules, true)
+}
+
+/// How many findings [`generate_with_findings`] puts in a model of `n_modules`.
+pub fn findings_in(n_modules: usize) -> usize {
+    Layout::new(n_modules).groups.div_ceil(DUPLICATE_EVERY)
+}
+
+fn generate_with(n_modules: usize, findings: bool) -> String {
     let layout = Layout::new(n_modules);
     let mut g = Generator {
         out: String::with_capacity(layout.groups * 2900 + 4096),
         layout,
+        findings,
     };
     g.header();
     g.parts();
@@ -68,7 +90,15 @@ pub fn generate(n_modules: usize) -> String {
 
 /// Writes the model to `file` and the manifest next to it; returns the model's size.
 pub fn write_model(file: &Path, n_modules: usize) -> std::io::Result<usize> {
-    let text = generate(n_modules);
+    write_text(file, generate(n_modules))
+}
+
+/// [`write_model`] for the model with findings ([`generate_with_findings`]).
+pub fn write_model_with_findings(file: &Path, n_modules: usize) -> std::io::Result<usize> {
+    write_text(file, generate_with_findings(n_modules))
+}
+
+fn write_text(file: &Path, text: String) -> std::io::Result<usize> {
     std::fs::write(file, &text)?;
     let dir = file.parent().unwrap_or(Path::new("."));
     std::fs::write(dir.join(MANIFEST_FILE), MANIFEST)?;
@@ -78,6 +108,8 @@ pub fn write_model(file: &Path, n_modules: usize) -> std::io::Result<usize> {
 struct Generator {
     out: String,
     layout: Layout,
+    /// Repeat some connections at the end (see [`generate_with_findings`]).
+    findings: bool,
 }
 
 impl Generator {
@@ -165,6 +197,7 @@ impl Generator {
     fn connections(&mut self) {
         let l = &self.layout;
         let mut text = String::with_capacity(l.groups * 260);
+        let mut repeated = String::new();
         for cur in 0..l.groups {
             let prev = (cur + l.groups - 1) % l.groups;
             let (tp, tc) = (l.thread_of(prev), l.thread_of(cur));
@@ -198,10 +231,11 @@ impl Generator {
                 text,
                 "  <connect from=\"{from}/out\" to=\"{to}/in\"{data}/>"
             );
-            let _ = writeln!(
-                text,
-                "  <connect from=\"{from}/level\" to=\"{to}/aux\"{meta}/>"
-            );
+            let level = format!("  <connect from=\"{from}/level\" to=\"{to}/aux\"{meta}/>\n");
+            text.push_str(&level);
+            if self.findings && cur % DUPLICATE_EVERY == 0 {
+                repeated.push_str(&level);
+            }
             if l.kind(cur) == GroupKind::Client {
                 let server = l.server_of(tc);
                 for (client, service) in [
@@ -217,5 +251,6 @@ impl Generator {
             }
         }
         self.out.push_str(&text);
+        self.out.push_str(&repeated);
     }
 }

@@ -19,11 +19,13 @@ const HELP: &str = "\
 ferroc-bench: ferroc's benchmarks (design: benchmarks.md)
 
 Usage: cargo run --release -p ferroc-bench -- <ID> [OPTIONS]
-       cargo run --release -p ferroc-bench -- gen <N> [FILE]
+       cargo run --release -p ferroc-bench -- gen <N> [FILE] [--findings]
 
 IDs:
   b1    checker scale: `ferroc check` vs `xmllint --noout` on generated models of
-        1,000 / 10,000 / 100,000 modules (wall time, ratio, peak RSS, growth)
+        1,000 / 10,000 / 100,000 modules (wall time, ratio, peak RSS, growth); then
+        100,000 modules with 3,334 findings in the default (human) format against
+        `--format short` (target: human within 2x of short)
   b2    control loop: five ring.Stage modules pass a 4x4 f64 matrix around a ring
         in one continuous thread container (Builder calls as `ferroc run` makes
         for models/control_loop.xml); baseline: the same reads and writes in a
@@ -55,7 +57,7 @@ IDs:
   all   every benchmark (b1 to b5) with default options
   gen   write the B1 model with N modules to FILE and its manifest b1.lib.xml next to
         it (default: the model alone to standard output),
-        e.g. to profile the checker on it
+        e.g. to profile the checker on it; --findings: the model with findings
 
 b1 runs the `ferroc` binary next to its own executable (target/release/ferroc) and
 builds it first when it is missing or older than the benchmark. Models and logs go to
@@ -120,6 +122,13 @@ fn no_options(id: &str, rest: &[String]) -> Option<ExitCode> {
 
 /// `gen N [FILE]`: the B1 model, for profiling the checker by hand.
 fn gen(args: &[String]) -> ExitCode {
+    // `--findings`: the model of B1's many-findings case (one T107 per third group).
+    let findings = args.iter().any(|a| a == "--findings");
+    let args: Vec<String> = args
+        .iter()
+        .filter(|a| *a != "--findings")
+        .cloned()
+        .collect();
     let Some(n) = args
         .first()
         .and_then(|a| a.replace('_', "").parse::<usize>().ok())
@@ -129,6 +138,9 @@ fn gen(args: &[String]) -> ExitCode {
     };
     // The model names the `b1` manifest by a path relative to itself.
     let written = match args.get(1) {
+        Some(file) if findings => {
+            generate::write_model_with_findings(std::path::Path::new(file), n).map(|_| ())
+        }
         Some(file) => generate::write_model(std::path::Path::new(file), n).map(|_| ()),
         None => {
             eprintln!(
@@ -137,7 +149,12 @@ fn gen(args: &[String]) -> ExitCode {
             );
             std::io::Write::write_all(
                 &mut std::io::stdout().lock(),
-                generate::generate(n).as_bytes(),
+                if findings {
+                    generate::generate_with_findings(n)
+                } else {
+                    generate::generate(n)
+                }
+                .as_bytes(),
             )
         }
     };

@@ -8,7 +8,7 @@ use crate::source::Span;
 use crate::types::Type;
 use crate::units::Unit;
 use compact_str::CompactString;
-use hashbrown::HashMap;
+use hashbrown::{HashMap, HashSet};
 use petgraph::graph::{DiGraph, NodeIndex};
 use std::hash::{Hash, Hasher};
 
@@ -221,6 +221,9 @@ pub struct Application {
     pub ib2c_violations: Option<String>,
     /// What the timing checks (S102–S107) read: priorities, cores, flows.
     pub timing: Timing,
+    /// Ends of `<connect>`s whose other end did not resolve (reported there): checks that
+    /// a port is connected count these as connected, one root cause being one finding.
+    pub cut_off: HashSet<Endpoint>,
 }
 
 /// Timing attributes of the model, keyed by element (most models declare few of them).

@@ -227,7 +227,7 @@ impl<'a> Loader<'a> {
         key: &str,
     ) -> (FileId, Option<Element>) {
         let file = self.sources.add(name, path, text);
-        let Some(root) = self.parse_tree(file) else {
+        let Some(mut root) = self.parse_tree(file) else {
             return (file, None);
         };
         let expected = crate::syntax::vocabulary::spec(key).tag;
@@ -248,7 +248,7 @@ impl<'a> Loader<'a> {
             );
             return (file, None);
         }
-        validate(&root, key, self.diags, &mut self.allows);
+        validate(&mut root, key, self.diags, &mut self.allows);
         (file, Some(root))
     }
 

@@ -207,9 +207,76 @@ pub fn relate(from: &Unit, to: &Unit) -> UnitRelation {
     }
 }
 
+/// A scale factor as a message shows it: exact when short (`100`, `0.001`, `3.6`),
+/// as a fraction of π when that is short (`180/π ≈ 57.3` for rad → deg), otherwise to four
+/// significant digits (`≈ 0.2778`) rather than `57.29577951308232`.
+pub fn describe_factor(f: f64) -> String {
+    // `x` when it has at most six significant digits (up to rounding error).
+    let short = |x: f64| {
+        if !x.is_finite() || x == 0.0 {
+            return None;
+        }
+        let rounded: f64 = significant(x, 6).parse().ok()?;
+        ((rounded - x).abs() <= 1e-12 * x.abs()).then(|| format!("{rounded}"))
+    };
+    if let Some(text) = short(f) {
+        return text;
+    }
+    let pi = std::f64::consts::PI;
+    let approx = significant(f, 3);
+    if let Some(n) = short(f * pi).filter(|n| !n.contains('.')) {
+        return format!("{n}/π ≈ {approx}");
+    }
+    if let Some(n) = short(f / pi).filter(|n| !n.contains('.')) {
+        return if n == "1" {
+            format!("π ≈ {approx}")
+        } else {
+            format!("{n}π ≈ {approx}")
+        };
+    }
+    if let Some(d) = short(1.0 / (f * pi)).filter(|n| !n.contains('.')) {
+        return format!("1/({d}π) ≈ {}", significant(f, 4));
+    }
+    if let Some(d) = short(pi / f).filter(|n| !n.contains('.')) {
+        return format!("π/{d} ≈ {}", significant(f, 4));
+    }
+    format!("≈ {}", significant(f, 4))
+}
+
+/// `x` rounded to `digits` significant digits, without trailing zeros.
+fn significant(x: f64, digits: i32) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i32;
+    let decimals = (digits - 1 - magnitude).max(0) as usize;
+    let text = format!("{x:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn factors_read_as_people_write_them() {
+        let pi = std::f64::consts::PI;
+        assert_eq!(describe_factor(100.0), "100");
+        assert_eq!(describe_factor(0.001), "0.001");
+        assert_eq!(describe_factor(3.6), "3.6");
+        assert_eq!(describe_factor(180.0 / pi), "180/π ≈ 57.3");
+        assert_eq!(describe_factor(pi / 180.0), "π/180 ≈ 0.01745");
+        assert_eq!(describe_factor(1.0 / 3.6), "≈ 0.2778");
+        // rpm → rad/s and back.
+        assert_eq!(describe_factor(2.0 * pi / 60.0), "π/30 ≈ 0.1047");
+        assert_eq!(describe_factor(60.0 / (2.0 * pi)), "30/π ≈ 9.55");
+        assert_eq!(describe_factor(1e9), "1000000000");
+        assert_eq!(describe_factor(1e-9), "0.000000001");
+    }
 
     fn u(s: &str) -> Unit {
         parse_unit(s).unwrap()

@@ -440,10 +440,21 @@ fn main_fn(out: &mut Code) {
     out.text.push_str(text);
 }
 
+/// The other constants of a generated `main.rs`: a module constant of one of these
+/// names would be defined twice, and the bundle would not compile.
+fn reserved(name: &str) -> bool {
+    const FIXED: &[&str] = &["PART", "PROGRAM", "ABOUT", "PARTS", "PERIODS"];
+    // `LINK_n` (links.rs) and `CALL_n` (service calls between parts).
+    let numbered = |prefix: &str| {
+        name.strip_prefix(prefix)
+            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+    };
+    FIXED.contains(&name) || numbered("LINK_") || numbered("CALL_")
+}
+
 /// A readable constant name for every module path of the part: the module's name in
 /// upper case, with as many enclosing names as it takes to be unique.
 fn module_constants(part: &Part<'_>) -> HashMap<String, String> {
-    const RESERVED: &[&str] = &["PART", "PROGRAM", "ABOUT"];
     let paths: Vec<Vec<&str>> = part
         .modules
         .iter()
@@ -464,7 +475,7 @@ fn module_constants(part: &Part<'_>) -> HashMap<String, String> {
         let names: Vec<String> = (0..paths.len()).map(|i| name(i, depth[i])).collect();
         let mut grew = false;
         for i in 0..paths.len() {
-            let clash = RESERVED.contains(&names[i].as_str())
+            let clash = reserved(&names[i])
                 || names
                     .iter()
                     .enumerate()
@@ -480,7 +491,7 @@ fn module_constants(part: &Part<'_>) -> HashMap<String, String> {
             for (i, mut n) in names.into_iter().enumerate() {
                 let base = n.clone();
                 let mut k = 2;
-                while RESERVED.contains(&n.as_str()) || !taken.insert(n.clone()) {
+                while reserved(&n) || !taken.insert(n.clone()) {
                     n = format!("{base}_{k}");
                     k += 1;
                 }

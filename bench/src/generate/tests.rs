@@ -198,3 +198,23 @@ fn one_flipped_lock_order_is_a_deadlock() {
     assert!(d.message.contains("opposite orders") && d.message.contains("`p0/t0`"));
     assert_eq!(d.witness.len(), 2, "one flow per blocked thread container");
 }
+
+/// The model with findings has exactly one T107 per repeated connection, each pointing
+/// back at the first connection, and nothing else.
+#[test]
+fn model_with_findings_has_one_duplicate_warning_per_repeat() {
+    const N: usize = 1_000;
+    let result = check("findings", &generate_with_findings(N));
+    assert_eq!(findings_in(N), 34);
+    assert_eq!(
+        result.diagnostics.len(),
+        findings_in(N),
+        "{:#?}",
+        findings(&result)
+    );
+    for d in &result.diagnostics {
+        assert_eq!((d.code(), d.severity), ("T107", Severity::Warning));
+        assert_eq!(d.secondary.len(), 1);
+        assert!(d.secondary[0].span.start < d.primary.span.start);
+    }
+}

@@ -2,62 +2,35 @@
 //! cause, secondary labels on related places (in other files, as related reports) and a
 //! `help:` line.
 
+use super::excerpt::{shorten_words, Excerpt, CONTEXT_LINES};
 use super::ModelReport;
 use crate::diagnostic::{Diagnostic, Severity};
 use crate::source::{FileId, SourceMap};
-use miette::{
-    GraphicalReportHandler, GraphicalTheme, LabeledSpan, MietteError, MietteSpanContents,
-    SourceCode, SourceSpan, SpanContents,
-};
+use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, SourceCode};
 use std::fmt;
 
-/// A file's text with its name, as miette wants it.
 #[derive(Debug)]
-struct NamedText<'a> {
-    name: &'a str,
-    text: &'a str,
-}
-
-impl SourceCode for NamedText<'_> {
-    fn read_span<'b>(
-        &'b self,
-        span: &SourceSpan,
-        before: usize,
-        after: usize,
-    ) -> Result<Box<dyn SpanContents<'b> + 'b>, MietteError> {
-        let inner = self.text.read_span(span, before, after)?;
-        Ok(Box::new(MietteSpanContents::new_named(
-            self.name.to_string(),
-            inner.data(),
-            *inner.span(),
-            inner.line(),
-            inner.column(),
-            inner.line_count(),
-        )))
-    }
-}
-
-#[derive(Debug)]
-struct Rendered<'a> {
+struct Rendered {
     message: String,
     /// `error[T106]`, as rustc heads its diagnostics.
     code: Option<String>,
     severity: miette::Severity,
-    help: Option<&'a str>,
-    source: NamedText<'a>,
+    help: Option<String>,
+    /// What miette sees of the file: the lines around the labels (see `excerpt`).
+    source: Excerpt,
     labels: Vec<LabeledSpan>,
-    related: Vec<Rendered<'a>>,
+    related: Vec<Rendered>,
 }
 
-impl fmt::Display for Rendered<'_> {
+impl fmt::Display for Rendered {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.message)
     }
 }
 
-impl std::error::Error for Rendered<'_> {}
+impl std::error::Error for Rendered {}
 
-impl miette::Diagnostic for Rendered<'_> {
+impl miette::Diagnostic for Rendered {
     fn code<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
         self.code
             .as_ref()
@@ -67,7 +40,9 @@ impl miette::Diagnostic for Rendered<'_> {
         Some(self.severity)
     }
     fn help<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
-        self.help.map(|h| Box::new(h) as Box<dyn fmt::Display>)
+        self.help
+            .as_ref()
+            .map(|h| Box::new(h) as Box<dyn fmt::Display + 'b>)
     }
     fn source_code(&self) -> Option<&dyn SourceCode> {
         Some(&self.source)
@@ -85,67 +60,85 @@ impl miette::Diagnostic for Rendered<'_> {
     }
 }
 
-fn labeled(sources: &SourceMap, label: &crate::diagnostic::Label, primary: bool) -> LabeledSpan {
-    let len = (label.span.end - label.span.start).max(1) as usize;
-    let text = (!label.message.is_empty()).then(|| label.message.clone());
-    let span = SourceSpan::new(
-        (label.span.start as usize).into(),
-        len.min(
-            sources
-                .get(label.span.file)
-                .text
-                .len()
-                .saturating_sub(label.span.start as usize),
-        ),
-    );
-    if primary {
-        LabeledSpan::new_primary_with_span(text, span)
-    } else {
-        LabeledSpan::new_with_span(text, span)
+/// The labels of one file, shown on an excerpt of it.
+struct FileLabels<'a> {
+    file: FileId,
+    labels: Vec<(&'a crate::diagnostic::Label, bool)>,
+}
+
+impl FileLabels<'_> {
+    fn excerpt(&self, sources: &SourceMap) -> (Excerpt, Vec<LabeledSpan>) {
+        let file = sources.get(self.file);
+        let ranges: Vec<(usize, usize)> = self
+            .labels
+            .iter()
+            .map(|(l, _)| {
+                let start = l.span.start as usize;
+                // An empty span still marks one character (or the line break).
+                (start, start + (l.span.end as usize - start).max(1))
+            })
+            .collect();
+        let (excerpt, spans) = Excerpt::new(file, &ranges);
+        let labeled = self
+            .labels
+            .iter()
+            .zip(spans)
+            .map(|((l, primary), span)| {
+                let text = (!l.message.is_empty()).then(|| shorten_words(&l.message));
+                if *primary {
+                    LabeledSpan::new_primary_with_span(text, span)
+                } else {
+                    LabeledSpan::new_with_span(text, span)
+                }
+            })
+            .collect();
+        (excerpt, labeled)
     }
 }
 
-fn build<'a>(sources: &'a SourceMap, d: &'a Diagnostic) -> Rendered<'a> {
+fn build(sources: &SourceMap, d: &Diagnostic) -> Rendered {
     let file = d.primary.span.file;
-    let named = |f: FileId| {
-        let src = sources.get(f);
-        NamedText {
-            name: &src.name,
-            text: &src.text,
-        }
-    };
-    let mut labels = vec![labeled(sources, &d.primary, true)];
-    let mut related: Vec<Rendered<'a>> = Vec::new();
+    // Labels grouped by file, the primary's file first; other files become related
+    // reports, in the order they are first named.
+    let mut files = vec![FileLabels {
+        file,
+        labels: vec![(&d.primary, true)],
+    }];
     for s in &d.secondary {
-        if s.span.file == file {
-            labels.push(labeled(sources, s, false));
-        } else if let Some(r) = related
-            .iter_mut()
-            .find(|r| std::ptr::eq(r.source.text, sources.get(s.span.file).text.as_str()))
-        {
-            r.labels.push(labeled(sources, s, false));
-        } else {
-            related.push(Rendered {
+        match files.iter_mut().find(|f| f.file == s.span.file) {
+            Some(f) => f.labels.push((s, false)),
+            None => files.push(FileLabels {
+                file: s.span.file,
+                labels: vec![(s, false)],
+            }),
+        }
+    }
+    let mut files = files.into_iter();
+    let (source, labels) = files.next().expect("the primary's file").excerpt(sources);
+    let related = files
+        .map(|f| {
+            let (source, labels) = f.excerpt(sources);
+            Rendered {
                 message: "related location".into(),
                 code: None,
                 severity: miette::Severity::Advice,
                 help: None,
-                source: named(s.span.file),
-                labels: vec![labeled(sources, s, false)],
+                source,
+                labels,
                 related: Vec::new(),
-            });
-        }
-    }
+            }
+        })
+        .collect();
     Rendered {
-        message: d.message.clone(),
+        message: shorten_words(&d.message),
         code: Some(format!("{}[{}]", d.severity.as_str(), d.check.code)),
         severity: match d.severity {
             Severity::Error => miette::Severity::Error,
             Severity::Warning => miette::Severity::Warning,
             Severity::Note => miette::Severity::Advice,
         },
-        help: d.help.as_deref(),
-        source: named(file),
+        help: d.help.as_deref().map(shorten_words),
+        source,
         labels,
         related,
     }
@@ -160,6 +153,7 @@ pub fn render(report: &ModelReport<'_>, color: bool, out: &mut String) {
     };
     let handler = GraphicalReportHandler::new_themed(theme)
         .with_width(100)
+        .with_context_lines(CONTEXT_LINES)
         .with_links(false);
     for d in report.diagnostics {
         let rendered = build(report.sources, d);

@@ -1,5 +1,6 @@
 //! Report formats: human (miette), short, json, sarif, junit.
 
+mod excerpt;
 pub mod human;
 pub mod json;
 pub mod junit;

@@ -18,6 +18,11 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         let from_r = self.resolve_path(p.scope, &from.value, from.value_span);
         let to_r = self.resolve_path(p.scope, &to.value, to.value_span);
         let (Some((from_ep, from_index)), Some((to_ep, to_index))) = (from_r, to_r) else {
+            // The end that resolved was meant to be connected: no "not connected" finding
+            // for it on top of the one about the other end.
+            if let Some((ep, _)) = from_r.or(to_r) {
+                self.app.cut_off.insert(ep);
+            }
             return;
         };
         let mut converts = Vec::new();
@@ -135,6 +140,9 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         }
         let mut current = scope;
         for (i, seg) in segments.iter().enumerate() {
+            if self.broken_groups.contains(&current) {
+                return None;
+            }
             let rest = &segments[i..];
             let (name, index) = split_index(seg);
             if rest.len() == 1 {
@@ -163,6 +171,9 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                     return self.module_endpoint(current, &segments[i + 1..], span, path);
                 }
                 continue;
+            }
+            if self.broken.contains(&(current, name.to_string())) {
+                return None;
             }
             let here = self.app.path(current);
             let mut candidates: Vec<String> =

@@ -12,7 +12,7 @@ use crate::load::{Loader, ModelFiles};
 use crate::source::{FileId, Span};
 use crate::syntax::Element;
 use crate::values::parse_duration;
-use hashbrown::HashMap;
+use hashbrown::{HashMap, HashSet};
 use petgraph::graph::DiGraph;
 
 mod connect;
@@ -35,6 +35,12 @@ pub(crate) struct Resolver<'r, 'l, 't> {
     pending: Vec<PendingConnect<'t>>,
     /// Group types being instantiated (recursion guard), with their use sites.
     instantiating: Vec<(*const Element, Span)>,
+    /// Names of elements not created because their definition was reported (an unknown
+    /// type or library, a recursive or too deep group type), by scope: a path through
+    /// one ends silently instead of adding "has no element" to the finding that says why.
+    broken: HashSet<(ElementId, String)>,
+    /// Groups of an unknown group type: what is inside them is unknown too.
+    broken_groups: HashSet<ElementId>,
 }
 
 /// Resolves a loaded model. `used` are the libraries the application `<use>`s.
@@ -72,6 +78,7 @@ pub fn resolve(
                 _ => Profile::Generic,
             }),
         timing: Timing::default(),
+        cut_off: HashSet::new(),
         ib2c_violations: root.value("ib2c-violations").map(str::to_string),
     };
     let mut r = Resolver {
@@ -81,6 +88,8 @@ pub fn resolve(
         local_group_types: HashMap::new(),
         pending: Vec::new(),
         instantiating: Vec::new(),
+        broken: HashSet::new(),
+        broken_groups: HashSet::new(),
     };
     let mut files: Vec<(FileId, &Element)> = vec![(model.file, root)];
     files.extend(model.fragments.iter().map(|(f, e)| (*f, e)));
@@ -131,6 +140,13 @@ pub fn resolve(
 }
 
 impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
+    /// `element` (in `scope`) is not created for a reason already reported.
+    pub(super) fn broken(&mut self, scope: ElementId, element: &Element) {
+        if let Some(name) = element.value("name") {
+            self.broken.insert((scope, name.to_string()));
+        }
+    }
+
     fn duplicate(&mut self, span: Span, first: Span, what: &str) {
         self.loader.diags.push(
             Diagnostic::new(
@@ -303,8 +319,11 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         let Some((def, def_visible)) =
             self.find_group_type(&type_attr.value, type_attr.value_span, visible)
         else {
-            // Keep the group so paths into it report the unknown type, not a missing name.
-            self.add_element(scope, child, ElementKind::Group, inst);
+            // Keep the group so that paths to it resolve; paths into it end silently
+            // (its content is unknown, which the unknown type already says).
+            if let Some(id) = self.add_element(scope, child, ElementKind::Group, inst) {
+                self.broken_groups.insert(id);
+            }
             return;
         };
         let use_span = type_attr.value_span;
@@ -328,6 +347,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             self.loader
                 .diags
                 .push(d.help("break the recursion: a group type cannot contain itself"));
+            self.broken(scope, child);
             return;
         }
         if depth >= self.loader.options.limits.max_instance_depth {
@@ -343,6 +363,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 .label("one level too many")
                 .help("flatten the group structure"),
             );
+            self.broken(scope, child);
             return;
         }
         let Some(id) = self.add_element(scope, child, ElementKind::Group, inst) else {

@@ -21,12 +21,14 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         inst: Option<Span>,
     ) {
         let Some(type_attr) = e.attr("type") else {
+            self.broken(scope, e); // M104 said so
             return;
         };
         let type_span = type_attr.value_span;
         let Some((library, type_index)) =
             self.find_module_type(&type_attr.value, type_span, visible)
         else {
+            self.broken(scope, e);
             return;
         };
         let mt = &self.libs.get(library).module_types[type_index];

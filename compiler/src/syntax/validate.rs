@@ -16,9 +16,19 @@ pub struct AllowRegion {
 }
 
 /// Validates `root` as an element of context `key`.
-pub fn validate(root: &Element, key: &str, out: &mut Diagnostics, allows: &mut Vec<AllowRegion>) {
+///
+/// A misspelt attribute is reported once (M103) and then read as the attribute it was
+/// meant to be, when the element takes that attribute and does not have it yet:
+/// `perod="40ms"` is one finding, not also "thread container has neither `period` nor
+/// `trigger`", and `nme="x"` does not also lose the module and every path to it.
+pub fn validate(
+    root: &mut Element,
+    key: &str,
+    out: &mut Diagnostics,
+    allows: &mut Vec<AllowRegion>,
+) {
     let spec = vocabulary::spec(key);
-    let mut stack: Vec<(&Element, &'static ElementSpec, bool)> = vec![(root, spec, true)];
+    let mut stack: Vec<(&mut Element, &'static ElementSpec, bool)> = vec![(root, spec, true)];
     while let Some((element, spec, is_root)) = stack.pop() {
         check_attributes(element, spec, is_root, out);
         if !spec.text && !element.text.trim().is_empty() {
@@ -32,9 +42,11 @@ pub fn validate(root: &Element, key: &str, out: &mut Diagnostics, allows: &mut V
                 .help("remove the text, or put it in a `doc` attribute"),
             );
         }
+        let mut keys = Vec::with_capacity(element.children.len());
         for child in &element.children {
-            match vocabulary::child_key(spec, &child.name) {
-                Some(child_key) => {
+            let key = vocabulary::child_key(spec, &child.name);
+            match key {
+                Some(_) => {
                     if child.name == "allow" {
                         if let (Some(code), Some(_)) = (child.value("code"), child.value("reason"))
                         {
@@ -45,9 +57,14 @@ pub fn validate(root: &Element, key: &str, out: &mut Diagnostics, allows: &mut V
                             });
                         }
                     }
-                    stack.push((child, vocabulary::spec(child_key), false));
                 }
                 None => out.push(unplaced(element, spec, child)),
+            }
+            keys.push(key);
+        }
+        for (child, key) in element.children.iter_mut().zip(keys) {
+            if let Some(key) = key {
+                stack.push((child, vocabulary::spec(key), false));
             }
         }
     }
@@ -95,8 +112,14 @@ fn unplaced(parent: &Element, spec: &ElementSpec, child: &Element) -> Diagnostic
     }
 }
 
-fn check_attributes(element: &Element, spec: &ElementSpec, is_root: bool, out: &mut Diagnostics) {
-    for (i, attr) in element.attrs.iter().enumerate() {
+fn check_attributes(
+    element: &mut Element,
+    spec: &ElementSpec,
+    is_root: bool,
+    out: &mut Diagnostics,
+) {
+    for i in 0..element.attrs.len() {
+        let attr = &element.attrs[i];
         if let Some(first) = element.attrs[..i].iter().find(|a| a.name == attr.name) {
             out.push(
                 Diagnostic::new(
@@ -129,10 +152,22 @@ fn check_attributes(element: &Element, spec: &ElementSpec, is_root: bool, out: &
                 )
                 .label("unknown attribute");
                 let all: Vec<&str> = names.collect();
-                out.push(match did_you_mean(&attr.name, all.iter().copied()) {
-                    Some(s) => d.help(format!("did you mean `{s}`?")),
-                    None => d.help(format!("<{}> takes: {}", element.name, all.join(", "))),
+                let meant = did_you_mean(&attr.name, all.iter().copied());
+                // Read it as the attribute it was meant to be, if that one is free.
+                let recovered = meant
+                    .filter(|s| element.attr(s).is_none())
+                    .and_then(|s| spec.attrs.iter().find(|a| a.name == s));
+                out.push(match (meant, recovered) {
+                    (Some(s), Some(_)) => d.help(format!(
+                        "did you mean `{s}`? (the rest of the model is checked as if it were)"
+                    )),
+                    (Some(s), None) => d.help(format!("did you mean `{s}`?")),
+                    (None, _) => d.help(format!("<{}> takes: {}", element.name, all.join(", "))),
                 });
+                if let Some(known) = recovered {
+                    element.attrs[i].name = known.name.into();
+                    check_value(element, &element.attrs[i], known.kind, out);
+                }
             }
             continue;
         };

@@ -1,11 +1,43 @@
-//! `crash_course.Controller`: drive forward, slow down and turn before walls.
+//! `crash_course.Controller`: look around, then drive only where the walls are not.
+//!
+//! It repeats three phases: turn in place half a turn while both rays sample the walls
+//! around (`Scan`), turn to the heading whose corridor is free farthest (`Turn`, see
+//! `plan.rs`), drive straight that far (`Drive`), stopping early when the front ray
+//! unexpectedly sees something close. It never moves sideways into a wall it has not
+//! seen, and one noisy reading cannot send it into one.
 
+use crate::plan::{self, Reading};
 use crate::Pose2D;
 use ferroc_runtime::module::{In, Kind, Module, ModuleType, Out, Parameter, Setup};
 
-/// Reactive wall-avoiding controller of the crash-course robot.
+/// The robot's body: distance from its centre to the bumper (the simulation's too).
+const BODY_RADIUS: f64 = 0.15;
+/// The longest straight drive (what the rays saw limits it first).
+const MAX_DRIVE: f64 = 2.0;
+/// Turning: angular velocity per radian still to turn (1/s), below `max_angular_velocity`.
+const TURN_GAIN: f64 = 10.0;
+/// Driving: velocity per metre still to go (1/s), below `max_velocity`.
+const DRIVE_GAIN: f64 = 2.0;
+/// A heading this close (radians) is reached; a drive this close (metres) is done.
+const HEADING_TOLERANCE: f64 = 0.01;
+const DISTANCE_TOLERANCE: f64 = 0.01;
+
+/// What the controller is doing.
+#[derive(Clone, Debug)]
+enum Phase {
+    /// Turning in place and sampling; `turned` radians so far.
+    Scan { turned: f64, readings: Vec<Reading> },
+    /// Turning in place to the heading of the drive.
+    Turn(plan::Drive),
+    /// Driving straight from `from`.
+    Drive {
+        drive: plan::Drive,
+        from: (f64, f64),
+    },
+}
+
+/// Wall-avoiding controller of the crash-course robot.
 pub struct Controller {
-    #[allow(dead_code)] // declared by the manifest; this controller is purely reactive
     pose: In<Pose2D>,
     ir_front: In<f64>,
     ir_rear: In<f64>,
@@ -19,6 +51,11 @@ pub struct Controller {
     turn_direction: Parameter<String>,
     front: f64,
     rear: f64,
+    /// Where the robot was when `front` and `rear` were read.
+    at: Pose2D,
+    /// The last three front readings, newest last (a median outvotes one bad reading).
+    recent_front: [f64; 3],
+    phase: Phase,
     /// `enable` counts only once something was published to it; unconnected, drive.
     enable_seen: bool,
 }
@@ -26,7 +63,7 @@ pub struct Controller {
 impl ModuleType for Controller {
     const NAME: &'static str = "crash_course.Controller";
     const KIND: Kind = Kind::SenseControl;
-    const DOC: &'static str = "Reactive wall-avoiding controller of the crash-course robot";
+    const DOC: &'static str = "Wall-avoiding controller of the crash-course robot: looks around, then drives where it is free";
 
     fn create(m: &mut Setup<'_>) -> Self {
         Controller {
@@ -60,7 +97,7 @@ impl ModuleType for Controller {
                 .unit("m")
                 .range(0.0, 2.0)
                 .default(0.3)
-                .doc("start slowing down and turning below this distance")
+                .doc("clearance kept between the body and anything the sensors saw")
                 .build(),
             max_velocity: m
                 .param("max_velocity")
@@ -78,10 +115,84 @@ impl ModuleType for Controller {
                 .param("turn_direction")
                 .choices(&["left", "right"])
                 .default("left".to_string())
+                .doc("the way it turns while looking around")
                 .build(),
             front: f64::INFINITY,
             rear: f64::INFINITY,
+            at: Pose2D::default(),
+            recent_front: [f64::INFINITY; 3],
+            phase: Phase::scan(),
             enable_seen: false,
+        }
+    }
+}
+
+impl Phase {
+    fn scan() -> Phase {
+        Phase::Scan {
+            turned: 0.0,
+            readings: Vec::with_capacity(160),
+        }
+    }
+}
+
+impl Controller {
+    /// Velocity and angular velocity for this cycle; moves on to the next phase.
+    fn step(&mut self) -> (f64, f64) {
+        let max_v = self.max_velocity.get();
+        let max_w = self.max_angular_velocity.get();
+        let safety = self.safety_distance.get();
+        let sign = if self.turn_direction.value() == "right" {
+            -1.0
+        } else {
+            1.0
+        };
+        let at = self.at;
+        let steer = |heading: f64| (TURN_GAIN * plan::wrap(heading - at.yaw)).clamp(-max_w, max_w);
+        match &mut self.phase {
+            Phase::Scan { turned, readings } => {
+                readings.push(Reading {
+                    heading: at.yaw,
+                    range: self.front,
+                });
+                readings.push(Reading {
+                    heading: at.yaw + std::f64::consts::PI,
+                    range: self.rear,
+                });
+                if let Some(previous) = readings.len().checked_sub(4).map(|i| readings[i].heading) {
+                    *turned += plan::wrap(at.yaw - previous).abs();
+                }
+                // Half a turn and one reading more: the rear ray covered the other half.
+                if *turned > std::f64::consts::PI {
+                    let drive = plan::choose(readings, BODY_RADIUS + safety, MAX_DRIVE);
+                    self.phase = Phase::Turn(drive);
+                    return self.step();
+                }
+                (0.0, sign * max_w)
+            }
+            Phase::Turn(drive) => {
+                let drive = *drive;
+                if plan::wrap(drive.heading - at.yaw).abs() > HEADING_TOLERANCE {
+                    return (0.0, steer(drive.heading));
+                }
+                self.phase = Phase::Drive {
+                    drive,
+                    from: (at.x, at.y),
+                };
+                self.step()
+            }
+            Phase::Drive { drive, from } => {
+                let travelled = (at.x - from.0).hypot(at.y - from.1);
+                let left = drive.distance - travelled;
+                let mut recent = self.recent_front;
+                recent.sort_by(f64::total_cmp);
+                // The corridor was free: something close ahead now is unexpected.
+                if left < DISTANCE_TOLERANCE || recent[1] < safety / 2.0 {
+                    self.phase = Phase::scan();
+                    return self.step();
+                }
+                ((DRIVE_GAIN * left).min(max_v), steer(drive.heading))
+            }
         }
     }
 }
@@ -90,31 +201,20 @@ impl Module for Controller {
     fn sense(&mut self) {
         self.front = self.ir_front.get();
         self.rear = self.ir_rear.get();
+        self.at = self.pose.get();
+        self.recent_front = [self.recent_front[1], self.recent_front[2], self.front];
         self.obstacle_distance.publish(self.front.min(self.rear));
     }
 
     fn control(&mut self) {
         self.enable_seen |= self.enable.changed();
         let enabled = !self.enable_seen || *self.enable.get();
-        let safety = self.safety_distance.get();
-        let max_v = self.max_velocity.get();
-        let max_w = self.max_angular_velocity.get();
-        let sign = if self.turn_direction.value() == "right" {
-            -1.0
+        let (v, w) = if enabled {
+            self.step()
         } else {
-            1.0
-        };
-        let (v, w) = if !enabled {
+            // Start over with a fresh look once enabled again.
+            self.phase = Phase::scan();
             (0.0, 0.0)
-        } else if self.front < safety {
-            // Closer to the wall: slower, and turning harder.
-            let closeness = 1.0 - self.front / safety.max(1e-6);
-            (
-                max_v * (1.0 - closeness) * 0.3,
-                sign * max_w * closeness.max(0.3),
-            )
-        } else {
-            (max_v, 0.0)
         };
         self.velocity.publish(v);
         self.angular_velocity.publish(w);

@@ -4,10 +4,12 @@
 //! A simulated two-wheeled robot drives in a square walled arena with an infrared
 //! distance sensor at the front and one at the rear. Hitting a wall faster than the
 //! destructive collision speed destroys it, and a new robot starts in the middle. The
-//! controller slows down and turns in front of walls.
+//! controller looks around (turning in place while both rays sample the walls), then
+//! drives straight only as far as its body's corridor is free (`plan.rs`).
 
 mod controller;
 mod noise;
+pub mod plan;
 mod simulation;
 mod visualization;
 

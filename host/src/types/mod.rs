@@ -121,16 +121,21 @@ fn list(args: ListArgs, registry: &Registry) -> ExitCode {
         }
         for t in types {
             out += &format!(
-                "{:<32} {:<14} {} ({} ports, {} parameters)\n",
+                "{:<32} {:<14} {} ({}, {})\n",
                 t.name,
                 t.kind.as_str(),
                 t.rust,
-                t.ports.len(),
-                t.params.len()
+                count(t.ports.len(), "port"),
+                count(t.params.len(), "parameter")
             );
         }
     }
     crate::output::stdout_then(out.as_bytes(), ExitCode::SUCCESS)
+}
+
+/// `1 port`, `2 ports`.
+fn count(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
 }
 
 fn export(args: ExportArgs, registry: &Registry) -> ExitCode {
@@ -198,7 +203,7 @@ fn export(args: ExportArgs, registry: &Registry) -> ExitCode {
                 }
             }
             Some(dir) => match write_atomically(dir, &format!("{name}.lib.xml"), &text) {
-                Ok(path) => written.push((path, rewrite.len())),
+                Ok(written_now) => written.push((written_now, rewrite.len())),
                 Err(e) => {
                     eprintln!("error: {e}");
                     return ExitCode::from(2);
@@ -206,11 +211,16 @@ fn export(args: ExportArgs, registry: &Registry) -> ExitCode {
             },
         }
     }
-    for (path, rewritten) in written {
-        eprintln!(
-            "wrote {} ({rewritten} module types generated from code)",
-            path.display()
-        );
+    for ((path, changed), rewritten) in written {
+        if changed {
+            eprintln!(
+                "wrote {} ({} generated from code)",
+                path.display(),
+                count(rewritten, "module type")
+            );
+        } else {
+            eprintln!("unchanged {} (already what the code says)", path.display());
+        }
     }
     ExitCode::SUCCESS
 }
@@ -286,9 +296,14 @@ fn check(
 
 /// Writes `dir/name` through a temporary file and a rename, so an interrupted export
 /// never leaves a half-written manifest.
-fn write_atomically(dir: &Path, name: &str, text: &str) -> Result<PathBuf, String> {
+/// Writes `dir/name` through a temporary file; `false` when it already held `text`
+/// (then it is not touched).
+fn write_atomically(dir: &Path, name: &str, text: &str) -> Result<(PathBuf, bool), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let path = dir.join(name);
+    if std::fs::read(&path).is_ok_and(|old| old == text.as_bytes()) {
+        return Ok((path, false));
+    }
     let temporary = dir.join(format!(".{name}.tmp"));
     std::fs::write(&temporary, text)
         .map_err(|e| format!("cannot write {}: {e}", temporary.display()))?;
@@ -296,5 +311,5 @@ fn write_atomically(dir: &Path, name: &str, text: &str) -> Result<PathBuf, Strin
         let _ = std::fs::remove_file(&temporary);
         format!("cannot replace {}: {e}", path.display())
     })?;
-    Ok(path)
+    Ok((path, true))
 }

@@ -43,7 +43,7 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             element: id,
             port: port as u32,
         };
-        if !sources(ctx.app, ctx.libraries, input).is_empty() {
+        if !sources(ctx.app, ctx.libraries, input).is_empty() || ctx.app.cut_off.contains(&input) {
             continue;
         }
         let path = ctx.app.path(id);

@@ -4,7 +4,7 @@ use crate::checks::CheckInfo;
 use crate::checks::PassContext;
 use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
-use crate::units::{relate, UnitRelation};
+use crate::units::{describe_factor, relate, UnitRelation};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T104",
@@ -33,7 +33,10 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                 Diagnostic::new(
                     &CHECK,
                     c.span,
-                    format!("values are scaled by {f} from `{a}` to `{b}`"),
+                    format!(
+                        "values are scaled by {} from `{a}` to `{b}`",
+                        describe_factor(f)
+                    ),
                 )
                 .label("scale inserted on this connection")
                 .secondary(c.from_span, format!("in `{a}`"))

@@ -30,12 +30,14 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             .app
             .module_ports(ctx.libraries, id)
             .filter(|(k, p)| {
+                let ep = Endpoint::Port {
+                    element: id,
+                    port: *k,
+                };
                 p.dir == PortDir::Out
                     && p.role != PortRole::Meta
-                    && !ctx.app.has_outgoing(Endpoint::Port {
-                        element: id,
-                        port: *k,
-                    })
+                    && !ctx.app.has_outgoing(ep)
+                    && !ctx.app.cut_off.contains(&ep)
             })
             .map(|(_, p)| p.name.as_str())
             .collect();

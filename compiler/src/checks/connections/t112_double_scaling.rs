@@ -4,7 +4,7 @@ use crate::checks::CheckInfo;
 use crate::checks::PassContext;
 use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
-use crate::units::{relate, UnitRelation};
+use crate::units::{describe_factor, relate, UnitRelation};
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "T112",
@@ -38,7 +38,8 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                         &CHECK,
                         span,
                         format!(
-                            "this scale comes on top of the automatic `{a}` → `{b}` factor {f}"
+                            "this scale comes on top of the automatic `{a}` → `{b}` factor {}",
+                            describe_factor(f)
                         ),
                     )
                     .label("second scaling")

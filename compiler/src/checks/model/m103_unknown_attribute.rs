@@ -11,7 +11,9 @@ pub static CHECK: CheckInfo = CheckInfo {
     explanation:
         "Unknown attributes are errors: `<connect queu=\"4\">` would otherwise silently give a
 latest-value connection instead of a queue. The message lists the attribute the element
-takes that is closest to what was written.
+takes that is closest to what was written; when the element does not have that attribute
+yet, the rest of the model is checked as if it were written (so `perod=\"40ms\"` is this
+one finding, not also a thread container without a period).
 
 Bad:
     <connect from=\"a/out\" to=\"b/in\" queu=\"4\"/>
