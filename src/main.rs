@@ -14,6 +14,8 @@ mod bundle;
 mod checked;
 mod graph;
 mod interface;
+mod log;
+mod record;
 mod run;
 mod schedule;
 mod types;
@@ -105,6 +107,16 @@ ferroc graph models/warehouse_fleet.xml --format svg -o fleet.svg"
     Graph(graph::GraphArgs),
     /// The module types built into this binary: list them, export or check their manifests
     Types(types::TypesArgs),
+    /// Show what an MCAP recording holds (ferroc_std.Logger's, ferroc run --record's)
+    #[command(
+        long_about = "Show what an MCAP recording holds: `info` lists its channels (topic, \
+encoding, ferroc type, part, message count) and log-time span; `cat` prints one topic's \
+messages, one line each (log time in seconds, then the JSON form, or with --exact the exact \
+postcard bytes in hex). A recording cut off by a crash is read up to the cut, and says so.\n\n\
+Examples:\n  ferroc run models/crash_course.xml --lockstep --for 5s --record run.mcap\n  \
+ferroc log info run.mcap\n  ferroc log cat run.mcap --channel bot/simulation/distance_front"
+    )]
+    Log(log::LogArgs),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -187,6 +199,7 @@ fn main() -> ExitCode {
         Command::Bundle(args) => bundle::run(args),
         Command::Graph(args) => graph::run(args),
         Command::Types(args) => types::run(args),
+        Command::Log(args) => log::run(args),
         Command::Explain { code, list } => explain(code, list),
     }
 }

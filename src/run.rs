@@ -49,6 +49,18 @@ pub struct RunArgs {
     /// Extra folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH)
     #[arg(long, value_name = "DIR")]
     lib_path: Vec<PathBuf>,
+    /// Where loggers' relative file paths lie (default: FERROC_LOG_DIR, else the
+    /// working directory); absolute paths in the model are kept
+    #[arg(long, value_name = "DIR")]
+    log_dir: Option<PathBuf>,
+    /// Record every connection between modules into this MCAP file (relative to the
+    /// working directory), without editing the model; read it with `ferroc log`
+    #[arg(long, value_name = "FILE")]
+    record: Option<PathBuf>,
+    /// With --record: only outputs whose path (`module/port`) matches; `*` matches
+    /// any characters (repeatable)
+    #[arg(long, value_name = "PATTERN", requires = "record")]
+    record_filter: Vec<String>,
 }
 
 fn parse_duration(text: &str) -> Result<Duration, String> {
@@ -111,11 +123,12 @@ pub fn run(args: RunArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     }
-    let (plan, unsupported) = plan::plan(app, &result.libraries, &cmdline);
+    let (mut plan, unsupported) = plan::plan(app, &result.libraries, &cmdline);
     for p in &unsupported {
         eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);
     }
-    let registry = registry();
+    crate::record::configure(app, &plan, args.log_dir.clone());
+    let mut registry = registry();
     let agree = interfaces_agree(&plan, &registry, &result.libraries, &result.sources);
     if let Err(lines) = &agree {
         for line in lines {
@@ -124,6 +137,14 @@ pub fn run(args: RunArgs) -> ExitCode {
     }
     if !unsupported.is_empty() || agree.is_err() {
         return ExitCode::from(1);
+    }
+    if let Some(file) = &args.record {
+        let added =
+            crate::record::add_recorders(&mut plan, &mut registry, file, &args.record_filter);
+        if let Err(e) = added {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
     }
     // Before any thread starts, so that a signal never finds the default handler.
     let interrupted = Arc::new(AtomicBool::new(false));

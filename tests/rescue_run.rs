@@ -77,7 +77,7 @@ fn model_writing_into(dir: &Path) -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut text = std::fs::read_to_string(root.join("models/rescue_robot.xml")).unwrap();
     let manifest = root.join("components/rescue.lib.xml");
-    let (log, report) = (dir.join("victims.log"), dir.join("victims.json"));
+    let report = dir.join("victims.json");
     edit(
         &mut text,
         &[
@@ -85,7 +85,6 @@ fn model_writing_into(dir: &Path) -> PathBuf {
                 r#"manifest="../components/rescue.lib.xml""#,
                 &format!("manifest=\"{}\"", manifest.display()),
             ),
-            ("/var/log/rescue/victims.log", log.to_str().unwrap()),
             ("/var/lib/rescue/victims.json", report.to_str().unwrap()),
         ],
     );
@@ -98,7 +97,16 @@ fn model_writing_into(dir: &Path) -> PathBuf {
 fn the_model_runs_robot_and_station() {
     let dir = tempdir("rescue_model");
     let model = model_writing_into(&dir);
-    let (code, out, err) = ferroc(&["run", model.to_str().unwrap(), "--for", "4s", "-q"]);
+    let log_dir = dir.to_str().unwrap();
+    let (code, out, err) = ferroc(&[
+        "run",
+        model.to_str().unwrap(),
+        "--for",
+        "4s",
+        "-q",
+        "--log-dir",
+        log_dir,
+    ]);
     assert_eq!(code, 0, "{out}\n{err}");
     assert!(err.contains("stopped (time is up)"), "{err}");
     // The console's status line once a second, near the start (-4, 0): exploring, or
@@ -119,9 +127,15 @@ fn the_model_runs_robot_and_station() {
     assert!((-4.5..=-2.5).contains(&x), "{out}");
     // The station's heartbeat and victim log.
     assert!(out.contains("station alive, tick: in/0 = 1"), "{out}");
-    let log = std::fs::read_to_string(dir.join("victims.log")).unwrap();
-    assert!(log.lines().count() >= 3, "{log}");
-    assert!(log.contains("VictimList"), "{log}");
+    // The victim log: relative in the model, so under --log-dir.
+    let log =
+        ferroc_std::recording::Recording::read(&dir.join("logs/rescue/victims.mcap")).unwrap();
+    let victims = log.exact_channel("station/logging/victim_log/in/0");
+    let victims = victims.unwrap_or_else(|| panic!("{:?}", log.channels));
+    assert_eq!(victims.model_type(), "rescue.VictimList");
+    // Sampled once a second from the first list on (found early, but when depends on
+    // thread timing).
+    assert!(victims.count >= 1, "{victims:?}");
 }
 
 /// The number after `key` in `line` (`x=` in `x=+1.20 m`).

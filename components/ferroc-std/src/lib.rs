@@ -6,21 +6,28 @@
 //! that implements [`fusion::Fuse`] and is what library fusions (a velocity fusion of
 //! two ports per channel, say) are built from.
 //!
-//! The flexible types `Sum`, `FlexiSelect`, `Dump` and `Logger` take the ports their
-//! instance declares in the model, of any type in the runtime's value-type table
-//! (`flexible.rs`, `logger.rs`); `Clock` publishes `timestamp`s and a tick count.
+//! The flexible types `Sum`, `FlexiSelect`, `Dump`, `Logger` and `Player` take the
+//! ports their instance declares in the model, of any type in the runtime's value-type
+//! table (`flexible.rs`, `logger.rs`, `player.rs`); `Logger` records into MCAP files
+//! and `Player` replays them ([`recording`]); `Clock` publishes `timestamp`s and a
+//! tick count.
 //! `ScaleService` and `Ask` are the smallest service and client (`services.rs`).
 
 mod basic;
 mod flexible;
 pub mod fusion;
 mod logger;
+mod player;
+mod recorder;
+pub mod recording;
 mod services;
 
 pub use basic::{Constant, ConstantActivity, NumberToActivity, Scale};
 pub use flexible::{Clock, Dump, FlexiSelect, Sum};
 pub use fusion::Fusion;
 pub use logger::{check_log_path, Logger};
+pub use player::Player;
+pub use recorder::Recorder;
 pub use services::{Ask, ScaleService};
 
 use ferroc_runtime::builder::Registry;
@@ -37,6 +44,7 @@ pub fn register(registry: &mut Registry) {
         .register::<FlexiSelect>()
         .register::<Dump>()
         .register::<Logger>()
+        .register::<Player>()
         .register::<ScaleService>()
         .register::<Ask>()
         // `Ask` may call a `ScaleService` in another part.

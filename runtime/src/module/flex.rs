@@ -235,6 +235,8 @@ impl Default for ValueTable {
         t.insert_serde::<[f64; 2], DebugText>();
         t.insert_serde::<[f64; 3], DebugText>();
         t.insert_serde::<[f64; 4], DebugText>();
+        // A 4×4 matrix (a homogeneous transform), the shape robot code passes around.
+        t.insert_serde::<[[f64; 4]; 4], DebugText>();
         t.insert_serde::<std::time::Duration, PlainText>();
         // The iB2C meta signals travel as `f64` under their own model names.
         for meta in ["Stimulation", "Inhibition", "Activity", "TargetRating"] {

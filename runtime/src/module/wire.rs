@@ -20,6 +20,7 @@ use std::borrow::Borrow;
 pub struct Wire {
     encode: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     decode: fn(&DynOut, &[u8]) -> Result<(), String>,
+    json: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
 }
 
 impl Wire {
@@ -28,6 +29,7 @@ impl Wire {
         Wire {
             encode: encode::<T>,
             decode: decode::<T>,
+            json: json::<T>,
         }
     }
 
@@ -41,6 +43,14 @@ impl Wire {
     pub fn decode(&self, to: &DynOut, bytes: &[u8]) -> Result<(), String> {
         (self.decode)(to, bytes)
     }
+
+    /// Replaces `bytes` with the latest value of `from` as JSON (serde's form of the
+    /// value, for tools that display recordings). Not exact: JSON has no NaN or
+    /// infinity, so serde_json writes non-finite floats as `null`; the postcard form
+    /// of [`encode`](Self::encode) is the exact one.
+    pub fn json(&self, from: &DynIn, bytes: &mut Vec<u8>) -> Result<(), String> {
+        (self.json)(from, bytes)
+    }
 }
 
 fn encode<T: PortValue + Serialize>(from: &DynIn, bytes: &mut Vec<u8>) -> Result<(), String> {
@@ -52,6 +62,15 @@ fn encode<T: PortValue + Serialize>(from: &DynIn, bytes: &mut Vec<u8>) -> Result
     let buffer = std::mem::take(bytes);
     *bytes = postcard::to_extend(value.borrow(), buffer).map_err(|e| e.to_string())?;
     Ok(())
+}
+
+fn json<T: PortValue + Serialize>(from: &DynIn, bytes: &mut Vec<u8>) -> Result<(), String> {
+    let port = from
+        .typed::<T>()
+        .ok_or_else(|| format!("`{}` does not carry {}", from.name(), T::model_type()))?;
+    let value = port.get();
+    bytes.clear();
+    serde_json::to_writer(&mut *bytes, value.borrow()).map_err(|e| e.to_string())
 }
 
 fn decode<T: PortValue + DeserializeOwned>(to: &DynOut, bytes: &[u8]) -> Result<(), String> {
