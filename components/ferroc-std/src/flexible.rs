@@ -8,7 +8,7 @@
 
 use ferroc_runtime::console;
 use ferroc_runtime::module::{
-    DynIn, DynOut, In, Module, ModuleType, Out, Parameter, Setup, Timestamp,
+    DynIn, DynOut, In, Module, ModuleType, Out, Parameter, Setup, Timestamp, Wire,
 };
 
 /// `ferroc_std.Clock`: the wall-clock time and a cycle counter.
@@ -126,9 +126,14 @@ impl Module for FlexiSelect {
 }
 
 /// `ferroc_std.Dump`: prints every input that received new data, one line each:
-/// `label: in/0 = 1.5` (library types by their `Debug` text).
+/// `label: in/0 = 1.5`. Library types print in their serde form (JSON:
+/// `{"x":1.0,"y":2.0}`; NaN shows as `null` there), or by their `Debug` text if their
+/// library registers them without serde.
 pub struct Dump {
     inputs: Vec<DynIn>,
+    /// The serde form of each input of a library type (`None`: built-in or no serde).
+    serde: Vec<Option<Wire>>,
+    bytes: Vec<u8>,
     label: Parameter<String>,
     line: String,
     print: fn(&str),
@@ -138,8 +143,25 @@ impl ModuleType for Dump {
     const NAME: &'static str = "ferroc_std.Dump";
     const DOC: &'static str = "Prints its inputs to the console (debugging aid)";
     fn create(m: &mut Setup<'_>) -> Self {
+        let inputs = m.flexible_inputs("in").min_count(1).build_dyn();
+        let serde = inputs
+            .iter()
+            .map(|input| {
+                let ty = m
+                    .port_groups()
+                    .iter()
+                    .find(|g| g.port_names().iter().any(|n| n == input.name()))?
+                    .model_type;
+                // Library types are qualified (`rescue.Pose2D`); built-ins keep their text.
+                ty.contains('.')
+                    .then(|| m.value_type_of(ty)?.wire().copied())
+                    .flatten()
+            })
+            .collect();
         Dump {
-            inputs: m.flexible_inputs("in").min_count(1).build_dyn(),
+            inputs,
+            serde,
+            bytes: Vec::new(),
             label: m
                 .param("label")
                 .default("dump".to_owned())
@@ -156,14 +178,17 @@ impl Dump {
     /// no allocation once it is long enough).
     fn dump(&mut self, mut emit: impl FnMut(&str)) {
         let label = self.label.value();
-        for input in &self.inputs {
+        for (input, serde) in self.inputs.iter().zip(&self.serde) {
             if input.changed() {
                 self.line.clear();
                 self.line.push_str(label);
                 self.line.push_str(": ");
                 self.line.push_str(input.name());
                 self.line.push_str(" = ");
-                input.write_human(&mut self.line);
+                match serde.map(|w| w.json(input, &mut self.bytes)) {
+                    Some(Ok(())) => self.line.push_str(&String::from_utf8_lossy(&self.bytes)),
+                    _ => input.write_human(&mut self.line),
+                }
                 emit(&self.line);
             }
         }

@@ -227,8 +227,32 @@ pub(crate) fn record(
     exact: &mut Vec<u8>,
     text: &mut Vec<u8>,
 ) -> Result<(), String> {
-    let now = log_time();
     let period = u64::try_from(period.as_nanos()).unwrap_or(u64::MAX);
+    record_with(log, ports, log_time(), period, json, exact, text)
+}
+
+/// [`record`] at log time `now`, every new value (the benchmark's entry).
+#[cfg(test)]
+fn record_at(
+    log: &SharedLog,
+    ports: &mut [Recorded],
+    now: u64,
+    json: bool,
+    exact: &mut Vec<u8>,
+    text: &mut Vec<u8>,
+) -> Result<(), String> {
+    record_with(log, ports, now, 0, json, exact, text)
+}
+
+fn record_with(
+    log: &SharedLog,
+    ports: &mut [Recorded],
+    now: u64,
+    period: u64,
+    json: bool,
+    exact: &mut Vec<u8>,
+    text: &mut Vec<u8>,
+) -> Result<(), String> {
     for port in ports.iter_mut() {
         if port.input.changed() {
             port.pending = true;

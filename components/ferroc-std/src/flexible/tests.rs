@@ -69,8 +69,11 @@ fn dump_prints_only_changed_inputs_prefixed_by_the_label() {
     let (nums, mut ins) = inputs(&t, "f64", 2);
     let (words, more) = inputs(&t, "string", 1);
     ins.extend(more);
+    let n = ins.len();
     let mut dump = Dump {
         inputs: ins,
+        serde: vec![None; n],
+        bytes: Vec::new(),
         label: Parameter::fixed("speed".to_owned()),
         line: String::new(),
         print: |_| {},
@@ -85,4 +88,26 @@ fn dump_prints_only_changed_inputs_prefixed_by_the_label() {
     lines.clear();
     dump.dump(|l| lines.push(l.to_owned()));
     assert!(lines.is_empty(), "printed once per delivery: {lines:?}");
+}
+
+#[test]
+fn dump_prints_serde_types_in_their_serde_form() {
+    let t = values();
+    let (pairs, ins) = inputs(&t, "f64[2]", 1);
+    let wire = *t.get("f64[2]").unwrap().wire().unwrap();
+    let mut dump = Dump {
+        inputs: ins,
+        serde: vec![Some(wire)],
+        bytes: Vec::new(),
+        label: Parameter::fixed("pair".to_owned()),
+        line: String::new(),
+        print: |_| {},
+    };
+    pairs[0]
+        .typed::<[f64; 2]>()
+        .unwrap()
+        .publish([1.5, f64::NAN]);
+    let mut lines = Vec::new();
+    dump.dump(|l| lines.push(l.to_owned()));
+    assert_eq!(lines, ["pair: in/0 = [1.5,null]"]);
 }
