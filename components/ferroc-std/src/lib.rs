@@ -14,6 +14,7 @@
 //! `ScaleService` and `Ask` are the smallest service and client (`services.rs`).
 
 mod basic;
+mod constant;
 mod flexible;
 pub mod fusion;
 mod logger;
@@ -23,6 +24,7 @@ pub mod recording;
 mod services;
 
 pub use basic::{Constant, ConstantActivity, NumberToActivity, Scale};
+pub use constant::Const;
 pub use flexible::{Clock, Dump, FlexiSelect, Sum};
 pub use fusion::Fusion;
 pub use logger::{check_log_path, Logger};
@@ -45,6 +47,7 @@ pub fn register(registry: &mut Registry) {
         .register::<Dump>()
         .register::<Logger>()
         .register::<Player>()
+        .register::<Const>()
         .register::<ScaleService>()
         .register::<Ask>()
         // `Ask` may call a `ScaleService` in another part.

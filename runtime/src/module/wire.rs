@@ -21,6 +21,7 @@ pub struct Wire {
     encode: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     decode: fn(&DynOut, &[u8]) -> Result<(), String>,
     json: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
+    from_json: fn(Option<&DynOut>, &[u8]) -> Result<(), String>,
 }
 
 impl Wire {
@@ -30,6 +31,7 @@ impl Wire {
             encode: encode::<T>,
             decode: decode::<T>,
             json: json::<T>,
+            from_json: from_json::<T>,
         }
     }
 
@@ -42,6 +44,12 @@ impl Wire {
     /// (a peer built from another model, a damaged message) is an error, never a panic.
     pub fn decode(&self, to: &DynOut, bytes: &[u8]) -> Result<(), String> {
         (self.decode)(to, bytes)
+    }
+
+    /// Parses `bytes` as a value in its JSON (serde) form and publishes it on `to`, or
+    /// with `to` = `None` only checks that it parses (`ferroc_std.Const`'s values).
+    pub fn from_json(&self, to: Option<&DynOut>, bytes: &[u8]) -> Result<(), String> {
+        (self.from_json)(to, bytes)
     }
 
     /// Replaces `bytes` with the latest value of `from` as JSON (serde's form of the
@@ -71,6 +79,21 @@ fn json<T: PortValue + Serialize>(from: &DynIn, bytes: &mut Vec<u8>) -> Result<(
     let value = port.get();
     bytes.clear();
     serde_json::to_writer(&mut *bytes, value.borrow()).map_err(|e| e.to_string())
+}
+
+fn from_json<T: PortValue + DeserializeOwned>(
+    to: Option<&DynOut>,
+    bytes: &[u8],
+) -> Result<(), String> {
+    let value: T = serde_json::from_slice(bytes)
+        .map_err(|e| format!("not a {} value: {e}", T::model_type()))?;
+    if let Some(to) = to {
+        let port = to
+            .typed::<T>()
+            .ok_or_else(|| format!("`{}` does not carry {}", to.name(), T::model_type()))?;
+        port.publish(value);
+    }
+    Ok(())
 }
 
 fn decode<T: PortValue + DeserializeOwned>(to: &DynOut, bytes: &[u8]) -> Result<(), String> {

@@ -43,7 +43,15 @@ fn sum_adds_in_the_inputs_type() {
     let t = values();
     let (src, ins) = inputs(&t, "u32", 3);
     let (out, probe) = sink(&t, "u32");
-    let mut sum = Sum { inputs: ins, out };
+    let mut sum = Sum {
+        inputs: ins,
+        out,
+        path: "sum".into(),
+        elementwise: false,
+        sum: Vec::new(),
+        scratch: Vec::new(),
+        warned: false,
+    };
     for (k, s) in src.iter().enumerate() {
         s.publish_f64(10.0 * (k + 1) as f64);
     }
@@ -56,7 +64,15 @@ fn sum_adds_in_the_inputs_type() {
 
     let (src, ins) = inputs(&t, "f64", 2);
     let (out, probe) = sink(&t, "f64");
-    let mut sum = Sum { inputs: ins, out };
+    let mut sum = Sum {
+        inputs: ins,
+        out,
+        path: "sum".into(),
+        elementwise: false,
+        sum: Vec::new(),
+        scratch: Vec::new(),
+        warned: false,
+    };
     src[0].publish_f64(0.5);
     src[1].publish_f64(-2.0);
     sum.update();
