@@ -15,6 +15,7 @@
 
 mod basic;
 mod constant;
+mod filter;
 mod flexible;
 pub mod fusion;
 mod logger;
@@ -25,6 +26,7 @@ mod services;
 
 pub use basic::{Constant, ConstantActivity, NumberToActivity, Scale};
 pub use constant::Const;
+pub use filter::Filter;
 pub use flexible::{Clock, Dump, FlexiSelect, Sum};
 pub use fusion::Fusion;
 pub use logger::{check_log_path, Logger};
@@ -48,6 +50,7 @@ pub fn register(registry: &mut Registry) {
         .register::<Logger>()
         .register::<Player>()
         .register::<Const>()
+        .register::<Filter>()
         .register::<ScaleService>()
         .register::<Ask>()
         // `Ask` may call a `ScaleService` in another part.

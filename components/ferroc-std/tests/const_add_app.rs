@@ -308,3 +308,87 @@ fn values_that_do_not_fit_are_refused_naming_the_output() {
     .to_string();
     assert!(e.contains("Sum adds numbers, vectors or arrays"), "{e}");
 }
+
+/// Two inputs into one f64[3]: `a` every step, `b` once; element 2 is not mapped.
+fn filter_run(unmapped: &str, dir: &Path) -> Vec<String> {
+    let r = registry();
+    let mut b = Builder::new(&r);
+    add(
+        &mut b,
+        "a",
+        "ferroc_std.Const",
+        &[("values", "[1.5]")],
+        &out("f64", 1),
+    )
+    .unwrap();
+    let once = [("values", "[7]"), ("publish", "once")];
+    add(&mut b, "b", "ferroc_std.Const", &once, &out("f64", 1)).unwrap();
+    let ports = [
+        PortGroup::new("in", Direction::In, "f64", Some(2)),
+        PortGroup::new("out", Direction::Out, "f64[3]", None),
+    ];
+    let params = [
+        ("map", "in/0 -> out[0] * 2 + 1; in/1 -> out[1]"),
+        ("unmapped", unmapped),
+    ];
+    add(&mut b, "f", "ferroc_std.Filter", &params, &ports).unwrap();
+    for (k, from) in ["a", "b"].iter().enumerate() {
+        b.connect(
+            (from, "out/0"),
+            ("f", &format!("in/{k}")),
+            Default::default(),
+            ConnectOptions::default(),
+        )
+        .unwrap();
+    }
+    let got = run(
+        b,
+        &dir.join(format!("{unmapped}.mcap")),
+        "f64[3]",
+        &[("f", "out")],
+        &["a", "b", "f"],
+        3,
+    );
+    got[0].clone()
+}
+
+#[test]
+fn filter_maps_scales_and_keeps_or_resets_elements_without_new_values() {
+    let dir = scratch("filter_keep_reset");
+    assert_eq!(filter_run("keep", &dir), ["[4.0,7.0,0.0]"; 3]);
+    assert_eq!(
+        filter_run("reset", &dir),
+        ["[4.0,7.0,0.0]", "[4.0,0.0,0.0]", "[4.0,0.0,0.0]"]
+    );
+}
+
+#[test]
+fn a_filter_map_that_does_not_fit_is_refused_at_creation() {
+    let r = registry();
+    let mut b = Builder::new(&r);
+    let ports = [
+        PortGroup::new("in", Direction::In, "f64", Some(1)),
+        PortGroup::new("out", Direction::Out, "i32", None),
+    ];
+    let e = add(
+        &mut b,
+        "f",
+        "ferroc_std.Filter",
+        &[("map", "in/0 -> out")],
+        &ports,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("converting `f64` to `i32` can lose data"), "{e}");
+    assert!(e.contains("help: add `as i32`"), "{e}");
+    let e = add(
+        &mut b,
+        "g",
+        "ferroc_std.Filter",
+        &[("map", "in/0 => out")],
+        &ports,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("INPUT -> OUTPUT"), "{e}");
+}

@@ -266,6 +266,10 @@ impl Default for ValueTable {
         t.insert_serde::<[f64; 4], ArrayText>();
         // A 4×4 matrix (a homogeneous transform), the shape robot code passes around.
         t.insert_serde::<[[f64; 4]; 4], ArrayText>();
+        // Small integer arrays (encoder counts, millimetre positions from a Filter).
+        t.insert_serde::<[i32; 2], ArrayText>();
+        t.insert_serde::<[i32; 3], ArrayText>();
+        t.insert_serde::<[i32; 4], ArrayText>();
         t.insert_serde::<std::time::Duration, PlainText>();
         // The iB2C meta signals travel as `f64` under their own model names.
         for meta in ["Stimulation", "Inhibition", "Activity", "TargetRating"] {
