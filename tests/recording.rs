@@ -147,6 +147,7 @@ fn python() -> Option<String> {
     let python = set.clone().unwrap_or_else(|| "python3".into());
     let ok = Command::new(&python)
         .args(["-c", "import mcap, jsonschema"])
+        .stderr(std::process::Stdio::null())
         .status()
         .is_ok_and(|s| s.success());
     match (ok, set) {
@@ -239,4 +240,29 @@ print(json.dumps(out))
         4 * 51,
         "every JSON message validates against its schema"
     );
+}
+
+#[test]
+fn a_log_folder_that_cannot_be_created_is_reported_and_the_run_goes_on() {
+    // /proc takes no new folders, not even from root: the loggers fail when they open
+    // the file, after the checks at creation passed.
+    let (code, out, err) = ferroc(&[
+        "run",
+        "models/crash_course_logged.xml",
+        "--lockstep",
+        "--for",
+        "1s",
+        "-q",
+        "--log-dir",
+        "/proc/self/ferroc-test",
+    ]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    assert!(
+        err.contains("warning: ferroc_std.Logger: cannot write the recording `/proc/self/ferroc-test/logs/crash_course.mcap`"),
+        "{err}"
+    );
+    assert!(err.contains("it records nothing more"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    // The application ran its whole second: 26 cycles of 40 ms.
+    assert!(err.contains("fragile_bot/main: 26 cycles"), "{err}");
 }
