@@ -6,11 +6,12 @@
 //! that implements [`fusion::Fuse`] and is what library fusions (a velocity fusion of
 //! two ports per channel, say) are built from.
 //!
-//! The flexible types `Sum`, `FlexiSelect`, `Dump`, `Logger` and `Player` take the
-//! ports their instance declares in the model, of any type in the runtime's value-type
-//! table (`flexible.rs`, `logger.rs`, `player.rs`); `Logger` records into MCAP files
-//! and `Player` replays them ([`recording`]); `Clock` publishes `timestamp`s and a
-//! tick count.
+//! The flexible types `Sum`, `FlexiSelect`, `Dump`, `Const`, `Filter`, `Logger` and
+//! `Player` take the ports their instance declares in the model, of any type in the
+//! runtime's value-type table (`flexible.rs`, `constant.rs`, `filter.rs`, `logger.rs`,
+//! `player.rs`); `Logger` records into MCAP files and `Player` replays them
+//! ([`recording`], docs/recording-and-utilities.md); `Clock` publishes `timestamp`s and
+//! a tick count.
 //! `ScaleService` and `Ask` are the smallest service and client (`services.rs`).
 
 mod basic;

@@ -34,7 +34,7 @@ use std::marker::PhantomData;
 pub trait ValueText<T>: 'static {
     /// For people (`ferroc_std.Dump`): `1.5`, `true`, `hello`, `Pose2D { x: 1.0, .. }`.
     fn human(value: &T, out: &mut String);
-    /// For one JSON-lines record (`ferroc_std.Logger`): a JSON number, `true`, a
+    /// As one JSON value (for text logs): a JSON number, `true`, a
     /// quoted string, `null` for a non-finite float.
     fn json(value: &T, out: &mut String);
     /// The value as a number, if the type is a number.
