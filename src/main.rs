@@ -13,6 +13,7 @@ use std::process::ExitCode;
 mod bundle;
 mod finroc;
 mod graph;
+mod log;
 mod new;
 mod runner;
 mod schedule;
@@ -118,6 +119,16 @@ ferroc graph models/warehouse_fleet.xml --format svg -o fleet.svg"
     /// Export a file in another framework's format
     #[command(subcommand)]
     Export(finroc::ExportFormat),
+    /// Show what an MCAP recording holds (ferroc_std.Logger's, ferroc run --record's)
+    #[command(
+        long_about = "Show what an MCAP recording holds: `info` lists its channels (topic, \
+encoding, ferroc type, part, message count) and log-time span; `cat` prints one topic's \
+messages, one line each (log time in seconds, then the JSON form, or with --exact the exact \
+postcard bytes in hex). A recording cut off by a crash is read up to the cut, and says so.\n\n\
+Examples:\n  ferroc run models/crash_course.xml --lockstep --for 5s --record run.mcap\n  \
+ferroc log info run.mcap\n  ferroc log cat run.mcap --channel bot/simulation/distance_front"
+    )]
+    Log(log::LogArgs),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -211,6 +222,7 @@ fn main() -> ExitCode {
         Command::New(args) => new::run(args),
         Command::Import(format) => finroc::import(format),
         Command::Export(format) => finroc::export(format),
+        Command::Log(args) => log::run(args),
         Command::Explain { code, list } => explain(code, list),
     }
 }

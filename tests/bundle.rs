@@ -427,9 +427,9 @@ fn a_built_bundle_behaves_like_ferroc_run() {
         last(&run_out),
         "bundle:\n{b_out}\nrun:\n{run_out}"
     );
-    // 50 cycles into its first look around: turned 49 × 0.048 rad to the right.
+    // 50 cycles into its first look around: still turning in place, to the right.
     assert!(
-        last(&b_out).contains("robot 1: x=+0.00 m y=+0.00 m heading=XXX"),
+        last(&b_out).contains("robot 1: x=+0.00 m y=+0.00 m heading=291.2°"),
         "{b_out}"
     );
     // The same summary: reason and cycles per thread container.

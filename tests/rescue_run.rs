@@ -77,7 +77,7 @@ fn model_writing_into(dir: &Path) -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut text = std::fs::read_to_string(root.join("models/rescue_robot.xml")).unwrap();
     let manifest = root.join("components/rescue.lib.xml");
-    let (log, report) = (dir.join("victims.log"), dir.join("victims.json"));
+    let report = dir.join("victims.json");
     edit(
         &mut text,
         &[
@@ -85,7 +85,6 @@ fn model_writing_into(dir: &Path) -> PathBuf {
                 r#"manifest="../components/rescue.lib.xml""#,
                 &format!("manifest=\"{}\"", manifest.display()),
             ),
-            ("/var/log/rescue/victims.log", log.to_str().unwrap()),
             ("/var/lib/rescue/victims.json", report.to_str().unwrap()),
         ],
     );
@@ -108,6 +107,8 @@ fn the_model_runs_robot_and_station() {
         "2s",
         "--lockstep",
         "-q",
+        "--log-dir",
+        dir.to_str().unwrap(),
     ];
     let (code, out, err) = ferroc(&args);
     assert_eq!(code, 0, "{out}\n{err}");
@@ -136,12 +137,25 @@ fn the_model_runs_robot_and_station() {
         ],
         "{out}"
     );
-    let log = std::fs::read_to_string(dir.join("victims.log")).unwrap();
-    assert_eq!(log.lines().count(), 3, "{log}");
-    assert!(log.contains("VictimList"), "{log}");
+    // The victim log: relative in the model, so under --log-dir; in lockstep exactly
+    // three samples, at 0, 1 and 2 s of model time.
+    let log =
+        ferroc_std::recording::Recording::read(&dir.join("logs/rescue/victims.mcap")).unwrap();
+    let victims = log.exact_channel("station/logging/victim_log/in/0");
+    let victims = victims.unwrap_or_else(|| panic!("{:?}", log.channels));
+    assert_eq!(victims.model_type(), "rescue.VictimList");
+    assert_eq!(victims.count, 3, "{victims:?}");
     // Running freely, only what holds on a loaded machine: it runs and stops by the
     // clock, and reports every container (how often each ran depends on the machine).
-    let (code, out, err) = ferroc(&["run", model.to_str().unwrap(), "--for", "2s", "-q"]);
+    let (code, out, err) = ferroc(&[
+        "run",
+        model.to_str().unwrap(),
+        "--for",
+        "2s",
+        "-q",
+        "--log-dir",
+        dir.to_str().unwrap(),
+    ]);
     assert_eq!(code, 0, "{out}\n{err}");
     assert!(err.contains("stopped (time is up)"), "{err}");
     for thread in [

@@ -14,6 +14,7 @@ use std::process::ExitCode;
 pub mod checked;
 pub mod interface;
 pub mod output;
+pub mod record;
 pub mod run;
 pub mod types;
 

@@ -53,6 +53,18 @@ pub struct RunArgs {
     /// Extra folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH)
     #[arg(long, value_name = "DIR")]
     pub lib_path: Vec<PathBuf>,
+    /// Where loggers' relative file paths lie (default: FERROC_LOG_DIR, else the
+    /// working directory); absolute paths in the model are kept
+    #[arg(long, value_name = "DIR")]
+    pub log_dir: Option<PathBuf>,
+    /// Record every connection between modules into this MCAP file (relative to the
+    /// working directory), without editing the model; read it with `ferroc log`
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
+    /// With --record: only outputs whose path (`module/port`) matches; `*` matches
+    /// any characters (repeatable)
+    #[arg(long, value_name = "PATTERN", requires = "record")]
+    pub record_filter: Vec<String>,
 }
 
 fn parse_duration(text: &str) -> Result<Duration, String> {
@@ -129,11 +141,14 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
             return ExitCode::from(2);
         }
     }
-    let (plan, unsupported) = plan::plan(app, &result.libraries, &cmdline);
+    let (mut plan, unsupported) = plan::plan(app, &result.libraries, &cmdline);
     for p in &unsupported {
         eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);
     }
-    let agree = interfaces_agree(&plan, registry, &result.libraries, &result.sources);
+    crate::record::configure(app, &plan, args.log_dir.clone());
+    // `--record` adds a recorder type: to a copy, the caller's registry stays as it is.
+    let mut registry = registry.clone();
+    let agree = interfaces_agree(&plan, &registry, &result.libraries, &result.sources);
     if let Err(lines) = &agree {
         for line in lines {
             eprintln!("{line}");
@@ -141,6 +156,14 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
     }
     if !unsupported.is_empty() || agree.is_err() {
         return ExitCode::from(1);
+    }
+    if let Some(file) = &args.record {
+        let added =
+            crate::record::add_recorders(&mut plan, &mut registry, file, &args.record_filter);
+        if let Err(e) = added {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
     }
     // Before any thread starts, so that a signal never finds the default handler.
     let interrupted = Arc::new(AtomicBool::new(false));
@@ -156,7 +179,7 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         }),
         network: None,
     };
-    let app = match build(&plan, registry, start) {
+    let app = match build(&plan, &registry, start) {
         Ok(app) => app,
         Err(e) => {
             eprintln!("error: {e}");

@@ -142,6 +142,7 @@ registry![
     parameters::p105_wrong_unit_dimension,
     parameters::p106_config_entry_missing,
     parameters::p107_duplicate_parameter,
+    parameters::p108_invalid_pin_map,
     behaviour::b101_meta_constant_out_of_range,
     behaviour::b102_meta_input_from_number,
     behaviour::b103_never_stimulated,

@@ -7,3 +7,4 @@ pub mod p104_out_of_range;
 pub mod p105_wrong_unit_dimension;
 pub mod p106_config_entry_missing;
 pub mod p107_duplicate_parameter;
+pub mod p108_invalid_pin_map;

@@ -6,21 +6,33 @@
 //! that implements [`fusion::Fuse`] and is what library fusions (a velocity fusion of
 //! two ports per channel, say) are built from.
 //!
-//! The flexible types `Sum`, `FlexiSelect`, `Dump` and `Logger` take the ports their
-//! instance declares in the model, of any type in the runtime's value-type table
-//! (`flexible.rs`, `logger.rs`); `Clock` publishes `timestamp`s and a tick count.
+//! The flexible types `Sum`, `FlexiSelect`, `Dump`, `Const`, `Filter`, `Logger` and
+//! `Player` take the ports their instance declares in the model, of any type in the
+//! runtime's value-type table (`flexible.rs`, `constant.rs`, `filter.rs`, `logger.rs`,
+//! `player.rs`); `Logger` records into MCAP files and `Player` replays them
+//! ([`recording`], docs/recording-and-utilities.md); `Clock` publishes `timestamp`s and
+//! a tick count.
 //! `ScaleService` and `Ask` are the smallest service and client (`services.rs`).
 
 mod basic;
+mod constant;
+mod filter;
 mod flexible;
 pub mod fusion;
 mod logger;
+mod player;
+mod recorder;
+pub mod recording;
 mod services;
 
 pub use basic::{Constant, ConstantActivity, NumberToActivity, Scale};
+pub use constant::Const;
+pub use filter::Filter;
 pub use flexible::{Clock, Dump, FlexiSelect, Sum};
 pub use fusion::Fusion;
 pub use logger::{check_log_path, Logger};
+pub use player::Player;
+pub use recorder::Recorder;
 pub use services::{Ask, ScaleService};
 
 use ferroc_runtime::builder::Registry;
@@ -37,6 +49,9 @@ pub fn register(registry: &mut Registry) {
         .register::<FlexiSelect>()
         .register::<Dump>()
         .register::<Logger>()
+        .register::<Player>()
+        .register::<Const>()
+        .register::<Filter>()
         .register::<ScaleService>()
         .register::<Ask>()
         // `Ask` may call a `ScaleService` in another part.

@@ -1,72 +1,166 @@
-//! `ferroc_std.Logger`: appends its inputs to a file, one JSON line per period:
-//! `{"time":"2026-12-01T16:10:20.123456Z","in/0":1.5,"in/1":"Pose2D { x: 1.0, .. }"}`.
+//! `ferroc_std.Logger`: records its inputs into an MCAP file (`recording/` describes
+//! the file: an exact postcard channel and a JSON display channel per port, log time =
+//! model time, readable while written, finished on stop).
 //!
-//! Numbers are JSON numbers (`null` if not finite), `bool`s JSON booleans, strings and
-//! timestamps JSON strings, and library types their `Debug` text as a JSON string (the
-//! runtime has no serde; every line is still valid JSON, so `jq` reads the log).
+//! With `period` 0 every input is recorded each time a new value arrives; with a
+//! period, the latest value of every input that has one is recorded once per period
+//! (sampling, whether or not it changed). Types registered without
+//! serde cannot be recorded: the instance is refused when created.
 //!
 //! The path is checked when the module is created, without touching the file system
 //! beyond reading metadata (creation must stay free of side effects): an empty path,
 //! control characters, `..` components, a folder that is not one, or something that
 //! exists but is not a regular file (a folder, a device, a symbolic link) are refused
-//! with an error naming the module. The file is opened (created if missing, appended
-//! to) at the first write, its folders created first as a deployment expects of a log
-//! (`/var/log/agv/`); if that or a later write fails, the logger reports it once and
-//! stops logging rather than stopping the application. The path is fixed at creation: setting `file`
-//! while running changes nothing (`period` takes effect at once).
+//! with an error naming the module. A relative path lies under the log folder
+//! (`ferroc run --log-dir`, else `FERROC_LOG_DIR`, else the working directory). The
+//! file is created at the first value (its folders too; an existing file is
+//! replaced); if that or a later write fails, the logger reports it once and stops
+//! logging rather than stopping the application.
 
-use ferroc_runtime::module::{DynIn, Module, ModuleType, Parameter, Setup, Timestamp};
-use std::fs::{File, OpenOptions};
-use std::io::Write;
+use crate::recording::{self, ChannelInfo, LogFile, SharedLog};
+use ferroc_runtime::module::{DynIn, Module, ModuleType, Parameter, Setup, Timestamp, Wire};
 use std::path::{Component, Path, PathBuf};
+use std::sync::PoisonError;
 use std::time::Duration;
 
-/// `ferroc_std.Logger`: writes its inputs to a log file at a fixed period.
+/// `ferroc_std.Logger`: records its inputs into an MCAP file.
 pub struct Logger {
-    inputs: Vec<DynIn>,
+    ports: Vec<Recorded>,
     path: PathBuf,
     period: Parameter<Duration>,
-    file: Option<File>,
-    /// Writing failed once: reported, nothing more is written.
+    flush: Duration,
+    json: bool,
+    log: Option<SharedLog>,
+    /// Opening or writing failed once: reported, nothing more is written.
     failed: bool,
-    /// When the next line is due (`None`: at once), on `Timestamp::now`'s clock (model
-    /// time in lockstep, so a lockstep run logs the same lines every time).
-    next: Option<Duration>,
-    line: String,
+    exact: Vec<u8>,
+    text: Vec<u8>,
+}
+
+/// One recorded input.
+pub(crate) struct Recorded {
+    pub(crate) input: DynIn,
+    pub(crate) wire: Wire,
+    pub(crate) info: ChannelInfo,
+    channel: Option<recording::ChannelId>,
+    /// A value arrived that is not recorded yet.
+    pending: bool,
+    /// A value has arrived (sampling records nothing before).
+    seen: bool,
+    /// Log time from which the next value may be recorded.
+    next: Option<u64>,
+}
+
+impl Recorded {
+    /// Records `input` (its value type's `wire`) on the topic `topic`.
+    pub(crate) fn new(input: DynIn, wire: Wire, info: ChannelInfo) -> Self {
+        Recorded {
+            input,
+            wire,
+            info,
+            channel: None,
+            pending: false,
+            seen: false,
+            next: None,
+        }
+    }
 }
 
 impl ModuleType for Logger {
     const NAME: &'static str = "ferroc_std.Logger";
-    const DOC: &'static str = "Writes its inputs to a log file at a fixed period";
+    const DOC: &'static str = "Records its inputs into an MCAP file";
     fn create(m: &mut Setup<'_>) -> Self {
         let inputs = m.flexible_inputs("in").min_count(1).build_dyn();
         let mut file: Parameter<String> = m
             .param("file")
-            .doc("path of the log file, created if missing")
+            .doc("the MCAP file; relative paths lie under the log folder (--log-dir)")
             .build();
         let period = m
             .param("period")
+            .default(Duration::ZERO)
+            .range(0.0, 3600.0)
+            .doc("record the latest values once per period (0: every new value)")
+            .build();
+        let mut flush: Parameter<Duration> = m
+            .param("flush")
             .default(Duration::from_secs(1))
             .range(0.001, 3600.0)
-            .doc("how often a line is written")
+            .doc("recorded data reaches the file at least this often")
             .build();
-        let path = PathBuf::from(file.value());
+        let mut json: Parameter<bool> = m
+            .param("json")
+            .default(true)
+            .doc("also record a JSON form of every value, for display tools")
+            .build();
+        let raw = PathBuf::from(file.value());
+        let path = recording::resolve_log_path(&raw);
+        let ports = recorded_inputs(m, inputs);
         // The registry learning the interface gives no path: nothing to check then.
+        // The path as written first (empty, `..`), then where it leads.
         if !m.path().is_empty() {
-            if let Err(why) = check_log_path(&path) {
+            if let Err(why) = check_log_path(&raw).and_then(|()| check_log_path(&path)) {
                 m.problem(format!("parameter `file`: {why}"));
             }
         }
         Logger {
-            inputs,
+            ports,
             path,
             period,
-            file: None,
+            flush: flush.get(),
+            json: json.get(),
+            log: None,
             failed: false,
-            next: None,
-            line: String::new(),
+            exact: Vec::new(),
+            text: Vec::new(),
         }
     }
+}
+
+/// The recorded form of every input of `m` (refusing types without serde).
+pub(crate) fn recorded_inputs(m: &mut Setup<'_>, inputs: Vec<DynIn>) -> Vec<Recorded> {
+    let module = m.path().to_owned();
+    let part = recording::part_of(&module);
+    let mut ports = Vec::with_capacity(inputs.len());
+    let types: Vec<(String, String)> = m
+        .port_groups()
+        .iter()
+        .flat_map(|g| {
+            g.port_names()
+                .into_iter()
+                .map(|n| (n, g.model_type.to_owned()))
+        })
+        .collect();
+    for input in inputs {
+        let Some(model_type) = types
+            .iter()
+            .find(|(n, _)| n == input.name())
+            .map(|(_, t)| t.clone())
+        else {
+            continue;
+        };
+        let Some(vt) = m.value_type_of(&model_type).copied() else {
+            continue;
+        };
+        let Some(wire) = vt.wire().copied() else {
+            m.problem(format!(
+                "port `{}`: values of `{model_type}` cannot be recorded: its library registers \
+                 the type without serde (register it with `register_serde` and mark it \
+                 serde=\"true\" in its manifest)",
+                input.name()
+            ));
+            continue;
+        };
+        let port = format!("{module}/{}", input.name());
+        let info = ChannelInfo {
+            topic: port.clone(),
+            part: part.clone(),
+            port,
+            model_type,
+            rust: vt.rust().to_owned(),
+        };
+        ports.push(Recorded::new(input, wire, info));
+    }
+    ports
 }
 
 /// Whether `path` may name a log file: see the [module docs](self).
@@ -118,37 +212,88 @@ pub fn check_log_path(path: &Path) -> Result<(), String> {
     }
 }
 
-/// Opens `path` for appending, creating it and its missing folders.
-fn open_log(path: &Path) -> std::io::Result<File> {
-    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(folder)?;
-    }
-    OpenOptions::new().create(true).append(true).open(path)
+/// The log time of now: `Timestamp::now` (model time in lockstep) in nanoseconds.
+pub(crate) fn log_time() -> u64 {
+    u64::try_from(Timestamp::now().nanos).unwrap_or(0)
 }
 
-impl Logger {
-    /// This period's line: the time, then every input by name.
-    fn format_line(&mut self, now: Timestamp) {
-        use std::fmt::Write as _;
-        self.line.clear();
-        let _ = write!(self.line, "{{\"time\":\"{now}\"");
-        for input in &self.inputs {
-            // Port names are `group/k`: nothing in them needs escaping.
-            let _ = write!(self.line, ",\"{}\":", input.name());
-            input.write_json(&mut self.line);
-        }
-        self.line.push_str("}\n");
-    }
+/// Writes the due values of `ports` into `log`; `period` throttles each port.
+/// An error is returned once (the file then takes nothing more).
+pub(crate) fn record(
+    log: &SharedLog,
+    ports: &mut [Recorded],
+    period: Duration,
+    json: bool,
+    exact: &mut Vec<u8>,
+    text: &mut Vec<u8>,
+) -> Result<(), String> {
+    let period = u64::try_from(period.as_nanos()).unwrap_or(u64::MAX);
+    record_with(log, ports, log_time(), period, json, exact, text)
+}
 
-    fn write_line(&mut self) -> std::io::Result<()> {
-        if self.file.is_none() {
-            self.file = Some(open_log(&self.path)?);
+/// [`record`] at log time `now`, every new value (the benchmark's entry).
+#[cfg(test)]
+fn record_at(
+    log: &SharedLog,
+    ports: &mut [Recorded],
+    now: u64,
+    json: bool,
+    exact: &mut Vec<u8>,
+    text: &mut Vec<u8>,
+) -> Result<(), String> {
+    record_with(log, ports, now, 0, json, exact, text)
+}
+
+fn record_with(
+    log: &SharedLog,
+    ports: &mut [Recorded],
+    now: u64,
+    period: u64,
+    json: bool,
+    exact: &mut Vec<u8>,
+    text: &mut Vec<u8>,
+) -> Result<(), String> {
+    for port in ports.iter_mut() {
+        if port.input.changed() {
+            port.pending = true;
         }
-        match &mut self.file {
-            Some(f) => f.write_all(self.line.as_bytes()),
-            None => Ok(()),
+        port.seen |= port.pending;
+        if period == 0 && !port.pending {
+            continue;
         }
+        // Due from a quarter period before the deadline: a thread container of the
+        // same period starts each cycle a little late or early (a strict comparison
+        // would skip every other value), and one of half the period must not record
+        // twice per period. Deadlines advance by whole periods; after a long stall the
+        // schedule restarts instead of catching up.
+        if !port.seen
+            || port
+                .next
+                .is_some_and(|next| now.saturating_add(period / 4) < next)
+        {
+            continue;
+        }
+        port.pending = false;
+        port.next = Some(match port.next {
+            Some(next) if now < next.saturating_add(period) => next.saturating_add(period),
+            _ => now.saturating_add(period),
+        });
+        port.wire.encode(&port.input, exact)?;
+        if json {
+            port.wire.json(&port.input, text)?;
+        }
+        let mut file = log.lock().unwrap_or_else(PoisonError::into_inner);
+        let channel = match port.channel {
+            Some(c) => c,
+            None => {
+                let c = file.channel(&port.info)?;
+                port.channel = Some(c);
+                c
+            }
+        };
+        file.write(channel, now, exact, json.then_some(text.as_slice()))?;
     }
+    Ok(())
 }
 
 impl Module for Logger {
@@ -156,48 +301,41 @@ impl Module for Logger {
         if self.failed {
             return;
         }
-        let stamp = Timestamp::now();
-        let now = Duration::from_nanos(u64::try_from(stamp.nanos).unwrap_or(0));
+        if self.log.is_none() {
+            for port in &mut self.ports {
+                port.pending |= port.input.changed();
+            }
+            if !self.ports.iter().any(|p| p.pending) {
+                return;
+            }
+            let flush = u64::try_from(self.flush.as_nanos()).unwrap_or(u64::MAX);
+            match LogFile::open_shared(&self.path, flush) {
+                Ok(log) => self.log = Some(log),
+                Err(e) => return self.fail(&e),
+            }
+        }
+        let Some(log) = &self.log else { return };
         let period = self.period.get();
-        // Due from half a period before the deadline: a thread container of the same
-        // period starts each cycle a little late or early, and a strict comparison
-        // would skip every other line. Deadlines advance by whole periods, so the rate
-        // is exact; after a long stall the schedule restarts instead of catching up.
-        if self.next.is_some_and(|next| now + period / 2 < next) {
-            return;
+        if let Err(e) = record(
+            log,
+            &mut self.ports,
+            period,
+            self.json,
+            &mut self.exact,
+            &mut self.text,
+        ) {
+            self.fail(&e);
         }
-        self.next = Some(match self.next {
-            Some(next) if now < next + period => next + period,
-            _ => now + period,
-        });
-        self.format_line(stamp);
-        if let Err(e) = self.write_line() {
-            self.failed = true;
-            eprintln!(
-                "warning: ferroc_std.Logger cannot write `{}`: {e}; it logs nothing more",
-                self.path.display()
-            );
-        }
+    }
+}
+
+impl Logger {
+    fn fail(&mut self, why: &str) {
+        self.failed = true;
+        self.log = None;
+        eprintln!("warning: ferroc_std.Logger: {why}; it records nothing more");
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn missing_folders_are_accepted_and_created_at_the_first_write() {
-        let dir = std::env::temp_dir().join(format!("ferroc-logger-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        let path = dir.join("agv/trajectory.log");
-        assert_eq!(check_log_path(&path), Ok(()));
-        assert!(!dir.exists(), "checking creates nothing");
-        let mut file = open_log(&path).unwrap();
-        file.write_all(b"{}\n").unwrap();
-        assert_eq!(std::fs::read_to_string(&path).unwrap(), "{}\n");
-        // A file where a folder should be is refused when checked.
-        let e = check_log_path(&path.join("x.log")).unwrap_err();
-        assert!(e.contains("is not a folder"), "{e}");
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-}
+mod tests;

@@ -189,32 +189,6 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-#[test]
-fn logger_appends_one_json_line_per_period() {
-    let dir = scratch("logger_lines");
-    let file = dir.join("values.log");
-    let r = registry();
-    let mut b = Builder::new(&r);
-    constant(&mut b, "speed", 4.5);
-    try_add(&mut b, "clock", "ferroc_std.Clock", &[], &[]).unwrap();
-    let ports = [PortGroup::new("in", Direction::In, "f64", Some(1))];
-    let params = [
-        ("file", Value::Text(file.to_string_lossy().into_owned())),
-        ("period", Value::Duration(Duration::from_secs(3600))),
-    ];
-    try_add(&mut b, "log", "ferroc_std.Logger", &params, &ports).unwrap();
-    wire(&mut b, ("speed", "value"), ("log", "in/0"));
-    run(b, &["speed", "clock", "log"], 4);
-    let text = std::fs::read_to_string(&file).unwrap();
-    // A one-hour period: the first cycle writes, the next three do not.
-    assert_eq!(text.lines().count(), 1, "{text}");
-    let line = text.lines().next().unwrap();
-    assert!(
-        line.starts_with("{\"time\":\"20") && line.ends_with("Z\",\"in/0\":4.5}"),
-        "{line}"
-    );
-}
-
 fn logger_problem(file: &str) -> String {
     let r = registry();
     let mut b = Builder::new(&r);

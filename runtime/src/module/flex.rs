@@ -16,6 +16,9 @@
 //! `clone_from`s into a recycled buffer (allocation-free for `Vec`/`String`, and for
 //! any type whose `Clone::clone_from` reuses memory).
 
+mod array;
+pub use array::{ArrayText, NumberArray};
+
 use super::value::{In, Out, PortKind, PortValue};
 use super::wire::Wire;
 use super::Timestamp;
@@ -31,7 +34,7 @@ use std::marker::PhantomData;
 pub trait ValueText<T>: 'static {
     /// For people (`ferroc_std.Dump`): `1.5`, `true`, `hello`, `Pose2D { x: 1.0, .. }`.
     fn human(value: &T, out: &mut String);
-    /// For one JSON-lines record (`ferroc_std.Logger`): a JSON number, `true`, a
+    /// As one JSON value (for text logs): a JSON number, `true`, a
     /// quoted string, `null` for a non-finite float.
     fn json(value: &T, out: &mut String);
     /// The value as a number, if the type is a number.
@@ -42,6 +45,17 @@ pub trait ValueText<T>: 'static {
     fn from_f64(_x: f64) -> Option<T> {
         None
     }
+    /// Whether values are numbers or arrays of numbers, read and written element by
+    /// element as `f64` (`Sum`, `Filter`, `Const`): the methods below then work.
+    const ELEMENTS: bool = false;
+    /// How many elements every value has (1 for a number, N for `f64[N]`, 16 for
+    /// `f64[4][4]`); `None` for vectors, whose length varies.
+    const FIXED_LEN: Option<usize> = None;
+    /// Appends the elements of `value` as `f64` (row by row for nested arrays).
+    fn elements(_value: &T, _out: &mut Vec<f64>) {}
+    /// Overwrites `into` with `xs` (saturating `as` conversions); `xs` has
+    /// [`FIXED_LEN`](Self::FIXED_LEN) elements if that is given.
+    fn set_elements(_xs: &[f64], _into: &mut T) {}
 }
 
 /// Library types: `Debug` for people, the `Debug` text as a JSON string for logs.
@@ -108,6 +122,16 @@ impl<T: Number> ValueText<T> for NumberText {
     }
     fn from_f64(x: f64) -> Option<T> {
         Some(T::from_f64(x))
+    }
+    const ELEMENTS: bool = true;
+    const FIXED_LEN: Option<usize> = Some(1);
+    fn elements(value: &T, out: &mut Vec<f64>) {
+        out.push(value.to_f64())
+    }
+    fn set_elements(xs: &[f64], into: &mut T) {
+        if let Some(x) = xs.first() {
+            *into = T::from_f64(*x);
+        }
     }
 }
 
@@ -180,6 +204,7 @@ pub(crate) fn quote_tail(out: &mut String, start: usize) {
 pub struct ValueType {
     rust: &'static str,
     number: bool,
+    elements: bool,
     copy: bool,
     input: fn(&str, Option<QueueConfig>) -> (DynIn, InputHandle),
     output: fn(&str) -> (DynOut, OutputHandle),
@@ -194,6 +219,10 @@ impl ValueType {
     /// Whether values convert to and from `f64` (the built-in numbers).
     pub fn is_number(&self) -> bool {
         self.number
+    }
+    /// Whether values are numbers or arrays of numbers (element-wise access).
+    pub fn has_elements(&self) -> bool {
+        self.elements
     }
     /// Whether its ports take the seqlock copy path (else the pooled path).
     pub fn is_copy(&self) -> bool {
@@ -225,16 +254,22 @@ impl Default for ValueTable {
         macro_rules! numbers {
             ($($ty:ty),*) => {$(
                 t.insert_serde::<$ty, NumberText>();
-                t.insert_serde::<Vec<$ty>, DebugText>();
+                t.insert_serde::<Vec<$ty>, ArrayText>();
             )*};
         }
         numbers!(f64, f32, i8, i16, i32, i64, u8, u16, u32, u64);
         t.insert_serde::<bool, PlainText>();
         t.insert_serde::<String, PlainText>();
         t.insert_serde::<Timestamp, PlainText>();
-        t.insert_serde::<[f64; 2], DebugText>();
-        t.insert_serde::<[f64; 3], DebugText>();
-        t.insert_serde::<[f64; 4], DebugText>();
+        t.insert_serde::<[f64; 2], ArrayText>();
+        t.insert_serde::<[f64; 3], ArrayText>();
+        t.insert_serde::<[f64; 4], ArrayText>();
+        // A 4×4 matrix (a homogeneous transform), the shape robot code passes around.
+        t.insert_serde::<[[f64; 4]; 4], ArrayText>();
+        // Small integer arrays (encoder counts, millimetre positions from a Filter).
+        t.insert_serde::<[i32; 2], ArrayText>();
+        t.insert_serde::<[i32; 3], ArrayText>();
+        t.insert_serde::<[i32; 4], ArrayText>();
         t.insert_serde::<std::time::Duration, PlainText>();
         // The iB2C meta signals travel as `f64` under their own model names.
         for meta in ["Stimulation", "Inhibition", "Activity", "TargetRating"] {
@@ -277,6 +312,7 @@ impl ValueTable {
             ValueType {
                 rust: std::any::type_name::<T>(),
                 number: S::from_f64(0.0).is_some(),
+                elements: S::ELEMENTS,
                 copy,
                 input: new_input::<T, S>,
                 output: new_output::<T, S>,
@@ -316,6 +352,7 @@ trait ErasedIn: Send + Sync + 'static {
     fn human(&self, out: &mut String);
     fn json(&self, out: &mut String);
     fn to_f64(&self) -> Option<f64>;
+    fn elements(&self, out: &mut Vec<f64>) -> bool;
     /// The `In<T>` inside.
     fn port_any(&self) -> &dyn Any;
 }
@@ -324,6 +361,7 @@ trait ErasedIn: Send + Sync + 'static {
 trait ErasedOut: Send + Sync + 'static {
     fn publish_f64(&self, x: f64) -> bool;
     fn forward(&self, from: &dyn ErasedIn) -> bool;
+    fn publish_elements(&self, xs: &[f64]) -> Result<(), String>;
     /// The `Out<T>` inside.
     fn port_any(&self) -> &dyn Any;
 }
@@ -351,6 +389,12 @@ impl<T: PortValue + Clone, S: ValueText<T>> ErasedIn for TypedIn<T, S> {
     fn to_f64(&self) -> Option<f64> {
         S::to_f64(self.port.get().borrow())
     }
+    fn elements(&self, out: &mut Vec<f64>) -> bool {
+        if S::ELEMENTS {
+            S::elements(self.port.get().borrow(), out);
+        }
+        S::ELEMENTS
+    }
     fn port_any(&self) -> &dyn Any {
         &self.port
     }
@@ -365,6 +409,23 @@ impl<T: PortValue + Clone, S: ValueText<T>> ErasedOut for TypedOut<T, S> {
             }
             None => false,
         }
+    }
+    fn publish_elements(&self, xs: &[f64]) -> Result<(), String> {
+        if !S::ELEMENTS {
+            return Err(format!(
+                "`{}` is not a number or an array of numbers",
+                T::model_type()
+            ));
+        }
+        if let Some(n) = S::FIXED_LEN.filter(|n| *n != xs.len()) {
+            return Err(format!(
+                "`{}` has {n} element(s), not {}",
+                T::model_type(),
+                xs.len()
+            ));
+        }
+        self.port.publish_with(|buffer| S::set_elements(xs, buffer));
+        Ok(())
     }
     fn forward(&self, from: &dyn ErasedIn) -> bool {
         // The Rust type decides (whatever text style either side was registered with).
@@ -443,6 +504,12 @@ impl DynIn {
     pub fn get_f64(&self) -> Option<f64> {
         self.port.to_f64()
     }
+    /// Appends the latest value's elements as `f64` (a number is one element, arrays
+    /// row by row); false (nothing appended) if the type is not numbers.
+    #[inline]
+    pub fn get_elements(&self, out: &mut Vec<f64>) -> bool {
+        self.port.elements(out)
+    }
     /// The typed port, if the model's type is `T` (a module that knows its type after
     /// all, e.g. to read a library struct's fields).
     pub fn typed<T: PortValue>(&self) -> Option<&In<T>> {
@@ -480,6 +547,15 @@ impl DynOut {
     #[inline]
     pub fn forward(&self, from: &DynIn) -> bool {
         self.port.as_ref().is_some_and(|p| p.forward(&*from.port))
+    }
+    /// Publishes `xs` as the elements of a value of the port's type (saturating `as`
+    /// conversions). An error, nothing published, if the type is not numbers, the
+    /// port is unbound, or a fixed array has another length.
+    pub fn publish_elements(&self, xs: &[f64]) -> Result<(), String> {
+        match &self.port {
+            Some(p) => p.publish_elements(xs),
+            None => Err(format!("`{}` is not bound", self.name)),
+        }
     }
     /// Whether the port exists (its type was known at creation).
     pub fn is_bound(&self) -> bool {

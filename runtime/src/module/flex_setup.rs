@@ -88,6 +88,12 @@ impl<'a> Setup<'a> {
         FlexibleDecl::new(self, group, Direction::Out)
     }
 
+    /// Every port group the instance declares, in model order (a module that takes
+    /// whatever groups it is given, like the recorder `ferroc run --record` adds).
+    pub fn port_groups(&self) -> &'a [PortGroup<'a>] {
+        self.groups
+    }
+
     /// The model type the instance gave the flexible group `group` (its first
     /// declaration); `None` while the registry learns the type's interface.
     pub fn flexible_type(&self, group: &str) -> Option<&'a str> {

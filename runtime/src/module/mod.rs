@@ -18,7 +18,8 @@ mod value;
 mod wire;
 
 pub use flex::{
-    DebugText, DynIn, DynOut, Number, NumberText, PlainText, ValueTable, ValueText, ValueType,
+    ArrayText, DebugText, DynIn, DynOut, Number, NumberArray, NumberText, PlainText, ValueTable,
+    ValueText, ValueType,
 };
 pub use flex_setup::{FlexibleDecl, PortGroup, MAX_GROUP_PORTS};
 pub use interface::{

@@ -20,6 +20,8 @@ use std::borrow::Borrow;
 pub struct Wire {
     encode: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     decode: fn(&DynOut, &[u8]) -> Result<(), String>,
+    json: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
+    from_json: fn(Option<&DynOut>, &[u8]) -> Result<(), String>,
 }
 
 impl Wire {
@@ -28,6 +30,8 @@ impl Wire {
         Wire {
             encode: encode::<T>,
             decode: decode::<T>,
+            json: json::<T>,
+            from_json: from_json::<T>,
         }
     }
 
@@ -41,6 +45,20 @@ impl Wire {
     pub fn decode(&self, to: &DynOut, bytes: &[u8]) -> Result<(), String> {
         (self.decode)(to, bytes)
     }
+
+    /// Parses `bytes` as a value in its JSON (serde) form and publishes it on `to`, or
+    /// with `to` = `None` only checks that it parses (`ferroc_std.Const`'s values).
+    pub fn from_json(&self, to: Option<&DynOut>, bytes: &[u8]) -> Result<(), String> {
+        (self.from_json)(to, bytes)
+    }
+
+    /// Replaces `bytes` with the latest value of `from` as JSON (serde's form of the
+    /// value, for tools that display recordings). Not exact: JSON has no NaN or
+    /// infinity, so serde_json writes non-finite floats as `null`; the postcard form
+    /// of [`encode`](Self::encode) is the exact one.
+    pub fn json(&self, from: &DynIn, bytes: &mut Vec<u8>) -> Result<(), String> {
+        (self.json)(from, bytes)
+    }
 }
 
 fn encode<T: PortValue + Serialize>(from: &DynIn, bytes: &mut Vec<u8>) -> Result<(), String> {
@@ -51,6 +69,30 @@ fn encode<T: PortValue + Serialize>(from: &DynIn, bytes: &mut Vec<u8>) -> Result
     bytes.clear();
     let buffer = std::mem::take(bytes);
     *bytes = postcard::to_extend(value.borrow(), buffer).map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+fn json<T: PortValue + Serialize>(from: &DynIn, bytes: &mut Vec<u8>) -> Result<(), String> {
+    let port = from
+        .typed::<T>()
+        .ok_or_else(|| format!("`{}` does not carry {}", from.name(), T::model_type()))?;
+    let value = port.get();
+    bytes.clear();
+    serde_json::to_writer(&mut *bytes, value.borrow()).map_err(|e| e.to_string())
+}
+
+fn from_json<T: PortValue + DeserializeOwned>(
+    to: Option<&DynOut>,
+    bytes: &[u8],
+) -> Result<(), String> {
+    let value: T = serde_json::from_slice(bytes)
+        .map_err(|e| format!("not a {} value: {e}", T::model_type()))?;
+    if let Some(to) = to {
+        let port = to
+            .typed::<T>()
+            .ok_or_else(|| format!("`{}` does not carry {}", to.name(), T::model_type()))?;
+        port.publish(value);
+    }
     Ok(())
 }
 

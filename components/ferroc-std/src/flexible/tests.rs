@@ -43,7 +43,15 @@ fn sum_adds_in_the_inputs_type() {
     let t = values();
     let (src, ins) = inputs(&t, "u32", 3);
     let (out, probe) = sink(&t, "u32");
-    let mut sum = Sum { inputs: ins, out };
+    let mut sum = Sum {
+        inputs: ins,
+        out,
+        path: "sum".into(),
+        elementwise: false,
+        sum: Vec::new(),
+        scratch: Vec::new(),
+        warned: false,
+    };
     for (k, s) in src.iter().enumerate() {
         s.publish_f64(10.0 * (k + 1) as f64);
     }
@@ -56,7 +64,15 @@ fn sum_adds_in_the_inputs_type() {
 
     let (src, ins) = inputs(&t, "f64", 2);
     let (out, probe) = sink(&t, "f64");
-    let mut sum = Sum { inputs: ins, out };
+    let mut sum = Sum {
+        inputs: ins,
+        out,
+        path: "sum".into(),
+        elementwise: false,
+        sum: Vec::new(),
+        scratch: Vec::new(),
+        warned: false,
+    };
     src[0].publish_f64(0.5);
     src[1].publish_f64(-2.0);
     sum.update();
@@ -69,8 +85,11 @@ fn dump_prints_only_changed_inputs_prefixed_by_the_label() {
     let (nums, mut ins) = inputs(&t, "f64", 2);
     let (words, more) = inputs(&t, "string", 1);
     ins.extend(more);
+    let n = ins.len();
     let mut dump = Dump {
         inputs: ins,
+        serde: vec![None; n],
+        bytes: Vec::new(),
         label: Parameter::fixed("speed".to_owned()),
         line: String::new(),
         print: |_| {},
@@ -85,4 +104,26 @@ fn dump_prints_only_changed_inputs_prefixed_by_the_label() {
     lines.clear();
     dump.dump(|l| lines.push(l.to_owned()));
     assert!(lines.is_empty(), "printed once per delivery: {lines:?}");
+}
+
+#[test]
+fn dump_prints_serde_types_in_their_serde_form() {
+    let t = values();
+    let (pairs, ins) = inputs(&t, "f64[2]", 1);
+    let wire = *t.get("f64[2]").unwrap().wire().unwrap();
+    let mut dump = Dump {
+        inputs: ins,
+        serde: vec![Some(wire)],
+        bytes: Vec::new(),
+        label: Parameter::fixed("pair".to_owned()),
+        line: String::new(),
+        print: |_| {},
+    };
+    pairs[0]
+        .typed::<[f64; 2]>()
+        .unwrap()
+        .publish([1.5, f64::NAN]);
+    let mut lines = Vec::new();
+    dump.dump(|l| lines.push(l.to_owned()));
+    assert_eq!(lines, ["pair: in/0 = [1.5,null]"]);
 }

@@ -1,0 +1,45 @@
+//! Recordings in MCAP (<https://mcap.dev>): what `ferroc_std.Logger` and the recorder
+//! of `ferroc run --record` write, what `ferroc_std.Player` and `ferroc log` read.
+//!
+//! Every recorded port has two channels on the same topic (the port's path):
+//!
+//! - the **exact** one, message encoding `postcard` (the encoding of links between
+//!   parts): floats, NaN and infinities replay bit for bit; its schema (encoding
+//!   `ferroc-type`) names the model type and holds the Rust type's name;
+//! - the **display** one, message encoding `json` with a JSON Schema, which Foxglove
+//!   and other MCAP tools show. JSON has no NaN or infinity: serde_json writes them as
+//!   `null`, so the schema allows `null` wherever a float may be; the exact channel
+//!   keeps the real value.
+//!
+//! Channel metadata names the part, the port path, the model type and which of the two
+//! forms the channel holds. Log time and publish time are `Timestamp::now()`: model
+//! time in lockstep, so a lockstep recording is the same file every run.
+//!
+//! The file stays readable while it is written: messages go into chunks that are
+//! written out and flushed at least once per `flush` interval of (model) time, so a
+//! crash or a kill loses at most the chunk under way; on a clean stop the summary and
+//! footer are written too.
+//!
+//! Relative log paths are resolved against the log folder ([`set_log_dir`]; `ferroc
+//! run --log-dir`, else the environment variable `FERROC_LOG_DIR`, else the working
+//! directory): a model writes under `/var/log` only if it says so with an absolute path.
+
+mod context;
+mod file;
+mod read;
+mod schema;
+
+pub use context::{log_dir, part_of, resolve_log_path, set_log_dir, set_parts};
+pub use file::{ChannelId, ChannelInfo, LogFile, SharedLog};
+pub use read::{ChannelSummary, Message, Recording};
+pub use schema::json_schema;
+
+/// Message encoding of the exact channels.
+pub const EXACT_ENCODING: &str = "postcard";
+/// Schema encoding of the exact channels: the schema names a ferroc model type.
+pub const TYPE_SCHEMA_ENCODING: &str = "ferroc-type";
+/// Metadata keys of every channel.
+pub const META_PART: &str = "ferroc.part";
+pub const META_PORT: &str = "ferroc.port";
+pub const META_TYPE: &str = "ferroc.type";
+pub const META_FORM: &str = "ferroc.form";

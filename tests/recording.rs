@@ -1,0 +1,268 @@
+//! Recording and replay through the CLI: the demo models (a run that logs, a run that
+//! replays the log into the controller), `ferroc run --record`, `ferroc log`, and the
+//! files read by an MCAP reader we did not write (the Python `mcap` package; CI
+//! installs it, see .ci/run and FERROC_PYTHON).
+
+mod common;
+use common::{ferroc, tempdir};
+use ferroc_std::recording::Recording;
+use std::path::Path;
+use std::process::Command;
+
+const EPOCH: u64 = 946_684_800_000_000_000;
+
+fn exact(rec: &Recording, topic: &str) -> Vec<(u64, Vec<u8>)> {
+    let id = rec
+        .exact_channel(topic)
+        .unwrap_or_else(|| panic!("no {topic} in {:?}", rec.channels))
+        .id;
+    rec.messages
+        .iter()
+        .filter(|m| m.channel == id)
+        .map(|m| (m.log_time, m.data.clone()))
+        .collect()
+}
+
+fn run(model: &str, dir: &Path, extra: &[&str]) -> String {
+    let mut args = vec!["run", model, "--lockstep", "--for", "2s", "-q", "--log-dir"];
+    args.push(dir.to_str().unwrap());
+    args.extend_from_slice(extra);
+    let (code, out, err) = ferroc(&args);
+    assert_eq!(code, 0, "{out}\n{err}");
+    err
+}
+
+#[test]
+fn the_logged_demo_replays_into_the_controller_with_identical_commands() {
+    let dir = tempdir("recording_demo");
+    run("models/crash_course_logged.xml", &dir, &[]);
+    run("models/crash_course_replay.xml", &dir, &[]);
+    let live = Recording::read(&dir.join("logs/crash_course.mcap")).unwrap();
+    let replay = Recording::read(&dir.join("logs/crash_course_replay.mcap")).unwrap();
+    // 2 s of a 40 ms container: the instants 0, 40 ms, …, 2 s.
+    let front = exact(&live, "fragile_bot/main/sensor_log/in/0");
+    assert_eq!(front.len(), 51);
+    assert_eq!(front.last().unwrap().0, EPOCH + 2_000_000_000);
+    for log in ["velocity_log", "turn_log"] {
+        let topic = format!("fragile_bot/main/{log}/in/0");
+        let commands = exact(&live, &topic);
+        assert_eq!(commands.len(), 51);
+        assert_eq!(exact(&replay, &topic), commands, "{topic}");
+    }
+}
+
+#[test]
+fn record_writes_every_connection_and_log_shows_it() {
+    let dir = tempdir("recording_record");
+    let file = dir.join("run.mcap");
+    let err = run(
+        "models/crash_course.xml",
+        &dir,
+        &["--record", file.to_str().unwrap()],
+    );
+    // Pose2D is registered without serde: left out, and said so.
+    assert!(err.contains("--record leaves out"), "{err}");
+    assert!(err.contains("crash_course.Pose2D has no serde"), "{err}");
+    let (code, out, err) = ferroc(&["log", "info", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(": finished"), "{out}");
+    assert!(
+        out.contains("log time 946684800.000000000 .. 946684802.000000000 s"),
+        "{out}"
+    );
+    let line = out
+        .lines()
+        .find(|l| l.contains("control/controller/velocity  [postcard]"))
+        .unwrap_or_else(|| panic!("{out}"));
+    assert!(
+        line.contains("type f64  part fragile_bot  51 message(s)"),
+        "{line}"
+    );
+    // A filter records only what matches.
+    let some = dir.join("some.mcap");
+    run(
+        "models/crash_course.xml",
+        &dir,
+        &[
+            "--record",
+            some.to_str().unwrap(),
+            "--record-filter",
+            "*/velocity",
+        ],
+    );
+    let rec = Recording::read(&some).unwrap();
+    let topics: std::collections::BTreeSet<&str> =
+        rec.channels.values().map(|c| c.topic.as_str()).collect();
+    assert_eq!(
+        topics.into_iter().collect::<Vec<_>>(),
+        ["fragile_bot/main/control/controller/velocity"]
+    );
+    let (code, out, _) = ferroc(&[
+        "log",
+        "cat",
+        some.to_str().unwrap(),
+        "--channel",
+        "fragile_bot/main/control/controller/velocity",
+    ]);
+    assert_eq!(code, 0);
+    assert_eq!(out.lines().count(), 51);
+    assert!(out.starts_with("946684800.000000000 "), "{out}");
+    // Not a recording, an unknown channel: exit 2 with a message.
+    let (code, _, err) = ferroc(&["log", "info", "Cargo.toml"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("is not an MCAP file"), "{err}");
+    let (code, _, err) = ferroc(&["log", "cat", some.to_str().unwrap(), "--channel", "x"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("no JSON channel `x`") && err.contains("help: its topics are"),
+        "{err}"
+    );
+}
+
+#[test]
+fn an_unusable_log_path_is_refused_before_the_run_with_a_message() {
+    let dir = tempdir("recording_unwritable");
+    // A file where the log folder should be: the logger cannot create `logs/`.
+    std::fs::write(dir.join("logs"), "not a folder").unwrap();
+    let (code, out, err) = ferroc(&[
+        "run",
+        "models/crash_course_logged.xml",
+        "--lockstep",
+        "--for",
+        "1s",
+        "-q",
+        "--log-dir",
+        dir.to_str().unwrap(),
+    ]);
+    // Refused when the logger is created: the path is checked before the run.
+    assert_eq!(code, 1, "{out}");
+    assert!(err.contains("is not a folder"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// The Python interpreter with `mcap` and `jsonschema`: FERROC_PYTHON (CI sets it;
+/// then it must work), else `python3` if it has them, else `None` (said on stderr).
+fn python() -> Option<String> {
+    let set = std::env::var("FERROC_PYTHON").ok();
+    let python = set.clone().unwrap_or_else(|| "python3".into());
+    let ok = Command::new(&python)
+        .args(["-c", "import mcap, jsonschema"])
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    match (ok, set) {
+        (true, _) => Some(python),
+        (false, Some(p)) => panic!("FERROC_PYTHON={p} cannot import mcap and jsonschema"),
+        (false, None) => {
+            eprintln!("SKIPPED: no Python with `mcap` and `jsonschema` (set FERROC_PYTHON)");
+            None
+        }
+    }
+}
+
+#[test]
+fn the_python_mcap_reader_reads_what_the_model_implies() {
+    let Some(python) = python() else { return };
+    let dir = tempdir("recording_python");
+    run("models/crash_course_logged.xml", &dir, &[]);
+    let file = dir.join("logs/crash_course.mcap");
+    let script = r#"
+import json, sys
+import jsonschema
+from mcap.reader import make_reader
+with open(sys.argv[1], "rb") as f:
+    reader = make_reader(f)
+    summary = reader.get_summary()
+    channels = {c.id: c for c in summary.channels.values()}
+    out = {"channels": [], "times": {}, "json_ok": 0}
+    for c in sorted(channels.values(), key=lambda c: c.id):
+        s = summary.schemas[c.schema_id]
+        out["channels"].append([c.topic, c.message_encoding, s.name, s.encoding,
+                                summary.statistics.channel_message_counts[c.id],
+                                c.metadata["ferroc.part"]])
+    for schema, channel, message in reader.iter_messages():
+        out["times"].setdefault(channel.topic, []).append(message.log_time)
+        if channel.message_encoding == "json":
+            jsonschema.validate(json.loads(message.data), json.loads(schema.data))
+            out["json_ok"] += 1
+print(json.dumps(out))
+"#;
+    let output = Command::new(&python)
+        .args(["-c", script, file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let v: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let channel = |topic: &str, enc: &str| {
+        serde_json::json!([
+            format!("fragile_bot/main/{topic}"),
+            enc,
+            "f64",
+            if enc == "json" {
+                "jsonschema"
+            } else {
+                "ferroc-type"
+            },
+            51,
+            "fragile_bot"
+        ])
+    };
+    let mut expected = Vec::new();
+    for topic in [
+        "sensor_log/in/0",
+        "sensor_log/in/1",
+        "velocity_log/in/0",
+        "turn_log/in/0",
+    ] {
+        expected.push(channel(topic, "postcard"));
+        expected.push(channel(topic, "json"));
+    }
+    let mut got = v["channels"].as_array().unwrap().clone();
+    got.sort_by_key(|c| c.to_string());
+    expected.sort_by_key(|c| c.to_string());
+    assert_eq!(got, expected);
+    // Log times: every 40 ms of model time from the lockstep epoch, for every topic.
+    let want: Vec<u64> = (0..51).map(|k| EPOCH + k * 40_000_000).collect();
+    for (topic, times) in v["times"].as_object().unwrap() {
+        let times: Vec<u64> = times
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| t.as_u64().unwrap())
+            .collect();
+        // Two channels per topic: each instant twice.
+        let once: Vec<u64> = times.iter().step_by(2).copied().collect();
+        assert_eq!(once, want, "{topic}");
+    }
+    assert_eq!(
+        v["json_ok"],
+        4 * 51,
+        "every JSON message validates against its schema"
+    );
+}
+
+#[test]
+fn a_log_folder_that_cannot_be_created_is_reported_and_the_run_goes_on() {
+    // /proc takes no new folders, not even from root: the loggers fail when they open
+    // the file, after the checks at creation passed.
+    let (code, out, err) = ferroc(&[
+        "run",
+        "models/crash_course_logged.xml",
+        "--lockstep",
+        "--for",
+        "1s",
+        "-q",
+        "--log-dir",
+        "/proc/self/ferroc-test",
+    ]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    assert!(
+        err.contains("warning: ferroc_std.Logger: cannot write the recording `/proc/self/ferroc-test/logs/crash_course.mcap`"),
+        "{err}"
+    );
+    assert!(err.contains("it records nothing more"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    // The application ran its whole second: 26 cycles of 40 ms.
+    assert!(err.contains("fragile_bot/main: 26 cycles"), "{err}");
+}
