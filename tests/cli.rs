@@ -172,7 +172,7 @@ fn run_executes_the_demo_for_a_number_of_cycles() {
         "{stdout}"
     );
     // In lockstep, exactly: the display runs at 0, 100, …, 1100 ms (before 30 × 40 ms)
-    // and reports the first robot driving forward at 1 s.
+    // and reports the first robot turning in place at 1 s (its first look around).
     let (code, stdout, stderr) = ferroc(&[
         "run",
         "models/crash_course.xml",
@@ -189,7 +189,7 @@ fn run_executes_the_demo_for_a_number_of_cycles() {
     assert_eq!(
         stdout.lines().last(),
         Some(
-            "[ferroc crash course] robot 1: x=+0.30 m y=+0.00 m heading=  0.0° \
+            "[ferroc crash course] robot 1: x=+0.00 m y=+0.00 m heading=291.2° \
              front=150.0 cm rear=150.0 cm"
         ),
         "{stdout}"

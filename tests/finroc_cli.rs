@@ -11,12 +11,15 @@ const FILES: &str = "compiler/tests/finroc_files";
 
 #[test]
 fn importing_the_crash_course_gives_a_model_that_checks_clean() {
-    let dir = tempdir("finroc_import");
-    let model = dir.join("cc/model.xml");
+    // As a team would: the model is written into the checkout, so that the config
+    // files it names lie below the model's folder (they are confined to it, M113).
+    let dir = tempdir("finroc_import").join("cc");
+    copy_tree(&Path::new(FILES).join("crash_course"), &dir);
+    let model = dir.join("model.xml");
     let (code, _, err) = ferroc(&[
         "import",
         "finroc",
-        &format!("{FILES}/crash_course/CrashCourse.finroc"),
+        dir.join("CrashCourse.finroc").to_str().unwrap(),
         "-o",
         model.to_str().unwrap(),
     ]);
@@ -34,9 +37,7 @@ fn importing_the_crash_course_gives_a_model_that_checks_clean() {
     ] {
         assert!(text.contains(want), "{want} missing in\n{text}");
     }
-    assert!(dir
-        .join("cc/finroc_projects_crash_course.lib.xml")
-        .is_file());
+    assert!(dir.join("finroc_projects_crash_course.lib.xml").is_file());
     let (code, out, err) = ferroc(&["check", model.to_str().unwrap(), "--format", "short"]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(
@@ -191,4 +192,18 @@ fn a_make_cycle_in_a_folder_finroc_does_not_name_is_found_with_the_prefix_given(
     ]);
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("make.xml:2:27: error[L106]"), "{out}");
+}
+
+/// Copies the folder `from` to `to` (created), files and subfolders.
+fn copy_tree(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_tree(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), target).unwrap();
+        }
+    }
 }

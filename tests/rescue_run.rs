@@ -137,14 +137,10 @@ fn the_model_runs_robot_and_station() {
         ],
         "{out}"
     );
-    // The victim log: relative in the model, so under --log-dir; in lockstep exactly
-    // three samples, at 0, 1 and 2 s of model time.
-    let log =
-        ferroc_std::recording::Recording::read(&dir.join("logs/rescue/victims.mcap")).unwrap();
-    let victims = log.exact_channel("station/logging/victim_log/in/0");
-    let victims = victims.unwrap_or_else(|| panic!("{:?}", log.channels));
-    assert_eq!(victims.model_type(), "rescue.VictimList");
-    assert_eq!(victims.count, 3, "{victims:?}");
+    // The victim log (relative in the model, so under --log-dir) is created at the
+    // first victim list, and in lockstep the detector sends none in the first 2 s.
+    let victims_log = dir.join("logs/rescue/victims.mcap");
+    assert!(!victims_log.exists(), "{}", victims_log.display());
     // Running freely, only what holds on a loaded machine: it runs and stops by the
     // clock, and reports every container (how often each ran depends on the machine).
     let (code, out, err) = ferroc(&[
@@ -165,6 +161,15 @@ fn the_model_runs_robot_and_station() {
         "station/logging",
     ] {
         assert!(err.contains(&format!("  {thread}: ")), "{err}");
+    }
+    // Whether a victim was seen in 2 s of wall time depends on the machine; if one was,
+    // the log holds the lists with their type.
+    if victims_log.exists() {
+        let log = ferroc_std::recording::Recording::read(&victims_log).unwrap();
+        let victims = log.exact_channel("station/logging/victim_log/in/0");
+        let victims = victims.unwrap_or_else(|| panic!("{:?}", log.channels));
+        assert_eq!(victims.model_type(), "rescue.VictimList");
+        assert!(victims.count >= 1, "{victims:?}");
     }
 }
 
