@@ -6,7 +6,7 @@
 //! `text::rust_str` (string literals) or `text::comment` (comments).
 
 use super::layout::Part;
-use super::text::{comment, rust_str};
+use super::text::rust_str;
 use ferroc_compiler::schedule::StepKind;
 use ferroc_compiler::source::Span;
 use ferroc_runtime::container::ThreadOptions;
@@ -31,36 +31,41 @@ pub struct Context<'a> {
     pub at: &'a dyn Fn(Span) -> String,
 }
 
+/// Lines at `indent` as `Code` writes them, without the last line break: a fragment
+/// the template places on lines of its own.
+fn lines(write: impl FnOnce(&mut Code)) -> String {
+    let mut code = Code::default();
+    write(&mut code);
+    code.text.trim_end_matches('\n').to_string()
+}
+
 /// The source of `main.rs` for `part`.
 pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     let consts = module_constants(part);
     let name_of = |path: &str| consts.get(path).cloned().unwrap_or_else(|| rust_str(path));
-    let mut body = Code::default();
-    body.line(1, "let mut builder = Builder::new(registry);");
+    // Two `(module, name)` arguments, one a line.
+    let ends = |a: (&str, &str), b: (&str, &str)| {
+        lines(|code| {
+            for (module, name) in [a, b] {
+                code.line(
+                    2,
+                    &format!("{},", call("", &[name_of(module), rust_str(name)])),
+                );
+            }
+        })
+    };
     let mut uses_param = false;
     let mut uses_queue = false;
     let mut uses_duration = false;
     let mut uses_ports = false;
+    let mut modules = Vec::with_capacity(part.modules.len());
     for m in &part.modules {
-        body.blank();
-        body.line(
-            1,
-            &format!(
-                "// {}, {}",
-                comment(&m.type_name),
-                comment(&(cx.at)(m.span))
-            ),
-        );
-        body.line(1, "builder.add_module(ModuleSpec {");
-        body.line(2, &format!("path: {},", name_of(&m.path)));
-        body.line(2, &format!("type_name: {},", rust_str(&m.type_name)));
         let params: Vec<String> = m
             .params
             .iter()
             .map(|(n, v)| call("param", &[rust_str(n), value(v, &mut uses_duration)]))
             .collect();
         uses_param |= !params.is_empty();
-        body.list(2, "params: &[", &params, "],");
         let queues: Vec<String> = m
             .queues
             .iter()
@@ -81,116 +86,60 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             })
             .collect();
         uses_queue |= !queues.is_empty();
-        body.list(2, "queues: &[", &queues, "],");
         let ports: Vec<String> = m.ports.iter().map(port_group).collect();
         uses_ports |= !ports.is_empty();
-        body.list(2, "ports: &[", &ports, "],");
-        let policy = match m.ib2c_violations.as_str() {
-            "clamp" => "Clamp",
-            "stop" => "Stop",
-            _ => "Warn",
-        };
-        body.line(2, &format!("violations: ViolationPolicy::{policy},"));
-        body.line(1, "})?;");
+        modules.push(ModuleBlock {
+            type_name: &m.type_name,
+            at: (cx.at)(m.span),
+            path: name_of(&m.path),
+            lists: lines(|code| {
+                code.list(2, "params: &[", &params, "],");
+                code.list(2, "queues: &[", &queues, "],");
+                code.list(2, "ports: &[", &ports, "],");
+            }),
+            violations: match m.ib2c_violations.as_str() {
+                "clamp" => "Clamp",
+                "stop" => "Stop",
+                _ => "Warn",
+            },
+        });
     }
-    for c in &part.connections {
-        body.blank();
-        body.line(1, &format!("// {}", comment(&(cx.at)(c.span))));
-        body.line(1, "builder.connect(");
-        for (module, port) in [&c.from, &c.to] {
-            body.line(
-                2,
-                &format!("{},", call("", &[name_of(module), rust_str(port)])),
-            );
-        }
-        body.line(2, &format!("{},", super::links::conversion(c)));
-        body.line(2, "ConnectOptions::default(),");
-        body.line(1, ")?;");
-    }
-    super::links::calls(&mut body, part, cx.at, &name_of);
-    for link in &part.param_links {
-        body.blank();
-        body.line(1, &format!("// {}", comment(&(cx.at)(link.span))));
-        body.line(1, "builder.connect_param(");
-        for (module, name) in [&link.from, &link.to] {
-            body.line(
-                2,
-                &format!("{},", call("", &[name_of(module), rust_str(name)])),
-            );
-        }
-        body.line(
-            2,
-            &format!("Conversion::linear({}, 0.0),", float(link.scale)),
-        );
-        body.line(1, ")?;");
-    }
-    for link in &part.calls {
-        body.blank();
-        body.line(1, &format!("// {}", comment(&(cx.at)(link.span))));
-        body.line(1, "builder.connect_service(");
-        for (module, name) in [&link.client, &link.service] {
-            body.line(
-                2,
-                &format!("{},", call("", &[name_of(module), rust_str(name)])),
-            );
-        }
-        body.line(1, ")?;");
-    }
-    for t in &part.threads {
-        body.blank();
-        let when = match (t.period, t.continuous) {
-            (Some(p), _) => format!("every {}", human_duration(p)),
-            (None, true) => "cycles back to back".to_string(),
-            (None, false) => "when data arrives".to_string(),
-        };
-        body.line(
-            1,
-            &format!("// {}: {when}, steps in the compiler's order", t.path),
-        );
-        body.line(1, "builder.add_thread(ThreadSpec {");
-        body.line(2, &format!("path: {}.to_string(),", rust_str(&t.path)));
-        match t.period {
-            Some(p) => {
-                uses_duration = true;
-                let d = duration(Duration::from_secs_f64(p));
-                body.line(2, &format!("schedule: Schedule::Periodic({d}),"));
-            }
-            None if t.continuous => body.line(2, "schedule: Schedule::Continuous,"),
-            None => body.line(2, "schedule: Schedule::Data,"),
-        }
-        let options = crate::run::thread_options(t);
-        if options == ThreadOptions::default() {
-            body.line(2, "options: ThreadOptions::default(),");
-        } else {
-            body.line(2, "options: ThreadOptions {");
-            body.line(3, &format!("priority: {:?},", options.priority));
-            body.line(3, &format!("cpu: {:?},", options.cpu));
-            body.line(2, "},");
-        }
-        let steps: Vec<String> = t
-            .steps
-            .iter()
-            .map(|(path, kind)| {
-                let kind = match kind {
-                    StepKind::Update => "Update",
-                    StepKind::Sense => "Sense",
-                    StepKind::Control => "Control",
-                };
-                call(
-                    "",
-                    &[
-                        format!("{}.to_string()", name_of(path)),
-                        format!("StepKind::{kind}"),
-                    ],
-                )
-            })
-            .collect();
-        body.list(2, "steps: vec![", &steps, "],");
-        body.line(1, "})?;");
-    }
-    body.blank();
-    body.line(1, "builder.start_with(start)");
-
+    let connections = (part.connections.iter())
+        .map(|c| ConnectBlock {
+            at: (cx.at)(c.span),
+            ends: ends(
+                (c.from.0.as_str(), c.from.1.as_str()),
+                (c.to.0.as_str(), c.to.1.as_str()),
+            ),
+            conversion: super::links::conversion(c),
+        })
+        .collect();
+    let link_calls = lines(|code| super::links::calls(code, part, cx.at, &name_of));
+    let param_links = (part.param_links.iter())
+        .map(|l| ConnectBlock {
+            at: (cx.at)(l.span),
+            ends: ends(
+                (l.from.0.as_str(), l.from.1.as_str()),
+                (l.to.0.as_str(), l.to.1.as_str()),
+            ),
+            conversion: format!("Conversion::linear({}, 0.0)", float(l.scale)),
+        })
+        .collect();
+    let calls = (part.calls.iter())
+        .map(|l| ConnectBlock {
+            at: (cx.at)(l.span),
+            ends: ends(
+                (l.client.0.as_str(), l.client.1.as_str()),
+                (l.service.0.as_str(), l.service.1.as_str()),
+            ),
+            conversion: String::new(),
+        })
+        .collect();
+    let threads = part
+        .threads
+        .iter()
+        .map(|t| thread_block(t, &name_of))
+        .collect();
     let _ = uses_duration; // `PERIODS` always names `Duration`
     let mut imports_code = Code::default();
     imports(
@@ -232,7 +181,16 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             .filter_map(|m| Some((consts.get(&m.path)?.as_str(), m.path.as_str())))
             .collect(),
         registrations: registrations(part),
-        body: &body.text,
+        modules,
+        connections,
+        link_calls: if link_calls.is_empty() {
+            link_calls
+        } else {
+            format!("\n{link_calls}")
+        },
+        param_links,
+        calls,
+        threads,
         uses_param,
         uses_queue,
     }
@@ -258,9 +216,103 @@ struct MainRs<'a> {
     module_constants: Vec<(&'a str, &'a str)>,
     /// The calls in `registry()`.
     registrations: Vec<String>,
-    body: &'a str,
+    modules: Vec<ModuleBlock<'a>>,
+    connections: Vec<ConnectBlock>,
+    /// The ends of links to and from other parts (`links.rs`), after a line break.
+    link_calls: String,
+    param_links: Vec<ConnectBlock>,
+    calls: Vec<ConnectBlock>,
+    threads: Vec<ThreadBlock>,
     uses_param: bool,
     uses_queue: bool,
+}
+
+/// One `builder.add_module` of `build()`.
+struct ModuleBlock<'a> {
+    type_name: &'a str,
+    /// `file:line:col` of its definition.
+    at: String,
+    /// Its path: a constant or a string literal.
+    path: String,
+    /// The `params`, `queues` and `ports` lines.
+    lists: String,
+    violations: &'static str,
+}
+
+/// One `builder.connect`, `connect_param` or `connect_service` of `build()`.
+struct ConnectBlock {
+    at: String,
+    /// The two `(module, name)` lines.
+    ends: String,
+    /// The conversion argument (none for service calls).
+    conversion: String,
+}
+
+/// One `builder.add_thread` of `build()`.
+struct ThreadBlock {
+    path: String,
+    /// `every 40 ms`, `cycles back to back`, `when data arrives`.
+    when: String,
+    schedule: String,
+    /// The `options` line or lines.
+    options: String,
+    /// The `steps` line or lines.
+    steps: String,
+}
+
+fn thread_block(
+    t: &ferroc_compiler::plan::PlannedThread,
+    name_of: &dyn Fn(&str) -> String,
+) -> ThreadBlock {
+    let when = match (t.period, t.continuous) {
+        (Some(p), _) => format!("every {}", human_duration(p)),
+        (None, true) => "cycles back to back".to_string(),
+        (None, false) => "when data arrives".to_string(),
+    };
+    let schedule = match t.period {
+        Some(p) => format!(
+            "Schedule::Periodic({})",
+            duration(Duration::from_secs_f64(p))
+        ),
+        None if t.continuous => "Schedule::Continuous".to_string(),
+        None => "Schedule::Data".to_string(),
+    };
+    let options = crate::run::thread_options(t);
+    let options = lines(|code| {
+        if options == ThreadOptions::default() {
+            code.line(2, "options: ThreadOptions::default(),");
+        } else {
+            code.line(2, "options: ThreadOptions {");
+            code.line(3, &format!("priority: {:?},", options.priority));
+            code.line(3, &format!("cpu: {:?},", options.cpu));
+            code.line(2, "},");
+        }
+    });
+    let steps: Vec<String> = t
+        .steps
+        .iter()
+        .map(|(path, kind)| {
+            let kind = match kind {
+                StepKind::Update => "Update",
+                StepKind::Sense => "Sense",
+                StepKind::Control => "Control",
+            };
+            call(
+                "",
+                &[
+                    format!("{}.to_string()", name_of(path)),
+                    format!("StepKind::{kind}"),
+                ],
+            )
+        })
+        .collect();
+    ThreadBlock {
+        path: t.path.clone(),
+        when,
+        schedule,
+        options,
+        steps: lines(|code| code.list(2, "steps: vec![", &steps, "],")),
+    }
 }
 
 /// The lines of `registry()`: module types, value types of flexible ports, types that

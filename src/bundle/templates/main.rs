@@ -60,7 +60,55 @@ fn registry() -> Registry {
 
 /// Creates the modules, connects them, declares the thread containers and starts them.
 fn build(registry: &Registry, start: StartOptions) -> Result<RunningApp, BuildError> {
-{{ body|safe }}}
+    let mut builder = Builder::new(registry);
+{%- for m in modules %}
+
+    // {{ m.type_name }}, {{ m.at }}
+    builder.add_module(ModuleSpec {
+        path: {{ m.path|safe }},
+        type_name: {{ m.type_name|rust_str }},
+{{ m.lists|safe }}
+        violations: ViolationPolicy::{{ m.violations }},
+    })?;
+{%- endfor %}
+{%- for c in connections %}
+
+    // {{ c.at }}
+    builder.connect(
+{{ c.ends|safe }}
+        {{ c.conversion|safe }},
+        ConnectOptions::default(),
+    )?;
+{%- endfor %}
+{{- link_calls|safe }}
+{%- for l in param_links %}
+
+    // {{ l.at }}
+    builder.connect_param(
+{{ l.ends|safe }}
+        {{ l.conversion|safe }},
+    )?;
+{%- endfor %}
+{%- for l in calls %}
+
+    // {{ l.at }}
+    builder.connect_service(
+{{ l.ends|safe }}
+    )?;
+{%- endfor %}
+{%- for t in threads %}
+
+    // {{ t.path }}: {{ t.when }}, steps in the compiler's order
+    builder.add_thread(ThreadSpec {
+        path: {{ t.path|rust_str }}.to_string(),
+        schedule: {{ t.schedule|safe }},
+{{ t.options|safe }}
+{{ t.steps|safe }}
+    })?;
+{%- endfor %}
+
+    builder.start_with(start)
+}
 {%- if uses_param %}
 
 /// One entry of `ModuleSpec::params`.
