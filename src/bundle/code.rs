@@ -1,4 +1,5 @@
-//! Writing Rust source in rustfmt's layout directly (no template engine, no rustfmt run).
+//! Writing the varying parts of Rust source in rustfmt's layout directly (no rustfmt
+//! run); the fixed parts are in the template `templates/main.rs`.
 
 /// rustfmt's default line width and width for one-line lists (`fn_call_width`,
 /// `array_width`).

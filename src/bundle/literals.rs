@@ -79,11 +79,11 @@ pub(super) fn float(x: f64) -> String {
 /// The shortest constructor that gives exactly `d`.
 pub(super) fn duration(d: Duration) -> String {
     let nanos = d.as_nanos();
-    if nanos % 1_000_000_000 == 0 {
+    if nanos.is_multiple_of(1_000_000_000) {
         format!("Duration::from_secs({})", d.as_secs())
-    } else if nanos % 1_000_000 == 0 {
+    } else if nanos.is_multiple_of(1_000_000) {
         format!("Duration::from_millis({})", d.as_millis())
-    } else if nanos % 1_000 == 0 {
+    } else if nanos.is_multiple_of(1_000) {
         format!("Duration::from_micros({})", d.as_micros())
     } else {
         format!("Duration::new({}, {})", d.as_secs(), d.subsec_nanos())

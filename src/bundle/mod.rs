@@ -2,13 +2,17 @@
 //! per part whose `main.rs` makes the Builder calls `ferroc run` makes, plus the
 //! resolved model, `manifest.json`, launch scripts and systemd units. See docs/bundle.md.
 //!
-//! No template engine: askama (the intended one) is not available to this offline build,
-//! so the files are written by small functions (`rust.rs`, `files.rs`, `resolved.rs`)
-//! that emit already-formatted text. Model content reaches them only through the
-//! validation in `layout.rs` and the escaping in `text.rs`; files are written only below
-//! the output folder (`out.rs`).
+//! The fixed text of the generated files comes from askama templates (`templates/`:
+//! `main.rs`, the Cargo manifests, the launch script, the systemd unit), checked at
+//! compile time; what varies with the model in `main.rs` (the Builder calls, imports, link
+//! constants) is written by small emitters in rustfmt's layout (`rust.rs`, `links.rs`,
+//! `code.rs`), and the resolved model by `resolved.rs`. Model content reaches them only
+//! through the validation in `layout.rs` and the escaping in `text.rs`, which the
+//! templates apply by file type (`escape.rs`, `askama.toml`); files are written only
+//! below the output folder (`out.rs`).
 
 mod code;
+mod escape;
 mod fields;
 mod files;
 mod layout;

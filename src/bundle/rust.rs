@@ -6,7 +6,7 @@
 //! `text::rust_str` (string literals) or `text::comment` (comments).
 
 use super::layout::Part;
-use super::text::{comment, rust_str};
+use super::text::rust_str;
 use ferroc_compiler::schedule::StepKind;
 use ferroc_compiler::source::Span;
 use ferroc_runtime::container::ThreadOptions;
@@ -14,7 +14,9 @@ use std::collections::{BTreeSet, HashMap};
 use std::time::Duration;
 
 use super::code::Code;
+use super::escape::filters;
 use super::literals::{call, duration, float, human_duration, port_group, value};
+use askama::Template;
 
 /// What a generated file needs to know besides the part.
 pub struct Context<'a> {
@@ -29,36 +31,41 @@ pub struct Context<'a> {
     pub at: &'a dyn Fn(Span) -> String,
 }
 
+/// Lines at `indent` as `Code` writes them, without the last line break: a fragment
+/// the template places on lines of its own.
+fn lines(write: impl FnOnce(&mut Code)) -> String {
+    let mut code = Code::default();
+    write(&mut code);
+    code.text.trim_end_matches('\n').to_string()
+}
+
 /// The source of `main.rs` for `part`.
 pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     let consts = module_constants(part);
     let name_of = |path: &str| consts.get(path).cloned().unwrap_or_else(|| rust_str(path));
-    let mut body = Code::default();
-    body.line(1, "let mut builder = Builder::new(registry);");
+    // Two `(module, name)` arguments, one a line.
+    let ends = |a: (&str, &str), b: (&str, &str)| {
+        lines(|code| {
+            for (module, name) in [a, b] {
+                code.line(
+                    2,
+                    &format!("{},", call("", &[name_of(module), rust_str(name)])),
+                );
+            }
+        })
+    };
     let mut uses_param = false;
     let mut uses_queue = false;
     let mut uses_duration = false;
     let mut uses_ports = false;
+    let mut modules = Vec::with_capacity(part.modules.len());
     for m in &part.modules {
-        body.blank();
-        body.line(
-            1,
-            &format!(
-                "// {}, {}",
-                comment(&m.type_name),
-                comment(&(cx.at)(m.span))
-            ),
-        );
-        body.line(1, "builder.add_module(ModuleSpec {");
-        body.line(2, &format!("path: {},", name_of(&m.path)));
-        body.line(2, &format!("type_name: {},", rust_str(&m.type_name)));
         let params: Vec<String> = m
             .params
             .iter()
             .map(|(n, v)| call("param", &[rust_str(n), value(v, &mut uses_duration)]))
             .collect();
         uses_param |= !params.is_empty();
-        body.list(2, "params: &[", &params, "],");
         let queues: Vec<String> = m
             .queues
             .iter()
@@ -79,121 +86,64 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             })
             .collect();
         uses_queue |= !queues.is_empty();
-        body.list(2, "queues: &[", &queues, "],");
         let ports: Vec<String> = m.ports.iter().map(port_group).collect();
         uses_ports |= !ports.is_empty();
-        body.list(2, "ports: &[", &ports, "],");
-        let policy = match m.ib2c_violations.as_str() {
-            "clamp" => "Clamp",
-            "stop" => "Stop",
-            _ => "Warn",
-        };
-        body.line(2, &format!("violations: ViolationPolicy::{policy},"));
-        body.line(1, "})?;");
+        modules.push(ModuleBlock {
+            type_name: &m.type_name,
+            at: (cx.at)(m.span),
+            path: name_of(&m.path),
+            lists: lines(|code| {
+                code.list(2, "params: &[", &params, "],");
+                code.list(2, "queues: &[", &queues, "],");
+                code.list(2, "ports: &[", &ports, "],");
+            }),
+            violations: match m.ib2c_violations.as_str() {
+                "clamp" => "Clamp",
+                "stop" => "Stop",
+                _ => "Warn",
+            },
+        });
     }
-    for c in &part.connections {
-        body.blank();
-        body.line(1, &format!("// {}", comment(&(cx.at)(c.span))));
-        body.line(1, "builder.connect(");
-        for (module, port) in [&c.from, &c.to] {
-            body.line(
-                2,
-                &format!("{},", call("", &[name_of(module), rust_str(port)])),
-            );
-        }
-        body.line(2, &format!("{},", super::links::conversion(c)));
-        body.line(2, "ConnectOptions::default(),");
-        body.line(1, ")?;");
-    }
-    super::links::calls(&mut body, part, cx.at, &name_of);
-    for link in &part.param_links {
-        body.blank();
-        body.line(1, &format!("// {}", comment(&(cx.at)(link.span))));
-        body.line(1, "builder.connect_param(");
-        for (module, name) in [&link.from, &link.to] {
-            body.line(
-                2,
-                &format!("{},", call("", &[name_of(module), rust_str(name)])),
-            );
-        }
-        body.line(
-            2,
-            &format!("Conversion::linear({}, 0.0),", float(link.scale)),
-        );
-        body.line(1, ")?;");
-    }
-    for link in &part.calls {
-        body.blank();
-        body.line(1, &format!("// {}", comment(&(cx.at)(link.span))));
-        body.line(1, "builder.connect_service(");
-        for (module, name) in [&link.client, &link.service] {
-            body.line(
-                2,
-                &format!("{},", call("", &[name_of(module), rust_str(name)])),
-            );
-        }
-        body.line(1, ")?;");
-    }
-    for t in &part.threads {
-        body.blank();
-        let when = match (t.period, t.continuous) {
-            (Some(p), _) => format!("every {}", human_duration(p)),
-            (None, true) => "cycles back to back".to_string(),
-            (None, false) => "when data arrives".to_string(),
-        };
-        body.line(
-            1,
-            &format!("// {}: {when}, steps in the compiler's order", t.path),
-        );
-        body.line(1, "builder.add_thread(ThreadSpec {");
-        body.line(2, &format!("path: {}.to_string(),", rust_str(&t.path)));
-        match t.period {
-            Some(p) => {
-                uses_duration = true;
-                let d = duration(Duration::from_secs_f64(p));
-                body.line(2, &format!("schedule: Schedule::Periodic({d}),"));
-            }
-            None if t.continuous => body.line(2, "schedule: Schedule::Continuous,"),
-            None => body.line(2, "schedule: Schedule::Data,"),
-        }
-        let options = crate::run::thread_options(t);
-        if options == ThreadOptions::default() {
-            body.line(2, "options: ThreadOptions::default(),");
-        } else {
-            body.line(2, "options: ThreadOptions {");
-            body.line(3, &format!("priority: {:?},", options.priority));
-            body.line(3, &format!("cpu: {:?},", options.cpu));
-            body.line(2, "},");
-        }
-        let steps: Vec<String> = t
-            .steps
-            .iter()
-            .map(|(path, kind)| {
-                let kind = match kind {
-                    StepKind::Update => "Update",
-                    StepKind::Sense => "Sense",
-                    StepKind::Control => "Control",
-                };
-                call(
-                    "",
-                    &[
-                        format!("{}.to_string()", name_of(path)),
-                        format!("StepKind::{kind}"),
-                    ],
-                )
-            })
-            .collect();
-        body.list(2, "steps: vec![", &steps, "],");
-        body.line(1, "})?;");
-    }
-    body.blank();
-    body.line(1, "builder.start_with(start)");
-
-    let mut out = Code::default();
-    header(&mut out, part, cx);
+    let connections = (part.connections.iter())
+        .map(|c| ConnectBlock {
+            at: (cx.at)(c.span),
+            ends: ends(
+                (c.from.0.as_str(), c.from.1.as_str()),
+                (c.to.0.as_str(), c.to.1.as_str()),
+            ),
+            conversion: super::links::conversion(c),
+        })
+        .collect();
+    let link_calls = lines(|code| super::links::calls(code, part, cx.at, &name_of));
+    let param_links = (part.param_links.iter())
+        .map(|l| ConnectBlock {
+            at: (cx.at)(l.span),
+            ends: ends(
+                (l.from.0.as_str(), l.from.1.as_str()),
+                (l.to.0.as_str(), l.to.1.as_str()),
+            ),
+            conversion: format!("Conversion::linear({}, 0.0)", float(l.scale)),
+        })
+        .collect();
+    let calls = (part.calls.iter())
+        .map(|l| ConnectBlock {
+            at: (cx.at)(l.span),
+            ends: ends(
+                (l.client.0.as_str(), l.client.1.as_str()),
+                (l.service.0.as_str(), l.service.1.as_str()),
+            ),
+            conversion: String::new(),
+        })
+        .collect();
+    let threads = part
+        .threads
+        .iter()
+        .map(|t| thread_block(t, &name_of))
+        .collect();
     let _ = uses_duration; // `PERIODS` always names `Duration`
+    let mut imports_code = Code::default();
     imports(
-        &mut out,
+        &mut imports_code,
         Uses {
             connect: !part.connections.is_empty()
                 || !part.links_out.is_empty()
@@ -211,42 +161,164 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             ports: uses_ports,
         },
     );
-    out.blank();
-    let about = format!(
-        "{}: the part `{}` of the application `{}` (generated by ferroc {})",
-        part.package, part.name, cx.application, cx.tool_version
-    );
-    out.line(
-        0,
-        &format!(
-            "/// The part this program runs.\nconst PART: &str = {};",
-            rust_str(&part.name)
+    let mut links = Code::default();
+    super::links::constants(&mut links, cx.parts, cx.periods);
+    super::links::specs(&mut links, part);
+    super::links::call_specs(&mut links, part);
+    MainRs {
+        package: &part.package,
+        part: &part.name,
+        application: cx.application,
+        tool_version: cx.tool_version,
+        model_file: cx.model_file,
+        imports: imports_code.text.trim_end_matches('\n'),
+        about: format!(
+            "{}: the part `{}` of the application `{}` (generated by ferroc {})",
+            part.package, part.name, cx.application, cx.tool_version
         ),
-    );
-    out.line(
-        0,
-        &format!("const PROGRAM: &str = {};", rust_str(&part.package)),
-    );
-    out.line(0, &format!("const ABOUT: &str = {};", rust_str(&about)));
-    super::links::constants(&mut out, cx.parts, cx.periods);
-    super::links::specs(&mut out, part);
-    super::links::call_specs(&mut out, part);
-    if !consts.is_empty() {
-        out.blank();
-        out.line(0, "// Module paths, as in the model.");
-        for m in &part.modules {
-            out.line(
-                0,
-                &format!("const {}: &str = {};", consts[&m.path], rust_str(&m.path)),
-            );
-        }
+        links: links.text.trim_end_matches('\n'),
+        module_constants: (part.modules.iter())
+            .filter_map(|m| Some((consts.get(&m.path)?.as_str(), m.path.as_str())))
+            .collect(),
+        registrations: registrations(part),
+        modules,
+        connections,
+        link_calls: if link_calls.is_empty() {
+            link_calls
+        } else {
+            format!("\n{link_calls}")
+        },
+        param_links,
+        calls,
+        threads,
+        uses_param,
+        uses_queue,
     }
-    out.blank();
-    main_fn(&mut out);
-    out.blank();
-    out.line(0, "/// The module types this part creates.");
-    out.line(0, "fn registry() -> Registry {");
-    out.line(1, "let mut registry = Registry::new();");
+    .to_string()
+}
+
+/// `main.rs` (template `templates/main.rs`): the fixed parts of the program around what
+/// the emitters above write (imports, link constants, the body of `build`). Text from
+/// the model is escaped for Rust comments by default (`askama.toml`), string literals
+/// go through the `rust_str` filter, code the emitters wrote passes with `|safe`.
+#[derive(Template)]
+#[template(path = "main.rs")]
+struct MainRs<'a> {
+    package: &'a str,
+    part: &'a str,
+    application: &'a str,
+    tool_version: &'a str,
+    model_file: &'a str,
+    imports: &'a str,
+    about: String,
+    links: &'a str,
+    /// (constant, module path), in module order.
+    module_constants: Vec<(&'a str, &'a str)>,
+    /// The calls in `registry()`.
+    registrations: Vec<String>,
+    modules: Vec<ModuleBlock<'a>>,
+    connections: Vec<ConnectBlock>,
+    /// The ends of links to and from other parts (`links.rs`), after a line break.
+    link_calls: String,
+    param_links: Vec<ConnectBlock>,
+    calls: Vec<ConnectBlock>,
+    threads: Vec<ThreadBlock>,
+    uses_param: bool,
+    uses_queue: bool,
+}
+
+/// One `builder.add_module` of `build()`.
+struct ModuleBlock<'a> {
+    type_name: &'a str,
+    /// `file:line:col` of its definition.
+    at: String,
+    /// Its path: a constant or a string literal.
+    path: String,
+    /// The `params`, `queues` and `ports` lines.
+    lists: String,
+    violations: &'static str,
+}
+
+/// One `builder.connect`, `connect_param` or `connect_service` of `build()`.
+struct ConnectBlock {
+    at: String,
+    /// The two `(module, name)` lines.
+    ends: String,
+    /// The conversion argument (none for service calls).
+    conversion: String,
+}
+
+/// One `builder.add_thread` of `build()`.
+struct ThreadBlock {
+    path: String,
+    /// `every 40 ms`, `cycles back to back`, `when data arrives`.
+    when: String,
+    schedule: String,
+    /// The `options` line or lines.
+    options: String,
+    /// The `steps` line or lines.
+    steps: String,
+}
+
+fn thread_block(
+    t: &ferroc_compiler::plan::PlannedThread,
+    name_of: &dyn Fn(&str) -> String,
+) -> ThreadBlock {
+    let when = match (t.period, t.continuous) {
+        (Some(p), _) => format!("every {}", human_duration(p)),
+        (None, true) => "cycles back to back".to_string(),
+        (None, false) => "when data arrives".to_string(),
+    };
+    let schedule = match t.period {
+        Some(p) => format!(
+            "Schedule::Periodic({})",
+            duration(Duration::from_secs_f64(p))
+        ),
+        None if t.continuous => "Schedule::Continuous".to_string(),
+        None => "Schedule::Data".to_string(),
+    };
+    let options = crate::run::thread_options(t);
+    let options = lines(|code| {
+        if options == ThreadOptions::default() {
+            code.line(2, "options: ThreadOptions::default(),");
+        } else {
+            code.line(2, "options: ThreadOptions {");
+            code.line(3, &format!("priority: {:?},", options.priority));
+            code.line(3, &format!("cpu: {:?},", options.cpu));
+            code.line(2, "},");
+        }
+    });
+    let steps: Vec<String> = t
+        .steps
+        .iter()
+        .map(|(path, kind)| {
+            let kind = match kind {
+                StepKind::Update => "Update",
+                StepKind::Sense => "Sense",
+                StepKind::Control => "Control",
+            };
+            call(
+                "",
+                &[
+                    format!("{}.to_string()", name_of(path)),
+                    format!("StepKind::{kind}"),
+                ],
+            )
+        })
+        .collect();
+    ThreadBlock {
+        path: t.path.clone(),
+        when,
+        schedule,
+        options,
+        steps: lines(|code| code.list(2, "steps: vec![", &steps, "],")),
+    }
+}
+
+/// The lines of `registry()`: module types, value types of flexible ports, types that
+/// cross links (serde), service call types, field accessors.
+fn registrations(part: &Part<'_>) -> Vec<String> {
+    let mut out = Vec::new();
     let types: BTreeSet<&str> = part.modules.iter().map(|m| m.rust.as_str()).collect();
     for rust in types {
         let register = if part.behaviours.contains(&rust) {
@@ -254,7 +326,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         } else {
             "register"
         };
-        out.line(1, &format!("registry.{register}::<{rust}>();"));
+        out.push(format!("registry.{register}::<{rust}>();"));
     }
     // Library value types the model gives flexible ports (built-ins need no call).
     let values: BTreeSet<&str> = part
@@ -269,78 +341,20 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         .filter_map(|c| c.link.as_ref()?.rust.as_deref())
         .collect();
     for rust in values.iter().filter(|r| !crossing.contains(*r)) {
-        out.line(1, &format!("registry.register_value::<{rust}>();"));
+        out.push(format!("registry.register_value::<{rust}>();"));
     }
     for rust in crossing {
-        out.line(1, &format!("registry.register_serde::<{rust}>();"));
+        out.push(format!("registry.register_serde::<{rust}>();"));
     }
     for (request, response) in &part.call_types {
-        out.line(
-            1,
-            &format!("registry.register_call::<{request}, {response}>();"),
-        );
+        out.push(format!(
+            "registry.register_call::<{request}, {response}>();"
+        ));
     }
     for accessor in &part.fields {
-        out.line(1, &accessor.call());
+        out.push(accessor.call());
     }
-    out.line(1, "registry");
-    out.line(0, "}");
-    out.blank();
-    out.line(
-        0,
-        "/// Creates the modules, connects them, declares the thread containers and starts them.",
-    );
-    out.line(
-        0,
-        "fn build(registry: &Registry, start: StartOptions) -> Result<RunningApp, BuildError> {",
-    );
-    out.text.push_str(&body.text);
-    out.line(0, "}");
-    if uses_param {
-        out.blank();
-        out.line(0, "/// One entry of `ModuleSpec::params`.");
-        out.line(0, "fn param(name: &str, value: Value) -> (String, Value) {");
-        out.line(1, "(name.to_string(), value)");
-        out.line(0, "}");
-    }
-    if uses_queue {
-        out.blank();
-        out.line(0, "/// One entry of `ModuleSpec::queues`.");
-        out.line(
-            0,
-            "fn queue(port: &str, capacity: usize, on_full: OnFull) -> (String, QueueConfig) {",
-        );
-        out.line(
-            1,
-            "(port.to_string(), QueueConfig::new(capacity).on_full(on_full))",
-        );
-        out.line(0, "}");
-    }
-    out.text
-}
-
-fn header(out: &mut Code, part: &Part<'_>, cx: &Context<'_>) {
-    let lines = [
-        format!(
-            "//! `{}`: the part `{}` of the application `{}`.",
-            part.package, part.name, cx.application
-        ),
-        "//!".to_string(),
-        format!(
-            "//! Generated by ferroc {} (`ferroc bundle`) from `{}`: regenerate it rather than",
-            cx.tool_version,
-            comment(cx.model_file)
-        ),
-        "//! editing it. It holds only wiring: which modules exist with which parameters, how"
-            .into(),
-        "//! they are connected, and which thread container runs their steps in which order."
-            .into(),
-        "//! The module logic lives in the component crates.".into(),
-    ];
-    for l in lines {
-        out.line(0, &l);
-    }
-    out.blank();
+    out
 }
 
 /// Which imports the generated code needs.
@@ -405,39 +419,6 @@ fn imports(out: &mut Code, uses: Uses) {
     out.line(0, "use std::sync::atomic::{AtomicBool, Ordering};");
     out.line(0, "use std::sync::Arc;");
     out.line(0, "use std::time::Duration;");
-}
-
-fn main_fn(out: &mut Code) {
-    let text = "fn main() -> ExitCode {
-    let args = match Args::from_env(PROGRAM, ABOUT) {
-        Ok(args) => args,
-        Err(code) => return code,
-    };
-    // Ctrl-C and SIGTERM stop every thread container after its current cycle.
-    let interrupted = Arc::new(AtomicBool::new(false));
-    let flag = interrupted.clone();
-    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
-        eprintln!(\"warning: Ctrl-C will not stop cleanly: {e}\");
-    }
-    let start = match args.start_options(PART, PARTS, PERIODS) {
-        Ok(start) => start,
-        Err(e) => {
-            eprintln!(\"error: {e}\");
-            return ExitCode::from(2);
-        }
-    };
-    let registry = registry();
-    let app = match build(&registry, start) {
-        Ok(app) => app,
-        Err(e) => {
-            eprintln!(\"error: part `{PART}`: {e}\");
-            return ExitCode::from(1);
-        }
-    };
-    supervise::supervise(app, &interrupted, &args.options())
-}
-";
-    out.text.push_str(text);
 }
 
 /// The other constants of a generated `main.rs`: a module constant of one of these

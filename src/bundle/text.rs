@@ -94,9 +94,10 @@ pub fn comment(s: &str) -> String {
     out
 }
 
-/// A TOML basic string (`"…"`).
-pub fn toml_str(s: &str) -> String {
-    let mut out = String::from("\"");
+/// The inside of a TOML basic string: quotes, backslashes and control characters
+/// escaped (so it is safe in a comment too).
+pub fn toml_content(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
             '"' => out.push_str("\\\""),
@@ -105,7 +106,6 @@ pub fn toml_str(s: &str) -> String {
             c => out.push(c),
         }
     }
-    out.push('"');
     out
 }
 
@@ -192,7 +192,7 @@ mod tests {
         assert_eq!(rust_str("a\"b\\c\nd"), r#""a\"b\\c\nd""#);
         assert_eq!(comment("a\nfn x() {}"), "a\\u{a}fn x() {}");
         assert_eq!(comment("x\u{202e}y"), "x\\u{202e}y");
-        assert_eq!(toml_str("a\"b\\\n"), r#""a\"b\\\u000A""#);
+        assert_eq!(toml_content("a\"b\\\n"), r#"a\"b\\\u000A"#);
         assert_eq!(xml("<a & \"b\">"), "&lt;a &amp; &quot;b&quot;&gt;");
         assert_eq!(xml_comment("a--b"), "a- -b");
         assert_eq!(shell("it's"), r"'it'\''s'");
