@@ -26,8 +26,8 @@ fn importing_the_crash_course_gives_a_model_that_checks_clean() {
     // What the C++ constructor of Simulation builds, what gSimulation.h.xml adds, the edges
     // of CrashCourse.finroc and the parameter links with the config file and option.
     for want in [
-        "<module name=\"mainsimulation\" type=\"finroc_projects_crash_course.MainSimulation\">",
-        "<module name=\"addnoise_rear\" type=\"finroc_projects_crash_course.AddNoise\">",
+        "<module name=\"mainsimulation\" type=\"finroc_projects_crash_course.MainSimulation\" doc=\"FINROC: finroc_projects_crash_course/MainSimulation: MainSimulation\">",
+        "<module name=\"addnoise_rear\" type=\"finroc_projects_crash_course.AddNoise\" doc=\"FINROC: finroc_projects_crash_course/AddNoise: AddNoise Rear\">",
         "<connect from=\"addnoise_rear/output\" to=\"ir_distance_rear\"/>",
         "<connect from=\"control/velocity\" to=\"simulation/velocity\"/>",
         "fragile_bot.xml#/noiselevel\" cmdline=\"front-noise\"",

@@ -12,6 +12,7 @@
 pub mod catalogue;
 pub mod checkout;
 pub mod config;
+pub mod export;
 pub mod finstructable;
 pub mod import;
 pub mod make_xml;
