@@ -136,7 +136,7 @@ pub fn import(format: ImportFormat) -> ExitCode {
         Err(code) => return code,
     };
     let root = Checkout::root_of(&args.input, args.finroc_root.as_deref());
-    let checkout = Checkout::discover(&root, &args.input, &Limits::default(), &mut sources);
+    let checkout = Checkout::discover(&root, &args.input, &Limits::default(), None, &mut sources);
     let out_dir = args
         .output
         .parent()

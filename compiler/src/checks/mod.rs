@@ -199,6 +199,7 @@ registry![
     finroc::f109_dependency_missing,
     finroc::f110_unknown_component_type,
     finroc::f111_edge_type_mismatch,
+    finroc::f112_library_not_built,
 ];
 
 /// Looks a check up by code (`t102` works too) or by name.

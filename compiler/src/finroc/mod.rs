@@ -109,8 +109,13 @@ pub fn check_file(loader: &mut Loader<'_>, path: &Path, kind: Kind) -> Result<Ve
         Kind::Structure => {
             let doc = read::read(file, &root, loader.diags);
             let root_dir = checkout::Checkout::root_of(path, loader.options.finroc_root.as_deref());
-            let checkout =
-                checkout::Checkout::discover(&root_dir, path, &loader.options.limits, loader.sources);
+            let checkout = checkout::Checkout::discover(
+                &root_dir,
+                path,
+                &loader.options.limits,
+                loader.options.finroc_prefix.clone(),
+                loader.sources,
+            );
             let ctx = crate::checks::finroc::Context {
                 doc: &doc,
                 path,
