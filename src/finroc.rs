@@ -38,14 +38,23 @@ pub struct ImportArgs {
 
 #[derive(clap::Subcommand)]
 pub enum ExportFormat {
-    /// Write a FINROC application or group file as FINROC's writer does (an unchanged
-    /// FINROC-written file comes back byte for byte)
+    /// Write a FINROC application: from a ferroc model (its first thread container), or
+    /// a FINROC file re-written as FINROC's writer does (an unchanged FINROC-written file
+    /// comes back byte for byte)
+    #[command(long_about = "Write a FINROC application file.\n\n\
+From a ferroc model: the first thread container's modules and groups of FINROC catalogue types \
+become elements, its <connect>s edges, <param config cmdline> below them parameter links. A model \
+made by `ferroc import finroc` keeps FINROC's names and file attributes in `doc`, so it exports \
+to the file it came from. From a FINROC application or group file: the file as FINROC's writer \
+(SaveXml) writes it.\n\n\
+Examples:\n  ferroc export finroc crash_course/model.xml -o CrashCourse.finroc\n  \
+ferroc export finroc type_conversion.finroc -o -")]
     Finroc(ExportArgs),
 }
 
 #[derive(clap::Args)]
 pub struct ExportArgs {
-    /// A FINROC application or group file
+    /// A ferroc model, or a FINROC application or group file
     input: PathBuf,
     /// Where to write it (`-` for standard output)
     #[arg(short, long)]
@@ -68,6 +77,21 @@ fn read_doc(
         eprintln!("{f}:{l}:{c}: error[M101]: {}", e.message);
         ExitCode::from(1)
     })?;
+    if root.name == "application" {
+        // A ferroc model: exported through the catalogue.
+        return match ferroc_compiler::finroc::export::export(&root, catalogue::builtin()) {
+            Ok(e) => {
+                for n in &e.notes {
+                    eprintln!("not exported: {n}");
+                }
+                Ok(e.doc)
+            }
+            Err(why) => {
+                eprintln!("error: {}: {why}", path.display());
+                Err(ExitCode::from(1))
+            }
+        };
+    }
     if !matches!(root.name.as_str(), "Finstructable" | "FinstructableGroup") {
         let (f, l, c) = sources.location(root.name_span);
         eprintln!("{f}:{l}:{c}: error: <{}> is not a FINROC application or group file (root <Finstructable>)", root.name);
@@ -112,7 +136,7 @@ pub fn import(format: ImportFormat) -> ExitCode {
         Err(code) => return code,
     };
     let root = Checkout::root_of(&args.input, args.finroc_root.as_deref());
-    let checkout = Checkout::discover(&root, &args.input, &Limits::default(), &mut sources);
+    let checkout = Checkout::discover(&root, &args.input, &Limits::default(), None, &mut sources);
     let out_dir = args
         .output
         .parent()

@@ -300,10 +300,13 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>, skipped: &mut Vec<(PathBuf, String)>
     for entry in entries.flatten() {
         let path = entry.path();
         let Ok(kind) = entry.file_type() else {
+            skipped.push((path, "its file type cannot be read".into()));
             continue;
         };
         if entry.file_name().to_string_lossy().starts_with('.') {
-            continue; // hidden files and folders (.git, editor backups)
+            // Hidden files and folders (.git, editor backups): named once, not entered.
+            skipped.push((path, "hidden (name starts with `.`)".into()));
+            continue;
         }
         if kind.is_dir() && depth < 16 {
             walk(&path, out, skipped, depth + 1);

@@ -29,8 +29,8 @@ fn importing_the_crash_course_gives_a_model_that_checks_clean() {
     // What the C++ constructor of Simulation builds, what gSimulation.h.xml adds, the edges
     // of CrashCourse.finroc and the parameter links with the config file and option.
     for want in [
-        "<module name=\"mainsimulation\" type=\"finroc_projects_crash_course.MainSimulation\">",
-        "<module name=\"addnoise_rear\" type=\"finroc_projects_crash_course.AddNoise\">",
+        "<module name=\"mainsimulation\" type=\"finroc_projects_crash_course.MainSimulation\" doc=\"FINROC: finroc_projects_crash_course/MainSimulation: MainSimulation\">",
+        "<module name=\"addnoise_rear\" type=\"finroc_projects_crash_course.AddNoise\" doc=\"FINROC: finroc_projects_crash_course/AddNoise: AddNoise Rear\">",
         "<connect from=\"addnoise_rear/output\" to=\"ir_distance_rear\"/>",
         "<connect from=\"control/velocity\" to=\"simulation/velocity\"/>",
         "fragile_bot.xml#/noiselevel\" cmdline=\"front-noise\"",
@@ -90,6 +90,8 @@ fn checking_a_checkout_resolves_files_and_names_what_it_skipped() {
     std::fs::write(dir.join("README.txt"), "notes").unwrap();
     std::fs::write(dir.join("etc/crash_course.fingui"), "<fingui/>").unwrap();
     std::fs::write(dir.join("other.xml"), "<launch/>").unwrap();
+    std::fs::create_dir_all(dir.join(".git")).unwrap();
+    std::fs::write(dir.join(".git/config"), "x").unwrap();
     let (code, out, err) = ferroc(&["check", dir.to_str().unwrap(), "--color", "never"]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(
@@ -106,7 +108,9 @@ fn checking_a_checkout_resolves_files_and_names_what_it_skipped() {
         ),
         "{out}"
     );
-    assert!(out.contains("checked 5 file(s), skipped 3"), "{out}");
+    assert!(out.contains(".git: hidden (name starts with `.`)"), "{out}");
+    assert!(!out.contains(".git/config"), "{out}");
+    assert!(out.contains("checked 5 file(s), skipped 4"), "{out}");
     // Resolved against each other: the link to the config file and the group file of Control.
     assert!(
         out.contains("`0.1` has no unit, but `Destructive Collision Speed` is measured in m/s"),

@@ -72,8 +72,16 @@ fn real_make_files_parse_and_check() {
         }
         // No prefix known here: only names FINROC forms from `name` alone resolve, a subset
         // of the dependencies below, so with no findings there nothing may show here either.
+        // One file KINDS.tsv counts as a make.xml is an etc/config.xml wrapped in <targets>
+        // with a program pasted in: its F101 (config entries FINROC never finds) is real
+        // and pinned in finroc_corpus_all.rs.
         for d in &result.diagnostics {
-            failures.push(format!("{name}: {} {}", d.code(), d.message));
+            let config_in_targets = name
+                == "Mobile-Roboter__rc_unimog_control_Unimog_v1__etc__config.xml"
+                && d.code() == "F101";
+            if !config_in_targets {
+                failures.push(format!("{name}: {} {}", d.code(), d.message));
+            }
         }
 
         // As it sits in its checkout: `repository-name/path/in/repository`.

@@ -160,11 +160,14 @@ fn check_mutated(which: usize, at: usize, len: usize, how: u8, junk: &str) -> Re
     let target = dir.join(files[which % files.len()]);
     let text = std::fs::read_to_string(&target).unwrap();
     std::fs::write(&target, mutate(&text, at, len, how, junk)).unwrap();
+    let mut result = Ok(());
     for f in files {
-        let _ = check_model(&dir.join(f), &Options::default(), &Policy::default())
-            .map_err(|e| e.to_string())?;
+        if let Err(e) = check_model(&dir.join(f), &Options::default(), &Policy::default()) {
+            result = Err(e);
+        }
     }
-    Ok(())
+    let _ = std::fs::remove_dir_all(&dir);
+    result
 }
 
 proptest! {

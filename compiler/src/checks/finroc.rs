@@ -16,6 +16,8 @@ pub mod f108_config_link_missing;
 pub mod f109_dependency_missing;
 pub mod f110_unknown_component_type;
 pub mod f111_edge_type_mismatch;
+pub mod f112_library_not_built;
+pub mod f113_parameter_link_target_missing;
 
 use crate::diagnostic::Diagnostics;
 use crate::finroc::catalogue::Catalogue;
@@ -115,6 +117,8 @@ pub fn check_structure(ctx: &Context<'_>, out: &mut Diagnostics, not_checked: &m
     f109_dependency_missing::check(ctx, out);
     f110_unknown_component_type::check(ctx, out);
     f111_edge_type_mismatch::check(ctx, &facts, out);
+    f112_library_not_built::check(ctx, out);
+    f113_parameter_link_target_missing::check(ctx, out);
     f106_config_value_unparsable::check_linked_units(ctx, out);
     // What stayed unknown, grouped by reason.
     let mut reasons: BTreeMap<String, usize> = BTreeMap::new();

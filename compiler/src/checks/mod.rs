@@ -200,6 +200,8 @@ registry![
     finroc::f109_dependency_missing,
     finroc::f110_unknown_component_type,
     finroc::f111_edge_type_mismatch,
+    finroc::f112_library_not_built,
+    finroc::f113_parameter_link_target_missing,
 ];
 
 /// Looks a check up by code (`t102` works too) or by name.

@@ -29,6 +29,10 @@ pub struct Checkout {
     pub root: PathBuf,
     pub configs: Vec<ConfigFile>,
     pub groups: Vec<GroupFile>,
+    /// The libraries the checkout's make.xml files build (their reference names) and the
+    /// target prefixes their folders tell.
+    pub built: Vec<String>,
+    pub prefixes: Vec<String>,
 }
 
 impl Checkout {
@@ -50,11 +54,14 @@ impl Checkout {
         dir
     }
 
-    /// Reads the config and group files below `root` (other than `except`) into `sources`.
+    /// Reads the config, group and make files below `root` (other than `except`) into
+    /// `sources`.
+    /// `prefix` is the target prefix given for the checkout's make.xml files, if any.
     pub fn discover(
         root: &Path,
         except: &Path,
         limits: &Limits,
+        prefix: Option<String>,
         sources: &mut SourceMap,
     ) -> Checkout {
         let mut found = Vec::new();
@@ -73,7 +80,7 @@ impl Checkout {
                 continue;
             }
             let kind = kind_of(&path);
-            if !matches!(kind, Some(Kind::Structure | Kind::Config)) {
+            if !matches!(kind, Some(Kind::Structure | Kind::Config | Kind::Make)) {
                 continue;
             }
             let Ok(text) = read_text(&path, limits) else {
@@ -86,6 +93,20 @@ impl Checkout {
             };
             match kind {
                 Some(Kind::Config) => checkout.configs.push(config::read(file, &tree, &mut quiet)),
+                Some(Kind::Make) => {
+                    let prefix = prefix
+                        .clone()
+                        .or_else(|| super::make_xml::target_prefix(&path));
+                    let make = super::make_xml::read(file, &tree, prefix.as_deref());
+                    for t in make
+                        .targets
+                        .iter()
+                        .filter(|t| t.kind == super::make_xml::TargetKind::Library)
+                    {
+                        checkout.built.extend(t.reference_names.iter().cloned());
+                    }
+                    checkout.prefixes.extend(prefix);
+                }
                 _ => checkout.groups.push(GroupFile {
                     doc: read::read(file, &tree, &mut quiet),
                     path,

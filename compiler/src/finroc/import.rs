@@ -106,9 +106,25 @@ pub fn import(
         o,
         "<!-- Imported from FINROC by `ferroc import finroc`. -->"
     );
+    // What the model cannot say but `export finroc` needs, in `doc` (see export.rs).
+    let mut facts = vec!["FINROC application".to_string()];
+    if doc.root_tag != "Finstructable" {
+        facts.push(format!("root: {}", doc.root_tag));
+    }
+    if let Some(d) = &doc.defaultname {
+        facts.push(format!("defaultname: {}", d.text));
+    }
+    if let Some(v) = doc.version {
+        facts.push(format!("version: {v}"));
+    }
+    if doc.has_dependencies {
+        let deps: Vec<&str> = doc.dependencies.iter().map(|d| d.text.as_str()).collect();
+        facts.push(format!("dependencies: {}", deps.join(", ")));
+    }
     let _ = writeln!(
         o,
-        "<application name=\"{app}\" version=\"1\" profile=\"finroc\">"
+        "<application name=\"{app}\" version=\"1\" profile=\"finroc\" doc=\"{}\">",
+        xml_escape(&facts.join("; "))
     );
     for lib in &ctx.libraries {
         let _ = writeln!(o, "  <use library=\"{lib}\" manifest=\"{lib}.lib.xml\"/>");
@@ -307,8 +323,11 @@ fn body(node: &Node<'_>, level: usize, o: &mut String) {
             Kind::Module(c) => {
                 let _ = write!(
                     o,
-                    "{pad}<module name=\"{}\" type=\"{}.{}\"",
-                    child.name, c.library, c.name
+                    "{pad}<module name=\"{}\" type=\"{}.{}\" doc=\"{}\"",
+                    child.name,
+                    c.library,
+                    c.name,
+                    finroc_doc(c, &child.finroc)
                 );
                 if child.params.is_empty() {
                     let _ = writeln!(o, "/>");
@@ -328,8 +347,13 @@ fn body(node: &Node<'_>, level: usize, o: &mut String) {
                     let _ = writeln!(o, "{pad}</module>");
                 }
             }
-            Kind::Group(_) => {
-                let _ = writeln!(o, "{pad}<group name=\"{}\">", child.name);
+            Kind::Group(c) => {
+                let _ = writeln!(
+                    o,
+                    "{pad}<group name=\"{}\" doc=\"{}\">",
+                    child.name,
+                    finroc_doc(c, &child.finroc)
+                );
                 body(child, level + 1, o);
                 let _ = writeln!(o, "{pad}</group>");
             }
@@ -338,6 +362,11 @@ fn body(node: &Node<'_>, level: usize, o: &mut String) {
     for (a, b) in &node.connects {
         let _ = writeln!(o, "{pad}<connect from=\"{a}\" to=\"{b}\"/>");
     }
+}
+
+/// `FINROC: library/type: element name`, which `export finroc` reads back.
+pub fn finroc_doc(c: &Component, name: &str) -> String {
+    xml_escape(&format!("FINROC: {}/{}: {name}", c.library, c.name))
 }
 
 fn ports_type(_c: &Component, p: &super::catalogue::Port) -> String {

@@ -12,6 +12,7 @@
 pub mod catalogue;
 pub mod checkout;
 pub mod config;
+pub mod export;
 pub mod finstructable;
 pub mod import;
 pub mod make_xml;
@@ -106,6 +107,7 @@ pub fn check_file(loader: &mut Loader<'_>, path: &Path, kind: Kind) -> Result<Ve
                 ));
             }
             check_make(&make, loader.diags);
+            config_in_make_root(&root, !make.targets.is_empty(), loader.diags);
         }
         Kind::Config => {
             let cfg = config::read(file, &root, loader.diags);
@@ -114,8 +116,13 @@ pub fn check_file(loader: &mut Loader<'_>, path: &Path, kind: Kind) -> Result<Ve
         Kind::Structure => {
             let doc = read::read(file, &root, loader.diags);
             let root_dir = checkout::Checkout::root_of(path, loader.options.finroc_root.as_deref());
-            let checkout =
-                checkout::Checkout::discover(&root_dir, path, &loader.options.limits, loader.sources);
+            let checkout = checkout::Checkout::discover(
+                &root_dir,
+                path,
+                &loader.options.limits,
+                loader.options.finroc_prefix.clone(),
+                loader.sources,
+            );
             let ctx = crate::checks::finroc::Context {
                 doc: &doc,
                 path,
@@ -131,6 +138,30 @@ pub fn check_file(loader: &mut Loader<'_>, path: &Path, kind: Kind) -> Result<Ve
         )),
     }
     Ok(not_checked)
+}
+
+/// A file whose root is `<targets>` but which holds config entries in a `<root>` (the
+/// corpus has an `etc/config.xml` like that, with a build target pasted beside them): a
+/// config file under a wrong outer element. FINROC's
+/// `tConfigFile` looks for `<node>`/`<value>` directly below the document's root element
+/// (whatever its name), so entries wrapped in a further `<root>` are never found.
+fn config_in_make_root(root: &crate::syntax::Element, has_targets: bool, out: &mut Diagnostics) {
+    use crate::checks::finroc::f101_finroc_structure::CHECK;
+    use crate::diagnostic::Diagnostic;
+    if let Some(inner) = root.children.iter().find(|c| c.name == "root") {
+        out.push(
+            Diagnostic::new(&CHECK, inner.name_span, "the config entries are inside <root> inside <targets>")
+                .label("FINROC's config file looks for <node>/<value> right below the document's root element: none of these entries is found")
+                .secondary(root.name_span, "the document's root element")
+                .help(if has_targets {
+                    "remove the outer <targets> element and the build targets beside <root> (they belong in make.xml, where make_builder reads them)"
+                } else {
+                    "remove the outer <targets> element (and its end tag)"
+                }),
+        );
+        let cfg = config::read(inner.span.file, inner, out);
+        crate::checks::finroc::check_config(&cfg, out);
+    }
 }
 
 /// Runs every make-file check on the targets of one `make.xml`.

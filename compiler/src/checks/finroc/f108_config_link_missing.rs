@@ -85,23 +85,8 @@ pub fn check(ctx: &Context<'_>, out: &mut Diagnostics, not_checked: &mut Vec<Str
 /// The FINROC name and unit of the parameter a link path names, when the catalogue
 /// knows it: `Simulation/MainSimulation/Parameters/Destructive Collision Speed`.
 pub fn linked_param_unit(ctx: &Context<'_>, path: &[String]) -> Option<(String, String)> {
-    let (name, elements) = path.split_last()?;
-    let elements: Vec<&String> = elements.iter().filter(|s| *s != "Parameters").collect();
-    let catalogue = ctx.catalogue;
-    // Walk the file's elements, then the C++ children of composite types.
-    let mut list = &ctx.doc.elements;
-    let mut component = None;
-    for seg in elements {
-        let inner = component
-            .and_then(|c: &crate::finroc::catalogue::Component| c.content.as_ref())
-            .map(|d| &d.elements);
-        let e = list
-            .iter()
-            .find(|e| &e.name.text == seg)
-            .or_else(|| inner.and_then(|l| l.iter().find(|e| &e.name.text == seg)))?;
-        list = &e.children;
-        component = Some(catalogue.get(&e.group.as_ref()?.text, &e.ty.as_ref()?.text)?);
+    match super::f113_parameter_link_target_missing::resolve(ctx, path) {
+        super::f113_parameter_link_target_missing::Target::Param(n, Some(u)) => Some((n, u)),
+        _ => None,
     }
-    let (pname, unit) = component?.param(name)?;
-    Some((pname.clone(), unit.clone()?))
 }
