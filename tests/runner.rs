@@ -169,6 +169,32 @@ fn a_library_written_outside_ferroc_runs_checks_and_rebuilds_only_when_its_crate
         "{err}"
     );
     assert_eq!(modified(&exe), built);
+
+    // A module type the manifest declares and the crate does not register.
+    let extra = MANIFEST.replace(
+        "</library>",
+        "  <module-type name=\"Silent\" rust=\"beep::Silent\"/>\n</library>",
+    );
+    std::fs::write(dir.join("beep.lib.xml"), extra).unwrap();
+    std::fs::write(
+        dir.join("silent.xml"),
+        model("1").replace(
+            "</thread>",
+            "<module name=\"s\" type=\"beep.Silent\"/></thread>",
+        ),
+    )
+    .unwrap();
+    let (code, out, err) = ferroc_in(&dir, &["run", "silent.xml", "--cycles", "1"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        err.contains("error: the module type `beep.Silent` of `p/t/s` is not registered by the crate `beep-lib` of library `beep` (beep.lib.xml:1:16)"),
+        "{err}"
+    );
+    assert!(
+        err.contains("help: its `register` function must call `registry.register::<beep::Silent>()`; it registers beep.Counter"),
+        "{err}"
+    );
+    assert_eq!(modified(&exe), built);
     std::fs::write(dir.join("beep.lib.xml"), MANIFEST).unwrap();
 
     // A changed crate: rebuilt (the library and the runner only), and the change runs.
