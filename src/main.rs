@@ -325,8 +325,15 @@ fn check(args: CheckArgs) -> ExitCode {
         allow: args.allow.clone(),
         deny_warnings: !args.deny.is_empty(),
     };
+    let mut tool_errors = Vec::new();
     let models = match collect_models(&args.paths) {
         Ok(m) => m,
+        // The machine formats still write their document, saying that ferroc could
+        // not run (a CI reading only that file must not see a clean check).
+        Err(e) if matches!(args.format, Format::Json | Format::Sarif | Format::Junit) => {
+            tool_errors.push(e);
+            Vec::new()
+        }
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(2);
@@ -335,7 +342,6 @@ fn check(args: CheckArgs) -> ExitCode {
     let progress =
         models.len() > 1 && args.format == Format::Human && std::io::stderr().is_terminal();
     let mut results: Vec<(String, CheckResult)> = Vec::new();
-    let mut tool_errors = Vec::new();
     for (i, path) in models.iter().enumerate() {
         if progress {
             eprint!("\r[{}/{}] {}\x1b[K", i + 1, models.len(), path.display());
@@ -407,9 +413,11 @@ fn check(args: CheckArgs) -> ExitCode {
                     diagnostics: r.diagnostics,
                 })
                 .collect();
-            out = serde_json_pretty(&report::sarif::document(&rs));
+            let mut doc = report::sarif::document(&rs);
+            report::sarif::add_invocation(&mut doc, &tool_errors);
+            out = serde_json_pretty(&doc);
         }
-        Format::Junit => out = report::junit::document(&reports),
+        Format::Junit => out = report::junit::document(&reports, &tool_errors),
     }
     if let Err(failed) = output::stdout(out.as_bytes()) {
         return failed; // the report is lost: never exit 0 or 1 as if it was read
