@@ -148,7 +148,7 @@ fn the_rescue_robot_and_its_station_as_two_programs() {
     ] {
         assert!(robot.contains(line), "{line} missing in\n{robot}");
     }
-    // 100 cycles: 2.5 s of the 25 ms driver, 100 s of the station's heartbeat.
+    // 100 cycles of the application: 2.5 s of model time (the 25 ms driver runs 100).
     programs_match_ferroc_run("rescue_robot", &["robot", "station"], 100, "station alive");
 }
 

@@ -40,7 +40,7 @@ pub fn escape(text: &str) -> std::borrow::Cow<'_, str> {
 }
 
 /// Prints a warning or error of the run (already prefixed) on standard output like
-/// [`line`], with control characters escaped, and throttled: the same text again is
+/// [`line()`], with control characters escaped, and throttled: the same text again is
 /// printed only at its 10th, 100th, 1000th … occurrence, with the count (a peer
 /// sending 20,000 bad frames gives five lines, not 20,000).
 pub fn report(text: &str) {
