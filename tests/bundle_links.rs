@@ -67,7 +67,8 @@ fn run_parts(bin: &Path, application: &str, parts: &[&str], cycles: u32) -> Vec<
             .unwrap();
         children.push(child);
     }
-    let deadline = Instant::now() + Duration::from_secs(120);
+    // A bound for a hang, not a speed figure (a loaded machine may take minutes).
+    let deadline = Instant::now() + Duration::from_secs(600);
     while children.iter_mut().any(|c| c.try_wait().unwrap().is_none()) {
         assert!(Instant::now() < deadline, "the programs did not finish");
         std::thread::sleep(Duration::from_millis(20));
@@ -80,7 +81,13 @@ fn run_parts(bin: &Path, application: &str, parts: &[&str], cycles: u32) -> Vec<
             let err = String::from_utf8_lossy(&out.stderr);
             assert!(out.status.success(), "part {part}: {err}");
             assert!(err.contains("cycle limit reached"), "part {part}: {err}");
-            String::from_utf8_lossy(&out.stdout).into_owned()
+            // A program that waited more than 5 s of wall time for a slow peer says so;
+            // that note depends on the machine's speed, not on the application.
+            String::from_utf8_lossy(&out.stdout)
+                .lines()
+                .filter(|l| !l.starts_with("waiting for the part(s) "))
+                .map(|l| format!("{l}\n"))
+                .collect()
         })
         .collect()
 }
