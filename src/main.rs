@@ -375,8 +375,15 @@ fn check(args: CheckArgs) -> ExitCode {
     options.finroc_root = args.finroc_root.clone();
     options.finroc_prefix = args.finroc_prefix.clone();
     let mut skipped = Vec::new();
+    let mut tool_errors = Vec::new();
     let models = match collect_models(&args.paths, &mut skipped) {
         Ok(m) => m,
+        // The machine formats still write their document, saying that ferroc could
+        // not run (a CI reading only that file must not see a clean check).
+        Err(e) if matches!(args.format, Format::Json | Format::Sarif | Format::Junit) => {
+            tool_errors.push(e);
+            Vec::new()
+        }
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(2);
@@ -385,7 +392,6 @@ fn check(args: CheckArgs) -> ExitCode {
     let progress =
         models.len() > 1 && args.format == Format::Human && std::io::stderr().is_terminal();
     let mut results: Vec<(String, CheckResult)> = Vec::new();
-    let mut tool_errors = Vec::new();
     for (i, path) in models.iter().enumerate() {
         if progress {
             eprint!("\r[{}/{}] {}\x1b[K", i + 1, models.len(), path.display());
@@ -466,9 +472,11 @@ fn check(args: CheckArgs) -> ExitCode {
                     diagnostics: r.diagnostics,
                 })
                 .collect();
-            out = serde_json_pretty(&report::sarif::document(&rs));
+            let mut doc = report::sarif::document(&rs);
+            report::sarif::add_invocation(&mut doc, &tool_errors);
+            out = serde_json_pretty(&doc);
         }
-        Format::Junit => out = report::junit::document(&reports),
+        Format::Junit => out = report::junit::document(&reports, &tool_errors),
     }
     if args.format != Format::Human {
         // Machine formats keep stdout to themselves; what was skipped goes to stderr.

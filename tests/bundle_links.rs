@@ -67,7 +67,8 @@ fn run_parts(bin: &Path, application: &str, parts: &[&str], cycles: u32) -> Vec<
             .unwrap();
         children.push(child);
     }
-    let deadline = Instant::now() + Duration::from_secs(120);
+    // A bound for a hang, not a speed figure (a loaded machine may take minutes).
+    let deadline = Instant::now() + Duration::from_secs(600);
     while children.iter_mut().any(|c| c.try_wait().unwrap().is_none()) {
         assert!(Instant::now() < deadline, "the programs did not finish");
         std::thread::sleep(Duration::from_millis(20));
@@ -80,7 +81,13 @@ fn run_parts(bin: &Path, application: &str, parts: &[&str], cycles: u32) -> Vec<
             let err = String::from_utf8_lossy(&out.stderr);
             assert!(out.status.success(), "part {part}: {err}");
             assert!(err.contains("cycle limit reached"), "part {part}: {err}");
-            String::from_utf8_lossy(&out.stdout).into_owned()
+            // A program that waited more than 5 s of wall time for a slow peer says so;
+            // that note depends on the machine's speed, not on the application.
+            String::from_utf8_lossy(&out.stdout)
+                .lines()
+                .filter(|l| !l.starts_with("waiting for the part(s) "))
+                .map(|l| format!("{l}\n"))
+                .collect()
         })
         .collect()
 }
@@ -148,7 +155,7 @@ fn the_rescue_robot_and_its_station_as_two_programs() {
     ] {
         assert!(robot.contains(line), "{line} missing in\n{robot}");
     }
-    // 100 cycles: 2.5 s of the 25 ms driver, 100 s of the station's heartbeat.
+    // 100 cycles of the application: 2.5 s of model time (the 25 ms driver runs 100).
     programs_match_ferroc_run("rescue_robot", &["robot", "station"], 100, "station alive");
 }
 

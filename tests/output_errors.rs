@@ -19,11 +19,12 @@ fn run_into(args: &[&str], stdout: Stdio) -> (i32, String) {
     )
 }
 
-/// A pipe whose reader is gone before ferroc writes: every write fails with EPIPE.
+/// A stream whose reader is gone before ferroc writes: every write fails with EPIPE
+/// (a socket pair behaves as a pipe here, and needs no newer std than the MSRV).
 fn closed_pipe() -> Stdio {
-    let (reader, writer) = std::io::pipe().unwrap();
+    let (writer, reader) = std::os::unix::net::UnixStream::pair().unwrap();
     drop(reader);
-    writer.into()
+    std::os::fd::OwnedFd::from(writer).into()
 }
 
 fn full_disk() -> Stdio {

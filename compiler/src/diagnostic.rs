@@ -56,12 +56,37 @@ pub struct ThreadFlow {
     pub locations: Vec<Label>,
 }
 
+/// `text` with every control character but newline and tab written as an escape
+/// (`\u{1b}`), and the bidirectional overrides too: names and values from a model
+/// (`name="&#27;[31m"`) reach the terminal in messages, and must not drive it or
+/// reorder what it shows. Every message, label and help of a [`Diagnostic`] passes
+/// through here when it is built.
+pub fn escape_controls(text: impl Into<String>) -> String {
+    let text = text.into();
+    let unsafe_char = |c: char| {
+        (c.is_control() && c != '\n' && c != '\t')
+            || matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+    };
+    if !text.chars().any(unsafe_char) {
+        return text;
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if unsafe_char(c) {
+            out.extend(c.escape_unicode());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 impl Diagnostic {
     pub fn new(check: &'static CheckInfo, span: Span, message: impl Into<String>) -> Self {
         Diagnostic {
             check,
             severity: check.severity,
-            message: message.into(),
+            message: escape_controls(message),
             primary: Label {
                 span,
                 message: String::new(),
@@ -74,24 +99,30 @@ impl Diagnostic {
 
     /// Short text under the primary caret.
     pub fn label(mut self, message: impl Into<String>) -> Self {
-        self.primary.message = message.into();
+        self.primary.message = escape_controls(message);
         self
     }
 
     pub fn secondary(mut self, span: Span, message: impl Into<String>) -> Self {
         self.secondary.push(Label {
             span,
-            message: message.into(),
+            message: escape_controls(message),
         });
         self
     }
 
     pub fn help(mut self, help: impl Into<String>) -> Self {
-        self.help = Some(help.into());
+        self.help = Some(escape_controls(help));
         self
     }
 
-    pub fn witness(mut self, witness: Vec<ThreadFlow>) -> Self {
+    pub fn witness(mut self, mut witness: Vec<ThreadFlow>) -> Self {
+        for flow in &mut witness {
+            flow.message = escape_controls(std::mem::take(&mut flow.message));
+            for l in &mut flow.locations {
+                l.message = escape_controls(std::mem::take(&mut l.message));
+            }
+        }
         self.witness = witness;
         self
     }

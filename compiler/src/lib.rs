@@ -58,7 +58,7 @@ pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<Ch
     // no model. Standard input is read once here to see its root element (a pipe cannot
     // be read twice).
     let kind = if load::is_stdin(path) {
-        let text = load::read_bounded(std::io::stdin().lock(), &options.limits)
+        let text = load::read_stdin(&options.limits)
             .map_err(|r| format!("cannot read {}: {r}", path.display()))?;
         let root = load::root_element_of(text.as_bytes());
         loader.set_stdin_text(text);

@@ -124,6 +124,11 @@ pub fn read_bounded(input: impl std::io::Read, limits: &Limits) -> Result<String
     })
 }
 
+/// Reads standard input to its end, within the size limit.
+pub fn read_stdin(limits: &Limits) -> Result<String, String> {
+    read_bounded(std::io::stdin().lock(), limits)
+}
+
 /// Whether `path` names standard input (`-` or `/dev/stdin`): a model may come from a
 /// pipe, read once (a pipe cannot be read twice).
 pub fn is_stdin(path: &Path) -> bool {

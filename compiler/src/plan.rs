@@ -16,7 +16,7 @@ use crate::library::{LibrarySet, PortDir, PortRole};
 use crate::schedule::{self, call_edges, data_edges, DataEdge, StepKind};
 use crate::source::Span;
 use crate::units::{relate, Unit, UnitRelation};
-use crate::values::{parse_value, Value};
+use crate::values::{parse_value, Value, ValueError};
 
 /// One module instance.
 #[derive(Clone, Debug)]
@@ -178,7 +178,8 @@ pub fn plan(
                 continue;
             };
             // A command-line value overrides the inline or config value (as in FINROC).
-            let text = match (p.from_cmdline(cmdline), &p.source) {
+            let given = p.from_cmdline(cmdline);
+            let text = match (given, &p.source) {
                 (Some(v), _) => v.to_string(),
                 (None, ParamSource::Cmdline) => {
                     let flag = p.cmdline.as_ref().map_or(p.name.as_str(), |(n, _)| n);
@@ -193,10 +194,27 @@ pub fn plan(
                 }
                 (None, _) => p.text.clone(),
             };
-            match parse_value(&text, &decl.ty, decl.unit.as_ref()) {
-                Ok(v) => params.push((p.name.clone(), v)),
+            match (
+                parse_value(&text, &decl.ty, decl.unit.as_ref()),
+                given,
+                &p.cmdline,
+            ) {
+                (Ok(v), ..) => params.push((p.name.clone(), v)),
+                // Blame the command line, at the declaration that accepts it (not the
+                // inline or config value it replaced).
+                (Err(e), Some(v), Some((flag, flag_span))) => problems.push(Unsupported {
+                    what: format!(
+                        "--param {flag}={v}: not a value of the parameter `{}` of `{}`: {}",
+                        p.name,
+                        paths[id.0 as usize],
+                        match e {
+                            ValueError::Syntax(why) | ValueError::WrongDimension(why) => why,
+                        }
+                    ),
+                    span: *flag_span,
+                }),
                 // The checker reported it already (P103/P105); nothing to run.
-                Err(_) => problems.push(Unsupported {
+                (Err(_), ..) => problems.push(Unsupported {
                     what: format!("the value of `{}` does not parse", p.name),
                     span: p.span,
                 }),

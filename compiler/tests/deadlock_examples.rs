@@ -7,7 +7,6 @@ use ferroc_compiler::diagnostic::{Diagnostic, Severity};
 use ferroc_compiler::load::{BuiltinLibrary, Options};
 use ferroc_compiler::{check_model, Policy};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 fn options() -> Options {
     Options {
@@ -287,8 +286,8 @@ fn witnesses_label_every_step_in_model_and_manifest() {
 
 /// E35: a synthetic strongly connected set of 2 000 lock hubs (modules on distinct
 /// threads, each nesting two locks; every cycle is longer than the search goes).
-/// The budget is enforced, the run stays well under a second, and the verdict is a
-/// D112 warning showing the shortest cycle — never silence.
+/// The budget is enforced (the verdict says it ran out), and the verdict is a D112
+/// warning showing the shortest cycle — never silence.
 #[test]
 fn e35_search_budget_is_enforced() {
     let n = 2000;
@@ -318,9 +317,7 @@ fn e35_search_budget_is_enforced() {
     text += "  </part>\n</application>\n";
     let path = dir().join("E35_generated_huge_scc.xml");
     std::fs::write(&path, text).unwrap();
-    let start = Instant::now();
     let diags = check(&path);
-    let elapsed = start.elapsed();
     let _ = std::fs::remove_file(&path);
     let found = d_findings(&diags);
     assert!(found.contains(&("D112", Severity::Warning)), "{found:?}");
@@ -328,9 +325,16 @@ fn e35_search_budget_is_enforced() {
         !found.iter().any(|(_, s)| *s == Severity::Error),
         "{found:?}"
     );
+    // The budget (a count of search steps, not a time: a wall-clock bound failed on a
+    // loaded machine) ran out, and the verdict says so.
+    let d112 = diags.iter().find(|d| d.code() == "D112").unwrap();
     assert!(
-        elapsed.as_secs_f64() < 5.0,
-        "took {elapsed:?} (debug build)"
+        d112.help
+            .as_deref()
+            .unwrap_or("")
+            .contains("certainty: not established (the search budget ran out"),
+        "{:?}",
+        d112.help
     );
 }
 

@@ -14,6 +14,86 @@ pub fn set_status_line_active(active: bool) {
     STATUS_LINE.store(active, Ordering::Relaxed);
 }
 
+/// `text` with every control character but newline and tab written as an escape
+/// (`\u{1b}`), and the bidirectional overrides too. Warnings and errors of a run carry
+/// text from outside the program (model names, module panic messages, values from
+/// peers); they must not drive the terminal. (The compiler escapes its diagnostics
+/// the same way, `ferroc_compiler::diagnostic::escape_controls`; the runtime does not
+/// depend on the compiler.)
+pub fn escape(text: &str) -> std::borrow::Cow<'_, str> {
+    let unsafe_char = |c: char| {
+        (c.is_control() && c != '\n' && c != '\t')
+            || matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+    };
+    if !text.chars().any(unsafe_char) {
+        return text.into();
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if unsafe_char(c) {
+            out.extend(c.escape_unicode());
+        } else {
+            out.push(c);
+        }
+    }
+    out.into()
+}
+
+/// Prints a warning or error of the run (already prefixed) on standard output like
+/// [`line()`], with control characters escaped, and throttled: the same text again is
+/// printed only at its 10th, 100th, 1000th … occurrence, with the count (a peer
+/// sending 20,000 bad frames gives five lines, not 20,000).
+pub fn report(text: &str) {
+    let shown = (REPEATS.lock().unwrap_or_else(|p| p.into_inner())).note(text);
+    if let Some(text) = shown {
+        line(&escape(&text));
+    }
+}
+
+static REPEATS: std::sync::Mutex<Throttle> = std::sync::Mutex::new(Throttle::new());
+
+/// Counts repeated texts and says which occurrences to show.
+pub(crate) struct Throttle {
+    seen: Option<std::collections::HashMap<String, u64>>,
+}
+
+/// How many distinct texts are counted; beyond that, new texts are shown every time
+/// (a bound on memory, far above what a run prints).
+const DISTINCT: usize = 4096;
+
+impl Throttle {
+    pub(crate) const fn new() -> Self {
+        Throttle { seen: None }
+    }
+
+    /// The line to print for this occurrence of `text`, if any: the first as it is,
+    /// the 10th, 100th, … with how often it came.
+    pub(crate) fn note(&mut self, text: &str) -> Option<String> {
+        let seen = self.seen.get_or_insert_with(Default::default);
+        let count = if let Some(n) = seen.get_mut(text) {
+            *n += 1;
+            *n
+        } else if seen.len() < DISTINCT {
+            seen.insert(text.to_owned(), 1);
+            1
+        } else {
+            return Some(text.to_owned());
+        };
+        match count {
+            1 => Some(text.to_owned()),
+            n if is_power_of_ten(n) => Some(format!("{text} (repeated: {n} times so far)")),
+            _ => None,
+        }
+    }
+}
+
+fn is_power_of_ten(mut n: u64) -> bool {
+    while n >= 10 && n % 10 == 0 {
+        n /= 10;
+    }
+    n == 1
+}
+
 /// Prints one line to standard output (for what a user of a running application wants
 /// to see: poses, collisions, at a human rate).
 pub fn line(text: &str) {
@@ -23,4 +103,38 @@ pub fn line(text: &str) {
     }
     let _ = writeln!(out, "{text}");
     let _ = out.flush();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{escape, Throttle};
+
+    #[test]
+    fn a_repeated_warning_is_shown_at_powers_of_ten() {
+        let mut t = Throttle::new();
+        let shown: Vec<String> = (0..20_000)
+            .filter_map(|_| t.note("warning: bad frame"))
+            .collect();
+        assert_eq!(
+            shown,
+            [
+                "warning: bad frame",
+                "warning: bad frame (repeated: 10 times so far)",
+                "warning: bad frame (repeated: 100 times so far)",
+                "warning: bad frame (repeated: 1000 times so far)",
+                "warning: bad frame (repeated: 10000 times so far)",
+            ]
+        );
+        // Another text is counted on its own.
+        assert_eq!(t.note("warning: other").as_deref(), Some("warning: other"));
+    }
+
+    #[test]
+    fn control_characters_are_escaped_and_lines_kept() {
+        assert_eq!(escape("plain\tline\nnext"), "plain\tline\nnext");
+        assert_eq!(
+            escape("peer says \u{1b}[31mred\u{7}\u{9b}2J \u{202e}cba"),
+            "peer says \\u{1b}[31mred\\u{7}\\u{9b}2J \\u{202e}cba"
+        );
+    }
 }

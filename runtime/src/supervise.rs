@@ -10,6 +10,7 @@
 //! `--quiet`, `--help`), parsed without a dependency.
 
 use crate::builder::RunningApp;
+use crate::console::escape;
 use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -30,7 +31,7 @@ pub struct Options {
 /// did not stop within a few seconds of being asked (it is left behind), else 0.
 pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Options) -> ExitCode {
     for w in app.warnings() {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", escape(w));
     }
     let status = options.status_line;
     crate::console::set_status_line_active(status);
@@ -50,12 +51,12 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
         }
         let panics = app.panics();
         for p in &panics[reported_panics..] {
-            crate::console::line(&format!("error: {p}"));
+            crate::console::report(&format!("error: {p}"));
         }
         reported_panics = panics.len();
         let locks = app.lock_reports();
         for l in &locks[reported_locks..] {
-            crate::console::line(&format!("warning: {l}"));
+            crate::console::report(&format!("warning: {l}"));
         }
         reported_locks = locks.len();
         report_violations(&app);
@@ -82,11 +83,11 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
     report_violations(&app);
     let panics = app.panics();
     for p in &panics[reported_panics.min(panics.len())..] {
-        eprintln!("error: {p}");
+        eprintln!("error: {}", escape(p));
     }
     let locks = app.lock_reports();
     for l in &locks[reported_locks.min(locks.len())..] {
-        eprintln!("warning: {l}");
+        eprintln!("warning: {}", escape(l));
     }
     eprintln!(
         "stopped ({reason}) after {:.1} s",
@@ -343,7 +344,7 @@ fn parse_duration(text: &str) -> Result<Duration, String> {
 /// rate-limited by its module's policy).
 fn report_violations(app: &RunningApp) {
     for r in app.take_violation_reports() {
-        crate::console::line(&format!("warning: {r}"));
+        crate::console::report(&format!("warning: {r}"));
     }
 }
 

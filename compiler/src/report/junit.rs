@@ -21,9 +21,12 @@ fn escape(s: &str) -> String {
     out
 }
 
-pub fn document(models: &[(String, ModelReport<'_>)]) -> String {
+/// `tool_errors` (models ferroc could not check, exit code 2) each become a failing
+/// test case of their own suite, so that a CI reading only the JUnit file sees the
+/// failure (without them it saw `tests="0"`, which passes).
+pub fn document(models: &[(String, ModelReport<'_>)], tool_errors: &[String]) -> String {
     let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-    let total = models.len() * REGISTRY.len();
+    let total = models.len() * REGISTRY.len() + tool_errors.len();
     let failures: usize = models
         .iter()
         .map(|(_, r)| {
@@ -36,10 +39,26 @@ pub fn document(models: &[(String, ModelReport<'_>)]) -> String {
                 })
                 .count()
         })
-        .sum();
+        .sum::<usize>()
+        + tool_errors.len();
     out.push_str(&format!(
         "<testsuites name=\"ferroc check\" tests=\"{total}\" failures=\"{failures}\">\n"
     ));
+    if !tool_errors.is_empty() {
+        let n = tool_errors.len();
+        out.push_str(&format!(
+            "  <testsuite name=\"ferroc\" tests=\"{n}\" failures=\"{n}\">\n"
+        ));
+        for e in tool_errors {
+            out.push_str(&format!(
+                "    <testcase classname=\"ferroc\" name=\"check could run\">\n      \
+                 <failure message=\"ferroc could not check\" type=\"tool-error\">{}</failure>\n    \
+                 </testcase>\n",
+                escape(e)
+            ));
+        }
+        out.push_str("  </testsuite>\n");
+    }
     for (path, report) in models {
         let fails = REGISTRY
             .iter()

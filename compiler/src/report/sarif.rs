@@ -141,3 +141,20 @@ pub fn document(reports: &[ModelReport<'_>]) -> Value {
         }]
     })
 }
+
+/// Adds the invocation to a SARIF document: whether ferroc could check everything, and
+/// why not (a model file it could not read, exit code 2) as tool execution
+/// notifications. Without it a run that failed looked like a clean one: no result.
+pub fn add_invocation(doc: &mut Value, tool_errors: &[String]) {
+    let notifications: Vec<Value> = tool_errors
+        .iter()
+        .map(|e| json!({ "level": "error", "message": { "text": e } }))
+        .collect();
+    let mut invocation = json!({ "executionSuccessful": tool_errors.is_empty() });
+    if !notifications.is_empty() {
+        invocation["toolExecutionNotifications"] = Value::Array(notifications);
+    }
+    if let Some(run) = doc["runs"].get_mut(0) {
+        run["invocations"] = json!([invocation]);
+    }
+}

@@ -10,7 +10,8 @@ use std::sync::atomic::AtomicBool;
 /// How [`Builder::start_with`] runs the application.
 #[derive(Clone, Debug, Default)]
 pub struct StartOptions {
-    /// Each container stops after this many cycles.
+    /// The application stops after this many cycles of its fastest periodic
+    /// containers (see [`cycles_of`]).
     pub limit: Option<u64>,
     /// Run in simulated time on one thread, the same way every time; `None`: every
     /// container on its own thread, in real time.
@@ -20,7 +21,8 @@ pub struct StartOptions {
 }
 
 impl Builder<'_> {
-    /// Creates the thread containers and starts them; each runs `limit` cycles, or
+    /// Creates the thread containers and starts them; the application runs `limit`
+    /// cycles ([`cycles_of`]), or
     /// until [`RunningApp::stop`].
     pub fn start(self, limit: Option<u64>) -> Result<RunningApp, BuildError> {
         self.start_with(StartOptions {

@@ -50,9 +50,11 @@ impl ModuleType for Latest {
 
 /// Never returns from its step until the test releases it.
 static RELEASE: AtomicBool = AtomicBool::new(false);
+static ENTERED: AtomicBool = AtomicBool::new(false);
 struct Stuck;
 impl Module for Stuck {
     fn update(&mut self) {
+        ENTERED.store(true, Ordering::SeqCst);
         while !RELEASE.load(Ordering::Relaxed) {
             std::thread::sleep(Duration::from_millis(5));
         }
@@ -163,6 +165,14 @@ fn a_step_that_never_returns_is_named_and_left_behind() {
     b.add_thread(thread("p/t", Duration::from_millis(1), &["p/t/stuck"]))
         .unwrap();
     let mut app = b.start(None).unwrap();
+    // Bounded wait until the step is inside its loop (however slow the machine).
+    for _ in 0..60_000 {
+        if ENTERED.load(Ordering::SeqCst) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    assert!(ENTERED.load(Ordering::SeqCst), "the step never started");
     app.stop();
     let stuck = app.join_within(Duration::from_millis(200));
     RELEASE.store(true, Ordering::Relaxed);

@@ -44,7 +44,9 @@ const PRIORITY_HELP: &str = "grant CAP_SYS_NICE or an rtprio limit in /etc/secur
 /// request and answer, naming every container it concerns, so that an application of
 /// seven containers on a machine without real-time rights gives one line, not seven.
 pub fn summarise(refusals: &[(String, Refusal)]) -> Vec<String> {
-    let mut groups: Vec<(bool, &str, Vec<(&str, &Refusal)>)> = Vec::new();
+    /// Refusals of one kind of request for one reason: (priority?, reason, members).
+    type Group<'a> = (bool, &'a str, Vec<(&'a str, &'a Refusal)>);
+    let mut groups: Vec<Group<'_>> = Vec::new();
     for (path, r) in refusals {
         let priority = matches!(r.asked, Placement::Priority(_));
         match groups
