@@ -34,6 +34,7 @@ fn a_built_warehouse_bundle_prints_what_ferroc_run_prints() {
     let target = build_bundle(&out);
 
     let bundled = Command::new(target.join("debug/warehouse_one_agv-agv"))
+        .env("FERROC_LOG_DIR", common::test_log_dir())
         .args(["--cycles", "3000", "-q"])
         .output()
         .unwrap();
