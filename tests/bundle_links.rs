@@ -55,6 +55,7 @@ fn run_parts(bin: &Path, application: &str, parts: &[&str], cycles: u32) -> Vec<
     let mut children = Vec::new();
     for (part, listen) in parts.iter().zip(&addresses) {
         let mut command = Command::new(bin.join(format!("{application}-{part}")));
+        command.env("FERROC_LOG_DIR", common::test_log_dir());
         command.args(["--lockstep", "-q", "--cycles", &cycles.to_string()]);
         command.args(["--listen", listen]);
         for (peer, address) in parts.iter().zip(&addresses) {

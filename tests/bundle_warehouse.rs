@@ -20,7 +20,8 @@ fn a_built_warehouse_bundle_prints_what_ferroc_run_prints() {
         "registry.register_behaviour::<warehouse_fleet::FollowPath>();",
         "registry.register_behaviour::<warehouse_fleet::VelocityFusion>();",
         "registry.register::<warehouse_fleet::TaskExecutor>();",
-        "registry.register_value::<warehouse_fleet::RobotStatus>();",
+        // Serde, as ferroc run registers it (a Logger may record it).
+        "registry.register_serde::<warehouse_fleet::RobotStatus>();",
         r#"registry.register_field::<warehouse_fleet::RobotStatus, u32>("tasks_done", |v| v.tasks_done);"#,
     ] {
         assert!(main.contains(line), "{line} missing in\n{main}");
@@ -34,6 +35,7 @@ fn a_built_warehouse_bundle_prints_what_ferroc_run_prints() {
     let target = build_bundle(&out);
 
     let bundled = Command::new(target.join("debug/warehouse_one_agv-agv"))
+        .env("FERROC_LOG_DIR", common::test_log_dir())
         .args(["--cycles", "3000", "-q"])
         .output()
         .unwrap();

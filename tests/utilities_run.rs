@@ -1,6 +1,6 @@
 //! The flexible utilities together, as a model run by `ferroc run --lockstep`: three
 //! distances (Const, metres) into one millimetre vector (Filter: scaled and cast), an
-//! offset added element by element (Sum), a FlexiSelect between the sum and the raw
+//! offset added element by element (Add), a FlexiSelect between the sum and the raw
 //! vector, printed through Dump.
 
 mod common;
@@ -25,7 +25,7 @@ const MODEL: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
         <param name="values">[[10, 20, 30]]</param>
         <param name="publish">once</param>
       </module>
-      <module name="add" type="ferroc_std.Sum">
+      <module name="add" type="ferroc_std.Add">
         <port name="in" dir="in" type="i32[3]" unit="mm" count="2"/>
       </module>
       <module name="pick" type="ferroc_std.FlexiSelect">

@@ -335,10 +335,25 @@ fn registrations(part: &Part<'_>) -> Vec<String> {
         .flat_map(|m| &m.ports)
         .filter_map(|g| g.rust.as_deref())
         .collect();
-    // Library types on links cross between programs: they register with serde.
+    // Library types on links cross between programs: they register with serde. So do
+    // the flexible ports' types that `ferroc run` registers with serde: the recording
+    // and replaying modules (Logger, Player, Const) encode their values.
+    let known = crate::run::registry();
+    let encodable = part
+        .modules
+        .iter()
+        .flat_map(|m| &m.ports)
+        .filter(|g| {
+            known
+                .values()
+                .get(&g.ty)
+                .is_some_and(|v| v.wire().is_some())
+        })
+        .filter_map(|g| g.rust.as_deref());
     let crossing: BTreeSet<&str> = (part.links_out.iter())
         .chain(&part.links_in)
         .filter_map(|c| c.link.as_ref()?.rust.as_deref())
+        .chain(encodable)
         .collect();
     for rust in values.iter().filter(|r| !crossing.contains(*r)) {
         out.push(format!("registry.register_value::<{rust}>();"));

@@ -4,10 +4,17 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// Where the demo models' loggers write during tests (their paths are relative to
+/// the log folder): never into the checkout.
+pub fn test_log_dir() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("logs")
+}
+
 /// Runs `ferroc` in the project root: (exit code, stdout, stderr).
 pub fn ferroc(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_ferroc"))
         .args(args)
+        .env("FERROC_LOG_DIR", test_log_dir())
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("ferroc runs");

@@ -70,6 +70,30 @@ impl ModuleType for Sum {
     const NAME: &'static str = "ferroc_std.Sum";
     const DOC: &'static str = "Adds all of its (instance-declared) inputs";
     fn create(m: &mut Setup<'_>) -> Self {
+        Sum::new(m)
+    }
+}
+
+/// `ferroc_std.Add` (FlexiAdd): [`Sum`] under the name of the flexible utility
+/// components, for models that say what they mean with vectors and arrays.
+pub struct Add(Sum);
+
+impl ModuleType for Add {
+    const NAME: &'static str = "ferroc_std.Add";
+    const DOC: &'static str = "Adds its inputs: numbers, or vectors and arrays element by element";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Add(Sum::new(m))
+    }
+}
+
+impl Module for Add {
+    fn update(&mut self) {
+        self.0.update()
+    }
+}
+
+impl Sum {
+    fn new(m: &mut Setup<'_>) -> Self {
         let inputs = m.flexible_inputs("in").same_type().min_count(1).build_dyn();
         let mut elementwise = false;
         if let Some(ty) = m.flexible_type("in") {

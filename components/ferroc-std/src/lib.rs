@@ -28,7 +28,7 @@ mod services;
 pub use basic::{Constant, ConstantActivity, NumberToActivity, Scale};
 pub use constant::Const;
 pub use filter::Filter;
-pub use flexible::{Clock, Dump, FlexiSelect, Sum};
+pub use flexible::{Add, Clock, Dump, FlexiSelect, Sum};
 pub use fusion::Fusion;
 pub use logger::{check_log_path, Logger};
 pub use player::Player;
@@ -46,6 +46,7 @@ pub fn register(registry: &mut Registry) {
         .register::<ConstantActivity>()
         .register::<Clock>()
         .register::<Sum>()
+        .register::<Add>()
         .register::<FlexiSelect>()
         .register::<Dump>()
         .register::<Logger>()

@@ -251,8 +251,9 @@ fn sum_of_strings_and_unknown_types_are_refused() {
     let mut b = Builder::new(&r);
     let e = try_add(&mut b, "sum", "ferroc_std.Sum", &[], &inputs("string", 2)).unwrap_err();
     assert!(
-        e.to_string()
-            .contains("Sum adds numbers; its inputs have type `string`"),
+        e.to_string().contains(
+            "Sum adds numbers, vectors or arrays of numbers; its inputs have type `string`"
+        ),
         "{e}"
     );
     let e = try_add(
