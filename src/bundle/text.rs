@@ -94,6 +94,11 @@ pub fn comment(s: &str) -> String {
     out
 }
 
+/// A TOML basic string (`"…"`), quotes included (scaffolds and runner manifests).
+pub fn toml_str(s: &str) -> String {
+    format!("\"{}\"", toml_content(s))
+}
+
 /// The inside of a TOML basic string: quotes, backslashes and control characters
 /// escaped (so it is safe in a comment too).
 pub fn toml_content(s: &str) -> String {
