@@ -260,7 +260,7 @@ fn run_refuses_libraries_without_a_crate_and_models_with_errors() {
         format!(
             "{}:1:16: error: the library `phantom` has no `rust-crate`: ferroc cannot find the Rust code of its module types\n  \
              help: add rust-crate=\"PACKAGE\" to its <library>, naming the Cargo package (next to this manifest) whose `register` function registers them\n",
-            dir.join("phantom.lib.xml").display()
+            shown(&dir.join("phantom.lib.xml"))
         )
     );
     let (code, _, stderr) = ferroc(&["run", "models/crash_course.xml", "--for", "soon"]);
@@ -447,4 +447,13 @@ fn profile_switch_judges_a_model_by_another_framework_s_semantics() {
         stderr.contains("generic") && stderr.contains("finroc"),
         "{stderr}"
     );
+}
+
+/// A path as ferroc shows it: relative to the working directory when it lies below it.
+fn shown(path: &Path) -> String {
+    let cwd = std::env::current_dir().unwrap().canonicalize().unwrap();
+    match path.strip_prefix(&cwd) {
+        Ok(rel) => rel.display().to_string(),
+        Err(_) => path.display().to_string(),
+    }
 }

@@ -56,6 +56,9 @@ pub struct PlannedPortGroup {
     /// For a library type: its library and Rust path (a bundle registers the type).
     pub library: Option<String>,
     pub rust: Option<String>,
+    /// For a library type: declared `serde="true"` (a bundle registers it with serde, so
+    /// that recording, replaying and constant modules can encode its values).
+    pub serde: bool,
 }
 
 /// One module output feeding one module input.

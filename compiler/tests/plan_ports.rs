@@ -34,6 +34,7 @@ fn group(name: &str, ty: &str, count: Option<u32>) -> PlannedPortGroup {
         unit: None,
         library: None,
         rust: None,
+        serde: false,
     }
 }
 
@@ -83,6 +84,7 @@ fn flexible_instances_plan_their_port_groups() {
         [PlannedPortGroup {
             library: Some("crash_course".into()),
             rust: Some("crash_course::Pose2D".into()),
+            serde: true, // declared serde="true": a bundle registers it with serde
             ..group("in", "crash_course.Pose2D", Some(2))
         }]
     );

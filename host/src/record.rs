@@ -124,6 +124,7 @@ pub fn add_recorders(
                     unit: None,
                     library: None,
                     rust: None,
+                    serde: false,
                 })
                 .collect(),
             ..template.clone()

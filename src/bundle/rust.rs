@@ -336,19 +336,12 @@ fn registrations(part: &Part<'_>) -> Vec<String> {
         .filter_map(|g| g.rust.as_deref())
         .collect();
     // Library types on links cross between programs: they register with serde. So do
-    // the flexible ports' types that `ferroc run` registers with serde: the recording
-    // and replaying modules (Logger, Player, Const) encode their values.
-    let known = crate::run::registry();
-    let encodable = part
-        .modules
-        .iter()
+    // the flexible ports' library types declared with serde="true" (as their crates
+    // register them for `ferroc run`): the recording and replaying modules (Logger,
+    // Player, Const) encode their values.
+    let encodable = (part.modules.iter())
         .flat_map(|m| &m.ports)
-        .filter(|g| {
-            known
-                .values()
-                .get(&g.ty)
-                .is_some_and(|v| v.wire().is_some())
-        })
+        .filter(|g| g.serde)
         .filter_map(|g| g.rust.as_deref());
     let crossing: BTreeSet<&str> = (part.links_out.iter())
         .chain(&part.links_in)

@@ -33,15 +33,16 @@ pub(super) fn port_groups(
                 continue;
             }
         }
-        let (library, rust) = match port_ty {
+        let (library, rust, serde) = match port_ty {
             crate::types::Type::Named(id, _) => {
                 let named = libs.named_type(*id);
                 (
                     Some(libs.get(named.library).name.clone()),
                     Some(named.rust.clone()),
+                    named.serde,
                 )
             }
-            _ => (None, None),
+            _ => (None, None, false),
         };
         groups.push(PlannedPortGroup {
             name: group.to_string(),
@@ -51,6 +52,7 @@ pub(super) fn port_groups(
             unit: port.unit.as_ref().map(|u| u.text.clone()),
             library,
             rust,
+            serde,
         });
     }
     groups
