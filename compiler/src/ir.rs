@@ -168,6 +168,8 @@ pub struct Connection {
     pub min_interval_seconds: Option<f64>,
     pub period_seconds: Option<f64>,
     pub reliability: Option<Span>,
+    /// `reliability="reliable"` (true) or `"best-effort"` (false).
+    pub reliable: Option<bool>,
     pub converts: Vec<ConvertStep>,
     pub instantiated_at: Option<Span>,
     /// The element whose `<connect>` this is (the application or a group).

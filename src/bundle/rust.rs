@@ -209,6 +209,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             thread: !part.threads.is_empty(),
             value: uses_param || uses_queue,
             ports: uses_ports,
+            network: part.is_linked(),
         },
     );
     out.blank();
@@ -228,7 +229,17 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         &format!("const PROGRAM: &str = {};", rust_str(&part.package)),
     );
     out.line(0, &format!("const ABOUT: &str = {};", rust_str(&about)));
-    super::links::constants(&mut out, cx.parts, cx.periods);
+    if part.is_linked() {
+        out.line(
+            0,
+            "/// The application: the first chunk of its Zenoh keys after `ferroc/`.",
+        );
+        out.line(
+            0,
+            &format!("const APPLICATION: &str = {};", rust_str(cx.application)),
+        );
+    }
+    super::links::constants(&mut out, cx.parts, cx.periods, part.is_linked());
     super::links::specs(&mut out, part);
     super::links::call_specs(&mut out, part);
     if !consts.is_empty() {
@@ -242,7 +253,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         }
     }
     out.blank();
-    main_fn(&mut out);
+    main_fn(&mut out, part.is_linked());
     out.blank();
     out.line(0, "/// The module types this part creates.");
     out.line(0, "fn registry() -> Registry {");
@@ -353,6 +364,7 @@ struct Uses {
     thread: bool,
     value: bool,
     ports: bool,
+    network: bool,
 }
 
 fn imports(out: &mut Code, uses: Uses) {
@@ -401,14 +413,19 @@ fn imports(out: &mut Code, uses: Uses) {
         (false, false) => {}
     }
     out.line(0, "use ferroc_runtime::supervise::{self, Args};");
+    if uses.network {
+        out.line(0, "use ferroc_zenoh::Zenoh;");
+    }
     out.line(0, "use std::process::ExitCode;");
     out.line(0, "use std::sync::atomic::{AtomicBool, Ordering};");
     out.line(0, "use std::sync::Arc;");
     out.line(0, "use std::time::Duration;");
 }
 
-fn main_fn(out: &mut Code) {
-    let text = "fn main() -> ExitCode {
+/// `main()`: arguments, the Ctrl-C handler, the network to the other parts (when
+/// `linked`), then build and supervise.
+fn main_fn(out: &mut Code, linked: bool) {
+    let head = "fn main() -> ExitCode {
     let args = match Args::from_env(PROGRAM, ABOUT) {
         Ok(args) => args,
         Err(code) => return code,
@@ -419,14 +436,29 @@ fn main_fn(out: &mut Code) {
     if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
         eprintln!(\"warning: Ctrl-C will not stop cleanly: {e}\");
     }
-    let start = match args.start_options(PART, PARTS, PERIODS) {
-        Ok(start) => start,
+";
+    out.text.push_str(head);
+    if linked {
+        let network =
+            "    // The other parts: over Zenoh, at the addresses of the model or the command line.
+    let mut start = args.start_options(PERIODS);
+    let network = args.addresses(PART, PARTS).and_then(|addresses| {
+        Zenoh::new(APPLICATION, addresses, args.zenoh_config.as_deref())
+    });
+    match network {
+        Ok(network) => start.network = Some(Arc::new(network)),
         Err(e) => {
             eprintln!(\"error: {e}\");
             return ExitCode::from(2);
         }
-    };
-    let registry = registry();
+    }
+";
+        out.text.push_str(network);
+    } else {
+        out.text
+            .push_str("    let start = args.start_options(PERIODS);\n");
+    }
+    let tail = "    let registry = registry();
     let app = match build(&registry, start) {
         Ok(app) => app,
         Err(e) => {
@@ -437,7 +469,7 @@ fn main_fn(out: &mut Code) {
     supervise::supervise(app, &interrupted, &args.options())
 }
 ";
-    out.text.push_str(text);
+    out.text.push_str(tail);
 }
 
 /// A readable constant name for every module path of the part: the module's name in

@@ -84,6 +84,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             min_interval_seconds: seconds("min-interval"),
             period_seconds: seconds("period"),
             reliability: attr_span("reliability"),
+            reliable: e.value("reliability").map(|r| r == "reliable"),
             converts,
             instantiated_at: p.instantiated_at,
             scope: p.scope,
