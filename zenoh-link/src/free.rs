@@ -131,34 +131,42 @@ fn report(
     delivery: Delivery,
 ) -> impl Fn(&Change, Option<Duration>) + Send + Sync + 'static {
     let me = links.part.clone();
-    let mut feeds: BTreeMap<String, usize> = BTreeMap::new();
+    // Per part: the links it feeds into this one, the calls this one makes to it.
+    let mut feeds: BTreeMap<String, (usize, usize)> = BTreeMap::new();
     for writer in links.receiving.values() {
-        *feeds.entry(writer.clone()).or_default() += 1;
+        feeds.entry(writer.clone()).or_default().0 += 1;
     }
     for call in links.calls_out.values() {
-        feeds.entry(call.server_part.clone()).or_default();
+        feeds.entry(call.server_part.clone()).or_default().1 += 1;
     }
     move |change, back_after| match change {
-        Change::Went(part) if feeds.contains_key(part) => {
+        Change::Went(part) => {
+            let Some((data, calls)) = feeds.get(part) else {
+                return;
+            };
             delivery.part_gone(part, true);
+            let mut what = Vec::new();
+            if *data > 0 {
+                what.push(format!("{data} link(s) into {me} are stale"));
+            }
+            if *calls > 0 {
+                what.push(format!("{calls} call(s) to it fail"));
+            }
             console::note(&format!(
-                "warning: link {part} → {}: part {part} gone; its {} link(s) into this part \
-             carry no new values",
-                if me.is_empty() { "this part" } else { &me },
-                feeds[part]
-            ))
+                "warning: link {part} → {me}: part {part} gone; {}",
+                what.join(", ")
+            ));
         }
         Change::Came(part) if feeds.contains_key(part) => {
             delivery.part_gone(part, false);
             if let Some(after) = back_after {
                 console::note(&format!(
-                    "link {part} → {}: part {part} is back after {:.1} s; its links resume",
-                    if me.is_empty() { "this part" } else { &me },
+                    "link {part} → {me}: part {part} is back after {:.1} s; its links resume",
                     after.as_secs_f64()
                 ));
             }
         }
-        _ => {}
+        Change::Came(_) => {}
     }
 }
 
