@@ -259,6 +259,7 @@ pub(crate) fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
             plan::LinkSharing::Periodic { period } => Sharing::Periodic(seconds(period)),
         },
         reliable: link.reliable,
+        deadline: link.deadline.map(seconds),
     }
 }
 

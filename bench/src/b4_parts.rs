@@ -134,6 +134,7 @@ const LINK: LinkSpec<'static> = LinkSpec {
         min_interval: Duration::ZERO,
     },
     reliable: true,
+    deadline: None,
 };
 
 fn registry() -> Registry {

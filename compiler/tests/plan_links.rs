@@ -1,5 +1,6 @@
 //! The run plan's links carry what the transport needs to pick its QoS: whether a
-//! link may drop values (`reliability=`, else a blocking queue at the reader).
+//! link may drop values (`reliability=`, else a blocking queue at the reader), and the
+//! reader's `deadline=`.
 
 use ferroc_compiler::load::{BuiltinLibrary, Options};
 use ferroc_compiler::{check_model, plan, Policy};
@@ -32,6 +33,16 @@ fn links_are_reliable_as_the_model_says_or_as_their_queue_implies() {
     // reliability="best-effort"
     assert!(!reliable("robot/mapping/mapper/map", "manager"));
     assert!(!reliable("robot/control/localizer/pose", "console"));
+    // deadline="3s" on the battery link, none elsewhere.
+    let deadline = |from: &str| {
+        let c = plan
+            .connections
+            .iter()
+            .find(|c| format!("{}/{}", c.from.0, c.from.1) == from);
+        c.and_then(|c| c.link.as_ref()).and_then(|l| l.deadline)
+    };
+    assert_eq!(deadline("robot/drivers/base/battery_voltage"), Some(3.0));
+    assert_eq!(deadline("robot/vision/detector/victims"), None);
     // Inside a part nothing travels as a link.
     assert!(plan.connections.iter().filter(|c| c.link.is_none()).count() > 0);
 }

@@ -117,6 +117,10 @@ pub fn specs(out: &mut Code, part: &Part<'_>) {
             }
         }
         out.line(1, &format!("reliable: {},", spec.reliable));
+        match spec.deadline {
+            Some(d) => out.line(1, &format!("deadline: Some({}),", duration(d))),
+            None => out.line(1, "deadline: None,"),
+        }
         out.line(0, "};");
     }
 }

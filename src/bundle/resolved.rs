@@ -234,6 +234,10 @@ fn connections(app: &Application, libs: &LibrarySet, out: &mut String) {
                 let value = if reliable { "reliable" } else { "best-effort" };
                 attrs.push_str(&format!(" reliability=\"{value}\""));
             }
+            let deadline = (edge.hops.iter()).find_map(|&h| app.connections[h].deadline_seconds);
+            if let Some(s) = deadline {
+                attrs.push_str(&format!(" deadline=\"{s}s\""));
+            }
         }
         let mut steps = String::new();
         for &h in &edge.hops {

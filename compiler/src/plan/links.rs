@@ -25,6 +25,9 @@ pub struct PlannedLink {
     /// `reliability=`) the reader queues with `on-full="block"`. Latest-value links
     /// (no queue) and `reliability="best-effort"` may drop values when congested.
     pub reliable: bool,
+    /// `deadline=` in seconds: the longest silence the reader accepts; a longer gap
+    /// between values is reported and the reader's input is stale meanwhile.
+    pub deadline: Option<f64>,
 }
 
 /// `sharing=` with its time, in seconds.
@@ -102,6 +105,7 @@ pub(super) fn link_of(
         rust,
         sharing,
         reliable: reliable_of(app, &edge.hops),
+        deadline: (edge.hops.iter()).find_map(|&h| app.connections[h].deadline_seconds),
     })
 }
 
@@ -163,5 +167,6 @@ pub(super) fn param_link_of(
         rust: None,
         sharing: sharing_of(app, &[hop]),
         reliable: reliable_of(app, &[hop]),
+        deadline: app.connections[hop].deadline_seconds,
     })
 }

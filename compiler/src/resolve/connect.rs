@@ -85,6 +85,8 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             period_seconds: seconds("period"),
             reliability: attr_span("reliability"),
             reliable: e.value("reliability").map(|r| r == "reliable"),
+            deadline: attr_span("deadline"),
+            deadline_seconds: seconds("deadline"),
             converts,
             instantiated_at: p.instantiated_at,
             scope: p.scope,

@@ -54,6 +54,7 @@ const A_TO_B: LinkSpec<'static> = LinkSpec {
         min_interval: Duration::ZERO,
     },
     reliable: true,
+    deadline: None,
 };
 const B_TO_A: LinkSpec<'static> = LinkSpec {
     id: 1,
@@ -62,10 +63,21 @@ const B_TO_A: LinkSpec<'static> = LinkSpec {
     model_type: "u32",
     sharing: Sharing::Periodic(Duration::from_millis(50)),
     reliable: false,
+    deadline: None,
 };
 
 /// Part `a` (10 ms) and/or part `b` (25 ms), each end of each link in its own part.
 fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64) -> Builder<'r> {
+    build_with(registry, parts, tag, [A_TO_B, B_TO_A])
+}
+
+/// [`build`] with other link specs.
+fn build_with<'r>(
+    registry: &'r Registry,
+    parts: &[&str],
+    tag: f64,
+    links: [LinkSpec<'static>; 2],
+) -> Builder<'r> {
     let mut b = Builder::new(registry);
     let specs = [("a", 10, 1.0), ("b", 25, 100.0)];
     for &(part, ms, step) in specs.iter().filter(|(p, ..)| parts.contains(p)) {
@@ -83,7 +95,7 @@ fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64) -> Builder<'r> {
         })
         .unwrap();
     }
-    for spec in [A_TO_B, B_TO_A] {
+    for spec in links {
         let (from, to) = (
             format!("{}/echo", spec.from_part),
             format!("{}/echo", spec.to_part),
@@ -131,6 +143,37 @@ fn in_lockstep_values_cross_at_the_next_instant_paced_by_their_sharing() {
             "b/echo @75ms got 104",
         ]
     );
+}
+
+#[test]
+fn past_its_deadline_a_links_input_is_stale_until_the_next_value() {
+    let registry = registry();
+    let mut b_to_a = B_TO_A;
+    b_to_a.deadline = Some(Duration::from_millis(30));
+    let app = build_with(&registry, &["a", "b"], 11.0, [A_TO_B, b_to_a])
+        .start_with(lockstep(7))
+        .unwrap();
+    run_to_end(app);
+    // b's periodic (50 ms) values reach a at 10 and 60 ms; a runs every 10 ms.
+    let stale: Vec<(String, bool)> = record(11)
+        .iter()
+        .filter(|l| l.starts_with("a/"))
+        .map(|l| {
+            let at = l.split(' ').nth(1).unwrap_or_default().to_owned();
+            (at, l.ends_with("(stale)"))
+        })
+        .collect();
+    let expected = [
+        ("@0ms", true),   // nothing yet
+        ("@10ms", false), // arrived now
+        ("@20ms", false),
+        ("@30ms", false),
+        ("@40ms", false), // 30 ms old: exactly the deadline
+        ("@50ms", true),  // 40 ms old
+        ("@60ms", false), // the next value
+    ];
+    let expected: Vec<(String, bool)> = expected.iter().map(|(a, s)| (a.to_string(), *s)).collect();
+    assert_eq!(stale, expected);
 }
 
 #[test]

@@ -82,7 +82,8 @@ impl Builder<'_> {
             vec![("out".into(), handle)],
         );
         self.connect((&end, "out"), to, Conversion::default(), options)?;
-        let receiving = Receiving::new(out, wire, describe, spec.from_part);
+        let receiving =
+            Receiving::new(out, wire, describe, spec.from_part).with_deadline(spec.deadline);
         // The input shows the link's freshness (`In::age`, `In::is_stale`).
         let reader = self.module(to.0)?;
         let input = super::find(&self.modules[reader].inputs, to, "input")?;

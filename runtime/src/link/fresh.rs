@@ -5,7 +5,7 @@
 //! [`In::is_stale`](crate::module::In::is_stale).
 
 use crate::module::Timestamp;
-use std::sync::atomic::{AtomicBool, AtomicI64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
 use std::time::Duration;
 
@@ -19,21 +19,63 @@ pub(crate) struct Freshness {
     last: AtomicI64,
     /// The writer's part is gone.
     gone: AtomicBool,
+    /// `deadline=`: the longest silence accepted.
+    deadline: Option<Duration>,
+    /// Gaps longer than the deadline so far.
+    missed: AtomicU64,
 }
 
 impl Default for Freshness {
     fn default() -> Self {
-        Freshness {
-            last: AtomicI64::new(i64::MIN),
-            gone: AtomicBool::new(false),
-        }
+        Freshness::with_deadline(None)
     }
 }
 
 impl Freshness {
-    /// A value arrived now.
-    pub(crate) fn arrived(&self, now: Timestamp) {
-        self.last.store(now.nanos, Ordering::Relaxed);
+    /// The freshness of a link with `deadline=` (or none).
+    pub(crate) fn with_deadline(deadline: Option<Duration>) -> Self {
+        Freshness {
+            last: AtomicI64::new(i64::MIN),
+            gone: AtomicBool::new(false),
+            deadline,
+            missed: AtomicU64::new(0),
+        }
+    }
+
+    /// A value arrived now; the gap since the previous one when it exceeded the
+    /// deadline.
+    pub(crate) fn arrived(&self, now: Timestamp) -> Option<Duration> {
+        let before = self.last.swap(now.nanos, Ordering::Relaxed);
+        let deadline = self.deadline?;
+        if before == i64::MIN {
+            return None;
+        }
+        let gap =
+            Duration::from_nanos(u64::try_from(now.nanos.saturating_sub(before)).unwrap_or(0));
+        (gap > deadline).then(|| {
+            self.missed.fetch_add(1, Ordering::Relaxed);
+            gap
+        })
+    }
+
+    /// Reports a missed deadline: the first one, then every 100th (a link that keeps
+    /// missing it would flood the output).
+    pub(crate) fn report_missed(&self, describe: &str, gap: Duration) {
+        let n = self.missed.load(Ordering::Relaxed);
+        if n == 1 || n % 100 == 0 {
+            let deadline = self.deadline.unwrap_or_default();
+            crate::console::note(&format!(
+                "warning: {describe}: deadline {} ms missed: {} ms between values ({n} time(s) so far)",
+                deadline.as_millis(),
+                gap.as_millis()
+            ));
+        }
+    }
+
+    /// How many gaps exceeded the deadline.
+    #[cfg(test)]
+    pub(crate) fn missed(&self) -> u64 {
+        self.missed.load(Ordering::Relaxed)
     }
 
     /// The writer's part is gone (`true`) or back.
@@ -49,9 +91,15 @@ impl Freshness {
         })
     }
 
-    /// No value arrived yet, or the writer's part is gone.
-    pub(crate) fn is_stale(&self) -> bool {
-        self.gone.load(Ordering::Relaxed) || self.last.load(Ordering::Relaxed) == i64::MIN
+    /// No value arrived yet, the writer's part is gone, or the latest value is older
+    /// than the deadline.
+    pub(crate) fn is_stale(&self, now: Timestamp) -> bool {
+        let overdue = self
+            .deadline
+            .is_some_and(|d| self.age(now).is_some_and(|age| age > d));
+        self.gone.load(Ordering::Relaxed)
+            || self.last.load(Ordering::Relaxed) == i64::MIN
+            || overdue
     }
 }
 
@@ -65,18 +113,33 @@ mod tests {
         let at = |ms: i64| Timestamp {
             nanos: ms * 1_000_000,
         };
-        assert!(f.is_stale() && f.age(at(5)).is_none(), "nothing yet");
-        f.arrived(at(10));
-        assert!(!f.is_stale());
+        assert!(f.is_stale(at(5)) && f.age(at(5)).is_none(), "nothing yet");
+        assert_eq!(f.arrived(at(10)), None);
+        assert!(!f.is_stale(at(10_000)), "no deadline: old is not stale");
         assert_eq!(f.age(at(35)), Some(Duration::from_millis(25)));
         f.set_gone(true);
-        assert!(f.is_stale(), "the writer's part is gone");
+        assert!(f.is_stale(at(40)), "the writer's part is gone");
         assert_eq!(
             f.age(at(40)),
             Some(Duration::from_millis(30)),
             "age goes on"
         );
         f.set_gone(false);
-        assert!(!f.is_stale(), "back");
+        assert!(!f.is_stale(at(40)), "back");
+    }
+
+    #[test]
+    fn a_deadline_makes_silence_stale_and_counts_the_gaps_that_exceed_it() {
+        let f = Freshness::with_deadline(Some(Duration::from_millis(200)));
+        let at = |ms: i64| Timestamp {
+            nanos: ms * 1_000_000,
+        };
+        assert_eq!(f.arrived(at(0)), None, "the first value has no gap");
+        assert!(!f.is_stale(at(200)), "exactly the deadline is in time");
+        assert!(f.is_stale(at(201)), "past the deadline");
+        assert_eq!(f.arrived(at(150)), None, "in time");
+        assert_eq!(f.arrived(at(500)), Some(Duration::from_millis(350)));
+        assert!(!f.is_stale(at(600)));
+        assert_eq!(f.missed(), 1);
     }
 }

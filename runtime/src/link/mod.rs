@@ -59,6 +59,9 @@ pub struct LinkSpec<'a> {
     /// No value may be dropped on the way (`reliability="reliable"`, or a reader
     /// queueing with `on-full="block"`); else a congested network may drop values.
     pub reliable: bool,
+    /// `deadline=`: the longest silence the reader accepts. A longer gap between
+    /// values is reported, and the reader's input is stale while it lasts.
+    pub deadline: Option<Duration>,
 }
 
 /// One service call between parts (`<connect from="…/client" to="…/service"/>` across
@@ -161,6 +164,12 @@ impl Receiving {
             fresh: Arc::default(),
         }
     }
+
+    /// The link's deadline (`deadline=`): its inputs are stale after this much silence.
+    pub(crate) fn with_deadline(mut self, deadline: Option<Duration>) -> Self {
+        self.fresh = Arc::new(fresh::Freshness::with_deadline(deadline));
+        self
+    }
 }
 
 impl Inbox {
@@ -215,7 +224,9 @@ impl Inbox {
         };
         let decoded = link.wire.decode(&link.out, &frame.bytes);
         if decoded.is_ok() {
-            link.fresh.arrived(Timestamp::now());
+            if let Some(missed) = link.fresh.arrived(Timestamp::now()) {
+                link.fresh.report_missed(&link.describe, missed);
+            }
         }
         if let Err(why) = decoded {
             if link.failures.fetch_add(1, Ordering::Relaxed) == 0 {

@@ -160,11 +160,14 @@ impl<T: PortValue> In<T> {
     }
 
     /// Whether this input is fed from another part and has nothing current: no value
-    /// arrived yet, or the writer's part is gone. Its value ([`get`](Self::get)) is then
+    /// arrived yet, the writer's part is gone, or the link's `deadline=` passed since the
+    /// latest value. Its value ([`get`](Self::get)) is then
     /// the default or the last one that arrived, not news: do not take silence for
     /// data. Always false for inputs fed inside the part.
     pub fn is_stale(&self) -> bool {
-        self.source.get().is_some_and(|f| f.is_stale())
+        self.source
+            .get()
+            .is_some_and(|f| f.is_stale(super::Timestamp::now()))
     }
 
     /// The latest value (the default value until something arrives).

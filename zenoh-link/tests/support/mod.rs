@@ -199,6 +199,7 @@ pub const A_TO_B: LinkSpec<'static> = LinkSpec {
         min_interval: Duration::ZERO,
     },
     reliable: true,
+    deadline: None,
 };
 pub const B_TO_A: LinkSpec<'static> = LinkSpec {
     id: 1,
@@ -207,6 +208,7 @@ pub const B_TO_A: LinkSpec<'static> = LinkSpec {
     model_type: "u32",
     sharing: Sharing::Periodic(Duration::from_millis(50)),
     reliable: false,
+    deadline: None,
 };
 pub const CALL: CallSpec<'static> = CallSpec {
     id: 0,
