@@ -3,7 +3,7 @@
 //! its samples on the documented keys (docs/zenoh.md) and sees its liveliness token.
 //!
 //! The Python interpreter is `$FERROC_PYTHON`, else the venv `.ci/run` makes
-//! (`../venv` beside the checkout), else `/work/venv`. Without one that has `zenoh`
+//! (`target/ci-venv` of the checkout), else `/work/venv`. Without one that has `zenoh`
 //! the test says so and passes, except in CI (`CI=true`), where it fails.
 
 mod support;
@@ -13,10 +13,10 @@ use std::process::Command;
 use support::*;
 
 fn python() -> Option<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let candidates = [
         std::env::var_os("FERROC_PYTHON").map(PathBuf::from),
-        Some(root.join("venv/bin/python")),
+        Some(root.join("target/ci-venv/bin/python")),
         Some(PathBuf::from("/work/venv/bin/python")),
     ];
     candidates.into_iter().flatten().find(|p| {
