@@ -8,6 +8,7 @@ mod b1;
 mod b2;
 mod b3;
 mod b4;
+mod b4_parts;
 mod b5;
 mod generate;
 mod measure;
@@ -49,6 +50,12 @@ IDs:
           --gap-us G      pause after each message was seen (default 20)
           --rounds R      rounds the messages are split into (default 20)
           --pin           publisher on CPU 0, receivers on CPU 1
+  b4-parts  latency between two part programs over Zenoh: 64-byte values through a
+        ferroc link (writer here, reader in a child process), p50/p99/max next to a
+        bare Zenoh publisher/subscriber pair in the same run, rounds alternate
+          --messages N    recorded values per variant (default 100000)
+          --gap-us G      one value every G µs (default 100)
+          --rounds R      rounds the values are split into (default 4)
   b5    bundle: `ferroc bundle models/control_loop.xml` (the B2 ring) built as a
         release program, against `ferroc run` of the same model; running time
         from their summaries, rounds alternate
@@ -84,6 +91,8 @@ fn main() -> ExitCode {
         "b2" => ExitCode::from(b2::run(&args[1..])),
         "b3" => ExitCode::from(b3::run(&args[1..])),
         "b4" => ExitCode::from(b4::run(&args[1..])),
+        "b4-parts" => ExitCode::from(b4_parts::run(&args[1..])),
+        b4_parts::CHILD_ARG => ExitCode::from(b4_parts::child(&args[1..])),
         "b5" => ExitCode::from(b5::run(&args[1..])),
         "all" => no_options("all", &args[1..]).unwrap_or_else(all),
         "gen" => gen(&args[1..]),

@@ -168,6 +168,11 @@ pub struct Connection {
     pub min_interval_seconds: Option<f64>,
     pub period_seconds: Option<f64>,
     pub reliability: Option<Span>,
+    /// `reliability="reliable"` (true) or `"best-effort"` (false).
+    pub reliable: Option<bool>,
+    /// `deadline=`: the longest silence the reader accepts (span, seconds).
+    pub deadline: Option<Span>,
+    pub deadline_seconds: Option<f64>,
     pub converts: Vec<ConvertStep>,
     pub instantiated_at: Option<Span>,
     /// The element whose `<connect>` this is (the application or a group).

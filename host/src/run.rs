@@ -336,6 +336,8 @@ pub fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
             },
             plan::LinkSharing::Periodic { period } => Sharing::Periodic(seconds(period)),
         },
+        reliable: link.reliable,
+        deadline: link.deadline.map(seconds),
     }
 }
 
@@ -439,10 +441,12 @@ pub fn build(
             // Between parts, as between the bundle's programs; types the libraries
             // did not register for crossing are called directly (one process).
             Some(link) if builder.can_call_across(client) => {
+                let service_key = format!("{}/{}", service.0, service.1);
                 let spec = CallSpec {
                     id: link.id,
                     client_part: &link.client_part,
                     server_part: &link.server_part,
+                    service: &service_key,
                 };
                 builder.call_out(&spec, client)?;
                 builder.call_in(&spec, service)?;

@@ -105,6 +105,17 @@ pub fn line(text: &str) {
     let _ = out.flush();
 }
 
+/// Prints one line to standard error (for what the operator should know about the run
+/// itself: parts waited for, gone or back), keeping the status line intact. Standard
+/// output stays the application's own.
+pub fn note(text: &str) {
+    let mut err = std::io::stderr().lock();
+    if STATUS_LINE.load(Ordering::Relaxed) {
+        let _ = write!(err, "\r\x1b[K");
+    }
+    let _ = writeln!(err, "{}", escape(text));
+}
+
 #[cfg(test)]
 mod tests {
     use super::{escape, Throttle};

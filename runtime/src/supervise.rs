@@ -119,7 +119,7 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
             eprintln!("  ({dropped} reports were dropped unread)");
         }
     }
-    if panics.is_empty() && stuck.is_empty() {
+    if panics.is_empty() && stuck.is_empty() && app.failure().is_none() {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
@@ -163,6 +163,9 @@ pub struct Args {
     pub peers: Vec<(String, String)>,
     /// `--listen ADDR`: where this part listens (default: its own port, all interfaces).
     pub listen: Option<String>,
+    /// `--zenoh-config FILE`: the network's own configuration (Zenoh's JSON5), for
+    /// routers, scouting or access control.
+    pub zenoh_config: Option<std::path::PathBuf>,
 }
 
 impl Args {
@@ -225,20 +228,38 @@ impl Args {
                     let v = value("an address, e.g. --listen 0.0.0.0:47801")?;
                     out.listen = Some(v);
                 }
+                "--zenoh-config" => {
+                    let v = value("a Zenoh configuration file, e.g. --zenoh-config zenoh.json5")?;
+                    out.zenoh_config = Some(v.into());
+                }
                 _ => return Err(format!("unknown argument `{arg}`")),
             }
         }
         Ok(Some(out))
     }
 
-    /// How to start the part `part` of an application whose parts listen at `parts`
-    /// (name, `host:port`) and whose periodic containers have `periods` (lockstep).
-    pub fn start_options(
+    /// How to start a part of an application whose periodic containers have
+    /// `periods` (lockstep). The network to the other parts is added by the caller
+    /// (from [`Args::addresses`]).
+    pub fn start_options(&self, periods: &[Duration]) -> crate::builder::StartOptions {
+        crate::builder::StartOptions {
+            limit: self.cycles,
+            lockstep: self.lockstep.then(|| crate::builder::Lockstep {
+                periods: periods.to_vec(),
+                until: self.duration,
+            }),
+            network: None,
+        }
+    }
+
+    /// Where the part `part` listens and where the others are, for an application
+    /// whose parts listen at `parts` (name, `host:port`), as `--local`, `--peer` and
+    /// `--listen` say.
+    pub fn addresses(
         &self,
         part: &str,
         parts: &[(&str, &str)],
-        periods: &[Duration],
-    ) -> Result<crate::builder::StartOptions, String> {
+    ) -> Result<crate::link::transport::Addresses, String> {
         let mut peers: std::collections::BTreeMap<String, String> = parts
             .iter()
             .map(|(name, address)| {
@@ -268,17 +289,10 @@ impl Args {
             let any = if self.local { "127.0.0.1" } else { "0.0.0.0" };
             format!("{any}:{own_port}")
         });
-        Ok(crate::builder::StartOptions {
-            limit: self.cycles,
-            lockstep: self.lockstep.then(|| crate::builder::Lockstep {
-                periods: periods.to_vec(),
-                until: self.duration,
-            }),
-            network: Some(crate::link::net::Network {
-                part: part.to_owned(),
-                listen,
-                peers,
-            }),
+        Ok(crate::link::transport::Addresses {
+            part: part.to_owned(),
+            listen,
+            peers,
         })
     }
 
@@ -294,7 +308,8 @@ impl Args {
 
 fn usage(program: &str) -> String {
     format!(
-        "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--local] [--peer PART=HOST:PORT]... [--quiet]\n\n\
+        "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--local] [--peer PART=HOST:PORT]...\n       \
+         [--listen ADDR] [--zenoh-config FILE] [--quiet]\n\n\
          Options:\n  \
          --cycles N        stop after N cycles of the application: of its fastest\n                    \
          periodic thread containers; slower ones run until then\n  \
@@ -306,12 +321,15 @@ fn usage(program: &str) -> String {
          --peer PART=HOST:PORT\n                    \
          where another part listens (default: its host and port in the model)\n  \
          --listen ADDR     where this part listens (default: its port on all interfaces)\n  \
+         --zenoh-config FILE\n                    \
+         Zenoh's own configuration (JSON5): routers, scouting, access control;\n                    \
+         the addresses above are added to it\n  \
          -q, --quiet       no live status line\n  \
          -h, --help        this text\n\n\
          Ctrl-C or SIGTERM stops after the current cycle. A summary (cycles, overruns and\n\
          load per thread container) is printed on standard error at the end.\n\n\
-         Exit codes: 0 stopped cleanly, 1 the application could not be built or a module\n\
-         panicked, 2 bad arguments."
+         Exit codes: 0 stopped cleanly, 1 the application could not be built, a module\n\
+         panicked or (in lockstep) a linked part is gone, 2 bad arguments."
     )
 }
 
@@ -375,18 +393,25 @@ mod tests {
         assert!(parse(&["--bogus"])
             .unwrap_err()
             .contains("unknown argument"));
-        let args = parse(&["--lockstep", "--local", "--peer", "b=10.0.0.2:9"])
-            .unwrap()
-            .unwrap();
+        let args = parse(&[
+            "--lockstep",
+            "--local",
+            "--peer",
+            "b=10.0.0.2:9",
+            "--zenoh-config",
+            "z.json5",
+        ])
+        .unwrap()
+        .unwrap();
         let parts = [("a", "robot-pc:47800"), ("b", "base-pc:47801")];
-        let start = args.start_options("a", &parts, &[]).unwrap();
-        let network = start.network.unwrap();
+        let network = args.addresses("a", &parts).unwrap();
         assert_eq!(network.listen, "127.0.0.1:47800");
         assert_eq!(network.peers["a"], "127.0.0.1:47800", "--local");
         assert_eq!(network.peers["b"], "10.0.0.2:9", "--peer wins");
-        assert!(start.lockstep.is_some());
+        assert_eq!(args.zenoh_config.as_deref(), Some("z.json5".as_ref()));
+        assert!(args.start_options(&[]).lockstep.is_some());
         let stranger = parse(&["--peer", "c=h:1"]).unwrap().unwrap();
-        let err = stranger.start_options("a", &parts, &[]).unwrap_err();
+        let err = stranger.addresses("a", &parts).unwrap_err();
         assert!(err.contains("no part `c`"), "{err}");
         assert!(parse(&["--peer", "nocolon"]).is_err());
         assert_eq!(

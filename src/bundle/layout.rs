@@ -46,6 +46,19 @@ pub struct Part<'p> {
     pub fields: Vec<super::fields::FieldAccessor>,
 }
 
+impl Part<'_> {
+    /// Whether anything crosses between this part and another: its program then
+    /// talks to the others over Zenoh (`ferroc-zenoh`).
+    pub fn is_linked(&self) -> bool {
+        !(self.links_out.is_empty()
+            && self.links_in.is_empty()
+            && self.param_links_out.is_empty()
+            && self.param_links_in.is_empty()
+            && self.calls_out.is_empty()
+            && self.calls_in.is_empty())
+    }
+}
+
 /// The port of the first part; the next ones count up from it.
 pub const BASE_PORT: u16 = 47800;
 

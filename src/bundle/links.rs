@@ -31,22 +31,25 @@ pub fn conversion(c: &PlannedConnection) -> String {
     line
 }
 
-/// `PARTS` and `PERIODS`, the constants `main` gives the runtime.
-pub fn constants(out: &mut Code, parts: &[(String, String)], periods: &[Duration]) {
-    out.blank();
-    out.line(
-        0,
-        "/// Every part of the application and where it listens (`--peer PART=HOST:PORT`",
-    );
-    out.line(
-        0,
-        "/// says otherwise, `--local` puts every part on this computer).",
-    );
-    let entries: Vec<String> = parts
-        .iter()
-        .map(|(name, address)| format!("({}, {})", rust_str(name), rust_str(address)))
-        .collect();
-    out.list(0, "const PARTS: &[(&str, &str)] = &[", &entries, "];");
+/// `PARTS` (when the part is linked to others) and `PERIODS`, the constants `main`
+/// gives the runtime.
+pub fn constants(out: &mut Code, parts: &[(String, String)], periods: &[Duration], linked: bool) {
+    if linked {
+        out.blank();
+        out.line(
+            0,
+            "/// Every part of the application and where it listens (`--peer PART=HOST:PORT`",
+        );
+        out.line(
+            0,
+            "/// says otherwise, `--local` puts every part on this computer).",
+        );
+        let entries: Vec<String> = parts
+            .iter()
+            .map(|(name, address)| format!("({}, {})", rust_str(name), rust_str(address)))
+            .collect();
+        out.list(0, "const PARTS: &[(&str, &str)] = &[", &entries, "];");
+    }
     out.blank();
     out.line(
         0,
@@ -113,6 +116,11 @@ pub fn specs(out: &mut Code, part: &Part<'_>) {
                 );
             }
         }
+        out.line(1, &format!("reliable: {},", spec.reliable));
+        match spec.deadline {
+            Some(d) => out.line(1, &format!("deadline: Some({}),", duration(d))),
+            None => out.line(1, "deadline: None,"),
+        }
         out.line(0, "};");
     }
 }
@@ -146,6 +154,8 @@ pub fn call_specs(out: &mut Code, part: &Part<'_>) {
         out.line(1, &format!("id: {},", link.id));
         out.line(1, &format!("client_part: {},", rust_str(&link.client_part)));
         out.line(1, &format!("server_part: {},", rust_str(&link.server_part)));
+        let service = format!("{}/{}", c.service.0, c.service.1);
+        out.line(1, &format!("service: {},", rust_str(&service)));
         out.line(0, "};");
     }
 }

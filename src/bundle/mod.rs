@@ -297,6 +297,16 @@ fn dependencies(
             Deps::Version => Source::Version(TOOL_VERSION.into()),
         },
     }];
+    // Programs of linked parts talk over Zenoh (deps[1], only when some part is linked).
+    if layout.parts.iter().any(|p| p.is_linked()) {
+        out.push(Dependency {
+            package: "ferroc-zenoh".into(),
+            source: match deps {
+                Deps::Path => by_path(checkout.join("zenoh-link"), "the Zenoh transport")?,
+                Deps::Version => Source::Version(TOOL_VERSION.into()),
+            },
+        });
+    }
     for lib in layout.libraries.values() {
         let source = match deps {
             Deps::Version => Source::Version(lib.version.clone().ok_or_else(|| {
@@ -369,7 +379,9 @@ fn generate(
         }
     }
     for (i, part) in layout.parts.iter().enumerate() {
+        let zenoh = deps.iter().find(|d| d.package == "ferroc-zenoh");
         let part_deps: Vec<&Dependency> = std::iter::once(&deps[0])
+            .chain(zenoh.filter(|_| part.is_linked()))
             .chain(part.libraries.iter().filter_map(|l| {
                 let package = &layout.libraries.get(l)?.package;
                 deps.iter().find(|d| d.package == *package)

@@ -228,6 +228,16 @@ fn connections(app: &Application, libs: &LibrarySet, out: &mut String) {
         }
         if app.element(edge.from_module).part != app.element(edge.to_module).part {
             attrs.push_str(&sharing(app, &edge.hops));
+            // The first hop with `reliability=` decides the link's QoS, as in the plan.
+            let reliable = edge.hops.iter().find_map(|&h| app.connections[h].reliable);
+            if let Some(reliable) = reliable {
+                let value = if reliable { "reliable" } else { "best-effort" };
+                attrs.push_str(&format!(" reliability=\"{value}\""));
+            }
+            let deadline = (edge.hops.iter()).find_map(|&h| app.connections[h].deadline_seconds);
+            if let Some(s) = deadline {
+                attrs.push_str(&format!(" deadline=\"{s}s\""));
+            }
         }
         let mut steps = String::new();
         for &h in &edge.hops {

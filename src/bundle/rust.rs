@@ -159,10 +159,11 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
             thread: !part.threads.is_empty(),
             value: uses_param || uses_queue,
             ports: uses_ports,
+            network: part.is_linked(),
         },
     );
     let mut links = Code::default();
-    super::links::constants(&mut links, cx.parts, cx.periods);
+    super::links::constants(&mut links, cx.parts, cx.periods, part.is_linked());
     super::links::specs(&mut links, part);
     super::links::call_specs(&mut links, part);
     MainRs {
@@ -193,6 +194,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         threads,
         uses_param,
         uses_queue,
+        linked: part.is_linked(),
     }
     .to_string()
 }
@@ -225,6 +227,8 @@ struct MainRs<'a> {
     threads: Vec<ThreadBlock>,
     uses_param: bool,
     uses_queue: bool,
+    /// Whether the part talks to others (over Zenoh, `ferroc-zenoh`).
+    linked: bool,
 }
 
 /// One `builder.add_module` of `build()`.
@@ -375,6 +379,7 @@ struct Uses {
     thread: bool,
     value: bool,
     ports: bool,
+    network: bool,
 }
 
 fn imports(out: &mut Code, uses: Uses) {
@@ -423,6 +428,9 @@ fn imports(out: &mut Code, uses: Uses) {
         (false, false) => {}
     }
     out.line(0, "use ferroc_runtime::supervise::{self, Args};");
+    if uses.network {
+        out.line(0, "use ferroc_zenoh::Zenoh;");
+    }
     out.line(0, "use std::process::ExitCode;");
     out.line(0, "use std::sync::atomic::{AtomicBool, Ordering};");
     out.line(0, "use std::sync::Arc;");
@@ -432,7 +440,7 @@ fn imports(out: &mut Code, uses: Uses) {
 /// The other constants of a generated `main.rs`: a module constant of one of these
 /// names would be defined twice, and the bundle would not compile.
 fn reserved(name: &str) -> bool {
-    const FIXED: &[&str] = &["PART", "PROGRAM", "ABOUT", "PARTS", "PERIODS"];
+    const FIXED: &[&str] = &["PART", "PROGRAM", "ABOUT", "APPLICATION", "PARTS", "PERIODS"];
     // `LINK_n` (links.rs) and `CALL_n` (service calls between parts).
     let numbered = |prefix: &str| {
         name.strip_prefix(prefix)

@@ -21,6 +21,13 @@ pub struct PlannedLink {
     pub library: Option<String>,
     pub rust: Option<String>,
     pub sharing: LinkSharing,
+    /// No value may be dropped on the way: `reliability="reliable"`, or (without
+    /// `reliability=`) the reader queues with `on-full="block"`. Latest-value links
+    /// (no queue) and `reliability="best-effort"` may drop values when congested.
+    pub reliable: bool,
+    /// `deadline=` in seconds: the longest silence the reader accepts; a longer gap
+    /// between values is reported and the reader's input is stale meanwhile.
+    pub deadline: Option<f64>,
 }
 
 /// `sharing=` with its time, in seconds.
@@ -97,7 +104,22 @@ pub(super) fn link_of(
         library,
         rust,
         sharing,
+        reliable: reliable_of(app, &edge.hops),
+        deadline: (edge.hops.iter()).find_map(|&h| app.connections[h].deadline_seconds),
     })
+}
+
+/// Whether the link made of `hops` must not drop values (see [`PlannedLink::reliable`]):
+/// the first hop with `reliability=` decides, else a hop queueing with
+/// `on-full="block"` (the default of a queue).
+pub(super) fn reliable_of(app: &Application, hops: &[usize]) -> bool {
+    let connections = hops.iter().map(|&h| &app.connections[h]);
+    if let Some(reliable) = connections.clone().find_map(|c| c.reliable) {
+        return reliable;
+    }
+    connections
+        .into_iter()
+        .any(|c| c.queue.is_some() && c.on_full.as_deref().is_none_or(|f| f == "block"))
 }
 
 /// The sharing of a connection made of `hops`: the first hop that says how (normally
@@ -144,5 +166,7 @@ pub(super) fn param_link_of(
         library: None,
         rust: None,
         sharing: sharing_of(app, &[hop]),
+        reliable: reliable_of(app, &[hop]),
+        deadline: app.connections[hop].deadline_seconds,
     })
 }

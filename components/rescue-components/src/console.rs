@@ -84,6 +84,20 @@ impl Module for OperatorConsole {
         if self.cycles % (refresh.round() as u64).max(1) != 0 {
             return;
         }
+        // Inputs from the robot's part are stale before its first values and while it
+        // is gone: show that, never its old or default values as if they were news.
+        if self.pose.is_stale() && self.battery_voltage.is_stale() && self.robot_state.is_stale() {
+            let since = match self.pose.age() {
+                Some(age) => format!("for {:.1} s", age.as_secs_f64()),
+                None => "yet".to_string(),
+            };
+            console::line(&format!(
+                "[{}] t={t:5.1} s no data from the robot {since} (victims {})",
+                self.title.value(),
+                victims.victims.len()
+            ));
+            return;
+        }
         let p = self.pose.get();
         let state = self.robot_state.get();
         let confirmed = victims

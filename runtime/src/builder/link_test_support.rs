@@ -1,9 +1,8 @@
 //! What the link and call-link tests share: a record of what modules saw (by a `tag`
-//! parameter, since tests run in parallel), the two-part lockstep settings, addresses
-//! on this computer, and waiting for a run to end.
+//! parameter, since tests run in parallel), the two-part lockstep settings, and
+//! waiting for a run to end.
 
 use super::*;
-use crate::link::net::Network;
 use crate::module::Timestamp;
 use std::collections::BTreeMap;
 use std::sync::Mutex;
@@ -37,14 +36,14 @@ pub(super) fn model_ms() -> i64 {
 }
 
 /// Lockstep for parts `a` (10 ms) and `b` (25 ms), each container `cycles` cycles.
-pub(super) fn lockstep(cycles: u64, network: Option<Network>) -> StartOptions {
+pub(super) fn lockstep(cycles: u64) -> StartOptions {
     StartOptions {
         limit: Some(cycles),
         lockstep: Some(Lockstep {
             periods: vec![Duration::from_millis(10), Duration::from_millis(25)],
             until: None,
         }),
-        network,
+        network: None,
     }
 }
 
@@ -55,28 +54,4 @@ pub(super) fn run_to_end(app: RunningApp) {
         "the run did not end"
     );
     drop(app);
-}
-
-/// A free address on 127.0.0.1.
-pub(super) fn free_port() -> String {
-    let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    l.local_addr().unwrap().to_string()
-}
-
-/// Parts `a` and `b` at free addresses.
-pub(super) fn two_peers() -> BTreeMap<String, String> {
-    [
-        ("a".to_string(), free_port()),
-        ("b".to_string(), free_port()),
-    ]
-    .into()
-}
-
-/// The network of `part` among `peers`, listening at its own address.
-pub(super) fn network(part: &str, peers: &BTreeMap<String, String>) -> Option<Network> {
-    Some(Network {
-        part: part.into(),
-        listen: peers[part].clone(),
-        peers: peers.clone(),
-    })
 }

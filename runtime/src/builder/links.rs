@@ -4,6 +4,7 @@
 //! wakeups behave exactly as on a connection inside one part.
 
 use super::*;
+use crate::link::transport::{RemoteCall, Sending};
 use crate::link::{calls, CallSpec, Frame, LinkSpec, Pace, Receiving};
 use crate::module::{Timestamp, ValueType};
 
@@ -46,7 +47,14 @@ impl Builder<'_> {
             }
         });
         self.modules[writer].converters.push(step);
-        self.sent.insert(spec.id, spec.to_part.to_owned());
+        let sending = Sending {
+            to_part: spec.to_part.to_owned(),
+            topic: format!("{}/{}", from.0, from.1),
+            model_type: spec.model_type.to_owned(),
+            sharing: spec.sharing,
+            reliable: spec.reliable,
+        };
+        self.remote.sending.insert(spec.id, sending);
         Ok(())
     }
 
@@ -74,9 +82,14 @@ impl Builder<'_> {
             vec![("out".into(), handle)],
         );
         self.connect((&end, "out"), to, Conversion::default(), options)?;
-        self.receiving
-            .insert(spec.id, Receiving::new(out, wire, describe));
-        self.received.insert(spec.id, spec.from_part.to_owned());
+        let receiving =
+            Receiving::new(out, wire, describe, spec.from_part).with_deadline(spec.deadline);
+        // The input shows the link's freshness (`In::age`, `In::is_stale`).
+        let reader = self.module(to.0)?;
+        let input = super::find(&self.modules[reader].inputs, to, "input")?;
+        let _ = input.source().set(Arc::clone(&receiving.fresh));
+        self.receiving.insert(spec.id, receiving);
+        (self.remote.receiving).insert(spec.id, spec.from_part.to_owned());
         Ok(())
     }
 
@@ -155,9 +168,7 @@ impl Builder<'_> {
             .connect(&service)
             .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
         self.direct_end(calls::answer_link(spec.id), end, &describe)?;
-        let part = spec.server_part.to_owned();
-        self.sent.insert(calls::request_link(spec.id), part.clone());
-        self.received.insert(calls::answer_link(spec.id), part);
+        self.remote.calls_out.insert(spec.id, remote_call(spec));
         Ok(())
     }
 
@@ -182,10 +193,7 @@ impl Builder<'_> {
             .connect(handle)
             .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
         self.direct_end(calls::request_link(spec.id), end, &describe)?;
-        let part = spec.client_part.to_owned();
-        self.received
-            .insert(calls::request_link(spec.id), part.clone());
-        self.sent.insert(calls::answer_link(spec.id), part);
+        self.remote.calls_in.insert(spec.id, remote_call(spec));
         Ok(())
     }
 
@@ -234,5 +242,13 @@ impl Builder<'_> {
             )));
         }
         Ok(())
+    }
+}
+
+fn remote_call(spec: &CallSpec<'_>) -> RemoteCall {
+    RemoteCall {
+        client_part: spec.client_part.to_owned(),
+        server_part: spec.server_part.to_owned(),
+        service: spec.service.to_owned(),
     }
 }

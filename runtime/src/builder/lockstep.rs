@@ -22,9 +22,9 @@ use super::running::Shared;
 use super::start::Links;
 use super::{BuildError, RunningApp};
 use crate::container::{ThreadContainer, ThreadOptions, Trigger};
-use crate::link::net::{self, Message, Outgoing, Sink, Ticks};
+use crate::link::transport::Connection;
 use crate::link::{Frame, Hub, Inbox, Route};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -58,33 +58,14 @@ impl Lockstep {
                 .collect();
         }
         links.hub.set_route(Route::Collect(Mutex::default()));
-        let (mut outgoing, mut ticks) = (None, None);
-        if links.remote() {
-            let network = links.network().map_err(BuildError::Connect)?;
-            outgoing = Some(
-                Outgoing::start(network, &links.sending_to, &shared.stop, false)
-                    .map_err(BuildError::Connect)?,
-            );
-            if !links.receiving_from.is_empty() {
-                let (tx, rx) = std::sync::mpsc::channel();
-                net::listen(
-                    network,
-                    links.receiving_from.clone(),
-                    Sink::Queue(tx),
-                    &shared.stop,
-                )
-                .map_err(BuildError::Connect)?;
-                ticks = Some(Ticks::new(rx, links.receiving_from.clone()));
-            }
-        }
+        let network = links.open(true).map_err(BuildError::Connect)?;
         let stats = containers.iter().map(|c| c.stats()).collect();
         let mut driver = Driver {
             containers,
             timeline: Timeline::new(&periods, limit, self.until),
             hub: links.hub,
             inbox: links.inbox,
-            outgoing,
-            ticks,
+            network,
         };
         RunningApp::start_driver(stats, shared, move |stop| driver.run(stop))
     }
@@ -143,29 +124,43 @@ struct Driver {
     timeline: Timeline,
     hub: Arc<Hub>,
     inbox: Arc<Inbox>,
-    outgoing: Option<Outgoing>,
-    ticks: Option<Ticks>,
+    network: Option<Box<dyn Connection>>,
 }
 
 impl Driver {
-    /// Runs to the end; what ended it, if not the cycle limit.
-    fn run(&mut self, stop: &AtomicBool) -> Option<&'static str> {
+    /// Runs to the end; what ended it, if not the cycle limit, or why it failed (a
+    /// part it is linked to is gone).
+    fn run(&mut self, stop: &AtomicBool) -> Result<Option<&'static str>, String> {
+        let ended = self.run_instants(stop);
+        crate::module::set_model_time(None);
+        if let Some(network) = &self.network {
+            network.close();
+        }
+        ended
+    }
+
+    fn run_instants(&mut self, stop: &AtomicBool) -> Result<Option<&'static str>, String> {
         let mut pending: Vec<Frame> = Vec::new();
         let mut previous: Option<u128> = None;
+        // An error of the network while this part was asked to stop is the stop.
+        let failed = |why: String| {
+            if stop.load(Ordering::Relaxed) {
+                Ok(None)
+            } else {
+                Err(format!("lockstep stopped: {why}"))
+            }
+        };
         while let Some(now) = self.timeline.next(previous) {
-            if stop.load(std::sync::atomic::Ordering::Relaxed) {
-                break;
+            if stop.load(Ordering::Relaxed) {
+                return Ok(None);
             }
             let nanos = u64::try_from(now).unwrap_or(u64::MAX);
             crate::module::set_model_time(Some(Duration::from_nanos(nanos)));
             let mut frames = std::mem::take(&mut pending);
-            if let (Some(before), Some(ticks)) = (previous, self.ticks.as_mut()) {
-                match ticks.frames_until(u64::try_from(before).unwrap_or(u64::MAX), stop) {
+            if let (Some(before), Some(network)) = (previous, &self.network) {
+                match network.wait_instant(u64::try_from(before).unwrap_or(u64::MAX), stop) {
                     Ok(arrived) => frames.extend(arrived),
-                    Err(why) => {
-                        crate::console::line(&format!("lockstep stopped: {why}"));
-                        break;
-                    }
+                    Err(why) => return failed(why),
                 }
             }
             frames.sort_by_key(|f| f.link);
@@ -173,27 +168,17 @@ impl Driver {
                 self.inbox.deliver(frame);
             }
             self.run_instant(now);
-            for (to_part, frame) in self.hub.take_collected() {
-                if self.inbox.has(frame.link) {
-                    pending.push(frame);
-                } else if let Some(out) = &self.outgoing {
-                    out.send_waiting(&to_part, Message::Frame(frame));
-                }
-            }
-            if let Some(out) = &self.outgoing {
-                let parts: Vec<String> = out.parts().map(str::to_owned).collect();
-                for part in parts {
-                    out.send_waiting(&part, Message::Tick(nanos));
+            let (local, remote) = Hub::split_local(self.hub.take_collected(), &self.inbox);
+            pending = local;
+            if let Some(network) = &self.network {
+                if let Err(why) = network.end_instant(nanos, remote, stop) {
+                    return failed(why);
                 }
             }
             previous = Some(now);
         }
-        crate::module::set_model_time(None);
-        if let Some(out) = &self.outgoing {
-            out.close();
-        }
         let more = self.timeline.next_within_limit(previous).is_some();
-        (more && self.timeline.next(previous).is_none()).then_some("model time is up")
+        Ok((more && self.timeline.next(previous).is_none()).then_some("model time is up"))
     }
 
     /// Steps 2 and 3 of the module documentation (the timeline holds the cycle limit).

@@ -190,9 +190,9 @@ pub struct Builder<'r> {
     /// Receiving ends that handle their frames themselves (calls, parameters), by the
     /// link number they receive on.
     direct_ends: std::collections::BTreeMap<u32, Arc<dyn crate::link::Receive>>,
-    /// Link number → the part it comes from / goes to, for links built here.
-    received: std::collections::BTreeMap<u32, String>,
-    sent: std::collections::BTreeMap<u32, String>,
+    /// The ends of links and calls built here (those with both ends here are
+    /// delivered in the process; the others cross the network).
+    remote: crate::link::transport::PartLinks,
 }
 
 impl<'r> Builder<'r> {
@@ -210,8 +210,7 @@ impl<'r> Builder<'r> {
             hub: Arc::default(),
             receiving: Default::default(),
             direct_ends: Default::default(),
-            received: Default::default(),
-            sent: Default::default(),
+            remote: Default::default(),
         }
     }
 

@@ -71,7 +71,7 @@ impl Builder<'_> {
             warned: std::sync::atomic::AtomicBool::new(false),
         });
         self.direct_end(spec.id, end, &describe)?;
-        self.received.insert(spec.id, spec.from_part.to_owned());
+        (self.remote.receiving).insert(spec.id, spec.from_part.to_owned());
         Ok(())
     }
 

@@ -70,6 +70,8 @@ pub struct RunningApp {
     hub: Arc<Hub>,
     /// Why it ended by itself, when not by the cycle limit.
     end_reason: Arc<std::sync::OnceLock<&'static str>>,
+    /// Why it could not go on (a part it is linked to is gone, in lockstep).
+    failure: Arc<std::sync::OnceLock<String>>,
 }
 
 /// What a running application keeps besides its threads.
@@ -93,12 +95,22 @@ impl RunningApp {
             violations: shared.violations,
             hub: shared.hub,
             end_reason: Arc::default(),
+            failure: Arc::default(),
         }
+    }
+
+    /// Why the application could not go on, if it failed: in lockstep, a part it is
+    /// linked to is gone. A failed run is not a clean end.
+    pub fn failure(&self) -> Option<&str> {
+        self.failure.get().map(String::as_str)
     }
 
     /// Why the application ended by itself: the cycle limit, or in lockstep with a
     /// time limit, model time.
     pub fn end_reason(&self) -> &'static str {
+        if self.failure.get().is_some() {
+            return "failed";
+        }
         self.end_reason
             .get()
             .copied()
@@ -109,17 +121,24 @@ impl RunningApp {
     pub(super) fn start_driver(
         stats: Vec<Arc<ContainerStats>>,
         shared: Shared,
-        driver: impl FnOnce(&AtomicBool) -> Option<&'static str> + Send + 'static,
+        driver: impl FnOnce(&AtomicBool) -> Result<Option<&'static str>, String> + Send + 'static,
     ) -> Result<Self, BuildError> {
         let mut app = RunningApp::new(shared);
         let stop = app.stop.clone();
-        let reason = Arc::clone(&app.end_reason);
+        let (reason, failure) = (Arc::clone(&app.end_reason), Arc::clone(&app.failure));
         let join = std::thread::Builder::new()
             .name("lockstep".into())
             .spawn(move || {
                 crate::container::stopping::watch(Arc::clone(&stop));
-                if let Some(why) = driver(&stop) {
+                match driver(&stop) {
+                Ok(Some(why)) => {
                     let _ = reason.set(why);
+                }
+                Ok(None) => {}
+                Err(why) => {
+                    crate::console::note(&format!("error: {why}"));
+                    let _ = failure.set(why);
+                }
                 }
             })
             .map_err(|e| BuildError::Thread(format!("the lockstep thread could not start: {e}")))?;

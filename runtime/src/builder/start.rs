@@ -2,13 +2,11 @@
 //! lockstep, with the links to other parts set up first.
 
 use super::*;
-use crate::link::net::{self, Network, Outgoing, Sink};
+use crate::link::transport::{Connection, Delivery, Network, PartLinks};
 use crate::link::{Hub, Inbox, Route};
-use std::collections::BTreeSet;
-use std::sync::atomic::AtomicBool;
 
 /// How [`Builder::start_with`] runs the application.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Default)]
 pub struct StartOptions {
     /// The application stops after this many cycles of its fastest periodic
     /// containers (see [`cycles_of`]).
@@ -16,8 +14,19 @@ pub struct StartOptions {
     /// Run in simulated time on one thread, the same way every time; `None`: every
     /// container on its own thread, in real time.
     pub lockstep: Option<Lockstep>,
-    /// Where the other parts are; needed when links leave this process.
-    pub network: Option<crate::link::net::Network>,
+    /// The network to the other parts; needed when links leave this process
+    /// (`ferroc_zenoh::Zenoh` in generated programs).
+    pub network: Option<Arc<dyn Network>>,
+}
+
+impl std::fmt::Debug for StartOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StartOptions")
+            .field("limit", &self.limit)
+            .field("lockstep", &self.lockstep)
+            .field("network", &self.network.as_ref().map(|_| "…"))
+            .finish()
+    }
 }
 
 impl Builder<'_> {
@@ -62,20 +71,12 @@ impl Builder<'_> {
             hub: Arc::clone(&self.hub),
             inbox,
             network: options.network,
-            // Only links with one end elsewhere need the network.
-            receiving_from: (self.received.iter())
-                .filter(|(id, _)| !self.sent.contains_key(id))
-                .map(|(_, part)| part.clone())
-                .collect(),
-            sending_to: (self.sent.iter())
-                .filter(|(id, _)| !self.received.contains_key(id))
-                .map(|(_, part)| part.clone())
-                .collect(),
+            remote: only_remote(std::mem::take(&mut self.remote)),
         };
         match options.lockstep {
             Some(lockstep) => lockstep.start(containers, links, shared, options.limit),
             None => {
-                links.start_direct(&stop).map_err(BuildError::Connect)?;
+                links.start_direct().map_err(BuildError::Connect)?;
                 RunningApp::start(containers, shared, options.limit)
             }
         }
@@ -92,42 +93,62 @@ impl Builder<'_> {
     }
 }
 
+/// The links and calls with one end elsewhere: those with both ends built here are
+/// delivered in the process.
+fn only_remote(mut links: PartLinks) -> PartLinks {
+    let both: Vec<u32> = (links.sending.keys())
+        .filter(|id| links.receiving.contains_key(id))
+        .copied()
+        .collect();
+    for id in both {
+        links.sending.remove(&id);
+        links.receiving.remove(&id);
+    }
+    let both: Vec<u32> = (links.calls_out.keys())
+        .filter(|id| links.calls_in.contains_key(id))
+        .copied()
+        .collect();
+    for id in both {
+        links.calls_out.remove(&id);
+        links.calls_in.remove(&id);
+    }
+    links
+}
+
 /// The links of the application being started.
 pub(super) struct Links {
     pub hub: Arc<Hub>,
     pub inbox: Arc<Inbox>,
-    pub network: Option<Network>,
-    pub receiving_from: BTreeSet<String>,
-    pub sending_to: BTreeSet<String>,
+    pub network: Option<Arc<dyn Network>>,
+    pub remote: PartLinks,
 }
 
 impl Links {
-    pub(super) fn remote(&self) -> bool {
-        !self.receiving_from.is_empty() || !self.sending_to.is_empty()
-    }
-
-    pub(super) fn network(&self) -> Result<&Network, String> {
-        self.network.as_ref().ok_or_else(|| {
-            let parts: Vec<&String> = self.receiving_from.union(&self.sending_to).collect();
-            format!("this part is linked to {parts:?} but no network addresses were given")
-        })
+    /// Opens the network when links leave this process (`None` when none do).
+    pub(super) fn open(&self, lockstep: bool) -> Result<Option<Box<dyn Connection>>, String> {
+        if self.remote.is_empty() {
+            return Ok(None);
+        }
+        let network = self.network.as_ref().ok_or_else(|| {
+            let mut parts = self.remote.sends_to();
+            parts.extend(self.remote.receives_from());
+            let parts: Vec<&str> = parts.into_iter().collect();
+            format!(
+                "this part is linked to {} but no network to other parts was given",
+                parts.join(", ")
+            )
+        })?;
+        let delivery = Delivery::new(Arc::clone(&self.inbox));
+        network.open(&self.remote, delivery, lockstep).map(Some)
     }
 
     /// Running freely: values go out as soon as they are sent and are published as
     /// soon as they arrive.
-    pub(super) fn start_direct(self, stop: &Arc<AtomicBool>) -> Result<(), String> {
-        let mut outgoing = None;
-        if self.remote() {
-            let network = self.network()?;
-            outgoing = Some(Outgoing::start(network, &self.sending_to, stop, true)?);
-            if !self.receiving_from.is_empty() {
-                let sink = Sink::Deliver(Arc::clone(&self.inbox));
-                net::listen(network, self.receiving_from.clone(), sink, stop)?;
-            }
-        }
+    pub(super) fn start_direct(self) -> Result<(), String> {
+        let network = self.open(false)?;
         self.hub.set_route(Route::Direct {
             inbox: self.inbox,
-            network: outgoing,
+            network,
         });
         Ok(())
     }

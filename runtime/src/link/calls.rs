@@ -114,7 +114,7 @@ fn split_id(bytes: &[u8]) -> Result<(u64, &[u8]), String> {
 
 const ANSWERED: u8 = 0;
 
-fn error_code(e: CallError) -> u8 {
+pub(crate) fn error_code(e: CallError) -> u8 {
     match e {
         CallError::NotConnected => 1,
         CallError::Timeout => 2,

@@ -10,10 +10,11 @@
 //! The [`Hub`] routes frames. A link whose receiving end is in this process is
 //! delivered here: at once when running freely (`ferroc run` runs every part in one
 //! process), or at the next instant of model time in lockstep. Any other link goes to
-//! its part over the network ([`net`]).
+//! its part over the [`Network`](transport::Network) given at start.
 
 pub(crate) mod calls;
-pub mod net;
+pub(crate) mod fresh;
+pub mod transport;
 
 use crate::module::{DynOut, Timestamp, Wire};
 use std::collections::BTreeMap;
@@ -55,6 +56,12 @@ pub struct LinkSpec<'a> {
     pub model_type: &'a str,
     /// When values are sent.
     pub sharing: Sharing,
+    /// No value may be dropped on the way (`reliability="reliable"`, or a reader
+    /// queueing with `on-full="block"`); else a congested network may drop values.
+    pub reliable: bool,
+    /// `deadline=`: the longest silence the reader accepts. A longer gap between
+    /// values is reported, and the reader's input is stale while it lasts.
+    pub deadline: Option<Duration>,
 }
 
 /// One service call between parts (`<connect from="…/client" to="…/service"/>` across
@@ -67,6 +74,9 @@ pub struct CallSpec<'a> {
     pub client_part: &'a str,
     /// The part of the service.
     pub server_part: &'a str,
+    /// The service's module path and name (`station/ops/scale/scale`), which names
+    /// the call on the network.
+    pub service: &'a str,
 }
 
 /// One encoded value on its way.
@@ -127,6 +137,8 @@ pub(crate) struct Inbox {
     links: BTreeMap<u32, Receiving>,
     direct: BTreeMap<u32, Arc<dyn Receive>>,
     direct_failures: AtomicU64,
+    /// Frames for links this part does not receive (reported once, then counted).
+    unknown: AtomicU64,
 }
 
 pub(crate) struct Receiving {
@@ -135,16 +147,28 @@ pub(crate) struct Receiving {
     /// `robot/vision/detector/victims → station/…`, for reports.
     pub(crate) describe: String,
     failures: AtomicU64,
+    /// The writer's part.
+    pub(crate) from_part: String,
+    /// When values arrived, for the inputs it feeds.
+    pub(crate) fresh: Arc<fresh::Freshness>,
 }
 
 impl Receiving {
-    pub(crate) fn new(out: DynOut, wire: Wire, describe: String) -> Self {
+    pub(crate) fn new(out: DynOut, wire: Wire, describe: String, from_part: &str) -> Self {
         Receiving {
             out,
             wire,
             describe,
             failures: AtomicU64::new(0),
+            from_part: from_part.to_owned(),
+            fresh: Arc::default(),
         }
+    }
+
+    /// The link's deadline (`deadline=`): its inputs are stale after this much silence.
+    pub(crate) fn with_deadline(mut self, deadline: Option<Duration>) -> Self {
+        self.fresh = Arc::new(fresh::Freshness::with_deadline(deadline));
+        self
     }
 }
 
@@ -157,6 +181,14 @@ impl Inbox {
             links,
             direct,
             direct_failures: AtomicU64::new(0),
+            unknown: AtomicU64::new(0),
+        }
+    }
+
+    /// The part `part` is gone (`true`) or back: the links it writes are stale.
+    pub(crate) fn part_gone(&self, part: &str, gone: bool) {
+        for link in self.links.values().filter(|l| l.from_part == part) {
+            link.fresh.set_gone(gone);
         }
     }
 
@@ -179,14 +211,24 @@ impl Inbox {
             return;
         }
         let Some(link) = self.links.get(&frame.link) else {
-            crate::console::line(&format!(
-                "warning: a peer sent a value for link {}, which this part does not receive; \
-                 are both programs built from the same model?",
-                frame.link
-            ));
+            // Reported once: a peer built from another model would repeat it forever.
+            if self.unknown.fetch_add(1, Ordering::Relaxed) == 0 {
+                crate::console::line(&format!(
+                    "warning: a peer sent a value for link {}, which this part does not \
+                     receive; are both programs built from the same model? (further such \
+                     values are dropped silently)",
+                    frame.link
+                ));
+            }
             return;
         };
-        if let Err(why) = link.wire.decode(&link.out, &frame.bytes) {
+        let decoded = link.wire.decode(&link.out, &frame.bytes);
+        if decoded.is_ok() {
+            if let Some(missed) = link.fresh.arrived(Timestamp::now()) {
+                link.fresh.report_missed(&link.describe, missed);
+            }
+        }
+        if let Err(why) = decoded {
             if link.failures.fetch_add(1, Ordering::Relaxed) == 0 {
                 crate::console::line(&format!(
                     "warning: {}: a value could not be decoded ({why}); it is dropped",
@@ -207,7 +249,7 @@ pub(crate) enum Route {
     /// Running freely: deliver local links at once, send the others.
     Direct {
         inbox: Arc<Inbox>,
-        network: Option<net::Outgoing>,
+        network: Option<Box<dyn transport::Connection>>,
     },
     /// In lockstep: collect everything; the driver delivers at the next instant.
     Collect(Mutex<Vec<(Arc<str>, Frame)>>),
@@ -236,7 +278,7 @@ impl Hub {
         }
     }
 
-    /// Ends the network streams (after the containers stopped).
+    /// Closes the network (after the containers stopped).
     pub(crate) fn close(&self) {
         if let Some(Route::Direct {
             network: Some(network),
@@ -245,6 +287,16 @@ impl Hub {
         {
             network.close();
         }
+    }
+
+    /// The frames for parts this process does not hold, once `inbox` took its own.
+    pub(crate) fn split_local(
+        frames: Vec<(Arc<str>, Frame)>,
+        inbox: &Inbox,
+    ) -> (Vec<Frame>, Vec<(Arc<str>, Frame)>) {
+        let (local, remote): (Vec<_>, Vec<_>) =
+            frames.into_iter().partition(|(_, f)| inbox.has(f.link));
+        (local.into_iter().map(|(_, f)| f).collect(), remote)
     }
 
     /// In lockstep: the frames sent since the last call.

@@ -1,4 +1,3 @@
-use super::net::{read_message, write_message, Message};
 use super::*;
 
 fn at(ms: i64) -> Timestamp {
@@ -38,41 +37,6 @@ fn periodic_sends_the_latest_value_every_period() {
 }
 
 #[test]
-fn messages_round_trip_and_hostile_bytes_are_errors() {
-    let messages = [
-        Message::Hello("station".into()),
-        Message::Frame(Frame {
-            link: 7,
-            bytes: vec![1, 2, 3],
-        }),
-        Message::Tick(25_000_000),
-        Message::Bye,
-    ];
-    let mut bytes = Vec::new();
-    for m in &messages {
-        write_message(&mut bytes, m).unwrap();
-    }
-    let mut input = bytes.as_slice();
-    for m in &messages {
-        assert_eq!(read_message(&mut input).unwrap().as_ref(), Some(m));
-    }
-    assert_eq!(read_message(&mut input), Ok(None), "a clean end");
-    let hostile: [&[u8]; 5] = [
-        &[0, 0, 0, 0],                            // empty message
-        &[255, 255, 255, 255],                    // 4 GiB announced
-        &[2, 0, 0, 0, 9, 0],                      // unknown kind
-        &[3, 0, 0, 0, 3, 1, 2],                   // a tick of 2 bytes
-        &[5, 0, 0, 0, 1, 0xff, 0xfe, 0xfd, 0xfc], // a name that is not UTF-8
-    ];
-    for h in hostile {
-        let mut input = h;
-        assert!(read_message(&mut input).is_err(), "{h:?}");
-    }
-    let mut truncated: &[u8] = &[9, 0, 0, 0, 2, 1];
-    assert!(read_message(&mut truncated).is_err());
-}
-
-#[test]
 fn a_value_that_does_not_decode_is_dropped_not_published() {
     let table = crate::module::ValueTable::default();
     let f64_type = table.get("f64").unwrap();
@@ -83,7 +47,7 @@ fn a_value_that_does_not_decode_is_dropped_not_published() {
         .unwrap();
     let wire = *f64_type.wire().unwrap();
     let inbox = Inbox::new(
-        [(0, Receiving::new(out, wire, "test".into()))].into(),
+        [(0, Receiving::new(out, wire, "test".into(), "a"))].into(),
         Default::default(),
     );
     inbox.deliver(&Frame {
@@ -108,48 +72,10 @@ fn a_value_that_does_not_decode_is_dropped_not_published() {
 }
 
 mod properties {
-    use super::*;
     use proptest::prelude::*;
-
-    fn message() -> impl Strategy<Value = Message> {
-        prop_oneof![
-            "\\PC{0,40}".prop_map(Message::Hello),
-            (any::<u32>(), proptest::collection::vec(any::<u8>(), 0..300))
-                .prop_map(|(link, bytes)| Message::Frame(Frame { link, bytes })),
-            any::<u64>().prop_map(Message::Tick),
-            Just(Message::Bye),
-        ]
-    }
 
     proptest! {
         #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
-
-        /// Whatever bytes arrive, reading gives messages or an error, never a panic.
-        #[test]
-        fn any_bytes_read_without_panicking(bytes in proptest::collection::vec(any::<u8>(), 0..600)) {
-            let mut input = bytes.as_slice();
-            for _ in 0..64 {
-                match read_message(&mut input) {
-                    Ok(Some(_)) => {}
-                    Ok(None) | Err(_) => break,
-                }
-            }
-        }
-
-        /// What is written reads back the same.
-        #[test]
-        fn messages_round_trip(messages in proptest::collection::vec(message(), 0..8)) {
-            let mut bytes = Vec::new();
-            for m in &messages {
-                write_message(&mut bytes, m).unwrap();
-            }
-            let mut input = bytes.as_slice();
-            for m in &messages {
-                let got = read_message(&mut input).unwrap();
-                prop_assert_eq!(got.as_ref(), Some(m));
-            }
-            prop_assert_eq!(read_message(&mut input), Ok(None));
-        }
 
         /// Any bytes given to a link's receiving end are a value or a reported error.
         #[test]
@@ -162,4 +88,25 @@ mod properties {
             }
         }
     }
+}
+
+#[test]
+fn link_numbers_tell_data_requests_and_answers_apart() {
+    use super::transport::{call_number, LinkKind};
+    for kind in [
+        LinkKind::Data(0),
+        LinkKind::Data(7),
+        LinkKind::Request(0),
+        LinkKind::Answer(0),
+        LinkKind::Request(3),
+        LinkKind::Answer(3),
+    ] {
+        assert_eq!(LinkKind::of(kind.link()), kind);
+    }
+    assert_eq!(
+        LinkKind::of(calls::CALL_LINKS - 1),
+        LinkKind::Data(calls::CALL_LINKS - 1)
+    );
+    assert_eq!(call_number(&[5, 0, 0, 0, 0, 0, 0, 0, 9]), Some(5));
+    assert_eq!(call_number(&[5, 0, 0]), None, "shorter than a number");
 }

@@ -448,7 +448,7 @@ fn new_input<T: PortValue + Clone, S: ValueText<T>>(
 ) -> (DynIn, InputHandle) {
     let (port, handle) = <T::Kind as PortKind<T>>::input(name, queue);
     let port = TypedIn::<T, S> {
-        port: In::from_port(port),
+        port: In::from_port(port, handle.source()),
         _text: PhantomData,
     };
     (

@@ -320,9 +320,10 @@ impl<'s, 'a> InputDecl<'s, 'a> {
                 setup.activity_inputs.push(port.peek());
             }
         }
+        let source = handle.source();
         setup.inputs.push((info.name.clone(), handle));
         setup.record_port(info);
-        In::from_port(port)
+        In::from_port(port, source)
     }
 }
 

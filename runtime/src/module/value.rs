@@ -139,11 +139,35 @@ impl<T: Default + Send + Sync + 'static> PortKind<T> for PooledKind {
 /// settings of the model's connection.
 pub struct In<T: PortValue> {
     pub(crate) port: <T::Kind as PortKind<T>>::Input,
+    /// The freshness of the link from another part feeding it, if one does.
+    source: std::sync::Arc<crate::link::fresh::Source>,
 }
 
 impl<T: PortValue> In<T> {
-    pub(crate) fn from_port(port: <T::Kind as PortKind<T>>::Input) -> Self {
-        In { port }
+    pub(crate) fn from_port(
+        port: <T::Kind as PortKind<T>>::Input,
+        source: std::sync::Arc<crate::link::fresh::Source>,
+    ) -> Self {
+        In { port, source }
+    }
+
+    /// How long ago the latest value arrived over the link from another part feeding
+    /// this input (model time in lockstep). `None` when none arrived yet, or when no
+    /// link feeds it (inputs fed inside the part have no age).
+    pub fn age(&self) -> Option<Duration> {
+        let fresh = self.source.get()?;
+        fresh.age(super::Timestamp::now())
+    }
+
+    /// Whether this input is fed from another part and has nothing current: no value
+    /// arrived yet, the writer's part is gone, or the link's `deadline=` passed since the
+    /// latest value. Its value ([`get`](Self::get)) is then
+    /// the default or the last one that arrived, not news: do not take silence for
+    /// data. Always false for inputs fed inside the part.
+    pub fn is_stale(&self) -> bool {
+        self.source
+            .get()
+            .is_some_and(|f| f.is_stale(super::Timestamp::now()))
     }
 
     /// The latest value (the default value until something arrives).

@@ -35,6 +35,9 @@ pub struct InputHandle {
     value_type: &'static str,
     name: String,
     set_notifier: fn(&InputHandle, Notifier) -> Result<(), Notifier>,
+    /// The freshness of the link feeding the port, if one does (shared with the
+    /// module's `In`).
+    source: Arc<crate::link::fresh::Source>,
 }
 
 impl OutputHandle {
@@ -81,7 +84,13 @@ impl InputHandle {
             core: Box::new(core.clone()),
             value_type,
             set_notifier: set_notifier_erased::<I>,
+            source: Arc::default(),
         }
+    }
+
+    /// Where the link feeding this port (if any) keeps its freshness.
+    pub(crate) fn source(&self) -> Arc<crate::link::fresh::Source> {
+        Arc::clone(&self.source)
     }
 
     /// The Rust type of the values (for messages).

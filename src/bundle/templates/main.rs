@@ -11,6 +11,10 @@
 const PART: &str = {{ part|rust_str }};
 const PROGRAM: &str = {{ package|rust_str }};
 const ABOUT: &str = {{ about|rust_str }};
+{%- if linked %}
+/// The application: the first chunk of its Zenoh keys after `ferroc/`.
+const APPLICATION: &str = {{ application|rust_str }};
+{%- endif %}
 {{ links|safe -}}
 {%- if !module_constants.is_empty() %}
 
@@ -31,13 +35,22 @@ fn main() -> ExitCode {
     if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
         eprintln!("warning: Ctrl-C will not stop cleanly: {e}");
     }
-    let start = match args.start_options(PART, PARTS, PERIODS) {
-        Ok(start) => start,
+{%- if linked %}
+    // The other parts: over Zenoh, at the addresses of the model or the command line.
+    let mut start = args.start_options(PERIODS);
+    let network = args.addresses(PART, PARTS).and_then(|addresses| {
+        Zenoh::new(APPLICATION, addresses, args.zenoh_config.as_deref())
+    });
+    match network {
+        Ok(network) => start.network = Some(Arc::new(network)),
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(2);
         }
-    };
+    }
+{%- else %}
+    let start = args.start_options(PERIODS);
+{%- endif %}
     let registry = registry();
     let app = match build(&registry, start) {
         Ok(app) => app,

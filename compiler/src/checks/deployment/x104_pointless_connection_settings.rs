@@ -40,6 +40,7 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                 ("reliability", c.reliability),
                 ("min-interval", c.min_interval),
                 ("period", c.period),
+                ("deadline", c.deadline),
             ];
             for (name, span) in settings {
                 if let Some(span) = span {

@@ -162,6 +162,7 @@ pub(super) const CONNECT: ElementSpec = ElementSpec {
         opt("min-interval", Text),
         opt("period", Text),
         opt("reliability", Choice(&["reliable", "best-effort"])),
+        opt("deadline", Text),
     ],
     children: &["convert", "allow"],
     text: false,

@@ -1,0 +1,397 @@
+//! B4 across parts — latency between two part programs over Zenoh: 64-byte values
+//! through a ferroc link, next to a bare Zenoh publisher/subscriber pair in the same run.
+//!
+//! The writer is this process, the reader a child process (`ferroc-bench b4-parts-child`):
+//! two programs, two Zenoh sessions on 127.0.0.1, as a bundle runs them.
+//!
+//! * `ferroc`: a module in a continuous container of part `writer` publishes a value
+//!   every `--gap-us`, stamped with `CLOCK_MONOTONIC` (the same clock in both
+//!   processes) as the last thing before publishing; its link (reliable, not express:
+//!   the QoS ferroc gives a 64-byte library type) carries it to part `reader`, where a
+//!   data-triggered container's module computes `now - stamp` after reading it.
+//! * `zenoh`: a publisher with the same QoS puts the same 64 bytes every `--gap-us`; the
+//!   reader's subscriber callback computes `now - stamp`.
+//!
+//! The reader discards its first messages (session start, warm-up), records the next
+//! ones and prints them; the variants alternate in `--rounds` rounds so that a noisy
+//! moment of the machine hits both alike.
+
+use crate::b3::load_note;
+use crate::options::Options;
+use ferroc_runtime::builder::{
+    Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StartOptions, StepKind,
+    ThreadSpec,
+};
+use ferroc_runtime::container::ThreadOptions;
+use ferroc_runtime::link::transport::Addresses;
+use ferroc_runtime::link::{LinkSpec, Sharing};
+use ferroc_runtime::module::{In, Module, ModuleType, Out, Setup};
+use ferroc_runtime::port::{ConnectOptions, NoUninit};
+use ferroc_zenoh::Zenoh;
+use serde::{Deserialize, Serialize};
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+use zenoh::Wait;
+
+/// The argument that makes `ferroc-bench` the reader.
+pub const CHILD_ARG: &str = "b4-parts-child";
+const APP: &str = "b4";
+const KEY: &str = "bench/b4/bare";
+const WARM_UP: u64 = 500;
+const DEFAULT_MESSAGES: u64 = 100_000;
+const DEFAULT_GAP_US: u64 = 100;
+const DEFAULT_ROUNDS: u64 = 4;
+
+/// The 64-byte value: publish time (CLOCK_MONOTONIC ns), sequence number, payload.
+#[repr(C)]
+#[derive(Clone, Copy, Default, Debug, Serialize, Deserialize)]
+pub struct Msg {
+    stamp_ns: u64,
+    seq: u64,
+    payload: [u64; 6],
+}
+// SAFETY: `repr(C)`, eight `u64` in a row: no padding.
+unsafe impl NoUninit for Msg {}
+ferroc_runtime::port_value!(Msg, "bench.Msg", copy);
+
+/// `CLOCK_MONOTONIC` in nanoseconds: one clock for every process of the machine.
+fn mono_ns() -> u64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: writes one timespec.
+    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut t) };
+    t.tv_sec as u64 * 1_000_000_000 + t.tv_nsec as u64
+}
+
+/// Writes one value every `gap`, stamped just before publishing.
+struct Source {
+    out: Out<Msg>,
+    next: Option<Instant>,
+    seq: u64,
+}
+static GAP_NS: AtomicU64 = AtomicU64::new(100_000);
+impl Module for Source {
+    fn update(&mut self) {
+        let gap = Duration::from_nanos(GAP_NS.load(Ordering::Relaxed));
+        let next = *self.next.get_or_insert_with(Instant::now);
+        while Instant::now() < next {
+            std::hint::spin_loop();
+        }
+        self.next = Some(next + gap);
+        self.seq += 1;
+        let seq = self.seq;
+        self.out.publish_with(|m| {
+            m.seq = seq;
+            m.stamp_ns = mono_ns();
+        });
+    }
+}
+impl ModuleType for Source {
+    const NAME: &'static str = "bench.Source";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Source {
+            out: m.output("out").build(),
+            next: None,
+            seq: 0,
+        }
+    }
+}
+
+/// Records `now - stamp` of every value it reads.
+struct Sink {
+    input: In<Msg>,
+}
+static SEEN: Mutex<Vec<u64>> = Mutex::new(Vec::new());
+impl Module for Sink {
+    fn update(&mut self) {
+        if self.input.changed() {
+            let stamp = self.input.get().stamp_ns;
+            let latency = mono_ns().saturating_sub(stamp);
+            SEEN.lock().unwrap_or_else(|e| e.into_inner()).push(latency);
+        }
+    }
+}
+impl ModuleType for Sink {
+    const NAME: &'static str = "bench.Sink";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Sink {
+            input: m.input("in").build(),
+        }
+    }
+}
+
+const LINK: LinkSpec<'static> = LinkSpec {
+    id: 0,
+    from_part: "writer",
+    to_part: "reader",
+    model_type: "bench.Msg",
+    sharing: Sharing::OnChange {
+        min_interval: Duration::ZERO,
+    },
+    reliable: true,
+    deadline: None,
+};
+
+fn registry() -> Registry {
+    let mut r = Registry::new();
+    r.register::<Source>().register::<Sink>();
+    r.register_serde::<Msg>();
+    r
+}
+
+fn addresses(part: &str, writer: &str, reader: &str) -> Addresses {
+    Addresses {
+        part: part.into(),
+        listen: if part == "writer" { writer } else { reader }.into(),
+        peers: [
+            ("writer".into(), writer.into()),
+            ("reader".into(), reader.into()),
+        ]
+        .into(),
+    }
+}
+
+/// One part of the ferroc variant, running freely.
+fn part(registry: &Registry, part: &str, writer: &str, reader: &str) -> Result<RunningApp, String> {
+    let mut b = Builder::new(registry);
+    let (path, type_name, schedule) = match part {
+        "writer" => ("writer/source", "bench.Source", Schedule::Continuous),
+        _ => ("reader/sink", "bench.Sink", Schedule::Data),
+    };
+    let spec = ModuleSpec {
+        path,
+        type_name,
+        params: &[],
+        queues: &[],
+        ports: &[],
+        violations: Default::default(),
+    };
+    b.add_module(spec).map_err(|e| e.to_string())?;
+    b.add_thread(ThreadSpec {
+        path: part.into(),
+        schedule,
+        options: ThreadOptions::default(),
+        steps: vec![(path.into(), StepKind::Update)],
+    })
+    .map_err(|e| e.to_string())?;
+    if part == "writer" {
+        b.link_out(&LINK, (path, "out"), Conversion::default())
+    } else {
+        b.link_in(&LINK, (path, "in"), ConnectOptions::default())
+    }
+    .map_err(|e| e.to_string())?;
+    let network = Zenoh::new(APP, addresses(part, writer, reader), None)?;
+    let options = StartOptions {
+        network: Some(Arc::new(network)),
+        ..StartOptions::default()
+    };
+    b.start_with(options).map_err(|e| e.to_string())
+}
+
+/// A bare Zenoh session of `part` (peer mode, explicit endpoints, no scouting).
+fn session(part: &str, writer: &str, reader: &str) -> Result<zenoh::Session, String> {
+    let config = ferroc_zenoh::config::config(&addresses(part, writer, reader), None)?;
+    zenoh::open(config).wait().map_err(|e| e.to_string())
+}
+
+/// The reader: `b4-parts-child VARIANT WRITER READER N` prints N latencies (ns), one
+/// a line, after the warm-up.
+pub fn child(args: &[String]) -> u8 {
+    let [variant, writer, reader, n] = args else {
+        eprintln!("usage: {CHILD_ARG} ferroc|zenoh WRITER READER N");
+        return 2;
+    };
+    let Ok(n) = n.parse::<u64>() else {
+        eprintln!("{CHILD_ARG}: N must be a number");
+        return 2;
+    };
+    let wanted = (WARM_UP + n) as usize;
+    let registry = registry();
+    let mut keep: Vec<Box<dyn std::any::Any>> = Vec::new();
+    let started = match variant.as_str() {
+        "ferroc" => part(&registry, "reader", writer, reader).map(|app| keep.push(Box::new(app))),
+        _ => session("reader", writer, reader).and_then(|s| {
+            let sub = s
+                .declare_subscriber(KEY)
+                .callback(|sample| {
+                    let bytes = sample.payload().to_bytes();
+                    if let Some(stamp) = bytes.first_chunk::<8>() {
+                        let latency = mono_ns().saturating_sub(u64::from_le_bytes(*stamp));
+                        SEEN.lock().unwrap_or_else(|e| e.into_inner()).push(latency);
+                    }
+                })
+                .wait()
+                .map_err(|e| e.to_string())?;
+            keep.push(Box::new(sub));
+            keep.push(Box::new(s));
+            Ok(())
+        }),
+    };
+    if let Err(e) = started {
+        eprintln!("{CHILD_ARG}: {e}");
+        return 1;
+    }
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while SEEN.lock().unwrap_or_else(|e| e.into_inner()).len() < wanted {
+        if Instant::now() > deadline {
+            eprintln!("{CHILD_ARG}: too few values arrived");
+            return 1;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let seen = std::mem::take(&mut *SEEN.lock().unwrap_or_else(|e| e.into_inner()));
+    let mut out = String::new();
+    for l in &seen[WARM_UP as usize..wanted] {
+        out.push_str(&format!("{l}\n"));
+    }
+    print!("{out}");
+    drop(keep);
+    0
+}
+
+fn free_address() -> Result<String, String> {
+    let l = std::net::TcpListener::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    Ok(l.local_addr().map_err(|e| e.to_string())?.to_string())
+}
+
+/// One variant once: the reader as a child, the writer here until the child is done.
+fn once(variant: &str, n: u64, gap: Duration) -> Result<Vec<u64>, String> {
+    let (writer, reader) = (free_address()?, free_address()?);
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let mut child = Command::new(exe)
+        .args([CHILD_ARG, variant, &writer, &reader, &n.to_string()])
+        .stdout(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("cannot start the reader: {e}"))?;
+    let registry = registry();
+    GAP_NS.store(gap.as_nanos() as u64, Ordering::Relaxed);
+    let mut app = None;
+    let mut bare = None;
+    match variant {
+        "ferroc" => app = Some(part(&registry, "writer", &writer, &reader)?),
+        _ => {
+            let s = session("writer", &writer, &reader)?;
+            let p = s
+                .declare_publisher(KEY)
+                .congestion_control(zenoh::qos::CongestionControl::Block)
+                .wait()
+                .map_err(|e| e.to_string())?;
+            bare = Some((s, p));
+        }
+    }
+    let stdout = child.stdout.take().ok_or("no output of the reader")?;
+    let reading = std::thread::spawn(move || {
+        BufReader::new(stdout)
+            .lines()
+            .map_while(Result::ok)
+            .filter_map(|l| l.parse::<u64>().ok())
+            .collect::<Vec<u64>>()
+    });
+    let mut next = Instant::now();
+    let mut seq = 0u64;
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while child.try_wait().map_err(|e| e.to_string())?.is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            return Err("the reader did not finish".into());
+        }
+        match &bare {
+            Some((_, publisher)) => {
+                while Instant::now() < next {
+                    std::hint::spin_loop();
+                }
+                next += gap;
+                seq += 1;
+                let mut bytes = [0u8; 64];
+                bytes[8..16].copy_from_slice(&seq.to_le_bytes());
+                bytes[..8].copy_from_slice(&mono_ns().to_le_bytes());
+                publisher
+                    .put(bytes.to_vec())
+                    .wait()
+                    .map_err(|e| e.to_string())?;
+            }
+            None => std::thread::sleep(Duration::from_millis(5)),
+        }
+    }
+    drop(app);
+    drop(bare);
+    let status = child.wait().map_err(|e| e.to_string())?;
+    let samples = reading.join().map_err(|_| "reading the reader failed")?;
+    if !status.success() || samples.len() as u64 != n {
+        return Err(format!(
+            "the reader failed ({status}, {} values)",
+            samples.len()
+        ));
+    }
+    Ok(samples)
+}
+
+/// p50, p99, max (nearest rank) in microseconds.
+fn percentiles(mut v: Vec<u64>) -> (f64, f64, f64) {
+    v.sort_unstable();
+    let rank = |p: f64| v[((p * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1];
+    let us = |ns: u64| ns as f64 / 1000.0;
+    (us(rank(0.5)), us(rank(0.99)), us(v[v.len() - 1]))
+}
+
+/// Runs B4 across parts and prints its lines. Returns the process exit code.
+pub fn run(args: &[String]) -> u8 {
+    let parsed =
+        Options::parse("b4-parts", args, &["messages", "gap-us", "rounds"], &[]).and_then(|o| {
+            Ok((
+                o.number("messages", DEFAULT_MESSAGES, 1, 100_000_000)?,
+                o.number("gap-us", DEFAULT_GAP_US, 1, 1_000_000)?,
+                o.number("rounds", DEFAULT_ROUNDS, 1, 1000)?,
+            ))
+        });
+    let (messages, gap_us, rounds) = match parsed {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("{e}");
+            return 2;
+        }
+    };
+    if cfg!(debug_assertions) {
+        println!("b4-parts: warning: not a release build; figures are meaningless");
+    }
+    let per_round = messages.div_ceil(rounds.min(messages));
+    println!(
+        "b4-parts: {} values of 64 bytes per variant between two programs over Zenoh on \
+         127.0.0.1 ({rounds} rounds, +{WARM_UP} warm-up each), one every {gap_us} µs; {}",
+        per_round * rounds,
+        load_note()
+    );
+    let gap = Duration::from_micros(gap_us);
+    let variants = ["ferroc", "zenoh"];
+    let mut samples: [Vec<u64>; 2] = [Vec::new(), Vec::new()];
+    for round in 0..rounds as usize {
+        for k in 0..2 {
+            let i = (round + k) % 2;
+            match once(variants[i], per_round, gap) {
+                Ok(mut s) => samples[i].append(&mut s),
+                Err(e) => {
+                    eprintln!("b4-parts: {}: {e}", variants[i]);
+                    return 1;
+                }
+            }
+        }
+    }
+    let [ferroc, bare] = samples;
+    let n = ferroc.len();
+    let (f50, f99, fmax) = percentiles(ferroc);
+    let (z50, z99, zmax) = percentiles(bare);
+    println!("b4-parts ferroc link   p50 {f50:8.2}  p99 {f99:8.2}  max {fmax:9.2} µs  n={n}");
+    println!("b4-parts bare Zenoh    p50 {z50:8.2}  p99 {z99:8.2}  max {zmax:9.2} µs");
+    let ratio = f50 / z50;
+    println!(
+        "RESULT b4-parts p50_us={f50:.2} p99_us={f99:.2} max_us={fmax:.2} messages={n} \
+         scope=parts zenoh_p50_us={z50:.2} zenoh_p99_us={z99:.2} zenoh_max_us={zmax:.2} \
+         ratio_p50_vs_zenoh={ratio:.2} gap_us={gap_us}"
+    );
+    0
+}

@@ -1,0 +1,207 @@
+//! The programs of a bundle over Zenoh when a peer dies (`kill -9`), on 127.0.0.1:
+//! running freely the other program keeps running, reports the loss and the recovery
+//! when the killed program is started again; in lockstep the other program ends with
+//! a clear message and a non-zero exit, never a hang and never "cycle limit reached".
+//! The model is `tests/fixtures/calls_between_parts.xml` (`asker` calls `server`).
+
+mod common;
+
+use common::{build_bundle, bundle_ok, tempdir};
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+fn free_address() -> String {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    listener.local_addr().unwrap().to_string()
+}
+
+/// The built bundle of the fixture (its binaries' folder).
+fn programs(name: &str) -> PathBuf {
+    let dir = tempdir(name);
+    let model =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/calls_between_parts.xml");
+    bundle_ok(&model, &dir.join("bundle"));
+    build_bundle(&dir.join("bundle")).join("debug")
+}
+
+/// A started program and the lines of its standard error so far.
+struct Program {
+    child: Child,
+    stderr: Arc<Mutex<Vec<String>>>,
+}
+
+impl Program {
+    fn start(bin: &Path, part: &str, addresses: &[(&str, &str)], args: &[&str]) -> Program {
+        let mut command = Command::new(bin.join(format!("remote_calls-{part}")));
+        command.args(args).arg("-q");
+        for (peer, address) in addresses {
+            command.args(["--peer", &format!("{peer}={address}")]);
+            if peer == &part {
+                command.args(["--listen", address]);
+            }
+        }
+        let mut child = command
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let stderr = Arc::new(Mutex::new(Vec::new()));
+        let lines = Arc::clone(&stderr);
+        let pipe = child.stderr.take().unwrap();
+        std::thread::spawn(move || {
+            for line in BufReader::new(pipe).lines().map_while(Result::ok) {
+                lines.lock().unwrap().push(line);
+            }
+        });
+        Program { child, stderr }
+    }
+
+    fn said(&self, text: &str) -> bool {
+        self.stderr.lock().unwrap().iter().any(|l| l.contains(text))
+    }
+
+    fn wait_for(&self, text: &str, limit: Duration) -> bool {
+        let start = Instant::now();
+        while start.elapsed() < limit {
+            if self.said(text) {
+                return true;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        false
+    }
+
+    fn log(&self) -> String {
+        self.stderr.lock().unwrap().join("\n")
+    }
+}
+
+impl Drop for Program {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[test]
+fn running_freely_a_killed_peer_is_reported_and_so_is_its_return() {
+    let bin = programs("bundle_zenoh_free");
+    let (a, s) = (free_address(), free_address());
+    let addresses = [("asker", a.as_str()), ("server", s.as_str())];
+    let args = ["--for", "10min"];
+    let asker = Program::start(&bin, "asker", &addresses, &args);
+    let mut server = Program::start(&bin, "server", &addresses, &args);
+    // The asker learns of the server through its liveliness token; then kill -9.
+    std::thread::sleep(Duration::from_secs(2));
+    server.child.kill().unwrap();
+    let _ = server.child.wait();
+    let limit = Duration::from_secs(30);
+    assert!(
+        asker.wait_for("link server → asker: part server gone", limit),
+        "{}",
+        asker.log()
+    );
+    let _server = Program::start(&bin, "server", &addresses, &args);
+    assert!(
+        asker.wait_for("link server → asker: part server is back after", limit),
+        "{}",
+        asker.log()
+    );
+    drop(server);
+    let mut asker = asker;
+    assert!(
+        asker.child.try_wait().unwrap().is_none(),
+        "the asker keeps running"
+    );
+}
+
+#[test]
+fn in_lockstep_a_killed_peer_ends_the_other_program_with_an_error() {
+    let bin = programs("bundle_zenoh_lockstep");
+    let (a, s) = (free_address(), free_address());
+    let addresses = [("asker", a.as_str()), ("server", s.as_str())];
+    let args = ["--lockstep", "--cycles", "100000000"];
+    let mut asker = Program::start(&bin, "asker", &addresses, &args);
+    let mut server = Program::start(&bin, "server", &addresses, &args);
+    std::thread::sleep(Duration::from_secs(2));
+    assert!(asker.child.try_wait().unwrap().is_none(), "{}", asker.log());
+    server.child.kill().unwrap();
+    let _ = server.child.wait();
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = asker.child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "the asker hangs:\n{}",
+            asker.log()
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    std::thread::sleep(Duration::from_millis(100)); // the last lines of its stderr
+    let log = asker.log();
+    assert_eq!(status.code(), Some(1), "{log}");
+    assert!(
+        log.contains("lockstep stopped: the part `server` is gone"),
+        "{log}"
+    );
+    assert!(log.contains("stopped (failed)"), "{log}");
+    assert!(!log.contains("cycle limit reached"), "{log}");
+}
+
+/// `models/rescue_robot.xml` (with its fragments and config files) in `dir`, its
+/// manifests named by absolute path and its log files inside `dir`.
+fn rescue_model(dir: &Path) -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let copy = |from: &Path, to: &Path| {
+        let text = std::fs::read_to_string(from).unwrap();
+        let components = format!("manifest=\"{}/", root.join("components").display());
+        let text = text
+            .replace("manifest=\"../components/", &components)
+            .replace("/var/", &format!("{}/var/", dir.display()));
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::write(to, text).unwrap();
+    };
+    for folder in ["fragments", "etc"] {
+        for file in std::fs::read_dir(root.join("models").join(folder)).unwrap() {
+            let path = file.unwrap().path();
+            copy(&path, &dir.join(folder).join(path.file_name().unwrap()));
+        }
+    }
+    let model = dir.join("rescue_robot.xml");
+    copy(&root.join("models/rescue_robot.xml"), &model);
+    model
+}
+
+#[test]
+fn a_station_without_its_robot_says_so_instead_of_printing_zeros() {
+    let dir = tempdir("bundle_zenoh_station");
+    bundle_ok(&rescue_model(&dir), &dir.join("bundle"));
+    let bin = build_bundle(&dir.join("bundle")).join("debug");
+    let (robot, station) = (free_address(), free_address());
+    let out = Command::new(bin.join("rescue_robot-station"))
+        .args(["-q", "--for", "2500ms", "--listen", &station])
+        .args(["--peer", &format!("robot={robot}")])
+        .args(["--peer", &format!("station={station}")])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let status: Vec<&str> = stdout.lines().filter(|l| l.contains(" t=")).collect();
+    assert!(!status.is_empty(), "{stdout}");
+    for line in status {
+        assert!(line.contains("no data from the robot yet"), "{line}");
+        assert!(
+            !line.contains("battery"),
+            "no made-up battery value: {line}"
+        );
+    }
+}

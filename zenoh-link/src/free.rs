@@ -1,0 +1,388 @@
+//! Running freely: each value goes out as soon as its link sends it.
+//!
+//! - A link this part sends has a publisher on its key (`ferroc/APP/data/…`); the link
+//!   number travels as the sample's attachment (4 bytes, little-endian), since several
+//!   links may leave one output.
+//! - For every part it receives from, one subscriber on `ferroc/APP/data/PART/**`
+//!   hands the samples of the links it receives to the runtime.
+//! - A service called across parts is a queryable on `ferroc/APP/service/…`; a call is
+//!   a `get` with a timeout. A call to a part that is gone (no queryable) or that does
+//!   not answer in time gets an error value at once, never a hang.
+
+use crate::alive::{Change, Watch};
+use crate::keys::{encoding, Keys};
+use ferroc_runtime::console;
+use ferroc_runtime::link::transport::{
+    call_number, Connection, Delivery, LinkKind, PartLinks, Sending,
+};
+use ferroc_runtime::link::Frame;
+use std::collections::{BTreeMap, HashMap};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+use zenoh::key_expr::OwnedKeyExpr;
+use zenoh::pubsub::{Publisher, Subscriber};
+use zenoh::qos::CongestionControl;
+use zenoh::query::{Query, Queryable};
+use zenoh::{Session, Wait};
+
+/// How long a call waits for its answer on the network before it fails (a client's
+/// own timeout, when shorter, ends the call first).
+pub const CALL_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// The open network of a part running freely.
+pub(crate) struct Free {
+    session: Session,
+    delivery: Delivery,
+    data: BTreeMap<u32, Publisher<'static>>,
+    calls_out: BTreeMap<u32, OwnedKeyExpr>,
+    /// Queries waiting for the service's answer, by call and request number.
+    waiting: Arc<Mutex<HashMap<(u32, u64), Query>>>,
+    _subscribers: Vec<Subscriber<()>>,
+    _queryables: Vec<Queryable<()>>,
+    watch: Watch,
+    failures: AtomicU64,
+    closed: AtomicBool,
+}
+
+pub(crate) fn open(
+    session: &Session,
+    keys: &Keys,
+    part: &str,
+    links: &PartLinks,
+    delivery: Delivery,
+) -> Result<Free, String> {
+    let mut data = BTreeMap::new();
+    for (id, s) in &links.sending {
+        let qos = Qos::of(s);
+        let publisher = session
+            .declare_publisher(keys.data(part, &s.topic)?)
+            .encoding(encoding(&s.model_type))
+            .congestion_control(qos.congestion)
+            .express(qos.express)
+            .wait()
+            .map_err(|e| format!("cannot publish the link {id}: {e}"))?;
+        data.insert(*id, publisher);
+    }
+    let mut subscribers = Vec::new();
+    let mut from: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
+    for (id, writer) in &links.receiving {
+        from.entry(writer.as_str()).or_default().push(*id);
+    }
+    for (writer, ids) in from {
+        let (delivery, writer_part) = (delivery.clone(), writer.to_owned());
+        let subscriber = session
+            .declare_subscriber(keys.data_of(writer)?)
+            .callback(move |sample| {
+                let link = sample.attachment().and_then(|a| {
+                    a.to_bytes()
+                        .first_chunk::<4>()
+                        .map(|b| u32::from_le_bytes(*b))
+                });
+                // Links of this writer that go to other parts share its keys: not ours.
+                if let Some(link) = link.filter(|l| ids.contains(l)) {
+                    let bytes = sample.payload().to_bytes().into_owned();
+                    delivery.deliver(&Frame { link, bytes });
+                }
+            })
+            .wait()
+            .map_err(|e| format!("cannot receive from the part `{writer_part}`: {e}"))?;
+        subscribers.push(subscriber);
+    }
+    let waiting: Arc<Mutex<HashMap<(u32, u64), Query>>> = Arc::default();
+    let mut queryables = Vec::new();
+    let mut services: BTreeMap<String, Vec<u32>> = BTreeMap::new();
+    for (id, call) in &links.calls_in {
+        let key = keys.service(part, &call.service)?;
+        services.entry(key.to_string()).or_default().push(*id);
+    }
+    for (key, ids) in services {
+        let (delivery, waiting) = (delivery.clone(), Arc::clone(&waiting));
+        let queryable = session
+            .declare_queryable(key.clone())
+            .callback(move |query| serve(query, &ids, &waiting, &delivery))
+            .wait()
+            .map_err(|e| format!("cannot serve `{key}`: {e}"))?;
+        queryables.push(queryable);
+    }
+    let mut calls_out = BTreeMap::new();
+    for (id, call) in &links.calls_out {
+        calls_out.insert(*id, keys.service(&call.server_part, &call.service)?);
+    }
+    let watch = Watch::start(session, keys, part, report(links, delivery.clone()))?;
+    Ok(Free {
+        session: session.clone(),
+        delivery,
+        data,
+        calls_out,
+        waiting,
+        _subscribers: subscribers,
+        _queryables: queryables,
+        watch,
+        failures: AtomicU64::new(0),
+        closed: AtomicBool::new(false),
+    })
+}
+
+/// Reports parts that go and come back, naming the links they feed into this part,
+/// and marks the inputs those links feed stale while their writer is gone.
+fn report(
+    links: &PartLinks,
+    delivery: Delivery,
+) -> impl Fn(&Change, Option<Duration>) + Send + Sync + 'static {
+    let me = links.part.clone();
+    // Per part: the links it feeds into this one, the calls this one makes to it.
+    let mut feeds: BTreeMap<String, (usize, usize)> = BTreeMap::new();
+    for writer in links.receiving.values() {
+        feeds.entry(writer.clone()).or_default().0 += 1;
+    }
+    for call in links.calls_out.values() {
+        feeds.entry(call.server_part.clone()).or_default().1 += 1;
+    }
+    move |change, back_after| match change {
+        Change::Went(part) => {
+            let Some((data, calls)) = feeds.get(part) else {
+                return;
+            };
+            delivery.part_gone(part, true);
+            let mut what = Vec::new();
+            if *data > 0 {
+                what.push(format!("{data} link(s) into {me} are stale"));
+            }
+            if *calls > 0 {
+                what.push(format!("{calls} call(s) to it fail"));
+            }
+            console::note(&format!(
+                "warning: link {part} → {me}: part {part} gone; {}",
+                what.join(", ")
+            ));
+        }
+        Change::Came(part) if feeds.contains_key(part) => {
+            delivery.part_gone(part, false);
+            if let Some(after) = back_after {
+                console::note(&format!(
+                    "link {part} → {me}: part {part} is back after {:.1} s; its links resume",
+                    after.as_secs_f64()
+                ));
+            }
+        }
+        Change::Came(_) => {}
+    }
+}
+
+/// A request for one of the calls `ids` arrived: keep the query for the answer and
+/// hand the request to the stand-in client.
+fn serve(
+    query: Query,
+    ids: &[u32],
+    waiting: &Mutex<HashMap<(u32, u64), Query>>,
+    delivery: &Delivery,
+) {
+    let call = query.attachment().and_then(|a| {
+        a.to_bytes()
+            .first_chunk::<4>()
+            .map(|b| u32::from_le_bytes(*b))
+    });
+    let Some(call) = call.filter(|c| ids.contains(c)) else {
+        return; // not a ferroc call of this part: no answer
+    };
+    let Some(bytes) = query.payload().map(|p| p.to_bytes().into_owned()) else {
+        return;
+    };
+    let Some(number) = call_number(&bytes) else {
+        return;
+    };
+    lock(waiting).insert((call, number), query);
+    delivery.deliver(&Frame {
+        link: LinkKind::Request(call).link(),
+        bytes,
+    });
+}
+
+/// One call on its way: answers the client with an error if the query ends unanswered.
+struct Pending {
+    delivery: Delivery,
+    call: u32,
+    number: u64,
+    answered: AtomicBool,
+    asked: Instant,
+}
+
+impl Drop for Pending {
+    fn drop(&mut self) {
+        if !self.answered.load(Ordering::Relaxed) {
+            let timed_out = self.asked.elapsed() >= CALL_TIMEOUT;
+            self.delivery.call_failed(self.call, self.number, timed_out);
+        }
+    }
+}
+
+impl Free {
+    fn call(&self, call: u32, frame: Frame) {
+        let (Some(key), Some(number)) = (self.calls_out.get(&call), call_number(&frame.bytes))
+        else {
+            return;
+        };
+        let pending = Pending {
+            delivery: self.delivery.clone(),
+            call,
+            number,
+            answered: AtomicBool::new(false),
+            asked: Instant::now(),
+        };
+        let sent = self
+            .session
+            .get(key.clone())
+            .payload(frame.bytes)
+            .attachment(call.to_le_bytes().to_vec())
+            .timeout(CALL_TIMEOUT)
+            .callback(move |reply| {
+                if let Ok(sample) = reply.result() {
+                    if !pending.answered.swap(true, Ordering::Relaxed) {
+                        let bytes = sample.payload().to_bytes().into_owned();
+                        let link = LinkKind::Answer(pending.call).link();
+                        pending.delivery.deliver(&Frame { link, bytes });
+                    }
+                }
+            })
+            .wait();
+        if let Err(e) = sent {
+            self.failed(&format!("a call could not be sent: {e}"));
+        }
+    }
+
+    fn answer(&self, call: u32, frame: Frame) {
+        let Some(number) = call_number(&frame.bytes) else {
+            return;
+        };
+        let Some(query) = lock(&self.waiting).remove(&(call, number)) else {
+            return; // the client gave up, or its part is gone
+        };
+        let key = query.key_expr().clone();
+        if let Err(e) = query.reply(key, frame.bytes).wait() {
+            self.failed(&format!("an answer could not be sent: {e}"));
+        }
+    }
+
+    fn failed(&self, what: &str) {
+        if self.failures.fetch_add(1, Ordering::Relaxed) == 0
+            && !self.closed.load(Ordering::Relaxed)
+        {
+            console::note(&format!("warning: {what} (further failures are counted)"));
+        }
+    }
+}
+
+impl Connection for Free {
+    fn send(&self, _to_part: &str, frame: Frame) {
+        match LinkKind::of(frame.link) {
+            LinkKind::Data(id) => {
+                if let Some(publisher) = self.data.get(&id) {
+                    let put = publisher
+                        .put(frame.bytes)
+                        .attachment(id.to_le_bytes().to_vec())
+                        .wait();
+                    if let Err(e) = put {
+                        self.failed(&format!("a value of link {id} could not be sent: {e}"));
+                    }
+                }
+            }
+            LinkKind::Request(call) => self.call(call, frame),
+            LinkKind::Answer(call) => self.answer(call, frame),
+        }
+    }
+
+    fn end_instant(
+        &self,
+        _nanos: u64,
+        _frames: Vec<(Arc<str>, Frame)>,
+        _stop: &AtomicBool,
+    ) -> Result<(), String> {
+        Err("this part's network was opened to run freely, not in lockstep".into())
+    }
+
+    fn wait_instant(&self, _nanos: u64, _stop: &AtomicBool) -> Result<Vec<Frame>, String> {
+        Err("this part's network was opened to run freely, not in lockstep".into())
+    }
+
+    fn close(&self) {
+        if self.closed.swap(true, Ordering::Relaxed) {
+            return;
+        }
+        self.watch.withdraw();
+        lock(&self.waiting).clear();
+        let _ = self.session.close().wait();
+    }
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The Zenoh QoS of a link (the table in docs/zenoh.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Qos {
+    /// *block* for links that must not drop values, *drop* for the others.
+    pub congestion: CongestionControl,
+    /// Sent at once, without waiting to be batched: values of the built-in scalar types
+    /// (a few bytes each), whose worth is being current.
+    pub express: bool,
+}
+
+impl Qos {
+    /// The QoS of the link `sending`.
+    pub fn of(sending: &Sending) -> Qos {
+        const SMALL: &[&str] = &[
+            "f64",
+            "f32",
+            "i8",
+            "i16",
+            "i32",
+            "i64",
+            "u8",
+            "u16",
+            "u32",
+            "u64",
+            "bool",
+            "Stimulation",
+            "Inhibition",
+            "Activity",
+            "TargetRating",
+        ];
+        Qos {
+            congestion: if sending.reliable {
+                CongestionControl::Block
+            } else {
+                CongestionControl::Drop
+            },
+            express: SMALL.contains(&sending.model_type.as_str()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ferroc_runtime::link::Sharing;
+
+    fn sending(model_type: &str, reliable: bool) -> Sending {
+        Sending {
+            to_part: "station".into(),
+            topic: "robot/x/out".into(),
+            model_type: model_type.into(),
+            sharing: Sharing::default(),
+            reliable,
+        }
+    }
+
+    #[test]
+    fn reliable_links_block_others_drop_and_small_values_go_express() {
+        let victims = Qos::of(&sending("rescue.VictimList", true));
+        assert_eq!(victims.congestion, CongestionControl::Block);
+        assert!(!victims.express, "a list is not small");
+        let pose = Qos::of(&sending("f64", false));
+        assert_eq!(pose.congestion, CongestionControl::Drop);
+        assert!(pose.express);
+        assert!(!Qos::of(&sending("Vec<f64>", false)).express);
+    }
+}

@@ -1,0 +1,107 @@
+//! ferroc's links between parts over Eclipse Zenoh.
+//!
+//! A generated program whose part is linked to others gives the runtime a [`Zenoh`]
+//! network (`StartOptions::network`). When the part starts, it opens one Zenoh session
+//! (peer mode, the model's addresses as explicit endpoints, multicast scouting off:
+//! [`config`]) and declares what its links need on the documented keys ([`keys`],
+//! docs/zenoh.md):
+//!
+//! - running freely, a publisher per link it sends, a subscriber per part it receives
+//!   from, a queryable per service it serves across parts and a `get` per call it
+//!   makes ([`free`]);
+//! - in lockstep, one message per instant for every part it sends to, carrying the
+//!   frames of that instant ([`lockstep`]);
+//! - always, a liveliness token, and a liveliness subscriber that notices parts that
+//!   come and go ([`alive`]).
+//!
+//! The crate uses Zenoh's synchronous API (`.wait()`) from the runtime's threads; the
+//! runtime itself depends on neither Zenoh nor tokio.
+
+pub mod alive;
+pub mod config;
+pub mod free;
+pub mod keys;
+pub mod lockstep;
+
+use ferroc_runtime::link::transport::{Addresses, Connection, Delivery, Network, PartLinks};
+use std::path::Path;
+use zenoh::Wait;
+
+pub use keys::Keys;
+
+/// The Zenoh network of one part: its keys and its session's configuration.
+pub struct Zenoh {
+    keys: Keys,
+    addresses: Addresses,
+    config: zenoh::Config,
+}
+
+impl Zenoh {
+    /// The network of the part `addresses.part` of the application `application`,
+    /// configured from `config_file` (Zenoh's JSON5, `--zenoh-config`) if given. An
+    /// error names the option to change.
+    pub fn new(
+        application: &str,
+        addresses: Addresses,
+        config_file: Option<&Path>,
+    ) -> Result<Zenoh, String> {
+        let keys = Keys::new(application)?;
+        keys.alive(&addresses.part)?;
+        let config = config::config(&addresses, config_file)?;
+        Ok(Zenoh {
+            keys,
+            addresses,
+            config,
+        })
+    }
+
+    /// The keys of the application.
+    pub fn keys(&self) -> &Keys {
+        &self.keys
+    }
+
+    /// Opens this part's session: a listening address in use is an error that names
+    /// `--listen`.
+    fn session(&self) -> Result<zenoh::Session, String> {
+        zenoh::open(self.config.clone()).wait().map_err(|e| {
+            let part = &self.addresses.part;
+            let listen = &self.addresses.listen;
+            let text = e.to_string();
+            if text.contains("in use") || text.contains("Can not create a new") {
+                format!(
+                    "the part `{part}` cannot listen on {listen} ({text}); choose another \
+                     address with --listen ADDR and tell the other parts with \
+                     --peer {part}=HOST:PORT"
+                )
+            } else {
+                format!("the part `{part}` cannot open its Zenoh session: {text}")
+            }
+        })
+    }
+}
+
+impl Network for Zenoh {
+    fn open(
+        &self,
+        links: &PartLinks,
+        delivery: Delivery,
+        lockstep: bool,
+    ) -> Result<Box<dyn Connection>, String> {
+        let session = self.session()?;
+        let part = self.addresses.part.clone();
+        let mut links = links.clone();
+        links.part = part.clone();
+        let links = &links;
+        let opened = if lockstep {
+            lockstep::open(&session, &self.keys, &part, links)
+                .map(|l| Box::new(l) as Box<dyn Connection>)
+        } else {
+            free::open(&session, &self.keys, &part, links, delivery)
+                .map(|l| Box::new(l) as Box<dyn Connection>)
+        };
+        if opened.is_err() {
+            let _ = session.close().wait();
+        }
+        opened
+    }
+}
