@@ -440,7 +440,14 @@ fn imports(out: &mut Code, uses: Uses) {
 /// The other constants of a generated `main.rs`: a module constant of one of these
 /// names would be defined twice, and the bundle would not compile.
 fn reserved(name: &str) -> bool {
-    const FIXED: &[&str] = &["PART", "PROGRAM", "ABOUT", "APPLICATION", "PARTS", "PERIODS"];
+    const FIXED: &[&str] = &[
+        "PART",
+        "PROGRAM",
+        "ABOUT",
+        "APPLICATION",
+        "PARTS",
+        "PERIODS",
+    ];
     // `LINK_n` (links.rs) and `CALL_n` (service calls between parts).
     let numbered = |prefix: &str| {
         name.strip_prefix(prefix)

@@ -131,14 +131,14 @@ impl RunningApp {
             .spawn(move || {
                 crate::container::stopping::watch(Arc::clone(&stop));
                 match driver(&stop) {
-                Ok(Some(why)) => {
-                    let _ = reason.set(why);
-                }
-                Ok(None) => {}
-                Err(why) => {
-                    crate::console::note(&format!("error: {why}"));
-                    let _ = failure.set(why);
-                }
+                    Ok(Some(why)) => {
+                        let _ = reason.set(why);
+                    }
+                    Ok(None) => {}
+                    Err(why) => {
+                        crate::console::note(&format!("error: {why}"));
+                        let _ = failure.set(why);
+                    }
                 }
             })
             .map_err(|e| BuildError::Thread(format!("the lockstep thread could not start: {e}")))?;
