@@ -54,6 +54,10 @@ fn b4_short_run_prints_a_result_line() {
             "messages",
             "scope",
             "mpsc_p50_us",
+            "spin_p50_us",
+            "adaptive_p99_us",
+            "wait_spin_cpu_pct",
+            "park_cpu_pct",
         ],
     );
     assert!(kv.contains(&("scope".into(), "process".into())));
