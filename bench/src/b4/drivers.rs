@@ -106,8 +106,7 @@ fn drive(
 /// Runs `receive` as the one step of a data-triggered container woken by `wakeup`
 /// (pinned to `cpu` if given), drives the publisher, then stops the container.
 fn with_container(
-    cpu: Option<usize>,
-    wait: WaitMode,
+    options: ThreadOptions,
     wakeup: Arc<Wakeup>,
     shared: &Shared,
     n: u64,
@@ -116,11 +115,6 @@ fn with_container(
     publish: impl FnMut(u64),
 ) -> Result<(), String> {
     let stop = Arc::new(AtomicBool::new(false));
-    let options = ThreadOptions {
-        cpu,
-        wait,
-        ..ThreadOptions::default()
-    };
     let running = ThreadContainer::new(
         "listener",
         Trigger::Data(wakeup),
@@ -133,6 +127,15 @@ fn with_container(
     running.nudge();
     running.join();
     result
+}
+
+/// The receiving container's options: pinned to `cpu` if given, waiting as `wait`.
+fn placed(cpu: Option<usize>, wait: WaitMode) -> ThreadOptions {
+    ThreadOptions {
+        cpu,
+        wait,
+        ..ThreadOptions::default()
+    }
 }
 
 /// A plain receiver thread (pinned to `cpu` if given).
@@ -221,7 +224,7 @@ pub(super) fn run_variant(
                     s.record_cpu();
                 }
             };
-            with_container(cpu, wait, wakeup, &shared, n, gap, receive, |seq| {
+            with_container(placed(cpu, wait), wakeup, &shared, n, gap, receive, |seq| {
                 out.publish_with(|m| {
                     m.seq = seq;
                     m.stamp_ns = now_ns();
@@ -240,8 +243,7 @@ pub(super) fn run_variant(
                 }
             };
             with_container(
-                cpu,
-                WaitMode::Park,
+                placed(cpu, WaitMode::Park),
                 wakeup,
                 &shared,
                 n,
@@ -263,8 +265,7 @@ pub(super) fn run_variant(
             let mut last = 0;
             let receive = move || mb.take(&mut last, &s);
             with_container(
-                cpu,
-                WaitMode::Park,
+                placed(cpu, WaitMode::Park),
                 wakeup,
                 &shared,
                 n,
