@@ -54,6 +54,10 @@ fn b4_short_run_prints_a_result_line() {
             "messages",
             "scope",
             "mpsc_p50_us",
+            "spin_p50_us",
+            "adaptive_p99_us",
+            "wait_spin_cpu_pct",
+            "park_cpu_pct",
         ],
     );
     assert!(kv.contains(&("scope".into(), "process".into())));
@@ -112,4 +116,17 @@ fn help_lists_b3_and_b4() {
     for needle in ["b3 ", "b4 ", "--seconds", "--messages", "--pin"] {
         assert!(text.contains(needle), "help without `{needle}`:\n{text}");
     }
+}
+
+#[test]
+fn b2_short_run_prints_the_keys_of_benchmarks_md() {
+    let out = bench(&["b2", "--cycles", "1000", "--rounds", "1"]);
+    let kv = result_line(&out, "b2");
+    has_keys(&kv, &["cycles_per_s", "baseline_cycles_per_s", "ratio"]);
+    let rate: f64 = kv
+        .iter()
+        .find(|(k, _)| k == "cycles_per_s")
+        .and_then(|(_, v)| v.parse().ok())
+        .expect("cycles_per_s is a number");
+    assert!(rate > 0.0, "cycles_per_s {rate}");
 }

@@ -31,9 +31,44 @@ pub enum ElementKind {
         /// `trigger="continuous"`: cycles back to back, no sleeping (benchmarks,
         /// simulations that run faster than real time).
         continuous: bool,
+        /// `wait=`: how a data-triggered container waits for data.
+        wait: Wait,
     },
     Group,
     Module(ModuleInstance),
+}
+
+/// `wait=` of a data-triggered thread container: how its thread waits for data.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Wait {
+    /// Sleeps until woken (no CPU while idle; a thread wakeup of latency).
+    #[default]
+    Park,
+    /// Busy-polls: the lowest latency, and a whole core (S104 counts it as 100 %).
+    Spin,
+    /// Polls with backoff for a bounded time, then parks.
+    Adaptive,
+}
+
+impl Wait {
+    /// The model's spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Wait::Park => "park",
+            Wait::Spin => "spin",
+            Wait::Adaptive => "adaptive",
+        }
+    }
+
+    /// Parses the model's spelling (the validator has rejected anything else).
+    pub fn parse(text: &str) -> Option<Self> {
+        match text {
+            "park" => Some(Wait::Park),
+            "spin" => Some(Wait::Spin),
+            "adaptive" => Some(Wait::Adaptive),
+            _ => None,
+        }
+    }
 }
 
 #[derive(Debug)]

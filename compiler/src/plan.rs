@@ -9,6 +9,7 @@
 mod links;
 mod ports;
 
+pub use crate::ir::Wait;
 pub use links::{LinkSharing, PlannedCallLink, PlannedLink};
 
 use crate::ir::{Application, ElementId, ElementKind, Endpoint, ParamSource, PortView};
@@ -122,6 +123,8 @@ pub struct PlannedThread {
     pub period: Option<f64>,
     /// Cycles back to back (`trigger="continuous"`).
     pub continuous: bool,
+    /// How a data-triggered container waits for data (`wait=`).
+    pub wait: Wait,
     /// `priority=`: higher runs first (the runtime asks the OS for it).
     pub priority: Option<u32>,
     /// `cpu=`: the core the thread is pinned to.
@@ -348,7 +351,10 @@ pub fn plan(
     plan_param_links(app, libs, &paths, &mut plan, &mut problems);
     for container in schedule::compute(app, libs).containers {
         let ElementKind::Thread {
-            period, continuous, ..
+            period,
+            continuous,
+            wait,
+            ..
         } = app.element(container.thread).kind
         else {
             continue;
@@ -357,6 +363,7 @@ pub fn plan(
             path: app.path(container.thread),
             period,
             continuous,
+            wait,
             priority: app.timing.priority.get(&container.thread).map(|(p, _)| *p),
             cpu: app.timing.cpu.get(&container.thread).map(|(c, _)| *c),
             steps: container

@@ -15,7 +15,7 @@ use ferroc_runtime::builder::{
 use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::link::{CallSpec, LinkSpec, Sharing};
 use ferroc_runtime::module::{Direction, PortGroup, Value};
-use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig};
+use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig, WaitMode};
 use ferroc_runtime::supervise;
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -308,6 +308,11 @@ pub fn thread_options(t: &plan::PlannedThread) -> ThreadOptions {
     ThreadOptions {
         priority: t.priority.map(|p| p.clamp(1, 99) as i32),
         cpu: t.cpu.map(|c| c as usize),
+        wait: match t.wait {
+            plan::Wait::Park => WaitMode::Park,
+            plan::Wait::Spin => WaitMode::Spin,
+            plan::Wait::Adaptive => WaitMode::Adaptive,
+        },
     }
 }
 

@@ -5,7 +5,7 @@
 //! conversion steps of the path it replaces. Checking it plans the same application.
 
 use super::text::{xml, xml_comment};
-use ferroc_compiler::ir::{Application, ElementId, ElementKind, ParamSource};
+use ferroc_compiler::ir::{Application, ElementId, ElementKind, ParamSource, Wait};
 use ferroc_compiler::library::LibrarySet;
 use ferroc_compiler::plan::{module_edges, Plan};
 use ferroc_compiler::values::{parse_duration, parse_value, Value};
@@ -88,6 +88,7 @@ fn element(
             pool,
             data_trigger,
             continuous,
+            wait,
         } => {
             let mut attrs = String::new();
             if let Some(p) = period {
@@ -98,6 +99,9 @@ fn element(
             }
             if *continuous {
                 attrs.push_str(" trigger=\"continuous\"");
+            }
+            if *wait != Wait::Park {
+                attrs.push_str(&format!(" wait=\"{}\"", wait.as_str()));
             }
             if let Some(n) = pool {
                 attrs.push_str(&format!(" pool=\"{n}\""));

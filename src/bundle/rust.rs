@@ -289,6 +289,10 @@ fn thread_block(
             code.line(2, "options: ThreadOptions {");
             code.line(3, &format!("priority: {:?},", options.priority));
             code.line(3, &format!("cpu: {:?},", options.cpu));
+            code.line(
+                3,
+                &format!("wait: ferroc_runtime::port::WaitMode::{:?},", options.wait),
+            );
             code.line(2, "},");
         }
     });

@@ -10,6 +10,9 @@ struct Shared {
     seen: AtomicU64,
     /// Latency of message `seq` at `seq - 1` (`u64::MAX` until recorded).
     latency: Vec<AtomicU64>,
+    /// CPU time of the receiver's thread when it recorded its last message (ns), for
+    /// the variants that measure what their waiting costs.
+    cpu_ns: AtomicU64,
 }
 
 impl Shared {
@@ -17,6 +20,7 @@ impl Shared {
         Arc::new(Shared {
             seen: AtomicU64::new(0),
             latency: (0..n).map(|_| AtomicU64::new(u64::MAX)).collect(),
+            cpu_ns: AtomicU64::new(0),
         })
     }
 
@@ -30,6 +34,12 @@ impl Shared {
             slot.store(latency, Ordering::Relaxed);
         }
         self.seen.store(seq, Ordering::Release);
+    }
+
+    /// Notes the receiver thread's CPU time (after [`Self::record`], so the reading
+    /// is not in the measured latency).
+    fn record_cpu(&self) {
+        self.cpu_ns.store(thread_cpu_ns(), Ordering::Relaxed);
     }
 
     /// The publisher's pacing: wait until `seq` was recorded, then `gap` more.
@@ -67,6 +77,17 @@ impl Shared {
     }
 }
 
+/// CPU time of the calling thread, nanoseconds.
+fn thread_cpu_ns() -> u64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: writes one timespec we own.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) };
+    t.tv_sec as u64 * 1_000_000_000 + t.tv_nsec as u64
+}
+
 /// Publishes `n` messages plus the warm-up with `publish(seq)`, each paced by
 /// [`Shared::wait_seen`].
 fn drive(
@@ -85,7 +106,7 @@ fn drive(
 /// Runs `receive` as the one step of a data-triggered container woken by `wakeup`
 /// (pinned to `cpu` if given), drives the publisher, then stops the container.
 fn with_container(
-    cpu: Option<usize>,
+    options: ThreadOptions,
     wakeup: Arc<Wakeup>,
     shared: &Shared,
     n: u64,
@@ -94,10 +115,6 @@ fn with_container(
     publish: impl FnMut(u64),
 ) -> Result<(), String> {
     let stop = Arc::new(AtomicBool::new(false));
-    let options = ThreadOptions {
-        cpu,
-        ..ThreadOptions::default()
-    };
     let running = ThreadContainer::new(
         "listener",
         Trigger::Data(wakeup),
@@ -110,6 +127,15 @@ fn with_container(
     running.nudge();
     running.join();
     result
+}
+
+/// The receiving container's options: pinned to `cpu` if given, waiting as `wait`.
+fn placed(cpu: Option<usize>, wait: WaitMode) -> ThreadOptions {
+    ThreadOptions {
+        cpu,
+        wait,
+        ..ThreadOptions::default()
+    }
 }
 
 /// A plain receiver thread (pinned to `cpu` if given).
@@ -160,17 +186,33 @@ impl Mailbox {
     }
 }
 
-/// One run of `variant`: `n` recorded messages; returns their latencies in ns.
+/// What one run of a variant measured.
+pub(super) struct Run {
+    /// Latencies after the warm-up, ns.
+    pub latencies: Vec<u64>,
+    /// The receiver thread's CPU time over the run, ns (0: not measured).
+    pub cpu_ns: u64,
+    /// Wall time of the run (publishing and pacing), ns.
+    pub wall_ns: u64,
+}
+
+/// One run of `variant`: `n` recorded messages.
 pub(super) fn run_variant(
     variant: Variant,
     n: u64,
     gap: Duration,
     cpu: Option<usize>,
-) -> Result<Vec<u64>, String> {
+) -> Result<Run, String> {
     let shared = Shared::new(n + WARM_UP);
     let s = Arc::clone(&shared);
+    let started = Instant::now();
     match variant {
-        Variant::Ports => {
+        Variant::Ports | Variant::PortsSpin | Variant::PortsAdaptive => {
+            let wait = match variant {
+                Variant::PortsSpin => WaitMode::Spin,
+                Variant::PortsAdaptive => WaitMode::Adaptive,
+                _ => WaitMode::Park,
+            };
             let out = OutputPort::<Msg>::new("talker/out");
             let input = InputPort::<Msg>::new("listener/in");
             connect(&out, &input, ConnectOptions::default()).map_err(|e| e.to_string())?;
@@ -179,9 +221,10 @@ pub(super) fn run_variant(
                 if input.take_changed() {
                     let m = *input.get();
                     s.record(m.stamp_ns, m.seq);
+                    s.record_cpu();
                 }
             };
-            with_container(cpu, wakeup, &shared, n, gap, receive, |seq| {
+            with_container(placed(cpu, wait), wakeup, &shared, n, gap, receive, |seq| {
                 out.publish_with(|m| {
                     m.seq = seq;
                     m.stamp_ns = now_ns();
@@ -199,13 +242,21 @@ pub(super) fn run_variant(
                     s.record(m.stamp_ns, m.seq);
                 }
             };
-            with_container(cpu, wakeup, &shared, n, gap, receive, |seq| {
-                out.publish(Msg {
-                    seq,
-                    stamp_ns: now_ns(),
-                    ..Msg::default()
-                })
-            })?;
+            with_container(
+                placed(cpu, WaitMode::Park),
+                wakeup,
+                &shared,
+                n,
+                gap,
+                receive,
+                |seq| {
+                    out.publish(Msg {
+                        seq,
+                        stamp_ns: now_ns(),
+                        ..Msg::default()
+                    })
+                },
+            )?;
         }
         Variant::Container => {
             let mailbox = Arc::new(Mailbox::default());
@@ -213,10 +264,18 @@ pub(super) fn run_variant(
             let (mb, w) = (Arc::clone(&mailbox), Arc::clone(&wakeup));
             let mut last = 0;
             let receive = move || mb.take(&mut last, &s);
-            with_container(cpu, wakeup, &shared, n, gap, receive, |seq| {
-                mailbox.put(seq);
-                w.notify();
-            })?;
+            with_container(
+                placed(cpu, WaitMode::Park),
+                wakeup,
+                &shared,
+                n,
+                gap,
+                receive,
+                |seq| {
+                    mailbox.put(seq);
+                    w.notify();
+                },
+            )?;
         }
         Variant::CondvarUnlocked => {
             let mailbox = Arc::new(Mailbox::default());
@@ -264,6 +323,7 @@ pub(super) fn run_variant(
                         _ => std::thread::park(),
                     }
                     mb.take(&mut last, &s);
+                    s.record_cpu();
                 }
             })?;
             let thread = receiver.thread().clone();
@@ -301,5 +361,9 @@ pub(super) fn run_variant(
             result?;
         }
     }
-    Ok(shared.collect())
+    Ok(Run {
+        latencies: shared.collect(),
+        cpu_ns: shared.cpu_ns.load(Ordering::Relaxed),
+        wall_ns: started.elapsed().as_nanos() as u64,
+    })
 }

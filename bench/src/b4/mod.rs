@@ -17,7 +17,9 @@
 //! the machine hits every variant alike:
 //!
 //! * `ports`: [`OutputPort<Msg>`] → [`InputPort<Msg>`] (zero-copy buffer ports), the
-//!   RESULT line;
+//!   RESULT line; the same with the container's `wait="spin"` and `wait="adaptive"`
+//!   ([`WaitMode`]), with the CPU time the receiver's thread spends per message and as
+//!   a share of one core (read with `CLOCK_THREAD_CPUTIME_ID` after each message);
 //! * `copy ports`: [`CopyOutputPort<Msg>`] → [`CopyInputPort<Msg>`] (seqlock copies);
 //! * `container`: the same data-triggered container without ports: the stamp goes
 //!   through two atomics and the publisher notifies the container's [`Wakeup`] itself;
@@ -41,7 +43,7 @@ use crate::options::Options;
 use ferroc_runtime::container::{Step, ThreadContainer, ThreadOptions, Trigger};
 use ferroc_runtime::port::{
     connect, ConnectOptions, CopyInputPort, CopyOutputPort, InputPort, NoUninit, Notifier, Notify,
-    OutputPort, Wakeup,
+    OutputPort, WaitMode, Wakeup,
 };
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{mpsc, Arc, Condvar, Mutex, OnceLock};
@@ -78,6 +80,8 @@ fn now_ns() -> u64 {
 #[derive(Clone, Copy, PartialEq, Debug)]
 enum Variant {
     Ports,
+    PortsSpin,
+    PortsAdaptive,
     CopyPorts,
     Container,
     Mpsc,
@@ -87,8 +91,10 @@ enum Variant {
     Park,
 }
 
-const VARIANTS: [Variant; 8] = [
+const VARIANTS: [Variant; 10] = [
     Variant::Ports,
+    Variant::PortsSpin,
+    Variant::PortsAdaptive,
     Variant::CopyPorts,
     Variant::Container,
     Variant::Mpsc,
@@ -101,7 +107,11 @@ const VARIANTS: [Variant; 8] = [
 impl Variant {
     fn label(self) -> &'static str {
         match self {
-            Variant::Ports => "ports         OutputPort -> InputPort, data-triggered container",
+            Variant::Ports => "ports         OutputPort -> InputPort, container wait=park    ",
+            Variant::PortsSpin => "ports spin    OutputPort -> InputPort, container wait=spin    ",
+            Variant::PortsAdaptive => {
+                "ports adapt.  OutputPort -> InputPort, wait=adaptive         "
+            }
             Variant::CopyPorts => "copy ports    CopyOutputPort -> CopyInputPort, container    ",
             Variant::Container => "container     Wakeup::notify -> container, no ports         ",
             Variant::Mpsc => "mpsc          std::sync::mpsc -> thread blocked in recv()   ",
@@ -199,12 +209,18 @@ pub fn run(args: &[String]) -> u8 {
     };
     let gap = Duration::from_micros(gap_us);
     let mut samples: Vec<Vec<u64>> = VARIANTS.iter().map(|_| Vec::new()).collect();
+    // Receiver CPU time and wall time per variant, summed over rounds.
+    let mut cpu: Vec<(u64, u64)> = VARIANTS.iter().map(|_| (0, 0)).collect();
     for round in 0..rounds as usize {
         // Rotate the order so no variant always runs first or last in a round.
         for k in 0..VARIANTS.len() {
             let idx = (round + k) % VARIANTS.len();
             match run_variant(VARIANTS[idx], per_round, gap, placement.receiver) {
-                Ok(mut lat) => samples[idx].append(&mut lat),
+                Ok(mut run) => {
+                    samples[idx].append(&mut run.latencies);
+                    cpu[idx].0 += run.cpu_ns;
+                    cpu[idx].1 += run.wall_ns;
+                }
                 Err(e) => {
                     eprintln!("b4: {:?}: {e}", VARIANTS[idx]);
                     return 1;
@@ -229,9 +245,41 @@ pub fn run(args: &[String]) -> u8 {
             s.n
         );
     }
-    let [ports, copy, container, chan, wait_timeout, wait, unlocked, park] = &sums[..] else {
-        unreachable!("eight variants")
+    let [ports, spin, adaptive, copy, container, chan, wait_timeout, wait, unlocked, park] =
+        &sums[..]
+    else {
+        unreachable!("ten variants")
     };
+    // The receiver's CPU as a share of one core over the run, and per message.
+    let cpu_pct = |i: usize| 100.0 * cpu[i].0 as f64 / cpu[i].1.max(1) as f64;
+    let cpu_us_per_msg = |i: usize| cpu[i].0 as f64 / 1000.0 / (total + WARM_UP * rounds) as f64;
+    for (i, v) in VARIANTS.iter().enumerate() {
+        if cpu[i].0 > 0 {
+            println!(
+                "b4 CPU of the receiver  {}  {:6.1} % of a core  {:7.2} µs per message",
+                v.label(),
+                cpu_pct(i),
+                cpu_us_per_msg(i)
+            );
+        }
+    }
+    println!(
+        "b4: wait modes: p50 park {:.2} / spin {:.2} / adaptive {:.2} µs (target <= 2 for spin \
+         and adaptive), p99 {:.2} / {:.2} / {:.2} µs; receiver CPU {:.1} / {:.1} / {:.1} % of a \
+         core (park/unpark thread: p50 {:.2} µs, {:.1} %); {}",
+        us(ports.p50),
+        us(spin.p50),
+        us(adaptive.p50),
+        us(ports.p99),
+        us(spin.p99),
+        us(adaptive.p99),
+        cpu_pct(0),
+        cpu_pct(1),
+        cpu_pct(2),
+        us(park.p50),
+        cpu_pct(9),
+        load_note()
+    );
     let ratio = ports.p50 as f64 / chan.p50 as f64;
     println!(
         "b4: ports p50 {:.2} µs (target <= 5), p99 {:.2} µs (target <= 50); p50 {ratio:.2}x of \
@@ -252,7 +300,9 @@ pub fn run(args: &[String]) -> u8 {
          mpsc_p50_us={:.2} mpsc_p99_us={:.2} mpsc_max_us={:.2} ratio_p50_vs_mpsc={ratio:.2} \
          copy_p50_us={:.2} copy_p99_us={:.2} container_p50_us={:.2} container_p99_us={:.2} \
          wait_timeout_p50_us={:.2} wait_p50_us={:.2} condvar_unlocked_p50_us={:.2} \
-         park_p50_us={:.2} park_p99_us={:.2} \
+         park_p50_us={:.2} park_p99_us={:.2} park_cpu_pct={:.1} \
+         spin_p50_us={:.2} spin_p99_us={:.2} adaptive_p50_us={:.2} adaptive_p99_us={:.2} \
+         wait_park_cpu_pct={:.1} wait_spin_cpu_pct={:.1} wait_adaptive_cpu_pct={:.1} \
          gap_us={gap_us} pinned={pin}",
         us(ports.p50),
         us(ports.p99),
@@ -270,6 +320,14 @@ pub fn run(args: &[String]) -> u8 {
         us(unlocked.p50),
         us(park.p50),
         us(park.p99),
+        cpu_pct(9),
+        us(spin.p50),
+        us(spin.p99),
+        us(adaptive.p50),
+        us(adaptive.p99),
+        cpu_pct(0),
+        cpu_pct(1),
+        cpu_pct(2),
     );
     0
 }

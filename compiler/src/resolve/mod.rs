@@ -234,6 +234,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                             .filter(|n: &u32| *n >= 2),
                         data_trigger: child.value("trigger") == Some("data"),
                         continuous: child.value("trigger") == Some("continuous"),
+                        wait: self.thread_wait(child),
                     };
                     if let Some(id) = self.add_element(scope, child, kind, inst) {
                         self.thread_timing(id, child);
@@ -251,6 +252,29 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 _ => {}
             }
         }
+    }
+
+    /// `wait=`: only a data-triggered container waits for data; on any other the
+    /// attribute would silently do nothing, so it is a finding (M108).
+    fn thread_wait(&mut self, thread: &Element) -> crate::ir::Wait {
+        let Some(wait) = thread.attr("wait") else {
+            return crate::ir::Wait::default();
+        };
+        if thread.value("trigger") != Some("data") {
+            self.loader.diags.push(
+                Diagnostic::new(
+                    &m108_invalid_attribute_value::CHECK,
+                    wait.name_span,
+                    format!(
+                        "`wait` applies only to data-triggered containers, and `{}` is not one",
+                        thread.value("name").unwrap_or("")
+                    ),
+                )
+                .label("has no effect here")
+                .help("remove `wait`, or add trigger=\"data\" if the container should run when data arrives"),
+            );
+        }
+        crate::ir::Wait::parse(&wait.value).unwrap_or_default()
     }
 
     fn thread_period(&mut self, thread: &Element) -> Option<f64> {

@@ -26,7 +26,7 @@ pub use clock::{Clock, ManualClock, SystemClock};
 pub use os::{pin_current_thread, summarise as summarise_refusals, Placement, Refusal};
 pub use stats::{ContainerStats, StepStats};
 
-use crate::port::Wakeup;
+use crate::port::{WaitMode, Wakeup};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -79,11 +79,15 @@ pub struct ThreadOptions {
     pub priority: Option<i32>,
     /// The CPU the thread is pinned to.
     pub cpu: Option<usize>,
+    /// How a data-triggered container waits for data (`wait=`; others ignore it).
+    pub wait: WaitMode,
 }
 
 /// A container with its steps, not yet running.
 pub struct ThreadContainer {
     trigger: Trigger,
+    /// How a data-triggered container waits (from [`ThreadOptions::wait`] at spawn).
+    wait: WaitMode,
     steps: Vec<Step>,
     stats: Arc<ContainerStats>,
     clock: Arc<dyn Clock>,
@@ -100,6 +104,7 @@ impl ThreadContainer {
         let names = steps.iter().map(|s| s.name.clone()).collect();
         ThreadContainer {
             trigger,
+            wait: WaitMode::Park,
             steps,
             stats: Arc::new(ContainerStats::new(name.into(), names, period, continuous)),
             clock: Arc::new(SystemClock::default()),
@@ -214,7 +219,8 @@ impl ThreadContainer {
                 while more(done) {
                     // Wake now and then to see the stop flag even without data; a
                     // wakeup that comes with a stop request (a nudge) runs no cycle.
-                    if wakeup.wait_timeout(Duration::from_millis(50)) && more(done) {
+                    let woken = wakeup.wait_in(self.wait, stop, Duration::from_millis(50));
+                    if woken && more(done) {
                         self.run_cycle();
                         done += 1;
                     }
@@ -231,6 +237,7 @@ impl ThreadContainer {
         limit: Option<u64>,
     ) -> std::io::Result<RunningContainer> {
         let stats = self.stats();
+        self.wait = options.wait;
         let wakeup = match &self.trigger {
             Trigger::Data(w) => Some(Arc::clone(w)),
             Trigger::Periodic(_) | Trigger::Continuous => None,

@@ -109,6 +109,45 @@ fn a_panicking_step_is_stopped_and_the_others_keep_running() {
 }
 
 #[test]
+#[cfg_attr(miri, ignore)] // threads spinning and blocking with timeouts
+fn every_wait_mode_wakes_on_data_and_stops_on_request() {
+    use crate::port::WaitMode;
+    for mode in [WaitMode::Park, WaitMode::Spin, WaitMode::Adaptive] {
+        let wakeup = Wakeup::new();
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let clock = ManualClock::new();
+        let container = ThreadContainer::new(
+            "robot/vision",
+            Trigger::Data(Arc::clone(&wakeup)),
+            vec![step(&log, &clock, "detect", Duration::ZERO)],
+        );
+        let stop = Arc::new(AtomicBool::new(false));
+        let options = ThreadOptions {
+            wait: mode,
+            ..ThreadOptions::default()
+        };
+        let running = container.spawn(options, Arc::clone(&stop), None).unwrap();
+        for n in 1..=3 {
+            crate::port::Notify::notify(&*wakeup);
+            while running.stats.cycles() < n {
+                std::thread::yield_now();
+            }
+        }
+        // Three notifications, three cycles: none lost, none invented.
+        assert_eq!(log.lock().unwrap().len(), 3, "{mode:?}");
+        assert!(!running.is_finished(), "{mode:?} waits for more data");
+        stop.store(true, Ordering::SeqCst);
+        running.nudge();
+        running.join();
+        assert_eq!(
+            log.lock().unwrap().len(),
+            3,
+            "{mode:?}: a stop runs no cycle"
+        );
+    }
+}
+
+#[test]
 #[cfg_attr(miri, ignore)] // threads blocking on a condition variable with timeouts
 fn a_data_triggered_container_runs_once_per_wakeup_and_stops_on_request() {
     let wakeup = Wakeup::new();
@@ -160,6 +199,7 @@ fn refused_placement_is_a_warning_not_a_failure() {
             ThreadOptions {
                 priority: None,
                 cpu: Some(100_000),
+                ..ThreadOptions::default()
             },
             Arc::new(AtomicBool::new(false)),
             Some(1),

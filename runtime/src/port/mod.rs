@@ -36,6 +36,7 @@ mod port_ref;
 mod queue;
 mod seqlock;
 mod snapshot;
+mod wakeup;
 mod wiring;
 
 pub use bytemuck::NoUninit;
@@ -43,7 +44,7 @@ pub(crate) use copy::CopyPeek;
 pub use copy::{CopyInputPort, CopyOutputPort};
 pub use handle::{InputHandle, OutputHandle};
 pub use input::InputPort;
-pub use notify::{Notifier, Notify, Wakeup};
+pub use notify::{Notifier, Notify, WaitMode, Wakeup};
 pub use output::OutputPort;
 pub use pool::PoolStats;
 pub use port_ref::{BufferMut, PortRef};

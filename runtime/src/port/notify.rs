@@ -5,7 +5,6 @@
 //! notifier is registered, and one call when one is.
 
 use std::ptr;
-use std::time::{Duration, Instant};
 
 use crate::sync::{AtomicPtr, Ordering};
 
@@ -33,76 +32,7 @@ impl std::fmt::Debug for dyn Notify {
 /// A shareable notifier as stored by inputs.
 pub type Notifier = std::sync::Arc<dyn Notify>;
 
-/// A wakeup flag a thread can sleep on; register it (cloned into a [`Notifier`]) on the
-/// inputs that should wake the thread.
-///
-/// Notifications are not lost: one that arrives while nobody waits is remembered and
-/// makes the next wait return at once. Several notifications before a wait count once.
-#[derive(Default)]
-pub struct Wakeup {
-    pending: std::sync::Mutex<bool>,
-    cv: std::sync::Condvar,
-}
-
-impl std::fmt::Debug for Wakeup {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Wakeup").finish_non_exhaustive()
-    }
-}
-
-impl Wakeup {
-    /// A new wakeup, not pending.
-    pub fn new() -> std::sync::Arc<Self> {
-        std::sync::Arc::new(Self::default())
-    }
-
-    fn pending(&self) -> std::sync::MutexGuard<'_, bool> {
-        self.pending.lock().unwrap_or_else(|e| e.into_inner())
-    }
-
-    /// Waits until notified (returns at once if a notification is pending) and clears
-    /// the notification.
-    pub fn wait(&self) {
-        let mut p = self.pending();
-        while !*p {
-            p = self.cv.wait(p).unwrap_or_else(|e| e.into_inner());
-        }
-        *p = false;
-    }
-
-    /// Clears a pending notification without waiting; true if there was one.
-    pub fn take(&self) -> bool {
-        std::mem::replace(&mut *self.pending(), false)
-    }
-
-    /// Like [`Self::wait`] with a time limit; true if notified, false on timeout.
-    pub fn wait_timeout(&self, timeout: Duration) -> bool {
-        let deadline = Instant::now() + timeout;
-        let mut p = self.pending();
-        while !*p {
-            let now = Instant::now();
-            if now >= deadline {
-                return false;
-            }
-            p = match self.cv.wait_timeout(p, deadline - now) {
-                Ok((g, _)) => g,
-                Err(e) => e.into_inner().0,
-            };
-        }
-        *p = false;
-        true
-    }
-}
-
-impl Notify for Wakeup {
-    fn notify(&self) {
-        let mut p = self.pending();
-        if !*p {
-            *p = true;
-            self.cv.notify_all();
-        }
-    }
-}
+pub use super::wakeup::{WaitMode, Wakeup};
 
 /// A value set at most once and read without locking (one Acquire load).
 pub(crate) struct SetOnce<V> {

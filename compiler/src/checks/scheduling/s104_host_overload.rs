@@ -3,17 +3,18 @@
 use super::{duration, loads, percent, EPS};
 use crate::checks::{CheckInfo, PassContext};
 use crate::diagnostic::{Diagnostic, Diagnostics, Severity};
-use crate::ir::{ElementId, HostKey};
+use crate::ir::{ElementId, ElementKind, HostKey, Wait};
 use crate::source::Span;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "S104",
     name: "host-overload",
     severity: Severity::Error,
-    summary: "The periodic thread containers on one host need more cores than the host has.",
+    summary: "The thread containers on one host need more cores than the host has.",
     explanation:
         "Each periodic thread container with budgets uses a share of one core: its budgets
-divided by its period. All parts with the same `host` label run on one machine; when the
+divided by its period. A data-triggered container with `wait=\"spin\"` busy-polls for
+data and uses a whole core, whatever its budgets. All parts with the same `host` label run on one machine; when the
 shares of all their containers add up to more than the machine's cores
 (`<part cores=\"n\">`), no scheduler can run them all in time, whatever the priorities.
 Hosts without a declared core count are not checked. Parts without a `host` label are a
@@ -76,6 +77,23 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         let h = host(part, &mut hosts);
         hosts[h].containers.push((load.thread, u));
     }
+    // A spinning container never leaves its core (data-triggered: not among the loads
+    // above, which only count periodic containers).
+    for (i, e) in app.elements.iter().enumerate() {
+        if let (
+            ElementKind::Thread {
+                data_trigger: true,
+                wait: Wait::Spin,
+                pool: None,
+                ..
+            },
+            Some(part),
+        ) = (&e.kind, e.part)
+        {
+            let h = host(part, &mut hosts);
+            hosts[h].containers.push((ElementId(i as u32), 1.0));
+        }
+    }
     for h in &hosts {
         let Some((cores, span)) = h.cores else {
             continue;
@@ -100,7 +118,7 @@ fn report(ctx: &PassContext<'_>, h: &Host, cores: u32, span: Span, total: f64) -
         &CHECK,
         span,
         format!(
-            "{} is overloaded: its periodic thread containers need {:.2} cores' worth of time ({}), but it has {cores_text}",
+            "{} is overloaded: its thread containers need {:.2} cores' worth of time ({}), but it has {cores_text}",
             h.label,
             total,
             percent(total)
@@ -108,23 +126,26 @@ fn report(ctx: &PassContext<'_>, h: &Host, cores: u32, span: Span, total: f64) -
     )
     .label(format!("{cores_text} declared here"));
     for (thread, u) in &containers {
-        let period = match app.element(*thread).kind {
-            crate::ir::ElementKind::Thread {
+        let why = match app.element(*thread).kind {
+            ElementKind::Thread {
                 period: Some(p), ..
-            } => duration(p),
+            } => format!("period {}", duration(p)),
+            ElementKind::Thread {
+                wait: Wait::Spin, ..
+            } => "it spins while waiting for data: wait=\"spin\"".into(),
             _ => "?".into(),
         };
         d = d.secondary(
             app.element(*thread).name_span,
             format!(
-                "`{}` uses {} of a core (period {period})",
+                "`{}` uses {} of a core ({why})",
                 app.path(*thread),
                 percent(*u)
             ),
         );
     }
     d.help(format!(
-        "move thread containers (the busiest is `{}`) to another host, lengthen their periods or make their modules cheaper; or declare the real number of cores",
+        "move thread containers (the busiest is `{}`) to another host, lengthen their periods, make their modules cheaper or let spinning containers wait=\"adaptive\"; or declare the real number of cores",
         app.path(containers[0].0)
     ))
 }

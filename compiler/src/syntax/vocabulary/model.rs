@@ -61,6 +61,7 @@ pub(super) const THREAD: ElementSpec = ElementSpec {
         req("name", Ident),
         opt("period", Text),
         opt("trigger", Choice(&["data", "continuous"])),
+        opt("wait", Choice(&["park", "spin", "adaptive"])),
         opt("priority", Count),
         opt("realtime", Bool),
         opt("cpu", Count),
