@@ -87,7 +87,7 @@ fn the_bundle_declares_the_port_groups_and_behaves_like_ferroc_run() {
         "ports: &[PortGroup::new(\"in\", Direction::In, \"u32\", Some(2))],",
         "ports: &[PortGroup::new(\"in\", Direction::In, \"f64\", Some(2))],",
         "registry.register::<ferroc_std::FlexiSelect>();",
-        "registry.register_value::<crash_course::Pose2D>();",
+        "registry.register_serde::<crash_course::Pose2D>();", // serde="true": Dump prints its serde form
         "ports: &[],",
     ] {
         assert!(main.contains(expected), "`{expected}` missing in:\n{main}");

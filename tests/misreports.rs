@@ -55,7 +55,7 @@ fn a_bad_param_value_is_blamed_on_the_argument() {
     let (code, _, err) = ferroc(&[&args[..], &["--param", "front-noise=NaN"]].concat());
     assert_eq!(code, 1, "{err}");
     assert!(
-        err.starts_with("models/crash_course.xml:56:95: error: --param front-noise=NaN: "),
+        err.starts_with("models/crash_course.xml:57:95: error: --param front-noise=NaN: "),
         "at the cmdline= that takes it: {err}"
     );
     assert!(err.contains("`NaN` is not a number of type `f64`"), "{err}");
@@ -97,7 +97,7 @@ fn a_model_on_standard_input_is_read_once() {
     let (code, by_path) = check_in_models(&["crash_course.xml", "--format", "short"], "");
     assert_eq!(code, Some(0), "{by_path}");
     assert!(
-        by_path.contains("crash_course.xml:104:23: note[T110]"),
+        by_path.contains("crash_course.xml:106:23: note[T110]"),
         "{by_path}"
     );
     for name in ["-", "/dev/stdin"] {

@@ -21,7 +21,9 @@ pub use visualization::Visualization;
 use ferroc_runtime::builder::Registry;
 
 /// A planar pose in the arena frame: metres, and radians counter-clockwise from x.
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::NoUninit)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, bytemuck::NoUninit, serde::Serialize, serde::Deserialize,
+)]
 #[repr(C)]
 pub struct Pose2D {
     /// Metres.
