@@ -8,7 +8,9 @@
 //! the value) once it is set.
 
 use std::cell::RefCell;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
+#[cfg(not(loom))]
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 thread_local! {

@@ -36,8 +36,9 @@ pub struct InputHandle {
     name: String,
     set_notifier: fn(&InputHandle, Notifier) -> Result<(), Notifier>,
     /// The freshness of the link feeding the port, if one does (shared with the
-    /// module's `In`).
-    source: Arc<crate::link::fresh::Source>,
+    /// module's `In`). Plain `std` `Arc`: freshness is link bookkeeping outside the
+    /// port core that loom models.
+    source: std::sync::Arc<crate::link::fresh::Source>,
 }
 
 impl OutputHandle {
@@ -84,13 +85,13 @@ impl InputHandle {
             core: Box::new(core.clone()),
             value_type,
             set_notifier: set_notifier_erased::<I>,
-            source: Arc::default(),
+            source: std::sync::Arc::default(),
         }
     }
 
     /// Where the link feeding this port (if any) keeps its freshness.
-    pub(crate) fn source(&self) -> Arc<crate::link::fresh::Source> {
-        Arc::clone(&self.source)
+    pub(crate) fn source(&self) -> std::sync::Arc<crate::link::fresh::Source> {
+        std::sync::Arc::clone(&self.source)
     }
 
     /// The Rust type of the values (for messages).
