@@ -20,9 +20,12 @@ use miette::{MietteError, MietteSpanContents, SourceCode, SourceSpan, SpanConten
 
 /// Lines shown above and below a label (miette's default, set on the handler too).
 pub(super) const CONTEXT_LINES: usize = 1;
-/// A line longer than this (in characters) is clipped around its spans.
+/// Columns of a tab, in miette's rendering (set on the handler) and in our clipping.
+pub(super) const TAB_WIDTH: usize = 4;
+/// A line wider than this (in columns, a tab counting [`TAB_WIDTH`]) is clipped around
+/// its spans.
 const MAX_LINE_CHARS: usize = 120;
-/// Characters kept on either side of a span's start or end on a clipped line.
+/// Columns kept on either side of a span's start or end on a clipped line.
 const KEEP_AROUND: usize = 40;
 /// A multi-line span longer than this shows only its first line.
 const MAX_SPAN_LINES: usize = 8;
@@ -240,12 +243,20 @@ fn visible(c: char) -> char {
 /// relative to the line's start in `out`.
 fn write_line(line: &str, offset: usize, points: &[usize], at: &mut [usize], out: &mut String) {
     let base = out.len();
-    let chars = line.chars().count();
-    // Character ranges to keep.
-    let keep: Vec<(usize, usize)> = if chars <= MAX_LINE_CHARS {
-        vec![(0, chars)]
+    // Columns before each character and after the last: a tab is counted as wide as
+    // miette may draw it, so a line of tabs is clipped like a line of letters.
+    let mut cols = Vec::with_capacity(line.len() + 1);
+    let mut width = 0;
+    for c in line.chars() {
+        cols.push(width);
+        width += if c == '\t' { TAB_WIDTH } else { 1 };
+    }
+    cols.push(width);
+    // Column ranges to keep.
+    let keep: Vec<(usize, usize)> = if width <= MAX_LINE_CHARS {
+        vec![(0, width)]
     } else {
-        let char_of = |p: usize| line[..(p - offset).min(line.len())].chars().count();
+        let col_of = |p: usize| cols[line[..(p - offset).min(line.len())].chars().count()];
         let mut keep: Vec<(usize, usize)> = Vec::new();
         let wanted = if points.is_empty() {
             vec![(0, 2 * KEEP_AROUND)]
@@ -253,8 +264,8 @@ fn write_line(line: &str, offset: usize, points: &[usize], at: &mut [usize], out
             points
                 .iter()
                 .map(|&p| {
-                    let c = char_of(p);
-                    (c.saturating_sub(KEEP_AROUND), (c + KEEP_AROUND).min(chars))
+                    let c = col_of(p);
+                    (c.saturating_sub(KEEP_AROUND), (c + KEEP_AROUND).min(width))
                 })
                 .collect()
         };
@@ -274,11 +285,12 @@ fn write_line(line: &str, offset: usize, points: &[usize], at: &mut [usize], out
             at[next_point] = out.len() - base;
             next_point += 1;
         }
-        while kept.peek().is_some_and(|&&(_, b)| i >= b) {
+        let col = cols[i];
+        while kept.peek().is_some_and(|&&(_, b)| col >= b) {
             kept.next();
         }
         match kept.peek() {
-            Some(&&(a, _)) if i >= a => {
+            Some(&&(a, _)) if col >= a => {
                 in_gap = false;
                 out.push(visible(c));
             }

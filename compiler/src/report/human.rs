@@ -2,7 +2,7 @@
 //! cause, secondary labels on related places (in other files, as related reports) and a
 //! `help:` line.
 
-use super::excerpt::{shorten_words, Excerpt, CONTEXT_LINES};
+use super::excerpt::{shorten_words, Excerpt, CONTEXT_LINES, TAB_WIDTH};
 use super::ModelReport;
 use crate::diagnostic::{Diagnostic, Severity};
 use crate::source::{FileId, SourceMap};
@@ -153,6 +153,7 @@ pub fn render(report: &ModelReport<'_>, color: bool, out: &mut String) {
     };
     let handler = GraphicalReportHandler::new_themed(theme)
         .with_width(100)
+        .tab_width(TAB_WIDTH)
         .with_context_lines(CONTEXT_LINES)
         .with_links(false);
     for d in report.diagnostics {
