@@ -10,6 +10,14 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// `eprintln!` that does not panic when standard error is closed or full (see
+/// `ferroc_runtime::console::stderr_line`); it shadows std's in this whole crate.
+macro_rules! eprintln {
+    ($($arg:tt)*) => {
+        ferroc_runtime::console::stderr_line(format_args!($($arg)*))
+    };
+}
+
 mod bundle;
 mod finroc;
 mod graph;

@@ -67,3 +67,42 @@ fn a_full_disk_is_an_error_with_exit_code_2() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }
+
+/// Commands whose messages go to standard error (a run's status and stop lines, a
+/// check's tool error, a bad option).
+const TO_STDERR: &[(&[&str], i32)] = &[
+    (
+        &[
+            "run",
+            "models/rescue_robot.xml",
+            "--lockstep",
+            "--cycles",
+            "3",
+        ],
+        0,
+    ),
+    (&["check", "models/no-such-model.xml"], 2),
+    (&["check", "--no-such-option"], 2),
+];
+
+/// Standard error closed or full: the messages are lost, but nothing panics and the
+/// exit code stands (std's `eprintln!` panicked here with exit code 101).
+#[test]
+fn an_unwritable_standard_error_changes_nothing_but_the_messages() {
+    for (args, expected) in TO_STDERR {
+        for (what, stderr) in [("closed pipe", closed_pipe()), ("full disk", full_disk())] {
+            let out = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+                .args(*args)
+                .current_dir(env!("CARGO_MANIFEST_DIR"))
+                .stdout(Stdio::piped())
+                .stderr(stderr)
+                .output()
+                .expect("ferroc runs");
+            assert_eq!(
+                out.status.code(),
+                Some(*expected),
+                "{args:?} with stderr a {what}"
+            );
+        }
+    }
+}

@@ -122,7 +122,10 @@ fn a_line_of_tabs_is_clipped_by_its_width() {
     assert_sane(&out, &["t.xml:2:401".into()]);
     let widest = out.lines().map(|l| l.chars().count()).max().unwrap();
     // 40 columns kept on each side of the span: 20 tabs of 4 columns, plus the frame.
-    assert!(widest < 250, "a rendered line of {widest} characters:\n{out}");
+    assert!(
+        widest < 250,
+        "a rendered line of {widest} characters:\n{out}"
+    );
     assert!(out.contains("│ …  "), "the cut is marked:\n{out}");
     assert!(out.contains("<b/>"), "{out}");
 }

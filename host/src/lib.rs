@@ -11,6 +11,14 @@ use ferroc_runtime::builder::Registry;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// `eprintln!` that does not panic when standard error is closed or full (see
+/// `ferroc_runtime::console::stderr_line`); it shadows std's in this whole crate.
+macro_rules! eprintln {
+    ($($arg:tt)*) => {
+        ferroc_runtime::console::stderr_line(format_args!($($arg)*))
+    };
+}
+
 pub mod checked;
 pub mod interface;
 pub mod output;

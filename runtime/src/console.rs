@@ -116,6 +116,14 @@ pub fn note(text: &str) {
     let _ = writeln!(err, "{}", escape(text));
 }
 
+/// Writes one line to standard error, dropping it when standard error cannot be
+/// written (a pipe whose reader is gone, a full disk). std's `eprintln!` panics there,
+/// turning a lost message into a crash (exit 101); the crates of ferroc shadow
+/// `eprintln!` with a macro that calls this.
+pub fn stderr_line(args: std::fmt::Arguments<'_>) {
+    let _ = writeln!(std::io::stderr().lock(), "{args}");
+}
+
 #[cfg(test)]
 mod tests {
     use super::{escape, Throttle};

@@ -30,6 +30,14 @@
 
 #![warn(missing_docs)]
 
+/// `eprintln!` that does not panic when standard error is closed or full (see
+/// `ferroc_runtime::console::stderr_line`); it shadows std's in this whole crate.
+macro_rules! eprintln {
+    ($($arg:tt)*) => {
+        $crate::console::stderr_line(format_args!($($arg)*))
+    };
+}
+
 pub mod behaviour;
 pub mod builder;
 pub mod console;

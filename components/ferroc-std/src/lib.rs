@@ -14,6 +14,14 @@
 //! a tick count.
 //! `ScaleService` and `Ask` are the smallest service and client (`services.rs`).
 
+/// `eprintln!` that does not panic when standard error is closed or full (see
+/// `ferroc_runtime::console::stderr_line`); it shadows std's in this whole crate.
+macro_rules! eprintln {
+    ($($arg:tt)*) => {
+        ferroc_runtime::console::stderr_line(format_args!($($arg)*))
+    };
+}
+
 mod basic;
 mod constant;
 mod filter;

@@ -33,7 +33,7 @@ fn main() -> ExitCode {
     let interrupted = Arc::new(AtomicBool::new(false));
     let flag = interrupted.clone();
     if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
-        eprintln!("warning: Ctrl-C will not stop cleanly: {e}");
+        ferroc_runtime::console::stderr_line(format_args!("warning: Ctrl-C will not stop cleanly: {e}"));
     }
 {%- if linked %}
     // The other parts: over Zenoh, at the addresses of the model or the command line.
@@ -44,7 +44,7 @@ fn main() -> ExitCode {
     match network {
         Ok(network) => start.network = Some(Arc::new(network)),
         Err(e) => {
-            eprintln!("error: {e}");
+            ferroc_runtime::console::stderr_line(format_args!("error: {e}"));
             return ExitCode::from(2);
         }
     }
@@ -55,7 +55,7 @@ fn main() -> ExitCode {
     let app = match build(&registry, start) {
         Ok(app) => app,
         Err(e) => {
-            eprintln!("error: part `{PART}`: {e}");
+            ferroc_runtime::console::stderr_line(format_args!("error: part `{PART}`: {e}"));
             return ExitCode::from(1);
         }
     };
