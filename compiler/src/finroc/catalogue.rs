@@ -30,6 +30,14 @@ pub const FILES: &[(&str, &str)] = &[
         include_str!("../../../components/finroc/finroc_plugins_ib2c.lib.xml"),
     ),
     (
+        "finroc_projects_robprak_2024_2.lib.xml",
+        include_str!("../../../components/finroc/finroc_projects_robprak_2024_2.lib.xml"),
+    ),
+    (
+        "groups/finroc_projects_robprak_2024_2.xml",
+        include_str!("../../../components/finroc/groups/finroc_projects_robprak_2024_2.xml"),
+    ),
+    (
         "groups/finroc_projects_crash_course.xml",
         include_str!("../../../components/finroc/groups/finroc_projects_crash_course.xml"),
     ),
@@ -47,7 +55,10 @@ pub const FILES: &[(&str, &str)] = &[
 #[derive(Clone, Debug)]
 pub struct Port {
     pub interface: String,
+    /// FINROC's name (`Ir Distance Front`).
     pub name: String,
+    /// The ferroc name (the C++ member: `ir_distance_front`).
+    pub member: String,
     /// The rrlib type name (`double`, `rrlib.localization.Pose2D`).
     pub ty: String,
     pub unit: Option<String>,
@@ -170,6 +181,32 @@ fn rrlib_type(ty: &str, named: &HashMap<String, String>) -> String {
     .to_string()
 }
 
+/// FINROC's name of a manifest port or parameter: the name its C++ constructor gives it
+/// explicitly (`doc="FINROC: ZED Cam Image"`), else port_name_builder's from the member
+/// name, which drops a prefix naming the port's kind (`si_us_front` of a sensor input →
+/// `Us Front`).
+fn finroc_name(p: &Xml, tag: &str) -> String {
+    if let Some(explicit) = p.value("doc").and_then(|d| d.strip_prefix("FINROC: ")) {
+        return explicit.to_string();
+    }
+    let member = p.value("name").unwrap_or_default();
+    let prefixes: &[&str] = match tag {
+        "sensor-in" => &["si_"],
+        "sensor-out" => &["so_"],
+        "controller-in" => &["ci_"],
+        "controller-out" => &["co_"],
+        "in" => &["in_"],
+        "out" => &["out_"],
+        "param" => &["par_"],
+        _ => &[],
+    };
+    let stripped = prefixes
+        .iter()
+        .find_map(|x| member.strip_prefix(x).filter(|r| !r.is_empty()))
+        .unwrap_or(member);
+    finroc_port_name(stripped)
+}
+
 fn manifest(root: &Xml, c: &mut Catalogue) {
     let library = root.value("name").unwrap_or_default().to_string();
     // Named types: `rust="finroc::rrlib::localization::tPose2D"` → `rrlib.localization.Pose2D`.
@@ -213,10 +250,9 @@ fn manifest(root: &Xml, c: &mut Catalogue) {
                 "controller-in" => ("Controller Input", false),
                 "controller-out" => ("Controller Output", true),
                 "param" => {
-                    component.params.push((
-                        finroc_port_name(p.value("name").unwrap_or_default()),
-                        p.value("unit").map(str::to_string),
-                    ));
+                    component
+                        .params
+                        .push((finroc_name(p, "param"), p.value("unit").map(str::to_string)));
                     continue;
                 }
                 _ => continue,
@@ -227,7 +263,8 @@ fn manifest(root: &Xml, c: &mut Catalogue) {
                 .or_insert_with(|| ty.to_string());
             component.ports.push(Port {
                 interface: interface.into(),
-                name: finroc_port_name(p.value("name").unwrap_or_default()),
+                name: finroc_name(p, &p.name),
+                member: p.value("name").unwrap_or_default().to_string(),
                 ty: rrlib_type(ty, &named),
                 unit: p.value("unit").map(str::to_string),
                 output,
@@ -253,6 +290,7 @@ fn manifest(root: &Xml, c: &mut Catalogue) {
                 component.ports.push(Port {
                     interface: i.into(),
                     name: n.into(),
+                    member: super::text::ident_of(n),
                     ty: t.into(),
                     unit: None,
                     output: o,
@@ -286,6 +324,7 @@ fn groups(root: &Xml, c: &mut Catalogue) {
                 ports.push(Port {
                     interface: i.name.text.clone(),
                     name: p.name.text.clone(),
+                    member: super::text::ident_of(&p.name.text),
                     ty: p.ty.as_ref().map(|t| t.text.clone()).unwrap_or_default(),
                     unit,
                     output: p.output,
@@ -296,6 +335,7 @@ fn groups(root: &Xml, c: &mut Catalogue) {
             ports.push(Port {
                 interface: "Profiling".into(),
                 name: "Execution Duration".into(),
+                member: "execution_duration".into(),
                 ty: "rrlib.time.Duration".into(),
                 unit: None,
                 output: true,
@@ -374,6 +414,52 @@ mod tests {
         let behaviour = c.get("finroc_plugins_ib2c", "LimitOutput").unwrap();
         assert!(behaviour.interfaces.iter().any(|i| i == "iB2C Input"));
         assert!(behaviour.port("iB2C Output", "Activity").is_some());
+    }
+
+    #[test]
+    fn port_names_are_finrocs_explicit_or_built_ones() {
+        let c = builtin();
+        let track = c
+            .get("finroc_projects_robprak_2024_2", "TrackRecognition")
+            .unwrap();
+        let p = track.port("Sensor Input", "ZED Cam Single Image").unwrap();
+        assert_eq!(p.member, "zed_camera_solo_image");
+        assert_eq!(p.ty, "rrlib.coviroa.Image");
+        // No name given in C++: port_name_builder's.
+        let movement = c
+            .get("finroc_projects_robprak_2024_2", "TrackMovement")
+            .unwrap();
+        assert_eq!(
+            movement
+                .port("Controller Output", "Curvature")
+                .unwrap()
+                .unit
+                .as_deref(),
+            Some("1/m")
+        );
+        let main = c
+            .get("finroc_projects_robprak_2024_2", "MainControl")
+            .unwrap();
+        assert_eq!(
+            main.xml_file.as_deref(),
+            Some("projects/robprak_2024_2/gMainControl.h.xml")
+        );
+        assert!(main.port("Sensor Input", "Us Front").is_some());
+        assert!(main.port("Sensor Input", "Pose").is_none());
+        // The kind prefix is dropped only where it names the port's kind.
+        let e = |t: &str| xml::parse(FileId(0), t, 8).unwrap();
+        assert_eq!(
+            finroc_name(&e("<sensor-in name=\"si_us_front\"/>"), "sensor-in"),
+            "Us Front"
+        );
+        assert_eq!(
+            finroc_name(&e("<in name=\"si_us_front\"/>"), "in"),
+            "Si Us Front"
+        );
+        assert_eq!(
+            finroc_name(&e("<in name=\"x\" doc=\"FINROC: us_front\"/>"), "in"),
+            "us_front"
+        );
     }
 
     /// The manifests are ferroc manifests: they load through the library loader cleanly.

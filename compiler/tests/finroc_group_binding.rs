@@ -1,0 +1,127 @@
+//! A group file is bound to the catalogue group type whose constructor loads it
+//! (`__FILE__".xml"` of its header), also when several projects have a file of that name
+//! (`gMainControl.h.xml` is in every Unimog student project): by its place in the FINROC
+//! tree where that is known, else by the elements its edges name. A file that fits no
+//! type stays unbound and free of findings about ports it cannot know.
+
+use ferroc_compiler::load::Options;
+use ferroc_compiler::{check_model, Policy};
+use std::path::{Path, PathBuf};
+
+/// The edges of rc_unimog's gMainControl.h.xml (git-moe21/rc_unimog).
+const UNIMOG: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<Finstructable version="1703">
+  <edge src="Hardware Interface/Sensor Output/Image Left" dest="TrackRecognition/Sensor Input/ZED Cam Single Image"/>
+  <edge src="Sensor Input/Pose" dest="TrackRecognition/Sensor Input/In Pose 3d"/>
+</Finstructable>
+"#;
+
+/// Another project's gMainControl.h.xml (tuchtenh/Mobile-Roboter, ex5): other elements.
+const OTHER: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<Finstructable version="1703">
+  <edge src="Remote Interface/Sensor Output/Stereo Camera 0" dest="imageConverter/Input/Image"/>
+</Finstructable>
+"#;
+
+/// Edges that exist in MainControl as its C++ builds it.
+const GOOD: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<Finstructable version="1703">
+  <edge src="TrackRecognition/Sensor Output/Classified Output Image" dest="SignRecognition/Sensor Input/ZED Cam Single Image"/>
+  <edge src="TrackMovement/Controller Output/Track Move Point Found" dest="MoveFusion/Controller Input/Track Move Target Point Found"/>
+</Finstructable>
+"#;
+
+fn findings(dir: &Path, rel: &str, text: &str) -> Vec<String> {
+    let path: PathBuf = dir.join(rel);
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(&path, text).unwrap();
+    let result = check_model(&path, &Options::default(), &Policy::default()).unwrap();
+    result
+        .diagnostics
+        .iter()
+        .map(|d| {
+            let (_, line, col) = result.sources.location(d.primary.span);
+            format!(
+                "{line}:{col}: {}[{}]: {}",
+                d.severity.as_str(),
+                d.code(),
+                d.message
+            )
+        })
+        .collect()
+}
+
+fn tempdir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ferroc-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn a_group_file_is_bound_by_the_elements_its_edges_name() {
+    let dir = tempdir("binding-names");
+    let found = findings(&dir, "rc_unimog/gMainControl.h.xml", UNIMOG);
+    assert!(
+        found.iter().any(|f| f.starts_with(
+            "4:14: error[F102]: `Sensor Input/Pose` does not exist: this group has no port `Pose` in `Sensor Input`"
+        )),
+        "{found:#?}"
+    );
+    assert!(
+        found
+            .iter()
+            .any(|f| f
+                .starts_with("3:14: warning[F102]: `Hardware Interface/Sensor Output/Image Left`")),
+        "{found:#?}"
+    );
+    // The same file name in another project: not MainControl's, nothing said about ports.
+    let found = findings(&dir, "ex5/gMainControl.h.xml", OTHER);
+    assert!(
+        !found
+            .iter()
+            .any(|f| f.contains("[F102]") || f.contains("[F111]") || f.contains("MainControl")),
+        "{found:#?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn in_the_finroc_tree_the_place_decides() {
+    let dir = tempdir("binding-place");
+    let at = "finroc/sources/cpp/projects/robprak_2024_2/gMainControl.h.xml";
+    let found = findings(&dir, at, UNIMOG);
+    assert!(
+        found.iter().any(|f| f.starts_with("4:14: error[F102]")),
+        "{found:#?}"
+    );
+    // A file of that name in another project's folder is not MainControl's, even if its
+    // edges name MainControl's elements.
+    let found = findings(
+        &dir,
+        "finroc/sources/cpp/projects/rc_unimog_control_ub3/gMainControl.h.xml",
+        UNIMOG,
+    );
+    assert!(!found.iter().any(|f| f.contains("[F102]")), "{found:#?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn edges_that_exist_in_the_bound_group_stay_silent() {
+    let dir = tempdir("binding-good");
+    let found = findings(&dir, "rc_unimog/gMainControl.h.xml", GOOD);
+    // Bound (MainControl's unwritten outputs are named), and its edges are fine.
+    assert!(
+        found
+            .iter()
+            .any(|f| f.contains("[F105]: nothing in group `MainControl`")),
+        "{found:#?}"
+    );
+    assert!(
+        !found
+            .iter()
+            .any(|f| f.contains("[F102]") || f.contains("[F111]")),
+        "{found:#?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
