@@ -125,3 +125,29 @@ fn edges_that_exist_in_the_bound_group_stay_silent() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A program's `*.cpp.xml` belongs to the main thread container its `CreateMainGroup`
+/// makes (pForklift.cpp of arasdar/Robotics: RobotInterface and Recognition).
+#[test]
+fn a_programs_file_is_judged_against_what_the_program_builds() {
+    let dir = tempdir("binding-program");
+    let wrong = r#"<?xml version="1.0" encoding="UTF-8"?>
+<Finstructable>
+  <edge src="RobotInterface/Sensor Output/IR Distance L" dest="Recognition/Input/IR Distance Left"/>
+  <edge src="Recognition/Output/Desired Velocity" dest="RobotInterface/Controller Input/Velocity"/>
+</Finstructable>
+"#;
+    let found = findings(&dir, "MLR/control/pForklift.cpp.xml", wrong);
+    assert!(
+        found.iter().any(|f| f.starts_with(
+            "3:64: warning[F102]: `Recognition/Input/IR Distance Left` does not exist"
+        )),
+        "{found:#?}"
+    );
+    assert_eq!(
+        found.iter().filter(|f| f.contains("[F102]")).count(),
+        1,
+        "RobotInterface's type is not in the catalogue: its ends are not judged: {found:#?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -38,6 +38,18 @@ pub const FILES: &[(&str, &str)] = &[
         include_str!("../../../components/finroc/groups/finroc_projects_robprak_2024_2.xml"),
     ),
     (
+        "finroc_projects_stereo_traversability_experiments_recognition.lib.xml",
+        include_str!(
+            "../../../components/finroc/finroc_projects_stereo_traversability_experiments_recognition.lib.xml"
+        ),
+    ),
+    (
+        "groups/finroc_projects_stereo_traversability_experiments.xml",
+        include_str!(
+            "../../../components/finroc/groups/finroc_projects_stereo_traversability_experiments.xml"
+        ),
+    ),
+    (
         "groups/finroc_projects_crash_course.xml",
         include_str!("../../../components/finroc/groups/finroc_projects_crash_course.xml"),
     ),
