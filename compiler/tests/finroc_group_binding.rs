@@ -151,3 +151,30 @@ fn a_programs_file_is_judged_against_what_the_program_builds() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// gRoboticNavigation's children are groups made by its constructor; an edge into a
+/// child it does not make is found, the real file's edges are not.
+#[test]
+fn a_group_files_first_path_segment_is_judged_against_the_constructor() {
+    let dir = tempdir("binding-navigation");
+    let real = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(
+            "../../shared/corpus/finroc/Robotics__my-finroc-proj__stereo__simulations__ICARUS_physics__gRoboticNavigation.h.xml",
+        ),
+    );
+    let Ok(real) = real else {
+        println!("note: the FINROC corpus is absent; test skipped");
+        return;
+    };
+    let found = findings(&dir, "nav/gRoboticNavigation.h.xml", &real);
+    assert!(!found.iter().any(|f| f.contains("[F102]")), "{found:#?}");
+    let misspelt = real.replace("dest=\"Perception/", "dest=\"Perceptoin/");
+    let found = findings(&dir, "nav/gRoboticNavigation.h.xml", &misspelt);
+    assert!(
+        found.iter().any(|f| f.starts_with(
+            "6:63: warning[F102]: `Perceptoin/mapping-stereo/Input/Images` does not exist: no element `Perceptoin` here"
+        )),
+        "{found:#?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
