@@ -32,10 +32,14 @@ const GOOD: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
 "#;
 
 fn findings(dir: &Path, rel: &str, text: &str) -> Vec<String> {
+    findings_with(dir, rel, text, &Options::default())
+}
+
+fn findings_with(dir: &Path, rel: &str, text: &str, options: &Options) -> Vec<String> {
     let path: PathBuf = dir.join(rel);
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();
     std::fs::write(&path, text).unwrap();
-    let result = check_model(&path, &Options::default(), &Policy::default()).unwrap();
+    let result = check_model(&path, options, &Policy::default()).unwrap();
     result
         .diagnostics
         .iter()
@@ -101,6 +105,35 @@ fn in_the_finroc_tree_the_place_decides() {
         &dir,
         "finroc/sources/cpp/projects/rc_unimog_control_ub3/gMainControl.h.xml",
         UNIMOG,
+    );
+    assert!(!found.iter().any(|f| f.contains("[F102]")), "{found:#?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A repository cloned on its own: the prefix given for it (`--finroc-prefix`) places
+/// it in the FINROC tree, and the place decides over the names.
+#[test]
+fn a_given_prefix_places_a_lone_checkout() {
+    let dir = tempdir("binding-prefix");
+    let with = |prefix: &str| Options {
+        finroc_prefix: Some(prefix.to_string()),
+        ..Options::default()
+    };
+    let found = findings_with(
+        &dir,
+        "clone/gMainControl.h.xml",
+        UNIMOG,
+        &with("finroc_projects_robprak_2024_2"),
+    );
+    assert!(
+        found.iter().any(|f| f.starts_with("4:14: error[F102]")),
+        "{found:#?}"
+    );
+    let found = findings_with(
+        &dir,
+        "clone/gMainControl.h.xml",
+        UNIMOG,
+        &with("finroc_projects_rc_unimog_control_ub3"),
     );
     assert!(!found.iter().any(|f| f.contains("[F102]")), "{found:#?}");
     let _ = std::fs::remove_dir_all(&dir);
