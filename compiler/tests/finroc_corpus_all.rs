@@ -153,8 +153,6 @@ fn the_whole_corpus_reads_and_its_real_defects_are_found_at_their_lines() {
         // `Pose` among its sensor inputs, no `In Pose 3d` in TrackRecognition (nor in
         // any version of the repository's C++): FINROC drops the edge.
         "rc_unimog__gMainControl.h.xml:4:14: error[F102]: `Sensor Input/Pose` does not exist",
-        // `Hardware Interface` is made by the program only under Unreal: pending.
-        "rc_unimog__gMainControl.h.xml:3:14: warning[F102]: `Hardware Interface/Sensor Output/Image Left` does not exist",
         // ICARUS simulation (arasdar/Robotics): gIcarusSimulation.cpp no longer creates
         // StViPr, ProcessedSensorDataToMapping, the map displays, the scanner chains (the
         // code is commented out); edges between them are dropped, edges from what it

@@ -50,6 +50,10 @@ pub const FILES: &[(&str, &str)] = &[
         ),
     ),
     (
+        "groups/finroc_projects_rc_unimog_control.xml",
+        include_str!("../../../components/finroc/groups/finroc_projects_rc_unimog_control.xml"),
+    ),
+    (
         "groups/finroc_projects_crash_course.xml",
         include_str!("../../../components/finroc/groups/finroc_projects_crash_course.xml"),
     ),

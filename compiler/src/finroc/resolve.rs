@@ -71,8 +71,9 @@ pub fn owner<'c>(
 /// is `projects/x`), the type whose `xmlfile` is that path owns it. Elsewhere (a
 /// repository cloned on its own, a flat folder of files) many projects have a
 /// `gMainControl.h.xml`: the types whose file has this name are narrowed to those whose
-/// constructor creates an element the file's edges name, and one must remain; a file
-/// that names no constructor-made element is owned by the one type with its name.
+/// constructor creates the most of the elements the file's edges name (at least one),
+/// and one must remain; a file that names no element beyond its own is owned by the
+/// one type with its name.
 fn catalogue_owner<'c>(
     doc: &Finstructable,
     name: &str,
@@ -111,14 +112,22 @@ fn catalogue_owner<'c>(
         .filter(|first| !doc.elements.iter().any(|e| e.name.text == *first))
         .collect();
     if !referenced.is_empty() {
-        candidates.retain(|c| {
-            c.content.as_ref().is_some_and(|content| {
-                content
-                    .elements
+        // How many of the named elements each type's constructor creates; the types
+        // that create the most (at least one) remain.
+        let made = |c: &Component| {
+            c.content.as_ref().map_or(0, |content| {
+                let mut names: Vec<&str> = referenced
                     .iter()
-                    .any(|e| referenced.contains(&e.name.text.as_str()))
+                    .copied()
+                    .filter(|r| content.elements.iter().any(|e| e.name.text == *r))
+                    .collect();
+                names.sort_unstable();
+                names.dedup();
+                names.len()
             })
-        });
+        };
+        let best = candidates.iter().map(|c| made(c)).max().unwrap_or(0);
+        candidates.retain(|c| best > 0 && made(c) == best);
     }
     (candidates.len() == 1).then(|| candidates[0])
 }
