@@ -89,7 +89,7 @@ fn a_group_file_is_bound_by_the_elements_its_edges_name() {
     let found = findings(&dir, "ex5/gMainControl.h.xml", &wrong);
     assert!(
         found.iter().any(|f| f.contains(
-            "warning[F102]: `imageConverter/Input/Images` does not exist: `imageConverter` (`ImageConverter`) has no port `Images` in `Input`"
+            "warning[F102]: `imageConverter/Input/Images` does not exist: `imageConverter` (`ImageConverter`) has no port `Images` in `Input`; did you mean `Image`?"
         )),
         "{found:#?}"
     );
@@ -192,7 +192,7 @@ fn a_programs_file_is_judged_against_what_the_program_builds() {
     let found = findings(&dir, "MLR/control/pForklift.cpp.xml", wrong);
     assert!(
         found.iter().any(|f| f.starts_with(
-            "3:64: warning[F102]: `Recognition/Input/IR Distance Left` does not exist"
+            "3:64: warning[F102]: `Recognition/Input/IR Distance Left` does not exist: `Recognition` (`Recognition`) has no port `IR Distance Left` in `Input`; did you mean `IR Distance L`?"
         )),
         "{found:#?}"
     );

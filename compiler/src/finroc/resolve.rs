@@ -156,6 +156,14 @@ fn place_in_tree(name: &str, checkout: &Checkout) -> Option<String> {
     Some(format!("{area}/{}", relative.trim_start_matches('/')))
 }
 
+/// `; did you mean `X`?` for the port of `ports` nearest to `port`, if one is near.
+fn near<'p>(port: &str, ports: impl Iterator<Item = &'p super::catalogue::Port>) -> String {
+    let names: Vec<&str> = ports.map(|p| p.name.as_str()).collect();
+    crate::diagnostic::did_you_mean(port, names.iter().copied())
+        .map(|n| format!("; did you mean `{n}`?"))
+        .unwrap_or_default()
+}
+
 /// The context an end is resolved in.
 pub struct Scope<'a> {
     pub doc: &'a Finstructable,
@@ -267,8 +275,13 @@ impl Scope<'_> {
             return End::Unknown(format!("the ports of `{}` are made at run time", ty.text));
         }
         End::Missing(format!(
-            "`{}` (`{}`) has no port `{port}` in `{interface}`",
-            element.name.text, ty.text
+            "`{}` (`{}`) has no port `{port}` in `{interface}`{}",
+            element.name.text,
+            ty.text,
+            near(
+                port,
+                component.ports.iter().filter(|p| &p.interface == interface)
+            )
         ))
     }
 
@@ -311,7 +324,10 @@ impl Scope<'_> {
                         o.name
                     ))
                 }
-                None => End::Missing(format!("this group has no port `{port}` in `{interface}`")),
+                None => End::Missing(format!(
+                    "this group has no port `{port}` in `{interface}`{}",
+                    near(port, o.ports.iter().filter(|p| p.interface == interface))
+                )),
             },
             None => End::Unknown("the group's type is not in the catalogue".into()),
         }
