@@ -38,12 +38,14 @@ pub struct ImportArgs {
 
 #[derive(clap::Subcommand)]
 pub enum ExportFormat {
-    /// Write a FINROC application: from a ferroc model (its first thread container), or
+    /// Write a FINROC application: from a ferroc model (one file per thread container), or
     /// a FINROC file re-written as FINROC's writer does (an unchanged FINROC-written file
     /// comes back byte for byte)
     #[command(long_about = "Write a FINROC application file.\n\n\
-From a ferroc model: the first thread container's modules and groups of FINROC catalogue types \
-become elements, its <connect>s edges, <param config cmdline> below them parameter links. A model \
+From a ferroc model: each thread container is one .finroc file (finroc_run makes one top-level \
+thread container per file; the first is written to -o, the others beside it as APP.CONTAINER.finroc). \
+Its modules and groups of FINROC catalogue types become elements, its <connect>s edges, \
+<param config cmdline> below them parameter links. A model \
 made by `ferroc import finroc` keeps FINROC's names and file attributes in `doc`, so it exports \
 to the file it came from. From a FINROC application or group file: the file as FINROC's writer \
 (SaveXml) writes it.\n\n\
@@ -61,11 +63,19 @@ pub struct ExportArgs {
     output: PathBuf,
 }
 
-/// Reads a FINROC application or group file; parse problems are printed (short form).
-fn read_doc(
+/// Reads a FINROC application or group file, or exports a ferroc model (one file per
+/// thread container: its ferroc name and the file); parse problems are printed (short
+/// form).
+fn read_docs(
     path: &Path,
     sources: &mut SourceMap,
-) -> Result<ferroc_compiler::finroc::finstructable::Finstructable, ExitCode> {
+) -> Result<
+    Vec<(
+        Option<String>,
+        ferroc_compiler::finroc::finstructable::Finstructable,
+    )>,
+    ExitCode,
+> {
     let limits = Limits::default();
     let text = read_text(path, &limits).map_err(|e| {
         eprintln!("error: cannot read {}: {e}", path.display());
@@ -80,25 +90,45 @@ fn read_doc(
     if root.name == "application" {
         // A ferroc model: exported through the catalogue.
         return match ferroc_compiler::finroc::export::export(&root, catalogue::builtin()) {
-            Ok(e) => {
-                for n in &e.notes {
-                    eprintln!("not exported: {n}");
-                }
-                Ok(e.doc)
-            }
+            Ok(all) => Ok(all
+                .into_iter()
+                .map(|e| {
+                    for n in &e.notes {
+                        eprintln!("not exported ({}): {n}", e.container);
+                    }
+                    (Some(e.container), e.doc)
+                })
+                .collect()),
             Err(why) => {
                 eprintln!("error: {}: {why}", path.display());
                 Err(ExitCode::from(1))
             }
         };
     }
+    read_doc_of(file, &root, sources).map(|d| vec![(None, d)])
+}
+
+/// Reads a FINROC application or group file; parse problems are printed (short form).
+fn read_doc(
+    path: &Path,
+    sources: &mut SourceMap,
+) -> Result<ferroc_compiler::finroc::finstructable::Finstructable, ExitCode> {
+    let mut docs = read_docs(path, sources)?;
+    Ok(docs.remove(0).1)
+}
+
+fn read_doc_of(
+    file: ferroc_compiler::source::FileId,
+    root: &xml::Element,
+    sources: &SourceMap,
+) -> Result<ferroc_compiler::finroc::finstructable::Finstructable, ExitCode> {
     if !matches!(root.name.as_str(), "Finstructable" | "FinstructableGroup") {
         let (f, l, c) = sources.location(root.name_span);
         eprintln!("{f}:{l}:{c}: error: <{}> is not a FINROC application or group file (root <Finstructable>)", root.name);
         return Err(ExitCode::from(1));
     }
     let mut diags = Diagnostics::default();
-    let doc = read::read(file, &root, &mut diags);
+    let doc = read::read(file, root, &mut diags);
     for d in &diags.items {
         let (f, l, c) = sources.location(d.primary.span);
         eprintln!(
@@ -187,22 +217,54 @@ pub fn import(format: ImportFormat) -> ExitCode {
 pub fn export(format: ExportFormat) -> ExitCode {
     let ExportFormat::Finroc(args) = format;
     let mut sources = SourceMap::default();
-    let doc = match read_doc(&args.input, &mut sources) {
+    let docs = match read_docs(&args.input, &mut sources) {
         Ok(d) => d,
         Err(code) => return code,
     };
-    let text = write::write(&doc);
-    let result = if args.output == Path::new("-") {
-        use std::io::Write;
-        std::io::stdout().lock().write_all(text.as_bytes())
-    } else {
-        std::fs::write(&args.output, text)
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: cannot write {}: {e}", args.output.display());
-            ExitCode::from(2)
-        }
+    let to_stdout = args.output == Path::new("-");
+    if docs.len() > 1 && to_stdout {
+        eprintln!(
+            "error: the model has {} thread containers, one .finroc file each: give a file name with -o (the first is written there, the others beside it)",
+            docs.len()
+        );
+        return ExitCode::from(2);
     }
+    let mut files = Vec::new();
+    for (i, (container, doc)) in docs.iter().enumerate() {
+        let path = match (i, container) {
+            (0, _) | (_, None) => args.output.clone(),
+            (_, Some(c)) => beside(&args.output, c),
+        };
+        let text = write::write(doc);
+        let result = if to_stdout {
+            use std::io::Write;
+            std::io::stdout().lock().write_all(text.as_bytes())
+        } else {
+            std::fs::write(&path, text)
+        };
+        if let Err(e) = result {
+            eprintln!("error: cannot write {}: {e}", path.display());
+            return ExitCode::from(2);
+        }
+        files.push(path);
+    }
+    if files.len() > 1 {
+        let list: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+        eprintln!(
+            "wrote {} files, one per thread container; run them together with: finroc_run {}",
+            files.len(),
+            list.join(" ")
+        );
+    }
+    ExitCode::SUCCESS
+}
+
+/// `APP.finroc` and container `vision` → `APP.vision.finroc`.
+fn beside(output: &Path, container: &str) -> PathBuf {
+    let stem = output
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = stem.strip_suffix(".finroc").unwrap_or(&stem);
+    output.with_file_name(format!("{stem}.{container}.finroc"))
 }

@@ -72,6 +72,77 @@ fn exporting_finrocs_round_trip_file_is_byte_identical() {
     }
 }
 
+/// finroc_run makes one top-level thread container per `.finroc` file: a model with
+/// two thread containers exports to two files, the first unchanged by the second, a
+/// connect across them named as left out.
+#[test]
+fn exporting_a_model_with_two_thread_containers_writes_one_finroc_file_each() {
+    let dir = tempdir("finroc_export_threads").join("cc");
+    copy_tree(&Path::new(FILES).join("crash_course"), &dir);
+    let model = dir.join("model.xml");
+    let (code, _, err) = ferroc(&[
+        "import",
+        "finroc",
+        dir.join("CrashCourse.finroc").to_str().unwrap(),
+        "-o",
+        model.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&model).unwrap();
+    let attr = |tag: &str| {
+        let at = text.find(&format!("<{tag} name=\"")).unwrap() + tag.len() + 8;
+        text[at..at + text[at..].find('"').unwrap()].to_string()
+    };
+    let (part, thread) = (attr("part"), attr("thread"));
+    let second = "<thread name=\"noise\" period=\"10ms\">\n\
+        <module name=\"extra\" type=\"finroc_projects_crash_course.AddNoise\"/>\n\
+        <module name=\"extra2\" type=\"finroc_projects_crash_course.AddNoise\"/>\n\
+        <connect from=\"extra/output\" to=\"extra2/input\"/>\n\
+        </thread>\n";
+    let at = text.find("</thread>").unwrap() + "</thread>".len() + 1;
+    let mut changed = format!("{}{second}{}", &text[..at], &text[at..]);
+    let across = format!(
+        "<connect from=\"{part}/{thread}/simulation/ir_distance_front\" to=\"{part}/noise/extra/input\"/>\n"
+    );
+    let end = changed.rfind("</application>").unwrap();
+    changed.insert_str(end, &across);
+    std::fs::write(&model, changed).unwrap();
+
+    let out = dir.join("out.finroc");
+    let (code, _, err) = ferroc(&[
+        "export",
+        "finroc",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        std::fs::read(dir.join("CrashCourse.finroc")).unwrap(),
+        "the first container is the imported application, unchanged"
+    );
+    let noise = std::fs::read_to_string(dir.join("out.noise.finroc")).unwrap();
+    for want in [
+        "<Finstructable defaultname=\"noise\" dependencies=\"finroc_projects_crash_course\">",
+        "<element name=\"extra\" group=\"finroc_projects_crash_course\" type=\"AddNoise\">",
+        "<edge src=\"extra/Output/Output\" dest=\"extra2/Input/Input\"/>",
+    ] {
+        assert!(noise.contains(want), "{want} missing in\n{noise}");
+    }
+    assert!(
+        !noise.contains("Ir Distance Front"),
+        "the connect across containers is in neither file: {noise}"
+    );
+    assert!(
+        err.contains("joins two thread containers") && err.contains("finroc_run"),
+        "{err}"
+    );
+    let (code, _, err) = ferroc(&["export", "finroc", model.to_str().unwrap(), "-o", "-"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("2 thread containers"), "{err}");
+}
+
 #[test]
 fn checking_a_checkout_resolves_files_and_names_what_it_skipped() {
     let dir = tempdir("finroc_checkout");

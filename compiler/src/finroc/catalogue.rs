@@ -30,6 +30,30 @@ pub const FILES: &[(&str, &str)] = &[
         include_str!("../../../components/finroc/finroc_plugins_ib2c.lib.xml"),
     ),
     (
+        "finroc_projects_robprak_2024_2.lib.xml",
+        include_str!("../../../components/finroc/finroc_projects_robprak_2024_2.lib.xml"),
+    ),
+    (
+        "groups/finroc_projects_robprak_2024_2.xml",
+        include_str!("../../../components/finroc/groups/finroc_projects_robprak_2024_2.xml"),
+    ),
+    (
+        "finroc_projects_stereo_traversability_experiments_recognition.lib.xml",
+        include_str!(
+            "../../../components/finroc/finroc_projects_stereo_traversability_experiments_recognition.lib.xml"
+        ),
+    ),
+    (
+        "groups/finroc_projects_stereo_traversability_experiments.xml",
+        include_str!(
+            "../../../components/finroc/groups/finroc_projects_stereo_traversability_experiments.xml"
+        ),
+    ),
+    (
+        "groups/finroc_projects_rc_unimog_control.xml",
+        include_str!("../../../components/finroc/groups/finroc_projects_rc_unimog_control.xml"),
+    ),
+    (
         "groups/finroc_projects_crash_course.xml",
         include_str!("../../../components/finroc/groups/finroc_projects_crash_course.xml"),
     ),
@@ -47,7 +71,10 @@ pub const FILES: &[(&str, &str)] = &[
 #[derive(Clone, Debug)]
 pub struct Port {
     pub interface: String,
+    /// FINROC's name (`Ir Distance Front`).
     pub name: String,
+    /// The ferroc name (the C++ member: `ir_distance_front`).
+    pub member: String,
     /// The rrlib type name (`double`, `rrlib.localization.Pose2D`).
     pub ty: String,
     pub unit: Option<String>,
@@ -170,6 +197,32 @@ fn rrlib_type(ty: &str, named: &HashMap<String, String>) -> String {
     .to_string()
 }
 
+/// FINROC's name of a manifest port or parameter: the name its C++ constructor gives it
+/// explicitly (`doc="FINROC: ZED Cam Image"`), else port_name_builder's from the member
+/// name, which drops a prefix naming the port's kind (`si_us_front` of a sensor input →
+/// `Us Front`).
+fn finroc_name(p: &Xml, tag: &str) -> String {
+    if let Some(explicit) = p.value("doc").and_then(|d| d.strip_prefix("FINROC: ")) {
+        return explicit.to_string();
+    }
+    let member = p.value("name").unwrap_or_default();
+    let prefixes: &[&str] = match tag {
+        "sensor-in" => &["si_"],
+        "sensor-out" => &["so_"],
+        "controller-in" => &["ci_"],
+        "controller-out" => &["co_"],
+        "in" => &["in_"],
+        "out" => &["out_"],
+        "param" => &["par_"],
+        _ => &[],
+    };
+    let stripped = prefixes
+        .iter()
+        .find_map(|x| member.strip_prefix(x).filter(|r| !r.is_empty()))
+        .unwrap_or(member);
+    finroc_port_name(stripped)
+}
+
 fn manifest(root: &Xml, c: &mut Catalogue) {
     let library = root.value("name").unwrap_or_default().to_string();
     // Named types: `rust="finroc::rrlib::localization::tPose2D"` → `rrlib.localization.Pose2D`.
@@ -213,10 +266,9 @@ fn manifest(root: &Xml, c: &mut Catalogue) {
                 "controller-in" => ("Controller Input", false),
                 "controller-out" => ("Controller Output", true),
                 "param" => {
-                    component.params.push((
-                        finroc_port_name(p.value("name").unwrap_or_default()),
-                        p.value("unit").map(str::to_string),
-                    ));
+                    component
+                        .params
+                        .push((finroc_name(p, "param"), p.value("unit").map(str::to_string)));
                     continue;
                 }
                 _ => continue,
@@ -227,7 +279,8 @@ fn manifest(root: &Xml, c: &mut Catalogue) {
                 .or_insert_with(|| ty.to_string());
             component.ports.push(Port {
                 interface: interface.into(),
-                name: finroc_port_name(p.value("name").unwrap_or_default()),
+                name: finroc_name(p, &p.name),
+                member: p.value("name").unwrap_or_default().to_string(),
                 ty: rrlib_type(ty, &named),
                 unit: p.value("unit").map(str::to_string),
                 output,
@@ -253,6 +306,7 @@ fn manifest(root: &Xml, c: &mut Catalogue) {
                 component.ports.push(Port {
                     interface: i.into(),
                     name: n.into(),
+                    member: super::text::ident_of(n),
                     ty: t.into(),
                     unit: None,
                     output: o,
@@ -286,6 +340,7 @@ fn groups(root: &Xml, c: &mut Catalogue) {
                 ports.push(Port {
                     interface: i.name.text.clone(),
                     name: p.name.text.clone(),
+                    member: super::text::ident_of(&p.name.text),
                     ty: p.ty.as_ref().map(|t| t.text.clone()).unwrap_or_default(),
                     unit,
                     output: p.output,
@@ -296,6 +351,7 @@ fn groups(root: &Xml, c: &mut Catalogue) {
             ports.push(Port {
                 interface: "Profiling".into(),
                 name: "Execution Duration".into(),
+                member: "execution_duration".into(),
                 ty: "rrlib.time.Duration".into(),
                 unit: None,
                 output: true,
@@ -323,81 +379,5 @@ fn groups(root: &Xml, c: &mut Catalogue) {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn catalogue_holds_the_crash_course_and_structure_types_with_finroc_names() {
-        let c = builtin();
-        let main = c
-            .get("finroc_projects_crash_course", "MainSimulation")
-            .unwrap();
-        let p = main.port("Sensor Output", "Ir Distance Front").unwrap();
-        assert_eq!(
-            (p.ty.as_str(), p.unit.as_deref(), p.output),
-            ("double", Some("m"), true)
-        );
-        assert_eq!(
-            main.port("Sensor Output", "Pose").unwrap().ty,
-            "rrlib.localization.Pose2D"
-        );
-        assert_eq!(
-            main.param("Destructive Collision Speed")
-                .unwrap()
-                .1
-                .as_deref(),
-            Some("m/s")
-        );
-        let sim = c.get("finroc_projects_crash_course", "Simulation").unwrap();
-        assert!(sim.composite && !sim.open);
-        assert_eq!(sim.xml_file.as_deref(), Some("gSimulation.h.xml"));
-        let content = sim.content.as_ref().unwrap();
-        assert_eq!(content.elements.len(), 2);
-        assert_eq!(content.edges.len(), 5);
-        let tc = c
-            .get(
-                "finroc_plugins_structure",
-                "ThreadContainer<SenseControlGroup>",
-            )
-            .unwrap();
-        assert!(tc.port("Profiling", "Execution Duration").is_some());
-        assert!(
-            c.get("finroc_plugins_runtime_construction", "Default Interface")
-                .unwrap()
-                .open
-        );
-        assert_eq!(
-            c.ferroc_types["rrlib.localization.Pose2D"],
-            "finroc_projects_crash_course.Pose2D"
-        );
-        assert_eq!(c.ferroc_types["double"], "f64");
-        let behaviour = c.get("finroc_plugins_ib2c", "LimitOutput").unwrap();
-        assert!(behaviour.interfaces.iter().any(|i| i == "iB2C Input"));
-        assert!(behaviour.port("iB2C Output", "Activity").is_some());
-    }
-
-    /// The manifests are ferroc manifests: they load through the library loader cleanly.
-    #[test]
-    fn catalogue_manifests_load_as_ferroc_libraries() {
-        let dir = std::env::temp_dir().join(format!("ferroc-catalogue-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let mut names = Vec::new();
-        for (name, text) in FILES.iter().filter(|(n, _)| n.ends_with(".lib.xml")) {
-            std::fs::write(dir.join(name), text).unwrap();
-            names.push(name.trim_end_matches(".lib.xml").to_string());
-        }
-        let options = crate::load::Options {
-            lib_path: vec![dir.clone()],
-            ..Default::default()
-        };
-        let loaded = crate::load_manifests(&names, &options);
-        let _ = std::fs::remove_dir_all(&dir);
-        let problems: Vec<_> = loaded
-            .diagnostics
-            .iter()
-            .map(|d| format!("{} {}", d.code(), d.message))
-            .collect();
-        assert!(problems.is_empty(), "{problems:?}");
-        assert_eq!(loaded.libraries.libraries.len(), names.len());
-    }
-}
+#[path = "catalogue_tests.rs"]
+mod tests;

@@ -74,6 +74,9 @@ impl Checkout {
             root: root.to_path_buf(),
             ..Checkout::default()
         };
+        // A prefix given for the checkout tells its place in the FINROC tree even where
+        // no make.xml says it (group-file binding uses it).
+        checkout.prefixes.extend(prefix.clone());
         let mut quiet = Diagnostics::default();
         for path in found {
             if path.canonicalize().is_ok_and(|c| c == except) {

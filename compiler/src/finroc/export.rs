@@ -1,5 +1,5 @@
-//! `ferroc export finroc` of a ferroc model: the model's first thread container as a
-//! FINROC application file. Elements come from the model's top-level modules and groups
+//! `ferroc export finroc` of a ferroc model: each thread container as a FINROC
+//! application file. Elements come from the model's top-level modules and groups
 //! whose type is a catalogue type (`type="lib.Type"`, or `doc="FINROC: lib/Type: name"`
 //! as `import finroc` writes it, which also keeps FINROC's element names), edges from the
 //! thread container's `<connect>`s, parameter links from `<param config cmdline>` below.
@@ -16,6 +16,8 @@ use crate::syntax::Element as Xml;
 
 /// The exported file and what was left out.
 pub struct Exported {
+    /// The ferroc name of the thread container it came from.
+    pub container: String,
     pub doc: Finstructable,
     pub notes: Vec<String>,
 }
@@ -59,33 +61,86 @@ fn top<'a, 'c>(e: &'a Xml, catalogue: &'c Catalogue) -> Option<Top<'a, 'c>> {
     })
 }
 
-/// Exports the first thread container of a parsed ferroc model.
-pub fn export(model: &Xml, catalogue: &Catalogue) -> Result<Exported, String> {
+/// Exports each thread container of a parsed ferroc model as one FINROC application
+/// (finroc_run makes one top-level thread container per `.finroc` file it is given).
+/// The file facts `import finroc` kept in the application's `doc` (`version`, the root
+/// tag) hold for every file; `defaultname` and `dependencies` for the first; the others
+/// are named after their thread container and depend on what they use.
+/// A `<connect>` between two containers is left out with a note: in FINROC it is an
+/// edge between two files' containers, which neither file can say relative to itself.
+pub fn export(model: &Xml, catalogue: &Catalogue) -> Result<Vec<Exported>, String> {
     if model.name != "application" {
         return Err(format!(
             "<{}> is not a ferroc application model",
             model.name
         ));
     }
-    let mut notes = Vec::new();
-    let facts: Vec<(&str, &str)> = model
-        .value("doc")
-        .unwrap_or_default()
-        .split("; ")
-        .filter_map(|f| f.split_once(": "))
+    let threads: Vec<(&Xml, &Xml)> = model
+        .children_named("part")
+        .flat_map(|p| p.children_named("thread").map(move |t| (p, t)))
         .collect();
-    let fact = |k: &str| facts.iter().find(|(key, _)| *key == k).map(|(_, v)| *v);
-    let parts: Vec<&Xml> = model.children_named("part").collect();
-    let threads: Vec<&Xml> = parts
-        .iter()
-        .flat_map(|p| p.children_named("thread"))
-        .collect();
-    let thread = *threads
-        .first()
-        .ok_or("the model has no thread container to export")?;
-    if threads.len() > 1 {
-        notes.push("only the first thread container is exported (a .finroc file is one)".into());
+    if threads.is_empty() {
+        return Err("the model has no thread container to export".into());
     }
+    let mut out = Vec::new();
+    for (i, (part, thread)) in threads.iter().enumerate() {
+        let mut exported = export_thread(model, part, thread, catalogue, i == 0)?;
+        if threads.len() > 1 {
+            for (c, at_model) in outer_connects(model, part) {
+                let inside = |p: Option<&str>| {
+                    p.is_some_and(|p| thread_local(p, at_model, part, thread).is_some())
+                };
+                let (from, to) = (c.value("from"), c.value("to"));
+                if inside(from) && !inside(to) {
+                    exported.notes.push(format!(
+                        "connect {} -> {}: it joins two thread containers (two .finroc files)",
+                        from.unwrap_or_default(),
+                        to.unwrap_or_default()
+                    ));
+                }
+            }
+        }
+        out.push(exported);
+    }
+    Ok(out)
+}
+
+/// `path` of a `<connect>` at the application level (`part/thread/…`, `at_model`) or
+/// in `part` (`thread/…`) as a path inside `thread`, if it leads there.
+fn thread_local<'p>(path: &'p str, at_model: bool, part: &Xml, thread: &Xml) -> Option<&'p str> {
+    let in_part = if at_model {
+        path.strip_prefix(part.value("name")?)?.strip_prefix('/')?
+    } else {
+        path
+    };
+    in_part
+        .strip_prefix(thread.value("name")?)?
+        .strip_prefix('/')
+}
+
+/// The `<connect>`s of the application and of `part`, with whether each is the
+/// application's.
+fn outer_connects<'a>(model: &'a Xml, part: &'a Xml) -> impl Iterator<Item = (&'a Xml, bool)> {
+    model
+        .children_named("connect")
+        .map(|c| (c, true))
+        .chain(part.children_named("connect").map(|c| (c, false)))
+}
+
+fn export_thread(
+    model: &Xml,
+    part: &Xml,
+    thread: &Xml,
+    catalogue: &Catalogue,
+    first: bool,
+) -> Result<Exported, String> {
+    let mut notes = Vec::new();
+    // The file facts `import finroc` kept: `version` and the root tag hold for every
+    // file written; `defaultname` and `dependencies` are the first file's.
+    let doc = model.value("doc").unwrap_or_default();
+    let facts: Vec<(&str, &str)> = doc.split("; ").filter_map(|f| f.split_once(": ")).collect();
+    let fact = |k: &str| facts.iter().find(|(key, _)| *key == k).map(|(_, v)| *v);
+    let container = thread.value("name").unwrap_or_default().to_string();
     let span = model.name_span;
     let version = fact("version").and_then(|v| v.parse().ok());
     let mut tops = Vec::new();
@@ -103,7 +158,7 @@ pub fn export(model: &Xml, catalogue: &Catalogue) -> Result<Exported, String> {
         }
     }
     let mut dependencies: Vec<String> = Vec::new();
-    match fact("dependencies") {
+    match fact("dependencies").filter(|_| first) {
         Some(d) => dependencies.extend(d.split(", ").map(str::to_string)),
         None => {
             for t in &tops {
@@ -126,10 +181,15 @@ pub fn export(model: &Xml, catalogue: &Catalogue) -> Result<Exported, String> {
         })
         .collect();
     let mut edges = Vec::new();
-    for c in thread.children_named("connect") {
-        let (Some(from), Some(to)) = (c.value("from"), c.value("to")) else {
-            continue;
-        };
+    let outer = outer_connects(model, part).filter_map(|(c, at_model)| {
+        let from = thread_local(c.value("from")?, at_model, part, thread)?;
+        let to = thread_local(c.value("to")?, at_model, part, thread)?;
+        Some((c, from, to))
+    });
+    let own = thread
+        .children_named("connect")
+        .filter_map(|c| Some((c, c.value("from")?, c.value("to")?)));
+    for (c, from, to) in own.chain(outer) {
         match (end(from, &tops, c.span), end(to, &tops, c.span)) {
             (Some(src), Some(dest)) => edges.push(Edge {
                 src,
@@ -155,13 +215,19 @@ pub fn export(model: &Xml, catalogue: &Catalogue) -> Result<Exported, String> {
             &mut links,
         );
     }
+    let defaultname = match fact("defaultname").filter(|_| first) {
+        Some(d) => Some(named(d, span)),
+        None if !first => Some(named(&container, span)),
+        None => None,
+    };
     Ok(Exported {
+        container,
         doc: Finstructable {
             file: span.file,
             root_tag: fact("root").unwrap_or("Finstructable").to_string(),
             root_span: span,
             version,
-            defaultname: fact("defaultname").map(|d| named(d, span)),
+            defaultname,
             has_dependencies: !dependencies.is_empty(),
             dependencies: dependencies.into_iter().map(|d| named(d, span)).collect(),
             interfaces: Vec::new(),
@@ -177,11 +243,7 @@ pub fn export(model: &Xml, catalogue: &Catalogue) -> Result<Exported, String> {
 fn end(path: &str, tops: &[Top<'_, '_>], span: Span) -> Option<EdgeEnd> {
     let (first, port) = path.split_once('/')?;
     let t = tops.iter().find(|t| t.xml.value("name") == Some(first))?;
-    let p = t
-        .component
-        .ports
-        .iter()
-        .find(|p| ident_of(&p.name) == port)?;
+    let p = t.component.ports.iter().find(|p| p.member == port)?;
     let segments = vec![t.name.clone(), p.interface.clone(), p.name.clone()];
     Some(EdgeEnd {
         raw: named(segments.join("/"), span),

@@ -251,7 +251,10 @@ fn path_of(node: &Node<'_>, segs: &[String]) -> Option<String> {
         if c.interfaces.iter().any(|i| i == &segs[0])
             && !node.children.iter().any(|n| n.finroc == segs[0])
         {
-            return Some(ident_of(&segs[1]));
+            return Some(
+                c.port(&segs[0], &segs[1])
+                    .map_or_else(|| ident_of(&segs[1]), |p| p.member.clone()),
+            );
         }
     }
     let child = node.children.iter().find(|n| n.finroc == segs[0])?;
@@ -310,7 +313,7 @@ fn body(node: &Node<'_>, level: usize, o: &mut String) {
                 let _ = writeln!(
                     o,
                     "{pad}<port name=\"{}\" dir=\"{dir}\" type=\"{ty}\"{unit}/>",
-                    ident_of(&p.name)
+                    p.member
                 );
             }
         }

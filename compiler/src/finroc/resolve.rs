@@ -39,6 +39,9 @@ pub fn owner<'c>(
             "ThreadContainer<SenseControlGroup>",
         );
     }
+    if let Some(c) = catalogue_owner(doc, &name, catalogue, checkout) {
+        return Some(c);
+    }
     let tail_matches = |file: &str| {
         let file_name = file.rsplit('/').next().unwrap_or(file);
         name.ends_with(&format!("/{file}"))
@@ -46,13 +49,6 @@ pub fn owner<'c>(
             || name.ends_with(&format!("__{file_name}"))
             || name == file_name
     };
-    if let Some(c) = catalogue
-        .components
-        .values()
-        .find(|c| c.xml_file.as_deref().is_some_and(tail_matches))
-    {
-        return Some(c);
-    }
     // A group instance elsewhere in the checkout that loads this file (`XML file`).
     for g in &checkout.groups {
         for (_, e) in g.doc.all_elements() {
@@ -65,6 +61,107 @@ pub fn owner<'c>(
         }
     }
     None
+}
+
+/// The catalogue group type whose constructor loads the group file at `name`.
+///
+/// FINROC's key is the header's path in the FINROC tree (`__FILE__".xml"`:
+/// `projects/robprak_2024_2/gMainControl.h.xml`). Where the file's place in the tree is
+/// known (below `sources/cpp/`, or the checkout's one target prefix: `finroc_projects_x`
+/// is `projects/x`), the type whose `xmlfile` is that path owns it. Elsewhere (a
+/// repository cloned on its own, a flat folder of files) many projects have a
+/// `gMainControl.h.xml`: the types whose file has this name are narrowed to those whose
+/// constructor creates the most of the elements the file's edges name (at least one),
+/// and one must remain; a file that names no element beyond its own is owned by the
+/// one type with its name.
+fn catalogue_owner<'c>(
+    doc: &Finstructable,
+    name: &str,
+    catalogue: &'c Catalogue,
+    checkout: &Checkout,
+) -> Option<&'c Component> {
+    let base = name.rsplit('/').next().unwrap_or(name);
+    let base = base.rsplit("__").next().unwrap_or(base);
+    let mut candidates: Vec<&Component> = catalogue
+        .components
+        .values()
+        .filter(|c| {
+            c.xml_file
+                .as_deref()
+                .is_some_and(|f| f.rsplit('/').next() == Some(base))
+        })
+        .collect();
+    candidates.sort_by(|a, b| (&a.library, &a.name).cmp(&(&b.library, &b.name)));
+    if let Some(place) = place_in_tree(name, checkout) {
+        let known: Vec<&Component> = candidates
+            .iter()
+            .copied()
+            .filter(|c| {
+                let file = c.xml_file.as_deref().unwrap_or_default();
+                place == file || place.ends_with(&format!("/{file}"))
+            })
+            .collect();
+        return (known.len() == 1).then(|| known[0]);
+    }
+    let referenced: Vec<&str> = doc
+        .edges
+        .iter()
+        .flat_map(|e| [&e.src, &e.dest])
+        .filter(|end| end.scheme.is_none() && !end.absolute && end.segments.len() >= 3)
+        .map(|end| end.segments[0].as_str())
+        .filter(|first| !doc.elements.iter().any(|e| e.name.text == *first))
+        .collect();
+    if !referenced.is_empty() {
+        // How many of the named elements each type's constructor creates; the types
+        // that create the most (at least one) remain.
+        let made = |c: &Component| {
+            c.content.as_ref().map_or(0, |content| {
+                let mut names: Vec<&str> = referenced
+                    .iter()
+                    .copied()
+                    .filter(|r| content.elements.iter().any(|e| e.name.text == *r))
+                    .collect();
+                names.sort_unstable();
+                names.dedup();
+                names.len()
+            })
+        };
+        let best = candidates.iter().map(|c| made(c)).max().unwrap_or(0);
+        candidates.retain(|c| best > 0 && made(c) == best);
+    }
+    (candidates.len() == 1).then(|| candidates[0])
+}
+
+/// Where a file lies in the FINROC tree (`projects/x/gMain.h.xml`), when that is known.
+fn place_in_tree(name: &str, checkout: &Checkout) -> Option<String> {
+    if let Some((_, rest)) = name.rsplit_once("/sources/cpp/") {
+        return Some(rest.to_string());
+    }
+    let mut prefixes: Vec<&String> = checkout.prefixes.iter().collect();
+    prefixes.sort();
+    prefixes.dedup();
+    let [prefix] = prefixes.as_slice() else {
+        return None;
+    };
+    let area = [
+        ("finroc_projects_", "projects"),
+        ("finroc_libraries_", "libraries"),
+        ("finroc_plugins_", "plugins"),
+        ("rrlib_", "rrlib"),
+    ]
+    .iter()
+    .find_map(|(p, area)| prefix.strip_prefix(p).map(|x| format!("{area}/{x}")))?;
+    let root = checkout.root.to_string_lossy().replace('\\', "/");
+    let relative = name.strip_prefix(root.trim_end_matches('/'))?;
+    Some(format!("{area}/{}", relative.trim_start_matches('/')))
+}
+
+/// `; did you mean `X`?` for the port of `ports` nearest to `port`, if one is near.
+fn near<'p>(port: &str, ports: impl Iterator<Item = &'p super::catalogue::Port>) -> String {
+    let names: Vec<&str> = ports.map(|p| p.name.as_str()).collect();
+    crate::diagnostic::did_you_mean(port, names.iter().copied())
+        .map(|n| format!("; did you mean `{n}`?"))
+        .unwrap_or_default()
 }
 
 /// The context an end is resolved in.
@@ -178,8 +275,13 @@ impl Scope<'_> {
             return End::Unknown(format!("the ports of `{}` are made at run time", ty.text));
         }
         End::Missing(format!(
-            "`{}` (`{}`) has no port `{port}` in `{interface}`",
-            element.name.text, ty.text
+            "`{}` (`{}`) has no port `{port}` in `{interface}`{}",
+            element.name.text,
+            ty.text,
+            near(
+                port,
+                component.ports.iter().filter(|p| &p.interface == interface)
+            )
         ))
     }
 
@@ -222,7 +324,10 @@ impl Scope<'_> {
                         o.name
                     ))
                 }
-                None => End::Missing(format!("this group has no port `{port}` in `{interface}`")),
+                None => End::Missing(format!(
+                    "this group has no port `{port}` in `{interface}`{}",
+                    near(port, o.ports.iter().filter(|p| p.interface == interface))
+                )),
             },
             None => End::Unknown("the group's type is not in the catalogue".into()),
         }
