@@ -102,13 +102,25 @@ pub fn read_text(path: &Path, limits: &Limits) -> Result<String, String> {
     if !meta.is_file() {
         return Err(not_regular(&meta));
     }
-    read_bounded(file, limits)
+    read_bounded_sized(file, limits, meta.len())
 }
 
 /// Reads `input` to its end, or fails once it holds more than the size limit.
 pub fn read_bounded(input: impl std::io::Read, limits: &Limits) -> Result<String, String> {
+    read_bounded_sized(input, limits, 0)
+}
+
+/// [`read_bounded`] into a buffer sized for the `expected` bytes a file's metadata
+/// reports (plus one, to see the end without growing): a buffer grown by doubling
+/// holds up to twice the file, and its copies stay resident.
+fn read_bounded_sized(
+    input: impl std::io::Read,
+    limits: &Limits,
+    expected: u64,
+) -> Result<String, String> {
     use std::io::Read;
-    let mut bytes = Vec::new();
+    let room = expected.min(limits.max_file_bytes).saturating_add(1);
+    let mut bytes = Vec::with_capacity(usize::try_from(room).unwrap_or(0));
     input
         .take(limits.max_file_bytes.saturating_add(1))
         .read_to_end(&mut bytes)

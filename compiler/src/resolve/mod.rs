@@ -133,7 +133,15 @@ pub fn resolve(
     }
     r.walk(ElementId(0), root, used, None, 0);
     r.application_timing(root);
-    for pending in std::mem::take(&mut r.pending) {
+    // Room for every connection, its edge and both ends up front: grown by doubling,
+    // the vectors and the node table were copied ~18 times at 100,000 modules, and each
+    // copy left its old block resident (B1 peak memory: a third of it was these copies).
+    let pending = std::mem::take(&mut r.pending);
+    r.app.connections.reserve_exact(pending.len());
+    r.app.graph.reserve_edges(pending.len());
+    r.app.graph.reserve_nodes(2 * pending.len());
+    r.app.nodes.reserve(2 * pending.len());
+    for pending in pending {
         r.resolve_connect(pending);
     }
     r.app

@@ -25,7 +25,7 @@ Fix: delete one, or correct the port it was meant for.",
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    let mut seen = HashMap::new();
+    let mut seen = HashMap::with_capacity(ctx.app.connections.len());
     for c in &ctx.app.connections {
         let key = (c.from, c.from_index, c.to, c.to_index);
         match seen.get(&key) {
