@@ -4,7 +4,7 @@
 //! installs it, see .ci/run and FERROC_PYTHON).
 
 mod common;
-use common::{ferroc, tempdir};
+use common::{ferroc, python, tempdir};
 use ferroc_std::recording::Recording;
 use std::path::Path;
 use std::process::Command;
@@ -138,26 +138,6 @@ fn an_unusable_log_path_is_refused_before_the_run_with_a_message() {
     assert_eq!(code, 1, "{out}");
     assert!(err.contains("is not a folder"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
-}
-
-/// The Python interpreter with `mcap` and `jsonschema`: FERROC_PYTHON (CI sets it;
-/// then it must work), else `python3` if it has them, else `None` (said on stderr).
-fn python() -> Option<String> {
-    let set = std::env::var("FERROC_PYTHON").ok();
-    let python = set.clone().unwrap_or_else(|| "python3".into());
-    let ok = Command::new(&python)
-        .args(["-c", "import mcap, jsonschema"])
-        .stderr(std::process::Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    match (ok, set) {
-        (true, _) => Some(python),
-        (false, Some(p)) => panic!("FERROC_PYTHON={p} cannot import mcap and jsonschema"),
-        (false, None) => {
-            eprintln!("SKIPPED: no Python with `mcap` and `jsonschema` (set FERROC_PYTHON)");
-            None
-        }
-    }
 }
 
 #[test]

@@ -44,6 +44,8 @@ pub struct Part<'p> {
     pub behaviours: Vec<&'p str>,
     /// Field accessors its connections use, sorted, each once.
     pub fields: Vec<super::fields::FieldAccessor>,
+    /// The outputs `--record` records (`record.rs`).
+    pub recordable: Vec<super::record::RecordedOutput>,
 }
 
 impl Part<'_> {
@@ -148,6 +150,7 @@ pub fn layout<'p>(
             libraries: Vec::new(),
             behaviours: Vec::new(),
             fields: Vec::new(),
+            recordable: Vec::new(),
         });
     }
     let part_names: Vec<String> = parts.iter().map(|p| p.name.clone()).collect();
@@ -390,6 +393,15 @@ pub fn layout<'p>(
             span: root.span,
             what: "the application has no part: nothing to bundle".into(),
         });
+    }
+    for part in &mut parts {
+        part.recordable = super::record::outputs(app, libs, part);
+        // A recorded library type is registered with serde: its crate is needed.
+        for (library, _) in part.recordable.iter().filter_map(|o| o.serde.as_ref()) {
+            if !part.libraries.contains(library) {
+                part.libraries.push(library.clone());
+            }
+        }
     }
     let mut libraries = BTreeMap::new();
     for part in &mut parts {

@@ -181,6 +181,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         module_constants: (part.modules.iter())
             .filter_map(|m| Some((consts.get(&m.path)?.as_str(), m.path.as_str())))
             .collect(),
+        recordable: super::record::table(part, &name_of),
         registrations: registrations(part),
         modules,
         connections,
@@ -216,6 +217,8 @@ struct MainRs<'a> {
     links: &'a str,
     /// (constant, module path), in module order.
     module_constants: Vec<(&'a str, &'a str)>,
+    /// `const RECORDABLE` (`record.rs`).
+    recordable: String,
     /// The calls in `registry()`.
     registrations: Vec<String>,
     modules: Vec<ModuleBlock<'a>>,
@@ -351,10 +354,13 @@ fn registrations(part: &Part<'_>) -> Vec<String> {
         .flat_map(|m| &m.ports)
         .filter(|g| g.serde)
         .filter_map(|g| g.rust.as_deref());
+    // And the library types `--record` records (`record.rs`).
+    let recorded = (part.recordable.iter()).filter_map(|o| Some(o.serde.as_ref()?.1.as_str()));
     let crossing: BTreeSet<&str> = (part.links_out.iter())
         .chain(&part.links_in)
         .filter_map(|c| c.link.as_ref()?.rust.as_deref())
         .chain(encodable)
+        .chain(recorded)
         .collect();
     for rust in values.iter().filter(|r| !crossing.contains(*r)) {
         out.push(format!("registry.register_value::<{rust}>();"));
@@ -432,6 +438,7 @@ fn imports(out: &mut Code, uses: Uses) {
         (false, false) => {}
     }
     out.line(0, "use ferroc_runtime::supervise::{self, Args};");
+    out.line(0, "use ferroc_std::recorder::{Recordable, Recorders};");
     if uses.network {
         out.line(0, "use ferroc_zenoh::Zenoh;");
     }
@@ -451,6 +458,7 @@ fn reserved(name: &str) -> bool {
         "APPLICATION",
         "PARTS",
         "PERIODS",
+        "RECORDABLE",
     ];
     // `LINK_n` (links.rs) and `CALL_n` (service calls between parts).
     let numbered = |prefix: &str| {
