@@ -246,3 +246,41 @@ fn a_log_folder_that_cannot_be_created_is_reported_and_the_run_goes_on() {
     // The application ran its whole second: 26 cycles of 40 ms.
     assert!(err.contains("fragile_bot/main: 26 cycles"), "{err}");
 }
+
+/// `ferroc_std.Player timestamps=now`: a clock recorded every 40 ms, replayed one
+/// message per 100 ms step, carries the replay's time (each stamp moved by how much
+/// later it is replayed than recorded); `timestamps=recorded` keeps the recorded ones.
+#[test]
+fn replayed_timestamps_can_be_shifted_to_now() {
+    let dir = tempdir("recording_shift");
+    run("tests/fixtures/clock_logged.xml", &dir, &[]);
+    run("tests/fixtures/clock_replay.xml", &dir, &[]);
+    let rec = Recording::read(&dir.join("clock_replay.mcap")).unwrap();
+    let json = |topic: &str| -> Vec<(u64, String)> {
+        let id = (rec.channels.values())
+            .find(|c| c.topic == topic && c.message_encoding == "json")
+            .unwrap_or_else(|| panic!("no {topic}"))
+            .id;
+        (rec.messages.iter())
+            .filter(|m| m.channel == id)
+            .map(|m| (m.log_time, String::from_utf8(m.data.clone()).unwrap()))
+            .collect()
+    };
+    // The JSON form of a `timestamp`: nanoseconds since the Unix epoch.
+    let stamp = |nanos: u64| format!("{{\"nanos\":{nanos}}}");
+    let shifted = json("clocks/main/log/in/0");
+    let kept = json("clocks/main/log/in/1");
+    // 2 s of 100 ms steps: 21 instants, each replaying the next recorded message.
+    assert_eq!(shifted.len(), 21);
+    assert_eq!(kept.len(), 21);
+    for (k, ((at, now), (_, recorded))) in shifted.iter().zip(&kept).enumerate() {
+        let k = k as u64;
+        assert_eq!(*at, EPOCH + k * 100_000_000);
+        assert_eq!(*now, stamp(*at), "step {k}: shifted to the replay's time");
+        assert_eq!(
+            *recorded,
+            stamp(EPOCH + k * 40_000_000),
+            "step {k}: as recorded"
+        );
+    }
+}
