@@ -70,6 +70,9 @@ pub struct Library {
     /// `rust-crate` of its manifest: the Cargo package.
     pub package: String,
     pub version: Option<String>,
+    /// `rust-crate="PACKAGE@VERSION"`: the crate comes from the registry in this
+    /// version, whatever `--deps` says.
+    pub registry: Option<String>,
     /// The manifest file (None for libraries built into ferroc).
     pub manifest: Option<PathBuf>,
 }
@@ -414,13 +417,31 @@ pub fn layout<'p>(
                 continue;
             };
             let lib = libs.get(id);
-            let Some(package) = lib.rust_crate.clone() else {
+            let Some(rust_crate) = lib.rust_crate.clone() else {
                 problems.push(Problem {
                     span: lib.name_span,
                     what: format!("the library `{name}` has no `rust-crate`: the bundle cannot depend on its module types\n  help: add rust-crate=\"cargo-package-name\" to its <library>"),
                 });
                 continue;
             };
+            let (package, registry) = match rust_crate.split_once('@') {
+                Some((p, v)) => (p.to_owned(), Some(v.trim().to_owned())),
+                None => (rust_crate, None),
+            };
+            if let Some(v) = registry
+                .as_deref()
+                .filter(|v| !crate::runner::crates::is_requirement(v))
+            {
+                problems.push(Problem {
+                    span: lib.name_span,
+                    what: format!(
+                        "`{}` after the `@` of the rust-crate of library `{name}` is not a version\n  help: write e.g. rust-crate=\"{}@0.3\"",
+                        text::comment(v),
+                        text::comment(&package)
+                    ),
+                });
+                continue;
+            }
             if !text::is_crate_name(&package) {
                 problems.push(Problem {
                     span: lib.name_span,
@@ -438,6 +459,7 @@ pub fn layout<'p>(
                     name: name.clone(),
                     package,
                     version,
+                    registry,
                     manifest: (!lib.path.as_os_str().is_empty()).then(|| lib.path.clone()),
                 },
             );

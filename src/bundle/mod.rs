@@ -312,6 +312,14 @@ fn dependencies(
         });
     }
     for lib in layout.libraries.values() {
+        if let Some(version) = &lib.registry {
+            // `rust-crate="PACKAGE@VERSION"`: from the registry, whatever --deps says.
+            out.push(Dependency {
+                package: lib.package.clone(),
+                source: Source::Version(version.clone()),
+            });
+            continue;
+        }
         let source = match deps {
             Deps::Version => Source::Version(lib.version.clone().ok_or_else(|| {
                 format!("the library `{}` declares no version: --deps version needs <library version=\"x.y.z\">", lib.name)
