@@ -1,6 +1,7 @@
-//! Where the runner takes a library's crate from: a crate named by version
-//! (`rust-crate="PACKAGE@VERSION"`, fetched by cargo; offline here, so the fetch fails
-//! and must be reported at the manifest).
+//! Where the runner takes a library's crate and the runtime from: a crate named by
+//! version (`rust-crate="PACKAGE@VERSION"`, fetched by cargo; offline here, so the
+//! fetch fails and must be reported at the manifest), and a crate depending on another
+//! copy of `ferroc-runtime` (refused before cargo, naming both places and the fixes).
 
 mod common;
 
@@ -52,6 +53,21 @@ fn write_model(dir: &Path, rust_crate: &str) {
     )
     .unwrap();
     std::fs::write(dir.join("beeper.xml"), MODEL).unwrap();
+}
+
+/// A crate `beep-lib` in `dir` whose `ferroc-runtime` dependency is `runtime` (TOML).
+fn write_crate(dir: &Path, runtime: &str) {
+    std::fs::create_dir_all(dir.join("src")).unwrap();
+    std::fs::write(
+        dir.join("Cargo.toml"),
+        format!(
+            "[package]\nname = \"beep-lib\"\nversion = \"0.1.0\"\nedition = \"2021\"\n\n\
+             [dependencies]\nferroc-runtime = {runtime}\n\n[workspace]\n"
+        ),
+    )
+    .unwrap();
+    std::fs::write(dir.join("src/lib.rs"), "").unwrap();
+    write_model(dir, "beep-lib");
 }
 
 /// The generated Cargo.toml of the runner package that mentions `text`.
@@ -117,4 +133,69 @@ fn a_crate_named_by_version_is_fetched_by_cargo_and_a_failed_fetch_points_at_the
         !err.contains("no matching package"),
         "cargo did not run: {err}"
     );
+}
+
+#[test]
+fn a_crate_on_another_runtime_is_refused_before_cargo_with_both_places_and_the_fixes() {
+    let dir = tempdir("runner_other_runtime");
+    // Another "checkout": a runtime and a host crate of its own.
+    let other = dir.join("other");
+    std::fs::create_dir_all(other.join("runtime/src")).unwrap();
+    std::fs::create_dir_all(other.join("host")).unwrap();
+    std::fs::write(
+        other.join("runtime/Cargo.toml"),
+        "[package]\nname = \"ferroc-runtime\"\nversion = \"0.1.0\"\nedition = \"2021\"\n",
+    )
+    .unwrap();
+    std::fs::write(other.join("runtime/src/lib.rs"), "").unwrap();
+    std::fs::write(
+        other.join("host/Cargo.toml"),
+        "[package]\nname = \"ferroc-host\"\n",
+    )
+    .unwrap();
+    let lib = dir.join("lib");
+    write_crate(&lib, "{ path = \"../other/runtime\" }");
+    let (code, err) = run_in(&lib);
+    assert_eq!(code, 1, "{err}");
+    let ours = Path::new(env!("CARGO_MANIFEST_DIR")).join("runtime");
+    let ours = ours.canonicalize().unwrap();
+    let theirs = other.join("runtime").canonicalize().unwrap();
+    assert!(
+        err.contains(&format!(
+            "beep.lib.xml:1:16: error: the crate `beep-lib` of library `beep` depends on the ferroc-runtime at {}, but the runner links the ferroc-runtime of this ferroc's sources, {}",
+            theirs.display(),
+            ours.display()
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "ferroc-runtime = {{ path = \"{}\" }}",
+            ours.display()
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "FERROC_SOURCE={}",
+            other.canonicalize().unwrap().display()
+        )),
+        "{err}"
+    );
+    assert!(!err.contains("collision"), "refused before cargo: {err}");
+
+    // From a registry: the same, without a checkout to suggest.
+    write_crate(&lib, "\"0.1\"");
+    let (code, err) = run_in(&lib);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("depends on ferroc-runtime ^0.1 from the registry"),
+        "{err}"
+    );
+    assert!(!err.contains("FERROC_SOURCE"), "{err}");
+
+    // The silent case: the crate on this ferroc's runtime is not refused (it builds).
+    write_crate(&lib, &format!("{{ path = {:?} }}", ours.to_str().unwrap()));
+    let (_, err) = run_in(&lib);
+    assert!(!err.contains("depends on"), "{err}");
 }

@@ -64,6 +64,16 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
     if is_fresh(&exe, &dir, crates) {
         return Ok(exe);
     }
+    // Before cargo: a crate linking another ferroc-runtime would fail with cargo's
+    // lockfile collision, which does not say what to do.
+    let runtime = source.join("runtime");
+    let conflicts = super::checkout::conflicts(crates, &runtime.canonicalize().unwrap_or(runtime));
+    if !conflicts.is_empty() {
+        for c in &conflicts {
+            eprintln!("{c}");
+        }
+        return Err(ExitCode::from(1));
+    }
     eprintln!(
         "building the runner of {} in {} (first use, or a crate changed)",
         crates
