@@ -399,12 +399,6 @@ pub fn layout<'p>(
     }
     for part in &mut parts {
         part.recordable = super::record::outputs(app, libs, part);
-        // A recorded library type is registered with serde: its crate is needed.
-        for (library, _) in part.recordable.iter().filter_map(|o| o.serde.as_ref()) {
-            if !part.libraries.contains(library) {
-                part.libraries.push(library.clone());
-            }
-        }
     }
     let mut libraries = BTreeMap::new();
     for part in &mut parts {

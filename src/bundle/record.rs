@@ -2,14 +2,19 @@
 //! connection (the ones `ferroc run --record` would record), with their model types
 //! from the compiler, written into `main.rs` as the table `RECORDABLE` that
 //! `ferroc_std::Recorders` reads when the program is started with `--record`.
+//!
+//! The program registers no value type for recording: it records what its registry can
+//! encode (built-in types, library types crossing to other parts or on flexible ports
+//! declared serde), like `ferroc run`, whose libraries' `register` decide. Registering
+//! every recorded library type declared `serde="true"` would break the build of a
+//! bundle whose crate does not implement serde for it, for an internal connection.
 
 use super::code::Code;
 use super::layout::Part;
 use super::literals::call;
-use super::text::{self, rust_str};
+use super::text::rust_str;
 use ferroc_compiler::ir::{Application, Endpoint};
 use ferroc_compiler::library::{LibrarySet, PortDir};
-use ferroc_compiler::types::Type;
 
 /// An output of one of the part's modules that feeds a connection.
 pub struct RecordedOutput {
@@ -19,9 +24,6 @@ pub struct RecordedOutput {
     pub model_type: String,
     /// The thread container running the module.
     pub thread: String,
-    /// For a library type declared `serde="true"`: its library and Rust path, which
-    /// the program registers with serde so that the recorder can encode it.
-    pub serde: Option<(String, String)>,
 }
 
 /// The outputs `part` records with `--record`: the sources of its connections and of
@@ -51,20 +53,11 @@ pub fn outputs(app: &Application, libs: &LibrarySet, part: &Part<'_>) -> Vec<Rec
         let Some(view) = endpoint.and_then(|e| app.view(libs, e)) else {
             continue;
         };
-        let serde = match view.ty {
-            Type::Named(id, _) => {
-                let named = libs.named_type(*id);
-                (named.serde && text::is_rust_path(&named.rust))
-                    .then(|| (libs.get(named.library).name.clone(), named.rust.clone()))
-            }
-            _ => None,
-        };
         out.push(RecordedOutput {
             module: module.clone(),
             port: port.clone(),
             model_type: view.ty.to_string(),
             thread: thread.path.clone(),
-            serde,
         });
     }
     out

@@ -354,13 +354,10 @@ fn registrations(part: &Part<'_>) -> Vec<String> {
         .flat_map(|m| &m.ports)
         .filter(|g| g.serde)
         .filter_map(|g| g.rust.as_deref());
-    // And the library types `--record` records (`record.rs`).
-    let recorded = (part.recordable.iter()).filter_map(|o| Some(o.serde.as_ref()?.1.as_str()));
     let crossing: BTreeSet<&str> = (part.links_out.iter())
         .chain(&part.links_in)
         .filter_map(|c| c.link.as_ref()?.rust.as_deref())
         .chain(encodable)
-        .chain(recorded)
         .collect();
     for rust in values.iter().filter(|r| !crossing.contains(*r)) {
         out.push(format!("registry.register_value::<{rust}>();"));
