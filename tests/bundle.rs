@@ -131,8 +131,15 @@ fn generated_code_is_wiring_with_the_concrete_types_and_formatted() {
         .find("(MAIN_SIMULATION.to_string(), StepKind::Control)")
         .unwrap();
     assert!(sense < control);
-    // Only the types the part uses: nothing of ferroc_std.
-    assert!(!main.contains("ferroc_std"), "{main}");
+    // Only the types the part uses: no module type of ferroc_std; its recorders are
+    // there for `--record`, with the outputs they may record.
+    assert!(!main.contains("register::<ferroc_std"), "{main}");
+    assert!(main.contains("use ferroc_std::recorder::{Recordable, Recorders};"));
+    assert!(
+        main.contains("Recordable::new(CONTROLLER, \"velocity\", \"f64\", \"fragile_bot/main\")"),
+        "{main}"
+    );
+    assert!(!main.contains("register_serde"), "{main}");
     if let Ok(out) = Command::new("rustfmt")
         .args(["--edition", "2021", "--check"])
         .arg(dir.join("b/parts/fragile_bot/src/main.rs"))

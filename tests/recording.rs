@@ -4,7 +4,7 @@
 //! installs it, see .ci/run and FERROC_PYTHON).
 
 mod common;
-use common::{ferroc, tempdir};
+use common::{ferroc, python, tempdir};
 use ferroc_std::recording::Recording;
 use std::path::Path;
 use std::process::Command;
@@ -140,26 +140,6 @@ fn an_unusable_log_path_is_refused_before_the_run_with_a_message() {
     assert!(!err.contains("panicked"), "{err}");
 }
 
-/// The Python interpreter with `mcap` and `jsonschema`: FERROC_PYTHON (CI sets it;
-/// then it must work), else `python3` if it has them, else `None` (said on stderr).
-fn python() -> Option<String> {
-    let set = std::env::var("FERROC_PYTHON").ok();
-    let python = set.clone().unwrap_or_else(|| "python3".into());
-    let ok = Command::new(&python)
-        .args(["-c", "import mcap, jsonschema"])
-        .stderr(std::process::Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    match (ok, set) {
-        (true, _) => Some(python),
-        (false, Some(p)) => panic!("FERROC_PYTHON={p} cannot import mcap and jsonschema"),
-        (false, None) => {
-            eprintln!("SKIPPED: no Python with `mcap` and `jsonschema` (set FERROC_PYTHON)");
-            None
-        }
-    }
-}
-
 #[test]
 fn the_python_mcap_reader_reads_what_the_model_implies() {
     let Some(python) = python() else { return };
@@ -265,4 +245,42 @@ fn a_log_folder_that_cannot_be_created_is_reported_and_the_run_goes_on() {
     assert!(!err.contains("panicked"), "{err}");
     // The application ran its whole second: 26 cycles of 40 ms.
     assert!(err.contains("fragile_bot/main: 26 cycles"), "{err}");
+}
+
+/// `ferroc_std.Player timestamps=now`: a clock recorded every 40 ms, replayed one
+/// message per 100 ms step, carries the replay's time (each stamp moved by how much
+/// later it is replayed than recorded); `timestamps=recorded` keeps the recorded ones.
+#[test]
+fn replayed_timestamps_can_be_shifted_to_now() {
+    let dir = tempdir("recording_shift");
+    run("tests/fixtures/clock_logged.xml", &dir, &[]);
+    run("tests/fixtures/clock_replay.xml", &dir, &[]);
+    let rec = Recording::read(&dir.join("clock_replay.mcap")).unwrap();
+    let json = |topic: &str| -> Vec<(u64, String)> {
+        let id = (rec.channels.values())
+            .find(|c| c.topic == topic && c.message_encoding == "json")
+            .unwrap_or_else(|| panic!("no {topic}"))
+            .id;
+        (rec.messages.iter())
+            .filter(|m| m.channel == id)
+            .map(|m| (m.log_time, String::from_utf8(m.data.clone()).unwrap()))
+            .collect()
+    };
+    // The JSON form of a `timestamp`: nanoseconds since the Unix epoch.
+    let stamp = |nanos: u64| format!("{{\"nanos\":{nanos}}}");
+    let shifted = json("clocks/main/log/in/0");
+    let kept = json("clocks/main/log/in/1");
+    // 2 s of 100 ms steps: 21 instants, each replaying the next recorded message.
+    assert_eq!(shifted.len(), 21);
+    assert_eq!(kept.len(), 21);
+    for (k, ((at, now), (_, recorded))) in shifted.iter().zip(&kept).enumerate() {
+        let k = k as u64;
+        assert_eq!(*at, EPOCH + k * 100_000_000);
+        assert_eq!(*now, stamp(*at), "step {k}: shifted to the replay's time");
+        assert_eq!(
+            *recorded,
+            stamp(EPOCH + k * 40_000_000),
+            "step {k}: as recorded"
+        );
+    }
 }

@@ -166,6 +166,13 @@ pub struct Args {
     /// `--zenoh-config FILE`: the network's own configuration (Zenoh's JSON5), for
     /// routers, scouting or access control.
     pub zenoh_config: Option<std::path::PathBuf>,
+    /// `--record FILE`: record the outputs of this program's modules that feed a
+    /// connection into an MCAP file (what `ferroc run --record` does; the recorders
+    /// are `ferroc_std`'s, which a generated program adds when it sees this).
+    pub record: Option<std::path::PathBuf>,
+    /// `--record-filter PATTERN` (repeatable, needs `--record`): only outputs whose
+    /// path (`module/port`) matches; `*` matches any characters.
+    pub record_filter: Vec<String>,
 }
 
 impl Args {
@@ -232,8 +239,19 @@ impl Args {
                     let v = value("a Zenoh configuration file, e.g. --zenoh-config zenoh.json5")?;
                     out.zenoh_config = Some(v.into());
                 }
+                "--record" => {
+                    let v = value("an MCAP file, e.g. --record run.mcap")?;
+                    out.record = Some(v.into());
+                }
+                "--record-filter" => {
+                    let v = value("a pattern of output paths, e.g. --record-filter 'robot/*'")?;
+                    out.record_filter.push(v);
+                }
                 _ => return Err(format!("unknown argument `{arg}`")),
             }
+        }
+        if out.record.is_none() && !out.record_filter.is_empty() {
+            return Err("--record-filter needs --record FILE: it says what to record".into());
         }
         Ok(Some(out))
     }
@@ -309,7 +327,8 @@ impl Args {
 fn usage(program: &str) -> String {
     format!(
         "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--local] [--peer PART=HOST:PORT]...\n       \
-         [--listen ADDR] [--zenoh-config FILE] [--quiet]\n\n\
+         [--listen ADDR] [--zenoh-config FILE] [--record FILE [--record-filter PATTERN]...]\n       \
+         [--quiet]\n\n\
          Options:\n  \
          --cycles N        stop after N cycles of the application: of its fastest\n                    \
          periodic thread containers; slower ones run until then\n  \
@@ -324,6 +343,11 @@ fn usage(program: &str) -> String {
          --zenoh-config FILE\n                    \
          Zenoh's own configuration (JSON5): routers, scouting, access control;\n                    \
          the addresses above are added to it\n  \
+         --record FILE     record every output of this program's modules that feeds a\n                    \
+         connection into an MCAP file (as `ferroc run --record`)\n  \
+         --record-filter PATTERN\n                    \
+         with --record: only outputs whose path (module/port) matches;\n                    \
+         `*` matches any characters (repeatable)\n  \
          -q, --quiet       no live status line\n  \
          -h, --help        this text\n\n\
          Ctrl-C or SIGTERM stops after the current cycle. A summary (cycles, overruns and\n\
@@ -414,6 +438,13 @@ mod tests {
         let err = stranger.addresses("a", &parts).unwrap_err();
         assert!(err.contains("no part `c`"), "{err}");
         assert!(parse(&["--peer", "nocolon"]).is_err());
+        let record = parse(&["--record", "a.mcap", "--record-filter=robot/*"])
+            .unwrap()
+            .unwrap();
+        assert_eq!(record.record.as_deref(), Some("a.mcap".as_ref()));
+        assert_eq!(record.record_filter, ["robot/*"]);
+        let alone = parse(&["--record-filter", "robot/*"]).unwrap_err();
+        assert!(alone.contains("needs --record FILE"), "{alone}");
         assert_eq!(
             parse_duration("2min"),
             Ok(Duration::from_secs(120)),

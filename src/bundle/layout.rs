@@ -44,6 +44,8 @@ pub struct Part<'p> {
     pub behaviours: Vec<&'p str>,
     /// Field accessors its connections use, sorted, each once.
     pub fields: Vec<super::fields::FieldAccessor>,
+    /// The outputs `--record` records (`record.rs`).
+    pub recordable: Vec<super::record::RecordedOutput>,
 }
 
 impl Part<'_> {
@@ -68,6 +70,9 @@ pub struct Library {
     /// `rust-crate` of its manifest: the Cargo package.
     pub package: String,
     pub version: Option<String>,
+    /// `rust-crate="PACKAGE@VERSION"`: the crate comes from the registry in this
+    /// version, whatever `--deps` says.
+    pub registry: Option<String>,
     /// The manifest file (None for libraries built into ferroc).
     pub manifest: Option<PathBuf>,
 }
@@ -148,6 +153,7 @@ pub fn layout<'p>(
             libraries: Vec::new(),
             behaviours: Vec::new(),
             fields: Vec::new(),
+            recordable: Vec::new(),
         });
     }
     let part_names: Vec<String> = parts.iter().map(|p| p.name.clone()).collect();
@@ -391,6 +397,9 @@ pub fn layout<'p>(
             what: "the application has no part: nothing to bundle".into(),
         });
     }
+    for part in &mut parts {
+        part.recordable = super::record::outputs(app, libs, part);
+    }
     let mut libraries = BTreeMap::new();
     for part in &mut parts {
         part.libraries.sort();
@@ -402,13 +411,31 @@ pub fn layout<'p>(
                 continue;
             };
             let lib = libs.get(id);
-            let Some(package) = lib.rust_crate.clone() else {
+            let Some(rust_crate) = lib.rust_crate.clone() else {
                 problems.push(Problem {
                     span: lib.name_span,
                     what: format!("the library `{name}` has no `rust-crate`: the bundle cannot depend on its module types\n  help: add rust-crate=\"cargo-package-name\" to its <library>"),
                 });
                 continue;
             };
+            let (package, registry) = match rust_crate.split_once('@') {
+                Some((p, v)) => (p.to_owned(), Some(v.trim().to_owned())),
+                None => (rust_crate, None),
+            };
+            if let Some(v) = registry
+                .as_deref()
+                .filter(|v| !crate::runner::crates::is_requirement(v))
+            {
+                problems.push(Problem {
+                    span: lib.name_span,
+                    what: format!(
+                        "`{}` after the `@` of the rust-crate of library `{name}` is not a version\n  help: write e.g. rust-crate=\"{}@0.3\"",
+                        text::comment(v),
+                        text::comment(&package)
+                    ),
+                });
+                continue;
+            }
             if !text::is_crate_name(&package) {
                 problems.push(Problem {
                     span: lib.name_span,
@@ -426,6 +453,7 @@ pub fn layout<'p>(
                     name: name.clone(),
                     package,
                     version,
+                    registry,
                     manifest: (!lib.path.as_os_str().is_empty()).then(|| lib.path.clone()),
                 },
             );

@@ -19,6 +19,7 @@ mod layout;
 mod links;
 mod literals;
 mod out;
+mod record;
 mod resolved;
 mod rust;
 pub(crate) mod sha256;
@@ -272,6 +273,9 @@ fn relative(from: &Path, to: &Path) -> Option<String> {
     })
 }
 
+/// The Cargo package of the standard library, whose recorders every program has.
+const STD_PACKAGE: &str = "ferroc-std";
+
 /// The runtime and the component crates the parts use, by path or by version.
 fn dependencies(
     layout: &layout::Layout<'_>,
@@ -308,6 +312,14 @@ fn dependencies(
         });
     }
     for lib in layout.libraries.values() {
+        if let Some(version) = &lib.registry {
+            // `rust-crate="PACKAGE@VERSION"`: from the registry, whatever --deps says.
+            out.push(Dependency {
+                package: lib.package.clone(),
+                source: Source::Version(version.clone()),
+            });
+            continue;
+        }
         let source = match deps {
             Deps::Version => Source::Version(lib.version.clone().ok_or_else(|| {
                 format!("the library `{}` declares no version: --deps version needs <library version=\"x.y.z\">", lib.name)
@@ -335,6 +347,19 @@ fn dependencies(
         out.push(Dependency {
             package: lib.package.clone(),
             source,
+        });
+    }
+    // Every program can record (`--record`) with the standard library's recorders.
+    if !out.iter().any(|d| d.package == STD_PACKAGE) {
+        out.push(Dependency {
+            package: STD_PACKAGE.into(),
+            source: match deps {
+                Deps::Path => by_path(
+                    checkout.join("components").join(STD_PACKAGE),
+                    "the standard library",
+                )?,
+                Deps::Version => Source::Version(TOOL_VERSION.into()),
+            },
         });
     }
     Ok(out)
@@ -387,6 +412,10 @@ fn generate(
                 deps.iter().find(|d| d.package == *package)
             }))
             .collect();
+        let mut part_deps = part_deps;
+        if !part_deps.iter().any(|d| d.package == STD_PACKAGE) {
+            part_deps.extend(deps.iter().find(|d| d.package == STD_PACKAGE));
+        }
         let dir = format!("parts/{}", part.name);
         files.add(
             &format!("{dir}/Cargo.toml"),

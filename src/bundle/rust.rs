@@ -181,6 +181,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         module_constants: (part.modules.iter())
             .filter_map(|m| Some((consts.get(&m.path)?.as_str(), m.path.as_str())))
             .collect(),
+        recordable: super::record::table(part, &name_of),
         registrations: registrations(part),
         modules,
         connections,
@@ -216,6 +217,8 @@ struct MainRs<'a> {
     links: &'a str,
     /// (constant, module path), in module order.
     module_constants: Vec<(&'a str, &'a str)>,
+    /// `const RECORDABLE` (`record.rs`).
+    recordable: String,
     /// The calls in `registry()`.
     registrations: Vec<String>,
     modules: Vec<ModuleBlock<'a>>,
@@ -432,6 +435,7 @@ fn imports(out: &mut Code, uses: Uses) {
         (false, false) => {}
     }
     out.line(0, "use ferroc_runtime::supervise::{self, Args};");
+    out.line(0, "use ferroc_std::recorder::{Recordable, Recorders};");
     if uses.network {
         out.line(0, "use ferroc_zenoh::Zenoh;");
     }
@@ -451,6 +455,7 @@ fn reserved(name: &str) -> bool {
         "APPLICATION",
         "PARTS",
         "PERIODS",
+        "RECORDABLE",
     ];
     // `LINK_n` (links.rs) and `CALL_n` (service calls between parts).
     let numbered = |prefix: &str| {

@@ -1,4 +1,6 @@
-//! Which Rust crate implements a library: the manifest's `rust-crate`, found by path.
+//! Which Rust crate implements a library: the manifest's `rust-crate`, found by path,
+//! or `rust-crate="PACKAGE@VERSION"`: a package of that version from crates.io (or the
+//! registry cargo is configured with), fetched by cargo when the runner is built.
 
 use ferroc_compiler::library::{Library, LibrarySet};
 use ferroc_compiler::source::SourceMap;
@@ -10,8 +12,12 @@ pub struct LibraryCrate {
     pub library: String,
     /// The Cargo package name (`rust-crate=`).
     pub package: String,
-    /// The crate's folder (holding its Cargo.toml), canonical.
+    /// The crate's folder (holding its Cargo.toml), canonical; for a crate from the
+    /// registry the manifest's folder (where the runner's target folder is looked for).
     pub dir: PathBuf,
+    /// `Some(requirement)`: the package comes from the registry in this version
+    /// (`rust-crate="PACKAGE@VERSION"`), not from `dir`.
+    pub version: Option<String>,
     /// `FILE:LINE:COL` of the manifest's `<library name=…>`.
     pub manifest_at: String,
 }
@@ -78,13 +84,25 @@ pub fn needed_by_model(
 /// `components/` of the checkout ferroc was built from.
 pub fn find(lib: &Library, sources: &SourceMap) -> Result<LibraryCrate, String> {
     let at = ferroc_host::run::at(sources, lib.name_span);
-    let Some(package) = lib.rust_crate.clone() else {
+    let Some(rust_crate) = lib.rust_crate.clone() else {
         return Err(format!(
             "{at}: error: the library `{}` has no `rust-crate`: ferroc cannot find the Rust code of its module types\n  \
              help: add rust-crate=\"PACKAGE\" to its <library>, naming the Cargo package (next to this manifest) whose `register` function registers them",
             lib.name
         ));
     };
+    let (package, version) = match rust_crate.split_once('@') {
+        Some((package, version)) => (package.to_owned(), Some(version.trim().to_owned())),
+        None => (rust_crate, None),
+    };
+    if let Some(version) = version.as_deref().filter(|v| !is_requirement(v)) {
+        return Err(format!(
+            "{at}: error: `{}` after the `@` of rust-crate=\"{package}@…\" of library `{}` is not a version\n  \
+             help: write a version (requirement) as in Cargo.toml, e.g. rust-crate=\"{package}@0.3\" or \"{package}@=0.3.1\"",
+            crate::bundle::text::comment(version),
+            lib.name
+        ));
+    }
     if !crate::bundle::text::is_crate_name(&package) {
         return Err(format!(
             "{at}: error: the rust-crate `{}` of library `{}` is not a Cargo package name\n  \
@@ -104,6 +122,19 @@ pub fn find(lib: &Library, sources: &SourceMap) -> Result<LibraryCrate, String> 
             }
         })
         .unwrap_or(Path::new("."));
+    if version.is_some() {
+        // From the registry: nothing to find on disk; cargo fetches it when building.
+        let dir = manifest_dir
+            .canonicalize()
+            .unwrap_or_else(|_| manifest_dir.to_path_buf());
+        return Ok(LibraryCrate {
+            library: lib.name.clone(),
+            package,
+            dir,
+            version,
+            manifest_at: at,
+        });
+    }
     let candidates = [
         manifest_dir.to_path_buf(),
         manifest_dir.join(&package),
@@ -120,6 +151,7 @@ pub fn find(lib: &Library, sources: &SourceMap) -> Result<LibraryCrate, String> 
                     library: lib.name.clone(),
                     package,
                     dir,
+                    version: None,
                     manifest_at: at,
                 });
             }
@@ -134,7 +166,7 @@ pub fn find(lib: &Library, sources: &SourceMap) -> Result<LibraryCrate, String> 
     Err(format!(
         "{at}: error: the crate `{package}` of library `{}` was not found\n  \
          = looked for a Cargo.toml with name = \"{package}\" at {}{}\n  \
-         help: put the crate next to the manifest (`ferroc new library` writes one), or correct rust-crate=",
+         help: put the crate next to the manifest (`ferroc new library` writes one), correct rust-crate=, or name a published crate with rust-crate=\"{package}@VERSION\"",
         lib.name,
         looked.join(", "),
         if others.is_empty() {
@@ -143,6 +175,22 @@ pub fn find(lib: &Library, sources: &SourceMap) -> Result<LibraryCrate, String> 
             format!("; found other packages: {}", others.join(", "))
         }
     ))
+}
+
+/// A version requirement as Cargo.toml takes it (`0.3`, `^1.2.3`, `=0.3.1`, `>=1, <2`,
+/// `1.0.0-beta.2`): checked here so that it can be written into the runner's Cargo.toml
+/// and a typo is reported at the manifest rather than by cargo.
+pub fn is_requirement(v: &str) -> bool {
+    !v.is_empty()
+        && v.len() <= 64
+        && v.split(',').all(|one| {
+            let one = one
+                .trim_start_matches(['=', '^', '~', '<', '>', ' '])
+                .trim();
+            one.starts_with(|c: char| c.is_ascii_digit() || c == '*')
+        })
+        && v.chars()
+            .all(|c| c.is_ascii_alphanumeric() || ".^~=<>*,-+ ".contains(c))
 }
 
 /// The `[package] name` of a Cargo.toml, read line by line (no TOML parser needed for
@@ -170,7 +218,25 @@ pub fn package_name(cargo_toml: &Path) -> Option<String> {
 
 #[cfg(test)]
 mod tests {
-    use super::package_name;
+    use super::{is_requirement, package_name};
+
+    #[test]
+    fn version_requirements_as_cargo_takes_them() {
+        for good in [
+            "0.3",
+            "^1.2.3",
+            "=0.3.1",
+            ">=1, <2",
+            "1.0.0-beta.2",
+            "*",
+            "~0.4",
+        ] {
+            assert!(is_requirement(good), "{good}");
+        }
+        for bad in ["", "latest", "1.0\"", "x1", ">=", "1.0; rm", "0.1\n[patch]"] {
+            assert!(!is_requirement(bad), "{bad}");
+        }
+    }
 
     #[test]
     fn the_package_name_is_read_from_the_package_table_only() {

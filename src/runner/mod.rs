@@ -7,6 +7,7 @@
 //! ferroc checks the model first (errors stop here, before any build), then hands its
 //! own command line to the runner, which replaces this process.
 
+pub mod checkout;
 pub mod crates;
 pub mod program;
 

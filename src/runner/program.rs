@@ -64,6 +64,16 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
     if is_fresh(&exe, &dir, crates) {
         return Ok(exe);
     }
+    // Before cargo: a crate linking another ferroc-runtime would fail with cargo's
+    // lockfile collision, which does not say what to do.
+    let runtime = source.join("runtime");
+    let conflicts = super::checkout::conflicts(crates, &runtime.canonicalize().unwrap_or(runtime));
+    if !conflicts.is_empty() {
+        for c in &conflicts {
+            eprintln!("{c}");
+        }
+        return Err(ExitCode::from(1));
+    }
     eprintln!(
         "building the runner of {} in {} (first use, or a crate changed)",
         crates
@@ -109,6 +119,7 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
     // cargo's output as it comes (progress bar included), remembering which packages
     // failed to compile.
     let mut failed = Vec::new();
+    let mut unavailable: Vec<String> = Vec::new();
     if let Some(mut err) = child.stderr.take() {
         let mut stderr = std::io::stderr();
         let mut line = Vec::new();
@@ -121,8 +132,14 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
             let _ = stderr.write_all(&buffer[..n]);
             for &b in &buffer[..n] {
                 if b == b'\n' || b == b'\r' {
-                    if let Some(package) = failed_package(&String::from_utf8_lossy(&line)) {
+                    let text = String::from_utf8_lossy(&line);
+                    if let Some(package) = failed_package(&text) {
                         failed.push(package);
+                    }
+                    for c in crates.iter().filter(|c| c.version.is_some()) {
+                        if unfetched(&text, &c.package) && !unavailable.contains(&c.package) {
+                            unavailable.push(c.package.clone());
+                        }
                     }
                     line.clear();
                 } else if line.len() < 4096 {
@@ -135,7 +152,7 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
     if status.as_ref().is_ok_and(|s| s.success()) && exe.is_file() {
         return Ok(exe);
     }
-    report_failure(crates, &failed, &name, &dir);
+    report_failure(crates, &failed, &unavailable, &name, &dir);
     Err(ExitCode::from(1))
 }
 
@@ -163,11 +180,45 @@ fn strip_ansi(s: &str) -> String {
     out
 }
 
+/// Whether one of cargo's lines says the registry package `package` cannot be had
+/// (unknown name, no such version, offline, download failed).
+fn unfetched(line: &str, package: &str) -> bool {
+    let plain = strip_ansi(line);
+    // `NAME` alone, or `NAME = "REQ"` in a requirement.
+    let named = |what: &str| {
+        plain.contains(&format!("{what} `{package}`"))
+            || plain.contains(&format!("{what} `{package} "))
+    };
+    named("no matching package named")
+        || named("failed to select a version for the requirement")
+        || named("failed to download")
+        || named("failed to get")
+}
+
 /// After cargo's own errors: which library's crate they belong to, at its manifest.
-fn report_failure(crates: &[LibraryCrate], failed: &[String], runner: &str, dir: &Path) {
+fn report_failure(
+    crates: &[LibraryCrate],
+    failed: &[String],
+    unavailable: &[String],
+    runner: &str,
+    dir: &Path,
+) {
     let mut explained = false;
+    for c in crates.iter().filter(|c| unavailable.contains(&c.package)) {
+        eprintln!(
+            "{}: error: the crate `{}` {} of library `{}` could not be fetched from the registry (cargo's errors above)\n  \
+             help: check the name and version on crates.io and the network (cargo's `--offline` or CARGO_NET_OFFLINE forbid fetching); \
+             or put the crate next to the manifest and write rust-crate=\"{}\"",
+            c.manifest_at,
+            c.package,
+            c.version.as_deref().unwrap_or(""),
+            c.library,
+            c.package
+        );
+        explained = true;
+    }
     for c in crates {
-        if failed.contains(&c.package) {
+        if failed.contains(&c.package) && c.version.is_none() {
             eprintln!(
                 "{}: error: the crate `{}` of library `{}` does not build (cargo's errors above)\n  \
                  = crate: {}\n  \
@@ -216,7 +267,12 @@ fn key(source: &Path, crates: &[LibraryCrate], profile: &str) -> String {
         source.display()
     );
     for c in crates {
-        text.push_str(&format!("{}\n{}\n", c.package, c.dir.display()));
+        text.push_str(&format!(
+            "{}\n{}\n{}\n",
+            c.package,
+            c.dir.display(),
+            c.version.as_deref().unwrap_or("")
+        ));
     }
     crate::bundle::sha256::hex(text.as_bytes())[..16].to_string()
 }
@@ -254,27 +310,7 @@ fn write_package(
 ) -> std::io::Result<()> {
     std::fs::create_dir_all(dir.join("src"))?;
     let version = env!("CARGO_PKG_VERSION");
-    let libraries: Vec<String> = crates
-        .iter()
-        .map(|c| format!("{} ({})", comment(&c.library), comment(&c.package)))
-        .collect();
-    let mut toml = format!(
-        "# Generated by ferroc {version}: the runner of the libraries {}.\n\
-         # ferroc rewrites this file; build output goes to the libraries' target folder.\n\
-         [package]\nname = \"{name}\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
-         [dependencies]\nferroc-host = {{ path = {} }}\n",
-        libraries.join(", "),
-        toml_str(&host.to_string_lossy())
-    );
-    for (i, c) in crates.iter().enumerate() {
-        toml.push_str(&format!(
-            "library_{i} = {{ package = {}, path = {} }}\n",
-            toml_str(&c.package),
-            toml_str(&c.dir.to_string_lossy())
-        ));
-    }
-    // The checkout's profile, so that its already compiled dependencies are reused.
-    toml.push_str("\n[profile.release]\ndebug = 1\n\n# Not a member of any enclosing workspace.\n[workspace]\n");
+    let toml = cargo_toml(name, host, crates);
     let mut main = format!(
         "//! Generated by ferroc {version}: runs `ferroc run` and `ferroc types` with the module\n\
          //! types of the standard library and of the libraries linked here.\n\n\
@@ -300,6 +336,37 @@ fn write_package(
         }
     }
     Ok(())
+}
+
+/// The runner's Cargo.toml: ferroc's host crate by path, each library's crate by path
+/// or, for `rust-crate="PACKAGE@VERSION"`, by version from the registry.
+fn cargo_toml(name: &str, host: &Path, crates: &[LibraryCrate]) -> String {
+    let libraries: Vec<String> = crates
+        .iter()
+        .map(|c| format!("{} ({})", comment(&c.library), comment(&c.package)))
+        .collect();
+    let mut toml = format!(
+        "# Generated by ferroc {}: the runner of the libraries {}.\n\
+         # ferroc rewrites this file; build output goes to the libraries' target folder.\n\
+         [package]\nname = \"{name}\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
+         [dependencies]\nferroc-host = {{ path = {} }}\n",
+        env!("CARGO_PKG_VERSION"),
+        libraries.join(", "),
+        toml_str(&host.to_string_lossy())
+    );
+    for (i, c) in crates.iter().enumerate() {
+        let source = match &c.version {
+            Some(version) => format!("version = {}", toml_str(version)),
+            None => format!("path = {}", toml_str(&c.dir.to_string_lossy())),
+        };
+        toml.push_str(&format!(
+            "library_{i} = {{ package = {}, {source} }}\n",
+            toml_str(&c.package),
+        ));
+    }
+    // The checkout's profile, so that its already compiled dependencies are reused.
+    toml.push_str("\n[profile.release]\ndebug = 1\n\n# Not a member of any enclosing workspace.\n[workspace]\n");
+    toml
 }
 
 fn replace_if_changed(path: &Path, text: &[u8]) -> std::io::Result<()> {
@@ -334,7 +401,9 @@ fn is_fresh(exe: &Path, dir: &Path, crates: &[LibraryCrate]) -> bool {
     inputs.push(dir.join("Cargo.toml"));
     inputs.push(dir.join("Cargo.lock"));
     inputs.push(source_dir().join("host/Cargo.toml"));
-    inputs.extend(crates.iter().map(|c| c.dir.join("Cargo.toml")));
+    // (A registry crate's sources are in cargo's cache, listed in the dep-info.)
+    inputs
+        .extend((crates.iter().filter(|c| c.version.is_none())).map(|c| c.dir.join("Cargo.toml")));
     inputs
         .iter()
         .all(|p| modified(p).is_some_and(|m| m <= built))
@@ -401,11 +470,57 @@ mod tests {
     }
 
     #[test]
+    fn library_crates_are_taken_by_path_or_by_version() {
+        let lib = |library: &str, package: &str, version: Option<&str>| LibraryCrate {
+            library: library.into(),
+            package: package.into(),
+            dir: PathBuf::from(format!("/libs/{library}")),
+            version: version.map(str::to_string),
+            manifest_at: String::new(),
+        };
+        let toml = cargo_toml(
+            "ferroc-runner-k",
+            Path::new("/ferroc/host"),
+            &[
+                lib("beep", "beep-lib", None),
+                lib("arm", "my-arm", Some(">=0.3, <0.5")),
+            ],
+        );
+        assert!(
+            toml.contains("ferroc-host = { path = \"/ferroc/host\" }\n"),
+            "{toml}"
+        );
+        assert!(
+            toml.contains("library_0 = { package = \"beep-lib\", path = \"/libs/beep\" }\n"),
+            "{toml}"
+        );
+        assert!(
+            toml.contains("library_1 = { package = \"my-arm\", version = \">=0.3, <0.5\" }\n"),
+            "{toml}"
+        );
+        // Another version is another runner.
+        let key_of = |v| key(Path::new("/f"), &[lib("arm", "my-arm", Some(v))], "debug");
+        assert_ne!(key_of("0.3"), key_of("0.4"));
+    }
+
+    #[test]
     fn dep_info_paths_keep_escaped_spaces() {
         assert_eq!(
             split_dep_info("/a/b.rs /c\\ d/e.rs\n"),
             vec![PathBuf::from("/a/b.rs"), PathBuf::from("/c d/e.rs")]
         );
+    }
+
+    #[test]
+    fn unfetched_registry_packages_are_read_from_cargo_lines() {
+        let line = "error: no matching package named `my-arm` found";
+        assert!(unfetched(line, "my-arm"));
+        assert!(!unfetched(line, "my"), "the whole name");
+        assert!(unfetched(
+            "\x1b[31merror\x1b[0m: failed to select a version for the requirement `my-arm = \"^9\"`",
+            "my-arm"
+        ));
+        assert!(!unfetched("   Compiling my-arm v0.3.0", "my-arm"));
     }
 
     #[test]

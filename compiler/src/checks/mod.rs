@@ -143,6 +143,7 @@ registry![
     parameters::p106_config_entry_missing,
     parameters::p107_duplicate_parameter,
     parameters::p108_invalid_pin_map,
+    parameters::p109_const_value_type,
     behaviour::b101_meta_constant_out_of_range,
     behaviour::b102_meta_input_from_number,
     behaviour::b103_never_stimulated,

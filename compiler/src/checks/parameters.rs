@@ -8,3 +8,4 @@ pub mod p105_wrong_unit_dimension;
 pub mod p106_config_entry_missing;
 pub mod p107_duplicate_parameter;
 pub mod p108_invalid_pin_map;
+pub mod p109_const_value_type;

@@ -29,7 +29,7 @@ mod flexible;
 pub mod fusion;
 mod logger;
 mod player;
-mod recorder;
+pub mod recorder;
 pub mod recording;
 mod services;
 
@@ -40,7 +40,7 @@ pub use flexible::{Add, Clock, Dump, FlexiSelect, Sum};
 pub use fusion::Fusion;
 pub use logger::{check_log_path, Logger};
 pub use player::Player;
-pub use recorder::Recorder;
+pub use recorder::{Recordable, Recorder, Recorders};
 pub use services::{Ask, ScaleService};
 
 use ferroc_runtime::builder::Registry;

@@ -13,9 +13,15 @@
 //! recorded message), `rate` the same timing sped up by `rate`, `step` one message
 //! per channel and step (as fast as the schedule runs). In lockstep a recording made
 //! in lockstep is replayed bit for bit at the same model instants.
+//!
+//! `timestamps`: `recorded` replays values as they were; `now` shifts every value of
+//! model type `timestamp` (also `timestamp[N]` and `[timestamp]`) by how much later it
+//! is replayed than it was recorded (the step's time minus the message's log time), so
+//! a recorded stamp is as old, relative to now, as it was relative to its recording.
+//! Timestamps inside library types are opaque bytes to the player and stay as they were.
 
 use crate::recording::{self, Recording};
-use ferroc_runtime::module::{DynOut, Module, ModuleType, Parameter, Setup, Wire};
+use ferroc_runtime::module::{DynOut, Module, ModuleType, Parameter, Setup, Timestamp, Wire};
 use std::collections::VecDeque;
 use std::path::PathBuf;
 
@@ -27,6 +33,8 @@ pub struct Player {
     /// Log time of the first replayed message and model time of the first step.
     origin: Option<(u64, u64)>,
     ended: bool,
+    /// `timestamps=now`.
+    shift: bool,
 }
 
 #[derive(Clone, Copy, PartialEq)]
@@ -43,6 +51,57 @@ struct Replayed {
     messages: VecDeque<(u64, Vec<u8>)>,
     /// A message did not decode: reported once.
     warned: bool,
+    /// How its values hold timestamps (`None`: not a timestamp type).
+    stamps: Option<Stamps>,
+}
+
+/// The shape of a timestamp output's values, in postcard: one stamp, `N` stamps in a
+/// row (an array), or a length and the stamps (a sequence).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Stamps {
+    One,
+    Array(usize),
+    Seq,
+}
+
+impl Stamps {
+    fn of(model_type: &str) -> Option<Stamps> {
+        if model_type == "timestamp" {
+            return Some(Stamps::One);
+        }
+        if model_type == "[timestamp]" {
+            return Some(Stamps::Seq);
+        }
+        let n = model_type.strip_prefix("timestamp[")?.strip_suffix(']')?;
+        n.parse().ok().map(Stamps::Array)
+    }
+
+    /// `bytes` with every stamp moved by `by` nanoseconds (saturating); `None` if they
+    /// are not values of this shape.
+    fn shift(self, bytes: &[u8], by: i64) -> Option<Vec<u8>> {
+        let moved = |t: Timestamp| Timestamp {
+            nanos: t.nanos.saturating_add(by),
+        };
+        match self {
+            Stamps::One => {
+                let t: Timestamp = postcard::from_bytes(bytes).ok()?;
+                postcard::to_stdvec(&moved(t)).ok()
+            }
+            Stamps::Seq => {
+                let ts: Vec<Timestamp> = postcard::from_bytes(bytes).ok()?;
+                postcard::to_stdvec(&ts.into_iter().map(moved).collect::<Vec<_>>()).ok()
+            }
+            Stamps::Array(n) => {
+                let (mut rest, mut out) = (bytes, Vec::with_capacity(bytes.len()));
+                for _ in 0..n {
+                    let (t, tail): (Timestamp, _) = postcard::take_from_bytes(rest).ok()?;
+                    out.extend(postcard::to_stdvec(&moved(t)).ok()?);
+                    rest = tail;
+                }
+                rest.is_empty().then_some(out)
+            }
+        }
+    }
 }
 
 impl ModuleType for Player {
@@ -70,6 +129,12 @@ impl ModuleType for Player {
             .range(0.001, 1000.0)
             .doc("speed factor of mode `rate`")
             .build();
+        let mut timestamps: Parameter<String> = m
+            .param("timestamps")
+            .default("recorded".to_owned())
+            .choices(&["recorded", "now"])
+            .doc("replay timestamp values as recorded, or shifted by how much later they are replayed")
+            .build();
         let mode = match mode.value().as_str() {
             "rate" => Mode::Rate,
             "step" => Mode::Step,
@@ -81,6 +146,7 @@ impl ModuleType for Player {
             rate: rate.get(),
             origin: None,
             ended: false,
+            shift: timestamps.value() == "now",
         };
         // The registry learning the interface: no recording to read.
         if m.path().is_empty() {
@@ -185,6 +251,7 @@ fn load(
             topic: topic.clone(),
             messages,
             warned: false,
+            stamps: Stamps::of(ty),
         });
     }
     Ok(replayed)
@@ -217,9 +284,18 @@ impl Module for Player {
                 if due.is_some_and(|due| *t > due) {
                     break;
                 }
-                let Some((_, bytes)) = o.messages.pop_front() else {
+                let Some((logged, mut bytes)) = o.messages.pop_front() else {
                     break;
                 };
+                if let Some(stamps) = o.stamps.filter(|_| self.shift) {
+                    let by = i64::try_from(now)
+                        .unwrap_or(i64::MAX)
+                        .saturating_sub(i64::try_from(logged).unwrap_or(i64::MAX));
+                    // Bytes that are no stamps are left for `decode` to report.
+                    if let Some(shifted) = stamps.shift(&bytes, by) {
+                        bytes = shifted;
+                    }
+                }
                 if let Err(e) = o.wire.decode(&o.out, &bytes) {
                     if !o.warned {
                         o.warned = true;
@@ -235,5 +311,41 @@ impl Module for Player {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stamps(nanos: &[i64]) -> Vec<Timestamp> {
+        nanos.iter().map(|&nanos| Timestamp { nanos }).collect()
+    }
+
+    #[test]
+    fn stamps_of_every_shape_move_by_the_delay() {
+        assert_eq!(Stamps::of("timestamp"), Some(Stamps::One));
+        assert_eq!(Stamps::of("timestamp[3]"), Some(Stamps::Array(3)));
+        assert_eq!(Stamps::of("[timestamp]"), Some(Stamps::Seq));
+        assert_eq!(Stamps::of("f64"), None);
+        assert_eq!(Stamps::of("lib.Stamped"), None);
+        let one = postcard::to_stdvec(&Timestamp { nanos: 5 }).unwrap();
+        let moved = Stamps::One.shift(&one, 1_000).unwrap();
+        assert_eq!(
+            postcard::from_bytes::<Timestamp>(&moved).unwrap().nanos,
+            1_005
+        );
+        let seq = postcard::to_stdvec(&stamps(&[1, -2, i64::MAX])).unwrap();
+        let moved = Stamps::Seq.shift(&seq, 10).unwrap();
+        let back: Vec<Timestamp> = postcard::from_bytes(&moved).unwrap();
+        assert_eq!(back, stamps(&[11, 8, i64::MAX]), "saturates");
+        let array: [Timestamp; 2] = [Timestamp { nanos: 1 }, Timestamp { nanos: 2 }];
+        let bytes = postcard::to_stdvec(&array).unwrap();
+        let moved = Stamps::Array(2).shift(&bytes, -1).unwrap();
+        let back: [Timestamp; 2] = postcard::from_bytes(&moved).unwrap();
+        assert_eq!(back.map(|t| t.nanos), [0, 1]);
+        // Not values of the shape: left alone (decode reports them).
+        assert_eq!(Stamps::Array(3).shift(&bytes, 1), None);
+        assert_eq!(Stamps::One.shift(&[], 1), None);
     }
 }

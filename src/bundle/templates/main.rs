@@ -24,6 +24,10 @@ const {{ name }}: &str = {{ path|rust_str }};
 {%- endfor %}
 {%- endif %}
 
+/// What `--record` may record: the outputs of this part's modules that feed a
+/// connection (module, port, model type, thread container).
+{{ recordable|safe }}
+
 fn main() -> ExitCode {
     let args = match Args::from_env(PROGRAM, ABOUT) {
         Ok(args) => args,
@@ -51,8 +55,15 @@ fn main() -> ExitCode {
 {%- else %}
     let start = args.start_options(PERIODS);
 {%- endif %}
-    let registry = registry();
-    let app = match build(&registry, start) {
+    let mut registry = registry();
+    let record = match Recorders::from_args(&args, &mut registry, PART, RECORDABLE) {
+        Ok(record) => record,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let app = match build(&registry, start, &record) {
         Ok(app) => app,
         Err(e) => {
             ferroc_runtime::console::stderr_line(format_args!("error: part `{PART}`: {e}"));
@@ -72,7 +83,11 @@ fn registry() -> Registry {
 }
 
 /// Creates the modules, connects them, declares the thread containers and starts them.
-fn build(registry: &Registry, start: StartOptions) -> Result<RunningApp, BuildError> {
+fn build(
+    registry: &Registry,
+    start: StartOptions,
+    record: &Recorders,
+) -> Result<RunningApp, BuildError> {
     let mut builder = Builder::new(registry);
 {%- for m in modules %}
 
@@ -109,15 +124,18 @@ fn build(registry: &Registry, start: StartOptions) -> Result<RunningApp, BuildEr
 {{ l.ends|safe }}
     )?;
 {%- endfor %}
+
+    // `--record`: a recorder at the end of every thread container it records from.
+    record.add_to(&mut builder)?;
 {%- for t in threads %}
 
     // {{ t.path }}: {{ t.when }}, steps in the compiler's order
-    builder.add_thread(ThreadSpec {
+    builder.add_thread(record.thread(ThreadSpec {
         path: {{ t.path|rust_str }}.to_string(),
         schedule: {{ t.schedule|safe }},
 {{ t.options|safe }}
 {{ t.steps|safe }}
-    })?;
+    }))?;
 {%- endfor %}
 
     builder.start_with(start)

@@ -4,6 +4,16 @@
 //! name is the output's path (`robot/laser/scan`), which becomes the topic. It runs
 //! last in its container, so it sees every value the container's modules published
 //! in the cycle; all recorders of a run write into one file.
+//!
+//! Which outputs get recorders is decided in one place for `ferroc run` and for the
+//! programs `ferroc bundle` generates ([`select`], `select.rs`); a generated program
+//! adds them with [`Recorders`] (`program.rs`).
+
+mod program;
+mod select;
+
+pub use program::{Recordable, Recorders};
+pub use select::{glob, select, RecordedPort, RecorderPlan, RECORDER_TYPE};
 
 use crate::logger::{record, recorded_inputs};
 use crate::recording::{self, LogFile, SharedLog};
