@@ -1,24 +1,18 @@
 //! `Const` (FlexiConst) and element-wise `Sum` (FlexiAdd), run in lockstep and observed
 //! through a `Logger`'s JSON channel.
 
+mod common;
+
+use common::{registry, run_lockstep, scratch};
 use ferroc_runtime::behaviour::ViolationPolicy;
-use ferroc_runtime::builder::{
-    BuildError, Builder, Lockstep, ModuleSpec, Registry, Schedule, StartOptions, StepKind,
-    ThreadSpec,
-};
-use ferroc_runtime::container::ThreadOptions;
+use ferroc_runtime::builder::{BuildError, Builder, ModuleSpec};
 use ferroc_runtime::module::{Direction, PortGroup, Value};
 use ferroc_runtime::port::ConnectOptions;
 use ferroc_std::recording::Recording;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
-fn registry() -> Registry {
-    let mut r = Registry::new();
-    ferroc_std::register(&mut r);
-    r
-}
-
+/// Adds a module whose parameters are all given as text, as a model writes them.
 fn add(
     b: &mut Builder<'_>,
     path: &str,
@@ -26,29 +20,15 @@ fn add(
     params: &[(&str, &str)],
     ports: &[PortGroup],
 ) -> Result<(), BuildError> {
-    let params: Vec<(String, Value)> = params
+    let params: Vec<(&str, Value)> = params
         .iter()
-        .map(|(n, v)| (n.to_string(), Value::Text(v.to_string())))
+        .map(|&(n, v)| (n, Value::Text(v.to_string())))
         .collect();
-    b.add_module(ModuleSpec {
-        path,
-        type_name: ty,
-        params: &params,
-        queues: &[],
-        ports,
-        violations: ViolationPolicy::Warn,
-    })
+    common::add(b, path, ty, &params, ports)
 }
 
 fn out(ty: &str, n: u32) -> [PortGroup<'_>; 1] {
     [PortGroup::new("out", Direction::Out, ty, Some(n))]
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// Adds a logger of `n` inputs of `ty` at `file`, runs `steps` (plus the logger) for
@@ -74,28 +54,9 @@ fn run(
         )
         .unwrap();
     }
-    let mut order: Vec<(String, StepKind)> = steps
-        .iter()
-        .map(|p| (p.to_string(), StepKind::Update))
-        .collect();
-    order.push(("log".into(), StepKind::Update));
-    b.add_thread(ThreadSpec {
-        path: "main".into(),
-        schedule: Schedule::Periodic(Duration::from_millis(10)),
-        options: ThreadOptions::default(),
-        steps: order,
-    })
-    .unwrap();
-    let mut app = b
-        .start_with(StartOptions {
-            limit: Some(cycles),
-            lockstep: Some(Lockstep::default()),
-            network: None,
-        })
-        .unwrap();
-    app.join();
-    assert!(app.panics().is_empty(), "{:?}", app.panics());
-    drop(app);
+    let mut order = steps.to_vec();
+    order.push("log");
+    run_lockstep(b, &order, cycles);
     let rec = match Recording::read(file) {
         Ok(r) => r,
         Err(_) => return vec![Vec::new(); sources.len()],

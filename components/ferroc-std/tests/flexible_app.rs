@@ -1,41 +1,17 @@
 //! The flexible `ferroc_std` modules built and run as `ferroc run` builds them: the
 //! instance's `<port>` declarations arrive as `ModuleSpec::ports`.
 
-use ferroc_runtime::behaviour::ViolationPolicy;
-use ferroc_runtime::builder::{
-    BuildError, Builder, ModuleSpec, Registry, Schedule, StepKind, ThreadSpec,
-};
-use ferroc_runtime::container::ThreadOptions;
+mod common;
+
+use common::{add as try_add, registry, run_free, scratch, wire};
+use ferroc_runtime::builder::Builder;
 use ferroc_runtime::module::{Direction, PortGroup, Value};
 use ferroc_runtime::port::{ConnectOptions, CopyInputPort, InputPort};
-use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-fn registry() -> Registry {
-    let mut r = Registry::new();
-    ferroc_std::register(&mut r);
-    r
-}
-
-fn try_add(
-    b: &mut Builder<'_>,
-    path: &str,
-    ty: &str,
-    params: &[(&str, Value)],
-    ports: &[PortGroup<'_>],
-) -> Result<(), BuildError> {
-    let params: Vec<(String, Value)> = params
-        .iter()
-        .map(|(n, v)| (n.to_string(), v.clone()))
-        .collect();
-    b.add_module(ModuleSpec {
-        path,
-        type_name: ty,
-        params: &params,
-        queues: &[],
-        ports,
-        violations: ViolationPolicy::Warn,
-    })
+fn run(b: Builder<'_>, order: &[&str], cycles: u64) {
+    let app = run_free(b, order, Duration::from_micros(500), cycles);
+    assert!(app.panics().is_empty(), "{:?}", app.panics());
 }
 
 fn constant(b: &mut Builder<'_>, path: &str, value: f64) {
@@ -51,27 +27,6 @@ fn constant(b: &mut Builder<'_>, path: &str, value: f64) {
 
 fn inputs<'a>(ty: &'a str, n: u32) -> [PortGroup<'a>; 1] {
     [PortGroup::new("in", Direction::In, ty, Some(n))]
-}
-
-fn wire(b: &mut Builder<'_>, from: (&str, &str), to: (&str, &str)) {
-    b.connect(from, to, Default::default(), ConnectOptions::default())
-        .unwrap();
-}
-
-fn run(mut b: Builder<'_>, order: &[&str], cycles: u64) {
-    b.add_thread(ThreadSpec {
-        path: "main".into(),
-        schedule: Schedule::Periodic(Duration::from_micros(500)),
-        options: ThreadOptions::default(),
-        steps: order
-            .iter()
-            .map(|p| (p.to_string(), StepKind::Update))
-            .collect(),
-    })
-    .unwrap();
-    let mut app = b.start(Some(cycles)).unwrap();
-    app.join();
-    assert!(app.panics().is_empty(), "{:?}", app.panics());
 }
 
 #[test]
@@ -180,13 +135,6 @@ fn clock_counts_cycles_and_tells_the_time() {
     run(b, &["clock"], 5);
     assert_eq!(tick.get(), 5);
     assert!(time.get() >= before && time.get() <= ferroc_runtime::module::Timestamp::now());
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 fn logger_problem(file: &str) -> String {

@@ -1,11 +1,10 @@
 //! `ferroc_std.Fusion` built and run like `ferroc run` builds it: the formulas through
 //! ports, and the goal-state principle with changing channel activities.
 
-use ferroc_runtime::behaviour::ViolationPolicy;
-use ferroc_runtime::builder::{
-    Builder, ModuleSpec, Registry, RunningApp, Schedule, StepKind, ThreadSpec,
-};
-use ferroc_runtime::container::ThreadOptions;
+mod common;
+
+use common::{run_free, wire};
+use ferroc_runtime::builder::{Builder, Registry, RunningApp};
 use ferroc_runtime::module::{MetaType, Module, ModuleType, Out, Setup, Value};
 use ferroc_runtime::port::{ConnectOptions, CopyInputPort};
 use std::time::Duration;
@@ -32,31 +31,17 @@ impl ModuleType for Ramp {
 }
 
 fn registry() -> Registry {
-    let mut r = Registry::new();
-    ferroc_std::register(&mut r);
+    let mut r = common::registry();
     r.register::<Ramp>();
     r
 }
 
 fn add(b: &mut Builder<'_>, path: &str, ty: &str, params: &[(&str, Value)]) {
-    let params: Vec<(String, Value)> = params
-        .iter()
-        .map(|(n, v)| (n.to_string(), v.clone()))
-        .collect();
-    b.add_module(ModuleSpec {
-        path,
-        type_name: ty,
-        params: &params,
-        queues: &[],
-        ports: &[],
-        violations: ViolationPolicy::Warn,
-    })
-    .unwrap();
+    common::add(b, path, ty, params, &[]).unwrap();
 }
 
-fn wire(b: &mut Builder<'_>, from: (&str, &str), to: (&str, &str)) {
-    b.connect(from, to, Default::default(), ConnectOptions::default())
-        .unwrap();
+fn run(b: Builder<'_>, order: &[&str], cycles: u64) -> RunningApp {
+    run_free(b, order, Duration::from_micros(200), cycles)
 }
 
 fn probe(b: &Builder<'_>, path: &str, port: &str) -> CopyInputPort<f64> {
@@ -66,23 +51,6 @@ fn probe(b: &Builder<'_>, path: &str, port: &str) -> CopyInputPort<f64> {
         .connect(&p.handle(), ConnectOptions::default())
         .unwrap();
     p
-}
-
-fn run(b: Builder<'_>, order: &[&str], cycles: u64) -> RunningApp {
-    let mut b = b;
-    b.add_thread(ThreadSpec {
-        path: "main".into(),
-        schedule: Schedule::Periodic(Duration::from_micros(200)),
-        options: ThreadOptions::default(),
-        steps: order
-            .iter()
-            .map(|p| (p.to_string(), StepKind::Update))
-            .collect(),
-    })
-    .unwrap();
-    let mut app = b.start(Some(cycles)).unwrap();
-    app.join();
-    app
 }
 
 #[test]

@@ -1,45 +1,15 @@
 //! `ferroc_std.Logger` recording into MCAP in lockstep: channels, schemas, counts,
 //! exact payloads and log times as the model implies.
 
-use ferroc_runtime::behaviour::ViolationPolicy;
-use ferroc_runtime::builder::{
-    Builder, Lockstep, ModuleSpec, Registry, Schedule, StartOptions, StepKind, ThreadSpec,
-};
-use ferroc_runtime::container::ThreadOptions;
+mod common;
+
+use common::{add, registry, run_lockstep, scratch};
+use ferroc_runtime::builder::Builder;
 use ferroc_runtime::module::{Direction, PortGroup, Timestamp, Value};
 use ferroc_runtime::port::ConnectOptions;
 use ferroc_std::recording::Recording;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
-
-fn registry() -> Registry {
-    let mut r = Registry::new();
-    ferroc_std::register(&mut r);
-    r
-}
-
-fn add(b: &mut Builder<'_>, path: &str, ty: &str, params: &[(&str, Value)], ports: &[PortGroup]) {
-    let params: Vec<(String, Value)> = params
-        .iter()
-        .map(|(n, v)| (n.to_string(), v.clone()))
-        .collect();
-    b.add_module(ModuleSpec {
-        path,
-        type_name: ty,
-        params: &params,
-        queues: &[],
-        ports,
-        violations: ViolationPolicy::Warn,
-    })
-    .unwrap();
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// Two constants (4.5 and NaN) into a logger; `cycles` of a 10 ms container in
 /// lockstep. Returns the recording.
@@ -53,20 +23,22 @@ fn record(dir: &Path, period: Duration, cycles: u64) -> Recording {
         "ferroc_std.Constant",
         &[("value", Value::Float(4.5))],
         &[],
-    );
+    )
+    .unwrap();
     add(
         &mut b,
         "odd",
         "ferroc_std.Constant",
         &[("value", Value::Float(f64::NAN))],
         &[],
-    );
+    )
+    .unwrap();
     let ports = [PortGroup::new("in", Direction::In, "f64", Some(2))];
     let params = [
         ("file", Value::Text(file.to_string_lossy().into_owned())),
         ("period", Value::Duration(period)),
     ];
-    add(&mut b, "robot/log", "ferroc_std.Logger", &params, &ports);
+    add(&mut b, "robot/log", "ferroc_std.Logger", &params, &ports).unwrap();
     for (from, to) in [("speed", "in/0"), ("odd", "in/1")] {
         b.connect(
             (from, "value"),
@@ -76,26 +48,7 @@ fn record(dir: &Path, period: Duration, cycles: u64) -> Recording {
         )
         .unwrap();
     }
-    b.add_thread(ThreadSpec {
-        path: "main".into(),
-        schedule: Schedule::Periodic(Duration::from_millis(10)),
-        options: ThreadOptions::default(),
-        steps: ["speed", "odd", "robot/log"]
-            .iter()
-            .map(|p| (p.to_string(), StepKind::Update))
-            .collect(),
-    })
-    .unwrap();
-    let mut app = b
-        .start_with(StartOptions {
-            limit: Some(cycles),
-            lockstep: Some(Lockstep::default()),
-            network: None,
-        })
-        .unwrap();
-    app.join();
-    assert!(app.panics().is_empty(), "{:?}", app.panics());
-    drop(app);
+    run_lockstep(b, &["speed", "odd", "robot/log"], cycles);
     Recording::read(&file).unwrap()
 }
 

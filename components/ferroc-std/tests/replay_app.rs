@@ -2,44 +2,14 @@
 //! recorded inputs bit for bit at the same model instants, so its outputs equal the
 //! original run's; a recording that does not fit the outputs is refused up front.
 
-use ferroc_runtime::behaviour::ViolationPolicy;
-use ferroc_runtime::builder::{
-    BuildError, Builder, Conversion, Lockstep, ModuleSpec, Registry, Schedule, StartOptions,
-    StepKind, ThreadSpec,
-};
-use ferroc_runtime::container::ThreadOptions;
+mod common;
+
+use common::{add, registry, run_lockstep, scratch};
+use ferroc_runtime::builder::{Builder, Conversion};
 use ferroc_runtime::module::{Direction, PortGroup, Value};
 use ferroc_runtime::port::ConnectOptions;
 use ferroc_std::recording::Recording;
-use std::path::{Path, PathBuf};
-use std::time::Duration;
-
-fn registry() -> Registry {
-    let mut r = Registry::new();
-    ferroc_std::register(&mut r);
-    r
-}
-
-fn add(
-    b: &mut Builder<'_>,
-    path: &str,
-    ty: &str,
-    params: &[(&str, Value)],
-    ports: &[PortGroup],
-) -> Result<(), BuildError> {
-    let params: Vec<(String, Value)> = params
-        .iter()
-        .map(|(n, v)| (n.to_string(), v.clone()))
-        .collect();
-    b.add_module(ModuleSpec {
-        path,
-        type_name: ty,
-        params: &params,
-        queues: &[],
-        ports,
-        violations: ViolationPolicy::Warn,
-    })
-}
+use std::path::Path;
 
 fn text(p: &Path) -> Value {
     Value::Text(p.to_string_lossy().into_owned())
@@ -53,35 +23,6 @@ fn connect(b: &mut Builder<'_>, from: (&str, &str), to: (&str, &str), scale: f64
         ConnectOptions::default(),
     )
     .unwrap();
-}
-
-fn run_lockstep(mut b: Builder<'_>, steps: &[&str], cycles: u64) {
-    b.add_thread(ThreadSpec {
-        path: "main".into(),
-        schedule: Schedule::Periodic(Duration::from_millis(10)),
-        options: ThreadOptions::default(),
-        steps: steps
-            .iter()
-            .map(|p| (p.to_string(), StepKind::Update))
-            .collect(),
-    })
-    .unwrap();
-    let mut app = b
-        .start_with(StartOptions {
-            limit: Some(cycles),
-            lockstep: Some(Lockstep::default()),
-            network: None,
-        })
-        .unwrap();
-    app.join();
-    assert!(app.panics().is_empty(), "{:?}", app.panics());
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// The "sensor": a clock's tick (u64); the "controller": a Scale of tick/10 (f64,
