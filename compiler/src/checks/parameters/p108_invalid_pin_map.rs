@@ -4,9 +4,8 @@ use crate::checks::CheckInfo;
 use crate::checks::PassContext;
 use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
-use crate::ir::{ElementKind, ParamSource};
+use crate::ir::ElementKind;
 use crate::library::module_type::PortDir;
-use crate::source::Span;
 use crate::units::{relate, UnitRelation};
 use ferroc_pinmap::Dir;
 
@@ -35,34 +34,9 @@ Fix:
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for (id, m) in ctx.app.modules() {
-        let Some(mt) = ctx.app.module_type(ctx.libraries, id) else {
-            continue;
-        };
-        if mt.qualified != "ferroc_std.Filter" {
-            continue;
-        }
-        let Some(p) = m.params.iter().find(|p| p.name == "map") else {
-            continue;
-        };
-        let text = match &p.source {
-            ParamSource::Inline => p.text.as_str(),
-            ParamSource::Config(Ok((text, _))) => text.as_str(),
-            ParamSource::Config(Err(_)) | ParamSource::Cmdline => continue,
-        };
-        // Spans inside the text where it stands in the file as written (no entities).
-        let exact = p.span.end.saturating_sub(p.span.start) as usize == text.len();
-        let at = |r: std::ops::Range<usize>| {
-            if exact {
-                Span {
-                    file: p.span.file,
-                    start: p.span.start + r.start as u32,
-                    end: p.span.start + r.end as u32,
-                }
-            } else {
-                p.span
-            }
-        };
+    for pt in super::texts_of(ctx, "ferroc_std.Filter", "map") {
+        let (id, text, mt) = (pt.id, pt.text, pt.module_type);
+        let at = |r| pt.span_of(r);
         let entries = match ferroc_pinmap::parse(text) {
             Ok(e) => e,
             Err(e) => {

@@ -4,10 +4,9 @@ use crate::checks::CheckInfo;
 use crate::checks::PassContext;
 use crate::diagnostic::Severity;
 use crate::diagnostic::{Diagnostic, Diagnostics};
-use crate::ir::{ElementKind, ParamSource};
+use crate::ir::ElementKind;
 use crate::library::module_type::{PortDir, PortType};
 use crate::library::LibrarySet;
-use crate::source::Span;
 use crate::types::Type;
 use serde_json::Value;
 use std::ops::Range;
@@ -36,34 +35,9 @@ Fix:
 };
 
 fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    for (id, m) in ctx.app.modules() {
-        let Some(mt) = ctx.app.module_type(ctx.libraries, id) else {
-            continue;
-        };
-        if mt.qualified != "ferroc_std.Const" {
-            continue;
-        }
-        let Some(p) = m.params.iter().find(|p| p.name == "values") else {
-            continue;
-        };
-        let text = match &p.source {
-            ParamSource::Inline => p.text.as_str(),
-            ParamSource::Config(Ok((text, _))) => text.as_str(),
-            ParamSource::Config(Err(_)) | ParamSource::Cmdline => continue,
-        };
-        // Spans inside the text where it stands in the file as written (no entities).
-        let exact = p.span.end.saturating_sub(p.span.start) as usize == text.len();
-        let at = |r: Range<usize>| {
-            if exact {
-                Span {
-                    file: p.span.file,
-                    start: p.span.start + r.start as u32,
-                    end: p.span.start + r.end as u32,
-                }
-            } else {
-                p.span
-            }
-        };
+    for pt in super::texts_of(ctx, "ferroc_std.Const", "values") {
+        let (id, p, text) = (pt.id, pt.param, pt.text);
+        let at = |r| pt.span_of(r);
         let ElementKind::Module(inst) = &ctx.app.element(id).kind else {
             continue;
         };
