@@ -12,6 +12,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 pub mod checked;
+pub mod inspect;
 pub mod interface;
 pub mod output;
 pub mod record;
