@@ -220,12 +220,12 @@ fn get(client: &Client, args: &InspectArgs, path: &str) -> Result<(), String> {
     match value.first().map(|a| a.parse::<PortValue>()) {
         Some(Ok(v)) => {
             print_value(&v, args.json, None);
-            return Ok(());
+            Ok(())
         }
         Some(Err(port_error)) => {
             // Not a port: perhaps a parameter.
             let param = client.ask(&key(&args.app, part, &What::Param(path.into())), None)?;
-            return match param.first().map(Answer::parse::<ParamView>) {
+            match param.first().map(Answer::parse::<ParamView>) {
                 Some(Ok(p)) => {
                     print_param(&p, args.json);
                     Ok(())
@@ -235,7 +235,7 @@ fn get(client: &Client, args: &InspectArgs, path: &str) -> Result<(), String> {
                 }
                 Some(Err(e)) => Err(e),
                 None => Err(port_error),
-            };
+            }
         }
         None => Err(nobody(args, part, path)),
     }

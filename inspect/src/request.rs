@@ -166,4 +166,19 @@ mod tests {
         assert!(serde_json::from_str::<SetRequest>(r#"{"set":"1"}"#).is_err());
         assert!(serde_json::from_str::<SetRequest>(r#"{"set":"1","token":"t","x":1}"#).is_err());
     }
+
+    proptest::proptest! {
+        /// Any key parses or is refused with a message; an inspection key's request
+        /// either round-trips or is an error naming the requests there are.
+        #[test]
+        fn no_key_panics(tail in "[a-z/*$?#]{0,40}", other in "\\PC{0,60}") {
+            let _ = parse(&other);
+            if let Some(p) = parse(&format!("ferroc/app/inspect/robot/{tail}")) {
+                match p.what {
+                    Ok(w) => proptest::prop_assert_eq!(w.tail(), tail),
+                    Err(e) => proptest::prop_assert!(e.contains("tree, containers"), "{}", e),
+                }
+            }
+        }
+    }
 }
