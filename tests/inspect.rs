@@ -259,3 +259,39 @@ fn the_nav_behaviours_run_is_inspected_and_a_speed_limit_takes_effect() {
         );
     }
 }
+
+#[test]
+fn a_non_local_address_needs_the_public_flag_and_a_served_run_ends_cleanly() {
+    let (code, _, err) = ferroc(&[
+        "run",
+        "tests/fixtures/inspect.xml",
+        "--cycles",
+        "1",
+        "--inspect",
+        "0.0.0.0:47900",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("not a loopback address") && err.contains("--inspect-public"),
+        "{err}"
+    );
+    // Serving does not keep a finished run alive.
+    let address = format!("127.0.0.1:{}", free_port());
+    let (code, _, err) = ferroc(&[
+        "run",
+        "tests/fixtures/inspect.xml",
+        "--lockstep",
+        "--cycles",
+        "5",
+        "-q",
+        "--inspect",
+        &address,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(&format!(
+            "serving ferroc/inspected/inspect/** on tcp/{address}; token for changes: "
+        )),
+        "{err}"
+    );
+}
