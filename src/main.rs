@@ -21,6 +21,7 @@ macro_rules! eprintln {
 mod bundle;
 mod finroc;
 mod graph;
+mod inspect;
 mod log;
 mod new;
 mod runner;
@@ -137,6 +138,21 @@ Examples:\n  ferroc run models/crash_course.xml --lockstep --for 5s --record run
 ferroc log info run.mcap\n  ferroc log cat run.mcap --channel bot/simulation/distance_front"
     )]
     Log(log::LogArgs),
+    /// Look into a program running with --inspect: list, get, set, watch
+    #[command(
+        long_about = "Look into a running program over Zenoh (docs/inspect.md): `ferroc run MODEL \
+--inspect` serves its element tree, every port's latest value, parameters, thread container \
+figures, link state and iB2C activities on 127.0.0.1:47900 and prints a token for changes. \
+`ferroc inspect` connects to that address (a Zenoh peer with multicast scouting off) and asks. \
+A parameter change is checked (type, unit, range, choices) before it is applied, and needs the \
+token.\n\n\
+Exit codes: 0 answered, 1 the program refused or does not know the path, 2 no program reached.\n\n\
+Examples:\n  ferroc run models/nav_behaviours.xml --inspect &\n  ferroc inspect --list\n  \
+ferroc inspect --get robot/avoid/activity\n  \
+ferroc inspect --set robot/go_to_goal/max_speed=0.3m/s --token TOKEN\n  \
+ferroc inspect --watch robot/avoid/activity --for 5s"
+    )]
+    Inspect(inspect::InspectArgs),
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -231,6 +247,7 @@ fn main() -> ExitCode {
         Command::Import(format) => finroc::import(format),
         Command::Export(format) => finroc::export(format),
         Command::Log(args) => log::run(args),
+        Command::Inspect(args) => inspect::run(args),
         Command::Explain { code, list } => explain(code, list),
     }
 }

@@ -65,6 +65,13 @@ pub struct RunArgs {
     /// any characters (repeatable)
     #[arg(long, value_name = "PATTERN", requires = "record")]
     pub record_filter: Vec<String>,
+    /// Serve live inspection over Zenoh on ADDR (default 127.0.0.1:47900): read it with
+    /// `ferroc inspect`; changes need the token printed at start (docs/inspect.md)
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:47900")]
+    pub inspect: Option<String>,
+    /// Allow --inspect on an address other computers can reach (prints a warning)
+    #[arg(long, requires = "inspect")]
+    pub inspect_public: bool,
 }
 
 fn parse_duration(text: &str) -> Result<Duration, String> {
@@ -179,12 +186,41 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         }),
         network: None,
     };
-    let app = match build(&plan, &registry, start) {
-        Ok(app) => app,
+    let serve = args
+        .inspect
+        .as_deref()
+        .map(|address| crate::inspect::Serve {
+            address,
+            public: args.inspect_public,
+            app: &app.name,
+        });
+    if let Some(Err(e)) = serve.as_ref().map(crate::inspect::check_address) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
+    let started = wire(&plan, &registry).and_then(|mut builder| {
+        let catalogue = serve.is_some().then(|| builder.inspection());
+        builder.start_with(start).map(|app| (app, catalogue))
+    });
+    let (app, catalogue) = match started {
+        Ok(started) => started,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(1);
         }
+    };
+    // Kept until the run ends: dropping it stops serving.
+    let _server = match (&serve, catalogue) {
+        (Some(serve), Some(catalogue)) => {
+            match crate::inspect::start(serve, catalogue, &app, &plan, &result.sources, &registry) {
+                Ok(server) => Some(server),
+                Err(e) => {
+                    eprintln!("error: --inspect: {e}");
+                    return ExitCode::from(1);
+                }
+            }
+        }
+        _ => None,
     };
     let options = supervise::Options {
         duration: args.duration.filter(|_| !args.lockstep),
@@ -291,7 +327,7 @@ fn not_registered(
     }
 }
 
-fn value(v: &ModelValue) -> Value {
+pub(crate) fn value(v: &ModelValue) -> Value {
     match v {
         ModelValue::Bool(b) => Value::Bool(*b),
         ModelValue::Int(i) => Value::Int(*i),
@@ -354,6 +390,15 @@ pub fn build(
     registry: &Registry,
     start: StartOptions,
 ) -> Result<RunningApp, ferroc_runtime::builder::BuildError> {
+    wire(plan, registry)?.start_with(start)
+}
+
+/// The Builder calls of [`build`] up to the start: every module, connection, call and
+/// thread container declared.
+pub fn wire<'r>(
+    plan: &Plan,
+    registry: &'r Registry,
+) -> Result<Builder<'r>, ferroc_runtime::builder::BuildError> {
     let mut builder = Builder::new(registry);
     for m in &plan.modules {
         let params: Vec<(String, Value)> = m
@@ -482,5 +527,5 @@ pub fn build(
                 .collect(),
         })?;
     }
-    builder.start_with(start)
+    Ok(builder)
 }

@@ -18,6 +18,9 @@
 //! * [`service`] — request/response ports: a service executed by the serving module's
 //!   thread container (or inline by its callers), blocking and asynchronous clients
 //!   with optional timeouts; every failure is an error value, never a hang.
+//! * [`inspect`] — a read-only look into a running application (element tree, each
+//!   port's latest value on request, parameters, container figures, link state, iB2C
+//!   activities) and checked parameter changes: what `ferroc inspect` shows.
 //! * [`supervise`] — running a started application until its cycle limit, a time limit
 //!   or Ctrl-C, with a live status line and a summary: shared by `ferroc run` and the
 //!   programs of a `ferroc bundle`.
@@ -42,6 +45,7 @@ pub mod behaviour;
 pub mod builder;
 pub mod console;
 pub mod container;
+pub mod inspect;
 pub mod link;
 pub mod module;
 pub mod port;

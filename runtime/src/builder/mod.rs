@@ -10,6 +10,7 @@
 mod connect;
 mod containers;
 mod convert;
+mod inspection;
 mod links;
 mod lockstep;
 mod param_links;

@@ -83,6 +83,11 @@ impl Freshness {
         self.gone.store(gone, Ordering::Relaxed);
     }
 
+    /// Whether the writer's part is gone (for inspection).
+    pub(crate) fn is_gone(&self) -> bool {
+        self.gone.load(Ordering::Relaxed)
+    }
+
     /// How long ago the latest value arrived; `None` before the first.
     pub(crate) fn age(&self, now: Timestamp) -> Option<Duration> {
         let last = self.last.load(Ordering::Relaxed);

@@ -259,6 +259,8 @@ impl Check {
 
 trait SetErased: Send + Sync {
     fn set(&self, value: &Value) -> Result<(), String>;
+    /// The latest value set, as a manifest writes it (for inspection).
+    fn text(&self) -> String;
 }
 
 struct Setter<T> {
@@ -282,6 +284,15 @@ impl<T: ParamValue> SetErased for Setter<T> {
         self.cell.version.fetch_add(1, Ordering::Release);
         Ok(())
     }
+
+    fn text(&self) -> String {
+        let latest = self
+            .cell
+            .latest
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        latest.to_text()
+    }
 }
 
 /// Sets a module's parameter from outside the module, at any time.
@@ -300,6 +311,13 @@ impl ParamHandle {
     /// reason, and the module keeps the old one.
     pub fn set(&self, value: &Value) -> Result<(), String> {
         self.setter.set(value)
+    }
+
+    /// The latest value set (or the initial one), as a manifest writes it: what an
+    /// inspector shows. Takes the parameter's lock briefly; the module's reads do not
+    /// wait for it unless a value is being set.
+    pub fn current(&self) -> String {
+        self.setter.text()
     }
 }
 

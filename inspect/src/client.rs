@@ -1,0 +1,157 @@
+//! Asking running programs: a Zenoh peer connected to explicit endpoints, sending the
+//! queries of [`request`](crate::request) and reading their JSON answers.
+
+use crate::request::{self, ErrorReply, SetRequest, What};
+use serde::de::DeserializeOwned;
+use std::time::Duration;
+use zenoh::query::ConsolidationMode;
+use zenoh::{Session, Wait};
+
+/// How long one query waits for its answers.
+const QUERY_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// One answer: the key it came on and its JSON, or the server's error.
+#[derive(Debug)]
+pub struct Answer {
+    /// `ferroc/APP/inspect/PART/…` of the answering part.
+    pub key: String,
+    /// The answer, or the error the server gave.
+    pub result: Result<serde_json::Value, String>,
+}
+
+impl Answer {
+    /// The application and part the answer's key names.
+    pub fn app_part(&self) -> (&str, &str) {
+        let mut c = self.key.split('/');
+        let (_, app, _, part) = (c.next(), c.next(), c.next(), c.next());
+        (app.unwrap_or(""), part.unwrap_or(""))
+    }
+
+    /// The answer as `T`, or the server's error, or why it is not a `T`.
+    pub fn parse<T: DeserializeOwned>(&self) -> Result<T, String> {
+        let json = self.result.as_ref().map_err(Clone::clone)?;
+        serde_json::from_value(json.clone())
+            .map_err(|e| format!("`{}` answered something unexpected: {e}", self.key))
+    }
+}
+
+/// A session to the programs of one or more applications.
+pub struct Client {
+    session: Session,
+}
+
+impl Client {
+    /// Connects to `addresses` (`HOST:PORT`); an error if none can be reached.
+    pub fn connect(addresses: &[String]) -> Result<Client, String> {
+        let config = crate::config::client(addresses)?;
+        let session = zenoh::open(config).wait().map_err(|e| {
+            format!(
+                "cannot reach {} ({e}); is the program running with --inspect?",
+                addresses.join(", ")
+            )
+        })?;
+        Ok(Client { session })
+    }
+
+    /// Sends the query `key` (with `payload`) and collects every answer. Declarations
+    /// of a program just connected to may still be on their way: a query nobody
+    /// answered is asked again a few times.
+    pub fn ask(&self, key: &str, payload: Option<Vec<u8>>) -> Result<Vec<Answer>, String> {
+        for attempt in 0..5 {
+            if attempt > 0 {
+                std::thread::sleep(Duration::from_millis(200));
+            }
+            let mut get = self
+                .session
+                .get(key)
+                .consolidation(ConsolidationMode::None)
+                .timeout(QUERY_TIMEOUT);
+            if let Some(p) = &payload {
+                get = get.payload(p.clone());
+            }
+            let replies = get
+                .wait()
+                .map_err(|e| format!("the query `{key}` could not be sent: {e}"))?;
+            let mut answers = Vec::new();
+            while let Ok(reply) = replies.recv() {
+                answers.push(read(key, &reply));
+            }
+            if !answers.is_empty() {
+                answers.sort_by(|a, b| a.key.cmp(&b.key));
+                return Ok(answers);
+            }
+        }
+        Ok(Vec::new())
+    }
+
+    /// Asks one part for `what`; an error when no program answers or it answers an
+    /// error.
+    pub fn one<T: DeserializeOwned>(
+        &self,
+        app: &str,
+        part: &str,
+        what: &What,
+    ) -> Result<T, String> {
+        let key = request::key(app, part, what);
+        let answers = self.ask(&key, None)?;
+        first(&key, answers)?.parse()
+    }
+
+    /// Sets the parameter `path` (`MODULE/PATH/NAME`) to `value` with `token`.
+    pub fn set<T: DeserializeOwned>(
+        &self,
+        app: &str,
+        path: &str,
+        value: &str,
+        token: &str,
+    ) -> Result<T, String> {
+        let key = request::key(app, part_of(path), &What::Param(path.to_owned()));
+        let body = serde_json::to_vec(&SetRequest {
+            set: value.to_owned(),
+            token: token.to_owned(),
+        })
+        .map_err(|e| e.to_string())?;
+        let answers = self.ask(&key, Some(body))?;
+        first(&key, answers)?.parse()
+    }
+}
+
+/// The part a module path starts with.
+pub fn part_of(path: &str) -> &str {
+    path.split('/').next().unwrap_or(path)
+}
+
+fn first(key: &str, answers: Vec<Answer>) -> Result<Answer, String> {
+    answers.into_iter().next().ok_or_else(|| {
+        format!(
+            "no program answered `{key}`: check the application and part names (--list shows them) and the address (--connect)"
+        )
+    })
+}
+
+fn read(key: &str, reply: &zenoh::query::Reply) -> Answer {
+    match reply.result() {
+        Ok(sample) => {
+            let bytes = sample.payload().to_bytes();
+            Answer {
+                key: sample.key_expr().as_str().to_owned(),
+                result: serde_json::from_slice(&bytes).map_err(|e| {
+                    format!(
+                        "`{}` answered something that is not JSON: {e}",
+                        sample.key_expr()
+                    )
+                }),
+            }
+        }
+        Err(e) => {
+            let bytes = e.payload().to_bytes();
+            let error = serde_json::from_slice::<ErrorReply>(&bytes)
+                .map(|r| r.error)
+                .unwrap_or_else(|_| String::from_utf8_lossy(&bytes).into_owned());
+            Answer {
+                key: key.to_owned(),
+                result: Err(error),
+            }
+        }
+    }
+}

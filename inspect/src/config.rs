@@ -1,0 +1,126 @@
+//! Zenoh sessions for inspection: the serving program listens on one address (the
+//! loopback interface unless asked otherwise), the client connects to explicit
+//! endpoints; both in peer mode with multicast scouting off, so nothing leaves the
+//! addresses given.
+
+use zenoh::Config;
+
+/// The port `ferroc run --inspect` listens on by default (the parts of a bundle use
+/// 47800 and up).
+pub const DEFAULT_PORT: u16 = 47900;
+
+/// `tcp/HOST:PORT` for `HOST:PORT` (or an endpoint already written `tcp/…`), checked.
+pub fn endpoint(address: &str, option: &str) -> Result<String, String> {
+    let text = match address.strip_prefix("tcp/") {
+        Some(_) => address.to_owned(),
+        None => format!("tcp/{address}"),
+    };
+    let host_port = &text["tcp/".len()..];
+    let port = host_port.rsplit_once(':').map(|(_, p)| p.parse::<u16>());
+    if !matches!(port, Some(Ok(_))) {
+        return Err(format!(
+            "{option} {address}: not an address HOST:PORT (e.g. 127.0.0.1:{DEFAULT_PORT})"
+        ));
+    }
+    text.parse::<zenoh::config::EndPoint>()
+        .map(|e| e.to_string())
+        .map_err(|e| format!("{option} {address}: not an address: {e}"))
+}
+
+/// Whether `address` (`HOST:PORT` or `tcp/HOST:PORT`) is on the loopback interface.
+pub fn is_local(address: &str) -> bool {
+    let a = address.strip_prefix("tcp/").unwrap_or(address);
+    let host = a.rsplit_once(':').map_or(a, |(h, _)| h);
+    let host = host.trim_start_matches('[').trim_end_matches(']');
+    host == "localhost"
+        || host
+            .parse::<std::net::IpAddr>()
+            .is_ok_and(|ip| ip.is_loopback())
+}
+
+/// The session of a serving program: listens on `address` only.
+pub fn server(address: &str) -> Result<Config, String> {
+    let listen = endpoint(address, "--inspect")?;
+    let mut c = base()?;
+    set(&mut c, "listen/endpoints", &format!("[\"{listen}\"]"))?;
+    set(&mut c, "connect/endpoints", "[]")?;
+    Ok(c)
+}
+
+/// The session of `ferroc inspect`: connects to `addresses`, listens nowhere, and
+/// fails at once when none answers.
+pub fn client(addresses: &[String]) -> Result<Config, String> {
+    if addresses.is_empty() {
+        return Err(format!(
+            "--connect: name the program's inspection address (e.g. --connect 127.0.0.1:{DEFAULT_PORT})"
+        ));
+    }
+    let mut endpoints = Vec::new();
+    for a in addresses {
+        endpoints.push(format!("\"{}\"", endpoint(a, "--connect")?));
+    }
+    let mut c = base()?;
+    set(&mut c, "listen/endpoints", "[]")?;
+    set(
+        &mut c,
+        "connect/endpoints",
+        &format!("[{}]", endpoints.join(",")),
+    )?;
+    set(&mut c, "connect/timeout_ms", "3000")?;
+    set(&mut c, "connect/exit_on_failure", "true")?;
+    Ok(c)
+}
+
+fn base() -> Result<Config, String> {
+    let mut c = Config::default();
+    set(&mut c, "mode", "\"peer\"")?;
+    set(&mut c, "scouting/multicast/enabled", "false")?;
+    set(&mut c, "scouting/gossip/enabled", "false")?;
+    Ok(c)
+}
+
+fn set(config: &mut Config, key: &str, value: &str) -> Result<(), String> {
+    config
+        .insert_json5(key, value)
+        .map_err(|e| format!("the Zenoh setting {key} = {value} was refused: {e}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn loopback_addresses_are_local_and_others_are_not() {
+        for local in [
+            "127.0.0.1:1",
+            "localhost:47900",
+            "[::1]:5",
+            "tcp/127.0.0.2:9",
+        ] {
+            assert!(is_local(local), "{local}");
+        }
+        for remote in ["0.0.0.0:47900", "192.168.1.5:1", "robot-pc:47900", "[::]:5"] {
+            assert!(!is_local(remote), "{remote}");
+        }
+    }
+
+    #[test]
+    fn sessions_use_explicit_endpoints_without_multicast() {
+        let s = server("127.0.0.1:47999").unwrap();
+        assert!(s
+            .get_json("listen/endpoints")
+            .unwrap()
+            .contains("tcp/127.0.0.1:47999"));
+        assert_eq!(s.get_json("scouting/multicast/enabled").unwrap(), "false");
+        let c = client(&["127.0.0.1:47999".into()]).unwrap();
+        assert!(c
+            .get_json("connect/endpoints")
+            .unwrap()
+            .contains("tcp/127.0.0.1:47999"));
+        assert_eq!(c.get_json("listen/endpoints").unwrap(), "[]");
+        assert!(client(&[]).unwrap_err().contains("--connect"));
+        assert!(server("nonsense")
+            .unwrap_err()
+            .contains("--inspect nonsense"));
+    }
+}

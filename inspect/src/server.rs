@@ -1,0 +1,228 @@
+//! Serving a running application's inspector on Zenoh: one queryable on
+//! `ferroc/APP/inspect/**`, answered by one thread of its own (queries wait for each
+//! other, never for the application, and never run on Zenoh's own threads).
+//!
+//! Every answer is JSON. A malformed request, an unknown module or port, a change
+//! without the right token or with a value that does not check is answered with an
+//! error ([`ErrorReply`]); nothing a client sends can stop the server.
+
+use crate::request::{self, ErrorReply, SetRequest, What};
+use ferroc_runtime::inspect::view::ParamView;
+use ferroc_runtime::inspect::Inspector;
+use ferroc_runtime::module::Value;
+use serde::Serialize;
+use std::sync::Arc;
+use zenoh::bytes::Encoding;
+use zenoh::handlers::FifoChannelHandler;
+use zenoh::query::{Query, Queryable};
+use zenoh::{Session, Wait};
+
+/// Turns a value as text (`0.3 m/s`) into a value in the parameter's unit, or says
+/// why it cannot be one (the runner supplies it: it knows the model's units).
+pub type ParseValue = Box<dyn Fn(&ParamView, &str) -> Result<Value, String> + Send + Sync>;
+
+/// Payloads larger than this are refused unread (a change request is a few bytes).
+const MAX_PAYLOAD: usize = 64 * 1024;
+
+/// A running inspection server; dropping it undeclares the queryable, closes the
+/// session and ends the thread.
+pub struct Server {
+    session: Option<Session>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+struct Context {
+    app: String,
+    inspector: Arc<Inspector>,
+    token: String,
+    parse: ParseValue,
+}
+
+/// Opens a session with `config` and serves `inspector` as the application `app`;
+/// changes need `token`.
+pub fn serve(
+    config: zenoh::Config,
+    app: &str,
+    inspector: Arc<Inspector>,
+    token: String,
+    parse: ParseValue,
+) -> Result<Server, String> {
+    let key = format!("ferroc/{app}/inspect/**");
+    let key = zenoh::key_expr::OwnedKeyExpr::try_from(key.clone())
+        .map_err(|e| format!("`{key}` cannot be a Zenoh key expression: {e}"))?;
+    let session = zenoh::open(config)
+        .wait()
+        .map_err(|e| format!("cannot open the inspection session: {e}"))?;
+    let queryable = session
+        .declare_queryable(key.clone())
+        .wait()
+        .map_err(|e| format!("cannot serve `{key}`: {e}"))?;
+    let context = Context {
+        app: app.to_owned(),
+        inspector,
+        token,
+        parse,
+    };
+    let thread = std::thread::Builder::new()
+        .name("inspect".into())
+        .spawn(move || run(queryable, &context))
+        .map_err(|e| format!("the inspection thread could not start: {e}"))?;
+    Ok(Server {
+        session: Some(session),
+        thread: Some(thread),
+    })
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        if let Some(session) = self.session.take() {
+            // Closing undeclares the queryable: its channel ends, and so does the thread.
+            let _ = session.close().wait();
+        }
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+fn run(queryable: Queryable<FifoChannelHandler<Query>>, context: &Context) {
+    while let Ok(query) = queryable.recv() {
+        answer(&query, context);
+    }
+}
+
+fn answer(query: &Query, c: &Context) {
+    let Some(parsed) = request::parse(query.key_expr().as_str()) else {
+        return;
+    };
+    if parsed.app != "*" && parsed.app != c.app {
+        return;
+    }
+    let parts = c.inspector.parts();
+    let any_part = parsed.part == "*";
+    if !any_part && !parts.contains(&parsed.part) {
+        return;
+    }
+    let what = match parsed.what {
+        Ok(w) => w,
+        Err(e) => return reply_err(query, e),
+    };
+    let payload = query.payload().map(|p| p.to_bytes().into_owned());
+    let asked: Vec<&String> = match any_part {
+        true => parts.iter().collect(),
+        false => vec![&parsed.part],
+    };
+    for part in asked {
+        let key = request::key(&c.app, part, &what);
+        match handle(&what, part, payload.as_deref(), c) {
+            Answer::Json(json) => {
+                let sent = query
+                    .reply(key, json)
+                    .encoding(Encoding::APPLICATION_JSON)
+                    .wait();
+                if let Err(e) = sent {
+                    ferroc_runtime::console::note(&format!("inspect: cannot answer: {e}"));
+                }
+            }
+            // A module of another part: with `*`, that part answers.
+            Answer::NotHere if any_part => {}
+            Answer::NotHere => reply_err(
+                query,
+                format!("`{}` is not in the part `{part}`", path(&what)),
+            ),
+            Answer::Error(e) => reply_err(query, e),
+        }
+    }
+}
+
+enum Answer {
+    Json(Vec<u8>),
+    NotHere,
+    Error(String),
+}
+
+fn path(what: &What) -> &str {
+    match what {
+        What::Value(p) | What::Param(p) => p,
+        _ => "",
+    }
+}
+
+fn json<T: Serialize>(value: &T) -> Answer {
+    match serde_json::to_vec(value) {
+        Ok(bytes) => Answer::Json(bytes),
+        Err(e) => Answer::Error(format!("the answer cannot be written as JSON: {e}")),
+    }
+}
+
+fn handle(what: &What, part: &str, payload: Option<&[u8]>, c: &Context) -> Answer {
+    let i = &c.inspector;
+    let target = match what {
+        What::Tree => return json(&i.tree(Some(part))),
+        What::Containers => return json(&i.containers(Some(part))),
+        What::Links => return json(&i.links(Some(part))),
+        What::Activities => return json(&i.activities(Some(part))),
+        What::Value(p) | What::Param(p) => p,
+    };
+    let (module, name) = match i.split(target) {
+        Ok(split) => split,
+        // A path of another part: that part answers (or, if no program has it, the
+        // client says nobody did).
+        Err(_) if !part_has_prefix(target, part) => return Answer::NotHere,
+        Err(e) => return Answer::Error(e),
+    };
+    if !part_has_prefix(module, part) {
+        return Answer::NotHere;
+    }
+    let result = match (what, payload) {
+        (What::Value(_), None) => i.value(module, name).map(|v| json(&v)),
+        (What::Value(_), Some(_)) => Err("a value cannot be set; only parameters change".into()),
+        (What::Param(_), None) => i.param(module, name).map(|p| json(&p)),
+        (What::Param(_), Some(bytes)) => set(c, module, name, bytes).map(|p| json(&p)),
+        _ => unreachable!("handled above"),
+    };
+    result.unwrap_or_else(Answer::Error)
+}
+
+/// Whether `path` lies in `part` (module paths start with their part).
+fn part_has_prefix(path: &str, part: &str) -> bool {
+    path.split('/').next() == Some(part)
+}
+
+fn set(c: &Context, module: &str, name: &str, bytes: &[u8]) -> Result<ParamView, String> {
+    if bytes.len() > MAX_PAYLOAD {
+        return Err(format!(
+            "the request has {} bytes; a change is at most {MAX_PAYLOAD}",
+            bytes.len()
+        ));
+    }
+    let request: SetRequest = serde_json::from_slice(bytes).map_err(|e| {
+        format!("a change is the JSON {{\"set\": \"VALUE\", \"token\": \"TOKEN\"}}: {e}")
+    })?;
+    if !crate::token::matches(&c.token, &request.token) {
+        ferroc_runtime::console::note(&format!(
+            "inspect: refused a change of `{module}/{name}` with a wrong token"
+        ));
+        return Err(
+            "not authorised: a change needs the token the program printed at start (--token)"
+                .into(),
+        );
+    }
+    let before = c.inspector.param(module, name)?;
+    let value = (c.parse)(&before, &request.set)
+        .map_err(|why| format!("`{module}/{name}` keeps its value {}: {why}", before.value))?;
+    let after = c.inspector.set_param(module, name, &value)?;
+    ferroc_runtime::console::note(&format!(
+        "inspect: `{module}/{name}` set to {} (was {})",
+        after.value, before.value
+    ));
+    Ok(after)
+}
+
+fn reply_err(query: &Query, error: String) {
+    let body = serde_json::to_vec(&ErrorReply { error }).unwrap_or_default();
+    let _ = query
+        .reply_err(body)
+        .encoding(Encoding::APPLICATION_JSON)
+        .wait();
+}

@@ -1,0 +1,325 @@
+//! `ferroc inspect`: look into a program running with `--inspect` (docs/inspect.md):
+//! list its element tree and figures, read a port or parameter, change a parameter
+//! (with the program's token), watch a port for a while.
+
+use ferroc_compiler::diagnostic::escape_controls;
+use ferroc_inspect::client::{part_of, Answer, Client};
+use ferroc_inspect::request::{key, What};
+use ferroc_runtime::inspect::view::*;
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+#[derive(clap::Args)]
+#[command(group(clap::ArgGroup::new("action").required(true).args(["list", "get", "set", "watch"])))]
+pub struct InspectArgs {
+    /// The program's inspection address (its `--inspect ADDR`; repeatable)
+    #[arg(long, value_name = "HOST:PORT", default_value = "127.0.0.1:47900")]
+    connect: Vec<String>,
+    /// The application's name (default: any)
+    #[arg(long, value_name = "APP", default_value = "*")]
+    app: String,
+    /// List every part: modules (type, kind, source, ports, parameters), thread
+    /// containers' figures, links, iB2C activities
+    #[arg(long)]
+    list: bool,
+    /// Print the latest value of a port or the value of a parameter: MODULE/PATH/NAME
+    #[arg(long, value_name = "PATH")]
+    get: Option<String>,
+    /// Change a parameter: MODULE/PATH/NAME=VALUE (with a unit if it has one: 0.3 m/s);
+    /// needs --token
+    #[arg(long, value_name = "PATH=VALUE", requires = "token")]
+    set: Option<String>,
+    /// The token the program printed at start (for --set)
+    #[arg(long, value_name = "TOKEN", env = "FERROC_INSPECT_TOKEN")]
+    token: Option<String>,
+    /// Print a port's value every --every until --for or --count ends it (or Ctrl-C)
+    #[arg(long, value_name = "PATH")]
+    watch: Option<String>,
+    /// With --watch: stop after this long (`5s`, `500ms`)
+    #[arg(long = "for", value_name = "DURATION", value_parser = parse_duration)]
+    duration: Option<Duration>,
+    /// With --watch: stop after this many values
+    #[arg(long, value_name = "N")]
+    count: Option<u64>,
+    /// With --watch: how often to ask
+    #[arg(long, value_name = "DURATION", default_value = "100ms", value_parser = parse_duration)]
+    every: Duration,
+    /// Print the answers as JSON (one object, or one line per value with --watch)
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_duration(text: &str) -> Result<Duration, String> {
+    let seconds = ferroc_compiler::values::parse_duration(text)
+        .map_err(|_| format!("`{text}` is not a duration; write e.g. 5s or 500ms"))?;
+    if !(0.0..=1e9).contains(&seconds) {
+        return Err(format!("`{text}` is out of range"));
+    }
+    Ok(Duration::from_secs_f64(seconds))
+}
+
+pub fn run(args: InspectArgs) -> ExitCode {
+    let client = match Client::connect(&args.connect) {
+        Ok(c) => c,
+        Err(e) => return fail(2, &e),
+    };
+    let result = if args.list {
+        list(&client, &args)
+    } else if let Some(path) = &args.get {
+        get(&client, &args, path)
+    } else if let Some(assignment) = &args.set {
+        set(&client, &args, assignment)
+    } else if let Some(path) = &args.watch {
+        watch(&client, &args, path)
+    } else {
+        Ok(())
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => fail(1, &e),
+    }
+}
+
+fn fail(code: u8, message: &str) -> ExitCode {
+    eprintln!("error: {}", escape_controls(message));
+    ExitCode::from(code)
+}
+
+fn list(client: &Client, args: &InspectArgs) -> Result<(), String> {
+    let trees = client.ask(&key(&args.app, "*", &What::Tree), None)?;
+    if trees.is_empty() {
+        return Err(format!(
+            "no program answered on {}: is it running with --inspect, and is --app right?",
+            args.connect.join(", ")
+        ));
+    }
+    let mut all = serde_json::Map::new();
+    for answer in &trees {
+        let (app, part) = answer.app_part();
+        let tree: Tree = answer.parse()?;
+        let containers: Vec<ContainerView> = client.one(app, part, &What::Containers)?;
+        let links: Vec<LinkView> = client.one(app, part, &What::Links)?;
+        let activities: Vec<ActivityView> = client.one(app, part, &What::Activities)?;
+        if args.json {
+            all.insert(
+                format!("{app}/{part}"),
+                serde_json::json!({
+                    "tree": tree, "containers": containers, "links": links, "activities": activities
+                }),
+            );
+            continue;
+        }
+        println!(
+            "{}",
+            escape_controls(show_part(
+                app,
+                part,
+                &tree,
+                &containers,
+                &links,
+                &activities
+            ))
+        );
+    }
+    if args.json {
+        println!("{}", serde_json::Value::Object(all));
+    }
+    Ok(())
+}
+
+fn show_part(
+    app: &str,
+    part: &str,
+    tree: &Tree,
+    containers: &[ContainerView],
+    links: &[LinkView],
+    activities: &[ActivityView],
+) -> String {
+    use std::fmt::Write;
+    let mut s = format!("application {app}, part {part}\n");
+    for c in containers {
+        let _ = writeln!(
+            s,
+            "  container {}: {} cycles, {} overruns, load {:.1} %, mean cycle {:.0} µs",
+            c.path,
+            c.cycles,
+            c.overruns,
+            c.load * 100.0,
+            c.mean_cycle_us
+        );
+    }
+    for m in &tree.modules {
+        let _ = writeln!(
+            s,
+            "  module {} : {} ({}){}{}",
+            m.path,
+            m.r#type,
+            m.kind,
+            m.source
+                .as_ref()
+                .map(|x| format!(" at {x}"))
+                .unwrap_or_default(),
+            m.container
+                .as_ref()
+                .map(|x| format!(", in {x}"))
+                .unwrap_or_default(),
+        );
+        for p in &m.ports {
+            let unit = p
+                .unit
+                .as_ref()
+                .map(|u| format!(" [{u}]"))
+                .unwrap_or_default();
+            let from = if p.from.is_empty() {
+                String::new()
+            } else {
+                format!(" ← {}", p.from.join(", "))
+            };
+            let _ = writeln!(s, "    {:<3} {}: {}{unit}{from}", p.dir, p.name, p.r#type);
+        }
+        for p in &m.params {
+            let _ = writeln!(s, "    param {}", show_param(p));
+        }
+    }
+    for l in links {
+        let age = l
+            .age_ms
+            .map(|a| format!(", {a:.0} ms ago"))
+            .unwrap_or_default();
+        let _ = writeln!(s, "  link into {}: {}{age}", l.input, l.state);
+    }
+    for a in activities {
+        let n = |x: Option<f64>| x.map_or("-".into(), |x| format!("{x:.3}"));
+        let _ = writeln!(
+            s,
+            "  behaviour {}: activity {}, target rating {}",
+            a.module,
+            n(a.activity),
+            n(a.target_rating)
+        );
+    }
+    s.trim_end().to_owned()
+}
+
+fn show_param(p: &ParamView) -> String {
+    let unit = p.unit.as_ref().map(|u| format!(" {u}")).unwrap_or_default();
+    let mut limits = vec![p.r#type.clone()];
+    if p.min.is_some() || p.max.is_some() {
+        let n = |x: Option<f64>| x.map(|x| x.to_string()).unwrap_or_default();
+        limits.push(format!("{}..={}", n(p.min), n(p.max)));
+    }
+    if !p.choices.is_empty() {
+        limits.push(format!("one of {}", p.choices.join(", ")));
+    }
+    format!("{} = {}{unit} ({})", p.name, p.value, limits.join(", "))
+}
+
+fn get(client: &Client, args: &InspectArgs, path: &str) -> Result<(), String> {
+    let part = part_of(path);
+    let value = client.ask(&key(&args.app, part, &What::Value(path.into())), None)?;
+    match value.first().map(|a| a.parse::<PortValue>()) {
+        Some(Ok(v)) => {
+            print_value(&v, args.json, None);
+            Ok(())
+        }
+        Some(Err(port_error)) => {
+            // Not a port: perhaps a parameter.
+            let param = client.ask(&key(&args.app, part, &What::Param(path.into())), None)?;
+            match param.first().map(Answer::parse::<ParamView>) {
+                Some(Ok(p)) => {
+                    print_param(&p, args.json);
+                    Ok(())
+                }
+                Some(Err(param_error)) if param_error.contains("has no parameter") => {
+                    Err(format!("{port_error}; {param_error}"))
+                }
+                Some(Err(e)) => Err(e),
+                None => Err(port_error),
+            }
+        }
+        None => Err(nobody(args, part, path)),
+    }
+}
+
+fn nobody(args: &InspectArgs, part: &str, path: &str) -> String {
+    format!(
+        "no program on {} answered for `{path}` (part `{part}`): check the path with --list",
+        args.connect.join(", ")
+    )
+}
+
+fn print_value(v: &PortValue, json: bool, at: Option<f64>) {
+    if json {
+        let mut value = serde_json::to_value(v).unwrap_or_default();
+        if let (Some(t), Some(o)) = (at, value.as_object_mut()) {
+            o.insert("t".into(), serde_json::json!(t));
+        }
+        println!("{value}");
+        return;
+    }
+    let unit = v.unit.as_ref().map(|u| format!(" {u}")).unwrap_or_default();
+    let note = if v.published {
+        ""
+    } else {
+        " (nothing published yet)"
+    };
+    let line = match at {
+        Some(t) => format!("{t:8.3} s  {}{unit}{note}", v.value),
+        None => format!("{} = {}{unit}{note}", v.port, v.value),
+    };
+    println!("{}", escape_controls(line));
+}
+
+fn print_param(p: &ParamView, json: bool) {
+    if json {
+        println!("{}", serde_json::to_value(p).unwrap_or_default());
+    } else {
+        println!(
+            "{}/{}",
+            escape_controls(&p.module),
+            escape_controls(show_param(p))
+        );
+    }
+}
+
+fn set(client: &Client, args: &InspectArgs, assignment: &str) -> Result<(), String> {
+    let Some((path, value)) = assignment.split_once('=') else {
+        return Err(format!(
+            "--set {assignment}: write MODULE/PATH/NAME=VALUE, e.g. --set robot/avoid/min_activity=0.4"
+        ));
+    };
+    let token = args.token.as_deref().unwrap_or_default();
+    let p: ParamView = client.set(&args.app, path.trim(), value.trim(), token)?;
+    print_param(&p, args.json);
+    Ok(())
+}
+
+fn watch(client: &Client, args: &InspectArgs, path: &str) -> Result<(), String> {
+    let what = What::Value(path.into());
+    let key = key(&args.app, part_of(path), &what);
+    let start = Instant::now();
+    let mut printed = 0u64;
+    loop {
+        if args.count.is_some_and(|n| printed >= n)
+            || args.duration.is_some_and(|d| start.elapsed() >= d)
+        {
+            return Ok(());
+        }
+        let asked = Instant::now();
+        let answers = client.ask(&key, None)?;
+        let v: PortValue = match answers.first() {
+            Some(a) => a.parse()?,
+            None => return Err(nobody(args, part_of(path), path)),
+        };
+        print_value(&v, args.json, Some(start.elapsed().as_secs_f64()));
+        printed += 1;
+        let next = asked + args.every;
+        let now = Instant::now();
+        if next > now {
+            let left = args.duration.map_or(next - now, |d| {
+                (next - now).min(d.saturating_sub(start.elapsed()))
+            });
+            std::thread::sleep(left);
+        }
+    }
+}

@@ -1,0 +1,297 @@
+//! `ferroc run --inspect` and `ferroc inspect` with real Zenoh sessions on loopback:
+//! values read, a parameter changed with the token (and its effect seen in the next
+//! values), refused without it or with a value that does not check, and malformed
+//! requests answered with errors while the program runs on.
+
+mod common;
+
+use common::ferroc;
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// A `ferroc run --inspect` child, killed when dropped.
+struct Running {
+    child: Child,
+    address: String,
+    token: String,
+    /// Lines of its standard error after the token line.
+    stderr: mpsc::Receiver<String>,
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn free_port() -> u16 {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    listener.local_addr().unwrap().port()
+}
+
+/// Starts `ferroc run MODEL --inspect ADDR` and waits (bounded) for its token.
+fn start(model: &str) -> Running {
+    let address = format!("127.0.0.1:{}", free_port());
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+        .args(["run", model, "--for", "300s", "-q", "--inspect", &address])
+        .env("FERROC_LOG_DIR", common::test_log_dir())
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("ferroc runs");
+    let (tx, rx) = mpsc::channel();
+    let stderr = child.stderr.take().unwrap();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    // The first run of a model with other libraries builds its runner: minutes.
+    let deadline = Instant::now() + Duration::from_secs(600);
+    let mut seen = Vec::new();
+    let token = loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        match rx.recv_timeout(left) {
+            Ok(line) => match line.split_once("token for changes: ") {
+                Some((head, token)) => {
+                    assert!(head.contains("ferroc/"), "{line}");
+                    break token.trim().to_owned();
+                }
+                None => seen.push(line),
+            },
+            Err(_) => panic!("no inspection token printed; stderr:\n{}", seen.join("\n")),
+        }
+    };
+    Running {
+        child,
+        address,
+        token,
+        stderr: rx,
+    }
+}
+
+fn inspect(r: &Running, args: &[&str]) -> (i32, String, String) {
+    let mut all = vec!["inspect", "--connect", r.address.as_str()];
+    all.extend_from_slice(args);
+    ferroc(&all)
+}
+
+/// `--get PATH --json`'s value field.
+fn get(r: &Running, path: &str) -> serde_json::Value {
+    let (code, out, err) = inspect(r, &["--get", path, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let answer: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    answer["value"].clone()
+}
+
+/// Asks until `path` has `want` (the change is applied at the module's next cycle).
+fn eventually(r: &Running, path: &str, want: serde_json::Value) {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let got = get(r, path);
+        if got == want {
+            return;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "{path} stayed {got}, wanted {want}"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn values_are_read_and_a_checked_parameter_change_needs_the_token() {
+    let r = start("tests/fixtures/inspect.xml");
+    eventually(&r, "robot/main/scaled/output", serde_json::json!(8.0));
+    // An input shows its writer's value.
+    let (code, out, err) = inspect(&r, &["--get", "robot/main/scaled/input"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.trim(), "robot/main/speed/value = 4.0");
+    let (code, out, _) = inspect(&r, &["--get", "robot/main/scaled/factor"]);
+    assert_eq!(
+        (code, out.trim()),
+        (0, "robot/main/scaled/factor = 2 (f64)")
+    );
+
+    // No token, a wrong token, a value that does not check: refused, nothing changes.
+    let (code, _, err) = inspect(&r, &["--set", "robot/main/scaled/factor=5"]);
+    assert_eq!(code, 2, "clap requires --token: {err}");
+    let wrong = "0".repeat(32);
+    let (code, _, err) = inspect(
+        &r,
+        &["--set", "robot/main/scaled/factor=5", "--token", &wrong],
+    );
+    assert_eq!(code, 1);
+    assert!(err.contains("not authorised"), "{err}");
+    for (value, why) in [("abc", "is not a number"), ("5 m", "has no unit")] {
+        let set = format!("robot/main/scaled/factor={value}");
+        let (code, _, err) = inspect(&r, &["--set", &set, "--token", &r.token]);
+        assert_eq!(code, 1, "{value}");
+        assert!(
+            err.contains(why) && err.contains("keeps its value 2"),
+            "{value}: {err}"
+        );
+    }
+    let (code, _, err) = inspect(
+        &r,
+        &[
+            "--set",
+            "robot/main/player_rate/value=1.5",
+            "--token",
+            &r.token,
+        ],
+    );
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("outside the allowed range"),
+        "an activity is at most 1: {err}"
+    );
+    assert_eq!(get(&r, "robot/main/scaled/output"), serde_json::json!(8.0));
+    assert_eq!(get(&r, "robot/main/scaled/factor"), serde_json::json!("2"));
+
+    // With the token: applied, and the next values show it.
+    let (code, out, err) = inspect(
+        &r,
+        &["--set", "robot/main/scaled/factor=5", "--token", &r.token],
+    );
+    assert_eq!(
+        (code, out.trim()),
+        (0, "robot/main/scaled/factor = 5 (f64)"),
+        "{err}"
+    );
+    eventually(&r, "robot/main/scaled/output", serde_json::json!(20.0));
+    let note = r.stderr.recv_timeout(Duration::from_secs(10)).unwrap();
+    assert!(
+        note.contains("refused a change of `robot/main/scaled/factor` with a wrong token"),
+        "{note}"
+    );
+}
+
+#[test]
+fn the_nav_behaviours_run_is_inspected_and_a_speed_limit_takes_effect() {
+    let r = start("models/nav_behaviours.xml");
+    let (code, out, err) = inspect(&r, &["--list"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("application nav_behaviours, part robot"),
+        "{out}"
+    );
+    assert!(
+        out.contains("module robot/control/go_to_goal : nav_behaviours.GoToGoal (behaviour) at models/nav_behaviours.xml:"),
+        "{out}"
+    );
+    assert!(
+        out.contains("param max_speed = 0.5 m/s (f64, 0..=2)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("behaviour robot/control/avoid: activity "),
+        "{out}"
+    );
+    assert!(out.contains("container robot/control: "), "{out}");
+    // A library struct its library registered without serde: its text form.
+    let pose = get(&r, "robot/control/sim/pose");
+    assert!(
+        pose.as_str().is_some_and(|p| p.starts_with("Pose2D { x: ")),
+        "{pose}"
+    );
+    // A unit of another dimension is refused; a unit of the same one is converted.
+    let (code, _, err) = inspect(
+        &r,
+        &[
+            "--set",
+            "robot/control/go_to_goal/max_speed=3 kg",
+            "--token",
+            &r.token,
+        ],
+    );
+    assert_eq!(code, 1);
+    assert!(err.contains("measures"), "{err}");
+    let (code, out, err) = inspect(
+        &r,
+        &[
+            "--set",
+            "robot/control/go_to_goal/max_speed=5 cm/s",
+            "--token",
+            &r.token,
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("max_speed = 0.05 m/s"), "{out}");
+    // The next values obey the new limit: watched, bounded by --count.
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let (code, out, err) = inspect(
+            &r,
+            &[
+                "--watch",
+                "robot/control/go_to_goal/linear",
+                "--count",
+                "5",
+                "--every",
+                "20ms",
+                "--json",
+            ],
+        );
+        assert_eq!(code, 0, "{err}");
+        let speeds: Vec<f64> = out
+            .lines()
+            .map(|l| {
+                serde_json::from_str::<serde_json::Value>(l).unwrap()["value"]
+                    .as_f64()
+                    .unwrap()
+            })
+            .collect();
+        assert_eq!(speeds.len(), 5, "{out}");
+        if speeds.iter().all(|s| s.abs() <= 0.05 + 1e-9) {
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "still faster than 5 cm/s: {speeds:?}"
+        );
+    }
+}
+
+#[test]
+fn a_non_local_address_needs_the_public_flag_and_a_served_run_ends_cleanly() {
+    let (code, _, err) = ferroc(&[
+        "run",
+        "tests/fixtures/inspect.xml",
+        "--cycles",
+        "1",
+        "--inspect",
+        "0.0.0.0:47900",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("not a loopback address") && err.contains("--inspect-public"),
+        "{err}"
+    );
+    // Serving does not keep a finished run alive.
+    let address = format!("127.0.0.1:{}", free_port());
+    let (code, _, err) = ferroc(&[
+        "run",
+        "tests/fixtures/inspect.xml",
+        "--lockstep",
+        "--cycles",
+        "5",
+        "-q",
+        "--inspect",
+        &address,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(&format!(
+            "serving ferroc/inspected/inspect/** on tcp/{address}; token for changes: "
+        )),
+        "{err}"
+    );
+}
