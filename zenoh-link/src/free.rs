@@ -20,6 +20,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+use zenoh::bytes::ZBytes;
 use zenoh::key_expr::OwnedKeyExpr;
 use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::qos::CongestionControl;
@@ -34,7 +35,8 @@ pub const CALL_TIMEOUT: Duration = Duration::from_secs(10);
 pub(crate) struct Free {
     session: Session,
     delivery: Delivery,
-    data: BTreeMap<u32, Publisher<'static>>,
+    /// Per link: its publisher and its attachment (the link number), made once.
+    data: BTreeMap<u32, (Publisher<'static>, ZBytes)>,
     calls_out: BTreeMap<u32, OwnedKeyExpr>,
     /// Queries waiting for the service's answer, by call and request number.
     waiting: Arc<Mutex<HashMap<(u32, u64), Query>>>,
@@ -62,7 +64,7 @@ pub(crate) fn open(
             .express(qos.express)
             .wait()
             .map_err(|e| format!("cannot publish the link {id}: {e}"))?;
-        data.insert(*id, publisher);
+        data.insert(*id, (publisher, ZBytes::from(id.to_le_bytes().to_vec())));
     }
     let mut subscribers = Vec::new();
     let mut from: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
@@ -81,8 +83,9 @@ pub(crate) fn open(
                 });
                 // Links of this writer that go to other parts share its keys: not ours.
                 if let Some(link) = link.filter(|l| ids.contains(l)) {
-                    let bytes = sample.payload().to_bytes().into_owned();
-                    delivery.deliver(&Frame { link, bytes });
+                    // Borrowed from Zenoh's buffer when it is in one piece (a value
+                    // that fits one batch): decoded straight into the port.
+                    delivery.deliver_bytes(link, &sample.payload().to_bytes());
                 }
             })
             .wait()
@@ -277,10 +280,10 @@ impl Connection for Free {
     fn send(&self, _to_part: &str, frame: Frame) {
         match LinkKind::of(frame.link) {
             LinkKind::Data(id) => {
-                if let Some(publisher) = self.data.get(&id) {
+                if let Some((publisher, attachment)) = self.data.get(&id) {
                     let put = publisher
                         .put(frame.bytes)
-                        .attachment(id.to_le_bytes().to_vec())
+                        .attachment(attachment.clone())
                         .wait();
                     if let Err(e) = put {
                         self.failed(&format!("a value of link {id} could not be sent: {e}"));

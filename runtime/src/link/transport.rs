@@ -185,6 +185,12 @@ impl Delivery {
         self.inbox.deliver(frame);
     }
 
+    /// [`deliver`](Self::deliver) for a value still in the network's own buffer (no
+    /// copy into a [`Frame`]).
+    pub fn deliver_bytes(&self, link: u32, bytes: &[u8]) {
+        self.inbox.deliver_bytes(link, bytes);
+    }
+
     /// Whether this part receives the link `link`.
     pub fn receives(&self, link: u32) -> bool {
         self.inbox.has(link)
