@@ -104,6 +104,12 @@ fn running_freely_a_killed_peer_is_reported_and_so_is_its_return() {
         "{}",
         asker.log()
     );
+    // While it lasts, the log repeats it with the time since the loss (every 5 s).
+    assert!(
+        asker.wait_for("link server → asker: part server gone since ", limit),
+        "{}",
+        asker.log()
+    );
     let _server = Program::start(&bin, "server", &addresses, &args);
     assert!(
         asker.wait_for("link server → asker: part server is back after", limit),

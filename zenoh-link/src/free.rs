@@ -43,6 +43,10 @@ pub(crate) struct Free {
     _subscribers: Vec<Subscriber<()>>,
     _queryables: Vec<Queryable<()>>,
     watch: Watch,
+    /// Per part linked to this one: how its link is named in reports (`link robot →
+    /// station`, the writer first; a part that only reads from this one is named as the
+    /// reader).
+    linked: BTreeMap<String, String>,
     failures: AtomicU64,
     closed: AtomicBool,
 }
@@ -113,6 +117,25 @@ pub(crate) fn open(
         calls_out.insert(*id, keys.service(&call.server_part, &call.service)?);
     }
     let watch = Watch::start(session, keys, part, report(links, delivery.clone()))?;
+    let mut linked = BTreeMap::new();
+    for sending in links.sending.values() {
+        let other = &sending.to_part;
+        linked.insert(other.clone(), format!("link {part} → {other}"));
+    }
+    for call in links.calls_in.values() {
+        linked.insert(
+            call.client_part.clone(),
+            format!("link {part} → {}", call.client_part),
+        );
+    }
+    // A part this one receives from is named as the writer, even if it reads too.
+    for other in links.receiving.values() {
+        linked.insert(other.clone(), format!("link {other} → {part}"));
+    }
+    for call in links.calls_out.values() {
+        let other = &call.server_part;
+        linked.insert(other.clone(), format!("link {other} → {part}"));
+    }
     Ok(Free {
         session: session.clone(),
         delivery,
@@ -122,6 +145,7 @@ pub(crate) fn open(
         _subscribers: subscribers,
         _queryables: queryables,
         watch,
+        linked,
         failures: AtomicU64::new(0),
         closed: AtomicBool::new(false),
     })
@@ -306,6 +330,17 @@ impl Connection for Free {
 
     fn wait_instant(&self, _nanos: u64, _stop: &AtomicBool) -> Result<Vec<Frame>, String> {
         Err("this part's network was opened to run freely, not in lockstep".into())
+    }
+
+    fn status(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        for (part, link) in &self.linked {
+            if let Some(since) = self.watch.parts.gone_since(part) {
+                let secs = since.elapsed().as_secs_f64();
+                lines.push(format!("{link}: part {part} gone since {secs:.1} s"));
+            }
+        }
+        lines
     }
 
     fn close(&self) {

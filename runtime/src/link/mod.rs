@@ -288,6 +288,17 @@ impl Hub {
         }
     }
 
+    /// What the network reports now ([`transport::Connection::status`]).
+    pub(crate) fn status(&self) -> Vec<String> {
+        match self.route.get() {
+            Some(Route::Direct {
+                network: Some(network),
+                ..
+            }) => network.status(),
+            _ => Vec::new(),
+        }
+    }
+
     /// Closes the network (after the containers stopped).
     pub(crate) fn close(&self) {
         if let Some(Route::Direct {
