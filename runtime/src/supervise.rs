@@ -214,7 +214,7 @@ pub struct Args {
     /// `--listen ADDR`: where this part listens (default: its own port, all interfaces).
     pub listen: Option<String>,
     /// `--zenoh-config FILE`: the network's own configuration (Zenoh's JSON5), for
-    /// routers, scouting or access control.
+    /// routers, scouting or access control, merged with ferroc's defaults.
     pub zenoh_config: Option<std::path::PathBuf>,
 }
 
@@ -373,7 +373,7 @@ fn usage(program: &str) -> String {
          --listen ADDR     where this part listens (default: its port on all interfaces)\n  \
          --zenoh-config FILE\n                    \
          Zenoh's own configuration (JSON5): routers, scouting, access control;\n                    \
-         the addresses above are added to it\n  \
+         merged with ferroc's defaults and the addresses above (the file wins)\n  \
          -q, --quiet       no live status line\n  \
          -h, --help        this text\n\n\
          Ctrl-C or SIGTERM stops after the current cycle. A summary (cycles, overruns and\n\
