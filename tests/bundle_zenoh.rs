@@ -31,6 +31,8 @@ fn programs(name: &str) -> PathBuf {
 struct Program {
     child: Child,
     stderr: Arc<Mutex<Vec<String>>>,
+    /// The thread reading standard error; it ends when the program closed it.
+    reader: Option<std::thread::JoinHandle<()>>,
 }
 
 impl Program {
@@ -51,12 +53,25 @@ impl Program {
         let stderr = Arc::new(Mutex::new(Vec::new()));
         let lines = Arc::clone(&stderr);
         let pipe = child.stderr.take().unwrap();
-        std::thread::spawn(move || {
+        let reader = std::thread::spawn(move || {
             for line in BufReader::new(pipe).lines().map_while(Result::ok) {
                 lines.lock().unwrap().push(line);
             }
         });
-        Program { child, stderr }
+        Program {
+            child,
+            stderr,
+            reader: Some(reader),
+        }
+    }
+
+    /// Everything the program wrote on standard error, once it exited (the reader
+    /// thread has read to the end of the pipe).
+    fn final_log(&mut self) -> String {
+        if let Some(reader) = self.reader.take() {
+            reader.join().unwrap();
+        }
+        self.log()
     }
 
     fn said(&self, text: &str) -> bool {
@@ -148,8 +163,7 @@ fn in_lockstep_a_killed_peer_ends_the_other_program_with_an_error() {
         );
         std::thread::sleep(Duration::from_millis(50));
     };
-    std::thread::sleep(Duration::from_millis(100)); // the last lines of its stderr
-    let log = asker.log();
+    let log = asker.final_log();
     assert_eq!(status.code(), Some(1), "{log}");
     assert!(
         log.contains("lockstep stopped: the part `server` is gone"),
