@@ -31,6 +31,8 @@ fn programs(name: &str) -> PathBuf {
 struct Program {
     child: Child,
     stderr: Arc<Mutex<Vec<String>>>,
+    /// The thread reading standard error; it ends when the program closed it.
+    reader: Option<std::thread::JoinHandle<()>>,
 }
 
 impl Program {
@@ -51,12 +53,25 @@ impl Program {
         let stderr = Arc::new(Mutex::new(Vec::new()));
         let lines = Arc::clone(&stderr);
         let pipe = child.stderr.take().unwrap();
-        std::thread::spawn(move || {
+        let reader = std::thread::spawn(move || {
             for line in BufReader::new(pipe).lines().map_while(Result::ok) {
                 lines.lock().unwrap().push(line);
             }
         });
-        Program { child, stderr }
+        Program {
+            child,
+            stderr,
+            reader: Some(reader),
+        }
+    }
+
+    /// Everything the program wrote on standard error, once it exited (the reader
+    /// thread has read to the end of the pipe).
+    fn final_log(&mut self) -> String {
+        if let Some(reader) = self.reader.take() {
+            reader.join().unwrap();
+        }
+        self.log()
     }
 
     fn said(&self, text: &str) -> bool {
@@ -104,6 +119,12 @@ fn running_freely_a_killed_peer_is_reported_and_so_is_its_return() {
         "{}",
         asker.log()
     );
+    // While it lasts, the log repeats it with the time since the loss (every 5 s).
+    assert!(
+        asker.wait_for("link server → asker: part server gone since ", limit),
+        "{}",
+        asker.log()
+    );
     let _server = Program::start(&bin, "server", &addresses, &args);
     assert!(
         asker.wait_for("link server → asker: part server is back after", limit),
@@ -142,8 +163,7 @@ fn in_lockstep_a_killed_peer_ends_the_other_program_with_an_error() {
         );
         std::thread::sleep(Duration::from_millis(50));
     };
-    std::thread::sleep(Duration::from_millis(100)); // the last lines of its stderr
-    let log = asker.log();
+    let log = asker.final_log();
     assert_eq!(status.code(), Some(1), "{log}");
     assert!(
         log.contains("lockstep stopped: the part `server` is gone"),
@@ -177,11 +197,21 @@ fn rescue_model(dir: &Path) -> PathBuf {
     model
 }
 
+/// The rescue model and its built programs' folder, made once for the tests here.
+fn rescue_bundle() -> &'static (PathBuf, PathBuf) {
+    static BUILT: std::sync::OnceLock<(PathBuf, PathBuf)> = std::sync::OnceLock::new();
+    BUILT.get_or_init(|| {
+        let dir = tempdir("bundle_zenoh_rescue");
+        let model = rescue_model(&dir);
+        bundle_ok(&model, &dir.join("bundle"));
+        let bin = build_bundle(&dir.join("bundle")).join("debug");
+        (model, bin)
+    })
+}
+
 #[test]
 fn a_station_without_its_robot_says_so_instead_of_printing_zeros() {
-    let dir = tempdir("bundle_zenoh_station");
-    bundle_ok(&rescue_model(&dir), &dir.join("bundle"));
-    let bin = build_bundle(&dir.join("bundle")).join("debug");
+    let (_, bin) = rescue_bundle();
     let (robot, station) = (free_address(), free_address());
     let out = Command::new(bin.join("rescue_robot-station"))
         .args(["-q", "--for", "2500ms", "--listen", &station])
@@ -204,4 +234,130 @@ fn a_station_without_its_robot_says_so_instead_of_printing_zeros() {
             "no made-up battery value: {line}"
         );
     }
+}
+
+/// Two network namespaces joined by a veth pair, `10.77.0.1` and `10.77.0.2`: two
+/// hosts on one machine. Removed again when dropped.
+struct Hosts {
+    names: [String; 2],
+}
+
+impl Hosts {
+    /// The two hosts, or why this machine cannot make them (not root, no `ip`).
+    fn new() -> Result<Hosts, String> {
+        let id = std::process::id();
+        let names = [format!("ferroc-{id}-a"), format!("ferroc-{id}-b")];
+        let ip = |args: &[&str]| -> Result<(), String> {
+            let out = Command::new("ip")
+                .args(args)
+                .output()
+                .map_err(|e| format!("`ip` cannot run: {e}"))?;
+            if out.status.success() {
+                Ok(())
+            } else {
+                Err(format!(
+                    "`ip {}` failed: {}",
+                    args.join(" "),
+                    String::from_utf8_lossy(&out.stderr).trim()
+                ))
+            }
+        };
+        ip(&["netns", "add", &names[0]])?;
+        let hosts = Hosts { names };
+        let [a, b] = &hosts.names;
+        ip(&["netns", "add", b])?;
+        let (va, vb) = (format!("fv{id}a"), format!("fv{id}b"));
+        ip(&["link", "add", &va, "type", "veth", "peer", "name", &vb])?;
+        for (ns, dev, address) in [(a, &va, "10.77.0.1/24"), (b, &vb, "10.77.0.2/24")] {
+            ip(&["link", "set", dev, "netns", ns])?;
+            ip(&["-n", ns, "addr", "add", address, "dev", dev])?;
+            ip(&["-n", ns, "link", "set", dev, "up"])?;
+            ip(&["-n", ns, "link", "set", "lo", "up"])?;
+        }
+        Ok(hosts)
+    }
+}
+
+impl Drop for Hosts {
+    fn drop(&mut self) {
+        for name in &self.names {
+            // Deleting a namespace deletes the veth end inside it, and so the pair.
+            let _ = Command::new("ip").args(["netns", "del", name]).output();
+        }
+    }
+}
+
+#[test]
+fn the_rescue_programs_on_two_hosts_in_network_namespaces_print_what_ferroc_run_prints() {
+    let hosts = match Hosts::new() {
+        Ok(hosts) => hosts,
+        Err(why) => {
+            eprintln!("skipped: two hosts in network namespaces cannot be made here: {why}");
+            return;
+        }
+    };
+    let (model, bin) = rescue_bundle();
+    let (robot, station) = ("10.77.0.1:47800", "10.77.0.2:47801");
+    let start = |ns: &str, part: &str, listen: &str| {
+        Command::new("ip")
+            .args(["netns", "exec", ns])
+            .arg(bin.join(format!("rescue_robot-{part}")))
+            .args(["--lockstep", "-q", "--cycles", "100", "--listen", listen])
+            .args(["--peer", &format!("robot={robot}")])
+            .args(["--peer", &format!("station={station}")])
+            .env("FERROC_LOG_DIR", common::test_log_dir())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let mut children = [
+        ("robot", start(&hosts.names[0], "robot", robot)),
+        ("station", start(&hosts.names[1], "station", station)),
+    ];
+    // A bound for a hang (a peer that cannot be reached), not a speed figure.
+    let deadline = Instant::now() + Duration::from_secs(600);
+    while children
+        .iter_mut()
+        .any(|(_, c)| c.try_wait().unwrap().is_none())
+    {
+        if Instant::now() > deadline {
+            for (_, c) in &mut children {
+                let _ = c.kill();
+            }
+            panic!("the programs in the two namespaces did not finish");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let mut all = Vec::new();
+    for (part, child) in children {
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "part {part}: {err}");
+        assert!(err.contains("cycle limit reached"), "part {part}: {err}");
+        all.extend(
+            String::from_utf8_lossy(&out.stdout)
+                .lines()
+                .filter(|l| !l.starts_with("waiting for the part(s) "))
+                .map(str::to_owned),
+        );
+    }
+    let (code, run_out, run_err) = common::ferroc(&[
+        "run",
+        model.to_str().unwrap(),
+        "--lockstep",
+        "-q",
+        "--cycles",
+        "100",
+    ]);
+    assert_eq!(code, 0, "{run_err}");
+    let mut expected: Vec<String> = run_out.lines().map(str::to_owned).collect();
+    assert!(
+        expected.iter().any(|l| l.contains("station alive")),
+        "{run_out}"
+    );
+    all.sort_unstable();
+    expected.sort_unstable();
+    assert_eq!(all, expected, "the two hosts print what ferroc run prints");
+    drop(hosts);
 }

@@ -9,8 +9,12 @@
 //!   processes) as the last thing before publishing; its link (reliable, not express:
 //!   the QoS ferroc gives a 64-byte library type) carries it to part `reader`, where a
 //!   data-triggered container's module computes `now - stamp` after reading it.
-//! * `zenoh`: a publisher with the same QoS puts the same 64 bytes every `--gap-us`; the
-//!   reader's subscriber callback computes `now - stamp`.
+//!   The module also reads `In::age()`, the time since the value arrived in the
+//!   reader's Zenoh callback: the latency splits into the way to that callback and the
+//!   wakeup of the reader's container from it (the `wait=` of `--reader-wait`).
+//! * `zenoh`: a publisher with the same QoS (`ferroc_zenoh::free::Qos::of` of the
+//!   link) puts the same 64 bytes every `--gap-us`; the reader's subscriber callback
+//!   computes `now - stamp`.
 //!
 //! The reader discards its first messages (session start, warm-up), records the next
 //! ones and prints them; the variants alternate in `--rounds` rounds so that a noisy
@@ -23,10 +27,12 @@ use ferroc_runtime::builder::{
     ThreadSpec,
 };
 use ferroc_runtime::container::ThreadOptions;
-use ferroc_runtime::link::transport::Addresses;
+use ferroc_runtime::link::transport::{Addresses, Sending};
 use ferroc_runtime::link::{LinkSpec, Sharing};
 use ferroc_runtime::module::{In, Module, ModuleType, Out, Setup};
+use ferroc_runtime::port::WaitMode;
 use ferroc_runtime::port::{ConnectOptions, NoUninit};
+use ferroc_zenoh::free::Qos;
 use ferroc_zenoh::Zenoh;
 use serde::{Deserialize, Serialize};
 use std::io::{BufRead, BufReader};
@@ -102,17 +108,22 @@ impl ModuleType for Source {
     }
 }
 
-/// Records `now - stamp` of every value it reads.
+/// Records `now - stamp` of every value it reads, and how long ago the value arrived
+/// in the Zenoh callback (`In::age`).
 struct Sink {
     input: In<Msg>,
 }
-static SEEN: Mutex<Vec<u64>> = Mutex::new(Vec::new());
+/// Per value: the latency and the part of it spent after the Zenoh callback (ns).
+static SEEN: Mutex<Vec<(u64, u64)>> = Mutex::new(Vec::new());
 impl Module for Sink {
     fn update(&mut self) {
         if self.input.changed() {
             let stamp = self.input.get().stamp_ns;
             let latency = mono_ns().saturating_sub(stamp);
-            SEEN.lock().unwrap_or_else(|e| e.into_inner()).push(latency);
+            let hop = self.input.age().map_or(0, |a| a.as_nanos() as u64);
+            SEEN.lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push((latency, hop));
         }
     }
 }
@@ -156,8 +167,15 @@ fn addresses(part: &str, writer: &str, reader: &str) -> Addresses {
     }
 }
 
-/// One part of the ferroc variant, running freely.
-fn part(registry: &Registry, part: &str, writer: &str, reader: &str) -> Result<RunningApp, String> {
+/// One part of the ferroc variant, running freely; the reader's container waits as
+/// `wait` says.
+fn part(
+    registry: &Registry,
+    part: &str,
+    writer: &str,
+    reader: &str,
+    wait: WaitMode,
+) -> Result<RunningApp, String> {
     let mut b = Builder::new(registry);
     let (path, type_name, schedule) = match part {
         "writer" => ("writer/source", "bench.Source", Schedule::Continuous),
@@ -175,7 +193,10 @@ fn part(registry: &Registry, part: &str, writer: &str, reader: &str) -> Result<R
     b.add_thread(ThreadSpec {
         path: part.into(),
         schedule,
-        options: ThreadOptions::default(),
+        options: ThreadOptions {
+            wait,
+            ..ThreadOptions::default()
+        },
         steps: vec![(path.into(), StepKind::Update)],
     })
     .map_err(|e| e.to_string())?;
@@ -199,11 +220,15 @@ fn session(part: &str, writer: &str, reader: &str) -> Result<zenoh::Session, Str
     zenoh::open(config).wait().map_err(|e| e.to_string())
 }
 
-/// The reader: `b4-parts-child VARIANT WRITER READER N` prints N latencies (ns), one
-/// a line, after the warm-up.
+/// The reader: `b4-parts-child VARIANT WRITER READER N WAIT` prints N latencies and
+/// the part of each after the Zenoh callback (ns), a pair a line, after the warm-up.
 pub fn child(args: &[String]) -> u8 {
-    let [variant, writer, reader, n] = args else {
-        eprintln!("usage: {CHILD_ARG} ferroc|zenoh WRITER READER N");
+    let [variant, writer, reader, n, wait] = args else {
+        eprintln!("usage: {CHILD_ARG} ferroc|zenoh WRITER READER N park|spin|adaptive");
+        return 2;
+    };
+    let Some(wait) = WaitMode::parse(wait) else {
+        eprintln!("{CHILD_ARG}: WAIT must be park, spin or adaptive");
         return 2;
     };
     let Ok(n) = n.parse::<u64>() else {
@@ -214,7 +239,9 @@ pub fn child(args: &[String]) -> u8 {
     let registry = registry();
     let mut keep: Vec<Box<dyn std::any::Any>> = Vec::new();
     let started = match variant.as_str() {
-        "ferroc" => part(&registry, "reader", writer, reader).map(|app| keep.push(Box::new(app))),
+        "ferroc" => {
+            part(&registry, "reader", writer, reader, wait).map(|app| keep.push(Box::new(app)))
+        }
         _ => session("reader", writer, reader).and_then(|s| {
             let sub = s
                 .declare_subscriber(KEY)
@@ -222,7 +249,9 @@ pub fn child(args: &[String]) -> u8 {
                     let bytes = sample.payload().to_bytes();
                     if let Some(stamp) = bytes.first_chunk::<8>() {
                         let latency = mono_ns().saturating_sub(u64::from_le_bytes(*stamp));
-                        SEEN.lock().unwrap_or_else(|e| e.into_inner()).push(latency);
+                        SEEN.lock()
+                            .unwrap_or_else(|e| e.into_inner())
+                            .push((latency, 0));
                     }
                 })
                 .wait()
@@ -246,8 +275,8 @@ pub fn child(args: &[String]) -> u8 {
     }
     let seen = std::mem::take(&mut *SEEN.lock().unwrap_or_else(|e| e.into_inner()));
     let mut out = String::new();
-    for l in &seen[WARM_UP as usize..wanted] {
-        out.push_str(&format!("{l}\n"));
+    for (latency, hop) in &seen[WARM_UP as usize..wanted] {
+        out.push_str(&format!("{latency} {hop}\n"));
     }
     print!("{out}");
     drop(keep);
@@ -260,11 +289,19 @@ fn free_address() -> Result<String, String> {
 }
 
 /// One variant once: the reader as a child, the writer here until the child is done.
-fn once(variant: &str, n: u64, gap: Duration) -> Result<Vec<u64>, String> {
+/// Per value: the latency and the part after the Zenoh callback (ns).
+fn once(variant: &str, n: u64, gap: Duration, wait: WaitMode) -> Result<Vec<(u64, u64)>, String> {
     let (writer, reader) = (free_address()?, free_address()?);
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let mut child = Command::new(exe)
-        .args([CHILD_ARG, variant, &writer, &reader, &n.to_string()])
+        .args([
+            CHILD_ARG,
+            variant,
+            &writer,
+            &reader,
+            &n.to_string(),
+            wait.as_str(),
+        ])
         .stdout(Stdio::piped())
         .spawn()
         .map_err(|e| format!("cannot start the reader: {e}"))?;
@@ -273,12 +310,21 @@ fn once(variant: &str, n: u64, gap: Duration) -> Result<Vec<u64>, String> {
     let mut app = None;
     let mut bare = None;
     match variant {
-        "ferroc" => app = Some(part(&registry, "writer", &writer, &reader)?),
+        "ferroc" => app = Some(part(&registry, "writer", &writer, &reader, wait)?),
         _ => {
             let s = session("writer", &writer, &reader)?;
+            // The QoS ferroc gives the link, so that only ferroc's own work differs.
+            let qos = Qos::of(&Sending {
+                to_part: LINK.to_part.into(),
+                topic: "writer/source/out".into(),
+                model_type: LINK.model_type.into(),
+                sharing: LINK.sharing,
+                reliable: LINK.reliable,
+            });
             let p = s
                 .declare_publisher(KEY)
-                .congestion_control(zenoh::qos::CongestionControl::Block)
+                .congestion_control(qos.congestion)
+                .express(qos.express)
                 .wait()
                 .map_err(|e| e.to_string())?;
             bare = Some((s, p));
@@ -289,8 +335,11 @@ fn once(variant: &str, n: u64, gap: Duration) -> Result<Vec<u64>, String> {
         BufReader::new(stdout)
             .lines()
             .map_while(Result::ok)
-            .filter_map(|l| l.parse::<u64>().ok())
-            .collect::<Vec<u64>>()
+            .filter_map(|l| {
+                let (latency, hop) = l.split_once(' ')?;
+                Some((latency.parse::<u64>().ok()?, hop.parse::<u64>().ok()?))
+            })
+            .collect::<Vec<(u64, u64)>>()
     });
     let mut next = Instant::now();
     let mut seq = 0u64;
@@ -341,15 +390,26 @@ fn percentiles(mut v: Vec<u64>) -> (f64, f64, f64) {
 
 /// Runs B4 across parts and prints its lines. Returns the process exit code.
 pub fn run(args: &[String]) -> u8 {
-    let parsed =
-        Options::parse("b4-parts", args, &["messages", "gap-us", "rounds"], &[]).and_then(|o| {
-            Ok((
-                o.number("messages", DEFAULT_MESSAGES, 1, 100_000_000)?,
-                o.number("gap-us", DEFAULT_GAP_US, 1, 1_000_000)?,
-                o.number("rounds", DEFAULT_ROUNDS, 1, 1000)?,
-            ))
-        });
-    let (messages, gap_us, rounds) = match parsed {
+    let parsed = Options::parse(
+        "b4-parts",
+        args,
+        &["messages", "gap-us", "rounds", "reader-wait"],
+        &[],
+    )
+    .and_then(|o| {
+        let wait = match o.text("reader-wait") {
+            None => WaitMode::Park,
+            Some(w) => WaitMode::parse(w)
+                .ok_or_else(|| format!("--reader-wait {w}: must be park, spin or adaptive"))?,
+        };
+        Ok((
+            o.number("messages", DEFAULT_MESSAGES, 1, 100_000_000)?,
+            o.number("gap-us", DEFAULT_GAP_US, 1, 1_000_000)?,
+            o.number("rounds", DEFAULT_ROUNDS, 1, 1000)?,
+            wait,
+        ))
+    });
+    let (messages, gap_us, rounds, wait) = match parsed {
         Ok(v) => v,
         Err(e) => {
             eprintln!("{e}");
@@ -362,17 +422,19 @@ pub fn run(args: &[String]) -> u8 {
     let per_round = messages.div_ceil(rounds.min(messages));
     println!(
         "b4-parts: {} values of 64 bytes per variant between two programs over Zenoh on \
-         127.0.0.1 ({rounds} rounds, +{WARM_UP} warm-up each), one every {gap_us} µs; {}",
+         127.0.0.1 ({rounds} rounds, +{WARM_UP} warm-up each), one every {gap_us} µs, the \
+         reader's container wait={}; {}",
         per_round * rounds,
+        wait.as_str(),
         load_note()
     );
     let gap = Duration::from_micros(gap_us);
     let variants = ["ferroc", "zenoh"];
-    let mut samples: [Vec<u64>; 2] = [Vec::new(), Vec::new()];
+    let mut samples: [Vec<(u64, u64)>; 2] = [Vec::new(), Vec::new()];
     for round in 0..rounds as usize {
         for k in 0..2 {
             let i = (round + k) % 2;
-            match once(variants[i], per_round, gap) {
+            match once(variants[i], per_round, gap, wait) {
                 Ok(mut s) => samples[i].append(&mut s),
                 Err(e) => {
                     eprintln!("b4-parts: {}: {e}", variants[i]);
@@ -383,15 +445,26 @@ pub fn run(args: &[String]) -> u8 {
     }
     let [ferroc, bare] = samples;
     let n = ferroc.len();
-    let (f50, f99, fmax) = percentiles(ferroc);
-    let (z50, z99, zmax) = percentiles(bare);
+    let to_callback: Vec<u64> = ferroc.iter().map(|(l, h)| l.saturating_sub(*h)).collect();
+    let hop: Vec<u64> = ferroc.iter().map(|(_, h)| *h).collect();
+    let (f50, f99, fmax) = percentiles(ferroc.into_iter().map(|(l, _)| l).collect());
+    let (z50, z99, zmax) = percentiles(bare.into_iter().map(|(l, _)| l).collect());
+    let (c50, c99, _) = percentiles(to_callback);
+    let (h50, h99, _) = percentiles(hop);
     println!("b4-parts ferroc link   p50 {f50:8.2}  p99 {f99:8.2}  max {fmax:9.2} µs  n={n}");
+    println!("  of which up to the reader's Zenoh callback  p50 {c50:8.2}  p99 {c99:8.2} µs");
+    println!(
+        "  of which callback → module (wait={})      p50 {h50:8.2}  p99 {h99:8.2} µs",
+        wait.as_str()
+    );
     println!("b4-parts bare Zenoh    p50 {z50:8.2}  p99 {z99:8.2}  max {zmax:9.2} µs");
     let ratio = f50 / z50;
     println!(
         "RESULT b4-parts p50_us={f50:.2} p99_us={f99:.2} max_us={fmax:.2} messages={n} \
          scope=parts zenoh_p50_us={z50:.2} zenoh_p99_us={z99:.2} zenoh_max_us={zmax:.2} \
-         ratio_p50_vs_zenoh={ratio:.2} gap_us={gap_us}"
+         ratio_p50_vs_zenoh={ratio:.2} to_callback_p50_us={c50:.2} hop_p50_us={h50:.2} \
+         reader_wait={} gap_us={gap_us}",
+        wait.as_str()
     );
     0
 }

@@ -58,6 +58,12 @@ impl Options {
         self.values.iter().any(|(n, _)| n == name)
     }
 
+    /// The value of `--name` as given, if it was.
+    pub fn text(&self, name: &str) -> Option<&str> {
+        let found = self.values.iter().find(|(n, _)| n == name);
+        found.map(|(_, v)| v.as_str())
+    }
+
     /// The value of `--name` as a number, `default` when absent; `Err` when it does not
     /// parse or lies outside `min..=max`.
     pub fn number<T>(&self, name: &str, default: T, min: T, max: T) -> Result<T, String>

@@ -39,6 +39,7 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
     let mut last_draw = Instant::now() - Duration::from_secs(1);
     let mut reported_panics = 0;
     let mut reported_locks = 0;
+    let mut network_log = NetworkLog::default();
     let reason = loop {
         if app.is_finished() {
             break app.end_reason();
@@ -60,9 +61,15 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
         }
         reported_locks = locks.len();
         report_violations(&app);
+        let network = app.network_status();
+        if network_log.due(!network.is_empty(), Instant::now()) {
+            for line in &network {
+                crate::console::note(&format!("warning: {line}"));
+            }
+        }
         if status && last_draw.elapsed() >= Duration::from_millis(250) {
             last_draw = Instant::now();
-            let line = status_line(&app, started.elapsed());
+            let line = status_line(&app, &network, started.elapsed());
             let _ = write!(std::io::stderr(), "\r\x1b[K{line}");
         }
         std::thread::sleep(Duration::from_millis(20));
@@ -131,9 +138,52 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
 /// queue within 100 ms); a step that takes longer than this is left behind.
 const STOP_GRACE: Duration = Duration::from_secs(3);
 
-fn status_line(app: &RunningApp, elapsed: Duration) -> String {
+/// How often the log repeats what the network reports while it lasts (a part gone
+/// since …): the network notes the loss itself when it happens.
+const NETWORK_LOG_EVERY: Duration = Duration::from_secs(5);
+
+/// When to repeat the network's report in the log.
+#[derive(Default)]
+struct NetworkLog {
+    /// Since when something is reported (or it was last logged).
+    since: Option<Instant>,
+}
+
+impl NetworkLog {
+    /// Whether to log the network's report at `now`, given whether it has anything.
+    fn due(&mut self, reporting: bool, now: Instant) -> bool {
+        match (reporting, self.since) {
+            (false, _) => {
+                self.since = None;
+                false
+            }
+            (true, None) => {
+                self.since = Some(now);
+                false
+            }
+            (true, Some(t)) if now.duration_since(t) >= NETWORK_LOG_EVERY => {
+                self.since = Some(now);
+                true
+            }
+            (true, Some(_)) => false,
+        }
+    }
+}
+
+fn status_line(app: &RunningApp, network: &[String], elapsed: Duration) -> String {
+    status_text(&app.status(), network, elapsed)
+}
+
+fn status_text(
+    containers: &[crate::builder::ContainerStatus],
+    network: &[String],
+    elapsed: Duration,
+) -> String {
     let mut line = format!("{:>6.1} s", elapsed.as_secs_f64());
-    for s in app.status() {
+    for n in network {
+        line.push_str(&format!(" | {}", escape(n)));
+    }
+    for s in containers {
         let name = s.path.rsplit('/').next().unwrap_or(&s.path);
         line.push_str(&format!(
             " | {name}: {} cycles, {} overruns, load {:.0} %",
@@ -164,7 +214,7 @@ pub struct Args {
     /// `--listen ADDR`: where this part listens (default: its own port, all interfaces).
     pub listen: Option<String>,
     /// `--zenoh-config FILE`: the network's own configuration (Zenoh's JSON5), for
-    /// routers, scouting or access control.
+    /// routers, scouting or access control, merged with ferroc's defaults.
     pub zenoh_config: Option<std::path::PathBuf>,
     /// `--record FILE`: record the outputs of this program's modules that feed a
     /// connection into an MCAP file (what `ferroc run --record` does; the recorders
@@ -342,7 +392,7 @@ fn usage(program: &str) -> String {
          --listen ADDR     where this part listens (default: its port on all interfaces)\n  \
          --zenoh-config FILE\n                    \
          Zenoh's own configuration (JSON5): routers, scouting, access control;\n                    \
-         the addresses above are added to it\n  \
+         merged with ferroc's defaults and the addresses above (the file wins)\n  \
          --record FILE     record every output of this program's modules that feeds a\n                    \
          connection into an MCAP file (as `ferroc run --record`)\n  \
          --record-filter PATTERN\n                    \
@@ -393,6 +443,42 @@ fn report_violations(app: &RunningApp) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_status_line_shows_a_part_that_is_gone_and_the_log_repeats_it() {
+        let containers = [crate::builder::ContainerStatus {
+            path: "station/ui".into(),
+            cycles: 12,
+            overruns: 0,
+            load: 0.25,
+        }];
+        let gone = ["link robot → station: part robot gone since 3.2 s".to_string()];
+        let line = status_text(&containers, &gone, Duration::from_millis(7500));
+        assert_eq!(
+            line,
+            "   7.5 s | link robot → station: part robot gone since 3.2 s | ui: 12 cycles, \
+             0 overruns, load 25 %"
+        );
+        assert!(!status_text(&containers, &[], Duration::ZERO).contains("gone"));
+        // The log: not at the loss (the network notes it then), every 5 s while it
+        // lasts, and from the start again after the part came back.
+        let mut log = NetworkLog::default();
+        let t0 = Instant::now();
+        let at = |ms: u64| t0 + Duration::from_millis(ms);
+        assert!(!log.due(false, at(0)));
+        assert!(
+            !log.due(true, at(100)),
+            "the loss itself is noted elsewhere"
+        );
+        assert!(!log.due(true, at(5_000)));
+        assert!(log.due(true, at(5_100)));
+        assert!(!log.due(true, at(9_000)));
+        assert!(log.due(true, at(10_100)));
+        assert!(!log.due(false, at(10_200)), "back");
+        assert!(!log.due(true, at(10_300)), "gone again: a new loss");
+        assert!(!log.due(true, at(15_299)));
+        assert!(log.due(true, at(15_300)));
+    }
 
     fn parse(args: &[&str]) -> Result<Option<Args>, String> {
         Args::parse(&args.iter().map(|s| s.to_string()).collect::<Vec<_>>())

@@ -1,9 +1,15 @@
 //! The Zenoh configuration of a part: peer mode, the part's own listening endpoint,
 //! every other part as an explicit endpoint, multicast scouting off (nothing leaves
 //! the addresses the model names), and a short lease so that a part that dies or
-//! loses its network is noticed within a second. `--zenoh-config FILE` starts from
-//! the user's file instead (routers, scouting, authentication, access control); the
-//! model's endpoints are added to it where the file names none.
+//! loses its network is noticed within a second.
+//!
+//! `--zenoh-config FILE` (Zenoh's JSON5) is *merged* with these defaults: what
+//! the file sets wins, every default the file does not set stays. So a file that only
+//! adds authentication or access control keeps the short lease, the retry period and
+//! the model's endpoints; a file that names its own endpoints, mode or scouting keeps
+//! them. Whether the file sets a key is read from the file's own text, not by comparing
+//! with Zenoh's defaults: a file that writes Zenoh's default value on purpose
+//! (`scouting: { multicast: { enabled: true } }`) keeps it.
 
 use ferroc_runtime::link::transport::Addresses;
 use std::path::Path;
@@ -12,27 +18,45 @@ use zenoh::Config;
 /// How long a silent peer counts as alive (keep-alives go 4 times per lease).
 pub const LEASE_MS: u64 = 500;
 
-/// The configuration of the part `addresses.part`, from `file` if one is given.
+/// ferroc's settings on top of Zenoh's defaults (the table in docs/zenoh.md), each
+/// kept unless a `--zenoh-config` file sets the key.
+pub const DEFAULTS: &[(&str, &str)] = &[
+    ("mode", "\"peer\""),
+    ("scouting/multicast/enabled", "false"),
+    (
+        "connect/retry",
+        "{ period_init_ms: 100, period_max_ms: 500, period_increase_factor: 2 }",
+    ),
+    ("transport/link/tx/lease", "500"),
+    ("transport/link/tx/keep_alive", "4"),
+];
+
+/// The configuration of the part `addresses.part`: ferroc's defaults and the model's
+/// endpoints, merged under `file` if one is given.
 pub fn config(addresses: &Addresses, file: Option<&Path>) -> Result<Config, String> {
-    let mut config = match file {
-        Some(path) => Config::from_file(path).map_err(|e| {
-            format!(
-                "--zenoh-config {}: not a Zenoh configuration: {e}",
-                path.display()
-            )
-        })?,
-        None => defaults()?,
+    let (mut config, given) = match file {
+        Some(path) => {
+            let bad = |e: &dyn std::fmt::Display| {
+                format!(
+                    "--zenoh-config {}: not a Zenoh configuration: {e}",
+                    path.display()
+                )
+            };
+            let keys = keys_in(path).map_err(|e| bad(&e))?;
+            (Config::from_file(path).map_err(|e| bad(&e))?, keys)
+        }
+        None => (Config::default(), serde_json::Value::Null),
     };
-    // A setting the file leaves as Zenoh's default gets the model's addresses.
-    let stock = Config::default();
-    let empty = |config: &Config, key: &str| {
-        file.is_none() || config.get_json(key).ok() == stock.get_json(key).ok()
-    };
-    if empty(&config, "listen/endpoints") {
+    for (key, value) in DEFAULTS {
+        if !sets(&given, key) {
+            set(&mut config, key, value)?;
+        }
+    }
+    if !sets(&given, "listen/endpoints") {
         let listen = endpoint(&addresses.listen, "--listen")?;
         set(&mut config, "listen/endpoints", &format!("[\"{listen}\"]"))?;
     }
-    if empty(&config, "connect/endpoints") {
+    if !sets(&given, "connect/endpoints") {
         let mut peers = Vec::new();
         for (part, address) in &addresses.peers {
             if *part != addresses.part {
@@ -49,23 +73,29 @@ pub fn config(addresses: &Addresses, file: Option<&Path>) -> Result<Config, Stri
     Ok(config)
 }
 
-/// Peer mode, no multicast scouting, fast reconnection and a short lease.
-fn defaults() -> Result<Config, String> {
-    let mut config = Config::default();
-    set(&mut config, "mode", "\"peer\"")?;
-    set(&mut config, "scouting/multicast/enabled", "false")?;
-    set(
-        &mut config,
-        "connect/retry",
-        "{ period_init_ms: 100, period_max_ms: 500, period_increase_factor: 2 }",
-    )?;
-    set(
-        &mut config,
-        "transport/link/tx/lease",
-        &LEASE_MS.to_string(),
-    )?;
-    set(&mut config, "transport/link/tx/keep_alive", "4")?;
-    Ok(config)
+/// The settings a configuration file writes, as a tree. Only JSON5 (Zenoh's own
+/// format, `.json5` or `.json`) is taken: the merge reads the file itself.
+fn keys_in(path: &Path) -> Result<serde_json::Value, String> {
+    if !matches!(
+        path.extension().and_then(|e| e.to_str()),
+        Some("json" | "json5")
+    ) {
+        return Err("the file's name must end in .json5 (Zenoh's JSON5 configuration)".into());
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+    json5::from_str(&text).map_err(|e| e.to_string())
+}
+
+/// Whether the tree `given` sets the key `key` (`transport/link/tx/lease`).
+fn sets(given: &serde_json::Value, key: &str) -> bool {
+    let mut at = given;
+    for chunk in key.split('/') {
+        match at.get(chunk) {
+            Some(next) => at = next,
+            None => return false,
+        }
+    }
+    true
 }
 
 fn set(config: &mut Config, key: &str, value: &str) -> Result<(), String> {
@@ -159,5 +189,54 @@ mod tests {
         );
         let listen = c.get_json("listen/endpoints").unwrap();
         assert!(listen.contains("127.0.0.1:47800"), "{listen}");
+    }
+
+    #[test]
+    fn a_file_is_merged_with_the_defaults_key_by_key() {
+        let dir = std::env::temp_dir().join(format!("ferroc-zenoh-merge-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // Only a longer lease and scouting on: Zenoh's own default value, written on
+        // purpose, must win over ferroc's `false` all the same.
+        let file = dir.join("lease.json5");
+        std::fs::write(
+            &file,
+            "{ transport: { link: { tx: { lease: 3000 } } }, scouting: { multicast: { enabled: true } } }",
+        )
+        .unwrap();
+        let c = config(&addresses(), Some(&file)).unwrap();
+        assert_eq!(c.get_json("transport/link/tx/lease").unwrap(), "3000");
+        assert_eq!(c.get_json("scouting/multicast/enabled").unwrap(), "true");
+        // What the file leaves out keeps ferroc's defaults.
+        assert_eq!(c.get_json("mode").unwrap(), "\"peer\"");
+        assert_eq!(c.get_json("transport/link/tx/keep_alive").unwrap(), "4");
+        let retry = c.get_json("connect/retry").unwrap();
+        assert!(retry.contains("100") && retry.contains("500"), "{retry}");
+        assert!(c
+            .get_json("connect/endpoints")
+            .unwrap()
+            .contains("base-pc:47801"));
+        // Without a file, exactly ferroc's defaults.
+        let plain = config(&addresses(), None).unwrap();
+        assert_eq!(
+            plain.get_json("transport/link/tx/lease").unwrap(),
+            LEASE_MS.to_string()
+        );
+        assert_eq!(
+            plain.get_json("scouting/multicast/enabled").unwrap(),
+            "false"
+        );
+    }
+
+    #[test]
+    fn a_file_that_is_not_json5_is_refused_by_name() {
+        let dir = std::env::temp_dir().join(format!("ferroc-zenoh-yaml-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("zenoh.yaml");
+        std::fs::write(&file, "mode: peer\n").unwrap();
+        let err = config(&addresses(), Some(&file)).unwrap_err();
+        assert!(
+            err.contains("--zenoh-config") && err.contains(".json5"),
+            "{err}"
+        );
     }
 }

@@ -20,6 +20,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+use zenoh::bytes::ZBytes;
 use zenoh::key_expr::OwnedKeyExpr;
 use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::qos::CongestionControl;
@@ -34,13 +35,18 @@ pub const CALL_TIMEOUT: Duration = Duration::from_secs(10);
 pub(crate) struct Free {
     session: Session,
     delivery: Delivery,
-    data: BTreeMap<u32, Publisher<'static>>,
+    /// Per link: its publisher and its attachment (the link number), made once.
+    data: BTreeMap<u32, (Publisher<'static>, ZBytes)>,
     calls_out: BTreeMap<u32, OwnedKeyExpr>,
     /// Queries waiting for the service's answer, by call and request number.
     waiting: Arc<Mutex<HashMap<(u32, u64), Query>>>,
     _subscribers: Vec<Subscriber<()>>,
     _queryables: Vec<Queryable<()>>,
     watch: Watch,
+    /// Per part linked to this one: how its link is named in reports (`link robot →
+    /// station`, the writer first; a part that only reads from this one is named as the
+    /// reader).
+    linked: BTreeMap<String, String>,
     failures: AtomicU64,
     closed: AtomicBool,
 }
@@ -62,7 +68,7 @@ pub(crate) fn open(
             .express(qos.express)
             .wait()
             .map_err(|e| format!("cannot publish the link {id}: {e}"))?;
-        data.insert(*id, publisher);
+        data.insert(*id, (publisher, ZBytes::from(id.to_le_bytes().to_vec())));
     }
     let mut subscribers = Vec::new();
     let mut from: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
@@ -81,8 +87,9 @@ pub(crate) fn open(
                 });
                 // Links of this writer that go to other parts share its keys: not ours.
                 if let Some(link) = link.filter(|l| ids.contains(l)) {
-                    let bytes = sample.payload().to_bytes().into_owned();
-                    delivery.deliver(&Frame { link, bytes });
+                    // Borrowed from Zenoh's buffer when it is in one piece (a value
+                    // that fits one batch): decoded straight into the port.
+                    delivery.deliver_bytes(link, &sample.payload().to_bytes());
                 }
             })
             .wait()
@@ -110,6 +117,25 @@ pub(crate) fn open(
         calls_out.insert(*id, keys.service(&call.server_part, &call.service)?);
     }
     let watch = Watch::start(session, keys, part, report(links, delivery.clone()))?;
+    let mut linked = BTreeMap::new();
+    for sending in links.sending.values() {
+        let other = &sending.to_part;
+        linked.insert(other.clone(), format!("link {part} → {other}"));
+    }
+    for call in links.calls_in.values() {
+        linked.insert(
+            call.client_part.clone(),
+            format!("link {part} → {}", call.client_part),
+        );
+    }
+    // A part this one receives from is named as the writer, even if it reads too.
+    for other in links.receiving.values() {
+        linked.insert(other.clone(), format!("link {other} → {part}"));
+    }
+    for call in links.calls_out.values() {
+        let other = &call.server_part;
+        linked.insert(other.clone(), format!("link {other} → {part}"));
+    }
     Ok(Free {
         session: session.clone(),
         delivery,
@@ -119,6 +145,7 @@ pub(crate) fn open(
         _subscribers: subscribers,
         _queryables: queryables,
         watch,
+        linked,
         failures: AtomicU64::new(0),
         closed: AtomicBool::new(false),
     })
@@ -277,10 +304,10 @@ impl Connection for Free {
     fn send(&self, _to_part: &str, frame: Frame) {
         match LinkKind::of(frame.link) {
             LinkKind::Data(id) => {
-                if let Some(publisher) = self.data.get(&id) {
+                if let Some((publisher, attachment)) = self.data.get(&id) {
                     let put = publisher
                         .put(frame.bytes)
-                        .attachment(id.to_le_bytes().to_vec())
+                        .attachment(attachment.clone())
                         .wait();
                     if let Err(e) = put {
                         self.failed(&format!("a value of link {id} could not be sent: {e}"));
@@ -303,6 +330,17 @@ impl Connection for Free {
 
     fn wait_instant(&self, _nanos: u64, _stop: &AtomicBool) -> Result<Vec<Frame>, String> {
         Err("this part's network was opened to run freely, not in lockstep".into())
+    }
+
+    fn status(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        for (part, link) in &self.linked {
+            if let Some(since) = self.watch.parts.gone_since(part) {
+                let secs = since.elapsed().as_secs_f64();
+                lines.push(format!("{link}: part {part} gone since {secs:.1} s"));
+            }
+        }
+        lines
     }
 
     fn close(&self) {

@@ -11,7 +11,8 @@
 //! Before its first message a part waits until the receiving part's subscriber is
 //! there (the publisher's matching status), so the first instant is never lost. A part
 //! it waits for whose liveliness token is withdrawn (it stopped, was killed or lost its
-//! network) ends the run with an error naming it: never a hang.
+//! network) ends the run with an error naming it: never a hang. So does a part it only
+//! sends to: its instants would go nowhere.
 
 use crate::alive::{Change, Watch};
 use crate::keys::Keys;
@@ -49,7 +50,8 @@ const PATIENCE: Duration = Duration::from_secs(5);
 
 /// How long the instants a part sent before it went may still arrive: Zenoh withdraws
 /// a token with priority over data, so the news that a part ended can overtake the
-/// last instants it sent.
+/// last instants it sent. A part that only sends to a part that is gone goes on for as
+/// long too, so that two programs told to stop at about the same time both end cleanly.
 const GRACE: Duration = Duration::from_secs(2);
 
 /// The open network of a part in lockstep.
@@ -164,6 +166,20 @@ impl Connection for Lockstep {
         if !self.matched.load(Ordering::Relaxed) {
             self.wait_for_receivers(stop)?;
             self.matched.store(true, Ordering::Relaxed);
+        }
+        // A part this one only sends to never makes it wait: without this, a sender
+        // whose reader died would run on alone, its instants lost, as if all were well.
+        for part in self.to.keys() {
+            let gone = self.watch.parts.gone_since(part).map(|t| t.elapsed());
+            if let Some(ago) = gone.filter(|ago| *ago >= GRACE) {
+                return Err(format!(
+                    "the part `{part}` is gone (its Zenoh session ended {:.1} s ago: stopped, \
+                     killed or cut off); it no longer receives the instants of this part \
+                     (at {:.3} s)",
+                    ago.as_secs_f64(),
+                    nanos as f64 / 1e9
+                ));
+            }
         }
         let mut by_part: BTreeMap<&str, Vec<(u32, Vec<u8>)>> = BTreeMap::new();
         for (part, frame) in frames {

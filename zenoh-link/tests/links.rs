@@ -159,3 +159,58 @@ fn in_lockstep_a_peer_that_stops_ends_the_run_with_an_error_naming_it() {
     assert!(failure.contains("the part `a` is gone"), "{failure}");
     assert_eq!(b.end_reason(), "failed");
 }
+
+#[test]
+fn in_lockstep_a_part_that_only_sends_ends_with_an_error_when_its_reader_is_gone() {
+    let registry = registry();
+    let peers = two_peers();
+    let start = |part: &str, cycles: u64| {
+        let options = over_zenoh(lockstep(cycles), "links_sender", part, &peers);
+        probed(&registry, part, 14.0).start_with(options).unwrap()
+    };
+    let (a, b) = (start("a", 100_000_000), start("b", 100_000_000));
+    assert!(
+        eventually(Duration::from_secs(20), || probe_lines(14) > 10),
+        "the reader runs: {:?}",
+        record(14)
+    );
+    // `a` waits for nobody; once `b` is gone its instants go nowhere, so it must stop.
+    drop(b);
+    assert!(
+        a.wait_timeout(Duration::from_secs(30)),
+        "a runs on alone, as if all were well"
+    );
+    let failure = a.failure().unwrap_or_default().to_owned();
+    assert!(
+        failure.contains("the part `b` is gone") && failure.contains("no longer receives"),
+        "{failure}"
+    );
+    assert_eq!(a.end_reason(), "failed");
+}
+
+#[test]
+fn in_lockstep_a_part_that_only_sends_ends_cleanly_when_both_reach_the_limit() {
+    let registry = registry();
+    let peers = two_peers();
+    let start = |part: &str| {
+        let options = over_zenoh(lockstep(40), "links_sender_end", part, &peers);
+        probed(&registry, part, 15.0).start_with(options).unwrap()
+    };
+    let (a, b) = (start("a"), start("b"));
+    for app in [&a, &b] {
+        assert!(app.wait_timeout(Duration::from_secs(30)), "the run ends");
+        assert_eq!(app.failure(), None);
+    }
+    assert_eq!(
+        probe_lines(15),
+        16,
+        "b's instants before 400 ms: {:?}",
+        record(15)
+    );
+    drop((a, b));
+}
+
+/// How many cycles the probe of `b` noted under `tag` (`a`'s echo notes its own).
+fn probe_lines(tag: u64) -> usize {
+    record(tag).iter().filter(|l| !l.starts_with("a/")).count()
+}

@@ -52,11 +52,29 @@ fn an_input_from_a_part_that_is_gone_is_stale_and_fresh_again_when_it_is_back() 
         !last.contains("age none") && !last.starts_with("stale 0 "),
         "{last}"
     );
+    // The status line and the log say so while it lasts, and since when.
+    let gone_for = |status: &[String]| -> Option<f64> {
+        let [line] = status else { return None };
+        let rest = line.strip_prefix("link a → b: part a gone since ")?;
+        rest.strip_suffix(" s")?.parse().ok()
+    };
+    let first = gone_for(&b.network_status());
+    assert!(first.is_some(), "{:?}", b.network_status());
+    assert!(
+        eventually(wait, || gone_for(&b.network_status()) > first),
+        "the time since goes on: {:?}",
+        b.network_status()
+    );
     let a = start("a");
     assert!(
         eventually(wait, || state(301) == "fresh"),
         "{:?}",
         record(301)
+    );
+    assert!(
+        eventually(wait, || b.network_status().is_empty()),
+        "back: {:?}",
+        b.network_status()
     );
     a.stop();
     b.stop();

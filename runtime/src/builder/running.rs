@@ -105,6 +105,13 @@ impl RunningApp {
         self.failure.get().map(String::as_str)
     }
 
+    /// What the network between parts reports now, a line each: a linked part that is
+    /// gone, and since when (`link robot → station: part robot gone since 3.2 s`).
+    /// Empty while all is well, and for an application without links to other programs.
+    pub fn network_status(&self) -> Vec<String> {
+        self.hub.status()
+    }
+
     /// Why the application ended by itself: the cycle limit, or in lockstep with a
     /// time limit, model time.
     pub fn end_reason(&self) -> &'static str {

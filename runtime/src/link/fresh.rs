@@ -12,6 +12,13 @@ use std::time::Duration;
 /// The freshness of the link feeding an input, set when a link is connected to it.
 pub(crate) type Source = OnceLock<Arc<Freshness>>;
 
+/// A value on its way into the port (see [`Freshness::arriving`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Arrival {
+    before: i64,
+    now: i64,
+}
+
 /// The freshness of one link's values.
 #[derive(Debug)]
 pub(crate) struct Freshness {
@@ -44,18 +51,47 @@ impl Freshness {
 
     /// A value arrived now; the gap since the previous one when it exceeded the
     /// deadline.
+    #[cfg(test)]
     pub(crate) fn arrived(&self, now: Timestamp) -> Option<Duration> {
+        self.arrived_after(self.arriving(now))
+    }
+
+    /// A value is arriving now: its time is noted before it is published (so that a
+    /// reader it wakes sees it), to be confirmed with [`arrived_after`](Self::arrived_after)
+    /// or taken back with [`not_arrived`](Self::not_arrived) if it does not decode.
+    pub(crate) fn arriving(&self, now: Timestamp) -> Arrival {
         let before = self.last.swap(now.nanos, Ordering::Relaxed);
+        Arrival {
+            before,
+            now: now.nanos,
+        }
+    }
+
+    /// The value of `arrival` was published: the gap since the previous one when it
+    /// exceeded the deadline.
+    pub(crate) fn arrived_after(&self, arrival: Arrival) -> Option<Duration> {
         let deadline = self.deadline?;
-        if before == i64::MIN {
+        if arrival.before == i64::MIN {
             return None;
         }
-        let gap =
-            Duration::from_nanos(u64::try_from(now.nanos.saturating_sub(before)).unwrap_or(0));
+        let gap = Duration::from_nanos(
+            u64::try_from(arrival.now.saturating_sub(arrival.before)).unwrap_or(0),
+        );
         (gap > deadline).then(|| {
             self.missed.fetch_add(1, Ordering::Relaxed);
             gap
         })
+    }
+
+    /// The value of `arrival` did not decode: the previous arrival time stands (unless
+    /// another value arrived meanwhile).
+    pub(crate) fn not_arrived(&self, arrival: Arrival) {
+        let _ = self.last.compare_exchange(
+            arrival.now,
+            arrival.before,
+            Ordering::Relaxed,
+            Ordering::Relaxed,
+        );
     }
 
     /// Reports a missed deadline: the first one, then every 100th (a link that keeps
@@ -146,5 +182,20 @@ mod tests {
         assert_eq!(f.arrived(at(500)), Some(Duration::from_millis(350)));
         assert!(!f.is_stale(at(600)));
         assert_eq!(f.missed(), 1);
+    }
+
+    #[test]
+    fn a_value_that_does_not_decode_leaves_the_arrival_before_it() {
+        let f = Freshness::default();
+        let at = |ms: i64| Timestamp {
+            nanos: ms * 1_000_000,
+        };
+        let first = f.arriving(at(10));
+        assert!(!f.is_stale(at(10)), "noted before the value is published");
+        f.not_arrived(first);
+        assert!(f.is_stale(at(11)), "it did not decode: still nothing");
+        f.arrived(at(20));
+        f.not_arrived(f.arriving(at(30)));
+        assert_eq!(f.age(at(40)), Some(Duration::from_millis(20)));
     }
 }

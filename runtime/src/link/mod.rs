@@ -200,8 +200,14 @@ impl Inbox {
     /// Publishes a frame's value into its reader. A frame for an unknown link or one
     /// that does not decode is reported (the first time) and dropped.
     pub(crate) fn deliver(&self, frame: &Frame) {
-        if let Some(end) = self.direct.get(&frame.link) {
-            if let Err(why) = end.receive(&frame.bytes) {
+        self.deliver_bytes(frame.link, &frame.bytes);
+    }
+
+    /// [`deliver`](Self::deliver) for a value the network still holds in its own
+    /// buffer: no copy into a [`Frame`] on the way.
+    pub(crate) fn deliver_bytes(&self, link_number: u32, bytes: &[u8]) {
+        if let Some(end) = self.direct.get(&link_number) {
+            if let Err(why) = end.receive(bytes) {
                 if self.direct_failures.fetch_add(1, Ordering::Relaxed) == 0 {
                     crate::console::line(&format!(
                         "warning: a call or parameter between parts went wrong: {why}"
@@ -210,30 +216,34 @@ impl Inbox {
             }
             return;
         }
-        let Some(link) = self.links.get(&frame.link) else {
+        let Some(link) = self.links.get(&link_number) else {
             // Reported once: a peer built from another model would repeat it forever.
             if self.unknown.fetch_add(1, Ordering::Relaxed) == 0 {
                 crate::console::line(&format!(
-                    "warning: a peer sent a value for link {}, which this part does not \
-                     receive; are both programs built from the same model? (further such \
-                     values are dropped silently)",
-                    frame.link
+                    "warning: a peer sent a value for link {link_number}, which this part \
+                     does not receive; are both programs built from the same model? (further \
+                     such values are dropped silently)"
                 ));
             }
             return;
         };
-        let decoded = link.wire.decode(&link.out, &frame.bytes);
-        if decoded.is_ok() {
-            if let Some(missed) = link.fresh.arrived(Timestamp::now()) {
-                link.fresh.report_missed(&link.describe, missed);
+        // The arrival is noted before the value is published, so that a reader woken
+        // by it sees its age and freshness, never those of the value before.
+        let before = link.fresh.arriving(Timestamp::now());
+        match link.wire.decode(&link.out, bytes) {
+            Ok(()) => {
+                if let Some(missed) = link.fresh.arrived_after(before) {
+                    link.fresh.report_missed(&link.describe, missed);
+                }
             }
-        }
-        if let Err(why) = decoded {
-            if link.failures.fetch_add(1, Ordering::Relaxed) == 0 {
-                crate::console::line(&format!(
-                    "warning: {}: a value could not be decoded ({why}); it is dropped",
-                    link.describe
-                ));
+            Err(why) => {
+                link.fresh.not_arrived(before);
+                if link.failures.fetch_add(1, Ordering::Relaxed) == 0 {
+                    crate::console::line(&format!(
+                        "warning: {}: a value could not be decoded ({why}); it is dropped",
+                        link.describe
+                    ));
+                }
             }
         }
     }
@@ -275,6 +285,17 @@ impl Hub {
                 .unwrap_or_else(|e| e.into_inner())
                 .push((Arc::clone(to_part), frame)),
             None => {}
+        }
+    }
+
+    /// What the network reports now ([`transport::Connection::status`]).
+    pub(crate) fn status(&self) -> Vec<String> {
+        match self.route.get() {
+            Some(Route::Direct {
+                network: Some(network),
+                ..
+            }) => network.status(),
+            _ => Vec::new(),
         }
     }
 

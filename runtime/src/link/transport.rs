@@ -166,6 +166,13 @@ pub trait Connection: Send + Sync {
 
     /// Closes the connection (after the containers stopped).
     fn close(&self);
+
+    /// What the network has to report now, a line each, for the status line and the
+    /// log: a linked part that is gone (`link robot → station: part robot gone since
+    /// 3.2 s`). Empty while all is well.
+    fn status(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// Where a network hands what arrives: the receiving ends of this part.
@@ -183,6 +190,12 @@ impl Delivery {
     /// reported and dropped).
     pub fn deliver(&self, frame: &Frame) {
         self.inbox.deliver(frame);
+    }
+
+    /// [`deliver`](Self::deliver) for a value still in the network's own buffer (no
+    /// copy into a [`Frame`]).
+    pub fn deliver_bytes(&self, link: u32, bytes: &[u8]) {
+        self.inbox.deliver_bytes(link, bytes);
     }
 
     /// Whether this part receives the link `link`.
