@@ -53,3 +53,6 @@ pub mod resource;
 pub mod service;
 pub mod supervise;
 mod sync;
+#[cfg(any(test, feature = "test-support"))]
+#[doc(hidden)]
+pub mod test_support;

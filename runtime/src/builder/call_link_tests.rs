@@ -3,75 +3,9 @@
 //! blocking calls are answered; unregistered types are refused. (Two programs over the
 //! network: `zenoh-link/tests/`.)
 
-use super::link_test_support::*;
 use super::tests::add;
 use super::*;
-use crate::link::CallSpec;
-use crate::module::{ModuleType, Parameter};
-use crate::service::{ClientPort, PendingResponse, ServicePort};
-
-/// Asks `ask` for n² (n = 1, 2, …) asynchronously, or blocking when `blocking` is set.
-struct Asker {
-    ask: ClientPort<i64, i64>,
-    pending: Option<PendingResponse<i64>>,
-    n: i64,
-    blocking: Parameter<bool>,
-    tag: Parameter<f64>,
-}
-impl Module for Asker {
-    fn update(&mut self) {
-        let tag = self.tag.get();
-        if self.blocking.get() {
-            self.n += 1;
-            let answer = self.ask.call(self.n);
-            note(tag, format!("{} → {answer:?}", self.n));
-            return;
-        }
-        let mut event = String::from("waits");
-        if let Some(pending) = self.pending.take() {
-            match pending.try_take() {
-                Ok(answer) => event = format!("answer {answer:?}"),
-                Err(pending) => self.pending = Some(pending),
-            }
-        }
-        if self.pending.is_none() {
-            self.n += 1;
-            self.pending = self.ask.call_async(self.n).ok();
-            event.push_str(&format!(", asks {}", self.n));
-        }
-        note(tag, format!("a @{}ms {event}", model_ms()));
-    }
-}
-impl ModuleType for Asker {
-    const NAME: &'static str = "test.Asker";
-    fn create(m: &mut Setup<'_>) -> Self {
-        Asker {
-            ask: m.client("ask").timeout(Duration::from_secs(5)).build(),
-            pending: None,
-            n: 0,
-            blocking: m.param("blocking").default(false).build(),
-            tag: m.param("tag").default(0.0).build(),
-        }
-    }
-}
-
-/// Serves `square` in its step.
-struct Squarer {
-    square: ServicePort<i64, i64>,
-}
-impl Module for Squarer {
-    fn update(&mut self) {
-        self.square.serve_pending(|x| x * x);
-    }
-}
-impl ModuleType for Squarer {
-    const NAME: &'static str = "test.Squarer";
-    fn create(m: &mut Setup<'_>) -> Self {
-        Squarer {
-            square: m.service("square").build(),
-        }
-    }
-}
+use crate::test_support::*;
 
 fn registry(with_call: bool) -> Registry {
     let mut r = Registry::new();
@@ -81,13 +15,6 @@ fn registry(with_call: bool) -> Registry {
     }
     r
 }
-
-const CALL: CallSpec<'static> = CallSpec {
-    id: 0,
-    client_part: "a",
-    server_part: "b",
-    service: "b/squarer/square",
-};
 
 fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64, blocking: bool) -> Builder<'r> {
     let mut b = Builder::new(registry);

@@ -2,69 +2,10 @@
 //! paced by their sharing; running freely they arrive; a link leaving the process
 //! without a network is refused. (Two programs over the network: `zenoh-link/tests/`.)
 
-use super::link_test_support::*;
 use super::tests::add;
 use super::*;
-use crate::link::{LinkSpec, Sharing};
-use crate::module::{In, ModuleType, Out, Parameter};
-
-/// Publishes `n · step + what it last received` and records what it saw when.
-struct Echo {
-    input: In<u32>,
-    out: Out<u32>,
-    step: Parameter<f64>,
-    tag: Parameter<f64>,
-    path: String,
-    n: u32,
-}
-impl Module for Echo {
-    fn update(&mut self) {
-        self.n += 1;
-        let got = self.input.get();
-        let stale = if self.input.is_stale() {
-            " (stale)"
-        } else {
-            ""
-        };
-        let line = format!("{} @{}ms got {got}{stale}", self.path, model_ms());
-        note(self.tag.get(), line);
-        self.out.publish(self.n * self.step.get() as u32 + got);
-    }
-}
-impl ModuleType for Echo {
-    const NAME: &'static str = "test.Echo";
-    fn create(m: &mut Setup<'_>) -> Self {
-        Echo {
-            input: m.input("in").build(),
-            out: m.output("out").build(),
-            step: m.param("step").default(1.0).build(),
-            tag: m.param("tag").default(0.0).build(),
-            path: m.path().to_owned(),
-            n: 0,
-        }
-    }
-}
-
-const A_TO_B: LinkSpec<'static> = LinkSpec {
-    id: 0,
-    from_part: "a",
-    to_part: "b",
-    model_type: "u32",
-    sharing: Sharing::OnChange {
-        min_interval: Duration::ZERO,
-    },
-    reliable: true,
-    deadline: None,
-};
-const B_TO_A: LinkSpec<'static> = LinkSpec {
-    id: 1,
-    from_part: "b",
-    to_part: "a",
-    model_type: "u32",
-    sharing: Sharing::Periodic(Duration::from_millis(50)),
-    reliable: false,
-    deadline: None,
-};
+use crate::link::LinkSpec;
+use crate::test_support::*;
 
 /// Part `a` (10 ms) and/or part `b` (25 ms), each end of each link in its own part.
 fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64) -> Builder<'r> {

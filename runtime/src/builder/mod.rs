@@ -458,8 +458,6 @@ mod call_link_tests;
 #[cfg(test)]
 mod convert_tests;
 #[cfg(test)]
-mod link_test_support;
-#[cfg(test)]
 mod link_tests;
 #[cfg(test)]
 mod lock_tests;

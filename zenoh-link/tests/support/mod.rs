@@ -6,150 +6,18 @@
 #![allow(dead_code)]
 
 use ferroc_runtime::builder::{
-    Builder, Conversion, Lockstep, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,
-    StepKind, ThreadSpec,
+    Builder, Conversion, ModuleSpec, Registry, Schedule, StartOptions, StepKind, ThreadSpec,
 };
 use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::link::transport::Addresses;
-use ferroc_runtime::link::{CallSpec, LinkSpec, Sharing};
-use ferroc_runtime::module::{In, Module, ModuleType, Out, Parameter, Setup, Timestamp, Value};
+use ferroc_runtime::module::{In, Module, ModuleType, Parameter, Setup, Value};
 use ferroc_runtime::port::ConnectOptions;
-use ferroc_runtime::service::{ClientPort, PendingResponse, ServicePort};
 use ferroc_zenoh::Zenoh;
 use std::collections::BTreeMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-static RECORD: Mutex<BTreeMap<u64, Vec<String>>> = Mutex::new(BTreeMap::new());
-
-/// Adds a line to the record of `tag`.
-pub fn note(tag: f64, line: String) {
-    RECORD
-        .lock()
-        .unwrap()
-        .entry(tag as u64)
-        .or_default()
-        .push(line);
-}
-
-/// Everything noted under `tag`, in order.
-pub fn record(tag: u64) -> Vec<String> {
-    RECORD
-        .lock()
-        .unwrap()
-        .get(&tag)
-        .cloned()
-        .unwrap_or_default()
-}
-
-/// The lines of `tag` that start with `prefix`.
-pub fn lines_of(tag: u64, prefix: &str) -> Vec<String> {
-    record(tag)
-        .into_iter()
-        .filter(|l| l.starts_with(prefix))
-        .collect()
-}
-
-fn model_ms() -> i64 {
-    (Timestamp::now().nanos - Timestamp::LOCKSTEP_EPOCH.nanos) / 1_000_000
-}
-
-/// Publishes `n · step + what it last received` and records what it saw when.
-pub struct Echo {
-    input: In<u32>,
-    out: Out<u32>,
-    step: Parameter<f64>,
-    tag: Parameter<f64>,
-    path: String,
-    n: u32,
-}
-impl Module for Echo {
-    fn update(&mut self) {
-        self.n += 1;
-        let got = self.input.get();
-        note(
-            self.tag.get(),
-            format!("{} @{}ms got {got}", self.path, model_ms()),
-        );
-        self.out.publish(self.n * self.step.get() as u32 + got);
-    }
-}
-impl ModuleType for Echo {
-    const NAME: &'static str = "test.Echo";
-    fn create(m: &mut Setup<'_>) -> Self {
-        Echo {
-            input: m.input("in").build(),
-            out: m.output("out").build(),
-            step: m.param("step").default(1.0).build(),
-            tag: m.param("tag").default(0.0).build(),
-            path: m.path().to_owned(),
-            n: 0,
-        }
-    }
-}
-
-/// Asks `ask` for n² (n = 1, 2, …) asynchronously, or blocking when `blocking` is set.
-pub struct Asker {
-    ask: ClientPort<i64, i64>,
-    pending: Option<PendingResponse<i64>>,
-    n: i64,
-    blocking: Parameter<bool>,
-    tag: Parameter<f64>,
-}
-impl Module for Asker {
-    fn update(&mut self) {
-        let tag = self.tag.get();
-        if self.blocking.get() {
-            self.n += 1;
-            let answer = self.ask.call(self.n);
-            note(tag, format!("{} → {answer:?}", self.n));
-            return;
-        }
-        let mut event = String::from("waits");
-        if let Some(pending) = self.pending.take() {
-            match pending.try_take() {
-                Ok(answer) => event = format!("answer {answer:?}"),
-                Err(pending) => self.pending = Some(pending),
-            }
-        }
-        if self.pending.is_none() {
-            self.n += 1;
-            self.pending = self.ask.call_async(self.n).ok();
-            event.push_str(&format!(", asks {}", self.n));
-        }
-        note(tag, format!("a @{}ms {event}", model_ms()));
-    }
-}
-impl ModuleType for Asker {
-    const NAME: &'static str = "test.Asker";
-    fn create(m: &mut Setup<'_>) -> Self {
-        Asker {
-            ask: m.client("ask").timeout(Duration::from_secs(5)).build(),
-            pending: None,
-            n: 0,
-            blocking: m.param("blocking").default(false).build(),
-            tag: m.param("tag").default(0.0).build(),
-        }
-    }
-}
-
-/// Serves `square` in its step.
-pub struct Squarer {
-    square: ServicePort<i64, i64>,
-}
-impl Module for Squarer {
-    fn update(&mut self) {
-        self.square.serve_pending(|x| x * x);
-    }
-}
-impl ModuleType for Squarer {
-    const NAME: &'static str = "test.Squarer";
-    fn create(m: &mut Setup<'_>) -> Self {
-        Squarer {
-            square: m.service("square").build(),
-        }
-    }
-}
+pub use ferroc_runtime::test_support::*;
 
 /// Notes, each cycle, whether its input is stale, with the input's age.
 pub struct Probe {
@@ -189,33 +57,6 @@ pub fn registry() -> Registry {
     r.register_call::<i64, i64>();
     r
 }
-
-pub const A_TO_B: LinkSpec<'static> = LinkSpec {
-    id: 0,
-    from_part: "a",
-    to_part: "b",
-    model_type: "u32",
-    sharing: Sharing::OnChange {
-        min_interval: Duration::ZERO,
-    },
-    reliable: true,
-    deadline: None,
-};
-pub const B_TO_A: LinkSpec<'static> = LinkSpec {
-    id: 1,
-    from_part: "b",
-    to_part: "a",
-    model_type: "u32",
-    sharing: Sharing::Periodic(Duration::from_millis(50)),
-    reliable: false,
-    deadline: None,
-};
-pub const CALL: CallSpec<'static> = CallSpec {
-    id: 0,
-    client_part: "a",
-    server_part: "b",
-    service: "b/squarer/square",
-};
 
 fn add(b: &mut Builder<'_>, path: &str, type_name: &str, params: &[(String, Value)]) {
     b.add_module(ModuleSpec {
@@ -339,18 +180,6 @@ pub fn zenoh(app: &str, part: &str, peers: &BTreeMap<String, String>) -> Arc<Zen
     Arc::new(Zenoh::new(app, addresses, None).unwrap())
 }
 
-/// Lockstep for parts `a` (10 ms) and `b` (25 ms), each container `cycles` cycles.
-pub fn lockstep(cycles: u64) -> StartOptions {
-    StartOptions {
-        limit: Some(cycles),
-        lockstep: Some(Lockstep {
-            periods: vec![Duration::from_millis(10), Duration::from_millis(25)],
-            until: None,
-        }),
-        network: None,
-    }
-}
-
 /// Running freely for `cycles` cycles.
 pub fn free(cycles: u64) -> StartOptions {
     StartOptions {
@@ -368,15 +197,6 @@ pub fn over_zenoh(
 ) -> StartOptions {
     options.network = Some(zenoh(app, part, peers));
     options
-}
-
-/// Waits (at most 30 s) until the run ends, then stops it.
-pub fn run_to_end(app: RunningApp) {
-    assert!(
-        app.wait_timeout(Duration::from_secs(30)),
-        "the run did not end"
-    );
-    drop(app);
 }
 
 /// Waits (at most `limit`) until `done` holds.
