@@ -48,6 +48,27 @@ pub fn model_ms() -> i64 {
     (Timestamp::now().nanos - Timestamp::LOCKSTEP_EPOCH.nanos) / 1_000_000
 }
 
+/// Publishes 1, 2, 3, … on `out`, one a step.
+pub struct Counter {
+    out: Out<u32>,
+    n: u32,
+}
+impl Module for Counter {
+    fn update(&mut self) {
+        self.n += 1;
+        self.out.publish(self.n);
+    }
+}
+impl ModuleType for Counter {
+    const NAME: &'static str = "test.Counter";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Counter {
+            out: m.output("out").build(),
+            n: 0,
+        }
+    }
+}
+
 /// Publishes `n · step + what it last received` and records what it saw when, and
 /// whether its input was stale then.
 pub struct Echo {

@@ -1,26 +1,7 @@
 use super::*;
 use crate::module::{In, ModuleType, Out, Parameter};
 use crate::port::CopyInputPort;
-
-struct Counter {
-    out: Out<u32>,
-    n: u32,
-}
-impl Module for Counter {
-    fn update(&mut self) {
-        self.n += 1;
-        self.out.publish(self.n);
-    }
-}
-impl ModuleType for Counter {
-    const NAME: &'static str = "test.Counter";
-    fn create(m: &mut Setup<'_>) -> Self {
-        Counter {
-            out: m.output("out").build(),
-            n: 0,
-        }
-    }
-}
+use crate::test_support::Counter;
 
 struct Gain {
     input: In<f64>,

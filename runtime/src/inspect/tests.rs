@@ -4,27 +4,8 @@ use crate::builder::{StepKind, ThreadSpec};
 use crate::container::ThreadOptions;
 use crate::module::{In, Module, ModuleType, Out, Parameter, Setup};
 use crate::port::ConnectOptions;
+use crate::test_support::Counter;
 use std::time::Duration;
-
-struct Counter {
-    out: Out<u32>,
-    n: u32,
-}
-impl Module for Counter {
-    fn update(&mut self) {
-        self.n += 1;
-        self.out.publish(self.n);
-    }
-}
-impl ModuleType for Counter {
-    const NAME: &'static str = "test.Counter";
-    fn create(m: &mut Setup<'_>) -> Self {
-        Counter {
-            out: m.output("out").build(),
-            n: 0,
-        }
-    }
-}
 
 struct Gain {
     input: In<u32>,
