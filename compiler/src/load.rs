@@ -9,6 +9,10 @@ use crate::syntax::xml::{self, Element};
 use crate::syntax::AllowRegion;
 use std::path::{Path, PathBuf};
 
+mod read;
+use read::io_reason;
+pub use read::{is_stdin, read_bounded, read_stdin, read_text, root_element, root_element_of};
+
 /// Bounds that keep hostile input from exhausting memory or the stack.
 #[derive(Clone, Debug)]
 pub struct Limits {
@@ -78,144 +82,6 @@ pub struct Loader<'a> {
     root_dir: PathBuf,
     /// Standard input, when the model comes from there and was read already.
     stdin_text: Option<String>,
-}
-
-/// Reads a file as text, refusing what could exhaust memory or block: folders, files
-/// over the size limit (judged on the bytes read, not only on the size the file system
-/// reports: `/proc` files and growing files report less) and anything that is not a
-/// regular file (a FIFO would block in `open` until a writer comes, a device such as
-/// `/dev/zero` never ends). `Err` says why, in words for a diagnostic.
-pub fn read_text(path: &Path, limits: &Limits) -> Result<String, String> {
-    let meta = std::fs::metadata(path).map_err(|e| io_reason(&e))?;
-    if meta.is_dir() {
-        return Err("it is a directory".into());
-    }
-    if !meta.is_file() {
-        return Err(not_regular(&meta));
-    }
-    if meta.len() > limits.max_file_bytes {
-        return Err(over_limit(meta.len(), limits));
-    }
-    let file = std::fs::File::open(path).map_err(|e| io_reason(&e))?;
-    // The path may have been replaced since the check above: judge the opened file.
-    let meta = file.metadata().map_err(|e| io_reason(&e))?;
-    if !meta.is_file() {
-        return Err(not_regular(&meta));
-    }
-    read_bounded_sized(file, limits, meta.len())
-}
-
-/// Reads `input` to its end, or fails once it holds more than the size limit.
-pub fn read_bounded(input: impl std::io::Read, limits: &Limits) -> Result<String, String> {
-    read_bounded_sized(input, limits, 0)
-}
-
-/// [`read_bounded`] into a buffer sized for the `expected` bytes a file's metadata
-/// reports (plus one, to see the end without growing): a buffer grown by doubling
-/// holds up to twice the file, and its copies stay resident.
-fn read_bounded_sized(
-    input: impl std::io::Read,
-    limits: &Limits,
-    expected: u64,
-) -> Result<String, String> {
-    use std::io::Read;
-    let room = expected.min(limits.max_file_bytes).saturating_add(1);
-    let mut bytes = Vec::with_capacity(usize::try_from(room).unwrap_or(0));
-    input
-        .take(limits.max_file_bytes.saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(|e| io_reason(&e))?;
-    if bytes.len() as u64 > limits.max_file_bytes {
-        return Err(over_limit(bytes.len() as u64, limits));
-    }
-    String::from_utf8(bytes).map_err(|e| {
-        format!(
-            "it is not UTF-8 text (invalid byte at offset {})",
-            e.utf8_error().valid_up_to()
-        )
-    })
-}
-
-/// Reads standard input to its end, within the size limit.
-pub fn read_stdin(limits: &Limits) -> Result<String, String> {
-    read_bounded(std::io::stdin().lock(), limits)
-}
-
-/// Whether `path` names standard input (`-` or `/dev/stdin`): a model may come from a
-/// pipe, read once (a pipe cannot be read twice).
-pub fn is_stdin(path: &Path) -> bool {
-    path == Path::new("-") || path == Path::new("/dev/stdin")
-}
-
-fn over_limit(len: u64, limits: &Limits) -> String {
-    format!(
-        "it is {} MiB, over the limit of {} MiB",
-        len >> 20,
-        limits.max_file_bytes >> 20
-    )
-}
-
-fn not_regular(meta: &std::fs::Metadata) -> String {
-    #[cfg(unix)]
-    let kind = {
-        use std::os::unix::fs::FileTypeExt;
-        let t = meta.file_type();
-        if t.is_fifo() {
-            "a FIFO (named pipe)"
-        } else if t.is_char_device() || t.is_block_device() {
-            "a device"
-        } else if t.is_socket() {
-            "a socket"
-        } else {
-            "not a regular file"
-        }
-    };
-    #[cfg(not(unix))]
-    let kind = {
-        let _ = meta;
-        "not a regular file"
-    };
-    format!("it is {kind}; ferroc reads only regular files (a model may also come from standard input: `-`)")
-}
-
-/// The name of a file's first element, reading no further than that (at most 1 MiB);
-/// `None` when the file cannot be read, is not a regular file (nothing that could
-/// block or never end is opened) or holds no element there.
-pub fn root_element(path: &Path) -> Option<String> {
-    const LOOK_AT_MOST: u64 = 1 << 20;
-    if !std::fs::metadata(path).ok()?.is_file() {
-        return None;
-    }
-    let file = std::fs::File::open(path).ok()?;
-    if !file.metadata().ok()?.is_file() {
-        return None;
-    }
-    let input = std::io::BufReader::new(std::io::Read::take(file, LOOK_AT_MOST));
-    root_element_of(input)
-}
-
-/// The name of the first element of XML text (see [`root_element`]).
-pub fn root_element_of(input: impl std::io::BufRead) -> Option<String> {
-    use quick_xml::events::Event;
-    let mut reader = quick_xml::Reader::from_reader(input);
-    let mut buf = Vec::new();
-    loop {
-        match reader.read_event_into(&mut buf).ok()? {
-            Event::Start(tag) | Event::Empty(tag) => {
-                return Some(String::from_utf8_lossy(tag.name().into_inner()).into_owned())
-            }
-            Event::Eof => return None,
-            _ => buf.clear(),
-        }
-    }
-}
-
-fn io_reason(e: &std::io::Error) -> String {
-    match e.kind() {
-        std::io::ErrorKind::NotFound => "no such file".into(),
-        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
-        _ => e.to_string(),
-    }
 }
 
 impl<'a> Loader<'a> {
