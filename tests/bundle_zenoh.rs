@@ -27,12 +27,29 @@ fn programs(name: &str) -> PathBuf {
     build_bundle(&dir.join("bundle")).join("debug")
 }
 
-/// A started program and the lines of its standard error so far.
+/// A started program and the lines of its standard error and output so far.
 struct Program {
     child: Child,
     stderr: Arc<Mutex<Vec<String>>>,
+    /// What its modules printed (the asker's Dump: one line per answer).
+    stdout: Arc<Mutex<Vec<String>>>,
     /// The thread reading standard error; it ends when the program closed it.
     reader: Option<std::thread::JoinHandle<()>>,
+}
+
+/// The lines read from `pipe`, as they come, and the thread reading them (it ends when
+/// the pipe is closed).
+fn collect(
+    pipe: impl std::io::Read + Send + 'static,
+) -> (Arc<Mutex<Vec<String>>>, std::thread::JoinHandle<()>) {
+    let lines = Arc::new(Mutex::new(Vec::new()));
+    let into = Arc::clone(&lines);
+    let reader = std::thread::spawn(move || {
+        for line in BufReader::new(pipe).lines().map_while(Result::ok) {
+            into.lock().unwrap().push(line);
+        }
+    });
+    (lines, reader)
 }
 
 impl Program {
@@ -46,21 +63,17 @@ impl Program {
             }
         }
         let mut child = command
-            .stdout(Stdio::null())
+            .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
             .unwrap();
-        let stderr = Arc::new(Mutex::new(Vec::new()));
-        let lines = Arc::clone(&stderr);
-        let pipe = child.stderr.take().unwrap();
-        let reader = std::thread::spawn(move || {
-            for line in BufReader::new(pipe).lines().map_while(Result::ok) {
-                lines.lock().unwrap().push(line);
-            }
-        });
+        let (stderr, reader) = collect(child.stderr.take().unwrap());
+        // Its reader ends by itself when the program exits.
+        let (stdout, _) = collect(child.stdout.take().unwrap());
         Program {
             child,
             stderr,
+            stdout,
             reader: Some(reader),
         }
     }
@@ -72,6 +85,21 @@ impl Program {
             reader.join().unwrap();
         }
         self.log()
+    }
+
+    /// Waits (at most `limit`) until the asker printed an answer of the server: then
+    /// the server's part is known to it, liveliness token included.
+    fn answered(&self, limit: Duration) -> bool {
+        let start = Instant::now();
+        while start.elapsed() < limit {
+            let lines = self.stdout.lock().unwrap();
+            if lines.iter().any(|l| !l.ends_with("= 0")) {
+                return true;
+            }
+            drop(lines);
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        false
     }
 
     fn said(&self, text: &str) -> bool {
@@ -109,8 +137,9 @@ fn running_freely_a_killed_peer_is_reported_and_so_is_its_return() {
     let args = ["--for", "10min"];
     let asker = Program::start(&bin, "asker", &addresses, &args);
     let mut server = Program::start(&bin, "server", &addresses, &args);
-    // The asker learns of the server through its liveliness token; then kill -9.
-    std::thread::sleep(Duration::from_secs(2));
+    // Once the asker has an answer, it knows the server (and its liveliness token);
+    // then kill -9.
+    assert!(asker.answered(Duration::from_secs(60)), "{}", asker.log());
     server.child.kill().unwrap();
     let _ = server.child.wait();
     let limit = Duration::from_secs(30);
@@ -147,7 +176,8 @@ fn in_lockstep_a_killed_peer_ends_the_other_program_with_an_error() {
     let args = ["--lockstep", "--cycles", "100000000"];
     let mut asker = Program::start(&bin, "asker", &addresses, &args);
     let mut server = Program::start(&bin, "server", &addresses, &args);
-    std::thread::sleep(Duration::from_secs(2));
+    // The two run in step once the asker has an answer; then kill -9 the server.
+    assert!(asker.answered(Duration::from_secs(60)), "{}", asker.log());
     assert!(asker.child.try_wait().unwrap().is_none(), "{}", asker.log());
     server.child.kill().unwrap();
     let _ = server.child.wait();
