@@ -1,13 +1,9 @@
 //! `ferroc`: the command line. Subcommands parse arguments and call the compiler.
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 use ferroc_compiler::checks::REGISTRY;
-use ferroc_compiler::diagnostic::Severity;
 use ferroc_compiler::load::Options;
-use ferroc_compiler::report::{self, ModelReport};
-use ferroc_compiler::{check_model, CheckResult, Policy};
-use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// `eprintln!` that does not panic when standard error is closed or full (see
@@ -19,6 +15,7 @@ macro_rules! eprintln {
 }
 
 mod bundle;
+mod check;
 mod finroc;
 mod graph;
 mod inspect;
@@ -60,7 +57,7 @@ group files, config files, finroc_sync configs; docs/finroc.md). Folders are sea
 checked is listed (human format on stdout, other formats on stderr).\n\n\
 Exit codes: 0 no errors (warnings allowed), 1 errors (or warnings with --deny warnings), 2 ferroc could not run."
     )]
-    Check(CheckArgs),
+    Check(check::CheckArgs),
     /// Show the static execution order of every thread container
     #[command(
         long_about = "Check a model, then print for each thread container the order in which its \
@@ -163,81 +160,10 @@ ferroc inspect --watch robot/avoid/activity --for 5s"
     },
 }
 
-#[derive(clap::Args)]
-struct CheckArgs {
-    /// Model files or folders to check
-    #[arg(required = true)]
-    paths: Vec<PathBuf>,
-    /// Output format
-    #[arg(long, value_enum, default_value_t = Format::Human)]
-    format: Format,
-    /// Treat warnings as errors: `--deny warnings`
-    #[arg(long, value_name = "warnings")]
-    deny: Vec<DenyLevel>,
-    /// Silence a code everywhere (repeatable): `--allow T110`
-    #[arg(long, value_name = "CODE")]
-    allow: Vec<String>,
-    /// Extra folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH, `:`-separated)
-    #[arg(long, value_name = "DIR")]
-    lib_path: Vec<PathBuf>,
-    /// Permit <include href> outside the model's folder
-    #[arg(long)]
-    allow_outside_includes: bool,
-    /// Judge deadlocks by this framework's execution semantics, whatever the model's
-    /// <application profile> says
-    #[arg(
-        long,
-        value_enum,
-        long_help = "Judge deadlocks by this framework's execution semantics, whatever the \
-model's <application profile> says. generic: a service runs in the server's thread container \
-and a call through an unconnected client waits (D109). finroc: a call to a service in the same \
-part runs inline in the caller's thread unless the service declares executes=, and an \
-unconnected call fails at once (D111)."
-    )]
-    profile: Option<ProfileArg>,
-    /// Colour in human output: auto, always, never
-    #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
-    color: ColorChoice,
-    /// FINROC files: the checkout root their group and config files are looked up in
-    /// (default: the nearest folder above holding a make.xml, else the file's folder)
-    #[arg(long, value_name = "DIR")]
-    finroc_root: Option<PathBuf>,
-    /// FINROC make.xml: the checkout's target prefix (`rrlib_math`, `finroc_plugins_ib2c`)
-    /// when the folder name does not tell it
-    #[arg(long, value_name = "PREFIX")]
-    finroc_prefix: Option<String>,
-}
-
-#[derive(Clone, Copy, ValueEnum, PartialEq)]
-enum Format {
-    /// rustc-style, with source excerpts
-    Human,
-    /// FILE:LINE:COL: SEVERITY[CODE]: message
-    Short,
-    /// documented in docs/json-format.md
-    Json,
-    /// SARIF 2.1.0 for code scanning
-    Sarif,
-    /// JUnit XML, one test case per check
-    Junit,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum DenyLevel {
-    Warnings,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum ColorChoice {
-    Auto,
-    Always,
-    Never,
-}
-
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Check(args) => check(args),
+        Command::Check(args) => check::run(args),
         Command::Schedule(args) => schedule::run(args),
         Command::Run(args) => runner::run(args),
         Command::Bundle(args) => bundle::run(args),
@@ -286,258 +212,7 @@ fn explain(code: Option<String>, list: bool) -> ExitCode {
     }
 }
 
-/// Model files under the given paths: files as given, folders searched recursively
-/// for application models and FINROC files; every other file found is named in
-/// `skipped` with the reason.
-fn collect_models(
-    paths: &[PathBuf],
-    skipped: &mut Vec<(PathBuf, String)>,
-) -> Result<Vec<PathBuf>, String> {
-    let mut out = Vec::new();
-    for p in paths {
-        if ferroc_compiler::load::is_stdin(p) {
-            out.push(p.clone()); // read once, when it is checked
-        } else if p.is_dir() {
-            let mut found = Vec::new();
-            walk(p, &mut found, skipped, 0);
-            found.sort();
-            if found.is_empty() {
-                return Err(format!(
-                    "{} holds no model to check (*.xml with root <application>, or a FINROC make.xml)",
-                    p.display()
-                ));
-            }
-            out.extend(found);
-        } else if p.exists() {
-            out.push(p.clone());
-        } else {
-            return Err(format!("{}: no such file or folder", p.display()));
-        }
-    }
-    Ok(out)
-}
-
-fn walk(dir: &Path, out: &mut Vec<PathBuf>, skipped: &mut Vec<(PathBuf, String)>, depth: usize) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        skipped.push((dir.to_path_buf(), "folder cannot be read".into()));
-        return;
-    };
-    for entry in entries.flatten() {
-        let path = entry.path();
-        let Ok(kind) = entry.file_type() else {
-            skipped.push((path, "its file type cannot be read".into()));
-            continue;
-        };
-        if entry.file_name().to_string_lossy().starts_with('.') {
-            // Hidden files and folders (.git, editor backups): named once, not entered.
-            skipped.push((path, "hidden (name starts with `.`)".into()));
-            continue;
-        }
-        if kind.is_dir() && depth < 16 {
-            walk(&path, out, skipped, depth + 1);
-        } else if kind.is_dir() {
-            skipped.push((path, "folder nested deeper than 16 levels".into()));
-        } else if !kind.is_file() {
-            skipped.push((path, "not a regular file".into()));
-        } else if let Some(reason) = skip_reason(&path) {
-            skipped.push((path, reason));
-        } else {
-            out.push(path);
-        }
-    }
-}
-
-/// Why a folder scan does not check a file, or `None` for application models and the
-/// FINROC files ferroc reads (make.xml, applications, groups, config files, sync configs).
-fn skip_reason(path: &Path) -> Option<String> {
-    let name = path.to_string_lossy();
-    if name.ends_with(".lib.xml") {
-        return Some("a library manifest (checked where a model uses it)".into());
-    }
-    let finroc_ext = path.extension().is_some_and(|e| e == "finroc");
-    if !finroc_ext && path.extension().is_none_or(|e| e != "xml") {
-        return Some("not an .xml or .finroc file".into());
-    }
-    if ferroc_compiler::finroc::kind_of(path).is_some() {
-        return None;
-    }
-    Some(match ferroc_compiler::load::root_element(path) {
-        Some(r) if r == "application" => return None,
-        Some(r) if r == "fragment" => "a model fragment (checked where a model includes it)".into(),
-        Some(r) => format!("root element <{r}> is neither a ferroc model nor a FINROC file"),
-        None => "no XML root element could be read".into(),
-    })
-}
-
 /// Loader options shared by every command that reads models.
 pub(crate) fn loader_options(lib_path: &[PathBuf], allow_outside_includes: bool) -> Options {
     ferroc_host::loader_options(lib_path, allow_outside_includes)
-}
-
-/// `--profile`: the execution semantics deadlocks are judged by.
-#[derive(Clone, Copy, ValueEnum)]
-enum ProfileArg {
-    Generic,
-    Finroc,
-}
-
-fn check(args: CheckArgs) -> ExitCode {
-    let mut options = loader_options(&args.lib_path, args.allow_outside_includes);
-    options.profile = args.profile.map(|p| match p {
-        ProfileArg::Generic => ferroc_compiler::ir::Profile::Generic,
-        ProfileArg::Finroc => ferroc_compiler::ir::Profile::Finroc,
-    });
-    for code in &args.allow {
-        if ferroc_compiler::checks::find(code).is_none() {
-            eprintln!("error: --allow {code}: no check has this code\nhelp: `ferroc explain --list` shows every code");
-            return ExitCode::from(2);
-        }
-    }
-    let policy = Policy {
-        allow: args.allow.clone(),
-        deny_warnings: !args.deny.is_empty(),
-    };
-    options.finroc_root = args.finroc_root.clone();
-    options.finroc_prefix = args.finroc_prefix.clone();
-    let mut skipped = Vec::new();
-    let mut tool_errors = Vec::new();
-    let models = match collect_models(&args.paths, &mut skipped) {
-        Ok(m) => m,
-        // The machine formats still write their document, saying that ferroc could
-        // not run (a CI reading only that file must not see a clean check).
-        Err(e) if matches!(args.format, Format::Json | Format::Sarif | Format::Junit) => {
-            tool_errors.push(e);
-            Vec::new()
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
-        }
-    };
-    let progress =
-        models.len() > 1 && args.format == Format::Human && std::io::stderr().is_terminal();
-    let mut results: Vec<(String, CheckResult)> = Vec::new();
-    for (i, path) in models.iter().enumerate() {
-        if progress {
-            eprint!("\r[{}/{}] {}\x1b[K", i + 1, models.len(), path.display());
-        }
-        match check_model(path, &options, &policy) {
-            Ok(r) => results.push((path.display().to_string(), r)),
-            Err(e) => tool_errors.push(e),
-        }
-    }
-    if progress {
-        eprint!("\r\x1b[K");
-    }
-    let reports: Vec<(String, ModelReport<'_>)> = results
-        .iter()
-        .map(|(p, r)| {
-            (
-                p.clone(),
-                ModelReport {
-                    sources: &r.sources,
-                    diagnostics: &r.diagnostics,
-                },
-            )
-        })
-        .collect();
-    let mut out = String::new();
-    match args.format {
-        Format::Human => {
-            let color = match args.color {
-                ColorChoice::Always => true,
-                ColorChoice::Never => false,
-                ColorChoice::Auto => {
-                    std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none()
-                }
-            };
-            for (_, r) in &reports {
-                report::human::render(r, color, &mut out);
-            }
-            let count = |s| {
-                reports
-                    .iter()
-                    .map(|(_, r)| r.diagnostics.iter().filter(|d| d.severity == s).count())
-                    .sum::<usize>()
-            };
-            for (path, why) in &skipped {
-                out.push_str(&format!("skipped {}: {why}\n", path.display()));
-            }
-            for (_, r) in &results {
-                for line in &r.not_checked {
-                    out.push_str(&format!("not checked: {line}\n"));
-                }
-            }
-            out.push_str(&format!(
-                "checked {} file(s), skipped {}: {} error(s), {} warning(s), {} note(s)\n",
-                reports.len(),
-                skipped.len(),
-                count(Severity::Error),
-                count(Severity::Warning),
-                count(Severity::Note)
-            ));
-        }
-        Format::Short => reports.iter().for_each(|(_, r)| report::short(r, &mut out)),
-        Format::Json => {
-            let models = reports
-                .iter()
-                .map(|(p, r)| report::json::model(p, r))
-                .collect();
-            let errors = tool_errors
-                .iter()
-                .map(|e| serde_json::Value::String(e.clone()))
-                .collect();
-            out = serde_json_pretty(&report::json::document(models, errors));
-        }
-        Format::Sarif => {
-            let rs: Vec<ModelReport<'_>> = reports
-                .iter()
-                .map(|(_, r)| ModelReport {
-                    sources: r.sources,
-                    diagnostics: r.diagnostics,
-                })
-                .collect();
-            let mut doc = report::sarif::document(&rs);
-            report::sarif::add_invocation(&mut doc, &tool_errors);
-            out = serde_json_pretty(&doc);
-        }
-        Format::Junit => out = report::junit::document(&reports, &tool_errors),
-    }
-    if args.format != Format::Human {
-        // Machine formats keep stdout to themselves; what was skipped goes to stderr.
-        for (path, why) in &skipped {
-            eprintln!("skipped {}: {why}", path.display());
-        }
-        for (_, r) in &results {
-            for line in &r.not_checked {
-                eprintln!("not checked: {line}");
-            }
-        }
-    }
-    if let Err(failed) = output::stdout(out.as_bytes()) {
-        return failed; // the report is lost: never exit 0 or 1 as if it was read
-    }
-    for e in &tool_errors {
-        eprintln!("error: {e}");
-    }
-    let code = if !tool_errors.is_empty() {
-        2
-    } else if reports
-        .iter()
-        .any(|(_, r)| r.diagnostics.iter().any(|d| d.severity == Severity::Error))
-    {
-        1
-    } else {
-        0
-    };
-    // The syntax trees and IRs of a large model take a tenth of the run to free, and the
-    // operating system reclaims them at once: exit without running their destructors.
-    // Everything the user sees has been written and flushed above.
-    std::process::exit(code)
-}
-
-fn serde_json_pretty(v: &serde_json::Value) -> String {
-    let mut s = serde_json::to_string_pretty(v).unwrap_or_default();
-    s.push('\n');
-    s
 }
