@@ -9,6 +9,7 @@
 
 pub mod checkout;
 pub mod crates;
+mod failure;
 pub mod program;
 
 use crates::LibraryCrate;

@@ -8,6 +8,7 @@
 //! plans the model it is given, so editing a model never rebuilds anything.
 
 use super::crates::LibraryCrate;
+use super::failure::{failed_package, report_failure, unfetched};
 use crate::bundle::text::{comment, toml_str};
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -154,109 +155,6 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
     }
     report_failure(crates, &failed, &unavailable, &name, &dir);
     Err(ExitCode::from(1))
-}
-
-/// `could not compile `NAME`` in one of cargo's lines (colours stripped).
-fn failed_package(line: &str) -> Option<String> {
-    let plain = strip_ansi(line);
-    let rest = plain.split("could not compile `").nth(1)?;
-    Some(rest.split('`').next()?.to_string())
-}
-
-fn strip_ansi(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    let mut chars = s.chars();
-    while let Some(c) = chars.next() {
-        if c == '\x1b' {
-            for c in chars.by_ref() {
-                if c.is_ascii_alphabetic() {
-                    break;
-                }
-            }
-        } else {
-            out.push(c);
-        }
-    }
-    out
-}
-
-/// Whether one of cargo's lines says the registry package `package` cannot be had
-/// (unknown name, no such version, offline, download failed).
-fn unfetched(line: &str, package: &str) -> bool {
-    let plain = strip_ansi(line);
-    // `NAME` alone, or `NAME = "REQ"` in a requirement.
-    let named = |what: &str| {
-        plain.contains(&format!("{what} `{package}`"))
-            || plain.contains(&format!("{what} `{package} "))
-    };
-    named("no matching package named")
-        || named("failed to select a version for the requirement")
-        || named("failed to download")
-        || named("failed to get")
-}
-
-/// After cargo's own errors: which library's crate they belong to, at its manifest.
-fn report_failure(
-    crates: &[LibraryCrate],
-    failed: &[String],
-    unavailable: &[String],
-    runner: &str,
-    dir: &Path,
-) {
-    let mut explained = false;
-    for c in crates.iter().filter(|c| unavailable.contains(&c.package)) {
-        eprintln!(
-            "{}: error: the crate `{}` {} of library `{}` could not be fetched from the registry (cargo's errors above)\n  \
-             help: check the name and version on crates.io and the network (cargo's `--offline` or CARGO_NET_OFFLINE forbid fetching); \
-             or put the crate next to the manifest and write rust-crate=\"{}\"",
-            c.manifest_at,
-            c.package,
-            c.version.as_deref().unwrap_or(""),
-            c.library,
-            c.package
-        );
-        explained = true;
-    }
-    for c in crates {
-        if failed.contains(&c.package) && c.version.is_none() {
-            eprintln!(
-                "{}: error: the crate `{}` of library `{}` does not build (cargo's errors above)\n  \
-                 = crate: {}\n  \
-                 help: fix the crate; `cargo build --manifest-path {}` shows the same errors",
-                c.manifest_at,
-                c.package,
-                c.library,
-                c.dir.display(),
-                c.dir.join("Cargo.toml").display()
-            );
-            explained = true;
-        }
-    }
-    if failed.iter().any(|p| p == runner) {
-        for c in crates {
-            eprintln!(
-                "{}: error: the runner could not call `{}::register` of library `{}` (cargo's errors above)\n  \
-                 help: the crate `{}` must have `pub fn register(registry: &mut ferroc_runtime::builder::Registry)` registering its module types",
-                c.manifest_at, c.package, c.library, c.package
-            );
-        }
-        explained = true;
-    }
-    if !explained {
-        eprintln!(
-            "error: the runner for these libraries did not build (cargo's output above; package in {}):",
-            dir.display()
-        );
-        for c in crates {
-            eprintln!(
-                "{}: note: library `{}`, crate `{}` at {}",
-                c.manifest_at,
-                c.library,
-                c.package,
-                c.dir.display()
-            );
-        }
-    }
 }
 
 /// A short stable name for this set of crates with these sources and profile.
@@ -509,30 +407,5 @@ mod tests {
             split_dep_info("/a/b.rs /c\\ d/e.rs\n"),
             vec![PathBuf::from("/a/b.rs"), PathBuf::from("/c d/e.rs")]
         );
-    }
-
-    #[test]
-    fn unfetched_registry_packages_are_read_from_cargo_lines() {
-        let line = "error: no matching package named `my-arm` found";
-        assert!(unfetched(line, "my-arm"));
-        assert!(!unfetched(line, "my"), "the whole name");
-        assert!(unfetched(
-            "\x1b[31merror\x1b[0m: failed to select a version for the requirement `my-arm = \"^9\"`",
-            "my-arm"
-        ));
-        assert!(!unfetched("   Compiling my-arm v0.3.0", "my-arm"));
-    }
-
-    #[test]
-    fn failed_packages_are_read_from_cargo_lines_with_or_without_colour() {
-        assert_eq!(
-            failed_package("error: could not compile `my-lib` (lib) due to 1 previous error"),
-            Some("my-lib".into())
-        );
-        assert_eq!(
-            failed_package("\x1b[1m\x1b[31merror\x1b[0m: could not compile `x` (bin \"x\")"),
-            Some("x".into())
-        );
-        assert_eq!(failed_package("   Compiling my-lib v0.1.0"), None);
     }
 }
