@@ -12,7 +12,7 @@
 
 mod common;
 
-use common::inspected::{free_port, lines, start, wait_for_line, Running};
+use common::inspected::{free_port, lines, start, start_at, wait_for_line, Running};
 use serde_json::{json, Value};
 use std::io::{Read, Write};
 use std::net::TcpStream;
@@ -279,21 +279,32 @@ fn the_json_api_reads_and_changes_with_the_token_and_answers_malformed_requests_
     assert_eq!(http(&web.address, "GET /graph.js HTTP/1.1", b"").0, 200);
 
     // The program goes away: the API says so (502), and the web server runs on.
+    let address = program.address.clone();
     drop(program);
     let deadline = Instant::now() + Duration::from_secs(60);
     loop {
         let (status, json) = api(&web, "GET /api/tree HTTP/1.1", "");
         if status == 502 {
-            assert!(
-                json["error"]
-                    .as_str()
-                    .unwrap()
-                    .contains("no program answered"),
-                "{json}"
-            );
+            let e = json["error"].as_str().unwrap();
+            assert!(e.contains("no program answered"), "{json}");
             break;
         }
         assert!(Instant::now() < deadline, "still answered: {json}");
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    // A program serving that address again is found again.
+    let _again = start_at("tests/fixtures/inspect.xml", &address);
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let (status, json) = api(&web, "GET /api/tree HTTP/1.1", "");
+        if status == 200 {
+            assert_eq!(json["parts"][0]["app"], "inspected");
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "no answer after the restart: {json}"
+        );
         std::thread::sleep(Duration::from_millis(200));
     }
 }
@@ -313,6 +324,21 @@ fn an_unreachable_program_is_reported_and_a_port_in_use_is_an_error() {
     let (code, _, err) = common::ferroc(&["inspect", "--serve", "0.0.0.0:8790"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--serve-public"), "{err}");
+    // Ctrl-C (SIGINT) stops the server cleanly: exit 0, the port free again.
+    let mut web = web;
+    let pid = web.child.id().to_string();
+    let sent = Command::new("kill").args(["-INT", &pid]).status().unwrap();
+    assert!(sent.success());
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let status = loop {
+        if let Some(status) = web.child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "still serving after Ctrl-C");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert!(status.success(), "{status}");
+    std::net::TcpListener::bind(&web.address).expect("the port is free again");
 }
 
 /// Where playwright-core is installed.

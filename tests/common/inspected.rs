@@ -60,7 +60,12 @@ pub fn wait_for_line(rx: &mpsc::Receiver<String>, marker: &str, limit: Duration)
 
 /// Starts `ferroc run MODEL --inspect 127.0.0.1:PORT` and waits (bounded) for its token.
 pub fn start(model: &str) -> Running {
-    let address = format!("127.0.0.1:{}", free_port());
+    start_at(model, &format!("127.0.0.1:{}", free_port()))
+}
+
+/// Starts `ferroc run MODEL --inspect ADDRESS` and waits (bounded) for its token.
+pub fn start_at(model: &str, address: &str) -> Running {
+    let address = address.to_owned();
     let mut child = Command::new(env!("CARGO_BIN_EXE_ferroc"))
         .args(["run", model, "--for", "600s", "-q", "--inspect", &address])
         .env("FERROC_LOG_DIR", super::test_log_dir())

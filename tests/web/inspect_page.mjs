@@ -31,7 +31,7 @@ page.on('pageerror', (e) => problems.push('page error: ' + e.message));
 async function run() {
   await page.goto(url);
   await page.waitForFunction(() => document.getElementById('status').textContent.startsWith('live'), null, { timeout: WAIT });
-  pass('live: ' + await page.textContent('#status'));
+  pass('status: ' + await page.textContent('#status'));
 
   // The graph: every module, the behaviours drawn the iB2C way.
   await page.waitForSelector('#graph g.module', { timeout: WAIT });

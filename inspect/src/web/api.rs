@@ -307,4 +307,21 @@ mod tests {
             assert_eq!(e.status, axum::http::StatusCode::BAD_REQUEST, "{bad}");
         }
     }
+
+    proptest::proptest! {
+        /// Any text is a name or path, or a 400 error; what is accepted can be put into
+        /// a Zenoh key without wildcards.
+        #[test]
+        fn no_name_or_path_panics(text in "\\PC{0,40}", slashed in "[a-z*$?#/ ]{0,30}") {
+            for t in [&text, &slashed] {
+                if let Ok(n) = name("part", Some(t), false) {
+                    proptest::prop_assert!(!n.contains(['/', '*', '$', '?', '#', ' ']));
+                }
+                match path(t) {
+                    Ok(p) => proptest::prop_assert!(p.split('/').all(chunk) && p.contains('/')),
+                    Err(e) => proptest::prop_assert_eq!(e.status, axum::http::StatusCode::BAD_REQUEST),
+                }
+            }
+        }
+    }
 }
