@@ -361,7 +361,7 @@ fn browser_missing(chromium: &str) -> Option<String> {
     let playwright = node_modules().join("playwright-core");
     if !playwright.exists() {
         missing.push(format!(
-            "playwright-core in {} (npm install --prefix {} playwright-core, or set FERROC_NODE_MODULES)",
+            "playwright-core in {} (npm install --prefix {} playwright-core@1.56.0, or set FERROC_NODE_MODULES)",
             node_modules().display(),
             node_modules().join("..").display()
         ));
