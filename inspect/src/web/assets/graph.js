@@ -120,6 +120,7 @@ function layers(modules, es) {
 }
 
 const textWidth = (s, px) => s.length * px;
+const SLOT_NAMES = { s: 'stimulation', i: 'inhibition', c: 'fusion channel', a: 'activity', r: 'target rating' };
 
 /** Draws `modules` into `svg`; `onSelect(path)` when a module is clicked. Returns the
  * function that shows activities: update(Map path → activity). */
@@ -229,7 +230,7 @@ export function draw(svg, modules, onSelect) {
       for (const [list, yy] of [[b.slots.top, b.y], [b.slots.bottom, b.y + b.h - ROW]]) {
         list.forEach((s, i) => {
           const x = b.x + (b.w - list.length * SLOT) / 2 + i * SLOT;
-          el('rect', { class: 'slot', x, y: yy, width: SLOT, height: ROW }, g);
+          el('title', {}, el('rect', { class: 'slot', x, y: yy, width: SLOT, height: ROW }, g)).textContent = SLOT_NAMES[s[0]] ? `${SLOT_NAMES[s[0]]} ${s}` : s;
           el('text', { x: x + SLOT / 2, y: yy + 12, 'text-anchor': 'middle' }, g).textContent = s.length > 4 ? s.slice(0, 4) : s;
         });
       }

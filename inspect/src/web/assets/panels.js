@@ -19,7 +19,8 @@ export function containers(table, list) {
   for (const c of list) {
     const load = Math.max(0, Math.min(1, c.load || 0));
     const bar = h('span', { class: 'load' }, h('span', { style: `width:${(load * 100).toFixed(1)}%` }));
-    table.append(h('tr', { 'data-container': c.path },
+    const steps = (c.steps || []).map((s) => `${s.name}: ${s.runs} runs, mean ${fixed(s.mean_us, 1)} µs, max ${fixed(s.max_us, 1)} µs`);
+    table.append(h('tr', { 'data-container': c.path, title: steps.join('\n') },
       h('td', {}, c.path, c.panics && c.panics.length ? h('div', { class: 'msg-bad' }, 'panicked: ' + c.panics.join('; ')) : null),
       h('td', {}, bar, fixed(c.load * 100, 1) + ' %'),
       h('td', { class: 'num cycles' }, String(c.cycles)),
