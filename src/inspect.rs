@@ -5,12 +5,13 @@
 use ferroc_compiler::diagnostic::escape_controls;
 use ferroc_inspect::client::{part_of, Answer, Client};
 use ferroc_inspect::request::{key, What};
+use ferroc_inspect::web;
 use ferroc_runtime::inspect::view::*;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("action").required(true).args(["list", "get", "set", "watch"])))]
+#[command(group(clap::ArgGroup::new("action").required(true).args(["list", "get", "set", "watch", "serve"])))]
 pub struct InspectArgs {
     /// The program's inspection address (its `--inspect ADDR`; repeatable)
     #[arg(long, value_name = "HOST:PORT", default_value = "127.0.0.1:47900")]
@@ -44,6 +45,13 @@ pub struct InspectArgs {
     /// With --watch: how often to ask
     #[arg(long, value_name = "DURATION", default_value = "100ms", value_parser = parse_duration)]
     every: Duration,
+    /// Serve a web page showing the application live (graph, values, plots, load,
+    /// links, activities, parameter changes) on HOST:PORT until Ctrl-C
+    #[arg(long, value_name = "HOST:PORT", num_args = 0..=1, default_missing_value = "127.0.0.1:8790")]
+    serve: Option<String>,
+    /// With --serve: allow an address other computers can reach (prints a warning)
+    #[arg(long, requires = "serve")]
+    serve_public: bool,
     /// Print the answers as JSON (one object, or one line per value with --watch)
     #[arg(long)]
     json: bool,
@@ -59,6 +67,9 @@ fn parse_duration(text: &str) -> Result<Duration, String> {
 }
 
 pub fn run(args: InspectArgs) -> ExitCode {
+    if let Some(listen) = &args.serve {
+        return serve(&args, listen);
+    }
     let client = match Client::connect(&args.connect) {
         Ok(c) => c,
         Err(e) => return fail(2, &e),
@@ -77,6 +88,35 @@ pub fn run(args: InspectArgs) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(1, &e),
+    }
+}
+
+/// `--serve`: the web page (ferroc_inspect::web) until Ctrl-C; it connects to the
+/// program itself, and again whenever the program was unreachable.
+fn serve(args: &InspectArgs, listen: &str) -> ExitCode {
+    let options = web::Options {
+        listen: listen.to_owned(),
+        public: args.serve_public,
+        connect: args.connect.clone(),
+        app: args.app.clone(),
+    };
+    let server = match web::start(&options) {
+        Ok(s) => s,
+        Err(web::StartError(e)) => return fail(2, &e),
+    };
+    let address = server.address();
+    if !address.ip().is_loopback() {
+        eprintln!(
+            "warning: the inspection page is served on {address}, not only on this computer: anyone who reaches it can read every value (changes still need the token)"
+        );
+    }
+    eprintln!(
+        "inspect: the page is on http://{address}/ (asking {}); Ctrl-C stops",
+        args.connect.join(", ")
+    );
+    match server.wait() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => fail(2, &e),
     }
 }
 

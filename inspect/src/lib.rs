@@ -16,3 +16,4 @@ pub mod config;
 pub mod request;
 pub mod server;
 pub mod token;
+pub mod web;

@@ -1,6 +1,8 @@
 //! What the CLI test files share: running the built `ferroc` and scratch folders.
 #![allow(dead_code)]
 
+pub mod inspected;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -171,14 +171,16 @@ impl Inspector {
             .ok_or_else(|| format!("there is no module `{module}`"))
     }
 
-    /// Splits `module/path/port` at its last `/` into a module this inspector knows
-    /// and the rest.
+    /// Splits `module/path/port` into a module this inspector knows and the rest: the
+    /// longest known module path before a `/`, since port names may have slashes
+    /// themselves (`activity/emergency`, `in/0/value`).
     pub fn split<'p>(&self, path: &'p str) -> Result<(&'p str, &'p str), String> {
-        match path.rsplit_once('/') {
-            Some((module, name)) if self.index.contains_key(module) && !name.is_empty() => {
-                Ok((module, name))
-            }
-            _ => Err(format!(
+        let found = (path.match_indices('/').rev())
+            .map(|(i, _)| (&path[..i], &path[i + 1..]))
+            .find(|(module, name)| self.index.contains_key(*module) && !name.is_empty());
+        match found {
+            Some(split) => Ok(split),
+            None => Err(format!(
                 "`{path}` names no port or parameter of a module here; write MODULE/PATH/NAME (see --list)"
             )),
         }

@@ -151,6 +151,12 @@ fn unknown_names_are_errors_that_list_what_exists() {
     assert!(e.contains("its parameters: factor"), "{e}");
     assert_eq!(i.split("robot/gain/factor"), Ok(("robot/gain", "factor")));
     assert!(i.split("robot/gain").is_err() && i.split("robot/gain/").is_err());
+    // Port names with slashes (derived activities, fusion channels) stay whole.
+    assert_eq!(
+        i.split("robot/gain/activity/emergency"),
+        Ok(("robot/gain", "activity/emergency"))
+    );
+    assert!(i.split("robot/none/activity/emergency").is_err());
 }
 
 #[test]

@@ -1,0 +1,134 @@
+// The panels beside and below the graph: thread containers, links, activities, and
+// each module's ports (live values, plots of numbers) and parameters (editable).
+// Everything the programs send is shown as text (textContent), never as HTML.
+
+export function h(tag, attrs, ...children) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs || {})) {
+    if (k === 'class') e.className = v; else if (k.startsWith('on')) e.addEventListener(k.slice(2), v); else e.setAttribute(k, v);
+  }
+  for (const c of children) if (c !== null && c !== undefined) e.append(c);
+  return e;
+}
+
+const fixed = (x, n) => (typeof x === 'number' && isFinite(x) ? x.toFixed(n) : '–');
+
+export function containers(table, list) {
+  table.replaceChildren(h('tr', {}, h('th', {}, 'container'), h('th', {}, 'load'), h('th', {}, 'cycles'),
+    h('th', {}, 'overruns'), h('th', {}, 'mean cycle')));
+  for (const c of list) {
+    const load = Math.max(0, Math.min(1, c.load || 0));
+    const bar = h('span', { class: 'load' }, h('span', { style: `width:${(load * 100).toFixed(1)}%` }));
+    const steps = (c.steps || []).map((s) => `${s.name}: ${s.runs} runs, mean ${fixed(s.mean_us, 1)} µs, max ${fixed(s.max_us, 1)} µs`);
+    table.append(h('tr', { 'data-container': c.path, title: steps.join('\n') },
+      h('td', {}, c.path, c.panics && c.panics.length ? h('div', { class: 'msg-bad' }, 'panicked: ' + c.panics.join('; ')) : null),
+      h('td', {}, bar, fixed(c.load * 100, 1) + ' %'),
+      h('td', { class: 'num cycles' }, String(c.cycles)),
+      h('td', { class: 'num' + (c.overruns ? ' msg-bad' : '') }, String(c.overruns)),
+      h('td', { class: 'num' }, fixed(c.mean_cycle_us, 0) + ' µs')));
+  }
+}
+
+export function links(table, list) {
+  if (!list.length) {
+    table.replaceChildren(h('tr', {}, h('td', {}, 'no inputs fed from other parts')));
+    return;
+  }
+  table.replaceChildren(h('tr', {}, h('th', {}, 'input'), h('th', {}, 'state'), h('th', {}, 'latest value')));
+  for (const l of list) {
+    table.append(h('tr', { 'data-link': l.input }, h('td', {}, l.input),
+      h('td', { class: 'state-' + l.state }, l.state),
+      h('td', { class: 'num' }, l.age_ms === null || l.age_ms === undefined ? '–' : fixed(l.age_ms, 0) + ' ms ago')));
+  }
+}
+
+export function activities(box, list) {
+  box.replaceChildren();
+  for (const a of list) {
+    const meter = h('div', { class: 'meter', title: 'activity (top), target rating (bottom)' },
+      h('div', { class: 'a', style: `width:${Math.max(0, Math.min(1, a.activity || 0)) * 100}%` }),
+      h('div', { class: 'r', style: `width:${Math.max(0, Math.min(1, a.target_rating || 0)) * 100}%` }));
+    box.append(h('div', { class: 'activity-row', 'data-behaviour': a.module }, h('span', {}, a.module), meter,
+      h('span', { class: 'num' }, `a ${fixed(a.activity, 2)} r ${fixed(a.target_rating, 2)}`)));
+  }
+  if (!list.length) box.append('no iB2C behaviours');
+}
+
+/** A parameter's type, unit and limits as a short text. */
+export function limits(p) {
+  const parts = [p.type];
+  if (p.min !== null || p.max !== null) parts.push(`${p.min ?? ''}..=${p.max ?? ''}`);
+  if (p.choices && p.choices.length) parts.push('one of ' + p.choices.join(', '));
+  return parts.join(', ');
+}
+
+/** One module's section: its ports (value cells keyed by the path whose value they
+ * show) and parameters (`onSet(param, text, messageCell)` on Set). */
+export function moduleSection(m, onSet) {
+  const ports = h('table', { class: 'grid' }, h('tr', {}, h('th', {}, 'port'), h('th', {}, 'type'),
+    h('th', {}, 'value'), h('th', {}, 'over time')));
+  for (const p of m.ports) {
+    const shown = p.dir === 'out' ? `${m.path}/${p.name}` : (p.from.length === 1 ? p.from[0] : null);
+    const value = h('td', { class: 'value', 'data-port': `${m.path}/${p.name}` }, shown ? '…' : (p.from.length ? 'several writers' : 'not connected'));
+    if (shown) value.dataset.shows = shown;
+    const plot = h('canvas', { class: 'plot', width: 180, height: 32 });
+    if (shown) plot.dataset.shows = shown;
+    ports.append(h('tr', {},
+      h('td', {}, `${p.dir === 'in' ? '▸' : '◂'} ${p.name}`, p.from.length ? h('div', { class: 'type' }, '← ' + p.from.join(', ')) : null),
+      h('td', {}, p.type + (p.unit ? ` [${p.unit}]` : '') + (p.meta ? ' (meta)' : '')),
+      value, h('td', {}, plot)));
+  }
+  const params = h('table', { class: 'grid' });
+  if (m.params.length) params.append(h('tr', {}, h('th', {}, 'parameter'), h('th', {}, 'value'), h('th', {}, 'type, range'), h('th', {}, 'new value'), h('th', {}, '')));
+  for (const p of m.params) {
+    const path = `${m.path}/${p.name}`;
+    const current = h('td', { class: 'value param-value' }, p.value + (p.unit ? ' ' + p.unit : ''));
+    const input = p.choices && p.choices.length
+      ? h('select', { class: 'param-input' }, ...p.choices.map((c) => h('option', c === p.value ? { selected: '' } : {}, c)))
+      : h('input', { class: 'param-input', type: 'text', value: p.value, 'aria-label': `new value of ${path}` });
+    const msg = h('td', { class: 'param-msg' });
+    const set = () => onSet(p, input.value, current, msg);
+    input.addEventListener('keydown', (e) => { if (e.key === 'Enter') set(); });
+    params.append(h('tr', { 'data-param': path }, h('td', {}, p.name), current,
+      h('td', {}, limits(p)), h('td', {}, input, p.unit ? ' ' + p.unit : ''),
+      h('td', {}, h('button', { type: 'button', class: 'param-set', onclick: set }, 'Set')), msg));
+  }
+  return h('details', { class: 'module', 'data-module': m.path, open: '' },
+    h('summary', {}, h('strong', {}, m.path), ' ', h('span', { class: 'kind' }, `${m.type} (${m.kind})${m.container ? ', in ' + m.container : ''}${m.source ? ', ' + m.source : ''}`)),
+    ports, params);
+}
+
+/** Shows a value in a cell: numbers as numbers (data-number for scripts), others as JSON. */
+export function showValue(cell, v) {
+  if (v && v.error) {
+    cell.textContent = v.error; cell.className = 'value msg-bad'; delete cell.dataset.number; return;
+  }
+  cell.className = 'value';
+  const value = v.value;
+  if (typeof value === 'number') {
+    cell.textContent = String(value) + (v.unit ? ' ' + v.unit : '');
+    cell.dataset.number = String(value);
+  } else {
+    const text = JSON.stringify(value);
+    cell.textContent = text.length > 200 ? text.slice(0, 200) + '…' : text;
+    cell.title = text.length > 200 ? text.slice(0, 4000) : '';
+    delete cell.dataset.number;
+  }
+  if (!v.published) cell.textContent += ' (nothing published yet)';
+}
+
+/** A line of the latest numbers, scaled to their range. */
+export function plot(canvas, series) {
+  const g = canvas.getContext('2d'), w = canvas.width, ht = canvas.height;
+  g.clearRect(0, 0, w, ht);
+  if (series.length < 2) return;
+  let lo = Math.min(...series), hi = Math.max(...series);
+  if (hi === lo) { hi += 0.5; lo -= 0.5; }
+  g.strokeStyle = '#1565c0'; g.lineWidth = 1.2; g.beginPath();
+  series.forEach((x, i) => {
+    const px = (i / (series.length - 1)) * (w - 2) + 1, py = ht - 2 - ((x - lo) / (hi - lo)) * (ht - 4);
+    if (i) g.lineTo(px, py); else g.moveTo(px, py);
+  });
+  g.stroke();
+  canvas.title = `min ${lo.toPrecision(4)}, max ${hi.toPrecision(4)}, ${series.length} values`;
+}

@@ -1,0 +1,422 @@
+//! `ferroc inspect --serve`: the web page and its JSON API against real programs
+//! (`ferroc run --inspect` on loopback). The API is asked with plain HTTP requests
+//! written here; the page is loaded in a real browser — Debian's headless Chromium
+//! driven by playwright-core from npm (tests/web/inspect_page.mjs) — which sees live
+//! values change, sets a parameter with the token and sees its effect, and sees a
+//! change with a wrong token refused. Its screenshot is printed.
+//!
+//! The browser test needs `node` and `chromium` (`apt-get install chromium nodejs npm`)
+//! and playwright-core in FERROC_NODE_MODULES (default: `node/node_modules` in the
+//! target dir; `npm install --prefix TARGET/node playwright-core`); `.ci/run` installs
+//! them. Without them it fails saying so, unless FERROC_SKIP_BROWSER=1.
+
+mod common;
+
+use common::inspected::{free_port, lines, start, start_at, wait_for_line, Running};
+use serde_json::{json, Value};
+use std::io::{Read, Write};
+use std::net::TcpStream;
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A `ferroc inspect --serve` child, killed when dropped.
+struct Web {
+    child: Child,
+    /// `127.0.0.1:PORT` of the page.
+    address: String,
+}
+
+impl Drop for Web {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Starts `ferroc inspect --serve` asking `connect`, and waits until it serves.
+fn serve(connect: &str) -> Web {
+    let address = format!("127.0.0.1:{}", free_port());
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+        .args(["inspect", "--serve", &address, "--connect", connect])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("ferroc runs");
+    let stderr = lines(child.stderr.take().unwrap());
+    let line = wait_for_line(&stderr, "the page is on", Duration::from_secs(60));
+    assert!(line.contains(&format!("http://{address}/")), "{line}");
+    Web { child, address }
+}
+
+/// One HTTP/1.1 request (`Connection: close`; `Host` added unless `head` has one); the
+/// status and the body. A server may answer before it read the whole body (a body too
+/// large) and close: what it answered is read even if the connection is then reset.
+fn http(address: &str, head: &str, body: &[u8]) -> (u16, String) {
+    let mut s = TcpStream::connect(address).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+    let host = match head.contains("\r\nHost:") {
+        true => String::new(),
+        false => format!("\r\nHost: {address}"),
+    };
+    let request = format!(
+        "{head}{host}\r\nConnection: close\r\nContent-Length: {}\r\n\r\n",
+        body.len()
+    );
+    s.write_all(request.as_bytes()).unwrap();
+    let _ = s.write_all(body);
+    let mut answer = Vec::new();
+    let mut chunk = [0u8; 8192];
+    while let Ok(n @ 1..) = s.read(&mut chunk) {
+        answer.extend_from_slice(&chunk[..n]);
+    }
+    let text = String::from_utf8_lossy(&answer).into_owned();
+    let status = text
+        .split(' ')
+        .nth(1)
+        .and_then(|c| c.parse().ok())
+        .unwrap_or_else(|| panic!("not an HTTP answer: {text}"));
+    let body = text.split_once("\r\n\r\n").map_or("", |(_, b)| b);
+    (status, body.to_owned())
+}
+
+/// A request whose answer must be JSON.
+fn api(web: &Web, head: &str, body: &str) -> (u16, Value) {
+    let (status, text) = http(&web.address, head, body.as_bytes());
+    let json = serde_json::from_str(&text)
+        .unwrap_or_else(|e| panic!("{head}: {status} answered not JSON ({e}): {text}"));
+    (status, json)
+}
+
+/// `error` of a JSON error answer with `status`.
+fn error(web: &Web, head: &str, body: &str, status: u16) -> String {
+    let (got, json) = api(web, head, body);
+    assert_eq!(got, status, "{head}: {json}");
+    json["error"]
+        .as_str()
+        .unwrap_or_else(|| panic!("{head}: no error text: {json}"))
+        .to_owned()
+}
+
+/// Asks `/api/values` for one port until it is `want` (bounded).
+fn eventually(web: &Web, path: &str, want: Value) {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let (status, json) = api(
+            web,
+            &format!("GET /api/values?app=inspected&paths={path} HTTP/1.1"),
+            "",
+        );
+        assert_eq!(status, 200, "{json}");
+        let got = json["values"][path]["value"].clone();
+        if got == want {
+            return;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "{path} stayed {got}, wanted {want}"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn the_json_api_reads_and_changes_with_the_token_and_answers_malformed_requests_with_errors() {
+    let program = start("tests/fixtures/inspect.xml");
+    let web = serve(&program.address);
+
+    let (status, tree) = api(&web, "GET /api/tree HTTP/1.1", "");
+    assert_eq!(status, 200, "{tree}");
+    let part = &tree["parts"][0];
+    assert_eq!(
+        (&part["app"], &part["part"]),
+        (&json!("inspected"), &json!("robot"))
+    );
+    let modules: Vec<&str> = (part["tree"]["modules"].as_array().unwrap().iter())
+        .map(|m| m["path"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        modules,
+        [
+            "robot/main/speed",
+            "robot/main/scaled",
+            "robot/main/player_rate"
+        ]
+    );
+    let (status, s) = api(
+        &web,
+        "GET /api/status?app=inspected&part=robot HTTP/1.1",
+        "",
+    );
+    assert_eq!(status, 200, "{s}");
+    assert_eq!(s["containers"][0]["path"], "robot/main");
+    assert!(s["links"].as_array().unwrap().is_empty(), "{s}");
+    assert_eq!(s["activities"], json!([]), "no behaviours here");
+    eventually(&web, "robot/main/scaled/output", json!(8.0));
+    let (_, p) = api(
+        &web,
+        "GET /api/param/robot/main/scaled/factor?app=inspected HTTP/1.1",
+        "",
+    );
+    assert_eq!((&p["value"], &p["type"]), (&json!("2"), &json!("f64")));
+
+    // Changes: the program's refusals come back as its own words (422).
+    let set = "POST /api/param/robot/main/scaled/factor?app=inspected HTTP/1.1";
+    let wrong = json!({"set": "5", "token": "0".repeat(32)}).to_string();
+    assert!(error(&web, set, &wrong, 422).contains("not authorised"));
+    let bad = json!({"set": "5 m", "token": program.token}).to_string();
+    assert!(error(&web, set, &bad, 422).contains("keeps its value 2"));
+    let good = json!({"set": "5", "token": program.token}).to_string();
+    let (status, after) = api(&web, set, &good);
+    assert_eq!((status, &after["value"]), (200, &json!("5")), "{after}");
+    eventually(&web, "robot/main/scaled/output", json!(20.0));
+
+    // Malformed requests: a 4xx JSON error each, and the server serves on.
+    for (head, body, status, why) in [
+        (
+            "GET /api/values?app=inspected HTTP/1.1",
+            "",
+            400,
+            "name 1 to",
+        ),
+        (
+            "GET /api/values?paths=robot/** HTTP/1.1",
+            "",
+            400,
+            "no empty parts or wildcards",
+        ),
+        (
+            "GET /api/values?paths=robot//x HTTP/1.1",
+            "",
+            400,
+            "not a path",
+        ),
+        (
+            "GET /api/status?app=inspected HTTP/1.1",
+            "",
+            400,
+            "name the part",
+        ),
+        (
+            "GET /api/status?part=a/b HTTP/1.1",
+            "",
+            400,
+            "cannot be the part's name",
+        ),
+        (
+            "GET /api/tree?bogus=1 HTTP/1.1",
+            "",
+            400,
+            "the query string",
+        ),
+        (
+            "GET /api/tree?app=%FF HTTP/1.1",
+            "",
+            400,
+            "cannot be the app's name",
+        ),
+        ("DELETE /api/tree HTTP/1.1", "", 405, "does not take DELETE"),
+        (set, "not json", 400, "a change is the JSON"),
+        (set, r#"{"set": "5"}"#, 400, "a change is the JSON"),
+        (
+            "POST /api/param/robot/main/scaled/factor HTTP/1.1",
+            &good,
+            400,
+            "name the app",
+        ),
+        (
+            "POST /api/edit?app=inspected&part=robot HTTP/1.1",
+            "{",
+            400,
+            "an edit is a JSON",
+        ),
+        (
+            "POST /api/edit?app=inspected HTTP/1.1",
+            "{}",
+            400,
+            "name the part",
+        ),
+        (
+            "GET /api/nothing HTTP/1.1",
+            "",
+            404,
+            "is not a page or an API",
+        ),
+        (
+            "GET /api/param/robot/main/scaled/nope?app=inspected HTTP/1.1",
+            "",
+            422,
+            "has no parameter",
+        ),
+    ] {
+        let e = error(&web, head, body, status);
+        assert!(e.contains(why), "{head} {body}: {e}");
+    }
+    let huge = format!("{{\"set\": \"{}\", \"token\": \"x\"}}", "9".repeat(100_000));
+    assert_eq!(http(&web.address, set, huge.as_bytes()).0, 413);
+    // Another site's page in the same browser, or a rebound name: refused (403).
+    let foreign = format!("{set}\r\nOrigin: http://evil.example");
+    assert!(error(&web, &foreign, &good, 403).contains("another site"));
+    let (status, text) = http(
+        &web.address,
+        "GET /api/tree HTTP/1.1\r\nHost: evil.example",
+        b"",
+    );
+    assert_eq!(status, 403, "{text}");
+    // An edit is forwarded to the program as it is; the program answers (here: refuses,
+    // the token being wrong), not the web server.
+    let (status, answer) = api(
+        &web,
+        "POST /api/edit?app=inspected&part=robot HTTP/1.1",
+        r#"{"token": "00000000000000000000000000000000", "remove": "robot/main/speed"}"#,
+    );
+    assert_eq!(status, 422, "{answer}");
+    assert!(!answer["error"].as_str().unwrap().is_empty(), "{answer}");
+    // The page and its scripts are served.
+    let (status, page) = http(&web.address, "GET / HTTP/1.1", b"");
+    assert!(status == 200 && page.contains("<script type=\"module\" src=\"/app.js\">"));
+    assert_eq!(http(&web.address, "GET /graph.js HTTP/1.1", b"").0, 200);
+
+    // The program goes away: the API says so (502), and the web server runs on.
+    let address = program.address.clone();
+    drop(program);
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let (status, json) = api(&web, "GET /api/tree HTTP/1.1", "");
+        if status == 502 {
+            let e = json["error"].as_str().unwrap();
+            assert!(e.contains("no program answered"), "{json}");
+            break;
+        }
+        assert!(Instant::now() < deadline, "still answered: {json}");
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    // A program serving that address again is found again.
+    let _again = start_at("tests/fixtures/inspect.xml", &address);
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let (status, json) = api(&web, "GET /api/tree HTTP/1.1", "");
+        if status == 200 {
+            assert_eq!(json["parts"][0]["app"], "inspected");
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "no answer after the restart: {json}"
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    }
+}
+
+#[test]
+fn an_unreachable_program_is_reported_and_a_port_in_use_is_an_error() {
+    // Nobody listens at the program's address: the page's API says so and retries.
+    let nobody = format!("127.0.0.1:{}", free_port());
+    let web = serve(&nobody);
+    let e = error(&web, "GET /api/tree HTTP/1.1", "", 502);
+    assert!(e.contains("cannot reach") && e.contains(&nobody), "{e}");
+    // A second server on the same port: a clear error, exit 2.
+    let (code, _, err) =
+        common::ferroc(&["inspect", "--serve", &web.address, "--connect", &nobody]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("the port is in use"), "{err}");
+    let (code, _, err) = common::ferroc(&["inspect", "--serve", "0.0.0.0:8790"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--serve-public"), "{err}");
+    // Ctrl-C (SIGINT) stops the server cleanly: exit 0, the port free again.
+    let mut web = web;
+    let pid = web.child.id().to_string();
+    let sent = Command::new("kill").args(["-INT", &pid]).status().unwrap();
+    assert!(sent.success());
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let status = loop {
+        if let Some(status) = web.child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "still serving after Ctrl-C");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert!(status.success(), "{status}");
+    std::net::TcpListener::bind(&web.address).expect("the port is free again");
+}
+
+/// Where playwright-core is installed.
+fn node_modules() -> PathBuf {
+    match std::env::var_os("FERROC_NODE_MODULES") {
+        Some(dir) => PathBuf::from(dir),
+        None => PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("../node/node_modules"),
+    }
+}
+
+/// What the browser test needs, or what to install.
+fn browser_missing(chromium: &str) -> Option<String> {
+    let mut missing = Vec::new();
+    if Command::new("node").arg("--version").output().is_err() {
+        missing.push("node (apt-get install nodejs npm)".to_owned());
+    }
+    if !std::path::Path::new(chromium).exists() {
+        missing.push(format!("{chromium} (apt-get install chromium)"));
+    }
+    let playwright = node_modules().join("playwright-core");
+    if !playwright.exists() {
+        missing.push(format!(
+            "playwright-core in {} (npm install --prefix {} playwright-core@1.56.0, or set FERROC_NODE_MODULES)",
+            node_modules().display(),
+            node_modules().join("..").display()
+        ));
+    }
+    (!missing.is_empty()).then(|| missing.join("; "))
+}
+
+#[test]
+fn the_page_shows_nav_behaviours_live_in_a_real_browser_and_sets_a_parameter() {
+    let chromium = std::env::var("FERROC_CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
+    if let Some(missing) = browser_missing(&chromium) {
+        if std::env::var("FERROC_SKIP_BROWSER").as_deref() == Ok("1") {
+            eprintln!("skipped (FERROC_SKIP_BROWSER=1): missing {missing}");
+            return;
+        }
+        panic!("the browser test needs {missing}; .ci/run installs them (FERROC_SKIP_BROWSER=1 skips this test)");
+    }
+    let program: Running = start("models/nav_behaviours.xml");
+    let web = serve(&program.address);
+    let shots = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("inspect_web");
+    std::fs::create_dir_all(&shots).unwrap();
+    let screenshot = shots.join("nav_behaviours.png");
+    let _ = std::fs::remove_file(&screenshot);
+    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/web/inspect_page.mjs");
+    let out = Command::new("node")
+        .arg(&script)
+        .env("FERROC_NODE_MODULES", node_modules())
+        .env("FERROC_CHROMIUM", &chromium)
+        .env("FERROC_PAGE_URL", format!("http://{}/", web.address))
+        .env("FERROC_TOKEN", &program.token)
+        .env("FERROC_SCREENSHOT", &screenshot)
+        .env("FERROC_PROGRAM_PID", program.child.id().to_string())
+        .output()
+        .expect("node runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!("{stdout}");
+    println!("screenshot of the page: {}", screenshot.display());
+    assert!(
+        out.status.success(),
+        "the page test failed:\n{stdout}\n{stderr}"
+    );
+    let png = std::fs::read(&screenshot).expect("the screenshot was written");
+    assert!(
+        png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 10_000,
+        "not a screenshot"
+    );
+    // Every check of the script reported itself.
+    for step in [
+        "graph: 8 modules",
+        "a numeric port changed",
+        "wrong token refused: not authorised",
+        "operator/activity became 0.25",
+        "unreachable shown",
+    ] {
+        assert!(stdout.contains(step), "missing `{step}` in:\n{stdout}");
+    }
+}
