@@ -22,6 +22,7 @@ mod bundle;
 mod finroc;
 mod graph;
 mod inspect;
+mod inspect_edit;
 mod log;
 mod new;
 mod runner;

@@ -20,6 +20,7 @@ macro_rules! eprintln {
 }
 
 pub mod checked;
+pub mod edit;
 pub mod inspect;
 pub mod interface;
 pub mod output;

@@ -15,4 +15,5 @@ pub mod client;
 pub mod config;
 pub mod request;
 pub mod server;
+pub mod structure;
 pub mod token;
