@@ -119,7 +119,13 @@ fn a_moved_module_takes_its_connections_along() {
     );
     // The self-closing thread is opened; the connection now lies in the part.
     assert!(
-        t.contains("<thread name=\"slow\" period=\"20ms\">\n      <module name=\"scaled\""),
+        t.contains(concat!(
+            "<thread name=\"slow\" period=\"20ms\">\n",
+            "      <module name=\"scaled\" type=\"ferroc_std.Scale\">\n",
+            "        <param name=\"factor\">2</param>\n",
+            "      </module>\n",
+            "    </thread>"
+        )),
         "{t}"
     );
     assert!(

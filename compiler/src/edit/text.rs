@@ -322,7 +322,16 @@ fn move_module(text: &str, path: &str, to: &str) -> Result<(String, String), Str
     if find(&root, &new_path).is_ok() {
         return Err(format!("`{new_path}` exists already"));
     }
-    let snippet = text[module.span.start as usize..module.span.end as usize].to_owned();
+    // Its lines lose their old indentation; the insertion gives them the new one.
+    let old_indent = indent_at(text, module.span.start as usize);
+    let snippet = (text[module.span.start as usize..module.span.end as usize].split('\n'))
+        .enumerate()
+        .map(|(i, line)| match i {
+            0 => line,
+            _ => line.strip_prefix(old_indent.as_str()).unwrap_or(line),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
     // Its connections, to be written again with the new path.
     let mut moved = Vec::new();
     let mut spans = vec![(module.span.start as usize, module.span.end as usize)];
