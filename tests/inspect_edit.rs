@@ -364,7 +364,7 @@ fn no_edit_without_the_token_and_malformed_edits_are_errors() {
 
 /// Sends a raw query with its own Zenoh client.
 fn ferroc_inspect_ask(r: &Running, key: &str, payload: Vec<u8>) -> Vec<Result<Value, String>> {
-    let client = ferroc_inspect::client::Client::connect(&[r.address.clone()]).unwrap();
+    let client = ferroc_inspect::client::Client::connect(std::slice::from_ref(&r.address)).unwrap();
     let answers = client.ask(key, Some(payload)).unwrap();
     assert!(!answers.is_empty(), "nobody answered {key}");
     answers.into_iter().map(|a| a.result).collect()

@@ -248,6 +248,9 @@ fn remove(text: &str, path: &str) -> Result<(String, String), String> {
     ))
 }
 
+/// A `<connect>`'s text and the offsets (in it) of its `from` and `to` values.
+type Template<'a> = (&'a str, (usize, usize), (usize, usize));
+
 /// Inserts `<connect from to>` in the deepest scope holding both ends; `template`
 /// (a `<connect>`'s text with the offsets of its `from` and `to` values) keeps the
 /// other attributes and children of a connection that moves.
@@ -255,7 +258,7 @@ fn connect(
     text: &str,
     from: &str,
     to: &str,
-    template: Option<(&str, (usize, usize), (usize, usize))>,
+    template: Option<Template<'_>>,
 ) -> Result<(String, String), String> {
     let root = parse(text)?;
     if connects(&root).iter().any(|c| c.from == from && c.to == to) {
