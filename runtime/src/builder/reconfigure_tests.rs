@@ -212,3 +212,56 @@ fn modules_are_inserted_moved_and_removed_while_the_others_keep_cycling() {
     assert_eq!(live.catalogue().modules.len(), 3);
     drop(app);
 }
+
+#[test]
+fn a_data_triggered_container_switches_too_and_wakes_for_a_new_module() {
+    let mut registry = Registry::new();
+    registry.register::<Source>().register::<Times>();
+    let mut b = Builder::new(&registry);
+    let four = [("value".to_string(), Value::Float(4.0))];
+    b.add_module(spec("p/a/src", "t.Source", &four)).unwrap();
+    b.add_module(spec("p/d/g1", "t.Times", &[])).unwrap();
+    b.connect(
+        ("p/a/src", "out"),
+        ("p/d/g1", "input"),
+        Conversion::default(),
+        ConnectOptions::default(),
+    )
+    .unwrap();
+    b.add_thread(thread("p/a", &["p/a/src"])).unwrap();
+    b.add_thread(ThreadSpec {
+        schedule: Schedule::Data,
+        ..thread("p/d", &["p/d/g1"])
+    })
+    .unwrap();
+    let (app, mut live) = b.start_live(StartOptions::default()).unwrap();
+    rises(&app, 1, 0);
+    // A second reader in the data-triggered container, fed from p/a.
+    let ten = [("factor".to_string(), Value::Float(10.0))];
+    let done = live
+        .apply(Reconfiguration {
+            add: vec![spec("p/d/g2", "t.Times", &ten)],
+            connect: vec![(port("p/a/src", "out"), port("p/d/g2", "input"))],
+            threads: vec![("p/d".into(), steps(&["p/d/g1", "p/d/g2"]))],
+            ..Default::default()
+        })
+        .unwrap();
+    assert!(
+        done.iter().any(|l| l.contains("`p/d` switched")),
+        "{done:?}"
+    );
+    let probe = CopyInputPort::<f64>::new("probe");
+    let catalogue = live.catalogue();
+    let g2 = catalogue
+        .modules
+        .iter()
+        .find(|m| m.path == "p/d/g2")
+        .unwrap();
+    let (_, out) = g2.outputs.iter().find(|(n, _)| n == "output").unwrap();
+    out.connect(&probe.handle(), ConnectOptions::default())
+        .unwrap();
+    until(&probe, 40.0);
+    let before = app.status()[1].cycles;
+    rises(&app, 1, before);
+    drop(app);
+}
