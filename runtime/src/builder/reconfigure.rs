@@ -48,6 +48,8 @@ pub struct Live {
     registry: Registry,
     violations: Arc<ViolationLog>,
     modules: BTreeMap<String, LiveModule>,
+    /// Module paths in the order they were added (the inspector's tree keeps it).
+    order: Vec<String>,
     containers: Vec<LiveContainer>,
     /// Module connections: (writer, reader, input).
     links: BTreeSet<(String, String, String)>,
@@ -104,6 +106,7 @@ impl Builder<'_> {
             })
             .collect();
         let mut inspected = left.inspected;
+        let order = paths.clone();
         let modules = (left.modules.into_iter())
             .map(|m| {
                 let outputs = inspected.remove(&m.path).unwrap_or_else(|| {
@@ -133,6 +136,7 @@ impl Builder<'_> {
             registry,
             violations: left.violations,
             modules,
+            order,
             containers,
             links,
             timeout: Duration::from_secs(5),
@@ -192,7 +196,8 @@ impl Live {
 
     /// What an inspector serves of the application as it is now.
     pub fn catalogue(&self) -> crate::inspect::Catalogue {
-        let modules = (self.modules.iter())
+        let modules = (self.order.iter())
+            .filter_map(|path| Some((path, self.modules.get(path)?)))
             .filter(|(_, m)| m.thread.is_some())
             .map(|(path, m)| crate::inspect::ModuleEntry {
                 path: path.clone(),

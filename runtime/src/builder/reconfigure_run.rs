@@ -265,22 +265,25 @@ impl Live {
     ) {
         for path in remove {
             self.modules.remove(path);
+            self.order.retain(|p| p != path);
         }
         for (old, new) in moves {
             if let Some(m) = self.modules.remove(old) {
                 self.modules.insert(new.clone(), m);
             }
+            for p in self.order.iter_mut().filter(|p| *p == old) {
+                *p = new.clone();
+            }
         }
-        let created: Vec<String> = self
-            .modules
-            .keys()
+        let created: Vec<String> = (self.modules.keys())
             .filter(|k| k.starts_with('\0'))
             .cloned()
             .collect();
         for key in created {
             let m = self.modules.remove(&key).expect("listed");
-            self.modules
-                .insert(key.trim_start_matches("\0new ").to_owned(), m);
+            let path = key.trim_start_matches("\0new ").to_owned();
+            self.order.push(path.clone());
+            self.modules.insert(path, m);
         }
         for (&t, steps) in threads {
             self.containers[t].steps = steps.clone();

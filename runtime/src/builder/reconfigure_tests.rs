@@ -157,6 +157,17 @@ fn modules_are_inserted_moved_and_removed_while_the_others_keep_cycling() {
     );
     until(&probe, 24.0);
     rises(&app, 1, before);
+    let paths: Vec<String> = live
+        .catalogue()
+        .modules
+        .into_iter()
+        .map(|m| m.path)
+        .collect();
+    assert_eq!(
+        paths,
+        ["p/a/src", "p/a/g1", "p/b/other", "p/a/g2"],
+        "added last"
+    );
 
     // A change that cannot be made changes nothing.
     let e = live
