@@ -276,3 +276,31 @@ fn a_data_triggered_container_switches_too_and_wakes_for_a_new_module() {
     rises(&app, 1, before);
     drop(app);
 }
+
+#[test]
+fn a_lockstep_run_takes_no_change() {
+    let mut registry = Registry::new();
+    registry.register::<Source>().register::<Times>();
+    let mut b = Builder::new(&registry);
+    b.add_module(spec("p/a/src", "t.Source", &[])).unwrap();
+    b.add_thread(thread("p/a", &["p/a/src"])).unwrap();
+    let options = StartOptions {
+        limit: Some(3),
+        lockstep: Some(Lockstep {
+            periods: Vec::new(),
+            until: None,
+        }),
+        network: None,
+    };
+    let (mut app, mut live) = b.start_live(options).unwrap();
+    let e = live
+        .apply(Reconfiguration {
+            remove: vec!["p/a/src".into()],
+            threads: vec![("p/a".into(), Vec::new())],
+            ..Default::default()
+        })
+        .unwrap_err();
+    assert!(e.contains("lockstep"), "{e}");
+    app.join();
+    assert_eq!(app.status()[0].cycles, 3, "the run is not touched");
+}
