@@ -48,17 +48,15 @@ pub fn edit(
         return Ok(());
     }
     println!("applied:");
-    for section in ["edit", "runtime", "warnings"] {
+    let sections = [
+        ("edit", "model"),
+        ("runtime", "running"),
+        ("warnings", "warning"),
+    ];
+    for (section, prefix) in sections {
         for line in answer[section].as_array().into_iter().flatten() {
-            let prefix = if section == "warnings" {
-                "warning: "
-            } else {
-                ""
-            };
-            println!(
-                "  {prefix}{}",
-                escape_controls(line.as_str().unwrap_or_default())
-            );
+            let line = escape_controls(line.as_str().unwrap_or_default());
+            println!("  {prefix}: {line}");
         }
     }
     Ok(())

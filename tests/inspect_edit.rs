@@ -251,7 +251,8 @@ fn edits_breaking_a_rule_are_refused_and_a_filter_is_inserted_while_the_other_co
     let (status, out, err) = edit(&r, "filter", insert_filter());
     assert_eq!(status, 0, "{err}");
     assert!(
-        out.contains("`robot/fast` switched at a cycle boundary"),
+        out.contains("running: `robot/fast` switched at a cycle boundary")
+            && out.contains("model: added `robot/fast/filter` of type `ferroc_std.Filter`"),
         "{out}"
     );
     assert!(
@@ -272,6 +273,21 @@ fn edits_breaking_a_rule_are_refused_and_a_filter_is_inserted_while_the_other_co
         filter["source"].as_str().unwrap().contains("(edited):"),
         "{filter}"
     );
+
+    // The filter moves to robot/slow: the same instance, its connections follow it.
+    let (status, out, err) = edit(
+        &r,
+        "move",
+        json!([{"op": "move", "module": "robot/fast/filter", "to": "robot/slow"}]),
+    );
+    assert_eq!(status, 0, "{err}");
+    assert!(
+        out.contains("running: `robot/fast` switched")
+            && out.contains("running: `robot/slow` switched"),
+        "{out}"
+    );
+    eventually(&r, "robot/slow/filter/out", json!(12.0));
+    eventually(&r, "robot/fast/scaled/output", json!(24.0));
 
     // A parameter change is written into the saved model too.
     let (status, _, err) = inspect(
