@@ -127,8 +127,23 @@ pub fn diff(old: &Plan, new: &Plan, moved: &[(String, String)]) -> PlanDiff {
         new.connections.iter().map(|c| (key(c, &same), c)).collect();
     let removed: BTreeSet<&str> = d.removed.iter().map(String::as_str).collect();
     let plain = |c: &PlannedConnection| c.select.is_empty() && c.scale == 1.0 && c.offset == 0.0;
+    // A kept connection whose ends come to lie in one container, or leave it, is made
+    // again: a connection between two modules of one container may take the ports'
+    // same-container path (issue 18), which must not outlive a move.
+    let (old_home, new_home) = (homes(old), homes(new));
+    let regrouped = |c: &PlannedConnection| {
+        let before = (
+            old_home.get(c.from.0.as_str()),
+            old_home.get(c.to.0.as_str()),
+        );
+        let after = (
+            new_home.get(rename(&c.from.0).as_str()),
+            new_home.get(rename(&c.to.0).as_str()),
+        );
+        (before.0 == before.1) != (after.0 == after.1)
+    };
     for c in &old.connections {
-        if new_keys.contains_key(&key(c, &rename)) {
+        if new_keys.contains_key(&key(c, &rename)) && !regrouped(c) {
             continue;
         }
         if c.link.is_some() {
@@ -144,8 +159,13 @@ pub fn diff(old: &Plan, new: &Plan, moved: &[(String, String)]) -> PlanDiff {
         }
         d.disconnect.push(c.clone());
     }
+    let regrouped_new: BTreeSet<String> = (old.connections.iter())
+        .filter(|c| regrouped(c))
+        .map(|c| key(c, &rename))
+        .collect();
     for c in &new.connections {
-        if old_keys.contains_key(&key(c, &same)) {
+        let k = key(c, &same);
+        if old_keys.contains_key(&k) && !regrouped_new.contains(&k) {
             continue;
         }
         if c.link.is_some() {
@@ -164,6 +184,17 @@ pub fn diff(old: &Plan, new: &Plan, moved: &[(String, String)]) -> PlanDiff {
     compare_threads(old, new, &rename, &mut d);
     compare_rest(old, new, &rename, &mut d);
     d
+}
+
+/// The container each module's steps run in.
+fn homes(plan: &Plan) -> HashMap<&str, &str> {
+    (plan.threads.iter())
+        .flat_map(|t| {
+            t.steps
+                .iter()
+                .map(move |(m, _)| (m.as_str(), t.path.as_str()))
+        })
+        .collect()
 }
 
 fn compare_threads(old: &Plan, new: &Plan, rename: &dyn Fn(&str) -> String, d: &mut PlanDiff) {

@@ -272,7 +272,16 @@ fn the_plan_diff_names_what_changes() {
         d.unsupported.is_empty() && d.added.is_empty() && d.removed.is_empty(),
         "{d:?}"
     );
-    assert!(d.connect.is_empty() && d.disconnect.is_empty(), "{d:?}");
+    // Its connection now joins two containers: made again (no same-container path
+    // may outlive the move).
+    assert_eq!(
+        ends(&d.disconnect),
+        ["robot/fast/source/value>robot/fast/scaled/input"]
+    );
+    assert_eq!(
+        ends(&d.connect),
+        ["robot/fast/source/value>robot/slow/scaled/input"]
+    );
     assert_eq!(
         d.moved,
         [(
