@@ -26,6 +26,7 @@ pub mod interface;
 pub mod output;
 pub mod record;
 pub mod run;
+mod spec;
 pub mod types;
 
 pub use ferroc_runtime;

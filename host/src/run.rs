@@ -1,21 +1,21 @@
 //! `ferroc run`: check a model, build it in the runtime, run it, stop cleanly.
 
+pub use crate::spec::{params_of, ports_of, queues_of, step_kind};
 use ferroc_compiler::library::LibrarySet;
 use ferroc_compiler::plan::{self, Plan};
 use ferroc_compiler::report::json::location;
-use ferroc_compiler::schedule::StepKind as PlanStep;
 use ferroc_compiler::source::{SourceMap, Span};
 use ferroc_compiler::values::Value as ModelValue;
 use ferroc_compiler::CheckResult;
 use ferroc_runtime::behaviour::ViolationPolicy;
 use ferroc_runtime::builder::{
     Builder, Conversion, Lockstep, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,
-    StepKind, ThreadSpec,
+    ThreadSpec,
 };
 use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::link::{CallSpec, LinkSpec, Sharing};
-use ferroc_runtime::module::{Direction, PortGroup, Value};
-use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig, WaitMode};
+use ferroc_runtime::module::Value;
+use ferroc_runtime::port::{ConnectOptions, WaitMode};
 use ferroc_runtime::supervise;
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -417,49 +417,6 @@ pub fn build(
     start: StartOptions,
 ) -> Result<RunningApp, ferroc_runtime::builder::BuildError> {
     wire(plan, registry)?.start_with(start)
-}
-
-/// The parameter values of a planned module, as the runtime takes them.
-pub fn params_of(m: &plan::PlannedModule) -> Vec<(String, Value)> {
-    (m.params.iter())
-        .map(|(n, v)| (n.clone(), value(v)))
-        .collect()
-}
-
-/// The input queues of a planned module.
-pub fn queues_of(m: &plan::PlannedModule) -> Vec<(String, QueueConfig)> {
-    (m.queues.iter())
-        .map(|(port, n, policy)| {
-            let on_full = match policy.as_str() {
-                "drop-oldest" => OnFull::DropOldest,
-                "drop-newest" => OnFull::DropNewest,
-                _ => OnFull::Block,
-            };
-            (port.clone(), QueueConfig::new(*n as usize).on_full(on_full))
-        })
-        .collect()
-}
-
-/// The flexible port groups of a planned module.
-pub fn ports_of(m: &plan::PlannedModule) -> Vec<PortGroup<'_>> {
-    (m.ports.iter())
-        .map(|g| {
-            let dir = match g.dir {
-                ferroc_compiler::library::PortDir::In => Direction::In,
-                ferroc_compiler::library::PortDir::Out => Direction::Out,
-            };
-            PortGroup::new(&g.name, dir, &g.ty, g.count)
-        })
-        .collect()
-}
-
-/// The runtime's step kind of a planned step.
-pub fn step_kind(kind: &PlanStep) -> StepKind {
-    match kind {
-        PlanStep::Update => StepKind::Update,
-        PlanStep::Sense => StepKind::Sense,
-        PlanStep::Control => StepKind::Control,
-    }
 }
 
 /// The Builder calls of [`build`] up to the start: every module, connection, call and

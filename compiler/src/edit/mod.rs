@@ -10,6 +10,7 @@
 //! inside a group type are refused with a message saying so.
 
 pub mod diff;
+mod splice;
 #[cfg(test)]
 mod tests;
 mod text;
