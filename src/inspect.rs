@@ -11,7 +11,7 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("action").required(true).args(["list", "get", "set", "watch", "serve"])))]
+#[command(group(clap::ArgGroup::new("action").required(true).args(["list", "get", "set", "watch", "serve", "edit", "save"])))]
 pub struct InspectArgs {
     /// The program's inspection address (its `--inspect ADDR`; repeatable)
     #[arg(long, value_name = "HOST:PORT", default_value = "127.0.0.1:47900")]
@@ -30,7 +30,16 @@ pub struct InspectArgs {
     /// needs --token
     #[arg(long, value_name = "PATH=VALUE", requires = "token")]
     set: Option<String>,
-    /// The token the program printed at start (for --set)
+    /// Change the running application's structure: a JSON file of edit operations
+    /// (`-`: standard input), checked by the compiler before it is applied; needs
+    /// --token (docs/inspect.md, "Structural edits")
+    #[arg(long, value_name = "OPS.json", requires = "token")]
+    edit: Option<std::path::PathBuf>,
+    /// Write the model the program runs now (edits and parameter changes included)
+    /// to FILE (`-`: standard output)
+    #[arg(long, value_name = "FILE")]
+    save: Option<std::path::PathBuf>,
+    /// The token the program printed at start (for --set and --edit)
     #[arg(long, value_name = "TOKEN", env = "FERROC_INSPECT_TOKEN")]
     token: Option<String>,
     /// Print a port's value every --every until --for or --count ends it (or Ctrl-C)
@@ -82,6 +91,11 @@ pub fn run(args: InspectArgs) -> ExitCode {
         set(&client, &args, assignment)
     } else if let Some(path) = &args.watch {
         watch(&client, &args, path)
+    } else if let Some(ops) = &args.edit {
+        let token = args.token.as_deref().unwrap_or_default();
+        crate::inspect_edit::edit(&client, &args.app, ops, token, args.json)
+    } else if let Some(file) = &args.save {
+        crate::inspect_edit::save(&client, &args.app, file)
     } else {
         Ok(())
     };

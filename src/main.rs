@@ -19,6 +19,7 @@ mod check;
 mod finroc;
 mod graph;
 mod inspect;
+mod inspect_edit;
 mod log;
 mod new;
 mod runner;

@@ -6,6 +6,7 @@
 pub mod checks;
 pub mod deadlock;
 pub mod diagnostic;
+pub mod edit;
 pub mod finroc;
 pub mod graph;
 pub mod ir;
@@ -48,13 +49,40 @@ pub struct Policy {
 
 /// Checks one model. `Err` only when the model file itself cannot be read (exit code 2).
 pub fn check_model(path: &Path, options: &Options, policy: &Policy) -> Result<CheckResult, String> {
+    check_with(path, None, options, policy)
+}
+
+/// Checks `text` as the model at `path` (an edited model, `ferroc run --inspect`): every
+/// check runs as for the file, includes and manifests are found from the file's folder,
+/// and diagnostics name the text `name` (`models/x.xml (edited)`).
+pub fn check_model_text(
+    path: &Path,
+    name: &str,
+    text: &str,
+    options: &Options,
+    policy: &Policy,
+) -> Result<CheckResult, String> {
+    check_with(path, Some((name, text)), options, policy)
+}
+
+fn check_with(
+    path: &Path,
+    given: Option<(&str, &str)>,
+    options: &Options,
+    policy: &Policy,
+) -> Result<CheckResult, String> {
     let mut sources = SourceMap::default();
     let mut diags = Diagnostics::default();
     let mut loader = Loader::new(&mut sources, &mut diags, options);
+    if let Some((name, text)) = given {
+        loader.set_model_text(name.to_owned(), text.to_owned());
+    }
     // A FINROC file (make.xml, application, group, config) is checked as such: there is
     // no model. Standard input is read once here to see its root element (a pipe cannot
     // be read twice).
-    let kind = if load::is_stdin(path) {
+    let kind = if given.is_some() {
+        None
+    } else if load::is_stdin(path) {
         let text = load::read_stdin(&options.limits)
             .map_err(|r| format!("cannot read {}: {r}", path.display()))?;
         let root = load::root_element_of(text.as_bytes());

@@ -82,6 +82,9 @@ pub struct Loader<'a> {
     root_dir: PathBuf,
     /// Standard input, when the model comes from there and was read already.
     stdin_text: Option<String>,
+    /// The model's text given in memory (an edited model): its display name and text;
+    /// the model's path still decides where includes and manifests are looked for.
+    given_text: Option<(String, String)>,
 }
 
 impl<'a> Loader<'a> {
@@ -97,6 +100,7 @@ impl<'a> Loader<'a> {
             options,
             root_dir: PathBuf::new(),
             stdin_text: None,
+            given_text: None,
         }
     }
 
@@ -199,19 +203,29 @@ impl<'a> Loader<'a> {
         self.stdin_text = Some(text);
     }
 
+    /// Checks `text` as if it were the model at its path (an edited model: includes and
+    /// manifests are found as for the file), shown as `name` in diagnostics.
+    pub fn set_model_text(&mut self, name: String, text: String) {
+        self.given_text = Some((name, text));
+    }
+
     /// Loads a model and its includes. `Err` when the model file itself cannot be read.
     pub fn load_model(&mut self, path: &Path) -> Result<Option<ModelFiles>, String> {
-        let (canonical, text) = self.read_top(path)?;
+        let (display, canonical, text) = match self.given_text.take() {
+            Some((name, text)) => {
+                let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+                (name, canonical, text)
+            }
+            None => {
+                let (canonical, text) = self.read_top(path)?;
+                (path.display().to_string(), canonical, text)
+            }
+        };
         self.root_dir = canonical
             .parent()
             .map(Path::to_path_buf)
             .unwrap_or_default();
-        let (file, root) = self.parse(
-            path.display().to_string(),
-            canonical.clone(),
-            text,
-            "application",
-        );
+        let (file, root) = self.parse(display, canonical.clone(), text, "application");
         let Some(root) = root else { return Ok(None) };
         let mut fragments = Vec::new();
         let mut chain = vec![(canonical, None)];

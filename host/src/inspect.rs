@@ -3,8 +3,6 @@
 //! changes parsed with the model's own value rules (units converted as in a model
 //! file), and a random token for changes printed at start.
 
-use ferroc_compiler::plan::Plan;
-use ferroc_compiler::source::SourceMap;
 use ferroc_compiler::types::parse_type;
 use ferroc_compiler::units::parse_unit;
 use ferroc_compiler::values::{parse_value, ValueError};
@@ -12,7 +10,7 @@ use ferroc_inspect::config;
 use ferroc_inspect::server::{self, Server};
 use ferroc_runtime::builder::Registry;
 use ferroc_runtime::inspect::view::ParamView;
-use ferroc_runtime::inspect::{Catalogue, Inspector, Origin};
+use ferroc_runtime::inspect::{Catalogue, Inspector};
 use ferroc_runtime::module::Value;
 use std::sync::Arc;
 
@@ -40,37 +38,28 @@ pub fn check_address(serve: &Serve<'_>) -> Result<(), String> {
     Ok(())
 }
 
-/// Starts serving; prints the keys and the change token.
+/// Starts serving; prints the keys and the change token. `running` is what
+/// structural edits change (`edit.rs`).
 pub fn start(
     serve: &Serve<'_>,
     catalogue: Catalogue,
     app: &ferroc_runtime::builder::RunningApp,
-    plan: &Plan,
-    sources: &SourceMap,
+    result: &ferroc_compiler::CheckResult,
     registry: &Registry,
+    running: crate::edit::Running,
 ) -> Result<Server, String> {
-    let mut inspector = Inspector::new(catalogue, app.stats(), registry.values());
-    for m in &plan.modules {
-        let origin = Origin {
-            part: String::new(),
-            source: Some(crate::run::at(sources, m.span)),
-        };
-        inspector.set_origin(&m.path, origin);
-    }
-    for c in &plan.connections {
-        inspector.add_connection(
-            (c.from.0.as_str(), c.from.1.as_str()),
-            (c.to.0.as_str(), c.to.1.as_str()),
-        );
-    }
+    let inspector = Arc::new(Inspector::new(catalogue, app.stats(), registry.values()));
+    crate::edit::describe(&inspector, &running.plan, result);
+    let editor = crate::edit::Editor::new(running, Arc::clone(&inspector));
     let token = ferroc_inspect::token::generate()?;
     let config = config::server(serve.address)?;
-    let server = server::serve(
+    let server = server::serve_structure(
         config,
         serve.app,
-        Arc::new(inspector),
+        inspector,
         token.clone(),
         Box::new(parse_param),
+        Some(Arc::new(editor)),
     )?;
     if !config::is_local(serve.address) {
         eprintln!(

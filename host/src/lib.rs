@@ -20,11 +20,13 @@ macro_rules! eprintln {
 }
 
 pub mod checked;
+pub mod edit;
 pub mod inspect;
 pub mod interface;
 pub mod output;
 pub mod record;
 pub mod run;
+mod spec;
 pub mod types;
 
 pub use ferroc_runtime;

@@ -1,21 +1,21 @@
 //! `ferroc run`: check a model, build it in the runtime, run it, stop cleanly.
 
+pub use crate::spec::{params_of, ports_of, queues_of, step_kind};
 use ferroc_compiler::library::LibrarySet;
 use ferroc_compiler::plan::{self, Plan};
 use ferroc_compiler::report::json::location;
-use ferroc_compiler::schedule::StepKind as PlanStep;
 use ferroc_compiler::source::{SourceMap, Span};
 use ferroc_compiler::values::Value as ModelValue;
 use ferroc_compiler::CheckResult;
 use ferroc_runtime::behaviour::ViolationPolicy;
 use ferroc_runtime::builder::{
     Builder, Conversion, Lockstep, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,
-    StepKind, ThreadSpec,
+    ThreadSpec,
 };
 use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::link::{CallSpec, LinkSpec, Sharing};
-use ferroc_runtime::module::{Direction, PortGroup, Value};
-use ferroc_runtime::port::{ConnectOptions, OnFull, QueueConfig, WaitMode};
+use ferroc_runtime::module::Value;
+use ferroc_runtime::port::{ConnectOptions, WaitMode};
 use ferroc_runtime::supervise;
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -198,11 +198,17 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         eprintln!("error: {e}");
         return ExitCode::from(2);
     }
-    let started = wire(&plan, &registry).and_then(|mut builder| {
-        let catalogue = serve.is_some().then(|| builder.inspection());
-        builder.start_with(start).map(|app| (app, catalogue))
+    let started = wire(&plan, &registry).and_then(|mut builder| match serve {
+        // Inspected: the structure stays changeable while it runs (edits).
+        Some(_) => {
+            let catalogue = builder.inspection();
+            builder
+                .start_live(start)
+                .map(|(app, live)| (app, Some((catalogue, live))))
+        }
+        None => builder.start_with(start).map(|app| (app, None)),
     });
-    let (app, catalogue) = match started {
+    let (app, inspection) = match started {
         Ok(started) => started,
         Err(e) => {
             eprintln!("error: {e}");
@@ -210,9 +216,20 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         }
     };
     // Kept until the run ends: dropping it stops serving.
-    let _server = match (&serve, catalogue) {
-        (Some(serve), Some(catalogue)) => {
-            match crate::inspect::start(serve, catalogue, &app, &plan, &result.sources, &registry) {
+    let _server = match (&serve, inspection) {
+        (Some(serve), Some((catalogue, live))) => {
+            let running = crate::edit::Running {
+                model: args.model.clone(),
+                text: model_text(&args.model, &result.sources),
+                lib_path: args.lib_path.clone(),
+                cmdline: cmdline.clone(),
+                plan: plan.clone(),
+                live,
+                off: args.record.as_ref().map(|_| {
+                    "this run records (--record): its recorders are not in the model, so its structure does not change; run without --record to edit".to_string()
+                }),
+            };
+            match crate::inspect::start(serve, catalogue, &app, result, &registry, running) {
                 Ok(server) => Some(server),
                 Err(e) => {
                     eprintln!("error: --inspect: {e}");
@@ -227,6 +244,15 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         status_line: !args.quiet && std::io::stderr().is_terminal(),
     };
     supervise::supervise(app, &interrupted, &options)
+}
+
+/// The text of the model file as it was checked.
+fn model_text(model: &std::path::Path, sources: &SourceMap) -> String {
+    let canonical = model.canonicalize().unwrap_or_else(|_| model.to_path_buf());
+    let file = sources
+        .find(&canonical)
+        .unwrap_or(ferroc_compiler::source::FileId(0));
+    sources.get(file).text.clone()
 }
 
 /// `FILE:LINE:COL` of a span.
@@ -401,34 +427,7 @@ pub fn wire<'r>(
 ) -> Result<Builder<'r>, ferroc_runtime::builder::BuildError> {
     let mut builder = Builder::new(registry);
     for m in &plan.modules {
-        let params: Vec<(String, Value)> = m
-            .params
-            .iter()
-            .map(|(n, v)| (n.clone(), value(v)))
-            .collect();
-        let queues: Vec<(String, QueueConfig)> = m
-            .queues
-            .iter()
-            .map(|(port, n, policy)| {
-                let on_full = match policy.as_str() {
-                    "drop-oldest" => OnFull::DropOldest,
-                    "drop-newest" => OnFull::DropNewest,
-                    _ => OnFull::Block,
-                };
-                (port.clone(), QueueConfig::new(*n as usize).on_full(on_full))
-            })
-            .collect();
-        let ports: Vec<PortGroup<'_>> = m
-            .ports
-            .iter()
-            .map(|g| {
-                let dir = match g.dir {
-                    ferroc_compiler::library::PortDir::In => Direction::In,
-                    ferroc_compiler::library::PortDir::Out => Direction::Out,
-                };
-                PortGroup::new(&g.name, dir, &g.ty, g.count)
-            })
-            .collect();
+        let (params, queues, ports) = (params_of(m), queues_of(m), ports_of(m));
         builder.add_module(ModuleSpec {
             path: &m.path,
             type_name: &m.type_name,
@@ -516,14 +515,7 @@ pub fn wire<'r>(
             steps: t
                 .steps
                 .iter()
-                .map(|(path, kind)| {
-                    let kind = match kind {
-                        PlanStep::Update => StepKind::Update,
-                        PlanStep::Sense => StepKind::Sense,
-                        PlanStep::Control => StepKind::Control,
-                    };
-                    (path.clone(), kind)
-                })
+                .map(|(path, kind)| (path.clone(), step_kind(kind)))
                 .collect(),
         })?;
     }

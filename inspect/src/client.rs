@@ -1,7 +1,7 @@
 //! Asking running programs: a Zenoh peer connected to explicit endpoints, sending the
 //! queries of [`request`](crate::request) and reading their JSON answers.
 
-use crate::request::{self, ErrorReply, SetRequest, What};
+use crate::request::{self, EditRequest, ErrorReply, SetRequest, What};
 use serde::de::DeserializeOwned;
 use std::time::Duration;
 use zenoh::query::ConsolidationMode;
@@ -57,6 +57,16 @@ impl Client {
     /// of a program just connected to may still be on their way: a query nobody
     /// answered is asked again a few times.
     pub fn ask(&self, key: &str, payload: Option<Vec<u8>>) -> Result<Vec<Answer>, String> {
+        self.ask_within(key, payload, QUERY_TIMEOUT)
+    }
+
+    /// [`ask`](Self::ask), each attempt waiting up to `timeout` for answers.
+    pub fn ask_within(
+        &self,
+        key: &str,
+        payload: Option<Vec<u8>>,
+        timeout: Duration,
+    ) -> Result<Vec<Answer>, String> {
         for attempt in 0..5 {
             if attempt > 0 {
                 std::thread::sleep(Duration::from_millis(200));
@@ -65,7 +75,7 @@ impl Client {
                 .session
                 .get(key)
                 .consolidation(ConsolidationMode::None)
-                .timeout(QUERY_TIMEOUT);
+                .timeout(timeout);
             if let Some(p) = &payload {
                 get = get.payload(p.clone());
             }
@@ -115,6 +125,32 @@ impl Client {
         first(&key, answers)?.parse()
     }
 }
+
+impl Client {
+    /// Sends a structural edit (`ops`, a JSON list) with `token` to the part `part` of
+    /// `app` (`*`: the program that answers). The answer says what changed; a refusal
+    /// is an error carrying the compiler's diagnostics. Checking and switching the
+    /// containers takes longer than a read: it may take up to [`EDIT_TIMEOUT`].
+    pub fn edit(
+        &self,
+        app: &str,
+        part: &str,
+        ops: serde_json::Value,
+        token: &str,
+    ) -> Result<serde_json::Value, String> {
+        let key = request::key(app, part, &What::Edit);
+        let body = serde_json::to_vec(&EditRequest {
+            token: token.to_owned(),
+            ops,
+        })
+        .map_err(|e| e.to_string())?;
+        let answers = self.ask_within(&key, Some(body), EDIT_TIMEOUT)?;
+        first(&key, answers)?.parse()
+    }
+}
+
+/// How long an edit waits for its answer.
+pub const EDIT_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// The part a module path starts with.
 pub fn part_of(path: &str) -> &str {

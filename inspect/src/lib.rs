@@ -15,5 +15,6 @@ pub mod client;
 pub mod config;
 pub mod request;
 pub mod server;
+pub mod structure;
 pub mod token;
 pub mod web;

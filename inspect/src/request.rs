@@ -21,6 +21,11 @@ pub enum What {
     Value(String),
     /// A parameter (`MODULE/PATH/NAME`); with a [`SetRequest`] payload, a change.
     Param(String),
+    /// A structural edit of the model ([`EditRequest`] payload), checked by the
+    /// compiler before it is applied.
+    Edit,
+    /// The model as it runs now (edits and parameter changes written in).
+    Model,
 }
 
 impl What {
@@ -33,6 +38,8 @@ impl What {
             What::Activities => "activities".into(),
             What::Value(p) => format!("value/{p}"),
             What::Param(p) => format!("param/{p}"),
+            What::Edit => "edit".into(),
+            What::Model => "model".into(),
         }
     }
 }
@@ -83,6 +90,8 @@ fn what(key: &str, tail: &str) -> Result<What, String> {
             "containers" => What::Containers,
             "links" => What::Links,
             "activities" => What::Activities,
+            "edit" => What::Edit,
+            "model" => What::Model,
             other => return Err(unknown(other)),
         },
         Some(("value", path)) if !path.is_empty() => What::Value(path.to_owned()),
@@ -93,7 +102,7 @@ fn what(key: &str, tail: &str) -> Result<What, String> {
 
 fn unknown(what: &str) -> String {
     format!(
-        "`{what}` is not an inspection request; ask for tree, containers, links, activities, value/MODULE/PORT or param/MODULE/NAME"
+        "`{what}` is not an inspection request; ask for tree, containers, links, activities, value/MODULE/PORT, param/MODULE/NAME, edit or model"
     )
 }
 
@@ -106,6 +115,16 @@ pub struct SetRequest {
     pub set: String,
     /// The token the program printed at start.
     pub token: String,
+}
+
+/// The payload of a structural edit (docs/inspect.md, "Structural edits").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EditRequest {
+    /// The token the program printed at start.
+    pub token: String,
+    /// The operations, a JSON list (`[{"op": "add", …}, …]`).
+    pub ops: serde_json::Value,
 }
 
 /// The payload of an error answer.
@@ -128,6 +147,8 @@ mod tests {
             What::Activities,
             What::Value("robot/control/avoid/activity".into()),
             What::Param("robot/control/avoid/min_activity".into()),
+            What::Edit,
+            What::Model,
         ] {
             let k = key("nav", "robot", &what);
             let r = parse(&k).unwrap();

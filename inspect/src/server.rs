@@ -7,6 +7,7 @@
 //! error ([`ErrorReply`]); nothing a client sends can stop the server.
 
 use crate::request::{self, ErrorReply, SetRequest, What};
+use crate::structure::{Refusal, Structure};
 use ferroc_runtime::inspect::view::ParamView;
 use ferroc_runtime::inspect::Inspector;
 use ferroc_runtime::module::Value;
@@ -36,6 +37,8 @@ struct Context {
     inspector: Arc<Inspector>,
     token: String,
     parse: ParseValue,
+    /// Structural edits and the model (`structure.rs`); `None`: not offered.
+    structure: Option<Arc<dyn Structure>>,
 }
 
 /// Opens a session with `config` and serves `inspector` as the application `app`;
@@ -46,6 +49,19 @@ pub fn serve(
     inspector: Arc<Inspector>,
     token: String,
     parse: ParseValue,
+) -> Result<Server, String> {
+    serve_structure(config, app, inspector, token, parse, None)
+}
+
+/// [`serve`], also answering structural edits and the model (`edit`, `model`) with
+/// `structure`.
+pub fn serve_structure(
+    config: zenoh::Config,
+    app: &str,
+    inspector: Arc<Inspector>,
+    token: String,
+    parse: ParseValue,
+    structure: Option<Arc<dyn Structure>>,
 ) -> Result<Server, String> {
     let key = format!("ferroc/{app}/inspect/**");
     let key = zenoh::key_expr::OwnedKeyExpr::try_from(key.clone())
@@ -62,6 +78,7 @@ pub fn serve(
         inspector,
         token,
         parse,
+        structure,
     };
     let thread = std::thread::Builder::new()
         .name("inspect".into())
@@ -109,6 +126,8 @@ fn answer(query: &Query, c: &Context) {
     };
     let payload = query.payload().map(|p| p.to_bytes().into_owned());
     let asked: Vec<&String> = match any_part {
+        // One model for the whole program: asked once, whatever the part.
+        true if matches!(what, What::Edit | What::Model) => parts.iter().take(1).collect(),
         true => parts.iter().collect(),
         false => vec![&parsed.part],
     };
@@ -131,6 +150,7 @@ fn answer(query: &Query, c: &Context) {
                 format!("`{}` is not in the part `{part}`", path(&what)),
             ),
             Answer::Error(e) => reply_err(query, e),
+            Answer::Refused(r) => reply_refusal(query, r),
         }
     }
 }
@@ -139,6 +159,7 @@ enum Answer {
     Json(Vec<u8>),
     NotHere,
     Error(String),
+    Refused(Refusal),
 }
 
 fn path(what: &What) -> &str {
@@ -162,6 +183,7 @@ fn handle(what: &What, part: &str, payload: Option<&[u8]>, c: &Context) -> Answe
         What::Containers => return json(&i.containers(Some(part))),
         What::Links => return json(&i.links(Some(part))),
         What::Activities => return json(&i.activities(Some(part))),
+        What::Edit | What::Model => return structural(what, payload, c),
         What::Value(p) | What::Param(p) => p,
     };
     let (module, name) = match i.split(target) {
@@ -212,11 +234,60 @@ fn set(c: &Context, module: &str, name: &str, bytes: &[u8]) -> Result<ParamView,
     let value = (c.parse)(&before, &request.set)
         .map_err(|why| format!("`{module}/{name}` keeps its value {}: {why}", before.value))?;
     let after = c.inspector.set_param(module, name, &value)?;
+    if let Some(structure) = &c.structure {
+        structure.param_changed(module, name, &request.set);
+    }
     ferroc_runtime::console::note(&format!(
         "inspect: `{module}/{name}` set to {} (was {})",
         after.value, before.value
     ));
     Ok(after)
+}
+
+fn structural(what: &What, payload: Option<&[u8]>, c: &Context) -> Answer {
+    let Some(structure) = &c.structure else {
+        return Answer::Error(
+            "this program does not take structural edits (only `ferroc run --inspect` does; a bundle's programs have no compiler inside)".into(),
+        );
+    };
+    match (what, payload) {
+        (What::Model, None) => json(&structure.model()),
+        (What::Model, Some(_)) => {
+            Answer::Error("the model is read, not written; edit it with `edit`".into())
+        }
+        (_, None) => {
+            Answer::Error("an edit needs the payload {\"token\": \"TOKEN\", \"ops\": [...]}".into())
+        }
+        (_, Some(bytes)) if bytes.len() > MAX_PAYLOAD => Answer::Error(format!(
+            "the request has {} bytes; an edit is at most {MAX_PAYLOAD}",
+            bytes.len()
+        )),
+        (_, Some(bytes)) => {
+            let request = match crate::structure::read(bytes) {
+                Ok(r) => r,
+                Err(r) => return Answer::Refused(r),
+            };
+            if !crate::token::matches(&c.token, &request.token) {
+                ferroc_runtime::console::note("inspect: refused an edit with a wrong token");
+                return Answer::Error(
+                    "not authorised: an edit needs the token the program printed at start (--token)".into(),
+                );
+            }
+            let ops = serde_json::to_vec(&request.ops).unwrap_or_default();
+            match structure.edit(&ops) {
+                Ok(answer) => json(&answer),
+                Err(r) => Answer::Refused(r),
+            }
+        }
+    }
+}
+
+fn reply_refusal(query: &Query, refusal: Refusal) {
+    let body = serde_json::json!({"error": refusal.error, "diagnostics": refusal.diagnostics});
+    let _ = query
+        .reply_err(serde_json::to_vec(&body).unwrap_or_default())
+        .encoding(Encoding::APPLICATION_JSON)
+        .wait();
 }
 
 fn reply_err(query: &Query, error: String) {

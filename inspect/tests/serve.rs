@@ -163,6 +163,11 @@ fn malformed_requests_get_errors_and_the_server_serves_on() {
     }
     let value = key("app", "robot", &What::Value("robot/speed/out".into()));
     assert!(error(&client, &value, Some(b"{}")).contains("only parameters change"));
+    // A server without a structure (a bundle's program) takes no edits.
+    for what in [What::Edit, What::Model] {
+        let e = error(&client, &key("app", "robot", &what), None);
+        assert!(e.contains("does not take structural edits"), "{e}");
+    }
     for (k, want) in [
         (
             "ferroc/app/inspect/robot/value/robot/speed/nope",

@@ -13,15 +13,24 @@ impl Builder<'_> {
     /// value is asked for.
     pub fn inspection(&mut self) -> Catalogue {
         let thread_names: Vec<String> = self.threads.iter().map(|t| t.path.clone()).collect();
+        let inspected = &mut self.inspected;
         let modules = self
             .modules
             .iter_mut()
             .filter(|m| !m.link_end)
-            .map(|m| ModuleEntry {
+            .map(|m| {
+                let outputs: Vec<(String, Arc<OutputHandle>)> = std::mem::take(&mut m.outputs)
+                    .into_iter()
+                    .map(|(name, handle)| (name, Arc::new(handle)))
+                    .collect();
+                inspected.insert(m.path.clone(), outputs.clone());
+                (m, outputs)
+            })
+            .map(|(m, outputs)| ModuleEntry {
                 path: m.path.clone(),
                 interface: m.interface.clone(),
                 thread: m.thread.and_then(|t| thread_names.get(t).cloned()),
-                outputs: std::mem::take(&mut m.outputs),
+                outputs,
                 inputs: m
                     .inputs
                     .iter()

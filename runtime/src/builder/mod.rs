@@ -14,6 +14,7 @@ mod inspection;
 mod links;
 mod lockstep;
 mod param_links;
+mod reconfigure;
 mod registry;
 mod running;
 mod services;
@@ -21,6 +22,7 @@ mod start;
 
 pub use convert::{Conversion, Select};
 pub use lockstep::Lockstep;
+pub use reconfigure::{Live, Reconfiguration};
 pub use registry::Registry;
 pub use running::{cycles_of, ContainerStatus, RunningApp};
 pub use start::StartOptions;
@@ -194,6 +196,9 @@ pub struct Builder<'r> {
     /// The ends of links and calls built here (those with both ends here are
     /// delivered in the process; the others cross the network).
     remote: crate::link::transport::PartLinks,
+    /// Outputs handed to an inspector (`inspection.rs`), shared with a reconfigurable
+    /// application (`reconfigure.rs`), by module path.
+    inspected: HashMap<String, Vec<(String, Arc<OutputHandle>)>>,
 }
 
 impl<'r> Builder<'r> {
@@ -212,6 +217,7 @@ impl<'r> Builder<'r> {
             receiving: Default::default(),
             direct_ends: Default::default(),
             remote: Default::default(),
+            inspected: HashMap::new(),
         }
     }
 
@@ -294,66 +300,19 @@ impl<'r> Builder<'r> {
 
     /// Creates a module instance.
     pub fn add_module(&mut self, spec: ModuleSpec<'_>) -> Result<(), BuildError> {
-        let entry = self
-            .registry
-            .entry(spec.type_name)
-            .ok_or_else(|| BuildError::UnknownType {
-                path: spec.path.into(),
-                type_name: spec.type_name.into(),
-            })?;
         if self.index.contains_key(spec.path) {
+            // Checked before the type: a path added twice is the model's mistake.
+            self.registry
+                .entry(spec.type_name)
+                .ok_or_else(|| BuildError::UnknownType {
+                    path: spec.path.into(),
+                    type_name: spec.type_name.into(),
+                })?;
             return Err(BuildError::DuplicatePath(spec.path.into()));
         }
-        let blank = registry::blank_interface(spec.type_name, entry);
-        let mut setup = Setup::new(
-            blank,
-            spec.params,
-            spec.queues,
-            self.registry.values(),
-            spec.ports,
-        )
-        .for_instance(spec.path, spec.violations, self.violations.clone());
-        let module = (entry.factory)(&mut setup);
-        let mut problems = std::mem::take(&mut setup.errors);
-        for (name, _) in spec.params {
-            if setup.interface.param(name).is_none() {
-                problems.push(format!("the type has no parameter `{name}`"));
-            }
-        }
-        for group in spec.ports {
-            if !setup.claimed.iter().any(|g| g == group.name) {
-                problems.push(format!(
-                    "the type has no flexible port group `{}` (the model declares one)",
-                    group.name
-                ));
-            }
-        }
-        if !problems.is_empty() {
-            return Err(BuildError::Create {
-                path: spec.path.into(),
-                problems,
-            });
-        }
+        let instance = create(self.registry, &self.violations, spec)?;
         self.index.insert(spec.path.into(), self.modules.len());
-        self.modules.push(Instance {
-            path: spec.path.into(),
-            kind: entry.kind,
-            module: Some(module),
-            interface: setup.interface,
-            inputs: setup.inputs,
-            outputs: setup.outputs,
-            params: setup
-                .params
-                .into_iter()
-                .map(|(name, handle)| (name, Arc::new(handle)))
-                .collect(),
-            services: setup.services,
-            clients: setup.clients,
-            locks: setup.locks,
-            converters: Vec::new(),
-            thread: None,
-            link_end: false,
-        });
+        self.modules.push(instance);
         Ok(())
     }
 
@@ -435,6 +394,70 @@ impl<'r> Builder<'r> {
         self.threads.push(spec);
         Ok(())
     }
+}
+
+/// A module instance made by its type's factory (also for modules added while the
+/// application runs, `reconfigure.rs`).
+fn create(
+    registry: &Registry,
+    violations: &Arc<ViolationLog>,
+    spec: ModuleSpec<'_>,
+) -> Result<Instance, BuildError> {
+    let entry = registry
+        .entry(spec.type_name)
+        .ok_or_else(|| BuildError::UnknownType {
+            path: spec.path.into(),
+            type_name: spec.type_name.into(),
+        })?;
+    let blank = registry::blank_interface(spec.type_name, entry);
+    let mut setup = Setup::new(
+        blank,
+        spec.params,
+        spec.queues,
+        registry.values(),
+        spec.ports,
+    )
+    .for_instance(spec.path, spec.violations, violations.clone());
+    let module = (entry.factory)(&mut setup);
+    let mut problems = std::mem::take(&mut setup.errors);
+    for (name, _) in spec.params {
+        if setup.interface.param(name).is_none() {
+            problems.push(format!("the type has no parameter `{name}`"));
+        }
+    }
+    for group in spec.ports {
+        if !setup.claimed.iter().any(|g| g == group.name) {
+            problems.push(format!(
+                "the type has no flexible port group `{}` (the model declares one)",
+                group.name
+            ));
+        }
+    }
+    if !problems.is_empty() {
+        return Err(BuildError::Create {
+            path: spec.path.into(),
+            problems,
+        });
+    }
+    Ok(Instance {
+        path: spec.path.into(),
+        kind: entry.kind,
+        module: Some(module),
+        interface: setup.interface,
+        inputs: setup.inputs,
+        outputs: setup.outputs,
+        params: setup
+            .params
+            .into_iter()
+            .map(|(name, handle)| (name, Arc::new(handle)))
+            .collect(),
+        services: setup.services,
+        clients: setup.clients,
+        locks: setup.locks,
+        converters: Vec::new(),
+        thread: None,
+        link_end: false,
+    })
 }
 
 fn find<'a, H>(

@@ -72,6 +72,9 @@ pub struct RunningApp {
     end_reason: Arc<std::sync::OnceLock<&'static str>>,
     /// Why it could not go on (a part it is linked to is gone, in lockstep).
     failure: Arc<std::sync::OnceLock<String>>,
+    /// Each free-running container's path, change slot and trigger (for
+    /// reconfiguration while it runs; empty in lockstep).
+    pub(super) slots: Vec<(String, Arc<crate::container::ChangeSlot>, Trigger)>,
 }
 
 /// What a running application keeps besides its threads.
@@ -96,6 +99,7 @@ impl RunningApp {
             hub: shared.hub,
             end_reason: Arc::default(),
             failure: Arc::default(),
+            slots: Vec::new(),
         }
     }
 
@@ -177,6 +181,8 @@ impl RunningApp {
         let limits = cycles_of(&triggers, limit);
         for ((container, options), (limit, ends_run)) in containers.into_iter().zip(limits) {
             let name = container.stats().name.clone();
+            let trigger = container.trigger().clone();
+            app.slots.push((name.clone(), container.changes(), trigger));
             match container.spawn(options, stop.clone(), limit) {
                 Ok(mut running) => {
                     running.ends_run = ends_run;

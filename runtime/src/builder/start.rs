@@ -41,7 +41,16 @@ impl Builder<'_> {
     }
 
     /// Creates the thread containers and starts them as `options` say.
-    pub fn start_with(mut self, options: StartOptions) -> Result<RunningApp, BuildError> {
+    pub fn start_with(self, options: StartOptions) -> Result<RunningApp, BuildError> {
+        self.launch(options).map(|(app, _)| app)
+    }
+
+    /// [`start_with`](Self::start_with), giving back what the builder knew of the
+    /// modules (their ports, parameters and containers) for reconfiguration.
+    pub(super) fn launch(
+        mut self,
+        options: StartOptions,
+    ) -> Result<(RunningApp, reconfigure::Leftovers), BuildError> {
         if let Some(m) = self
             .modules
             .iter()
@@ -53,6 +62,7 @@ impl Builder<'_> {
             )));
         }
         self.bind_remaining_locks();
+        let specs = self.threads.clone();
         let containers = self.containers()?;
         let params = self.take_params();
         let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
@@ -73,20 +83,28 @@ impl Builder<'_> {
             network: options.network,
             remote: only_remote(std::mem::take(&mut self.remote)),
         };
-        match options.lockstep {
-            Some(lockstep) => lockstep.start(containers, links, shared, options.limit),
+        let app = match options.lockstep {
+            Some(lockstep) => lockstep.start(containers, links, shared, options.limit)?,
             None => {
                 links.start_direct().map_err(BuildError::Connect)?;
-                RunningApp::start(containers, shared, options.limit)
+                RunningApp::start(containers, shared, options.limit)?
             }
-        }
+        };
+        let leftovers = reconfigure::Leftovers {
+            modules: std::mem::take(&mut self.modules),
+            threads: specs,
+            links: std::mem::take(&mut self.links),
+            inspected: std::mem::take(&mut self.inspected),
+            violations: self.violations.clone(),
+        };
+        Ok((app, leftovers))
     }
 
     fn take_params(&mut self) -> HashMap<(String, String), Arc<ParamHandle>> {
         let mut params = HashMap::new();
         for m in &mut self.modules {
-            for (name, handle) in m.params.drain(..) {
-                params.insert((m.path.clone(), name), handle);
+            for (name, handle) in &m.params {
+                params.insert((m.path.clone(), name.clone()), Arc::clone(handle));
             }
         }
         params

@@ -17,11 +17,13 @@
 //! A step that panics is caught, reported in the statistics with its name, and not run
 //! again; the other steps keep running.
 
+mod change;
 mod clock;
 mod os;
 mod stats;
 pub(crate) mod stopping;
 
+pub use change::{Change, ChangeSlot};
 pub use clock::{Clock, ManualClock, SystemClock};
 pub use os::{pin_current_thread, summarise as summarise_refusals, Placement, Refusal};
 pub use stats::{ContainerStats, StepStats};
@@ -37,6 +39,9 @@ pub struct Step {
     name: String,
     run: Box<dyn FnMut() + Send>,
     stopped: bool,
+    /// Its figures in the container's statistics (`None`: a step a change added,
+    /// counted only in the cycle figures).
+    stat: Option<usize>,
 }
 
 impl Step {
@@ -46,7 +51,13 @@ impl Step {
             name: name.into(),
             run: Box::new(run),
             stopped: false,
+            stat: None,
         }
+    }
+
+    /// Its name.
+    pub fn name(&self) -> &str {
+        &self.name
     }
 }
 
@@ -91,24 +102,35 @@ pub struct ThreadContainer {
     steps: Vec<Step>,
     stats: Arc<ContainerStats>,
     clock: Arc<dyn Clock>,
+    /// Changes of its steps while it runs (`change.rs`).
+    changes: Arc<ChangeSlot>,
 }
 
 impl ThreadContainer {
     /// A container called `name` (its element path) running `steps` in this order.
-    pub fn new(name: impl Into<String>, trigger: Trigger, steps: Vec<Step>) -> Self {
+    pub fn new(name: impl Into<String>, trigger: Trigger, mut steps: Vec<Step>) -> Self {
         let period = match &trigger {
             Trigger::Periodic(p) => Some(*p),
             Trigger::Data(_) | Trigger::Continuous => None,
         };
         let continuous = matches!(trigger, Trigger::Continuous);
         let names = steps.iter().map(|s| s.name.clone()).collect();
+        for (i, step) in steps.iter_mut().enumerate() {
+            step.stat = Some(i);
+        }
         ThreadContainer {
             trigger,
             wait: WaitMode::Park,
             steps,
             stats: Arc::new(ContainerStats::new(name.into(), names, period, continuous)),
             clock: Arc::new(SystemClock::default()),
+            changes: Arc::default(),
         }
+    }
+
+    /// Where changes of its steps are posted while it runs (see [`ChangeSlot`]).
+    pub fn changes(&self) -> Arc<ChangeSlot> {
+        Arc::clone(&self.changes)
     }
 
     /// Uses another clock (tests use [`ManualClock`]).
@@ -137,7 +159,7 @@ impl ThreadContainer {
 
     /// Runs every live step once; `TIMED` records each step's execution time.
     fn execute_steps<const TIMED: bool>(&mut self) {
-        for (step, (_, stats)) in self.steps.iter_mut().zip(&self.stats.steps) {
+        for step in self.steps.iter_mut() {
             if step.stopped {
                 continue;
             }
@@ -148,7 +170,9 @@ impl ThreadContainer {
             };
             let outcome = catch_unwind(AssertUnwindSafe(&mut step.run));
             if TIMED {
-                stats.record(self.clock.now().saturating_sub(t0));
+                if let Some((_, stats)) = step.stat.and_then(|i| self.stats.steps.get(i)) {
+                    stats.record(self.clock.now().saturating_sub(t0));
+                }
             }
             if let Err(payload) = outcome {
                 step.stopped = true;
@@ -196,6 +220,7 @@ impl ThreadContainer {
                     if !more(done) {
                         break;
                     }
+                    self.changes.apply_pending(&mut self.steps);
                     self.clock.sleep_until_or_stop(deadline, stop);
                     deadline += period;
                 }
@@ -213,6 +238,7 @@ impl ThreadContainer {
                     let took = self.clock.now().saturating_sub(started);
                     self.stats.record_cycles(ran, took);
                     done += ran;
+                    self.changes.apply_pending(&mut self.steps);
                 }
             }
             Trigger::Data(wakeup) => {
@@ -224,6 +250,7 @@ impl ThreadContainer {
                         self.run_cycle();
                         done += 1;
                     }
+                    self.changes.apply_pending(&mut self.steps);
                 }
             }
         }

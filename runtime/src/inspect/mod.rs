@@ -33,7 +33,7 @@ pub(crate) struct ModuleEntry {
     pub path: String,
     pub interface: Interface,
     pub thread: Option<String>,
-    pub outputs: Vec<(String, OutputHandle)>,
+    pub outputs: Vec<(String, Arc<OutputHandle>)>,
     pub inputs: Vec<(String, std::sync::Arc<Source>)>,
     pub params: Vec<(String, Arc<ParamHandle>)>,
 }
@@ -49,7 +49,13 @@ pub struct Origin {
 }
 
 /// Answers questions about one running application; see the [module docs](self).
+/// What it knows of the structure can be replaced while it serves
+/// ([`rebuild`](Self::rebuild), after a structural change).
 pub struct Inspector {
+    state: std::sync::RwLock<State>,
+}
+
+struct State {
     modules: Vec<ModuleEntry>,
     index: HashMap<String, usize>,
     threads: Vec<(String, Vec<String>)>,
@@ -68,7 +74,7 @@ impl Inspector {
         let index = (catalogue.modules.iter().enumerate())
             .map(|(i, m)| (m.path.clone(), i))
             .collect();
-        Inspector {
+        let state = State {
             modules: catalogue.modules,
             index,
             threads: catalogue.threads,
@@ -76,17 +82,96 @@ impl Inspector {
             values: values.clone(),
             origins: HashMap::new(),
             sources: HashMap::new(),
+        };
+        Inspector {
+            state: std::sync::RwLock::new(state),
         }
     }
 
+    fn read(&self) -> std::sync::RwLockReadGuard<'_, State> {
+        self.state.read().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn write(&self) -> std::sync::RwLockWriteGuard<'_, State> {
+        self.state.write().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Replaces what it knows of the structure with `catalogue` (after a structural
+    /// change); origins and connections are forgotten, to be recorded again.
+    pub fn rebuild(&self, catalogue: Catalogue) {
+        let mut state = self.write();
+        state.index = (catalogue.modules.iter().enumerate())
+            .map(|(i, m)| (m.path.clone(), i))
+            .collect();
+        state.modules = catalogue.modules;
+        state.threads = catalogue.threads;
+        state.origins.clear();
+        state.sources.clear();
+    }
+
     /// Records where the module `path` comes from.
-    pub fn set_origin(&mut self, path: &str, origin: Origin) {
-        self.origins.insert(path.to_owned(), origin);
+    pub fn set_origin(&self, path: &str, origin: Origin) {
+        self.write().origins.insert(path.to_owned(), origin);
     }
 
     /// Records a connection (module path, port) → (module path, port), so an input
     /// names what feeds it and shows its writer's value.
-    pub fn add_connection(&mut self, from: (&str, &str), to: (&str, &str)) {
+    pub fn add_connection(&self, from: (&str, &str), to: (&str, &str)) {
+        self.write().add_connection(from, to);
+    }
+
+    /// The parts whose modules this inspector sees.
+    pub fn parts(&self) -> BTreeSet<String> {
+        self.read().parts()
+    }
+
+    /// The element tree (of one part, or of all with `None`).
+    pub fn tree(&self, part: Option<&str>) -> Tree {
+        self.read().tree(part)
+    }
+
+    /// Splits `module/path/port` at its last `/` into a module this inspector knows
+    /// and the rest.
+    pub fn split<'p>(&self, path: &'p str) -> Result<(&'p str, &'p str), String> {
+        self.read().split(path)
+    }
+
+    /// The latest value of the port `port` of `module`: an output's own, an input's
+    /// writer's (the input holds what its writer published last).
+    pub fn value(&self, module: &str, port: &str) -> Result<PortValue, String> {
+        self.read().value(module, port)
+    }
+
+    /// A parameter with its declaration and current value.
+    pub fn param(&self, module: &str, name: &str) -> Result<ParamView, String> {
+        self.read().param(module, name)
+    }
+
+    /// Sets a parameter: the parameter's own checks (type, range, choices) run first,
+    /// and a refused value leaves the old one in place. `value` is already in the
+    /// parameter's unit (the caller converts; see `ferroc-inspect`).
+    pub fn set_param(&self, module: &str, name: &str, value: &Value) -> Result<ParamView, String> {
+        self.read().set_param(module, name, value)
+    }
+
+    /// The figures of the thread containers (of one part, or all).
+    pub fn containers(&self, part: Option<&str>) -> Vec<ContainerView> {
+        self.read().containers(part)
+    }
+
+    /// The state of every input fed by a link from another part.
+    pub fn links(&self, part: Option<&str>) -> Vec<LinkView> {
+        self.read().links(part)
+    }
+
+    /// The activity and target rating of every behaviour (of one part, or all).
+    pub fn activities(&self, part: Option<&str>) -> Vec<ActivityView> {
+        self.read().activities(part)
+    }
+}
+
+impl State {
+    fn add_connection(&mut self, from: (&str, &str), to: (&str, &str)) {
         let writers = self
             .sources
             .entry(format!("{}/{}", to.0, to.1))
@@ -106,7 +191,7 @@ impl Inspector {
     }
 
     /// The parts whose modules this inspector sees.
-    pub fn parts(&self) -> BTreeSet<String> {
+    fn parts(&self) -> BTreeSet<String> {
         self.modules.iter().map(|m| self.part_of(&m.path)).collect()
     }
 
@@ -115,7 +200,7 @@ impl Inspector {
     }
 
     /// The element tree (of one part, or of all with `None`).
-    pub fn tree(&self, part: Option<&str>) -> Tree {
+    fn tree(&self, part: Option<&str>) -> Tree {
         let modules = (self.modules.iter())
             .filter(|m| self.in_part(&m.path, part))
             .map(|m| self.module_view(m))
@@ -174,7 +259,7 @@ impl Inspector {
     /// Splits `module/path/port` into a module this inspector knows and the rest: the
     /// longest known module path before a `/`, since port names may have slashes
     /// themselves (`activity/emergency`, `in/0/value`).
-    pub fn split<'p>(&self, path: &'p str) -> Result<(&'p str, &'p str), String> {
+    fn split<'p>(&self, path: &'p str) -> Result<(&'p str, &'p str), String> {
         let found = (path.match_indices('/').rev())
             .map(|(i, _)| (&path[..i], &path[i + 1..]))
             .find(|(module, name)| self.index.contains_key(*module) && !name.is_empty());
@@ -188,7 +273,7 @@ impl Inspector {
 
     /// The latest value of the port `port` of `module`: an output's own, an input's
     /// writer's (the input holds what its writer published last).
-    pub fn value(&self, module: &str, port: &str) -> Result<PortValue, String> {
+    fn value(&self, module: &str, port: &str) -> Result<PortValue, String> {
         let m = self.entry(module)?;
         let info = m.interface.port(port).ok_or_else(|| {
             format!(
@@ -246,14 +331,14 @@ impl Inspector {
     }
 
     /// A parameter with its declaration and current value.
-    pub fn param(&self, module: &str, name: &str) -> Result<ParamView, String> {
+    fn param(&self, module: &str, name: &str) -> Result<ParamView, String> {
         self.param_view(self.entry(module)?, name)
     }
 
     /// Sets a parameter: the parameter's own checks (type, range, choices) run first,
     /// and a refused value leaves the old one in place. `value` is already in the
     /// parameter's unit (the caller converts; see `ferroc-inspect`).
-    pub fn set_param(&self, module: &str, name: &str, value: &Value) -> Result<ParamView, String> {
+    fn set_param(&self, module: &str, name: &str, value: &Value) -> Result<ParamView, String> {
         let m = self.entry(module)?;
         self.param_view(m, name)?;
         let (_, handle) = m.params.iter().find(|(n, _)| n == name).expect("checked");
@@ -264,7 +349,7 @@ impl Inspector {
     }
 
     /// The figures of the thread containers (of one part, or all).
-    pub fn containers(&self, part: Option<&str>) -> Vec<ContainerView> {
+    fn containers(&self, part: Option<&str>) -> Vec<ContainerView> {
         let micros = |d: std::time::Duration| d.as_secs_f64() * 1e6;
         (self.stats.iter())
             .filter(|s| {
@@ -294,7 +379,7 @@ impl Inspector {
     }
 
     /// The state of every input fed by a link from another part.
-    pub fn links(&self, part: Option<&str>) -> Vec<LinkView> {
+    fn links(&self, part: Option<&str>) -> Vec<LinkView> {
         let now = Timestamp::now();
         let mut out = Vec::new();
         for m in self.modules.iter().filter(|m| self.in_part(&m.path, part)) {
@@ -321,7 +406,7 @@ impl Inspector {
     }
 
     /// The activity and target rating of every behaviour (of one part, or all).
-    pub fn activities(&self, part: Option<&str>) -> Vec<ActivityView> {
+    fn activities(&self, part: Option<&str>) -> Vec<ActivityView> {
         let number = |m: &ModuleEntry, port: &str| {
             self.value(&m.path, port)
                 .ok()

@@ -93,7 +93,7 @@ fn run(r: &Registry, cycles: u64) -> Inspector {
         .unwrap();
     assert!(app.wait_timeout(Duration::from_secs(20)), "lockstep ends");
     app.join();
-    let mut inspector = Inspector::new(catalogue, app.stats(), r.values());
+    let inspector = Inspector::new(catalogue, app.stats(), r.values());
     inspector.add_connection(("robot/count", "out"), ("robot/gain", "input"));
     inspector.set_origin(
         "robot/gain",
