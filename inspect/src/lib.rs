@@ -13,6 +13,8 @@
 
 pub mod client;
 pub mod config;
+#[cfg(feature = "foxglove")]
+pub mod foxglove;
 pub mod request;
 pub mod server;
 pub mod token;
