@@ -295,6 +295,15 @@ fn a_foxglove_client_sees_channels_and_values_and_sets_a_parameter() {
         &json!("right")
     );
 
+    // Names that are no parameter, or not even a key: errors, and the bridge serves on.
+    let odd = ["", "a//b", "robot/**", "x#y", "robot/control/nothing/p"];
+    fox.send(json!({"op": "getParameters", "names": odd, "id": "odd"}));
+    for _ in odd {
+        let status = fox.until("an error status", |e| e["ev"] == "status");
+        assert_eq!(status["level"], 2, "{status}");
+    }
+    assert_eq!(fox.parameters("odd"), Vec::<Value>::new());
+
     // Values that do not check are refused: the client gets the value kept and an
     // error status saying why.
     for (id, value, why) in [
