@@ -407,6 +407,7 @@ fn imports(out: &mut Code, uses: Uses) {
     if uses.thread {
         out.line(0, "use ferroc_runtime::container::ThreadOptions;");
     }
+    out.line(0, "use ferroc_runtime::inspect::Catalogue;");
     match (uses.calls, uses.links) {
         (true, true) => out.line(
             0,

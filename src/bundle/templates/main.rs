@@ -11,10 +11,8 @@
 const PART: &str = {{ part|rust_str }};
 const PROGRAM: &str = {{ package|rust_str }};
 const ABOUT: &str = {{ about|rust_str }};
-{%- if linked %}
 /// The application: the first chunk of its Zenoh keys after `ferroc/`.
 const APPLICATION: &str = {{ application|rust_str }};
-{%- endif %}
 {{ links|safe -}}
 {%- if !module_constants.is_empty() %}
 
@@ -55,6 +53,10 @@ fn main() -> ExitCode {
 {%- else %}
     let start = args.start_options(PERIODS);
 {%- endif %}
+    if let Err(e) = ferroc_inspect::program::check(&args) {
+        ferroc_runtime::console::stderr_line(format_args!("error: {e}"));
+        return ExitCode::from(2);
+    }
     let mut registry = registry();
     let record = match Recorders::from_args(&args, &mut registry, PART, RECORDABLE) {
         Ok(record) => record,
@@ -63,12 +65,23 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let app = match build(&registry, start, &record) {
-        Ok(app) => app,
+    let (app, catalogue) = match build(&registry, start, &record, args.inspect.is_some()) {
+        Ok(built) => built,
         Err(e) => {
             ferroc_runtime::console::stderr_line(format_args!("error: part `{PART}`: {e}"));
             return ExitCode::from(1);
         }
+    };
+    // `--inspect`: served until the program ends (dropping the server stops it).
+    let served = catalogue.map(|c| {
+        ferroc_inspect::program::serve(APPLICATION, &args, c, &app, registry.values())
+    });
+    let _inspect = match served {
+        Some(Err(e)) => {
+            ferroc_runtime::console::stderr_line(format_args!("error: --inspect: {e}"));
+            return ExitCode::from(1);
+        }
+        served => served,
     };
     supervise::supervise(app, &interrupted, &args.options())
 }
@@ -82,12 +95,14 @@ fn registry() -> Registry {
     registry
 }
 
-/// Creates the modules, connects them, declares the thread containers and starts them.
+/// Creates the modules, connects them, declares the thread containers and starts them;
+/// with `inspect`, also hands what inspection needs over (before the start).
 fn build(
     registry: &Registry,
     start: StartOptions,
     record: &Recorders,
-) -> Result<RunningApp, BuildError> {
+    inspect: bool,
+) -> Result<(RunningApp, Option<Catalogue>), BuildError> {
     let mut builder = Builder::new(registry);
 {%- for m in modules %}
 
@@ -138,7 +153,8 @@ fn build(
     }))?;
 {%- endfor %}
 
-    builder.start_with(start)
+    let catalogue = inspect.then(|| builder.inspection());
+    builder.start_with(start).map(|app| (app, catalogue))
 }
 {%- if uses_param %}
 
