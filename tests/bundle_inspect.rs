@@ -103,6 +103,18 @@ fn a_bundled_part_program_is_inspected_and_changed_with_its_token() {
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("application inspected, part robot"), "{out}");
     assert!(out.contains("param factor = 2 (f64)"), "{out}");
+    // The model's side: where a module is declared, what feeds an input.
+    assert!(
+        out.contains("module robot/main/scaled : ferroc_std.Scale (plain) at inspect.xml:"),
+        "{out}"
+    );
+    assert!(out.contains("← robot/main/speed/value"), "{out}");
+    let (code, out, err) = inspect(&address, &["--get", "robot/main/scaled/input"]);
+    assert_eq!(
+        (code, out.trim()),
+        (0, "robot/main/speed/value = 4.0"),
+        "{err}"
+    );
 
     // Refused: a wrong token, a unit (the parameter has none); nothing changes.
     let wrong = "0".repeat(32);

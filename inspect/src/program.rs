@@ -11,7 +11,7 @@ use crate::config;
 use crate::server::{self, Server};
 use ferroc_runtime::builder::RunningApp;
 use ferroc_runtime::inspect::view::ParamView;
-use ferroc_runtime::inspect::{Catalogue, Inspector};
+use ferroc_runtime::inspect::{Catalogue, Inspector, Origin};
 use ferroc_runtime::module::{Value, ValueTable};
 use ferroc_runtime::supervise::{parse_duration, Args};
 use std::sync::Arc;
@@ -33,12 +33,21 @@ pub fn check(args: &Args) -> Result<(), String> {
     Ok(())
 }
 
+/// What the model says that the running part does not know: its connections (writer
+/// module, output, reader module, input) and where each module is declared (module,
+/// `FILE:LINE:COL`).
+pub type Model<'a> = (
+    &'a [(&'a str, &'a str, &'a str, &'a str)],
+    &'a [(&'a str, &'a str)],
+);
+
 /// Starts serving the application `app` as `args` ask (nothing without `--inspect`);
 /// prints the keys and the token. Keep the server until the program ends.
 pub fn serve(
     app: &str,
     args: &Args,
     catalogue: Catalogue,
+    (connections, sources): Model<'_>,
     running: &RunningApp,
     values: &ValueTable,
 ) -> Result<Option<Server>, String> {
@@ -46,7 +55,18 @@ pub fn serve(
         return Ok(None);
     };
     check(args)?;
-    let inspector = Inspector::new(catalogue, running.stats(), values);
+    let mut inspector = Inspector::new(catalogue, running.stats(), values);
+    for (writer, output, reader, input) in connections {
+        inspector.add_connection((writer, output), (reader, input));
+    }
+    for (module, source) in sources {
+        let source = Some(source.to_string());
+        let origin = Origin {
+            part: String::new(),
+            source,
+        };
+        inspector.set_origin(module, origin);
+    }
     let token = crate::token::generate()?;
     let server = server::serve(
         config::server(address)?,

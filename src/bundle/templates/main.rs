@@ -26,6 +26,10 @@ const {{ name }}: &str = {{ path|rust_str }};
 /// connection (module, port, model type, thread container).
 {{ recordable|safe }}
 
+/// For `--inspect`: the connections inside this part (writer, output, reader, input),
+/// so an input answers its writer's value, and where the model declares each module.
+{{ inspection|safe }}
+
 fn main() -> ExitCode {
     let args = match Args::from_env(PROGRAM, ABOUT) {
         Ok(args) => args,
@@ -74,7 +78,8 @@ fn main() -> ExitCode {
     };
     // `--inspect`: served until the program ends (dropping the server stops it).
     let served = catalogue.map(|c| {
-        ferroc_inspect::program::serve(APPLICATION, &args, c, &app, registry.values())
+        let model = (CONNECTIONS, SOURCES);
+        ferroc_inspect::program::serve(APPLICATION, &args, c, model, &app, registry.values())
     });
     let _inspect = match served {
         Some(Err(e)) => {
