@@ -35,6 +35,11 @@ fn main() -> ExitCode {
         Ok(args) => args,
         Err(code) => return code,
     };
+    // `--inspect ADDR`: a non-local address needs `--inspect-public` (before anything starts).
+    if let Err(e) = ferroc_inspect::program::check(&args) {
+        ferroc_runtime::console::stderr_line(format_args!("error: {e}"));
+        return ExitCode::from(2);
+    }
     // Ctrl-C and SIGTERM stop every thread container after its current cycle.
     let interrupted = Arc::new(AtomicBool::new(false));
     let flag = interrupted.clone();
@@ -57,10 +62,6 @@ fn main() -> ExitCode {
 {%- else %}
     let start = args.start_options(PERIODS);
 {%- endif %}
-    if let Err(e) = ferroc_inspect::program::check(&args) {
-        ferroc_runtime::console::stderr_line(format_args!("error: {e}"));
-        return ExitCode::from(2);
-    }
     let mut registry = registry();
     let record = match Recorders::from_args(&args, &mut registry, PART, RECORDABLE) {
         Ok(record) => record,
