@@ -210,7 +210,7 @@ fn a_foxglove_client_sees_channels_and_values_and_sets_a_parameter() {
     let line = wait_line(&program, "token for changes: ", Duration::from_secs(600));
     let token = line.rsplit_once(": ").unwrap().1.trim().to_owned();
 
-    let (_bridge, address) = bridge(&inspect, Some(&token));
+    let (first_bridge, address) = bridge(&inspect, Some(&token));
     let (mut fox, info) = Foxglove::connect(&modules, &address);
     assert!(
         info["capabilities"]
@@ -356,5 +356,14 @@ fn a_foxglove_client_sees_channels_and_values_and_sets_a_parameter() {
         "{status}"
     );
     assert_eq!(param(&reader.parameters("x"), max_speed), &json!(0.05));
+
+    // The program ends: a bridge with subscribed channels says so and serves on.
     drop(program);
+    wait_line(
+        &first_bridge,
+        "the program does not answer",
+        Duration::from_secs(60),
+    );
+    let (_, info) = Foxglove::connect(&modules, &address);
+    assert_eq!(info["ev"], "serverInfo");
 }

@@ -129,7 +129,8 @@ fn discover(client: &Client, app: &str) -> Result<(String, Vec<(String, Tree)>),
 /// answers.
 fn poll(client: &Client, feeds: &[channels::Feed], options: &Options) {
     let start = Instant::now();
-    let mut silent_since: Option<Instant> = None;
+    // Said once per silence, not every round.
+    let mut silent = false;
     loop {
         if options.duration.is_some_and(|d| start.elapsed() >= d) {
             return;
@@ -147,14 +148,12 @@ fn poll(client: &Client, feeds: &[channels::Feed], options: &Options) {
                     feed.channel.log(&feed.message(json));
                 }
             }
-            match (answered, silent_since) {
-                (false, None) => {
-                    eprintln!("foxglove: the program does not answer; values resume when it does");
-                    silent_since = Some(Instant::now());
-                }
-                (true, Some(_)) => silent_since = None,
-                _ => {}
+            if !answered && !silent {
+                eprintln!(
+                    "foxglove: the program does not answer; restart the bridge when it runs again"
+                );
             }
+            silent = !answered;
         }
         let next = tick + options.every;
         if let Some(left) = next.checked_duration_since(Instant::now()) {
