@@ -367,3 +367,27 @@ fn a_foxglove_client_sees_channels_and_values_and_sets_a_parameter() {
     let (_, info) = Foxglove::connect(&modules, &address);
     assert_eq!(info["ev"], "serverInfo");
 }
+
+#[test]
+fn a_non_local_foxglove_address_needs_the_public_flag() {
+    let (code, _, err) = common::ferroc(&["inspect", "--foxglove", "0.0.0.0:8765"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("not a loopback address") && err.contains("--foxglove-public"),
+        "{err}"
+    );
+    let (code, _, err) = common::ferroc(&["inspect", "--foxglove", "nonsense"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("not an address HOST:PORT"), "{err}");
+    // Allowed, the bridge goes on to look for the program (none here): exit 2 saying so.
+    let (code, _, err) = common::ferroc(&[
+        "inspect",
+        "--connect",
+        "127.0.0.1:1",
+        "--foxglove",
+        "0.0.0.0:8765",
+        "--foxglove-public",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot reach 127.0.0.1:1"), "{err}");
+}
