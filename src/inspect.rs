@@ -1,6 +1,7 @@
 //! `ferroc inspect`: look into a program running with `--inspect` (docs/inspect.md):
 //! list its element tree and figures, read a port or parameter, change a parameter
-//! (with the program's token), watch a port for a while.
+//! (with the program's token), watch a port for a while, or serve it all over the
+//! Foxglove WebSocket protocol (`--foxglove`, inspect/src/foxglove/).
 
 use ferroc_compiler::diagnostic::escape_controls;
 use ferroc_inspect::client::{part_of, Answer, Client};
@@ -11,7 +12,7 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("action").required(true).args(["list", "get", "set", "watch", "serve", "edit", "save"])))]
+#[command(group(clap::ArgGroup::new("action").required(true).args(["list", "get", "set", "watch", "serve", "edit", "save", "foxglove"])))]
 pub struct InspectArgs {
     /// The program's inspection address (its `--inspect ADDR`; repeatable)
     #[arg(long, value_name = "HOST:PORT", default_value = "127.0.0.1:47900")]
@@ -39,19 +40,28 @@ pub struct InspectArgs {
     /// to FILE (`-`: standard output)
     #[arg(long, value_name = "FILE")]
     save: Option<std::path::PathBuf>,
-    /// The token the program printed at start (for --set and --edit)
+    /// The token the program printed at start (for --set and --edit, and for
+    /// --foxglove to change parameters)
     #[arg(long, value_name = "TOKEN", env = "FERROC_INSPECT_TOKEN")]
     token: Option<String>,
     /// Print a port's value every --every until --for or --count ends it (or Ctrl-C)
     #[arg(long, value_name = "PATH")]
     watch: Option<String>,
-    /// With --watch: stop after this long (`5s`, `500ms`)
+    /// Serve the application's ports, figures and parameters over the Foxglove
+    /// WebSocket protocol on HOST:PORT (default 127.0.0.1:8765), until --for ends it
+    #[arg(long, value_name = "HOST:PORT", num_args = 0..=1, default_missing_value = ferroc_inspect::foxglove::DEFAULT_ADDRESS)]
+    foxglove: Option<String>,
+    /// With --foxglove: serve on an address other computers can reach
+    #[arg(long, requires = "foxglove")]
+    foxglove_public: bool,
+    /// With --watch or --foxglove: stop after this long (`5s`, `500ms`)
     #[arg(long = "for", value_name = "DURATION", value_parser = parse_duration)]
     duration: Option<Duration>,
     /// With --watch: stop after this many values
     #[arg(long, value_name = "N")]
     count: Option<u64>,
-    /// With --watch: how often to ask
+    /// With --watch or --foxglove: how often to ask (--foxglove: for each channel a
+    /// client subscribed to)
     #[arg(long, value_name = "DURATION", default_value = "100ms", value_parser = parse_duration)]
     every: Duration,
     /// Serve a web page showing the application live (graph, values, plots, load,
@@ -78,6 +88,9 @@ fn parse_duration(text: &str) -> Result<Duration, String> {
 pub fn run(args: InspectArgs) -> ExitCode {
     if let Some(listen) = &args.serve {
         return serve(&args, listen);
+    }
+    if let Some(address) = &args.foxglove {
+        return foxglove(&args, address);
     }
     let client = match Client::connect(&args.connect) {
         Ok(c) => c,
@@ -129,6 +142,25 @@ fn serve(args: &InspectArgs, listen: &str) -> ExitCode {
         args.connect.join(", ")
     );
     match server.wait() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => fail(2, &e),
+    }
+}
+
+fn foxglove(args: &InspectArgs, address: &str) -> ExitCode {
+    use ferroc_inspect::foxglove::{bind_address, run, Options};
+    if let Err(e) = bind_address(address, args.foxglove_public) {
+        return fail(2, &e);
+    }
+    let options = Options {
+        address: address.to_owned(),
+        public: args.foxglove_public,
+        app: args.app.clone(),
+        token: args.token.clone(),
+        every: args.every,
+        duration: args.duration,
+    };
+    match Client::connect(&args.connect).and_then(|client| run(client, &options)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(2, &e),
     }

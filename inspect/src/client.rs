@@ -94,6 +94,27 @@ impl Client {
         Ok(Vec::new())
     }
 
+    /// Sends every query of `keys` at once, then collects each one's answers (waiting
+    /// at most `timeout` for each): for polling many keys at a rate, without retries.
+    pub fn ask_all(&self, keys: &[String], timeout: Duration) -> Vec<Vec<Answer>> {
+        let sent: Vec<_> = (keys.iter())
+            .map(|key| {
+                let get = self.session.get(key.as_str());
+                let get = get.consolidation(ConsolidationMode::None).timeout(timeout);
+                get.wait().ok()
+            })
+            .collect();
+        (keys.iter().zip(sent))
+            .map(|(key, replies)| {
+                let mut answers = Vec::new();
+                while let Some(Ok(reply)) = replies.as_ref().map(|r| r.recv()) {
+                    answers.push(read(key, &reply));
+                }
+                answers
+            })
+            .collect()
+    }
+
     /// Asks one part for `what`; an error when no program answers or it answers an
     /// error.
     pub fn one<T: DeserializeOwned>(

@@ -13,6 +13,9 @@
 
 pub mod client;
 pub mod config;
+#[cfg(feature = "foxglove")]
+pub mod foxglove;
+pub mod program;
 pub mod request;
 pub mod server;
 pub mod structure;

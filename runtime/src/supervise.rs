@@ -223,6 +223,11 @@ pub struct Args {
     /// `--record-filter PATTERN` (repeatable, needs `--record`): only outputs whose
     /// path (`module/port`) matches; `*` matches any characters.
     pub record_filter: Vec<String>,
+    /// `--inspect [ADDR]`: serve live inspection over Zenoh on ADDR (default
+    /// 127.0.0.1:47900; docs/inspect.md), read with `ferroc inspect`.
+    pub inspect: Option<String>,
+    /// `--inspect-public`: allow `--inspect` on an address other computers can reach.
+    pub inspect_public: bool,
 }
 
 impl Args {
@@ -246,7 +251,7 @@ impl Args {
     /// Parses arguments (without the program name); `Ok(None)` means help was asked for.
     pub fn parse(args: &[String]) -> Result<Option<Args>, String> {
         let mut out = Args::default();
-        let mut it = args.iter();
+        let mut it = args.iter().peekable();
         while let Some(arg) = it.next() {
             let (name, inline) = match arg.split_once('=') {
                 Some((n, v)) if n.starts_with("--") => (n, Some(v.to_string())),
@@ -293,12 +298,26 @@ impl Args {
                     let v = value("an MCAP file, e.g. --record run.mcap")?;
                     out.record = Some(v.into());
                 }
+                "--inspect" => {
+                    // The address is optional: the next argument unless it is an option.
+                    let next = it.next_if(|a| !a.starts_with('-')).cloned();
+                    out.inspect = Some(
+                        inline
+                            .clone()
+                            .or(next)
+                            .unwrap_or_else(|| "127.0.0.1:47900".into()),
+                    );
+                }
+                "--inspect-public" => out.inspect_public = true,
                 "--record-filter" => {
                     let v = value("a pattern of output paths, e.g. --record-filter 'robot/*'")?;
                     out.record_filter.push(v);
                 }
                 _ => return Err(format!("unknown argument `{arg}`")),
             }
+        }
+        if out.inspect.is_none() && out.inspect_public {
+            return Err("--inspect-public needs --inspect: it allows its address".into());
         }
         if out.record.is_none() && !out.record_filter.is_empty() {
             return Err("--record-filter needs --record FILE: it says what to record".into());
@@ -378,7 +397,7 @@ fn usage(program: &str) -> String {
     format!(
         "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--local] [--peer PART=HOST:PORT]...\n       \
          [--listen ADDR] [--zenoh-config FILE] [--record FILE [--record-filter PATTERN]...]\n       \
-         [--quiet]\n\n\
+         [--inspect [ADDR] [--inspect-public]] [--quiet]\n\n\
          Options:\n  \
          --cycles N        stop after N cycles of the application: of its fastest\n                    \
          periodic thread containers; slower ones run until then\n  \
@@ -398,6 +417,10 @@ fn usage(program: &str) -> String {
          --record-filter PATTERN\n                    \
          with --record: only outputs whose path (module/port) matches;\n                    \
          `*` matches any characters (repeatable)\n  \
+         --inspect [ADDR]  serve live inspection over Zenoh on ADDR (default\n                    \
+         127.0.0.1:47900): read it with `ferroc inspect`; changes need the\n                    \
+         token printed at start\n  \
+         --inspect-public  allow --inspect on an address other computers can reach\n  \
          -q, --quiet       no live status line\n  \
          -h, --help        this text\n\n\
          Ctrl-C or SIGTERM stops after the current cycle. A summary (cycles, overruns and\n\
@@ -408,7 +431,7 @@ fn usage(program: &str) -> String {
 }
 
 /// `500ms`, `10s`, `1.5 s`, `2min`, `1h`, `250us`.
-fn parse_duration(text: &str) -> Result<Duration, String> {
+pub fn parse_duration(text: &str) -> Result<Duration, String> {
     let t = text.trim();
     let split = t
         .find(|c: char| !(c.is_ascii_digit() || c == '.'))
@@ -531,6 +554,21 @@ mod tests {
         assert_eq!(record.record_filter, ["robot/*"]);
         let alone = parse(&["--record-filter", "robot/*"]).unwrap_err();
         assert!(alone.contains("needs --record FILE"), "{alone}");
+        // --inspect takes an address, or the default when an option follows.
+        let inspect = |a: &[&str]| parse(a).unwrap().unwrap().inspect;
+        assert_eq!(
+            inspect(&["--inspect", "-q"]).as_deref(),
+            Some("127.0.0.1:47900")
+        );
+        assert_eq!(inspect(&["--inspect"]).as_deref(), Some("127.0.0.1:47900"));
+        assert_eq!(
+            inspect(&["--inspect", "127.0.0.1:9"]).as_deref(),
+            Some("127.0.0.1:9")
+        );
+        assert_eq!(inspect(&["--inspect=h:1", "-q"]).as_deref(), Some("h:1"));
+        assert_eq!(inspect(&["-q"]), None);
+        let public = parse(&["--inspect-public"]).unwrap_err();
+        assert!(public.contains("needs --inspect"), "{public}");
         assert_eq!(
             parse_duration("2min"),
             Ok(Duration::from_secs(120)),

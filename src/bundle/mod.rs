@@ -301,7 +301,15 @@ fn dependencies(
             Deps::Version => Source::Version(TOOL_VERSION.into()),
         },
     }];
-    // Programs of linked parts talk over Zenoh (deps[1], only when some part is linked).
+    // Every program serves inspection on request (`--inspect`, docs/inspect.md).
+    out.push(Dependency {
+        package: "ferroc-inspect".into(),
+        source: match deps {
+            Deps::Path => by_path(checkout.join("inspect"), "the inspection server")?,
+            Deps::Version => Source::Version(TOOL_VERSION.into()),
+        },
+    });
+    // Programs of linked parts talk over Zenoh (only when some part is linked).
     if layout.parts.iter().any(|p| p.is_linked()) {
         out.push(Dependency {
             package: "ferroc-zenoh".into(),
@@ -405,7 +413,9 @@ fn generate(
     }
     for (i, part) in layout.parts.iter().enumerate() {
         let zenoh = deps.iter().find(|d| d.package == "ferroc-zenoh");
+        let inspect = deps.iter().find(|d| d.package == "ferroc-inspect");
         let part_deps: Vec<&Dependency> = std::iter::once(&deps[0])
+            .chain(inspect)
             .chain(zenoh.filter(|_| part.is_linked()))
             .chain(part.libraries.iter().filter_map(|l| {
                 let package = &layout.libraries.get(l)?.package;

@@ -166,7 +166,30 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     super::links::constants(&mut links, cx.parts, cx.periods, part.is_linked());
     super::links::specs(&mut links, part);
     super::links::call_specs(&mut links, part);
+    // For `--inspect`: the connections inside the part (an input answers its writer's
+    // value) and where the model declares each module.
+    let mut inspection = Code::default();
+    let wires: Vec<String> = (part.connections.iter())
+        .map(|c| {
+            call(
+                "",
+                &[
+                    name_of(&c.from.0),
+                    rust_str(&c.from.1),
+                    name_of(&c.to.0),
+                    rust_str(&c.to.1),
+                ],
+            )
+        })
+        .collect();
+    let wire_type = "const CONNECTIONS: &[(&str, &str, &str, &str)] = &[";
+    inspection.list(0, wire_type, &wires, "];");
+    let sources: Vec<String> = (part.modules.iter())
+        .map(|m| call("", &[name_of(&m.path), rust_str(&(cx.at)(m.span))]))
+        .collect();
+    inspection.list(0, "const SOURCES: &[(&str, &str)] = &[", &sources, "];");
     MainRs {
+        inspection: inspection.text.trim_end_matches('\n').to_string(),
         package: &part.package,
         part: &part.name,
         application: cx.application,
@@ -219,6 +242,8 @@ struct MainRs<'a> {
     module_constants: Vec<(&'a str, &'a str)>,
     /// `const RECORDABLE` (`record.rs`).
     recordable: String,
+    /// `const CONNECTIONS` and `const SOURCES`, for `--inspect`.
+    inspection: String,
     /// The calls in `registry()`.
     registrations: Vec<String>,
     modules: Vec<ModuleBlock<'a>>,
@@ -407,6 +432,7 @@ fn imports(out: &mut Code, uses: Uses) {
     if uses.thread {
         out.line(0, "use ferroc_runtime::container::ThreadOptions;");
     }
+    out.line(0, "use ferroc_runtime::inspect::Catalogue;");
     match (uses.calls, uses.links) {
         (true, true) => out.line(
             0,

@@ -11,10 +11,8 @@
 const PART: &str = {{ part|rust_str }};
 const PROGRAM: &str = {{ package|rust_str }};
 const ABOUT: &str = {{ about|rust_str }};
-{%- if linked %}
 /// The application: the first chunk of its Zenoh keys after `ferroc/`.
 const APPLICATION: &str = {{ application|rust_str }};
-{%- endif %}
 {{ links|safe -}}
 {%- if !module_constants.is_empty() %}
 
@@ -28,11 +26,20 @@ const {{ name }}: &str = {{ path|rust_str }};
 /// connection (module, port, model type, thread container).
 {{ recordable|safe }}
 
+/// For `--inspect`: the connections inside this part (writer, output, reader, input),
+/// so an input answers its writer's value, and where the model declares each module.
+{{ inspection|safe }}
+
 fn main() -> ExitCode {
     let args = match Args::from_env(PROGRAM, ABOUT) {
         Ok(args) => args,
         Err(code) => return code,
     };
+    // `--inspect ADDR`: a non-local address needs `--inspect-public` (before anything starts).
+    if let Err(e) = ferroc_inspect::program::check(&args) {
+        ferroc_runtime::console::stderr_line(format_args!("error: {e}"));
+        return ExitCode::from(2);
+    }
     // Ctrl-C and SIGTERM stop every thread container after its current cycle.
     let interrupted = Arc::new(AtomicBool::new(false));
     let flag = interrupted.clone();
@@ -63,12 +70,24 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let app = match build(&registry, start, &record) {
-        Ok(app) => app,
+    let (app, catalogue) = match build(&registry, start, &record, args.inspect.is_some()) {
+        Ok(built) => built,
         Err(e) => {
             ferroc_runtime::console::stderr_line(format_args!("error: part `{PART}`: {e}"));
             return ExitCode::from(1);
         }
+    };
+    // `--inspect`: served until the program ends (dropping the server stops it).
+    let served = catalogue.map(|c| {
+        let model = (CONNECTIONS, SOURCES);
+        ferroc_inspect::program::serve(APPLICATION, &args, c, model, &app, registry.values())
+    });
+    let _inspect = match served {
+        Some(Err(e)) => {
+            ferroc_runtime::console::stderr_line(format_args!("error: --inspect: {e}"));
+            return ExitCode::from(1);
+        }
+        served => served,
     };
     supervise::supervise(app, &interrupted, &args.options())
 }
@@ -82,12 +101,14 @@ fn registry() -> Registry {
     registry
 }
 
-/// Creates the modules, connects them, declares the thread containers and starts them.
+/// Creates the modules, connects them, declares the thread containers and starts them;
+/// with `inspect`, also hands what inspection needs over (before the start).
 fn build(
     registry: &Registry,
     start: StartOptions,
     record: &Recorders,
-) -> Result<RunningApp, BuildError> {
+    inspect: bool,
+) -> Result<(RunningApp, Option<Catalogue>), BuildError> {
     let mut builder = Builder::new(registry);
 {%- for m in modules %}
 
@@ -138,7 +159,8 @@ fn build(
     }))?;
 {%- endfor %}
 
-    builder.start_with(start)
+    let catalogue = inspect.then(|| builder.inspection());
+    builder.start_with(start).map(|app| (app, catalogue))
 }
 {%- if uses_param %}
 
