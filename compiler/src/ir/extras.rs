@@ -1,6 +1,6 @@
 //! The settings few `<connect>`s and module instances write, each record's behind one
 //! box: inline, they made every connection and every element of a large model bigger
-//! (B1: ~30 MiB of connections and ~10 MiB of elements at 100,000 modules).
+//! (B1: ~26 MiB of connections and ~9 MiB of elements at 100,000 modules).
 
 use super::{Connection, ModuleInstance};
 use crate::source::Span;

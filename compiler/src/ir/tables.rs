@@ -119,17 +119,17 @@ mod tests {
     #[test]
     fn records_of_large_models_stay_small() {
         assert!(
-            std::mem::size_of::<Connection>() <= 176,
+            std::mem::size_of::<Connection>() <= 168,
             "{}",
             std::mem::size_of::<Connection>()
         );
         assert!(
-            std::mem::size_of::<ElementNode>() <= 224,
+            std::mem::size_of::<ElementNode>() <= 216,
             "{}",
             std::mem::size_of::<ElementNode>()
         );
         assert!(
-            std::mem::size_of::<ModuleInstance>() <= 112,
+            std::mem::size_of::<ModuleInstance>() <= 104,
             "{}",
             std::mem::size_of::<ModuleInstance>()
         );
