@@ -28,7 +28,7 @@ impl NodeTable {
     /// Room for `n` more endpoints.
     pub fn reserve(&mut self, graph: &DiGraph<Endpoint, usize>, n: usize) {
         let hasher = &self.hasher;
-        self.table.reserve(n, |&i| hasher.hash_one(&graph[i]));
+        self.table.reserve(n, |&i| hasher.hash_one(graph[i]));
     }
 
     /// The node of `ep`, if it has one.
@@ -47,7 +47,7 @@ impl NodeTable {
         let hash = self.hash(&ep);
         let hasher = &self.hasher;
         self.table
-            .insert_unique(hash, n, |&i| hasher.hash_one(&graph[i]));
+            .insert_unique(hash, n, |&i| hasher.hash_one(graph[i]));
         n
     }
 }
