@@ -59,7 +59,7 @@ pub fn dot(app: &Application, libs: &LibrarySet) -> String {
     }
     let ib2c: BTreeSet<ElementId> = app
         .modules()
-        .filter(|(_, m)| m.characteristic.is_some())
+        .filter(|(_, m)| m.characteristic().is_some())
         .filter_map(|(id, _)| app.enclosing_group(id))
         .collect();
     emit_level(app, libs, &children, &ib2c, None, 1, &mut out);
@@ -173,7 +173,7 @@ fn node(app: &Application, libs: &LibrarySet, id: ElementId) -> String {
         outputs.join("|")
     );
     let bold = match &e.kind {
-        ElementKind::Module(m) if m.characteristic.is_some() => ", penwidth=2",
+        ElementKind::Module(m) if m.characteristic().is_some() => ", penwidth=2",
         _ => "",
     };
     format!(

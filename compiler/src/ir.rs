@@ -7,10 +7,13 @@ use crate::library::{LibraryId, LibrarySet, ModuleType, PortDecl, PortDir, PortR
 use crate::source::Span;
 use crate::types::Type;
 use crate::units::Unit;
-use compact_str::CompactString;
 use hashbrown::{HashMap, HashSet};
 use petgraph::graph::{DiGraph, NodeIndex};
-use std::hash::{Hash, Hasher};
+
+mod extras;
+mod tables;
+pub use extras::{LinkSettings, ModuleExtras};
+pub use tables::{Children, NodeTable};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ElementId(pub u32);
@@ -81,15 +84,10 @@ pub struct ModuleInstance {
     /// Types of the instance's flexible port groups, for `$group` port types.
     pub flexible_types: Vec<(String, Type, Option<Unit>)>,
     pub params: Vec<ParamValue>,
-    /// `<bind lock resource>`: lock slot → application resource (span of `resource`).
-    pub binds: Vec<(String, String, Span)>,
-    /// `characteristic="true"` (span of the value): this behaviour is the characteristic
-    /// behaviour of its nearest enclosing group, which makes that group an iB2C group.
-    pub characteristic: Option<Span>,
-    /// `budget="…"` on the instance: overrides the module type's budget (seconds, span).
-    pub budget: Option<(f64, Span)>,
-    /// `ib2c-violations` of the instance (`warn`, `clamp`, `stop`), if given.
-    pub ib2c_violations: Option<String>,
+    /// What few instances write (`<bind>`, `characteristic`, `budget`,
+    /// `ib2c-violations`), boxed: inline, these fields made every element of the tree
+    /// 80 bytes larger (B1).
+    pub extras: Option<Box<ModuleExtras>>,
 }
 
 /// Where a parameter's value comes from.
@@ -196,18 +194,10 @@ pub struct Connection {
     pub delay: bool,
     /// `initial="k"`: items in the queue at start.
     pub initial: u32,
-    pub sharing: Option<(String, Span)>,
-    pub min_interval: Option<Span>,
-    pub period: Option<Span>,
-    /// The values of `min-interval=` and `period=`, in seconds.
-    pub min_interval_seconds: Option<f64>,
-    pub period_seconds: Option<f64>,
-    pub reliability: Option<Span>,
-    /// `reliability="reliable"` (true) or `"best-effort"` (false).
-    pub reliable: Option<bool>,
-    /// `deadline=`: the longest silence the reader accepts (span, seconds).
-    pub deadline: Option<Span>,
-    pub deadline_seconds: Option<f64>,
+    /// The settings of a link between parts, when any is written (boxed: almost no
+    /// connection sets one, and unboxed they were half of each of the ~200,000
+    /// connections of a 100,000-module model, B1).
+    pub link: Option<Box<LinkSettings>>,
     pub converts: Vec<ConvertStep>,
     pub instantiated_at: Option<Span>,
     /// The element whose `<connect>` this is (the application or a group).
@@ -250,9 +240,10 @@ pub struct Application {
     pub connections: Vec<Connection>,
     /// Ports that take part in connections, with connections as edges (weight: index).
     pub graph: DiGraph<Endpoint, usize>,
-    pub nodes: HashMap<Endpoint, NodeIndex>,
+    /// The graph's node of each endpoint; see [`Application::node`].
+    pub nodes: NodeTable,
     /// Named children of each element (the scope of path segments); see [`Application::child`].
-    pub children: HashMap<ChildKey, ElementId>,
+    pub children: Children,
     /// `<resource>`s (named locks) of the model and its fragments.
     pub resources: Vec<Resource>,
     /// `<application profile>`: the framework whose execution semantics apply.
@@ -300,7 +291,7 @@ impl Application {
     pub fn budget(&self, libs: &LibrarySet, id: ElementId) -> Option<(f64, Span)> {
         match &self.element(id).kind {
             ElementKind::Module(m) => m
-                .budget
+                .budget()
                 .or(libs.get(m.library).module_types[m.type_index].budget),
             _ => None,
         }
@@ -342,46 +333,24 @@ pub enum Profile {
     Finroc,
 }
 
-/// Key of [`Application::children`]. Looked up with a borrowed name (no allocation per
-/// path segment) through [`ChildLookup`], which hashes the same way.
-#[derive(Debug, PartialEq, Eq)]
-pub struct ChildKey {
-    pub parent: ElementId,
-    pub name: CompactString,
-}
-
-impl Hash for ChildKey {
-    fn hash<H: Hasher>(&self, state: &mut H) {
-        (self.parent, self.name.as_str()).hash(state)
-    }
-}
-
-struct ChildLookup<'a>(ElementId, &'a str);
-
-impl Hash for ChildLookup<'_> {
-    fn hash<H: Hasher>(&self, state: &mut H) {
-        (self.0, self.1).hash(state)
-    }
-}
-
-impl hashbrown::Equivalent<ChildKey> for ChildLookup<'_> {
-    fn equivalent(&self, key: &ChildKey) -> bool {
-        self.0 == key.parent && self.1 == key.name
-    }
-}
-
 impl Application {
+    /// The graph node of a connected endpoint.
+    pub fn node(&self, endpoint: Endpoint) -> Option<NodeIndex> {
+        self.nodes.get(&self.graph, &endpoint)
+    }
+
     /// The child of `parent` called `name`.
     pub fn child(&self, parent: ElementId, name: &str) -> Option<ElementId> {
-        self.children.get(&ChildLookup(parent, name)).copied()
+        self.children.get(&self.elements, parent, name)
     }
 
     /// The names of `parent`'s children (for "did you mean"; not on a hot path).
     pub fn child_names(&self, parent: ElementId) -> impl Iterator<Item = &str> + '_ {
         self.children
-            .keys()
-            .filter(move |k| k.parent == parent)
-            .map(|k| k.name.as_str())
+            .iter()
+            .map(move |c| self.element(c))
+            .filter(move |e| e.parent == Some(parent))
+            .map(|e| e.name.as_str())
     }
 
     pub fn element(&self, id: ElementId) -> &ElementNode {
@@ -495,17 +464,16 @@ impl Application {
 
     /// Connections into an endpoint.
     pub fn incoming(&self, endpoint: Endpoint) -> impl Iterator<Item = &Connection> + '_ {
-        self.nodes
-            .get(&endpoint)
+        self.node(endpoint)
             .into_iter()
-            .flat_map(move |n| self.graph.edges_directed(*n, petgraph::Direction::Incoming))
+            .flat_map(move |n| self.graph.edges_directed(n, petgraph::Direction::Incoming))
             .map(move |e| &self.connections[*e.weight()])
     }
 
     pub fn has_outgoing(&self, endpoint: Endpoint) -> bool {
-        self.nodes.get(&endpoint).is_some_and(|n| {
+        self.node(endpoint).is_some_and(|n| {
             self.graph
-                .edges_directed(*n, petgraph::Direction::Outgoing)
+                .edges_directed(n, petgraph::Direction::Outgoing)
                 .next()
                 .is_some()
         })

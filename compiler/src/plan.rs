@@ -235,8 +235,7 @@ pub fn plan(
             queues: Vec::new(),
             ports: ports::port_groups(libs, ty, &m.extra_ports),
             ib2c_violations: m
-                .ib2c_violations
-                .as_deref()
+                .ib2c_violations()
                 .or(app.ib2c_violations.as_deref())
                 .unwrap_or("warn")
                 .to_string(),
@@ -466,13 +465,13 @@ fn plan_locks(app: &Application, libs: &LibrarySet, paths: &[String]) -> Planned
     for (id, m) in app.modules() {
         let ty = &libs.get(m.library).module_types[m.type_index];
         let path = &paths[id.0 as usize];
-        for (slot, resource, _) in &m.binds {
+        for (slot, resource, _) in m.binds() {
             locks
                 .binds
                 .push((path.clone(), slot.clone(), resource.clone()));
         }
         let resource_of = |slot: &String| {
-            m.binds
+            m.binds()
                 .iter()
                 .find(|(s, _, _)| s == slot)
                 .map_or(slot.clone(), |(_, r, _)| r.clone())

@@ -188,18 +188,18 @@ fn element(
 /// has any (what the plan's link takes), durations written back exactly in seconds.
 fn sharing(app: &Application, hops: &[usize]) -> String {
     let Some(c) = hops.iter().map(|&h| &app.connections[h]).find(|c| {
-        c.sharing.is_some() || c.min_interval_seconds.is_some() || c.period_seconds.is_some()
+        c.sharing().is_some() || c.min_interval_seconds().is_some() || c.period_seconds().is_some()
     }) else {
         return String::new();
     };
     let mut attrs = String::new();
-    if let Some((mode, _)) = &c.sharing {
+    if let Some((mode, _)) = c.sharing() {
         attrs.push_str(&format!(" sharing=\"{}\"", xml(mode)));
     }
-    if let Some(s) = c.min_interval_seconds {
+    if let Some(s) = c.min_interval_seconds() {
         attrs.push_str(&format!(" min-interval=\"{s}s\""));
     }
-    if let Some(s) = c.period_seconds {
+    if let Some(s) = c.period_seconds() {
         attrs.push_str(&format!(" period=\"{s}s\""));
     }
     attrs
@@ -233,12 +233,15 @@ fn connections(app: &Application, libs: &LibrarySet, out: &mut String) {
         if app.element(edge.from_module).part != app.element(edge.to_module).part {
             attrs.push_str(&sharing(app, &edge.hops));
             // The first hop with `reliability=` decides the link's QoS, as in the plan.
-            let reliable = edge.hops.iter().find_map(|&h| app.connections[h].reliable);
+            let reliable = edge
+                .hops
+                .iter()
+                .find_map(|&h| app.connections[h].reliable());
             if let Some(reliable) = reliable {
                 let value = if reliable { "reliable" } else { "best-effort" };
                 attrs.push_str(&format!(" reliability=\"{value}\""));
             }
-            let deadline = (edge.hops.iter()).find_map(|&h| app.connections[h].deadline_seconds);
+            let deadline = (edge.hops.iter()).find_map(|&h| app.connections[h].deadline_seconds());
             if let Some(s) = deadline {
                 attrs.push_str(&format!(" deadline=\"{s}s\""));
             }

@@ -72,7 +72,7 @@ impl Source {
 /// not sources.
 pub fn sources(app: &Application, libs: &LibrarySet, input: Endpoint) -> Vec<Source> {
     let mut out: Vec<Source> = Vec::new();
-    let Some(&start) = app.nodes.get(&input) else {
+    let Some(start) = app.node(input) else {
         return out;
     };
     // For each group port reached: the connection leaving it towards the input, and the
@@ -198,7 +198,7 @@ pub fn param_span(m: &ModuleInstance, name: &str) -> Option<Span> {
 pub fn characteristic_groups(app: &Application) -> HashMap<ElementId, Vec<ElementId>> {
     let mut groups: HashMap<ElementId, Vec<ElementId>> = HashMap::new();
     for (id, m) in app.modules() {
-        if m.characteristic.is_some() {
+        if m.characteristic().is_some() {
             if let Some(g) = app.enclosing_group(id) {
                 groups.entry(g).or_default().push(id);
             }

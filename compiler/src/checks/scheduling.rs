@@ -84,7 +84,7 @@ pub fn loads(
             continue;
         };
         let own = match &app.element(id).kind {
-            ElementKind::Module(m) => m.budget,
+            ElementKind::Module(m) => m.budget(),
             _ => None,
         };
         match app.budget(libs, id) {

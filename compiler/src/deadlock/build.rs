@@ -169,7 +169,7 @@ impl<'a> Builder<'a> {
         let ElementKind::Module(inst) = &self.app.element(module).kind else {
             return (self.lock_named(slot_name, None, None, false), mt.span);
         };
-        match inst.binds.iter().find(|(s, _, _)| s == slot_name) {
+        match inst.binds().iter().find(|(s, _, _)| s == slot_name) {
             Some((_, res, span)) => (self.lock_named(res, None, None, false), *span),
             None => (
                 self.lock_named(slot_name, None, None, false),

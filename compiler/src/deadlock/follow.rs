@@ -19,7 +19,7 @@ pub(super) struct Reach {
 /// Module ports reached from `start` along connections in `dir`, through group ports.
 pub(super) fn follow(app: &Application, start: Endpoint, dir: petgraph::Direction) -> Vec<Reach> {
     let mut out = Vec::new();
-    let Some(&n) = app.nodes.get(&start) else {
+    let Some(n) = app.node(start) else {
         return out;
     };
     let mut stack = vec![(n, usize::MAX, None)];

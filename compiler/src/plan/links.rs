@@ -105,7 +105,7 @@ pub(super) fn link_of(
         rust,
         sharing,
         reliable: reliable_of(app, &edge.hops),
-        deadline: (edge.hops.iter()).find_map(|&h| app.connections[h].deadline_seconds),
+        deadline: (edge.hops.iter()).find_map(|&h| app.connections[h].deadline_seconds()),
     })
 }
 
@@ -114,7 +114,7 @@ pub(super) fn link_of(
 /// `on-full="block"` (the default of a queue).
 pub(super) fn reliable_of(app: &Application, hops: &[usize]) -> bool {
     let connections = hops.iter().map(|&h| &app.connections[h]);
-    if let Some(reliable) = connections.clone().find_map(|c| c.reliable) {
+    if let Some(reliable) = connections.clone().find_map(|c| c.reliable()) {
         return reliable;
     }
     connections
@@ -127,20 +127,20 @@ pub(super) fn reliable_of(app: &Application, hops: &[usize]) -> bool {
 pub(super) fn sharing_of(app: &Application, hops: &[usize]) -> LinkSharing {
     for &hop in hops {
         let c = &app.connections[hop];
-        match c.sharing.as_ref().map(|(s, _)| s.as_str()) {
+        match c.sharing().map(|(s, _)| s.as_str()) {
             Some("periodic") => {
                 return LinkSharing::Periodic {
-                    period: c.period_seconds.unwrap_or(0.0),
+                    period: c.period_seconds().unwrap_or(0.0),
                 }
             }
             Some(_) => {
                 return LinkSharing::OnChange {
-                    min_interval: c.min_interval_seconds.unwrap_or(0.0),
+                    min_interval: c.min_interval_seconds().unwrap_or(0.0),
                 }
             }
-            None if c.min_interval_seconds.is_some() => {
+            None if c.min_interval_seconds().is_some() => {
                 return LinkSharing::OnChange {
-                    min_interval: c.min_interval_seconds.unwrap_or(0.0),
+                    min_interval: c.min_interval_seconds().unwrap_or(0.0),
                 }
             }
             None => {}
@@ -167,6 +167,6 @@ pub(super) fn param_link_of(
         rust: None,
         sharing: sharing_of(app, &[hop]),
         reliable: reliable_of(app, &[hop]),
-        deadline: app.connections[hop].deadline_seconds,
+        deadline: app.connections[hop].deadline_seconds(),
     })
 }

@@ -5,6 +5,7 @@ use crate::checks::model::m110_unresolved_path;
 use crate::diagnostic::{did_you_mean, Diagnostic};
 use crate::ir::*;
 use crate::source::Span;
+use crate::syntax::Element;
 
 /// A resolved path: the endpoint and an optional element index.
 pub(super) type Resolved = (Endpoint, Option<u32>);
@@ -63,11 +64,6 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 to_type,
             });
         }
-        let attr_span = |name: &str| e.attr(name).map(|a| a.value_span);
-        let seconds = |name: &str| {
-            e.value(name)
-                .and_then(|v| crate::values::parse_duration(v).ok())
-        };
         let index = self.app.connections.len();
         self.app.connections.push(Connection {
             from: from_ep,
@@ -83,17 +79,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             on_full: e.value("on-full").map(str::to_string),
             delay: e.value("delay") == Some("1"),
             initial: e.value("initial").and_then(|q| q.parse().ok()).unwrap_or(0),
-            sharing: e
-                .attr("sharing")
-                .map(|a| (a.value.to_string(), a.value_span)),
-            min_interval: attr_span("min-interval"),
-            period: attr_span("period"),
-            min_interval_seconds: seconds("min-interval"),
-            period_seconds: seconds("period"),
-            reliability: attr_span("reliability"),
-            reliable: e.value("reliability").map(|r| r == "reliable"),
-            deadline: attr_span("deadline"),
-            deadline_seconds: seconds("deadline"),
+            link: link_settings(e),
             converts,
             instantiated_at: p.instantiated_at,
             scope: p.scope,
@@ -104,12 +90,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     }
 
     fn node(&mut self, ep: Endpoint) -> petgraph::graph::NodeIndex {
-        if let Some(n) = self.app.nodes.get(&ep) {
-            return *n;
-        }
-        let n = self.app.graph.add_node(ep);
-        self.app.nodes.insert(ep, n);
-        n
+        self.app.nodes.get_or_add(&mut self.app.graph, ep)
     }
 
     fn unresolved(&mut self, span: Span, path: &str, msg: String, help: String) {
@@ -325,6 +306,38 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             }
         }
     }
+}
+
+/// The link settings of a `<connect>`, `None` when it writes none of them.
+fn link_settings(e: &Element) -> Option<Box<LinkSettings>> {
+    const NAMES: [&str; 5] = [
+        "sharing",
+        "min-interval",
+        "period",
+        "reliability",
+        "deadline",
+    ];
+    if !e.attrs.iter().any(|a| NAMES.contains(&a.name.as_str())) {
+        return None;
+    }
+    let attr_span = |name: &str| e.attr(name).map(|a| a.value_span);
+    let seconds = |name: &str| {
+        e.value(name)
+            .and_then(|v| crate::values::parse_duration(v).ok())
+    };
+    Some(Box::new(LinkSettings {
+        sharing: e
+            .attr("sharing")
+            .map(|a| (a.value.to_string(), a.value_span)),
+        min_interval: attr_span("min-interval"),
+        period: attr_span("period"),
+        min_interval_seconds: seconds("min-interval"),
+        period_seconds: seconds("period"),
+        reliability: attr_span("reliability"),
+        reliable: e.value("reliability").map(|r| r == "reliable"),
+        deadline: attr_span("deadline"),
+        deadline_seconds: seconds("deadline"),
+    }))
 }
 
 /// `vec[2]` → (`vec`, Some(Ok(2))).

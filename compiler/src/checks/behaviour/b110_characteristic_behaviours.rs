@@ -40,7 +40,7 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             continue;
         }
         let span_of = |id| match &ctx.app.element(id).kind {
-            ElementKind::Module(m) => m.characteristic,
+            ElementKind::Module(m) => m.characteristic(),
             _ => None,
         };
         let (Some(first), Some(second)) = (span_of(members[0]), span_of(members[1])) else {

@@ -33,7 +33,7 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                 element: id,
                 port: k,
             };
-            if ctx.app.nodes.contains_key(&ep) && ctx.app.incoming(ep).next().is_some()
+            if ctx.app.node(ep).is_some() && ctx.app.incoming(ep).next().is_some()
                 || ctx.app.cut_off.contains(&ep)
             {
                 continue;

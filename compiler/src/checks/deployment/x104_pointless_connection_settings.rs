@@ -36,11 +36,11 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         };
         if a == b {
             let settings = [
-                ("sharing", c.sharing.as_ref().map(|s| s.1)),
-                ("reliability", c.reliability),
-                ("min-interval", c.min_interval),
-                ("period", c.period),
-                ("deadline", c.deadline),
+                ("sharing", c.sharing().map(|s| s.1)),
+                ("reliability", c.reliability()),
+                ("min-interval", c.min_interval()),
+                ("period", c.period()),
+                ("deadline", c.deadline()),
             ];
             for (name, span) in settings {
                 if let Some(span) = span {
@@ -50,11 +50,11 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             continue;
         }
         let sharing = c
-            .sharing
+            .sharing()
             .as_ref()
             .map(|s| s.0.as_str())
             .unwrap_or("on-change");
-        if let Some(span) = c.period {
+        if let Some(span) = c.period() {
             if sharing != "periodic" {
                 report(
                     span,
@@ -69,7 +69,7 @@ fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                 );
             }
         }
-        if let (Some(span), "periodic") = (c.min_interval, sharing) {
+        if let (Some(span), "periodic") = (c.min_interval(), sharing) {
             report(
                 span,
                 "`min-interval` only applies with sharing=\"on-change\"".into(),
