@@ -55,7 +55,7 @@ pub fn serve(
         return Ok(None);
     };
     check(args)?;
-    let mut inspector = Inspector::new(catalogue, running.stats(), values);
+    let inspector = Inspector::new(catalogue, running.stats(), values);
     for (writer, output, reader, input) in connections {
         inspector.add_connection((writer, output), (reader, input));
     }
