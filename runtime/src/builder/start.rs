@@ -52,6 +52,7 @@ impl Builder<'_> {
                 m.path
             )));
         }
+        self.check_local_claims()?;
         self.bind_remaining_locks();
         let containers = self.containers()?;
         let params = self.take_params();
