@@ -474,6 +474,8 @@ mod convert_tests;
 #[cfg(test)]
 mod link_tests;
 #[cfg(test)]
+mod local_tests;
+#[cfg(test)]
 mod lock_tests;
 #[cfg(test)]
 mod service_tests;
