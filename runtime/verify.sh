@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Model checks of the port core and services (used by CI):
 #   1. loom: every interleaving, up to a preemption bound, of the scenarios in
-#      runtime/tests/loom_ports.rs, loom_services.rs and loom_wakeup.rs
+#      runtime/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs
+#      and loom_local.rs
 #      (LOOM_MAX_PREEMPTIONS, default 3; ~20 s).
 #   2. Miri: undefined behaviour, data races and leaks in the unit tests
 #      (cargo +nightly miri test -p ferroc-runtime --lib; ~1 min with the build).
@@ -17,12 +18,12 @@ run() {
   "$@"
 }
 
-echo "== loom (runtime/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs)" >&2
+echo "== loom (runtime/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs, loom_local.rs)" >&2
 # A separate target dir: --cfg loom changes every fingerprint, and sharing target/
 # would rebuild the normal build after each loom run.
 run env RUSTFLAGS="--cfg loom" CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-target}/loom" \
   LOOM_MAX_PREEMPTIONS="${LOOM_MAX_PREEMPTIONS:-3}" \
-  cargo test -p ferroc-runtime --release --test loom_ports --test loom_services --test loom_wakeup
+  cargo test -p ferroc-runtime --release --test loom_ports --test loom_services --test loom_wakeup --test loom_local
 
 echo "== miri (ferroc-runtime unit tests)" >&2
 if ! cargo +nightly miri --version >/dev/null 2>&1; then

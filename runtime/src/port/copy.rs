@@ -261,9 +261,10 @@ impl<T: NoUninit + Send + Sync> CopyInputPort<T> {
             let cell = &self.core.cell;
             let version = cell.version();
             let queue = self.core.queue.as_ref();
+            let core = &*self.core;
             let ready = || match queue {
                 Some(q) => q.len() != 0 || cell.version() != version,
-                None => cell.has_changed(),
+                None => core.has_changed(),
             };
             if !self.core.signal.wait_data(ready, deadline) {
                 return None;
