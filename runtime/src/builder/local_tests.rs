@@ -199,6 +199,13 @@ fn an_inspector_reads_a_local_output_while_it_runs() {
     let catalogue = b.inspection();
     let mut app = b.start(None).unwrap();
     let inspector = Inspector::new(catalogue, app.stats(), registry.values());
+    // Asked before the first cycle, the output has published nothing yet.
+    let mut tries = 0;
+    while !inspector.value("ramp", "output").unwrap().published {
+        tries += 1;
+        assert!(tries < 5000, "the ramp never published");
+        std::thread::sleep(Duration::from_millis(1));
+    }
     let mut last = 0.0;
     for _ in 0..3 {
         let read = inspector.value("ramp", "output").unwrap();

@@ -260,8 +260,12 @@ fn share<T: NoUninit + Send + Sync>(proof: &Exclusive<'_>, out: &CopyOutputCore<
         return;
     }
     // SAFETY: `proof` covers the cell's home.
-    let value = unsafe { out.local.value.with(|p| *p) };
-    out.cell.store(&value, false);
+    let (value, version) = unsafe { (out.local.value.with(|p| *p), out.local.version()) };
+    // Nothing published locally: the shared cell is still current (and still says
+    // whether the output ever published).
+    if version != 0 {
+        out.cell.store(&value, false);
+    }
     out.local.both.store(true, Ordering::Release);
 }
 
