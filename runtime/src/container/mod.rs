@@ -144,8 +144,7 @@ impl ThreadContainer {
 
     /// Runs every live step once, in order, timing each.
     pub fn run_cycle(&mut self) {
-        let home = crate::sync::Arc::clone(&self.home);
-        let _session = home.enter();
+        let _session = self.home.enter();
         let started = self.clock.now();
         self.execute_steps::<true>();
         let took = self.clock.now().saturating_sub(started);
@@ -191,12 +190,11 @@ impl ThreadContainer {
 
     /// Runs cycles on the current thread until `stop` is set or `limit` cycles ran.
     pub fn run(&mut self, stop: &AtomicBool, limit: Option<u64>) {
-        let home = crate::sync::Arc::clone(&self.home);
-        let session = home.enter();
+        let session = self.home.enter();
         self.run_in(&session, stop, limit);
     }
 
-    fn run_in(&mut self, session: &Session<'_>, stop: &AtomicBool, limit: Option<u64>) {
+    fn run_in(&mut self, session: &Session, stop: &AtomicBool, limit: Option<u64>) {
         let mut done = 0u64;
         let more = |done: u64| !stop.load(Ordering::Relaxed) && limit.is_none_or(|l| done < l);
         match self.trigger.clone() {

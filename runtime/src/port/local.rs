@@ -38,7 +38,7 @@ use std::marker::PhantomData;
 use std::ptr;
 use std::time::{Duration, Instant};
 
-use crate::sync::{lock, AtomicBool, Condvar, Mutex, Ordering};
+use crate::sync::{lock, Arc, AtomicBool, Condvar, Mutex, Ordering};
 
 /// How long a change to a local connection waits for the owning container's next
 /// cycle boundary before giving up.
@@ -102,10 +102,12 @@ impl Exclusive<'_> {
     }
 }
 
-/// A thread running a home's container (see [`Home::enter`]). Not `Send`: it marks the
-/// thread that created it.
-pub struct Session<'a> {
-    home: &'a Home,
+/// A thread running a home's container (see [`Home::enter`]). Neither `Send` nor
+/// `Sync`: it marks the thread that created it. It keeps its home alive, so even a
+/// leaked session never leaves a thread marked with the address of a freed home that a
+/// new one could reuse.
+pub struct Session {
+    home: Arc<Home>,
     /// The mark this thread had before (sessions of different homes nest); `None` for
     /// a nested session of the same home, which changes nothing.
     previous: Option<*const Home>,
@@ -144,11 +146,11 @@ impl Home {
     /// # Panics
     /// If another thread holds a session of this home (a container's cycles run on one
     /// thread at a time).
-    pub fn enter(&self) -> Session<'_> {
-        let this: *const Home = self;
+    pub fn enter(self: &Arc<Self>) -> Session {
+        let this: *const Home = Arc::as_ptr(self);
         if current() == this {
             return Session {
-                home: self,
+                home: Arc::clone(self),
                 previous: None,
                 _not_send: PhantomData,
             };
@@ -163,7 +165,7 @@ impl Home {
         self.serve(&mut state);
         drop(state);
         Session {
-            home: self,
+            home: Arc::clone(self),
             previous: Some(previous),
             _not_send: PhantomData,
         }
@@ -239,7 +241,7 @@ impl Home {
     }
 }
 
-impl Session<'_> {
+impl Session {
     /// A cycle boundary: runs the changes other threads queued. One atomic load when
     /// there are none.
     #[inline]
@@ -251,7 +253,7 @@ impl Session<'_> {
     }
 }
 
-impl Drop for Session<'_> {
+impl Drop for Session {
     fn drop(&mut self) {
         let Some(previous) = self.previous else {
             return;
