@@ -229,7 +229,7 @@ fn publish_and_read_local(n: u64) -> Duration {
     let home = Arc::new(Home::new());
     let local = make_local(&output, &input, &home);
     assert!(local, "b2: a plain connection could not be made local");
-    let _session = home.enter();
+    let _session = Home::enter(&home);
     let mut m = Matrix::default();
     let started = Instant::now();
     for _ in 0..n {

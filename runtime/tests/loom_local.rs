@@ -38,7 +38,7 @@ fn run_owner(
     inp: CopyInputPort<u64>,
 ) -> thread::JoinHandle<(CopyOutputPort<u64>, CopyInputPort<u64>, Vec<u64>)> {
     thread::spawn(move || {
-        let session = home.enter();
+        let session = Home::enter(&home);
         let mut seen = Vec::new();
         out.publish(1);
         seen.push(inp.get());
@@ -96,7 +96,7 @@ fn a_local_reader_disconnected_from_another_thread_keeps_its_last_value() {
         );
         let kept = inp.get();
         assert_eq!(kept, seen[1]);
-        let session = home.enter();
+        let session = Home::enter(&home);
         out.publish(3);
         drop(session);
         assert_eq!(inp.get(), kept, "a disconnected input no longer follows");

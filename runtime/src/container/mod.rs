@@ -144,7 +144,7 @@ impl ThreadContainer {
 
     /// Runs every live step once, in order, timing each.
     pub fn run_cycle(&mut self) {
-        let _session = self.home.enter();
+        let _session = Home::enter(&self.home);
         let started = self.clock.now();
         self.execute_steps::<true>();
         let took = self.clock.now().saturating_sub(started);
@@ -190,7 +190,7 @@ impl ThreadContainer {
 
     /// Runs cycles on the current thread until `stop` is set or `limit` cycles ran.
     pub fn run(&mut self, stop: &AtomicBool, limit: Option<u64>) {
-        let session = self.home.enter();
+        let session = Home::enter(&self.home);
         self.run_in(&session, stop, limit);
     }
 

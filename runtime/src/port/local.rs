@@ -146,26 +146,29 @@ impl Home {
     /// # Panics
     /// If another thread holds a session of this home (a container's cycles run on one
     /// thread at a time).
-    pub fn enter(self: &Arc<Self>) -> Session {
-        let this: *const Home = Arc::as_ptr(self);
+    ///
+    /// An associated function rather than a method: under loom, `Arc` is loom's, which
+    /// cannot be a method receiver.
+    pub fn enter(home: &Arc<Home>) -> Session {
+        let this: *const Home = Arc::as_ptr(home);
         if current() == this {
             return Session {
-                home: Arc::clone(self),
+                home: Arc::clone(home),
                 previous: None,
                 _not_send: PhantomData,
             };
         }
-        let mut state = lock(&self.state);
+        let mut state = lock(&home.state);
         assert!(
             !state.session,
             "a thread container's cycles run on one thread at a time"
         );
         state.session = true;
         let previous = CURRENT.with(|c| c.replace(this));
-        self.serve(&mut state);
+        home.serve(&mut state);
         drop(state);
         Session {
-            home: Arc::clone(self),
+            home: Arc::clone(home),
             previous: Some(previous),
             _not_send: PhantomData,
         }

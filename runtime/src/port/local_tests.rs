@@ -19,7 +19,7 @@ fn a_local_connection_reads_what_was_published_and_sees_each_change_once() {
     let (out, inp) = pair(7.0);
     let home = Arc::new(Home::new());
     assert!(make_local(&out, &inp, &home));
-    let session = home.enter();
+    let session = Home::enter(&home);
     // Before the first publish the input keeps its own default, as on the lock-free path.
     assert_eq!(inp.get(), 7.0);
     assert!(!inp.has_changed());
@@ -43,7 +43,7 @@ fn a_delivery_not_taken_before_the_connection_became_local_is_still_seen() {
     out.publish(4.0);
     let home = Arc::new(Home::new());
     assert!(make_local(&out, &inp, &home));
-    let _session = home.enter();
+    let _session = Home::enter(&home);
     assert_eq!(inp.get(), 4.0);
     assert!(inp.take_changed());
     assert!(!inp.take_changed());
@@ -79,7 +79,7 @@ fn an_output_local_to_one_home_is_not_made_local_to_another() {
     assert!(make_local(&out, &a, &one));
     assert!(!make_local(&out, &b, &two));
     // b is still fed on the lock-free path, by the session of `one`.
-    let session = one.enter();
+    let session = Home::enter(&one);
     out.publish(5.0);
     assert_eq!(a.get(), 5.0);
     assert_eq!(b.get(), 5.0);
@@ -95,7 +95,7 @@ fn using_a_local_port_from_another_thread_panics_instead_of_racing() {
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| out.publish(1.0)));
     let message = *outcome.unwrap_err().downcast::<String>().unwrap();
     assert!(message.contains("`out` is connected inside its thread container"));
-    let _session = home.enter();
+    let _session = Home::enter(&home);
     out.publish(2.0);
     let read = thread::scope(|s| s.spawn(|| inp.get()).join());
     assert!(read.is_err(), "a read from another thread must panic");
@@ -117,7 +117,7 @@ fn a_connection_leaving_the_container_falls_back_to_the_lock_free_path() {
     let container = {
         let (home, stop, published) = (home.clone(), stop.clone(), published.clone());
         thread::spawn(move || {
-            let session = home.enter();
+            let session = Home::enter(&home);
             let mut n = 0.0;
             let mut followed = true;
             while !stop.load(Ordering::Relaxed) {
@@ -165,7 +165,7 @@ fn a_connection_leaving_the_container_falls_back_to_the_lock_free_path() {
     // The input reads its own cell again, from any thread.
     let kept = inp.get();
     // The output still belongs to its container: used in a session of its home.
-    let session = home.enter();
+    let session = Home::enter(&home);
     let last = out.get();
     assert!(
         kept >= 1.0 && kept < last,
@@ -188,7 +188,7 @@ fn a_change_asked_for_while_the_container_is_stuck_gives_up_with_a_clear_error()
     let stuck = {
         let home = home.clone();
         thread::spawn(move || {
-            let _session = home.enter();
+            let _session = Home::enter(&home);
             entered_tx.send(()).unwrap();
             // A step that never returns within the wait: no boundary is reached.
             release_rx.recv().unwrap();
