@@ -120,6 +120,8 @@ fn generated_code_is_wiring_with_the_concrete_types_and_formatted() {
         "schedule: Schedule::Periodic(Duration::from_millis(40)),",
         "(CONTROLLER.to_string(), StepKind::Control),",
         "supervise::supervise(app, &interrupted, &args.options())",
+        // The simulation and the controller run in one thread container.
+        "ConnectOptions::default().with_local(true),",
     ] {
         assert!(main.contains(expected), "`{expected}` missing in:\n{main}");
     }
@@ -231,8 +233,8 @@ fn plan_of(model: &Path) -> String {
         .map(|c| {
             let link = (c.link.as_ref()).map(|l| (&l.from_part, &l.to_part, &l.ty, l.sharing));
             format!(
-                "{:?} -> {:?} {:?} ·{:?} +{:?} {link:?}",
-                c.from, c.to, c.select, c.scale, c.offset
+                "{:?} -> {:?} {:?} ·{:?} +{:?} {link:?} local {}",
+                c.from, c.to, c.select, c.scale, c.offset, c.local
             )
         })
         .collect();

@@ -7,6 +7,7 @@
 //! thread container's step order from the scheduling pass.
 
 mod links;
+mod local;
 mod ports;
 
 pub use crate::ir::Wait;
@@ -75,6 +76,9 @@ pub struct PlannedConnection {
     pub offset: f64,
     /// Set when the connection joins two parts: it travels as a link.
     pub link: Option<PlannedLink>,
+    /// The writer and the reader run in one thread container: the runtime keeps the
+    /// value in a cell only that container's thread touches (`ConnectOptions::local`).
+    pub local: bool,
     pub span: Span,
 }
 
@@ -339,6 +343,7 @@ pub fn plan(
             scale,
             offset,
             link: links::link_of(app, libs, &edge, to.ty, next_link),
+            local: false,
             span: edge
                 .hops
                 .last()
@@ -372,6 +377,7 @@ pub fn plan(
                 .collect(),
         });
     }
+    local::mark_local(&mut plan);
     plan.locks = plan_locks(app, libs, &paths);
     (plan, problems)
 }

@@ -64,6 +64,8 @@ pub fn add_recorders(
                 scale: 1.0,
                 offset: 0.0,
                 link: None,
+                // A recorder runs in a container of its own.
+                local: false,
                 span: template.span,
             });
         }

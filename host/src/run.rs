@@ -458,7 +458,10 @@ pub fn wire<'r>(
             (c.to.0.as_str(), c.to.1.as_str()),
         );
         match &c.link {
-            None => builder.connect(from, to, conversion(c), ConnectOptions::default())?,
+            None => {
+                let options = ConnectOptions::default().with_local(c.local);
+                builder.connect(from, to, conversion(c), options)?
+            }
             Some(link) => {
                 let spec = link_spec(link);
                 builder.link_out(&spec, from, conversion(c))?;

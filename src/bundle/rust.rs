@@ -112,6 +112,12 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
                 (c.to.0.as_str(), c.to.1.as_str()),
             ),
             conversion: super::links::conversion(c),
+            options: if c.local {
+                // Writer and reader in one thread container: the local path.
+                "ConnectOptions::default().with_local(true)"
+            } else {
+                "ConnectOptions::default()"
+            },
         })
         .collect();
     let link_calls = lines(|code| super::links::calls(code, part, cx.at, &name_of));
@@ -123,6 +129,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
                 (l.to.0.as_str(), l.to.1.as_str()),
             ),
             conversion: format!("Conversion::linear({}, 0.0)", float(l.scale)),
+            options: "",
         })
         .collect();
     let calls = (part.calls.iter())
@@ -133,6 +140,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
                 (l.service.0.as_str(), l.service.1.as_str()),
             ),
             conversion: String::new(),
+            options: "",
         })
         .collect();
     let threads = part
@@ -278,6 +286,8 @@ struct ConnectBlock {
     ends: String,
     /// The conversion argument (none for service calls).
     conversion: String,
+    /// The `ConnectOptions` argument of data connections.
+    options: &'static str,
 }
 
 /// One `builder.add_thread` of `build()`.

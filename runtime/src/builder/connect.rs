@@ -23,6 +23,10 @@ impl Builder<'_> {
                 .connect(input, options)
                 .map_err(|e| BuildError::Connect(format!("{}: {e}", describe())))?;
             self.links.push((writer, reader, to.1.to_owned()));
+            if options.local {
+                let pair = output.local_pair(input);
+                self.claim_local(writer, reader, describe(), pair);
+            }
             return Ok(());
         }
         // A chain of converters: each selected part, then the numeric change.
@@ -73,6 +77,61 @@ impl Builder<'_> {
         let steps = &mut self.modules[writer].converters;
         steps.extend(chain.into_iter().map(|c| c.step));
         self.links.push((writer, reader, to.1.to_owned()));
+        if options.local {
+            // Checked like the others, but the converters keep it on the lock-free path.
+            self.claim_local(writer, reader, describe(), None);
+        }
         Ok(())
+    }
+
+    fn claim_local(
+        &mut self,
+        writer: usize,
+        reader: usize,
+        name: String,
+        pair: Option<crate::port::LocalPair>,
+    ) {
+        self.local.push(LocalClaim {
+            writer,
+            reader,
+            name,
+            pair,
+        });
+    }
+
+    /// Refuses connections marked as inside one thread container whose ends are not
+    /// (the plan and the Builder calls disagree).
+    pub(super) fn check_local_claims(&self) -> Result<(), BuildError> {
+        for claim in &self.local {
+            let (w, r) = (&self.modules[claim.writer], &self.modules[claim.reader]);
+            if w.thread.is_some() && w.thread == r.thread {
+                continue;
+            }
+            let container = |m: &Instance| match m.thread {
+                Some(t) => format!("the thread container `{}`", self.threads[t].path),
+                None => "no thread container".to_owned(),
+            };
+            return Err(BuildError::Connect(format!(
+                "{} is marked as inside one thread container, but `{}` runs in {} and `{}` \
+                 in {}; connect it without `ConnectOptions::local`",
+                claim.name,
+                w.path,
+                container(w),
+                r.path,
+                container(r)
+            )));
+        }
+        Ok(())
+    }
+
+    /// Makes the marked connections of thread container `thread` local to `home`; how
+    /// many became local.
+    pub(super) fn make_local(&self, thread: usize, home: &crate::sync::Arc<Home>) -> usize {
+        self.local
+            .iter()
+            .filter(|c| self.modules[c.writer].thread == Some(thread))
+            .filter_map(|c| c.pair.as_ref())
+            .filter(|pair| pair(home))
+            .count()
     }
 }

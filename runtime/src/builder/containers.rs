@@ -14,7 +14,7 @@ impl Builder<'_> {
         let mut shared: HashMap<usize, Arc<Mutex<Box<dyn Module>>>> = HashMap::new();
         let threads = std::mem::take(&mut self.threads);
         let mut out = Vec::new();
-        for spec in threads {
+        for (id, spec) in threads.into_iter().enumerate() {
             let wakeup = Wakeup::new();
             let mut steps = Vec::new();
             for (i, (path, kind)) in spec.steps.iter().enumerate() {
@@ -76,10 +76,9 @@ impl Builder<'_> {
                 Schedule::Data => Trigger::Data(wakeup),
                 Schedule::Continuous => Trigger::Continuous,
             };
-            out.push((
-                ThreadContainer::new(spec.path, trigger, steps),
-                spec.options,
-            ));
+            let container = ThreadContainer::new(spec.path, trigger, steps);
+            self.make_local(id, container.home());
+            out.push((container, spec.options));
         }
         Ok(out)
     }

@@ -30,7 +30,7 @@ pub use start::StartOptions;
 use crate::behaviour::{ViolationLog, ViolationPolicy};
 use crate::container::{Step, ThreadContainer, ThreadOptions, Trigger};
 use crate::module::{Interface, Kind, Module, ParamHandle, PortGroup, Setup, Value};
-use crate::port::{ConnectOptions, InputHandle, Notifier, OutputHandle, QueueConfig, Wakeup};
+use crate::port::{ConnectOptions, Home, InputHandle, Notifier, OutputHandle, QueueConfig, Wakeup};
 use crate::resource::{LockOrder, Resource};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
@@ -153,6 +153,17 @@ impl std::fmt::Display for BuildError {
 
 impl std::error::Error for BuildError {}
 
+/// A connection the plan marks as inside one thread container.
+struct LocalClaim {
+    writer: usize,
+    reader: usize,
+    /// `a/out → b/in`, for messages.
+    name: String,
+    /// Makes it local at start; `None` when it cannot be (converters between, a port
+    /// kind without a local path): it stays lock-free.
+    pair: Option<crate::port::LocalPair>,
+}
+
 struct Instance {
     path: String,
     kind: Kind,
@@ -181,6 +192,8 @@ pub struct Builder<'r> {
     /// Module connections as (writer, reader, input name): a data-triggered container
     /// must not be woken by its own modules' outputs, or it would never sleep.
     links: Vec<(usize, usize, String)>,
+    /// Connections marked as inside one thread container (`ConnectOptions::local`).
+    local: Vec<LocalClaim>,
     /// Application resources by name, validated against one order graph.
     resources: HashMap<String, Arc<Resource>>,
     lock_order: Arc<LockOrder>,
@@ -210,6 +223,7 @@ impl<'r> Builder<'r> {
             index: HashMap::new(),
             threads: Vec::new(),
             links: Vec::new(),
+            local: Vec::new(),
             violations: Arc::default(),
             resources: HashMap::new(),
             lock_order: Arc::new(LockOrder::new()),
@@ -482,6 +496,8 @@ mod call_link_tests;
 mod convert_tests;
 #[cfg(test)]
 mod link_tests;
+#[cfg(test)]
+mod local_tests;
 #[cfg(test)]
 mod lock_tests;
 #[cfg(test)]

@@ -61,6 +61,7 @@ impl Builder<'_> {
                 m.path
             )));
         }
+        self.check_local_claims()?;
         self.bind_remaining_locks();
         let specs = self.threads.clone();
         let containers = self.containers()?;

@@ -16,6 +16,12 @@
 //!
 //! A step that panics is caught, reported in the statistics with its name, and not run
 //! again; the other steps keep running.
+//!
+//! While it runs cycles, a container's thread holds the session of its [`Home`]: the
+//! connections the Builder made local to it are read and written only there, and
+//! changes to them that other threads ask for are applied between cycles
+//! ([`Session::boundary`], `port/local.rs`): before each periodic or data-triggered
+//! cycle, and every [`SAMPLE_EVERY`] cycles of a continuous one.
 
 mod change;
 mod clock;
@@ -28,7 +34,7 @@ pub use clock::{Clock, ManualClock, SystemClock};
 pub use os::{pin_current_thread, summarise as summarise_refusals, Placement, Refusal};
 pub use stats::{ContainerStats, StepStats};
 
-use crate::port::{WaitMode, Wakeup};
+use crate::port::{Home, Session, WaitMode, Wakeup};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -104,6 +110,8 @@ pub struct ThreadContainer {
     clock: Arc<dyn Clock>,
     /// Changes of its steps while it runs (`change.rs`).
     changes: Arc<ChangeSlot>,
+    /// The owner of its local connections.
+    home: crate::sync::Arc<Home>,
 }
 
 impl ThreadContainer {
@@ -125,12 +133,19 @@ impl ThreadContainer {
             stats: Arc::new(ContainerStats::new(name.into(), names, period, continuous)),
             clock: Arc::new(SystemClock::default()),
             changes: Arc::default(),
+            home: crate::sync::Arc::new(Home::new()),
         }
     }
 
     /// Where changes of its steps are posted while it runs (see [`ChangeSlot`]).
     pub fn changes(&self) -> Arc<ChangeSlot> {
         Arc::clone(&self.changes)
+    }
+
+    /// The owner of the connections local to this container (the Builder makes them
+    /// local with it before the container runs).
+    pub(crate) fn home(&self) -> &crate::sync::Arc<Home> {
+        &self.home
     }
 
     /// Uses another clock (tests use [`ManualClock`]).
@@ -151,6 +166,7 @@ impl ThreadContainer {
 
     /// Runs every live step once, in order, timing each.
     pub fn run_cycle(&mut self) {
+        let _session = Home::enter(&self.home);
         let started = self.clock.now();
         self.execute_steps::<true>();
         let took = self.clock.now().saturating_sub(started);
@@ -198,6 +214,11 @@ impl ThreadContainer {
 
     /// Runs cycles on the current thread until `stop` is set or `limit` cycles ran.
     pub fn run(&mut self, stop: &AtomicBool, limit: Option<u64>) {
+        let session = Home::enter(&self.home);
+        self.run_in(&session, stop, limit);
+    }
+
+    fn run_in(&mut self, session: &Session, stop: &AtomicBool, limit: Option<u64>) {
         let mut done = 0u64;
         let more = |done: u64| !stop.load(Ordering::Relaxed) && limit.is_none_or(|l| done < l);
         match self.trigger.clone() {
@@ -205,6 +226,7 @@ impl ThreadContainer {
                 let period = period.max(Duration::from_nanos(1));
                 let mut deadline = self.clock.now() + period;
                 while more(done) {
+                    session.boundary();
                     let started = self.clock.now();
                     self.execute_steps::<true>();
                     let ended = self.clock.now();
@@ -227,6 +249,7 @@ impl ThreadContainer {
             }
             Trigger::Continuous => {
                 while more(done) {
+                    session.boundary();
                     let batch = limit.map_or(SAMPLE_EVERY, |l| (l - done).min(SAMPLE_EVERY));
                     let started = self.clock.now();
                     self.execute_steps::<true>();
@@ -246,6 +269,7 @@ impl ThreadContainer {
                     // Wake now and then to see the stop flag even without data; a
                     // wakeup that comes with a stop request (a nudge) runs no cycle.
                     let woken = wakeup.wait_in(self.wait, stop, Duration::from_millis(50));
+                    session.boundary();
                     if woken && more(done) {
                         self.run_cycle();
                         done += 1;

@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 
 use bytemuck::NoUninit;
 
+use super::copy_local::{LocalIn, LocalOut};
 use super::notify::{Notifier, SetOnce};
 use super::queue::{OnFull, Queue, QueueConfig, Signal};
 use super::seqlock::SeqCell;
@@ -17,25 +18,36 @@ use super::wiring::{self, Fanout, InCore, Links, OutCore};
 use crate::sync::{lock, Arc, Mutex};
 
 pub(crate) struct CopyOutputCore<T: NoUninit + Send + Sync> {
-    name: String,
-    cell: SeqCell<T>,
-    fanout: Fanout<CopyInputCore<T>>,
+    pub(crate) name: String,
+    /// The shared value (lock-free path).
+    pub(crate) cell: SeqCell<T>,
+    pub(crate) fanout: Fanout<CopyInputCore<T>>,
+    /// The value for readers in the same thread container (`copy_local.rs`).
+    pub(crate) local: LocalOut<T>,
 }
 
 pub(crate) struct CopyInputCore<T: NoUninit + Send + Sync> {
-    name: String,
-    cell: SeqCell<T>,
-    queue: Option<Queue<T>>,
+    pub(crate) name: String,
+    pub(crate) cell: SeqCell<T>,
+    pub(crate) queue: Option<Queue<T>>,
     signal: Signal,
     notifier: SetOnce<Notifier>,
-    links: Mutex<Links<CopyOutputCore<T>, ()>>,
+    pub(crate) links: Mutex<Links<CopyOutputCore<T>, ()>>,
+    /// Set while the input reads its output's local cell (`copy_local.rs`).
+    pub(crate) local: LocalIn<T>,
 }
 
 /// An output port for small, padding-free `Copy` values ([`NoUninit`]; derive it with
 /// `#[derive(Clone, Copy, bytemuck::NoUninit)]` and `#[repr(C)]`).
 ///
 /// Publishing copies the value into the port and into every connected input (a
-/// seqlock write each: no locks, no allocation, no reference counting).
+/// seqlock write each: no locks, no allocation, no reference counting). Connections
+/// the Builder made local to one thread container (`port/local.rs`) skip all of that:
+/// the value is stored once in a plain cell that their inputs read.
+///
+/// # Panics
+/// Using the port from another thread than its container's while it has local
+/// connections panics (a module's ports belong to the thread that runs it).
 pub struct CopyOutputPort<T: NoUninit + Send + Sync> {
     pub(crate) core: Arc<CopyOutputCore<T>>,
 }
@@ -47,7 +59,7 @@ pub(crate) struct CopyPeek<T: NoUninit + Send + Sync>(Arc<CopyInputCore<T>>);
 impl<T: NoUninit + Send + Sync> CopyPeek<T> {
     /// The latest value delivered to the input.
     pub(crate) fn get(&self) -> T {
-        self.0.cell.load().0
+        self.0.read()
     }
 }
 
@@ -71,6 +83,7 @@ impl<T: NoUninit + Send + Sync> CopyOutputPort<T> {
             name: name.into(),
             cell: SeqCell::new(value),
             fanout: Fanout::new(),
+            local: LocalOut::new(value),
         };
         CopyOutputPort {
             core: Arc::new(core),
@@ -83,8 +96,12 @@ impl<T: NoUninit + Send + Sync> CopyOutputPort<T> {
     }
 
     /// Publishes `value` to the port and every connected input.
+    #[inline]
     pub fn publish(&self, value: T) {
         let core = &*self.core;
+        if !core.local.publish(&value, &core.name) {
+            return;
+        }
         core.cell.store(&value, false);
         let reader = core.fanout.snap.read();
         let mut deferred = Vec::new();
@@ -99,7 +116,10 @@ impl<T: NoUninit + Send + Sync> CopyOutputPort<T> {
 
     /// The last value published (or the initial value).
     pub fn get(&self) -> T {
-        self.core.cell.load().0
+        let core = &*self.core;
+        core.local
+            .get(&core.name)
+            .unwrap_or_else(|| core.cell.load().0)
     }
 
     /// Number of connected inputs.
@@ -165,6 +185,7 @@ impl<T: NoUninit + Send + Sync> CopyInputPort<T> {
                 sources: Vec::new(),
                 retained: (),
             }),
+            local: LocalIn::new(),
         };
         CopyInputPort {
             core: Arc::new(core),
@@ -177,18 +198,20 @@ impl<T: NoUninit + Send + Sync> CopyInputPort<T> {
     }
 
     /// The latest value delivered (or the default).
+    #[inline]
     pub fn get(&self) -> T {
-        self.core.cell.load().0
+        self.core.read()
     }
 
     /// Has a value been delivered since the last [`take_changed`](Self::take_changed)?
     pub fn has_changed(&self) -> bool {
-        self.core.cell.has_changed()
+        self.core.has_changed()
     }
 
     /// Clears the changed mark and returns whether it was set.
+    #[inline]
     pub fn take_changed(&self) -> bool {
-        self.core.cell.take_changed()
+        self.core.take_changed()
     }
 
     /// The queue settings, if this is a queued input.
@@ -238,9 +261,10 @@ impl<T: NoUninit + Send + Sync> CopyInputPort<T> {
             let cell = &self.core.cell;
             let version = cell.version();
             let queue = self.core.queue.as_ref();
+            let core = &*self.core;
             let ready = || match queue {
                 Some(q) => q.len() != 0 || cell.version() != version,
-                None => cell.has_changed(),
+                None => core.has_changed(),
             };
             if !self.core.signal.wait_data(ready, deadline) {
                 return None;
@@ -327,6 +351,25 @@ impl<T: NoUninit + Send + Sync> OutCore for CopyOutputCore<T> {
     }
 
     fn retain(&self, _retained: &mut ()) {}
+
+    fn is_local(&self, input: &CopyInputCore<T>) -> bool {
+        super::copy_local::is_local(self, input)
+    }
+
+    fn leave_local(
+        out: &Arc<Self>,
+        input: &Arc<CopyInputCore<T>>,
+        keep: bool,
+    ) -> Result<(), super::local::Busy> {
+        super::copy_local::leave(out, input, keep)
+    }
+
+    fn local_pair(out: &Arc<Self>, input: &Arc<CopyInputCore<T>>) -> Option<super::LocalPair> {
+        let (out, input) = (Arc::clone(out), Arc::clone(input));
+        Some(Box::new(move |home| {
+            super::copy_local::make_local(&out, &input, home)
+        }))
+    }
 
     fn initial_push(&self, input: &CopyInputCore<T>, mark: usize) {
         let (value, version) = self.cell.load();

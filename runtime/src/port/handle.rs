@@ -17,6 +17,7 @@ use std::any::Any;
 
 type ConnectFn = fn(&OutputHandle, &InputHandle, ConnectOptions) -> Result<(), ConnectError>;
 type DisconnectFn = fn(&OutputHandle, &InputHandle) -> bool;
+type PairFn = fn(&OutputHandle, &InputHandle) -> Option<super::LocalPair>;
 
 /// A shared, type-erased reference to an output port's core.
 pub struct OutputHandle {
@@ -26,6 +27,7 @@ pub struct OutputHandle {
     name: String,
     connect: ConnectFn,
     disconnect: DisconnectFn,
+    pair: PairFn,
 }
 
 /// A shared, type-erased reference to an input port's core.
@@ -49,6 +51,7 @@ impl OutputHandle {
             value_type,
             connect: connect_cores::<O>,
             disconnect: disconnect_cores::<O>,
+            pair: pair_cores::<O>,
         }
     }
 
@@ -75,6 +78,13 @@ impl OutputHandle {
     /// Disconnects; false if not connected (or not connectable at all).
     pub fn disconnect(&self, input: &InputHandle) -> bool {
         (self.disconnect)(self, input)
+    }
+
+    /// What makes the connection to `input` local to a thread container later (the
+    /// Builder, at start); `None` for port kinds without a local path or ports of other
+    /// types.
+    pub(crate) fn local_pair(&self, input: &InputHandle) -> Option<super::LocalPair> {
+        (self.pair)(self, input)
     }
 }
 
@@ -132,6 +142,11 @@ fn connect_cores<O: OutCore>(
             input: format!("{} ({})", input.name, input.value_type),
         }),
     }
+}
+
+fn pair_cores<O: OutCore>(output: &OutputHandle, input: &InputHandle) -> Option<super::LocalPair> {
+    let (out, inp) = cores::<O>(output, input)?;
+    O::local_pair(out, inp)
 }
 
 fn disconnect_cores<O: OutCore>(output: &OutputHandle, input: &InputHandle) -> bool {

@@ -23,12 +23,15 @@
 //! Where to read on: `pool.rs` (buffers, reference counts and their invariants),
 //! `cell.rs` (the reader protocol), `snapshot.rs` (connection lists that change without
 //! blocking publishers), `wiring.rs` (connect/disconnect, initial push), `queue.rs`
-//! (input queues and blocking), `copy.rs` + `seqlock.rs` (the `Copy` path).
+//! (input queues and blocking), `copy.rs` + `seqlock.rs` (the `Copy` path), `local.rs`
+//! + `copy_local.rs` (connections inside one thread container, without atomics).
 
 mod cell;
 mod copy;
+mod copy_local;
 mod handle;
 mod input;
+mod local;
 mod notify;
 mod output;
 mod pool;
@@ -44,11 +47,13 @@ pub(crate) use copy::CopyPeek;
 pub use copy::{CopyInputPort, CopyOutputPort};
 pub use handle::{InputHandle, OutputHandle};
 pub use input::InputPort;
+pub use local::{Home, Session};
 pub use notify::{Notifier, Notify, WaitMode, Wakeup};
 pub use output::OutputPort;
 pub use pool::PoolStats;
 pub use port_ref::{BufferMut, PortRef};
 pub use queue::{OnFull, QueueConfig};
+pub(crate) use wiring::LocalPair;
 pub use wiring::{ConnectError, ConnectOptions};
 
 /// An output that can be connected to inputs of type `I`.
@@ -71,6 +76,21 @@ pub fn connect<O: Connect<I>, I>(
     options: ConnectOptions,
 ) -> Result<(), ConnectError> {
     output.connect_to(input, options)
+}
+
+/// Makes the connection `output → input` local to the thread container that owns
+/// `home`: its value then lives in a plain cell that only the thread holding `home`'s
+/// [`Session`] touches (`port/local.rs`). True if it became local; false leaves it on
+/// the lock-free path (not connected, a queued input, an input with other sources, an
+/// output local to another home, or the container did not reach a cycle boundary in
+/// time). The Builder does this at start for connections the plan marks as inside one
+/// container.
+pub fn make_local<T: NoUninit + Send + Sync>(
+    output: &CopyOutputPort<T>,
+    input: &CopyInputPort<T>,
+    home: &crate::sync::Arc<Home>,
+) -> bool {
+    copy_local::make_local(&output.core, &input.core, home)
 }
 
 /// Removes the connection; false if the ports were not connected. Never blocks
@@ -105,5 +125,7 @@ impl<T: NoUninit + Send + Sync> Connect<CopyInputPort<T>> for CopyOutputPort<T> 
     }
 }
 
+#[cfg(test)]
+mod local_tests;
 #[cfg(test)]
 mod tests;

@@ -8,6 +8,7 @@
 
 use std::fmt;
 
+use super::local::Busy;
 use super::snapshot::Snapshot;
 use crate::sync::{fence, lock, Arc, AtomicUsize, Mutex, Ordering};
 
@@ -19,11 +20,19 @@ pub struct ConnectOptions {
     /// published before and this is the input's only source (FINROC's rule: no initial
     /// push into an input with several sources, none into a queue). Default: true.
     pub initial_push: bool,
+    /// The writer and the reader run in one thread container (the compiler's plan
+    /// marks such connections): the [`Builder`](crate::builder::Builder) then makes the
+    /// connection local at start (`port/local.rs`), and refuses to start if they do
+    /// not. Ports connected directly ignore it. Default: false.
+    pub local: bool,
 }
 
 impl Default for ConnectOptions {
     fn default() -> Self {
-        ConnectOptions { initial_push: true }
+        ConnectOptions {
+            initial_push: true,
+            local: false,
+        }
     }
 }
 
@@ -31,6 +40,12 @@ impl ConnectOptions {
     /// These options with `initial_push` set as given.
     pub fn with_initial_push(mut self, initial_push: bool) -> Self {
         self.initial_push = initial_push;
+        self
+    }
+
+    /// These options with `local` set as given.
+    pub fn with_local(mut self, local: bool) -> Self {
+        self.local = local;
         self
     }
 }
@@ -54,6 +69,14 @@ pub enum ConnectError {
         /// Name and value type of the input port.
         input: String,
     },
+    /// The connection would change a connection local to a running thread container,
+    /// which did not reach a cycle boundary in time to apply the change.
+    Busy {
+        /// Name of the output port.
+        output: String,
+        /// Name of the input port.
+        input: String,
+    },
 }
 
 impl fmt::Display for ConnectError {
@@ -68,6 +91,13 @@ impl fmt::Display for ConnectError {
                     "cannot connect `{output}` to `{input}`: the value types differ"
                 )
             }
+            ConnectError::Busy { output, input } => write!(
+                f,
+                "cannot connect `{output}` to `{input}` now: a connection of theirs runs \
+                 inside a thread container that did not reach a cycle boundary within {} s \
+                 (it may be stuck in a step); try again",
+                super::local::WAIT.as_secs()
+            ),
         }
     }
 }
@@ -119,7 +149,26 @@ pub(crate) trait OutCore: Send + Sync + Sized + 'static {
     fn retain(&self, retained: &mut <Self::In as InCore>::Retained);
     /// Delivers the current value unless the input changed since `mark` was taken.
     fn initial_push(&self, input: &Self::In, mark: <Self::In as InCore>::Mark);
+    /// Whether the connection to `input` cannot change before `leave_local` moved
+    /// either end off the local path (`local.rs`). Called with both sides locked.
+    fn is_local(&self, _input: &Self::In) -> bool {
+        false
+    }
+    /// Moves both ends off the local path, each on its container's thread at a cycle
+    /// boundary; called with no lock held. With `keep`, a change that times out stays
+    /// queued for that boundary.
+    fn leave_local(_out: &Arc<Self>, _input: &Arc<Self::In>, _keep: bool) -> Result<(), Busy> {
+        Ok(())
+    }
+    /// What makes the connection local to a home later (`None`: this port kind has no
+    /// local path).
+    fn local_pair(_out: &Arc<Self>, _input: &Arc<Self::In>) -> Option<LocalPair> {
+        None
+    }
 }
+
+/// Makes one connection local to a thread container's home; true if it became local.
+pub(crate) type LocalPair = Box<dyn Fn(&Arc<super::Home>) -> bool + Send + Sync>;
 
 pub(crate) trait InCore: Send + Sync + Sized + 'static {
     type Out: OutCore<In = Self>;
@@ -148,15 +197,28 @@ pub(crate) fn connect<O: OutCore>(
     inp: &Arc<O::In>,
     opts: ConnectOptions,
 ) -> Result<(), ConnectError> {
-    let mut writer = out.fanout().snap.write();
-    let current = writer.get();
-    if current.list.iter().any(|t| Arc::ptr_eq(t, inp)) {
-        return Err(ConnectError::AlreadyConnected {
+    let (mut writer, mut links) = loop {
+        let writer = out.fanout().snap.write();
+        if writer.get().list.iter().any(|t| Arc::ptr_eq(t, inp)) {
+            return Err(ConnectError::AlreadyConnected {
+                output: out.name().to_owned(),
+                input: inp.name().to_owned(),
+            });
+        }
+        let links = lock(inp.links());
+        if !out.is_local(inp) {
+            break (writer, links);
+        }
+        // A local end changes only on its container's thread: have it moved to the
+        // lock-free path there, then look again (nothing makes it local again).
+        drop(links);
+        drop(writer);
+        O::leave_local(out, inp, false).map_err(|Busy| ConnectError::Busy {
             output: out.name().to_owned(),
             input: inp.name().to_owned(),
-        });
-    }
-    let mut links = lock(inp.links());
+        })?;
+    };
+    let current = writer.get();
     out.retain(&mut links.retained);
     let only_source = links.sources.is_empty();
     links.sources.push(Arc::clone(out));
@@ -186,12 +248,30 @@ pub(crate) fn connect<O: OutCore>(
 /// Removes the connection; false if there was none. Publishes already under way may
 /// still deliver to the input once (they read the list before the change).
 pub(crate) fn disconnect<O: OutCore>(out: &Arc<O>, inp: &Arc<O::In>) -> bool {
-    let mut writer = out.fanout().snap.write();
+    let (mut writer, mut links) = loop {
+        let writer = out.fanout().snap.write();
+        if !writer.get().list.iter().any(|t| Arc::ptr_eq(t, inp)) {
+            return false;
+        }
+        let links = lock(inp.links());
+        if !out.is_local(inp) {
+            break (writer, links);
+        }
+        drop(links);
+        drop(writer);
+        // A container that does not reach a boundary in time applies the change at its
+        // next one: until then its input still sees the output's values, as a publish
+        // under way may deliver once after a disconnect.
+        if O::leave_local(out, inp, true).is_err() {
+            let writer = out.fanout().snap.write();
+            if !writer.get().list.iter().any(|t| Arc::ptr_eq(t, inp)) {
+                return false;
+            }
+            let links = lock(inp.links());
+            break (writer, links);
+        }
+    };
     let current = writer.get();
-    if !current.list.iter().any(|t| Arc::ptr_eq(t, inp)) {
-        return false;
-    }
-    let mut links = lock(inp.links());
     links.sources.retain(|s| !Arc::ptr_eq(s, out));
     let list: Vec<_> = current
         .list

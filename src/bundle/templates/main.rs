@@ -126,7 +126,7 @@ fn build(
     builder.connect(
 {{ c.ends|safe }}
         {{ c.conversion|safe }},
-        ConnectOptions::default(),
+        {{ c.options|safe }},
     )?;
 {%- endfor %}
 {{- link_calls|safe }}

@@ -1,0 +1,289 @@
+//! Local connections: a connection whose writer and every reader run in one thread
+//! container keeps its value in a plain cell that only that container's thread
+//! touches. Publishing is a store, reading a load: no CAS, no reference count, no
+//! seqlock (issue 18, benchmark B2).
+//!
+//! # Who may touch a local cell
+//!
+//! A thread container owns a [`Home`]. While the container runs cycles, its thread
+//! holds a [`Session`] of the home; the session marks the thread (a thread-local
+//! pointer to the home) for as long as it lasts, and a home has at most one session at
+//! a time. A local cell belongs to one home and is touched only
+//!
+//! * on the thread that holds the home's session (every port access checks the
+//!   thread-local mark: one load and a compare, no atomic read-modify-write), or
+//! * by an operation holding an [`Exclusive`] proof, which the home hands out only to
+//!   code it runs while it has no session (under its mutex, so ordered with the sessions
+//!   before and after) or on the session's own thread.
+//!
+//! A port used from any other thread while its connection is local panics with a
+//! message naming it instead of racing (a module's ports belong to its container's
+//! thread).
+//!
+//! # Changing a local connection
+//!
+//! Anything that changes a local connection — a reader from another container, an
+//! inspector probe, a second writer, a disconnect — must happen at a cycle boundary of
+//! the owning container, on its thread. Wiring (`wiring.rs`) asks the home to run the
+//! change there with [`Home::run`]: done at once when the caller is that thread or the
+//! container is not running, otherwise queued, run by the container at its next
+//! boundary ([`Session::boundary`], one atomic load per cycle batch) and waited for
+//! (at most [`WAIT`]). The change moves the ports back onto the lock-free path: the
+//! output then keeps its shared value and its other readers current as well
+//! (`both`), an input reads its own cell again. Only the Builder, at start, makes
+//! connections local; nothing makes them local again during a run.
+
+use std::cell::Cell;
+use std::marker::PhantomData;
+use std::ptr;
+use std::time::{Duration, Instant};
+
+use crate::sync::{lock, Arc, AtomicBool, Condvar, Mutex, Ordering};
+
+/// How long a change to a local connection waits for the owning container's next
+/// cycle boundary before giving up.
+pub(crate) const WAIT: Duration = Duration::from_secs(2);
+
+#[cfg(not(loom))]
+std::thread_local! {
+    /// The home whose session this thread holds (null: none).
+    static CURRENT: Cell<*const Home> = const { Cell::new(ptr::null()) };
+}
+
+#[cfg(loom)]
+loom::thread_local! {
+    static CURRENT: Cell<*const Home> = Cell::new(ptr::null());
+}
+
+/// The home whose session the calling thread holds (null: none).
+#[inline(always)]
+pub(crate) fn current() -> *const Home {
+    CURRENT.with(Cell::get)
+}
+
+type Op = Box<dyn FnOnce(&Exclusive<'_>) + Send>;
+
+/// A change waiting for the session's next boundary.
+struct Queued {
+    ticket: u64,
+    op: Op,
+    /// Someone waits for it (else its ticket is not reported done).
+    waited: bool,
+}
+
+struct State {
+    /// A thread holds a session.
+    session: bool,
+    queue: Vec<Queued>,
+    /// Tickets handed out so far.
+    issued: u64,
+    /// Tickets done whose waiters have not seen it yet.
+    done: Vec<u64>,
+}
+
+/// The owner of a thread container's local connections (see the module docs).
+pub struct Home {
+    /// Set when `queue` is not empty: the session's boundary check is this one load.
+    pending: AtomicBool,
+    state: Mutex<State>,
+    served: Condvar,
+}
+
+/// Proof that the holder may touch the local cells of one home: it is the session's
+/// thread, or the home has no session and the holder has its mutex.
+pub(crate) struct Exclusive<'a> {
+    home: &'a Home,
+}
+
+impl Exclusive<'_> {
+    /// Is `home` the home this proof is for?
+    pub(crate) fn covers(&self, home: *const Home) -> bool {
+        ptr::eq(self.home, home)
+    }
+}
+
+/// A thread running a home's container (see [`Home::enter`]). Neither `Send` nor
+/// `Sync`: it marks the thread that created it. It keeps its home alive, so even a
+/// leaked session never leaves a thread marked with the address of a freed home that a
+/// new one could reuse.
+pub struct Session {
+    home: Arc<Home>,
+    /// The mark this thread had before (sessions of different homes nest); `None` for
+    /// a nested session of the same home, which changes nothing.
+    previous: Option<*const Home>,
+    _not_send: PhantomData<*const ()>,
+}
+
+/// A change to a local connection did not reach the owning container in time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Busy;
+
+impl Default for Home {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Home {
+    /// A home without a session.
+    pub fn new() -> Self {
+        Home {
+            pending: AtomicBool::new(false),
+            state: Mutex::new(State {
+                session: false,
+                queue: Vec::new(),
+                issued: 0,
+                done: Vec::new(),
+            }),
+            served: Condvar::new(),
+        }
+    }
+
+    /// Starts running the home's container on this thread: from now until the session
+    /// is dropped, this thread may touch the home's local cells. Entering again on the
+    /// same thread nests harmlessly.
+    ///
+    /// # Panics
+    /// If another thread holds a session of this home (a container's cycles run on one
+    /// thread at a time).
+    ///
+    /// An associated function rather than a method: under loom, `Arc` is loom's, which
+    /// cannot be a method receiver.
+    pub fn enter(home: &Arc<Home>) -> Session {
+        let this: *const Home = Arc::as_ptr(home);
+        if current() == this {
+            return Session {
+                home: Arc::clone(home),
+                previous: None,
+                _not_send: PhantomData,
+            };
+        }
+        let mut state = lock(&home.state);
+        assert!(
+            !state.session,
+            "a thread container's cycles run on one thread at a time"
+        );
+        state.session = true;
+        let previous = CURRENT.with(|c| c.replace(this));
+        home.serve(&mut state);
+        drop(state);
+        Session {
+            home: Arc::clone(home),
+            previous: Some(previous),
+            _not_send: PhantomData,
+        }
+    }
+
+    /// Runs the queued changes (the caller holds the session or the mutex with no
+    /// session) and wakes their waiters.
+    fn serve(&self, state: &mut State) {
+        if state.queue.is_empty() {
+            return;
+        }
+        self.pending.store(false, Ordering::Relaxed);
+        let proof = Exclusive { home: self };
+        for queued in std::mem::take(&mut state.queue) {
+            (queued.op)(&proof);
+            if queued.waited {
+                state.done.push(queued.ticket);
+            }
+        }
+        self.served.notify_all();
+    }
+
+    /// Runs `op` where it may touch this home's local cells: at once if the caller
+    /// holds the session or the container is not running, else at the container's next
+    /// cycle boundary, waiting for it at most [`WAIT`]. On `Busy`, `keep` leaves the
+    /// change queued for that boundary; otherwise it is withdrawn.
+    pub(crate) fn run(
+        &self,
+        op: impl FnOnce(&Exclusive<'_>) + Send + 'static,
+        keep: bool,
+    ) -> Result<(), Busy> {
+        if ptr::eq(current(), self) {
+            op(&Exclusive { home: self });
+            return Ok(());
+        }
+        let mut state = lock(&self.state);
+        if !state.session {
+            op(&Exclusive { home: self });
+            return Ok(());
+        }
+        state.issued += 1;
+        let ticket = state.issued;
+        state.queue.push(Queued {
+            ticket,
+            op: Box::new(op),
+            waited: true,
+        });
+        self.pending.store(true, Ordering::Release);
+        let deadline = Instant::now() + WAIT;
+        loop {
+            if let Some(at) = state.done.iter().position(|t| *t == ticket) {
+                state.done.swap_remove(at);
+                return Ok(());
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                if keep {
+                    for queued in &mut state.queue {
+                        if queued.ticket == ticket {
+                            queued.waited = false;
+                        }
+                    }
+                } else {
+                    state.queue.retain(|q| q.ticket != ticket);
+                }
+                return Err(Busy);
+            }
+            state = match self.served.wait_timeout(state, left) {
+                Ok((guard, _)) => guard,
+                Err(poisoned) => poisoned.into_inner().0,
+            };
+        }
+    }
+}
+
+impl Session {
+    /// A cycle boundary: runs the changes other threads queued. One atomic load when
+    /// there are none.
+    #[inline]
+    pub fn boundary(&self) {
+        if self.home.pending.load(Ordering::Acquire) {
+            let mut state = lock(&self.home.state);
+            self.home.serve(&mut state);
+        }
+    }
+}
+
+impl Drop for Session {
+    fn drop(&mut self) {
+        let Some(previous) = self.previous else {
+            return;
+        };
+        let mut state = lock(&self.home.state);
+        self.home.serve(&mut state);
+        state.session = false;
+        // Unmarked before the mutex is released: from then on other threads may run
+        // changes themselves.
+        CURRENT.with(|c| c.set(previous));
+        drop(state);
+    }
+}
+
+impl std::fmt::Debug for Home {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Home")
+    }
+}
+
+/// Panics for a port used outside its container's thread while its connection is
+/// local (see the module docs).
+#[cold]
+#[inline(never)]
+pub(crate) fn foreign_access(port: &str) -> ! {
+    panic!(
+        "the port `{port}` is connected inside its thread container and was used from \
+         another thread; a module's ports may only be used by the thread that runs it"
+    )
+}
