@@ -6,75 +6,8 @@
 mod common;
 
 use common::ferroc;
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
+use common::inspected::{free_port, start, Running};
 use std::time::{Duration, Instant};
-
-/// A `ferroc run --inspect` child, killed when dropped.
-struct Running {
-    child: Child,
-    address: String,
-    token: String,
-    /// Lines of its standard error after the token line.
-    stderr: mpsc::Receiver<String>,
-}
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn free_port() -> u16 {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    listener.local_addr().unwrap().port()
-}
-
-/// Starts `ferroc run MODEL --inspect ADDR` and waits (bounded) for its token.
-fn start(model: &str) -> Running {
-    let address = format!("127.0.0.1:{}", free_port());
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ferroc"))
-        .args(["run", model, "--for", "300s", "-q", "--inspect", &address])
-        .env("FERROC_LOG_DIR", common::test_log_dir())
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("ferroc runs");
-    let (tx, rx) = mpsc::channel();
-    let stderr = child.stderr.take().unwrap();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    // The first run of a model with other libraries builds its runner: minutes.
-    let deadline = Instant::now() + Duration::from_secs(600);
-    let mut seen = Vec::new();
-    let token = loop {
-        let left = deadline.saturating_duration_since(Instant::now());
-        match rx.recv_timeout(left) {
-            Ok(line) => match line.split_once("token for changes: ") {
-                Some((head, token)) => {
-                    assert!(head.contains("ferroc/"), "{line}");
-                    break token.trim().to_owned();
-                }
-                None => seen.push(line),
-            },
-            Err(_) => panic!("no inspection token printed; stderr:\n{}", seen.join("\n")),
-        }
-    };
-    Running {
-        child,
-        address,
-        token,
-        stderr: rx,
-    }
-}
 
 fn inspect(r: &Running, args: &[&str]) -> (i32, String, String) {
     let mut all = vec!["inspect", "--connect", r.address.as_str()];

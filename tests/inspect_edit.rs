@@ -10,72 +10,12 @@
 mod common;
 
 use common::ferroc;
+use common::inspected::{start, Running};
 use serde_json::{json, Value};
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 const MODEL: &str = "tests/fixtures/edit/edit.xml";
-
-/// A `ferroc run --inspect` child, killed when dropped.
-struct Running {
-    child: Child,
-    address: String,
-    token: String,
-}
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn free_port() -> u16 {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    listener.local_addr().unwrap().port()
-}
-
-/// Starts `ferroc run MODEL --inspect ADDR` and waits (bounded) for its token.
-fn start(model: &str) -> Running {
-    let address = format!("127.0.0.1:{}", free_port());
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ferroc"))
-        .args(["run", model, "--for", "300s", "-q", "--inspect", &address])
-        .env("FERROC_LOG_DIR", common::test_log_dir())
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("ferroc runs");
-    let (tx, rx) = mpsc::channel();
-    let stderr = child.stderr.take().unwrap();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    let deadline = Instant::now() + Duration::from_secs(120);
-    let mut seen = Vec::new();
-    let token = loop {
-        let left = deadline.saturating_duration_since(Instant::now());
-        match rx.recv_timeout(left) {
-            Ok(line) => match line.split_once("token for changes: ") {
-                Some((_, token)) => break token.trim().to_owned(),
-                None => seen.push(line),
-            },
-            Err(_) => panic!("no inspection token printed; stderr:\n{}", seen.join("\n")),
-        }
-    };
-    Running {
-        child,
-        address,
-        token,
-    }
-}
 
 fn inspect(r: &Running, args: &[&str]) -> (i32, String, String) {
     let mut all = vec!["inspect", "--connect", r.address.as_str()];

@@ -1,5 +1,5 @@
-//! A `ferroc run MODEL --inspect` child for tests that look into it (the browser test
-//! and the web API test): started on a free loopback port, its change token read from
+//! A `ferroc run MODEL --inspect` child for tests that look into it (inspect,
+//! inspect_edit, the browser test and the web API test): started on a free loopback port, its change token read from
 //! its standard error, killed when dropped.
 
 use std::io::{BufRead, BufReader};
@@ -77,6 +77,10 @@ pub fn start_at(model: &str, address: &str) -> Running {
     let stderr = lines(child.stderr.take().unwrap());
     // The first run of a model with other libraries builds its runner: minutes.
     let line = wait_for_line(&stderr, "token for changes: ", Duration::from_secs(900));
+    assert!(
+        line.contains("serving ferroc/"),
+        "the key it serves: {line}"
+    );
     let token = line
         .split_once("token for changes: ")
         .unwrap()
