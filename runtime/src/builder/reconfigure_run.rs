@@ -16,6 +16,22 @@ struct Wire {
     what: String,
 }
 
+impl Wire {
+    fn new(
+        (output, input): (Arc<OutputHandle>, Arc<InputHandle>),
+        thread: Option<usize>,
+        from: &PortPath,
+        to: &PortPath,
+    ) -> Wire {
+        Wire {
+            output,
+            input,
+            thread,
+            what: format!("`{}/{}` → `{}/{}`", from.0, from.1, to.0, to.1),
+        }
+    }
+}
+
 impl Live {
     fn handles(
         &self,
@@ -77,12 +93,7 @@ impl Live {
                     self.modules.get(&from.0).and_then(|m| m.thread),
                     self.modules.get(&to.0).and_then(|m| m.thread),
                 );
-                Some(Wire {
-                    output,
-                    input,
-                    thread,
-                    what: format!("`{}/{}` → `{}/{}`", from.0, from.1, to.0, to.1),
-                })
+                Some(Wire::new((output, input), thread, from, to))
             })
             .collect();
         let table = &self.modules;
@@ -94,12 +105,7 @@ impl Live {
                     p.placement.get(&from.0).copied(),
                     p.placement.get(&to.0).copied(),
                 );
-                Some(Wire {
-                    output,
-                    input,
-                    thread,
-                    what: format!("`{}/{}` → `{}/{}`", from.0, from.1, to.0, to.1),
-                })
+                Some(Wire::new((output, input), thread, from, to))
             })
             .collect();
         // The containers that change, and what each does.
