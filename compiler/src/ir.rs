@@ -49,7 +49,7 @@ pub enum Wait {
     Park,
     /// Busy-polls: the lowest latency, and a whole core (S104 counts it as 100 %).
     Spin,
-    /// Polls with backoff for a bounded time, then parks.
+    /// Polls as `Spin` does for a bounded time, then parks.
     Adaptive,
 }
 

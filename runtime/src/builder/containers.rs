@@ -23,10 +23,10 @@ impl Builder<'_> {
                 let name = format!("{path}:{}", step_name(*kind));
                 match kind {
                     StepKind::Update => {
-                        let mut module = instance.module.take().ok_or_else(|| {
+                        let module = instance.module.take().ok_or_else(|| {
                             BuildError::Thread(format!("`{path}` has two update steps"))
                         })?;
-                        steps.push(Step::new(name, move || module.update()));
+                        steps.push(Step::update(name, module));
                     }
                     StepKind::Sense | StepKind::Control => {
                         let cell = match shared.get(&m) {

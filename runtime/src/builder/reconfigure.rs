@@ -148,8 +148,7 @@ impl Builder<'_> {
 /// A module's steps, as the builder makes them (`containers.rs`).
 fn steps_of(path: &str, module: Box<dyn Module>, kinds: &[StepKind]) -> Vec<Step> {
     if kinds == [StepKind::Update] {
-        let mut module = module;
-        return vec![Step::new(format!("{path}:update"), move || module.update())];
+        return vec![Step::update(format!("{path}:update"), module)];
     }
     let cell = Arc::new(Mutex::new(module));
     (kinds.iter())

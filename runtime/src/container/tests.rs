@@ -225,12 +225,13 @@ fn a_continuous_container_runs_exactly_the_limit_and_samples_step_times() {
         vec![step(&log, &clock, "a", us), step(&log, &clock, "b", 2 * us)],
     )
     .with_clock(Arc::new(clock.clone()));
-    // 150 cycles: batches of 64, 64 and 22, each with one cycle timed step by step.
+    // 150 cycles of 3 µs: batches of 1, 2, 4, … 64 (doubling while a batch takes less
+    // than BATCH_TIME), then the 23 left; each with one cycle timed step by step.
     c.run(&AtomicBool::new(false), Some(150));
     assert_eq!(*log.lock().unwrap(), ["a", "b"].repeat(150));
     let stats = c.stats();
     assert_eq!(stats.cycles(), 150);
-    assert_eq!(stats.steps[0].1.runs(), 3);
+    assert_eq!(stats.steps[0].1.runs(), 8);
     assert_eq!(stats.steps[1].1.mean(), 2 * us);
     // No sleeping: the clock advanced only by the work done, 3 µs per cycle.
     assert_eq!(clock.now(), 450 * us);
@@ -297,4 +298,25 @@ fn refusals_are_summarised_per_request_and_reason() {
          22)); the thread may run on any CPU"
     );
     assert!(summarise_refusals(&[]).is_empty());
+}
+
+#[test]
+fn a_continuous_batch_grows_while_short_shrinks_while_long_and_stays_bounded() {
+    let short = BATCH_TIME / 4;
+    let mut size = 1;
+    for _ in 0..30 {
+        size = next_batch(size, size, short);
+    }
+    assert_eq!(size, MAX_BATCH, "grows to the cap and no further");
+    // A batch cut short by the cycle limit or a stop says nothing about its size.
+    assert_eq!(next_batch(64, 10, short), 64);
+    // Between BATCH_TIME and twice it: kept.
+    assert_eq!(next_batch(64, 64, BATCH_TIME * 3 / 2), 64);
+    // Longer: halved, down to one cycle a batch (slow steps are timed every cycle).
+    assert_eq!(next_batch(64, 64, BATCH_TIME * 3), 32);
+    let mut size = MAX_BATCH;
+    for _ in 0..30 {
+        size = next_batch(size, size, BATCH_TIME * 3);
+    }
+    assert_eq!(size, 1);
 }

@@ -186,18 +186,28 @@ impl<T: ParamValue> Parameter<T> {
         Self::new("", value, None).0
     }
 
+    /// One load and a compare when nothing was set (every cycle of every module that
+    /// reads a parameter goes through here); the copy is out of line.
+    #[inline(always)]
     fn refresh(&mut self) {
-        let version = self.cell.version.load(Ordering::Acquire);
+        // Relaxed: the value itself is taken under the mutex, which orders it.
+        let version = self.cell.version.load(Ordering::Relaxed);
         if version != self.seen {
-            let latest = self
-                .cell
-                .latest
-                .lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner);
-            self.value = latest.clone();
-            self.seen = version;
-            self.changed = true;
+            self.take_latest(version);
         }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn take_latest(&mut self, version: u64) {
+        let latest = self
+            .cell
+            .latest
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        self.value = latest.clone();
+        self.seen = version;
+        self.changed = true;
     }
 
     /// The current value, borrowed: no clone, so a `String` parameter costs no

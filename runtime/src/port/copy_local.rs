@@ -143,17 +143,31 @@ impl<T: NoUninit + Send + Sync> CopyInputCore<T> {
     /// connection became local, else the input's own cell.
     #[inline(always)]
     pub(crate) fn read(&self) -> T {
-        if let Some(src) = self.local.source(&self.name) {
+        // Both paths give a place to copy from, and the value is copied once, from
+        // there: the caller's variable is then written by that one copy (and stays in
+        // registers where the optimiser can keep it), not merged from two copies through
+        // a slot on the stack. The lock-free path fills a place of its own out of line.
+        let mut shared = std::mem::MaybeUninit::uninit();
+        let from: *const T = match self.local.source(&self.name) {
             // SAFETY: `source` checked that this thread holds the session of the home
             // both cells belong to.
-            unsafe {
-                let from = self.local.seen.with(|p| (*p).from);
-                if src.local.version() != from {
-                    return src.local.value.with(|p| *p);
-                }
+            Some(src) if unsafe { src.local.version() != self.local.seen.with(|p| (*p).from) } => {
+                src.local.value.with(|p| p)
             }
-        }
-        self.cell.load().0
+            _ => {
+                self.read_shared(&mut shared);
+                shared.as_ptr()
+            }
+        };
+        // SAFETY: `from` is the local cell (this thread holds its home's session, and
+        // nothing else touches it until we return) or `shared`, initialised above.
+        unsafe { *from }
+    }
+
+    /// The input's own cell (the lock-free path).
+    #[inline(never)]
+    fn read_shared(&self, into: &mut std::mem::MaybeUninit<T>) {
+        into.write(self.cell.load().0);
     }
 
     /// Clears the changed mark and returns whether it was set.
