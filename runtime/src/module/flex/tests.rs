@@ -2,6 +2,7 @@ use super::*;
 use crate::builder::{BuildError, Builder, ModuleSpec, Registry};
 use crate::module::{Direction, Module, ModuleType, PortGroup, Setup};
 use crate::port::ConnectOptions;
+use std::fmt::Write;
 
 fn table() -> ValueTable {
     ValueTable::default()
