@@ -120,7 +120,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 .help("remove `wait`, or add trigger=\"data\" if the container should run when data arrives"),
             );
         }
-        crate::ir::Wait::parse(&wait.value).unwrap_or_default()
+        crate::ir::Wait::parse(wait.value).unwrap_or_default()
     }
 
     fn thread_period(&mut self, thread: &Element) -> Option<f64> {
@@ -148,7 +148,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 ));
                 None
             }
-            (Some(p), None) => match parse_duration(&p.value) {
+            (Some(p), None) => match parse_duration(p.value) {
                 Ok(s) if s > 0.0 && s <= 60.0 => Some(s),
                 Ok(_) => {
                     self.loader.diags.push(bad(
