@@ -13,6 +13,7 @@ pub(super) type Resolved = (Endpoint, Option<u32>);
 impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     pub(super) fn resolve_connect(&mut self, p: PendingConnect<'t>) {
         let e = p.element;
+        let context = self.contexts[p.context as usize];
         let (Some(from), Some(to)) = (e.attr("from"), e.attr("to")) else {
             return;
         };
@@ -50,7 +51,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             let offset = number("offset", self);
             let to_type = c.attr("to-type").and_then(|a| {
                 self.libs
-                    .resolve_type(a.value, a.value_span, p.visible, self.loader.diags)
+                    .resolve_type(a.value, a.value_span, context.visible, self.loader.diags)
                     .map(|t| (t, a.value_span))
             });
             converts.push(ConvertStep {
@@ -81,7 +82,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             initial: e.value("initial").and_then(|q| q.parse().ok()).unwrap_or(0),
             link: link_settings(e),
             converts,
-            instantiated_at: p.instantiated_at,
+            instantiated_at: context.instantiated_at,
             scope: p.scope,
         });
         let a = self.node(from_ep);
