@@ -264,14 +264,14 @@ impl<'a> Loader<'a> {
                 );
                 continue;
             }
-            let target = match self.confine(parent_file, &href.value) {
+            let target = match self.confine(parent_file, href.value) {
                 Ok(t) => t,
                 Err(Confined::Outside) => {
-                    self.report_outside(span, &href.value, "included fragments");
+                    self.report_outside(span, href.value, "included fragments");
                     continue;
                 }
                 Err(Confined::Unreadable(reason)) => {
-                    self.report_missing(parent_file, span, &href.value, "include", &reason);
+                    self.report_missing(parent_file, span, href.value, "include", &reason);
                     continue;
                 }
             };

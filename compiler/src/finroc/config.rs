@@ -97,11 +97,11 @@ fn walk(e: &Xml, prefix: &str, entries: &mut Vec<ConfigEntry>, out: &mut Diagnos
 
 fn text(e: &Xml) -> Named {
     Named {
-        text: e.text.trim().to_string(),
-        span: if e.text.is_empty() {
+        text: e.text().trim().to_string(),
+        span: if e.text().is_empty() {
             e.span
         } else {
-            e.text_span
+            e.text_span()
         },
     }
 }

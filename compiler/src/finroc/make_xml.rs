@@ -214,14 +214,14 @@ struct ValueSpans {
 /// attribute), else the attribute.
 fn param<'a>(e: &'a Element, key: &str) -> Option<(&'a str, ValueSpans)> {
     if let Some(child) = e.children.iter().rfind(|c| c.name == key) {
-        let whole = child.text_span;
-        let exact = whole != child.span && (whole.end - whole.start) as usize == child.text.len();
-        return Some((&child.text, ValueSpans { whole, exact }));
+        let whole = child.text_span();
+        let exact = whole != child.span && (whole.end - whole.start) as usize == child.text().len();
+        return Some((child.text(), ValueSpans { whole, exact }));
     }
     let attr = e.attr(key)?;
     let whole = attr.value_span;
     let exact = (whole.end - whole.start) as usize == attr.value.len();
-    Some((&attr.value, ValueSpans { whole, exact }))
+    Some((attr.value, ValueSpans { whole, exact }))
 }
 
 /// The whitespace-separated names of a value, each with its own span when feasible.

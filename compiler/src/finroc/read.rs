@@ -37,11 +37,11 @@ pub fn read(file: FileId, root: &Xml, out: &mut Diagnostics) -> Finstructable {
         links: Vec::new(),
     };
     if let Some(a) = root.attr("dependencies") {
-        let spans = ValueSpan::new(a.value_span, &a.value);
-        doc.dependencies = comma_items(&a.value)
+        let spans = ValueSpan::new(a.value_span, a.value);
+        doc.dependencies = comma_items(a.value)
             .map(|d| Named {
                 text: d.to_string(),
-                span: spans.of(&a.value, d),
+                span: spans.of(a.value, d),
             })
             .collect();
     }
@@ -184,20 +184,19 @@ fn static_params(e: &Xml, out: &mut Diagnostics) -> Vec<StaticParam> {
         let Some(name) = required(p, "name", "FINROC cannot match it to a parameter", out) else {
             continue;
         };
-        let value_span = if p.text.is_empty() {
+        let value_span = if p.text().is_empty() {
             p.span
         } else {
-            p.text_span
+            p.text_span()
         };
         list.push(StaticParam {
             name,
             value: Named {
-                text: p.text.clone(),
+                text: p.text().to_string(),
                 span: value_span,
             },
             attrs: p
-                .attrs
-                .iter()
+                .attrs()
                 .filter(|a| a.name != "name")
                 .map(|a| {
                     (
@@ -241,15 +240,14 @@ fn edge(e: &Xml, encoded: bool, out: &mut Diagnostics) -> Option<Edge> {
         span: e.span,
     };
     if let Some(a) = e.attr("flags") {
-        edge.flags = flags(&a.value, ValueSpan::new(a.value_span, &a.value), out);
+        edge.flags = flags(a.value, ValueSpan::new(a.value_span, a.value), out);
     }
     for c in &e.children {
         match c.name.as_str() {
             "conversion" if encoded => {
                 edge.conversion = Some(Conversion {
                     attrs: c
-                        .attrs
-                        .iter()
+                        .attrs()
                         .map(|a| {
                             (
                                 a.name.to_string(),
@@ -274,8 +272,8 @@ fn edge(e: &Xml, encoded: bool, out: &mut Diagnostics) -> Option<Edge> {
                 .severity(Severity::Warning),
             ),
             "parameter" => {
-                if let (Some(n), v) = (named_attr(c, "name"), c.text.clone()) {
-                    let span = c.text_span;
+                if let (Some(n), v) = (named_attr(c, "name"), c.text().to_string()) {
+                    let span = c.text_span();
                     edge.params.push((n, Named { text: v, span }));
                 }
             }

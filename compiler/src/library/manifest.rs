@@ -145,7 +145,7 @@ fn load_group_type(loader: &mut Loader<'_>, file: FileId, gt: &Element) -> Optio
             element: gt.clone(),
         });
     };
-    let path = loader.resolve_relative(file, &rel.value, rel.value_span, "group type file")?;
+    let path = loader.resolve_relative(file, rel.value, rel.value_span, "group type file")?;
     let text = match crate::load::read_text(&path, &loader.options.limits) {
         Ok(t) => t,
         Err(reason) => {

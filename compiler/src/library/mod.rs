@@ -177,7 +177,7 @@ pub fn load_libraries(
 /// Parses an optional `unit` attribute, reporting a bad unit as an invalid value.
 pub fn unit_attr(element: &Element, diags: &mut crate::diagnostic::Diagnostics) -> Option<Unit> {
     let attr = element.attr("unit")?;
-    match parse_unit(&attr.value) {
+    match parse_unit(attr.value) {
         Ok(u) => Some(u),
         Err(e) => {
             diags.push(

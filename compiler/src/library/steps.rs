@@ -400,7 +400,7 @@ pub(super) fn timeout(e: &Element, diags: &mut Diagnostics) -> Timeout {
     if a.value.trim() == "none" {
         return None;
     }
-    match parse_duration(&a.value) {
+    match parse_duration(a.value) {
         Ok(s) if s >= 0.0 => Some(s),
         _ => {
             diags.push(
@@ -421,7 +421,7 @@ pub(super) fn timeout(e: &Element, diags: &mut Diagnostics) -> Timeout {
 /// unparsable value is reported (M108) and ignored.
 pub fn duration_attr(e: &Element, attr: &str, diags: &mut Diagnostics) -> Option<(f64, Span)> {
     let a = e.attr(attr)?;
-    match parse_duration(&a.value) {
+    match parse_duration(a.value) {
         Ok(s) => Some((s, a.value_span)),
         Err(_) => {
             diags.push(
@@ -444,7 +444,7 @@ fn words(e: &Element, attr: &str) -> Vec<(String, Span)> {
         return Vec::new();
     };
     let base = a.value_span;
-    let text = a.value.as_str();
+    let text = a.value;
     text.split_whitespace()
         .map(|w| {
             let start = base.start + (w.as_ptr() as usize - text.as_ptr() as usize) as u32;

@@ -13,11 +13,12 @@ pub(super) type Resolved = (Endpoint, Option<u32>);
 impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     pub(super) fn resolve_connect(&mut self, p: PendingConnect<'t>) {
         let e = p.element;
+        let context = self.contexts[p.context as usize];
         let (Some(from), Some(to)) = (e.attr("from"), e.attr("to")) else {
             return;
         };
-        let from_r = self.resolve_path(p.scope, &from.value, from.value_span);
-        let to_r = self.resolve_path(p.scope, &to.value, to.value_span);
+        let from_r = self.resolve_path(p.scope, from.value, from.value_span);
+        let to_r = self.resolve_path(p.scope, to.value, to.value_span);
         let (Some((from_ep, from_index)), Some((to_ep, to_index))) = (from_r, to_r) else {
             // The end that resolved was meant to be connected: no "not connected" finding
             // for it on top of the one about the other end.
@@ -50,7 +51,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             let offset = number("offset", self);
             let to_type = c.attr("to-type").and_then(|a| {
                 self.libs
-                    .resolve_type(&a.value, a.value_span, p.visible, self.loader.diags)
+                    .resolve_type(a.value, a.value_span, context.visible, self.loader.diags)
                     .map(|t| (t, a.value_span))
             });
             converts.push(ConvertStep {
@@ -81,7 +82,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             initial: e.value("initial").and_then(|q| q.parse().ok()).unwrap_or(0),
             link: link_settings(e),
             converts,
-            instantiated_at: p.instantiated_at,
+            instantiated_at: context.instantiated_at,
             scope: p.scope,
         });
         let a = self.node(from_ep);
@@ -317,7 +318,7 @@ fn link_settings(e: &Element) -> Option<Box<LinkSettings>> {
         "reliability",
         "deadline",
     ];
-    if !e.attrs.iter().any(|a| NAMES.contains(&a.name.as_str())) {
+    if !e.attrs().any(|a| NAMES.contains(&a.name)) {
         return None;
     }
     let attr_span = |name: &str| e.attr(name).map(|a| a.value_span);

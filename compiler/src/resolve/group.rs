@@ -26,7 +26,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             return;
         };
         let Some((def, def_visible)) =
-            self.find_group_type(&type_attr.value, type_attr.value_span, visible)
+            self.find_group_type(type_attr.value, type_attr.value_span, visible)
         else {
             // Keep the group so that paths to it resolve; paths into it end silently
             // (its content is unknown, which the unknown type already says).

@@ -26,7 +26,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         };
         let type_span = type_attr.value_span;
         let Some((library, type_index)) =
-            self.find_module_type(&type_attr.value, type_span, visible)
+            self.find_module_type(type_attr.value, type_span, visible)
         else {
             self.broken(scope, e);
             return;
@@ -365,13 +365,13 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             .attr("cmdline")
             .map(|a| (a.value.to_string(), a.value_span));
         if let Some(config) = p.attr("config") {
-            let entry = self.config_entry(&config.value, config.value_span);
+            let entry = self.config_entry(config.value, config.value_span);
             // A config file outside the model's folder is reported as such (M113) and
             // not again as a missing entry.
             let entry = match entry {
                 Err(None) => Err(String::new()),
                 Err(Some(reason)) => {
-                    self.report_missing_entry(&config.value, config.value_span, &reason);
+                    self.report_missing_entry(config.value, config.value_span, &reason);
                     Err(reason)
                 }
                 Ok(found) => Ok(found),
@@ -390,7 +390,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 cmdline,
             });
         }
-        let has_text = !p.text.trim().is_empty();
+        let has_text = !p.text().trim().is_empty();
         if !has_text {
             if let Some(cmd) = p.attr("cmdline") {
                 return Some(ParamValue {
@@ -407,10 +407,10 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
         Some(ParamValue {
             name,
             name_span,
-            text: p.text.clone(),
-            span: p.text_span,
+            text: p.text().to_string(),
+            span: p.text_span(),
             source: ParamSource::Inline,
-            source_span: p.text_span,
+            source_span: p.text_span(),
             cmdline,
         })
     }
@@ -459,7 +459,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                     )
                 })?;
         }
-        Ok((node.text.trim().to_string(), node.text_span))
+        Ok((node.text().trim().to_string(), node.text_span()))
     }
 }
 

@@ -38,7 +38,7 @@ impl Resolver<'_, '_, '_> {
     /// `utilisation-warning` and the `<flow>`s of the application element.
     pub(super) fn application_timing(&mut self, root: &Element) {
         if let Some(a) = root.attr("utilisation-warning") {
-            match percent(&a.value) {
+            match percent(a.value) {
                 Some(f) => self.app.timing.warning = Some((f, a.value_span)),
                 None => self.invalid(
                     a.value_span,
@@ -61,7 +61,7 @@ impl Resolver<'_, '_, '_> {
         ) else {
             return; // M104 reported the missing attribute
         };
-        let max_latency = match parse_duration(&max.value) {
+        let max_latency = match parse_duration(max.value) {
             Ok(s) if s > 0.0 => (s, max.value_span),
             _ => {
                 self.invalid(
@@ -72,8 +72,8 @@ impl Resolver<'_, '_, '_> {
                 return;
             }
         };
-        let from_m = self.flow_end(&from.value, from.value_span);
-        let to_m = self.flow_end(&to.value, to.value_span);
+        let from_m = self.flow_end(from.value, from.value_span);
+        let to_m = self.flow_end(to.value, to.value_span);
         if let (Some(from_m), Some(to_m)) = (from_m, to_m) {
             self.app.timing.flows.push(Flow {
                 name: name.to_string(),

@@ -2,7 +2,7 @@
 //! groups and modules in document order, each element registered under its parent's
 //! name scope; `<connect>`s are set aside until the tree is complete.
 
-use super::{PendingConnect, Resolver};
+use super::{Context, PendingConnect, Resolver};
 use crate::checks::model::*;
 use crate::diagnostic::Diagnostic;
 use crate::ir::*;
@@ -89,12 +89,20 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 }
                 "group" => self.group(scope, child, visible, inst, depth),
                 "module" => self.module(scope, child, visible, inst),
-                "connect" => self.pending.push(PendingConnect {
-                    scope,
-                    element: child,
-                    instantiated_at: inst,
-                    visible,
-                }),
+                "connect" => {
+                    let context = Context {
+                        instantiated_at: inst,
+                        visible,
+                    };
+                    if !self.contexts.last().is_some_and(|c| c.same(&context)) {
+                        self.contexts.push(context);
+                    }
+                    self.pending.push(PendingConnect {
+                        element: child,
+                        scope,
+                        context: (self.contexts.len() - 1) as u32,
+                    });
+                }
                 _ => {}
             }
         }
@@ -120,7 +128,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 .help("remove `wait`, or add trigger=\"data\" if the container should run when data arrives"),
             );
         }
-        crate::ir::Wait::parse(&wait.value).unwrap_or_default()
+        crate::ir::Wait::parse(wait.value).unwrap_or_default()
     }
 
     fn thread_period(&mut self, thread: &Element) -> Option<f64> {
@@ -148,7 +156,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 ));
                 None
             }
-            (Some(p), None) => match parse_duration(&p.value) {
+            (Some(p), None) => match parse_duration(p.value) {
                 Ok(s) if s > 0.0 && s <= 60.0 => Some(s),
                 Ok(_) => {
                     self.loader.diags.push(bad(

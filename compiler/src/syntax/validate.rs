@@ -31,11 +31,11 @@ pub fn validate(
     let mut stack: Vec<(&mut Element, &'static ElementSpec, bool)> = vec![(root, spec, true)];
     while let Some((element, spec, is_root)) = stack.pop() {
         check_attributes(element, spec, is_root, out);
-        if !spec.text && !element.text.trim().is_empty() {
+        if !spec.text && !element.text().trim().is_empty() {
             out.push(
                 Diagnostic::new(
                     &m105_misplaced_element::CHECK,
-                    element.text_span,
+                    element.text_span(),
                     format!("<{}> holds no text", element.name),
                 )
                 .label("unexpected text")
@@ -118,9 +118,12 @@ fn check_attributes(
     is_root: bool,
     out: &mut Diagnostics,
 ) {
-    for i in 0..element.attrs.len() {
-        let attr = &element.attrs[i];
-        if let Some(first) = element.attrs[..i].iter().find(|a| a.name == attr.name) {
+    let count = element.attrs().len();
+    for i in 0..count {
+        let Some(attr) = element.attrs().nth(i) else {
+            break;
+        };
+        if let Some(first) = element.attrs().take(i).find(|a| a.name == attr.name) {
             out.push(
                 Diagnostic::new(
                     &m106_duplicate_attribute::CHECK,
@@ -135,10 +138,8 @@ fn check_attributes(
         }
         let known = spec.attrs.iter().find(|a| a.name == attr.name);
         let Some(known) = known else {
-            let free = COMMON_ATTRS.contains(&attr.name.as_str())
-                || (is_root
-                    && (ROOT_ATTRS.contains(&attr.name.as_str())
-                        || attr.name.starts_with("xmlns")));
+            let free = COMMON_ATTRS.contains(&attr.name)
+                || (is_root && (ROOT_ATTRS.contains(&attr.name) || attr.name.starts_with("xmlns")));
             if !free {
                 let names = spec
                     .attrs
@@ -152,7 +153,7 @@ fn check_attributes(
                 )
                 .label("unknown attribute");
                 let all: Vec<&str> = names.collect();
-                let meant = did_you_mean(&attr.name, all.iter().copied());
+                let meant = did_you_mean(attr.name, all.iter().copied());
                 // Read it as the attribute it was meant to be, if that one is free.
                 let recovered = meant
                     .filter(|s| element.attr(s).is_none())
@@ -165,13 +166,15 @@ fn check_attributes(
                     (None, _) => d.help(format!("<{}> takes: {}", element.name, all.join(", "))),
                 });
                 if let Some(known) = recovered {
-                    element.attrs[i].name = known.name.into();
-                    check_value(element, &element.attrs[i], known.kind, out);
+                    element.rename_attr(i, known.name);
+                    if let Some(attr) = element.attrs().nth(i) {
+                        check_value(element, &attr, known.kind, out);
+                    }
                 }
             }
             continue;
         };
-        check_value(element, attr, known.kind, out);
+        check_value(element, &attr, known.kind, out);
     }
     for required in spec.attrs.iter().filter(|a| a.required) {
         if element.attr(required.name).is_none() {
@@ -189,7 +192,7 @@ fn check_attributes(
 }
 
 fn check_value(element: &Element, attr: &super::xml::Attr, kind: AttrKind, out: &mut Diagnostics) {
-    let v = attr.value.as_str();
+    let v = attr.value;
     let problem = match kind {
         AttrKind::Text => None,
         AttrKind::Ident => {

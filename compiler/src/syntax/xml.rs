@@ -4,52 +4,142 @@
 //! that any later stage can point a diagnostic at the exact place. It knows nothing about
 //! the model language: vocabulary checks live in `vocabulary.rs`.
 
+use super::name::{known_id, known_name, Name, OTHER};
 use crate::source::{FileId, Span};
 use compact_str::CompactString;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 
-/// An attribute with the spans of its name and of its value (without quotes).
-///
-/// Names and values are `CompactString`s: almost all of them fit inline (24 bytes), so a
-/// model of 100,000 modules is read without millions of small allocations.
-#[derive(Clone, Debug)]
-pub struct Attr {
-    pub name: CompactString,
-    pub value: CompactString,
+/// An attribute as a consumer sees it: its name and value, and the spans of both (the
+/// value's without quotes). Made on demand from what an [`Element`] stores.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Attr<'a> {
+    pub name: &'a str,
+    pub value: &'a str,
     pub name_span: Span,
     pub value_span: Span,
 }
 
-/// An element: its start tag, attributes, child elements and text content.
+/// An attribute as an element stores it: 40 bytes where a struct of two strings and two
+/// spans took 72; a model of 100,000 modules has ~770,000 attributes (B1 peak memory).
+/// The file comes from the element, the name of the vocabulary is a number, and the
+/// value (entities resolved) is usually inline in its `CompactString`.
+#[derive(Clone, Debug)]
+struct StoredAttr {
+    /// The value; for a name outside the vocabulary ([`OTHER`]), the name and then the
+    /// value.
+    text: CompactString,
+    name_start: u32,
+    value_start: u32,
+    /// The value's length in the file (entities unresolved).
+    value_len: u32,
+    /// The name's length in the file (the name may have been replaced since, see
+    /// [`Element::rename_attr`]).
+    name_len: u16,
+    /// The vocabulary's number of the name, or [`OTHER`].
+    id: u16,
+}
+
+impl StoredAttr {
+    fn view(&self, file: FileId) -> Attr<'_> {
+        let (name, value) = if self.id == OTHER {
+            self.text.split_at(usize::from(self.name_len))
+        } else {
+            (*known_name(self.id), self.text.as_str())
+        };
+        Attr {
+            name,
+            value,
+            name_span: Span {
+                file,
+                start: self.name_start,
+                end: self.name_start + u32::from(self.name_len),
+            },
+            value_span: Span {
+                file,
+                start: self.value_start,
+                end: self.value_start + self.value_len,
+            },
+        }
+    }
+
+    fn has_name(&self, name: &str) -> bool {
+        if self.id == OTHER {
+            self.text.get(..usize::from(self.name_len)) == Some(name)
+        } else {
+            *known_name(self.id) == name
+        }
+    }
+}
+
+/// An element's character data, when it has any (most elements have none).
+#[derive(Clone, Debug)]
+struct Text {
+    text: Box<str>,
+    span: Span,
+}
+
+/// An element: its start tag, attributes, child elements and text content. 80 bytes
+/// (it was 136; a model of 100,000 modules has ~370,000 elements): names of the
+/// vocabulary are references, attributes and children sit in boxed slices of exactly
+/// their length, and the text is boxed with its span.
 #[derive(Clone, Debug)]
 pub struct Element {
-    pub name: CompactString,
+    pub name: Name,
     /// The tag name inside the start tag.
     pub name_span: Span,
     /// From `<` of the start tag to `>` of the end tag.
     pub span: Span,
-    pub attrs: Vec<Attr>,
-    pub children: Vec<Element>,
-    /// Concatenated character data (entities resolved); whitespace before the first
-    /// non-blank piece is not kept (it only separates child elements).
-    pub text: String,
-    /// Span of the character data (first to last text byte), or the element's span.
-    pub text_span: Span,
+    attrs: Box<[StoredAttr]>,
+    pub children: Box<[Element]>,
+    text: Option<Box<Text>>,
 }
 
 impl Element {
-    pub fn attr(&self, name: &str) -> Option<&Attr> {
-        self.attrs.iter().find(|a| a.name == name)
+    pub fn attr(&self, name: &str) -> Option<Attr<'_>> {
+        (self.attrs.iter())
+            .find(|a| a.has_name(name))
+            .map(|a| a.view(self.span.file))
     }
 
     pub fn value(&self, name: &str) -> Option<&str> {
-        self.attr(name).map(|a| a.value.as_str())
+        self.attr(name).map(|a| a.value)
     }
 
     /// Span of an attribute's value, or of the tag name when the attribute is absent.
     pub fn value_span(&self, name: &str) -> Span {
         self.attr(name).map_or(self.name_span, |a| a.value_span)
+    }
+
+    /// The attributes in document order.
+    pub fn attrs(&self) -> impl ExactSizeIterator<Item = Attr<'_>> + '_ {
+        self.attrs.iter().map(|a| a.view(self.span.file))
+    }
+
+    /// Reads attribute `index` as attribute `name` of the vocabulary from now on (the
+    /// validator's recovery of a misspelt name); its spans stay those of the file.
+    /// Returns false, changing nothing, when `name` is not a name of the vocabulary.
+    pub fn rename_attr(&mut self, index: usize, name: &str) -> bool {
+        let (Some(id), Some(attr)) = (known_id(name), self.attrs.get_mut(index)) else {
+            return false;
+        };
+        if attr.id == OTHER {
+            attr.text = CompactString::from(&attr.text[usize::from(attr.name_len)..]);
+        }
+        attr.id = id;
+        true
+    }
+
+    /// Concatenated character data (entities resolved); whitespace before the first
+    /// non-blank piece is not kept (it only separates child elements).
+    pub fn text(&self) -> &str {
+        self.text.as_ref().map_or("", |t| &t.text)
+    }
+
+    /// Span of the character data (first to last text byte), or the element's span
+    /// when it has none (or, with child elements, only blanks between them).
+    pub fn text_span(&self) -> Span {
+        self.text.as_ref().map_or(self.span, |t| t.span)
     }
 
     pub fn children_named<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a Element> + 'a {
@@ -67,6 +157,18 @@ pub struct XmlError {
 
 /// Parses one document. `max_depth` bounds element nesting.
 pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlError> {
+    // Spans are 32-bit offsets. The loader's size limit is far below this (256 MiB by
+    // default); a text given some other way is refused here rather than misplaced.
+    if u32::try_from(text.len()).is_err() {
+        return Err(XmlError {
+            span: Span::new(file, 0, 0),
+            message: format!(
+                "the text is {} MiB; files of 4 GiB and more cannot be read",
+                text.len() >> 20
+            ),
+            too_deep: false,
+        });
+    }
     let mut reader = Reader::from_str(text);
     let config = reader.config_mut();
     config.check_end_names = true;
@@ -94,10 +196,10 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
     // and its attributes (gathered in `scratch`) in vectors of exactly their length:
     // vectors grown by pushing would hold up to twice the room, and at 100,000 modules
     // that slack was a fifth of the checker's peak memory.
-    let mut stack: Vec<Element> = Vec::new();
+    let mut stack: Vec<Open> = Vec::new();
     let mut marks: Vec<usize> = Vec::new();
     let mut kids: Vec<Element> = Vec::new();
-    let mut scratch: Vec<Attr> = Vec::new();
+    let mut scratch: Vec<StoredAttr> = Vec::new();
     let mut root: Option<Element> = None;
     loop {
         let before = reader.buffer_position() as usize;
@@ -127,14 +229,11 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
                         too_deep: true,
                     });
                 }
-                stack.push(start_element(
-                    file,
-                    &tag,
-                    before,
-                    after,
-                    offset_of,
-                    &mut scratch,
-                )?);
+                stack.push(Open {
+                    element: start_element(file, &tag, before, after, offset_of, &mut scratch)?,
+                    text: String::new(),
+                    text_span: None,
+                });
                 marks.push(kids.len());
             }
             Event::Empty(tag) => {
@@ -149,16 +248,15 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
                 attach(&stack, &mut kids, &mut root, element);
             }
             Event::End(_) => {
-                let Some(mut element) = stack.pop() else {
+                let Some(open) = stack.pop() else {
                     return Err(malformed(
                         before,
                         after,
                         "closing tag without an opening tag".into(),
                     ));
                 };
-                element.span.end = after as u32;
                 let mark = marks.pop().unwrap_or(kids.len());
-                element.children = kids.drain(mark..).collect();
+                let element = open.close(after, kids.drain(mark..).collect());
                 attach(&stack, &mut kids, &mut root, element);
             }
             Event::Text(t) => {
@@ -204,7 +302,7 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
             Event::Decl(_) | Event::PI(_) | Event::Comment(_) | Event::DocType(_) => {}
         }
     }
-    if let Some(open) = stack.last() {
+    if let Some(Open { element: open, .. }) = stack.last() {
         return Err(XmlError {
             span: open.name_span,
             message: format!("element <{}> is never closed", open.name),
@@ -214,13 +312,39 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
     root.ok_or_else(|| malformed(0, 0, "the file holds no XML element".into()))
 }
 
-/// Hands a closed element to its parent (through `kids`) or makes it the root.
-fn attach(
-    stack: &[Element],
-    kids: &mut Vec<Element>,
-    root: &mut Option<Element>,
+/// An element whose end tag is still to come, with its text so far.
+struct Open {
     element: Element,
-) {
+    text: String,
+    /// From the first text byte to the last one so far, once there is text.
+    text_span: Option<Span>,
+}
+
+impl Open {
+    /// The element, ended at `end` with these children. Its text is kept (boxed, with
+    /// its span) when it holds more than blanks, or when the element has no children:
+    /// blanks between child elements are only layout, but a childless element's blank
+    /// text has a place (`<param name="x"> </param>`: an empty value, shown there).
+    fn close(self, end: usize, children: Box<[Element]>) -> Element {
+        let Open {
+            mut element,
+            text,
+            text_span,
+        } = self;
+        element.span.end = end as u32;
+        if let Some(span) = text_span.filter(|_| !text.is_empty() || children.is_empty()) {
+            element.text = Some(Box::new(Text {
+                text: text.into_boxed_str(),
+                span,
+            }));
+        }
+        element.children = children;
+        element
+    }
+}
+
+/// Hands a closed element to its parent (through `kids`) or makes it the root.
+fn attach(stack: &[Open], kids: &mut Vec<Element>, root: &mut Option<Element>, element: Element) {
     if stack.is_empty() {
         *root = Some(element);
     } else {
@@ -229,7 +353,7 @@ fn attach(
 }
 
 fn add_text(
-    stack: &mut [Element],
+    stack: &mut [Open],
     s: &str,
     file: FileId,
     start: usize,
@@ -238,10 +362,9 @@ fn add_text(
 ) -> Result<(), XmlError> {
     match stack.last_mut() {
         Some(parent) => {
-            if parent.text.is_empty() && parent.text_span == parent.span {
-                parent.text_span = Span::new(file, start, end);
-            } else {
-                parent.text_span.end = end as u32;
+            match &mut parent.text_span {
+                Some(span) => span.end = end as u32,
+                None => parent.text_span = Some(Span::new(file, start, end)),
             }
             // Indentation between child elements is not content; skipping it saves an
             // allocation for every element that has children.
@@ -265,21 +388,11 @@ fn start_element(
     start: usize,
     end: usize,
     offset_of: impl Fn(&[u8]) -> usize,
-    scratch: &mut Vec<Attr>,
+    scratch: &mut Vec<StoredAttr>,
 ) -> Result<Element, XmlError> {
     let raw_name = tag.name().into_inner();
     let name_start = offset_of(raw_name);
-    let name = CompactString::from(std::str::from_utf8(raw_name).unwrap_or("?"));
     let span = Span::new(file, start, end);
-    let mut element = Element {
-        name,
-        name_span: Span::new(file, name_start, name_start + raw_name.len()),
-        span,
-        attrs: Vec::new(),
-        children: Vec::new(),
-        text: String::new(),
-        text_span: span,
-    };
     scratch.clear();
     let mut attributes = tag.attributes();
     // Duplicates are reported by the vocabulary check with both places, not here.
@@ -299,19 +412,53 @@ fn start_element(
             message: format!("malformed attribute value: {e}"),
             too_deep: false,
         })?;
-        scratch.push(Attr {
-            name: CompactString::from_utf8_lossy(key),
-            value: CompactString::from(value),
-            name_span: Span::new(file, key_start, key_start + key.len()),
-            value_span: Span::new(file, value_start, value_start + value_len),
+        let Ok(name_len) = u16::try_from(key.len()) else {
+            return Err(XmlError {
+                span: Span::new(file, key_start, key_start + 1),
+                message: format!(
+                    "an attribute name of {} bytes: names are limited to 65,535 bytes",
+                    key.len()
+                ),
+                too_deep: false,
+            });
+        };
+        // A slice of a `&str` between ASCII delimiters: always UTF-8.
+        let Ok(name) = std::str::from_utf8(key) else {
+            return Err(XmlError {
+                span: Span::new(file, key_start, key_start + key.len()),
+                message: "an attribute name is not valid UTF-8".into(),
+                too_deep: false,
+            });
+        };
+        let id = known_id(name).unwrap_or(OTHER);
+        let text = if id == OTHER {
+            let mut text = CompactString::with_capacity(key.len() + value.len());
+            text.push_str(name);
+            text.push_str(&value);
+            text
+        } else {
+            CompactString::from(value)
+        };
+        scratch.push(StoredAttr {
+            text,
+            // The text is at most `u32::MAX` bytes long (`parse` refuses longer ones).
+            name_start: key_start as u32,
+            value_start: value_start as u32,
+            value_len: value_len as u32,
+            name_len,
+            id,
         });
     }
-    // Not `mem::take`: that would hand over the scratch's spare room, and the point is
-    // a vector of exactly the attributes' length (the scratch keeps its room).
-    #[allow(clippy::drain_collect)]
-    let attrs: Vec<Attr> = scratch.drain(..).collect();
-    element.attrs = attrs;
-    Ok(element)
+    Ok(Element {
+        name: Name::new(std::str::from_utf8(raw_name).unwrap_or("?")),
+        name_span: Span::new(file, name_start, name_start + raw_name.len()),
+        span,
+        // Not `mem::take`: that would hand over the scratch's spare room, and the point
+        // is a slice of exactly the attributes' length (the scratch keeps its room).
+        attrs: scratch.drain(..).collect(),
+        children: Box::default(),
+        text: None,
+    })
 }
 
 fn predefined_entity(name: &str) -> Option<&'static str> {
@@ -363,7 +510,7 @@ mod tests {
             "b"
         );
         assert_eq!(b.value("y"), Some("two"));
-        assert_eq!(a.text.trim(), "t&u");
+        assert_eq!(a.text().trim(), "t&u");
         assert_eq!(a.span.end as usize, text.len());
     }
 
@@ -384,11 +531,12 @@ mod tests {
         }
     }
 
-    /// Attributes and children sit in vectors of exactly their length (B1: vectors
-    /// grown by pushing held up to twice the room), in document order.
+    /// Attributes and children keep document order; names of the vocabulary and
+    /// other names (misspelt, or another vocabulary's) read back the same, with their
+    /// spans, and values with entities keep the span of what the file writes.
     #[test]
-    fn vectors_hold_no_spare_room() {
-        let text = "<a p=\"1\" q=\"2\" r=\"3\" s=\"4\" t=\"5\">\
+    fn attributes_and_children_read_back_in_order() {
+        let text = "<a p=\"1\" from=\"x &amp; y\" perod=\"3\" name='n' Zz-9=\"\">\
                     <b x=\"1\"/><c><d/><d/><d/><d/><d/></c><b/><b/><b/><b/></a>";
         let a = parse_ok(text);
         let names = |e: &Element| {
@@ -399,19 +547,74 @@ mod tests {
         };
         assert_eq!(names(&a), ["b", "c", "b", "b", "b", "b"]);
         assert_eq!(names(&a.children[1]), ["d"; 5]);
-        let attrs: Vec<&str> = a.attrs.iter().map(|x| x.name.as_str()).collect();
-        assert_eq!(attrs, ["p", "q", "r", "s", "t"]);
-        fn exact(e: &Element) {
-            assert_eq!(e.attrs.capacity(), e.attrs.len(), "<{}> attributes", e.name);
-            assert_eq!(
-                e.children.capacity(),
-                e.children.len(),
-                "<{}> children",
-                e.name
-            );
-            e.children.iter().for_each(exact);
+        let attrs: Vec<(&str, &str)> = a.attrs().map(|x| (x.name, x.value)).collect();
+        assert_eq!(
+            attrs,
+            [
+                ("p", "1"),
+                ("from", "x & y"),
+                ("perod", "3"),
+                ("name", "n"),
+                ("Zz-9", "")
+            ]
+        );
+        for attr in a.attrs() {
+            let at = |s: Span| &text[s.start as usize..s.end as usize];
+            assert_eq!(at(attr.name_span), attr.name);
+            let written = attr.value.replace('&', "&amp;");
+            assert_eq!(at(attr.value_span), written, "{}", attr.name);
         }
-        exact(&a);
+        assert_eq!(a.value("from"), Some("x & y"));
+        assert_eq!(a.value("perod"), Some("3"));
+        assert_eq!(a.value("period"), None);
+        assert_eq!(a.value("Zz-9"), Some(""));
+    }
+
+    /// The validator's recovery reads a misspelt attribute as the one it was meant to
+    /// be; the spans stay those of the misspelt name in the file.
+    #[test]
+    fn a_renamed_attribute_keeps_its_place() {
+        let text = "<thread perod=\"40ms\"/>";
+        let mut t = parse_ok(text);
+        let before = t.attr("perod").unwrap();
+        let (name_span, value_span) = (before.name_span, before.value_span);
+        assert!(!t.rename_attr(0, "no-such-attribute"));
+        assert!(t.rename_attr(0, "period"));
+        assert!(t.attr("perod").is_none());
+        let after = t.attr("period").unwrap();
+        assert_eq!(after.value, "40ms");
+        assert_eq!((after.name_span, after.value_span), (name_span, value_span));
+    }
+
+    /// Text and its span: blanks between child elements are layout, but the blank text
+    /// of an element without children has its place.
+    #[test]
+    fn text_and_its_span() {
+        let text = "<a>\n  <p> </p>\n  <q>1 &lt; 2</q><r/>\n</a>";
+        let a = parse_ok(text);
+        assert_eq!(a.text(), "");
+        assert_eq!(a.text_span(), a.span);
+        let at = |s: Span| &text[s.start as usize..s.end as usize];
+        let (p, q, r) = (&a.children[0], &a.children[1], &a.children[2]);
+        assert_eq!((p.text(), at(p.text_span())), ("", " "));
+        assert_eq!((q.text(), at(q.text_span())), ("1 < 2", "1 &lt; 2"));
+        assert_eq!((r.text(), r.text_span()), ("", r.span));
+    }
+
+    /// The tree's nodes are most of the checker's memory on a large model (B1: ~370,000
+    /// elements and ~770,000 attributes at 100,000 modules): they must not grow back.
+    #[test]
+    fn tree_nodes_stay_small() {
+        assert_eq!(std::mem::size_of::<StoredAttr>(), 40);
+        assert!(std::mem::size_of::<Element>() <= 80);
+    }
+
+    #[test]
+    fn an_overlong_attribute_name_is_an_error() {
+        let text = format!("<a {}=\"1\"/>", "n".repeat(70_000));
+        let err = parse(FileId(0), &text, 64).unwrap_err();
+        assert!(err.message.contains("65,535"), "{}", err.message);
+        assert_eq!(err.span.start, 3);
     }
 
     #[test]

@@ -21,7 +21,7 @@ pub(super) fn param_decl(
     // Bounds are values of the parameter's type: `15 cm`, `10ms` and plain numbers work.
     let mut bound = |attr: &str| -> Option<f64> {
         let a = e.attr(attr)?;
-        match parse_value(&a.value, &ty, unit.as_ref()) {
+        match parse_value(a.value, &ty, unit.as_ref()) {
             Ok(Value::Int(i)) => Some(i as f64),
             Ok(Value::Float(f)) => Some(f),
             Ok(Value::Duration(s)) => Some(s),
@@ -52,7 +52,7 @@ pub(super) fn param_decl(
         span: e.value_span("name"),
     };
     if let Some(default) = e.attr("default") {
-        check_value(&decl, &default.value, default.value_span, None, diags);
+        check_value(&decl, default.value, default.value_span, None, diags);
     }
     Some(decl)
 }
