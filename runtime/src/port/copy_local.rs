@@ -70,7 +70,8 @@ impl<T: NoUninit> LocalOut<T> {
     /// Publishes locally if the output has local readers. Returns whether the lock-free
     /// path is still to be taken.
     #[inline(always)]
-    pub(crate) fn publish(&self, value: &T, port: &str) -> bool {
+    #[allow(clippy::ptr_arg)] // see `local::foreign_access`
+    pub(crate) fn publish(&self, value: &T, port: &String) -> bool {
         let home = self.home.load(Ordering::Relaxed);
         if home.is_null() {
             return true;
@@ -89,7 +90,8 @@ impl<T: NoUninit> LocalOut<T> {
     /// The output's own latest value if it has local readers (`None`: read the shared
     /// cell).
     #[inline]
-    pub(crate) fn get(&self, port: &str) -> Option<T> {
+    #[allow(clippy::ptr_arg)] // see `local::foreign_access`
+    pub(crate) fn get(&self, port: &String) -> Option<T> {
         let home = self.home.load(Ordering::Relaxed);
         if home.is_null() {
             return None;
@@ -124,7 +126,8 @@ impl<T: NoUninit + Send + Sync> LocalIn<T> {
     /// The output read directly, after checking that this thread may read it; `None`
     /// when the input reads its own cell.
     #[inline(always)]
-    fn source(&self, port: &str) -> Option<&CopyOutputCore<T>> {
+    #[allow(clippy::ptr_arg)] // see `local::foreign_access`
+    fn source(&self, port: &String) -> Option<&CopyOutputCore<T>> {
         let src = self.src.load(Ordering::Acquire);
         if src.is_null() {
             return None;

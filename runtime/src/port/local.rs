@@ -279,9 +279,14 @@ impl std::fmt::Debug for Home {
 
 /// Panics for a port used outside its container's thread while its connection is
 /// local (see the module docs).
+///
+/// It takes the name as `&String`, not `&str`: the port paths then pass one pointer and
+/// read the name's address and length only here, off the path every publish and read
+/// takes (with `&str` the compiler loaded both at the top of every module step).
 #[cold]
 #[inline(never)]
-pub(crate) fn foreign_access(port: &str) -> ! {
+#[allow(clippy::ptr_arg)]
+pub(crate) fn foreign_access(port: &String) -> ! {
     panic!(
         "the port `{port}` is connected inside its thread container and was used from \
          another thread; a module's ports may only be used by the thread that runs it"
