@@ -1,22 +1,24 @@
 //! `ferroc run`: check a model, build it in the runtime, run it, stop cleanly.
 
 pub use crate::spec::{params_of, ports_of, queues_of, step_kind};
+
+mod from_plan;
 use ferroc_compiler::library::LibrarySet;
 use ferroc_compiler::plan::{self, Plan};
 use ferroc_compiler::report::json::location;
 use ferroc_compiler::source::{SourceMap, Span};
-use ferroc_compiler::values::Value as ModelValue;
 use ferroc_compiler::CheckResult;
 use ferroc_runtime::behaviour::ViolationPolicy;
 use ferroc_runtime::builder::{
     Builder, Conversion, Lockstep, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,
     ThreadSpec,
 };
-use ferroc_runtime::container::ThreadOptions;
-use ferroc_runtime::link::{CallSpec, LinkSpec, Sharing};
-use ferroc_runtime::module::Value;
-use ferroc_runtime::port::{ConnectOptions, WaitMode};
+use ferroc_runtime::link::CallSpec;
+use ferroc_runtime::port::ConnectOptions;
 use ferroc_runtime::supervise;
+use from_plan::conversion;
+pub(crate) use from_plan::value;
+pub use from_plan::{link_spec, thread_options};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -350,61 +352,6 @@ fn not_registered(
             m.path,
             registry.names().collect::<Vec<_>>().join(", ")
         ),
-    }
-}
-
-pub(crate) fn value(v: &ModelValue) -> Value {
-    match v {
-        ModelValue::Bool(b) => Value::Bool(*b),
-        ModelValue::Int(i) => Value::Int(*i),
-        ModelValue::Float(x) => Value::Float(*x),
-        ModelValue::Str(s) | ModelValue::Opaque(s) => Value::Text(s.clone()),
-        ModelValue::Duration(s) => Value::Duration(Duration::from_secs_f64(s.max(0.0))),
-        ModelValue::List(items) => Value::List(items.iter().map(value).collect()),
-    }
-}
-
-/// Priority and CPU of a planned thread. Model priorities are "higher runs first" like
-/// SCHED_FIFO's, whose range is 1–99 on Linux; values beyond are clamped to it.
-pub fn thread_options(t: &plan::PlannedThread) -> ThreadOptions {
-    ThreadOptions {
-        priority: t.priority.map(|p| p.clamp(1, 99) as i32),
-        cpu: t.cpu.map(|c| c as usize),
-        wait: match t.wait {
-            plan::Wait::Park => WaitMode::Park,
-            plan::Wait::Spin => WaitMode::Spin,
-            plan::Wait::Adaptive => WaitMode::Adaptive,
-        },
-    }
-}
-
-/// What a planned connection does to values (the bundle writes the same as source).
-fn conversion(c: &plan::PlannedConnection) -> Conversion {
-    c.select.iter().fold(
-        Conversion::linear(c.scale, c.offset),
-        |conv, part| match part {
-            plan::Part::Field(f) => conv.field(f),
-            plan::Part::Index(i) => conv.index(*i as usize),
-        },
-    )
-}
-
-/// The runtime's description of a planned link.
-pub fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
-    let seconds = |s: f64| Duration::from_secs_f64(s.clamp(0.0, 1e9));
-    LinkSpec {
-        id: link.id,
-        from_part: &link.from_part,
-        to_part: &link.to_part,
-        model_type: &link.ty,
-        sharing: match link.sharing {
-            plan::LinkSharing::OnChange { min_interval } => Sharing::OnChange {
-                min_interval: seconds(min_interval),
-            },
-            plan::LinkSharing::Periodic { period } => Sharing::Periodic(seconds(period)),
-        },
-        reliable: link.reliable,
-        deadline: link.deadline.map(seconds),
     }
 }
 
