@@ -164,6 +164,8 @@ impl<T: NoUninit + Send + Sync> CopyInputCore<T> {
         };
         // SAFETY: `from` is the local cell (this thread holds its home's session, and
         // nothing else touches it until we return) or `shared`, initialised above.
+        // Under loom the cell's access is recorded by `with` above; nothing between it
+        // and this read can switch threads, so the check covers the read.
         unsafe { *from }
     }
 
