@@ -104,30 +104,24 @@ impl Application {
             }
             Endpoint::GroupPort { element, port } => {
                 let p = self.element(element).group_ports.get(port as usize)?;
-                Some(PortView {
-                    name: &p.name,
-                    ty: &p.ty,
-                    unit: p.unit.as_ref(),
-                    span: p.span,
-                    required: false,
-                    merge: false,
-                    role: PortRole::Plain,
-                    dir: p.dir,
-                })
+                Some(PortView::plain(
+                    &p.name,
+                    &p.ty,
+                    p.unit.as_ref(),
+                    p.span,
+                    p.dir,
+                ))
             }
             Endpoint::Param { element, param } => {
                 let mt = self.module_type(libs, element)?;
                 let p = mt.params.get(param as usize)?;
-                Some(PortView {
-                    name: &p.name,
-                    ty: &p.ty,
-                    unit: p.unit.as_ref(),
-                    span: p.span,
-                    required: false,
-                    merge: false,
-                    role: PortRole::Plain,
-                    dir: PortDir::In,
-                })
+                Some(PortView::plain(
+                    &p.name,
+                    &p.ty,
+                    p.unit.as_ref(),
+                    p.span,
+                    PortDir::In,
+                ))
             }
         }
     }
@@ -182,5 +176,28 @@ impl Application {
                 ElementKind::Module(m) => Some((ElementId(i as u32), m)),
                 _ => None,
             })
+    }
+}
+
+impl<'a> PortView<'a> {
+    /// An endpoint that is neither required nor merging and has no iB2C role: a group
+    /// port or a parameter.
+    fn plain(
+        name: &'a str,
+        ty: &'a Type,
+        unit: Option<&'a Unit>,
+        span: Span,
+        dir: PortDir,
+    ) -> Self {
+        PortView {
+            name,
+            ty,
+            unit,
+            span,
+            required: false,
+            merge: false,
+            role: PortRole::Plain,
+            dir,
+        }
     }
 }
