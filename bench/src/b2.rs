@@ -230,14 +230,7 @@ fn publish_and_read_local(n: u64) -> Duration {
     let local = make_local(&output, &input, &home);
     assert!(local, "b2: a plain connection could not be made local");
     let _session = Home::enter(&home);
-    let mut m = Matrix::default();
-    let started = Instant::now();
-    for _ in 0..n {
-        m[0][0] += 1.0;
-        output.publish(black_box(m));
-        m = black_box(input.get());
-    }
-    started.elapsed()
+    stage_ports(&output, &input, n)
 }
 
 /// One stage's port work `n` times: publish a matrix (into one connected input, or
@@ -250,6 +243,12 @@ fn publish_and_read(n: u64, connect: bool) -> Duration {
             .handle()
             .connect(&input.handle(), ConnectOptions::default());
     }
+    stage_ports(&output, &input, n)
+}
+
+/// What a stage does on its ports, `n` times: change the matrix, publish it, read the
+/// input; the time it took.
+fn stage_ports(output: &CopyOutputPort<Matrix>, input: &CopyInputPort<Matrix>, n: u64) -> Duration {
     let mut m = Matrix::default();
     let started = Instant::now();
     for _ in 0..n {
