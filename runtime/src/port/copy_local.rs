@@ -7,6 +7,7 @@ use std::ptr;
 use super::copy::{CopyInputCore, CopyOutputCore};
 use super::local::{self, Busy, Exclusive, Home};
 use super::notify::SetOnce;
+use super::words;
 use crate::sync::{lock, Arc, AtomicBool, AtomicPtr, Mutex, Ordering, UnsafeCell};
 use bytemuck::NoUninit;
 
@@ -72,16 +73,17 @@ impl<T: NoUninit> LocalOut<T> {
     #[inline(always)]
     #[allow(clippy::ptr_arg)] // see `local::foreign_access`
     pub(crate) fn publish(&self, value: &T, port: &String) -> bool {
-        let home = self.home.load(Ordering::Relaxed);
+        let home = self.home.load(Ordering::Acquire);
         if home.is_null() {
             return true;
         }
-        if !ptr::eq(home, local::current()) {
+        // SAFETY: a home stored in `home` is kept alive by `keep_home` as long as we are.
+        if !unsafe { (*home).is_owner() } {
             local::foreign_access(port);
         }
         // SAFETY: this thread holds the session of the cell's home (checked above).
         unsafe {
-            self.value.with_mut(|p| *p = *value);
+            self.value.with_mut(|p| words::copy(value, p));
             self.version.with_mut(|p| *p += 1);
         }
         self.both.load(Ordering::Relaxed)
@@ -92,11 +94,12 @@ impl<T: NoUninit> LocalOut<T> {
     #[inline]
     #[allow(clippy::ptr_arg)] // see `local::foreign_access`
     pub(crate) fn get(&self, port: &String) -> Option<T> {
-        let home = self.home.load(Ordering::Relaxed);
+        let home = self.home.load(Ordering::Acquire);
         if home.is_null() {
             return None;
         }
-        if !ptr::eq(home, local::current()) {
+        // SAFETY: as in `publish`.
+        if !unsafe { (*home).is_owner() } {
             local::foreign_access(port);
         }
         // SAFETY: session thread of the cell's home (checked above).
@@ -134,7 +137,11 @@ impl<T: NoUninit + Send + Sync> LocalIn<T> {
         }
         // SAFETY: every output stored in `src` is kept alive by `keep` as long as we are.
         let src = unsafe { &*src };
-        if !ptr::eq(src.local.home.load(Ordering::Relaxed), local::current()) {
+        // Relaxed: the home was set before `src` was stored, and the load of `src`
+        // acquired it. Non-null for the same reason; kept alive by the output.
+        let home = src.local.home.load(Ordering::Relaxed);
+        // SAFETY: see above.
+        if !unsafe { (*home).is_owner() } {
             local::foreign_access(port);
         }
         Some(src)
@@ -166,7 +173,11 @@ impl<T: NoUninit + Send + Sync> CopyInputCore<T> {
         // nothing else touches it until we return) or `shared`, initialised above.
         // Under loom the cell's access is recorded by `with` above; nothing between it
         // and this read can switch threads, so the check covers the read.
-        unsafe { *from }
+        let mut value = std::mem::MaybeUninit::uninit();
+        unsafe {
+            words::copy(from, value.as_mut_ptr());
+            value.assume_init()
+        }
     }
 
     /// The input's own cell (the lock-free path).

@@ -6,12 +6,13 @@
 //! # Who may touch a local cell
 //!
 //! A thread container owns a [`Home`]. While the container runs cycles, its thread
-//! holds a [`Session`] of the home; the session marks the thread (a thread-local
-//! pointer to the home) for as long as it lasts, and a home has at most one session at
-//! a time. A local cell belongs to one home and is touched only
+//! holds a [`Session`] of the home; the session makes the thread the home's owner
+//! (the home keeps the thread's [`mark`]) for as long as it lasts, and a home has at
+//! most one session at a time. A local cell belongs to one home and is touched only
 //!
-//! * on the thread that holds the home's session (every port access checks the
-//!   thread-local mark: one load and a compare, no atomic read-modify-write), or
+//! * on the thread that holds the home's session (every port access compares the
+//!   home's owner with the calling thread's [`mark`]: two loads and a compare, no atomic
+//!   read-modify-write), or
 //! * by an operation holding an [`Exclusive`] proof, which the home hands out only to
 //!   code it runs while it has no session (under its mutex, so ordered with the sessions
 //!   before and after) or on the session's own thread.
@@ -33,32 +34,76 @@
 //! (`both`), an input reads its own cell again. Only the Builder, at start, makes
 //! connections local; nothing makes them local again during a run.
 
-use std::cell::Cell;
 use std::marker::PhantomData;
 use std::ptr;
 use std::time::{Duration, Instant};
 
-use crate::sync::{lock, Arc, AtomicBool, Condvar, Mutex, Ordering};
+use crate::sync::{lock, Arc, AtomicBool, AtomicUsize, Condvar, Mutex, Ordering};
 
 /// How long a change to a local connection waits for the owning container's next
 /// cycle boundary before giving up.
 pub(crate) const WAIT: Duration = Duration::from_secs(2);
 
-#[cfg(not(loom))]
+/// The calling thread's mark: a number no other live thread has, never 0.
+///
+/// On Linux on x86-64 and AArch64 it is the thread pointer, read from its register
+/// with one instruction. A `thread_local!` would do as well in a binary, but a module
+/// library is compiled as position-independent code, where reaching a thread-local of
+/// another crate is a call to `__tls_get_addr` as far as the optimiser knows (the
+/// linker relaxes it to two moves later): every register holding a value across the
+/// check is then saved to the stack and reloaded, the whole matrix of a b2 stage
+/// between its read and its publish. Elsewhere (and under Miri and loom) the mark is
+/// the address of a thread-local.
+#[inline(always)]
+pub(crate) fn mark() -> usize {
+    #[cfg(all(target_os = "linux", target_arch = "x86_64", not(miri), not(loom)))]
+    {
+        let tp: usize;
+        // SAFETY: `fs:0` holds the thread pointer itself (the x86-64 TLS ABI, glibc
+        // and musl alike); reading it has no side effect.
+        unsafe {
+            std::arch::asm!("mov {}, qword ptr fs:[0]", out(reg) tp,
+                options(nostack, readonly, pure, preserves_flags));
+        }
+        tp
+    }
+    #[cfg(all(target_os = "linux", target_arch = "aarch64", not(miri), not(loom)))]
+    {
+        let tp: usize;
+        // SAFETY: reads the thread pointer register; no side effect.
+        unsafe {
+            std::arch::asm!("mrs {}, tpidr_el0", out(reg) tp,
+                options(nostack, nomem, pure, preserves_flags));
+        }
+        tp
+    }
+    #[cfg(not(all(
+        target_os = "linux",
+        any(target_arch = "x86_64", target_arch = "aarch64"),
+        not(miri),
+        not(loom)
+    )))]
+    {
+        MARK.with(|m| ptr::from_ref(m) as usize)
+    }
+}
+
+#[cfg(all(
+    not(loom),
+    not(all(
+        target_os = "linux",
+        any(target_arch = "x86_64", target_arch = "aarch64"),
+        not(miri)
+    ))
+))]
 std::thread_local! {
-    /// The home whose session this thread holds (null: none).
-    static CURRENT: Cell<*const Home> = const { Cell::new(ptr::null()) };
+    /// Its address is the thread's mark where the thread pointer is not used.
+    static MARK: u8 = const { 0 };
 }
 
 #[cfg(loom)]
 loom::thread_local! {
-    static CURRENT: Cell<*const Home> = Cell::new(ptr::null());
-}
-
-/// The home whose session the calling thread holds (null: none).
-#[inline(always)]
-pub(crate) fn current() -> *const Home {
-    CURRENT.with(Cell::get)
+    static MARK: u8 = 0;
 }
 
 type Op = Box<dyn FnOnce(&Exclusive<'_>) + Send>;
@@ -83,6 +128,11 @@ struct State {
 
 /// The owner of a thread container's local connections (see the module docs).
 pub struct Home {
+    /// The [`mark`] of the thread holding the session; 0: none. Written under `state`'s
+    /// mutex; read without it by the port checks, where only the owning thread can find
+    /// its own mark (a thread only ever stores its own mark or 0 here, so a stale value
+    /// another thread sees is never that thread's mark).
+    owner: AtomicUsize,
     /// Set when `queue` is not empty: the session's boundary check is this one load.
     pending: AtomicBool,
     state: Mutex<State>,
@@ -103,14 +153,16 @@ impl Exclusive<'_> {
 }
 
 /// A thread running a home's container (see [`Home::enter`]). Neither `Send` nor
-/// `Sync`: it marks the thread that created it. It keeps its home alive, so even a
-/// leaked session never leaves a thread marked with the address of a freed home that a
-/// new one could reuse.
+/// `Sync`: it makes the thread that created it the home's owner. A leaked session
+/// leaves that thread the owner for good; a thread started after it ended may get the
+/// same mark (its thread block reused), but then the two never run at once, and the
+/// reuse itself orders them (the C library hands a thread block on only after its
+/// thread is gone), so the home's cells still have one thread at a time.
 pub struct Session {
     home: Arc<Home>,
-    /// The mark this thread had before (sessions of different homes nest); `None` for
-    /// a nested session of the same home, which changes nothing.
-    previous: Option<*const Home>,
+    /// False for a nested session of the same home, which changes nothing (sessions
+    /// of different homes nest as well: each home has its own owner).
+    outer: bool,
     _not_send: PhantomData<*const ()>,
 }
 
@@ -128,6 +180,7 @@ impl Home {
     /// A home without a session.
     pub fn new() -> Self {
         Home {
+            owner: AtomicUsize::new(0),
             pending: AtomicBool::new(false),
             state: Mutex::new(State {
                 session: false,
@@ -150,11 +203,10 @@ impl Home {
     /// An associated function rather than a method: under loom, `Arc` is loom's, which
     /// cannot be a method receiver.
     pub fn enter(home: &Arc<Home>) -> Session {
-        let this: *const Home = Arc::as_ptr(home);
-        if current() == this {
+        if home.is_owner() {
             return Session {
                 home: Arc::clone(home),
-                previous: None,
+                outer: false,
                 _not_send: PhantomData,
             };
         }
@@ -164,14 +216,21 @@ impl Home {
             "a thread container's cycles run on one thread at a time"
         );
         state.session = true;
-        let previous = CURRENT.with(|c| c.replace(this));
+        home.owner.store(mark(), Ordering::Relaxed);
         home.serve(&mut state);
         drop(state);
         Session {
             home: Arc::clone(home),
-            previous: Some(previous),
+            outer: true,
             _not_send: PhantomData,
         }
+    }
+
+    /// Does the calling thread hold this home's session? One load and a compare: the
+    /// check every access to a local cell makes.
+    #[inline(always)]
+    pub(crate) fn is_owner(&self) -> bool {
+        self.owner.load(Ordering::Relaxed) == mark()
     }
 
     /// Runs the queued changes (the caller holds the session or the mutex with no
@@ -200,7 +259,7 @@ impl Home {
         op: impl FnOnce(&Exclusive<'_>) + Send + 'static,
         keep: bool,
     ) -> Result<(), Busy> {
-        if ptr::eq(current(), self) {
+        if self.is_owner() {
             op(&Exclusive { home: self });
             return Ok(());
         }
@@ -258,15 +317,15 @@ impl Session {
 
 impl Drop for Session {
     fn drop(&mut self) {
-        let Some(previous) = self.previous else {
+        if !self.outer {
             return;
-        };
+        }
         let mut state = lock(&self.home.state);
         self.home.serve(&mut state);
         state.session = false;
-        // Unmarked before the mutex is released: from then on other threads may run
+        // Unowned before the mutex is released: from then on other threads may run
         // changes themselves.
-        CURRENT.with(|c| c.set(previous));
+        self.home.owner.store(0, Ordering::Relaxed);
         drop(state);
     }
 }

@@ -209,3 +209,30 @@ fn a_change_asked_for_while_the_container_is_stuck_gives_up_with_a_clear_error()
     release_tx.send(()).unwrap();
     stuck.join().unwrap();
 }
+
+/// The thread mark the ownership checks compare: stable on one thread, never 0 (0 is
+/// "no owner"), and different for threads alive at the same time.
+#[test]
+fn each_live_thread_has_its_own_mark() {
+    let here = local::mark();
+    assert_ne!(here, 0);
+    assert_eq!(here, local::mark());
+    // Three threads that all stay alive until each has taken its mark.
+    let all_marked = Arc::new(std::sync::Barrier::new(3));
+    let others: Vec<_> = (0..3)
+        .map(|_| {
+            let all_marked = Arc::clone(&all_marked);
+            thread::spawn(move || {
+                let mark = local::mark();
+                all_marked.wait();
+                assert_eq!(mark, local::mark());
+                mark
+            })
+        })
+        .collect();
+    let mut marks: Vec<usize> = others.into_iter().map(|t| t.join().unwrap()).collect();
+    assert!(marks.iter().all(|m| *m != 0 && *m != here));
+    marks.sort_unstable();
+    marks.dedup();
+    assert_eq!(marks.len(), 3, "two live threads had the same mark");
+}

@@ -41,6 +41,7 @@ mod seqlock;
 mod snapshot;
 mod wakeup;
 mod wiring;
+mod words;
 
 pub use bytemuck::NoUninit;
 pub(crate) use copy::CopyPeek;
