@@ -99,16 +99,15 @@ impl<T: NoUninit + Send + Sync> CopyOutputPort<T> {
     #[inline(always)]
     pub fn publish(&self, value: T) {
         let core = &*self.core;
-        if !core.local.publish(&value, &core.name) {
+        if core.local.try_publish(&value) {
             return;
         }
-        // The lock-free path gets a copy of its own. Handing it `&value` would let the
+        // The other paths get a copy of their own. Handing them `&value` would let the
         // caller's value escape into a call, which keeps the optimiser from holding it in
-        // registers on the local path above: the caller's last narrow write to it (one
-        // element of a matrix) followed by the wide reads of the copy into the local
-        // cell then stalls store-to-load forwarding (~5 ns a publish, measured in b2).
+        // registers on the fast path above (the value would cross the stack on its way
+        // into the cell: a store-to-load forward more on every stage of a chain, b2).
         let detached = std::mem::MaybeUninit::new(value);
-        core.publish_shared(&detached);
+        core.publish_checked(&detached);
     }
 
     /// The last value published (or the initial value).
@@ -306,12 +305,16 @@ impl<T: NoUninit + Send + Sync> fmt::Debug for CopyInputPort<T> {
 }
 
 impl<T: NoUninit + Send + Sync> CopyOutputCore<T> {
-    /// The lock-free path of a publish: the shared value, then every input that does
-    /// not read a local cell. Kept out of line so the local path stays small.
+    /// A publish the fast path did not take: locally after checking the caller may,
+    /// then on the lock-free path (the shared value, then every input that does not read
+    /// a local cell) where needed. Kept out of line so the fast path stays small.
     #[inline(never)]
-    fn publish_shared(&self, value: &std::mem::MaybeUninit<T>) {
+    fn publish_checked(&self, value: &std::mem::MaybeUninit<T>) {
         // SAFETY: every caller passes an initialised value.
         let value = unsafe { value.assume_init_read() };
+        if !self.local.publish(&value, &self.name) {
+            return;
+        }
         self.cell.store(&value, false);
         let reader = self.fanout.snap.read();
         let mut deferred = Vec::new();

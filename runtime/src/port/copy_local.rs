@@ -8,7 +8,7 @@ use super::copy::{CopyInputCore, CopyOutputCore};
 use super::local::{self, Busy, Exclusive, Home};
 use super::notify::SetOnce;
 use super::words;
-use crate::sync::{lock, Arc, AtomicBool, AtomicPtr, Mutex, Ordering, UnsafeCell};
+use crate::sync::{lock, Arc, AtomicBool, AtomicPtr, AtomicUsize, Mutex, Ordering, UnsafeCell};
 use bytemuck::NoUninit;
 
 /// An output's local side.
@@ -22,6 +22,11 @@ pub(crate) struct LocalOut<T> {
     value: UnsafeCell<T>,
     /// Local publishes so far (the same rule): inputs compare it with what they saw.
     version: UnsafeCell<u64>,
+    /// The mark of the thread that may publish by the fast path: the session thread of
+    /// `home` while the output publishes only locally (registered with the home, which
+    /// opens and closes it with its sessions: [`Home::set_gate`]); 0 otherwise. Every
+    /// other case (no local readers, `both`, another thread) takes the checked path.
+    gate: AtomicUsize,
     /// Publish on the lock-free path as well: some reader does not read `value`
     /// directly. Only ever set during a run (by [`share`]); cleared only by
     /// [`localize`], under the output's connection lock.
@@ -64,13 +69,27 @@ impl<T: NoUninit> LocalOut<T> {
             keep_home: SetOnce::new(),
             value: UnsafeCell::new(value),
             version: UnsafeCell::new(0),
+            gate: AtomicUsize::new(0),
             both: AtomicBool::new(false),
         }
     }
 
-    /// Publishes locally if the output has local readers. Returns whether the lock-free
-    /// path is still to be taken.
+    /// The fast path of a publish: stores `value` locally and returns true when the
+    /// caller is the thread the gate is open for (the output has only local readers).
+    /// One load and a compare before the store.
     #[inline(always)]
+    pub(crate) fn try_publish(&self, value: &T) -> bool {
+        if self.gate.load(Ordering::Relaxed) != local::mark() {
+            return false;
+        }
+        // SAFETY: only the session thread of the cell's home finds its mark in the gate
+        // (`Home::set_gate`).
+        unsafe { self.store(value) };
+        true
+    }
+
+    /// Publishes locally if the output has local readers, after checking the caller
+    /// may. Returns whether the lock-free path is still to be taken.
     #[allow(clippy::ptr_arg)] // see `local::foreign_access`
     pub(crate) fn publish(&self, value: &T, port: &String) -> bool {
         let home = self.home.load(Ordering::Acquire);
@@ -82,11 +101,19 @@ impl<T: NoUninit> LocalOut<T> {
             local::foreign_access(port);
         }
         // SAFETY: this thread holds the session of the cell's home (checked above).
+        unsafe { self.store(value) };
+        self.both.load(Ordering::Relaxed)
+    }
+
+    /// # Safety
+    /// The caller holds the session of the cell's home.
+    #[inline(always)]
+    unsafe fn store(&self, value: &T) {
+        // SAFETY: caller's contract.
         unsafe {
             self.value.with_mut(|p| words::copy(value, p));
             self.version.with_mut(|p| *p += 1);
         }
-        self.both.load(Ordering::Relaxed)
     }
 
     /// The output's own latest value if it has local readers (`None`: read the shared
@@ -106,6 +133,21 @@ impl<T: NoUninit> LocalOut<T> {
         Some(unsafe { self.value.with(|p| *p) })
     }
 
+    /// Panics unless the caller holds the session of the output's home (the gate
+    /// did not say so: it is closed while the output publishes on both paths).
+    #[cold]
+    #[inline(never)]
+    #[allow(clippy::ptr_arg)] // see `local::foreign_access`
+    fn check_owner(&self, port: &String) {
+        // Relaxed: the home was set before the input's `src` was stored, and the load of
+        // `src` acquired it. Non-null for the same reason; kept alive by `keep_home`.
+        let home = self.home.load(Ordering::Relaxed);
+        // SAFETY: see above.
+        if !unsafe { (*home).is_owner() } {
+            local::foreign_access(port);
+        }
+    }
+
     fn home(&self) -> Option<Arc<Home>> {
         self.keep_home.get().cloned()
     }
@@ -114,6 +156,15 @@ impl<T: NoUninit> LocalOut<T> {
     unsafe fn version(&self) -> u64 {
         // SAFETY: caller's contract.
         unsafe { self.version.with(|p| *p) }
+    }
+}
+
+impl<T> Drop for LocalOut<T> {
+    fn drop(&mut self) {
+        // The home must forget the gate before it goes.
+        if let Some(home) = self.keep_home.get() {
+            home.set_gate(&self.gate, false);
+        }
     }
 }
 
@@ -137,12 +188,8 @@ impl<T: NoUninit + Send + Sync> LocalIn<T> {
         }
         // SAFETY: every output stored in `src` is kept alive by `keep` as long as we are.
         let src = unsafe { &*src };
-        // Relaxed: the home was set before `src` was stored, and the load of `src`
-        // acquired it. Non-null for the same reason; kept alive by the output.
-        let home = src.local.home.load(Ordering::Relaxed);
-        // SAFETY: see above.
-        if !unsafe { (*home).is_owner() } {
-            local::foreign_access(port);
+        if src.local.gate.load(Ordering::Relaxed) != local::mark() {
+            src.local.check_owner(port);
         }
         Some(src)
     }
@@ -277,6 +324,7 @@ pub(crate) fn localize<T: NoUninit + Send + Sync>(
         .iter()
         .any(|t| t.local.src.load(Ordering::Relaxed) != out_ptr);
     out.local.both.store(both, Ordering::Release);
+    home.set_gate(&out.local.gate, !both);
     drop(links);
     true
 }
@@ -297,6 +345,9 @@ fn share<T: NoUninit + Send + Sync>(proof: &Exclusive<'_>, out: &CopyOutputCore<
         out.cell.store(&value, false);
     }
     out.local.both.store(true, Ordering::Release);
+    if let Some(home) = out.local.home() {
+        home.set_gate(&out.local.gate, false);
+    }
 }
 
 /// Makes `inp` read its own cell again, with the value and changed mark it had, and

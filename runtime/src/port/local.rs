@@ -106,6 +106,13 @@ loom::thread_local! {
     static MARK: u8 = 0;
 }
 
+/// A registered gate (see [`Home::set_gate`]).
+struct Gate(*const AtomicUsize);
+
+// SAFETY: points to an atomic inside an output that outlives its registration; only
+// used for atomic stores.
+unsafe impl Send for Gate {}
+
 type Op = Box<dyn FnOnce(&Exclusive<'_>) + Send>;
 
 /// A change waiting for the session's next boundary.
@@ -133,6 +140,11 @@ pub struct Home {
     /// its own mark (a thread only ever stores its own mark or 0 here, so a stale value
     /// another thread sees is never that thread's mark).
     owner: AtomicUsize,
+    /// The gates of its local outputs that take the fast path (`copy_local.rs`): each
+    /// holds `owner` while the output publishes only locally, so a publish compares one
+    /// word of its own with the caller's mark. Set with `owner`, under `state`'s mutex
+    /// (lock order: `state`, then `gates`), and by [`Home::set_gate`].
+    gates: Mutex<Vec<Gate>>,
     /// Set when `queue` is not empty: the session's boundary check is this one load.
     pending: AtomicBool,
     state: Mutex<State>,
@@ -181,6 +193,7 @@ impl Home {
     pub fn new() -> Self {
         Home {
             owner: AtomicUsize::new(0),
+            gates: Mutex::new(Vec::new()),
             pending: AtomicBool::new(false),
             state: Mutex::new(State {
                 session: false,
@@ -217,6 +230,7 @@ impl Home {
         );
         state.session = true;
         home.owner.store(mark(), Ordering::Relaxed);
+        home.open_gates(mark());
         home.serve(&mut state);
         drop(state);
         Session {
@@ -231,6 +245,30 @@ impl Home {
     #[inline(always)]
     pub(crate) fn is_owner(&self) -> bool {
         self.owner.load(Ordering::Relaxed) == mark()
+    }
+
+    /// Stores `owner` in every registered gate (the caller holds `state`'s mutex and is
+    /// the thread `owner` names, or `owner` is 0).
+    fn open_gates(&self, owner: usize) {
+        for gate in lock(&self.gates).iter() {
+            // SAFETY: a gate is removed before its output is freed (`set_gate`).
+            unsafe { (*gate.0).store(owner, Ordering::Relaxed) };
+        }
+    }
+
+    /// Registers `gate` (`open`) or removes it: an open gate holds the session thread's
+    /// mark from now on, a closed one 0. The caller holds an [`Exclusive`] proof of this
+    /// home (so `owner` is the caller's own mark or 0), or is dropping the gate's output
+    /// (`open` false). The gate must stay where it is until it is removed.
+    pub(crate) fn set_gate(&self, gate: &AtomicUsize, open: bool) {
+        let mut gates = lock(&self.gates);
+        gates.retain(|g| !ptr::eq(g.0, gate));
+        if open {
+            gates.push(Gate(gate));
+            gate.store(self.owner.load(Ordering::Relaxed), Ordering::Relaxed);
+        } else {
+            gate.store(0, Ordering::Relaxed);
+        }
     }
 
     /// Runs the queued changes (the caller holds the session or the mutex with no
@@ -325,6 +363,7 @@ impl Drop for Session {
         state.session = false;
         // Unowned before the mutex is released: from then on other threads may run
         // changes themselves.
+        self.home.open_gates(0);
         self.home.owner.store(0, Ordering::Relaxed);
         drop(state);
     }

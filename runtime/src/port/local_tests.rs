@@ -236,3 +236,69 @@ fn each_live_thread_has_its_own_mark() {
     marks.dedup();
     assert_eq!(marks.len(), 3, "two live threads had the same mark");
 }
+
+/// The fast path's gate follows the session: open while this thread holds it, shut
+/// when the session ends (a publish then takes the checked path and panics), open again
+/// for the next session.
+#[test]
+fn the_gate_opens_and_shuts_with_the_session() {
+    let (out, inp) = pair(0.0);
+    let home = Arc::new(Home::new());
+    assert!(make_local(&out, &inp, &home));
+    let session = Home::enter(&home);
+    out.publish(1.0);
+    assert_eq!(inp.get(), 1.0);
+    drop(session);
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| out.publish(2.0)));
+    assert!(
+        outcome.is_err(),
+        "a publish after the session ended must panic"
+    );
+    let _session = Home::enter(&home);
+    out.publish(3.0);
+    assert_eq!(inp.get(), 3.0);
+}
+
+/// An output that also feeds a reader on the lock-free path keeps its gate shut: every
+/// publish is checked (another thread still panics) and reaches both readers.
+#[test]
+fn an_output_on_both_paths_is_checked_on_every_publish() {
+    let out = CopyOutputPort::<f64>::new("out");
+    let (near, far) = (
+        CopyInputPort::<f64>::new("near"),
+        CopyInputPort::<f64>::new("far"),
+    );
+    connect(&out, &near, ConnectOptions::default()).unwrap();
+    connect(&out, &far, ConnectOptions::default()).unwrap();
+    let home = Arc::new(Home::new());
+    assert!(make_local(&out, &near, &home));
+    let _session = Home::enter(&home);
+    out.publish(4.0);
+    assert_eq!((near.get(), far.get()), (4.0, 4.0));
+    let from_elsewhere = thread::scope(|s| s.spawn(|| out.publish(5.0)).join());
+    assert!(
+        from_elsewhere.is_err(),
+        "a publish from another thread must panic"
+    );
+    assert_eq!((near.get(), far.get()), (4.0, 4.0));
+}
+
+/// A home outlives its outputs: a dropped output's gate is forgotten, so the next
+/// session does not write to freed memory (Miri checks this test).
+#[test]
+fn a_dropped_output_leaves_no_gate_behind() {
+    let home = Arc::new(Home::new());
+    {
+        let (out, inp) = pair(0.0);
+        assert!(make_local(&out, &inp, &home));
+        let _session = Home::enter(&home);
+        out.publish(1.0);
+    }
+    let session = Home::enter(&home);
+    drop(session);
+    let (out, inp) = pair(0.0);
+    assert!(make_local(&out, &inp, &home));
+    let _session = Home::enter(&home);
+    out.publish(6.0);
+    assert_eq!(inp.get(), 6.0);
+}
