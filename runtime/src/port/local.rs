@@ -11,8 +11,9 @@
 //! most one session at a time. A local cell belongs to one home and is touched only
 //!
 //! * on the thread that holds the home's session (every port access compares the
-//!   home's owner with the calling thread's [`mark`]: two loads and a compare, no atomic
-//!   read-modify-write), or
+//!   calling thread's [`mark`] with the output's gate, which the home keeps equal to
+//!   its owner's mark while the output publishes only locally, or else with the home's
+//!   owner: one load and a compare, no atomic read-modify-write), or
 //! * by an operation holding an [`Exclusive`] proof, which the home hands out only to
 //!   code it runs while it has no session (under its mutex, so ordered with the sessions
 //!   before and after) or on the session's own thread.
@@ -241,7 +242,7 @@ impl Home {
     }
 
     /// Does the calling thread hold this home's session? One load and a compare: the
-    /// check every access to a local cell makes.
+    /// check an access to a local cell makes when the output's gate is shut.
     #[inline(always)]
     pub(crate) fn is_owner(&self) -> bool {
         self.owner.load(Ordering::Relaxed) == mark()
