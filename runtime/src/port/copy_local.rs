@@ -345,7 +345,7 @@ fn share<T: NoUninit + Send + Sync>(proof: &Exclusive<'_>, out: &CopyOutputCore<
         out.cell.store(&value, false);
     }
     out.local.both.store(true, Ordering::Release);
-    if let Some(home) = out.local.home() {
+    if let Some(home) = out.local.keep_home.get() {
         home.set_gate(&out.local.gate, false);
     }
 }

@@ -230,8 +230,9 @@ impl Home {
             "a thread container's cycles run on one thread at a time"
         );
         state.session = true;
-        home.owner.store(mark(), Ordering::Relaxed);
-        home.open_gates(mark());
+        let me = mark();
+        home.owner.store(me, Ordering::Relaxed);
+        home.open_gates(me);
         home.serve(&mut state);
         drop(state);
         Session {
