@@ -12,6 +12,7 @@ use super::catalogue::{Catalogue, Component};
 use super::checkout::Checkout;
 use super::finstructable::{Edge, Element, Finstructable};
 use super::text::ident_of;
+use ferroc_syntax::escape;
 use std::collections::BTreeSet;
 use std::fmt::Write;
 
@@ -48,13 +49,6 @@ struct Ctx<'a> {
     config_ref: &'a dyn Fn(&super::config::ConfigFile) -> String,
     libraries: BTreeSet<String>,
     notes: Vec<String>,
-}
-
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 /// Imports `doc` (a `.finroc` application).
@@ -124,7 +118,7 @@ pub fn import(
     let _ = writeln!(
         o,
         "<application name=\"{app}\" version=\"1\" profile=\"finroc\" doc=\"{}\">",
-        xml_escape(&facts.join("; "))
+        escape::attr(&facts.join("; "))
     );
     for lib in &ctx.libraries {
         let _ = writeln!(o, "  <use library=\"{lib}\" manifest=\"{lib}.lib.xml\"/>");
@@ -319,7 +313,7 @@ fn body(node: &Node<'_>, level: usize, o: &mut String) {
         }
     }
     for c in &node.comments {
-        let _ = writeln!(o, "{pad}<!-- {} -->", xml_escape(c).replace("--", "- -"));
+        let _ = writeln!(o, "{pad}<!-- {} -->", escape::text(c).replace("--", "- -"));
     }
     for child in &node.children {
         match child.kind {
@@ -339,12 +333,12 @@ fn body(node: &Node<'_>, level: usize, o: &mut String) {
                     for (name, config, cmdline) in &child.params {
                         let cmd = cmdline
                             .as_ref()
-                            .map(|c| format!(" cmdline=\"{}\"", xml_escape(c)))
+                            .map(|c| format!(" cmdline=\"{}\"", escape::attr(c)))
                             .unwrap_or_default();
                         let _ = writeln!(
                             o,
                             "{pad}  <param name=\"{name}\" config=\"{}\"{cmd}/>",
-                            xml_escape(config)
+                            escape::attr(config)
                         );
                     }
                     let _ = writeln!(o, "{pad}</module>");
@@ -369,7 +363,7 @@ fn body(node: &Node<'_>, level: usize, o: &mut String) {
 
 /// `FINROC: library/type: element name`, which `export finroc` reads back.
 pub fn finroc_doc(c: &Component, name: &str) -> String {
-    xml_escape(&format!("FINROC: {}/{}: {name}", c.library, c.name))
+    escape::attr(&format!("FINROC: {}/{}: {name}", c.library, c.name)).into_owned()
 }
 
 fn ports_type(_c: &Component, p: &super::catalogue::Port) -> String {

@@ -1,5 +1,5 @@
 //! Writes a [`Finstructable`] as FINROC's `tFinstructable::SaveXml` does (17.03): two
-//! spaces per level, attributes in FINROC's order, `<`, `>`, `&`, `"` escaped,
+//! spaces per level, attributes in FINROC's order, text escaped by `ferroc_syntax::escape`,
 //! version-1703 edge paths percent-encoded, `<parameter_links>` children sorted by name
 //! with parameters first. A file FINROC wrote and nobody changed comes back byte for
 //! byte (FINROC's own runtime_construction test checks the same of its writer).
@@ -7,26 +7,13 @@
 
 use super::finstructable::*;
 use super::text::percent_encode;
+use ferroc_syntax::escape;
 use std::collections::BTreeMap;
-
-fn esc(s: &str) -> String {
-    let mut o = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '<' => o.push_str("&lt;"),
-            '>' => o.push_str("&gt;"),
-            '&' => o.push_str("&amp;"),
-            '"' => o.push_str("&quot;"),
-            _ => o.push(c),
-        }
-    }
-    o
-}
 
 /// `name="value"` pairs.
 fn attrs(list: &[(&str, String)]) -> String {
     list.iter()
-        .map(|(n, v)| format!(" {n}=\"{}\"", esc(v)))
+        .map(|(n, v)| format!(" {n}=\"{}\"", escape::attr(v)))
         .collect()
 }
 
@@ -129,7 +116,7 @@ fn params(tag: &str, list: &[StaticParam], level: usize, o: &mut String) {
                 "{}<parameter{}>{}</parameter>\n",
                 pad(level + 1),
                 attrs(&a),
-                esc(&p.value.text)
+                escape::text(&p.value.text)
             ));
         }
     }
@@ -208,7 +195,7 @@ fn edge(e: &Edge, encoded: bool, o: &mut String) {
         o.push_str(&format!(
             "    <parameter{}>{}</parameter>\n",
             attrs(&[("name", n.text.clone())]),
-            esc(&v.text)
+            escape::text(&v.text)
         ));
     }
     o.push_str("  </edge>\n");

@@ -4,22 +4,7 @@
 use super::ModelReport;
 use ferroc_diagnostics::check::CheckInfo;
 use ferroc_diagnostics::diagnostic::Severity;
-
-fn escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c if (c as u32) < 0x20 && !matches!(c, '\n' | '\r' | '\t') => out.push('?'),
-            c => out.push(c),
-        }
-    }
-    out
-}
+use ferroc_syntax::escape;
 
 /// `tool_errors` (models ferroc could not check, exit code 2) each become a failing
 /// test case of their own suite, so that a CI reading only the JUnit file sees the
@@ -58,7 +43,7 @@ pub fn document(
                 "    <testcase classname=\"ferroc\" name=\"check could run\">\n      \
                  <failure message=\"ferroc could not check\" type=\"tool-error\">{}</failure>\n    \
                  </testcase>\n",
-                escape(e)
+                escape::attr(e)
             ));
         }
         out.push_str("  </testsuite>\n");
@@ -75,7 +60,7 @@ pub fn document(
             .count();
         out.push_str(&format!(
             "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{fails}\">\n",
-            escape(path),
+            escape::attr(path),
             checks.len()
         ));
         for check in checks {
@@ -99,8 +84,8 @@ pub fn document(
             let name = format!("{} {}", check.code, check.name);
             out.push_str(&format!(
                 "    <testcase classname=\"{}\" name=\"{}\"",
-                escape(path),
-                escape(&name)
+                escape::attr(path),
+                escape::attr(&name)
             ));
             if found.is_empty() {
                 out.push_str("/>\n");
@@ -116,12 +101,12 @@ pub fn document(
                     "      <failure message=\"{} error(s)\" type=\"{}\">{}</failure>\n",
                     errors,
                     check.code,
-                    escape(&lines.join("\n"))
+                    escape::attr(&lines.join("\n"))
                 ));
             } else {
                 out.push_str(&format!(
                     "      <system-out>{}</system-out>\n",
-                    escape(&lines.join("\n"))
+                    escape::attr(&lines.join("\n"))
                 ));
             }
             out.push_str("    </testcase>\n");

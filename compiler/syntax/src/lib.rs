@@ -4,6 +4,7 @@
 #![forbid(unsafe_code)]
 
 pub mod checks;
+pub mod escape;
 mod name;
 pub mod validate;
 pub mod vocabulary;

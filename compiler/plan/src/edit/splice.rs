@@ -90,18 +90,3 @@ pub(super) fn remove_spans(text: &str, mut spans: Vec<(usize, usize)>) -> String
     }
     new
 }
-
-/// An attribute value, escaped.
-pub(super) fn attr(v: &str) -> String {
-    v.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('"', "&quot;")
-        .replace('>', "&gt;")
-}
-
-/// Element text, escaped (a `>` may stay: `in/0 -> out` reads as written).
-pub(super) fn content(v: &str) -> String {
-    v.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace("]]>", "]]&gt;")
-}

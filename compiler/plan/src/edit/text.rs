@@ -3,9 +3,10 @@
 //! siblings, removing an element with its line. Everything not touched keeps its
 //! bytes: comments, layout, attribute order.
 
-use super::splice::{attr, content, indent_at, insert_child, remove_spans, start_tag_end};
+use super::splice::{indent_at, insert_child, remove_spans, start_tag_end};
 use super::{Edited, Op, PortGroup};
 use ferroc_diagnostics::source::FileId;
+use ferroc_syntax::escape::{attr, text as content};
 use ferroc_syntax::xml::{self, Element};
 
 /// Elements whose `name` is a step of an element path (and may hold `<connect>`s).
