@@ -15,6 +15,7 @@ pub mod client;
 pub mod config;
 #[cfg(feature = "foxglove")]
 pub mod foxglove;
+pub mod param_value;
 pub mod program;
 pub mod request;
 pub mod server;

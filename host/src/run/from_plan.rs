@@ -10,15 +10,10 @@ use ferroc_runtime::module::Value;
 use ferroc_runtime::port::WaitMode;
 use std::time::Duration;
 
+/// A plan's parameter value as modules receive it: the conversion parameter changes
+/// while running take too (`ferroc_inspect::param_value`).
 pub(crate) fn value(v: &ModelValue) -> Value {
-    match v {
-        ModelValue::Bool(b) => Value::Bool(*b),
-        ModelValue::Int(i) => Value::Int(*i),
-        ModelValue::Float(x) => Value::Float(*x),
-        ModelValue::Str(s) | ModelValue::Opaque(s) => Value::Text(s.clone()),
-        ModelValue::Duration(s) => Value::Duration(Duration::from_secs_f64(s.max(0.0))),
-        ModelValue::List(items) => Value::List(items.iter().map(value).collect()),
-    }
+    ferroc_inspect::param_value::runtime_value(v)
 }
 
 /// Priority and CPU of a planned thread. Model priorities are "higher runs first" like
