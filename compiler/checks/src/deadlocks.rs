@@ -1,8 +1,9 @@
 //! Checks of area deadlocks (D): `reference/deadlocks.md` via [`ferroc_deadlock`].
 //!
 //! The analysis runs once, in the pass registered for D101, and its findings are reported
-//! under the code of the check each belongs to; every other D check's file holds its
-//! identity, explanation and fixtures.
+//! under the code of the check each belongs to. Every D check's file holds its identity,
+//! explanation and fixtures; D104, D109, D111 and D115–D117 also hold the wording of
+//! their findings, which this pass calls.
 
 use crate::PassContext;
 use ferroc_deadlock::render::{seconds, Ctx};
