@@ -57,28 +57,17 @@ pub struct ThreadFlow {
 }
 
 /// `text` with every control character but newline and tab written as an escape
-/// (`\u{1b}`), and the bidirectional overrides too: names and values from a model
-/// (`name="&#27;[31m"`) reach the terminal in messages, and must not drive it or
-/// reorder what it shows. Every message, label and help of a [`Diagnostic`] passes
-/// through here when it is built.
+/// (`\u{1b}`), and the bidirectional overrides too (`ferroc_terminal`, which the
+/// runtime's console uses as well): names and values from a model (`name="&#27;[31m"`)
+/// reach the terminal in messages, and must not drive it or reorder what it shows.
+/// Every message, label and help of a [`Diagnostic`] passes through here when it is
+/// built.
 pub fn escape_controls(text: impl Into<String>) -> String {
     let text = text.into();
-    let unsafe_char = |c: char| {
-        (c.is_control() && c != '\n' && c != '\t')
-            || matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
-    };
-    if !text.chars().any(unsafe_char) {
-        return text;
+    match ferroc_terminal::escape_controls(&text) {
+        std::borrow::Cow::Borrowed(_) => text,
+        std::borrow::Cow::Owned(escaped) => escaped,
     }
-    let mut out = String::with_capacity(text.len() + 8);
-    for c in text.chars() {
-        if unsafe_char(c) {
-            out.extend(c.escape_unicode());
-        } else {
-            out.push(c);
-        }
-    }
-    out
 }
 
 impl Diagnostic {
