@@ -102,8 +102,8 @@ fn every_check_fires_and_stays_silent_where_it_should() {
             ));
             continue;
         };
-        let fires = fixtures(&dir, "fires");
-        let silent = fixtures(&dir, "silent");
+        let fires = fixtures(dir, "fires");
+        let silent = fixtures(dir, "silent");
         if fires.is_empty() || silent.is_empty() {
             failures.push(format!(
                 "{}: needs fires*.xml and silent*.xml in {}",
