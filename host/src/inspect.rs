@@ -90,7 +90,7 @@ pub fn parse_param(param: &ParamView, text: &str) -> Result<Value, String> {
     let value = parse_value(text, &ty, unit.as_ref()).map_err(|e| match e {
         ValueError::Syntax(s) | ValueError::WrongDimension(s) => s,
     })?;
-    Ok(crate::run::value(&value))
+    Ok(crate::from_plan::value(&value))
 }
 
 #[cfg(test)]

@@ -83,7 +83,7 @@ pub fn needed_by_model(
 /// package, a folder named after the package next to the manifest, or one in the
 /// `components/` of the checkout ferroc was built from.
 pub fn find(lib: &Library, sources: &SourceMap) -> Result<LibraryCrate, String> {
-    let at = ferroc_host::run::at(sources, lib.name_span);
+    let at = ferroc_host::sources::at(sources, lib.name_span);
     let Some(rust_crate) = lib.rust_crate.clone() else {
         return Err(format!(
             "{at}: error: the library `{}` has no `rust-crate`: ferroc cannot find the Rust code of its module types\n  \

@@ -24,7 +24,7 @@ pub fn run(args: RunArgs) -> ExitCode {
     if let Err(code) = ferroc_host::run::cmdline_params(&args) {
         return code;
     }
-    let result = match ferroc_host::checked::without_errors(&args.model, &args.lib_path) {
+    let result = match ferroc_host::check_first::without_errors(&args.model, &args.lib_path) {
         Ok(r) => r,
         Err(code) => return code,
     };

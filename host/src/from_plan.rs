@@ -1,16 +1,20 @@
-//! The plan's values, thread settings, conversions and links as the runtime's Builder
-//! takes them (the bundle writes the same conversions as source).
+//! A plan's pieces as the runtime's Builder takes them: values, modules' parameters,
+//! queues and port groups, steps, thread settings, conversions and links. Shared by the
+//! start of `ferroc run` (`build.rs`), by structural edits (`edit.rs`), by parameter
+//! changes (`inspect.rs`) and by the bundle, which writes the same as source.
 
 use ferroc_compiler::plan;
+use ferroc_compiler::schedule::StepKind as PlanStep;
 use ferroc_compiler::values::Value as ModelValue;
-use ferroc_runtime::builder::Conversion;
+use ferroc_runtime::builder::{Conversion, StepKind};
 use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::link::{LinkSpec, Sharing};
-use ferroc_runtime::module::Value;
-use ferroc_runtime::port::WaitMode;
+use ferroc_runtime::module::{Direction, PortGroup, Value};
+use ferroc_runtime::port::{OnFull, QueueConfig, WaitMode};
 use std::time::Duration;
 
-pub(crate) fn value(v: &ModelValue) -> Value {
+/// A model value as the runtime's.
+pub fn value(v: &ModelValue) -> Value {
     match v {
         ModelValue::Bool(b) => Value::Bool(*b),
         ModelValue::Int(i) => Value::Int(*i),
@@ -36,7 +40,7 @@ pub fn thread_options(t: &plan::PlannedThread) -> ThreadOptions {
 }
 
 /// What a planned connection does to values (the bundle writes the same as source).
-pub(super) fn conversion(c: &plan::PlannedConnection) -> Conversion {
+pub fn conversion(c: &plan::PlannedConnection) -> Conversion {
     c.select.iter().fold(
         Conversion::linear(c.scale, c.offset),
         |conv, part| match part {
@@ -62,5 +66,48 @@ pub fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
         },
         reliable: link.reliable,
         deadline: link.deadline.map(seconds),
+    }
+}
+
+/// The parameter values of a planned module, as the runtime takes them.
+pub fn params_of(m: &plan::PlannedModule) -> Vec<(String, Value)> {
+    (m.params.iter())
+        .map(|(n, v)| (n.clone(), value(v)))
+        .collect()
+}
+
+/// The input queues of a planned module.
+pub fn queues_of(m: &plan::PlannedModule) -> Vec<(String, QueueConfig)> {
+    (m.queues.iter())
+        .map(|(port, n, policy)| {
+            let on_full = match policy.as_str() {
+                "drop-oldest" => OnFull::DropOldest,
+                "drop-newest" => OnFull::DropNewest,
+                _ => OnFull::Block,
+            };
+            (port.clone(), QueueConfig::new(*n as usize).on_full(on_full))
+        })
+        .collect()
+}
+
+/// The flexible port groups of a planned module.
+pub fn ports_of(m: &plan::PlannedModule) -> Vec<PortGroup<'_>> {
+    (m.ports.iter())
+        .map(|g| {
+            let dir = match g.dir {
+                ferroc_compiler::library::PortDir::In => Direction::In,
+                ferroc_compiler::library::PortDir::Out => Direction::Out,
+            };
+            PortGroup::new(&g.name, dir, &g.ty, g.count)
+        })
+        .collect()
+}
+
+/// The runtime's step kind of a planned step.
+pub fn step_kind(kind: &PlanStep) -> StepKind {
+    match kind {
+        PlanStep::Update => StepKind::Update,
+        PlanStep::Sense => StepKind::Sense,
+        PlanStep::Control => StepKind::Control,
     }
 }
