@@ -157,17 +157,7 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
     // Kept until the run ends: dropping it stops serving.
     let _server = match (&serve, inspection) {
         (Some(serve), Some((catalogue, live))) => {
-            let running_model = crate::edit::Running {
-                model: args.model.clone(),
-                text: model_text(&args.model, &result.sources),
-                lib_path: args.lib_path.clone(),
-                cmdline: cmdline.clone(),
-                plan: plan.clone(),
-                live,
-                off: args.record.as_ref().map(|_| {
-                    "this run records (--record): its recorders are not in the model, so its structure does not change; run without --record to edit".to_string()
-                }),
-            };
+            let running_model = editable(&args, result, &cmdline, &plan, live);
             let started =
                 crate::inspect::start(serve, catalogue, &running, result, &registry, running_model);
             match started {
@@ -185,6 +175,28 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         status_line: !args.quiet && std::io::stderr().is_terminal(),
     };
     supervise::supervise(running, &interrupted, &options)
+}
+
+/// What structural edits of the running application (`--inspect`) start from: its
+/// model text, how it was planned, and its live handle; refused while it records.
+fn editable(
+    args: &RunArgs,
+    result: &CheckResult,
+    cmdline: &[(String, String)],
+    plan: &Plan,
+    live: Live,
+) -> crate::edit::Running {
+    crate::edit::Running {
+        model: args.model.clone(),
+        text: model_text(&args.model, &result.sources),
+        lib_path: args.lib_path.clone(),
+        cmdline: cmdline.to_vec(),
+        plan: plan.clone(),
+        live,
+        off: args.record.as_ref().map(|_| {
+            "this run records (--record): its recorders are not in the model, so its structure does not change; run without --record to edit".to_string()
+        }),
+    }
 }
 
 /// Refuses (exit code 2) a `--param` no parameter of the model is declared with.
