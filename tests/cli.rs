@@ -149,7 +149,7 @@ fn schedule_orders_sense_before_control() {
     // A model with errors is refused with exit code 1.
     let (code, _, err) = ferroc(&[
         "schedule",
-        "compiler/src/checks/connections/t102_incompatible_types/fires.xml",
+        "compiler/model/src/checks/t102_incompatible_types/fires.xml",
     ]);
     assert_eq!(code, 1, "{err}");
 }

@@ -8,10 +8,10 @@
 //! Parts and groups are clusters (an iB2C group says so); thread containers are left out.
 //! Edges run from module to module, through group ports (`schedule::flow`).
 
-use crate::ir::{Application, ElementId, ElementKind, Endpoint};
-use crate::library::module_type::ModuleKind;
-use crate::library::{LibrarySet, PortRole};
-use crate::schedule::data_edges;
+use ferroc_model::ir::{Application, ElementId, ElementKind, Endpoint};
+use ferroc_model::library::module_type::ModuleKind;
+use ferroc_model::library::{LibrarySet, PortRole};
+use ferroc_schedule::data_edges;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 

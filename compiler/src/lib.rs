@@ -1,26 +1,26 @@
 //! ferroc's compiler: parse → resolve → IR → checks → reports.
 //!
 //! The entry point is [`check_model`]: one model file in, its findings (and the IR, when
-//! it could be built) out. See `ARCHITECTURE.md` for the pipeline.
+//! it could be built) out. The pipeline's stages are crates of their own
+//! (`ferroc-diagnostics`, `-values`, `-syntax`, `-model`, `-schedule`, `-deadlock`,
+//! `-checks`, `-finroc`, `-report`, `-plan`); this crate runs them in order, keeps the
+//! registry of every check, and re-exports their modules under the paths they had when
+//! they were one crate (`ferroc_compiler::ir`, `::load`, …). See `ARCHITECTURE.md`.
+
+#![forbid(unsafe_code)]
 
 pub mod checks;
-pub mod deadlock;
-pub mod diagnostic;
-pub mod edit;
-pub mod finroc;
 pub mod graph;
-pub mod ir;
-pub mod library;
-pub mod load;
-pub mod plan;
 pub mod report;
-pub mod resolve;
-pub mod schedule;
-pub mod source;
-pub mod syntax;
-pub mod types;
-pub mod units;
-pub mod values;
+
+pub use ferroc_deadlock as deadlock;
+pub use ferroc_diagnostics::{diagnostic, source};
+pub use ferroc_finroc as finroc;
+pub use ferroc_model::{ir, library, load, load_manifests, resolve, LoadedLibraries};
+pub use ferroc_plan::{edit, plan};
+pub use ferroc_schedule as schedule;
+pub use ferroc_syntax as syntax;
+pub use ferroc_values::{types, units, values};
 
 use diagnostic::{Diagnostic, Diagnostics, Severity};
 use load::{Loader, Options};
@@ -127,8 +127,8 @@ fn check_with(
         // same CPU on either thread).
         drop(model);
         let allows = std::mem::take(&mut loader.allows);
-        let ctx = checks::PassContext::new(&resolved, &libraries, loader.sources);
-        checks::run_passes(&ctx, loader.diags);
+        let ctx = ferroc_checks::PassContext::new(&resolved, &libraries, loader.sources);
+        ferroc_checks::run_passes(&ctx, loader.diags);
         loader.allows = allows;
         app = Some(resolved);
     }
@@ -138,7 +138,7 @@ fn check_with(
         if checks::find(&allow.code).is_none() {
             items.push(
                 Diagnostic::new(
-                    &checks::model::m118_unknown_code_in_allow::CHECK,
+                    &checks::m118_unknown_code_in_allow::CHECK,
                     allow.span,
                     format!("no check has the code `{}`", allow.code),
                 )
@@ -187,48 +187,4 @@ fn check_with(
         libraries,
         not_checked,
     })
-}
-
-/// Library manifests loaded by name, as `<use library>` finds them.
-pub struct LoadedLibraries {
-    pub sources: SourceMap,
-    pub libraries: library::LibrarySet,
-    pub diagnostics: Vec<Diagnostic>,
-}
-
-/// Loads the named libraries (and their dependencies) from the lib path or the
-/// built-ins, without a model: for commands about libraries (`ferroc types`).
-/// Problems are returned as diagnostics; those about a name point into a pseudo-file
-/// `<command line>` holding the names.
-pub fn load_manifests(names: &[String], options: &Options) -> LoadedLibraries {
-    let mut sources = SourceMap::default();
-    let mut diags = Diagnostics::default();
-    let command_line = names.join(" ");
-    let file = sources.add(
-        "<command line>".into(),
-        std::path::PathBuf::new(),
-        command_line,
-    );
-    let mut loader = Loader::new(&mut sources, &mut diags, options);
-    let mut start = 0u32;
-    let requests = names
-        .iter()
-        .map(|name| {
-            let end = start + name.len() as u32;
-            let span = source::Span { file, start, end };
-            start = end + 1;
-            library::LibraryRequest {
-                name: name.clone(),
-                manifest: None,
-                span,
-                from_file: file,
-            }
-        })
-        .collect();
-    let (libraries, _) = library::load_libraries(&mut loader, requests);
-    LoadedLibraries {
-        sources,
-        libraries,
-        diagnostics: diags.items,
-    }
 }

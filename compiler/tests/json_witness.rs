@@ -98,7 +98,7 @@ fn lock_inversion_lists_each_threads_steps_in_order() {
 
 #[test]
 fn findings_without_witness_have_an_empty_list() {
-    let doc = json_of("src/checks/scheduling/s102_period_overrun/fires.xml");
+    let doc = json_of("checks/src/scheduling/s102_period_overrun/fires.xml");
     assert!(!diagnostics(&doc).is_empty());
     for d in diagnostics(&doc) {
         assert_eq!(d["witness"], Value::Array(Vec::new()), "{d:#?}");

@@ -105,7 +105,7 @@ fn call_cycle_flows_name_the_calls_and_findings_without_witness_have_none() {
         assert!(locs[0].2.contains("sync call"), "{locs:#?}");
     }
     // A finding that is not a witness has no codeFlows.
-    let doc = sarif_of("src/checks/scheduling/s102_period_overrun/fires.xml");
+    let doc = sarif_of("checks/src/scheduling/s102_period_overrun/fires.xml");
     for r in results(&doc) {
         assert!(r.get("codeFlows").is_none(), "{r:#?}");
     }

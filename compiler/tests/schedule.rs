@@ -8,7 +8,7 @@ use std::path::Path;
 /// `path (kind) [set]` per step, and the broken edges as `from -> to`, per container.
 fn order_of(model: &str) -> Vec<(String, Vec<String>, Vec<String>)> {
     let dir =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("src/checks/scheduling/s101_data_flow_loop");
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("checks/src/scheduling/s101_data_flow_loop");
     let options = Options {
         builtins: vec![BuiltinLibrary {
             name: "ferroc_std".into(),

@@ -1,7 +1,7 @@
 //! A plan's pieces as the runtime's Builder takes them: values, modules' parameters,
 //! queues and port groups, steps, thread settings, conversions and links. Shared by the
-//! start of `ferroc run` (`build.rs`), by structural edits (`edit.rs`), by parameter
-//! changes (`inspect.rs`) and by the bundle, which writes the same as source.
+//! start of `ferroc run` (`build.rs`), by structural edits (`edit.rs`) and by the
+//! bundle, which writes the same as source.
 
 use ferroc_compiler::plan;
 use ferroc_compiler::schedule::StepKind as PlanStep;
@@ -13,16 +13,10 @@ use ferroc_runtime::module::{Direction, PortGroup, Value};
 use ferroc_runtime::port::{OnFull, QueueConfig, WaitMode};
 use std::time::Duration;
 
-/// A model value as the runtime's.
+/// A plan's parameter value as modules receive it: the conversion parameter changes
+/// while running take too (`ferroc_inspect::param_value`).
 pub fn value(v: &ModelValue) -> Value {
-    match v {
-        ModelValue::Bool(b) => Value::Bool(*b),
-        ModelValue::Int(i) => Value::Int(*i),
-        ModelValue::Float(x) => Value::Float(*x),
-        ModelValue::Str(s) | ModelValue::Opaque(s) => Value::Text(s.clone()),
-        ModelValue::Duration(s) => Value::Duration(Duration::from_secs_f64(s.max(0.0))),
-        ModelValue::List(items) => Value::List(items.iter().map(value).collect()),
-    }
+    ferroc_inspect::param_value::runtime_value(v)
 }
 
 /// Priority and CPU of a planned thread. Model priorities are "higher runs first" like

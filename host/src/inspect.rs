@@ -3,15 +3,10 @@
 //! changes parsed with the model's own value rules (units converted as in a model
 //! file), and a random token for changes printed at start.
 
-use ferroc_compiler::types::parse_type;
-use ferroc_compiler::units::parse_unit;
-use ferroc_compiler::values::{parse_value, ValueError};
 use ferroc_inspect::config;
 use ferroc_inspect::server::{self, Server};
 use ferroc_runtime::builder::Registry;
-use ferroc_runtime::inspect::view::ParamView;
 use ferroc_runtime::inspect::{Catalogue, Inspector};
-use ferroc_runtime::module::Value;
 use std::sync::Arc;
 
 /// Where and how to serve.
@@ -58,7 +53,7 @@ pub fn start(
         serve.app,
         inspector,
         token.clone(),
-        Box::new(parse_param),
+        Box::new(ferroc_inspect::param_value::parse),
         Some(Arc::new(editor)),
     )?;
     if !config::is_local(serve.address) {
@@ -74,67 +69,9 @@ pub fn start(
     Ok(server)
 }
 
-/// A parameter value as text, parsed as a model file's would be: the type's syntax,
-/// a unit converted into the parameter's (or refused if it measures something else).
-pub fn parse_param(param: &ParamView, text: &str) -> Result<Value, String> {
-    let ty = parse_type(&param.r#type, &mut |_| None).map_err(|e| {
-        format!(
-            "parameters of type `{}` cannot be changed here ({e:?})",
-            param.r#type
-        )
-    })?;
-    let unit = match &param.unit {
-        Some(u) => Some(parse_unit(u).map_err(|e| format!("the unit `{u}`: {e}"))?),
-        None => None,
-    };
-    let value = parse_value(text, &ty, unit.as_ref()).map_err(|e| match e {
-        ValueError::Syntax(s) | ValueError::WrongDimension(s) => s,
-    })?;
-    Ok(crate::from_plan::value(&value))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn param(ty: &str, unit: Option<&str>) -> ParamView {
-        ParamView {
-            module: "robot/m".into(),
-            name: "p".into(),
-            r#type: ty.into(),
-            unit: unit.map(Into::into),
-            min: None,
-            max: None,
-            choices: Vec::new(),
-            value: String::new(),
-        }
-    }
-
-    #[test]
-    fn values_are_parsed_and_converted_like_a_models() {
-        let speed = param("f64", Some("m/s"));
-        assert_eq!(parse_param(&speed, "0.3 m/s"), Ok(Value::Float(0.3)));
-        assert_eq!(parse_param(&speed, "0.3"), Ok(Value::Float(0.3)));
-        let Ok(Value::Float(x)) = parse_param(&speed, "36 km/h") else {
-            panic!("km/h converts")
-        };
-        assert!((x - 10.0).abs() < 1e-9);
-        let e = parse_param(&speed, "3 kg").unwrap_err();
-        assert!(e.contains("measures"), "{e}");
-        let e = parse_param(&param("f64", None), "3 m").unwrap_err();
-        assert!(e.contains("has no unit"), "{e}");
-        assert_eq!(parse_param(&param("u32", None), "7"), Ok(Value::Int(7)));
-        assert!(parse_param(&param("u8", None), "300").is_err());
-        assert_eq!(
-            parse_param(&param("duration", None), "250ms"),
-            Ok(Value::Duration(std::time::Duration::from_millis(250)))
-        );
-        assert_eq!(
-            parse_param(&param("bool", None), "true"),
-            Ok(Value::Bool(true))
-        );
-        assert!(parse_param(&param("bool", None), "yes").is_err());
-    }
 
     #[test]
     fn only_loopback_is_served_without_the_public_flag() {

@@ -114,23 +114,10 @@ pub fn toml_content(s: &str) -> String {
     out
 }
 
-/// Text for an XML attribute value or element content.
+/// Text for an XML attribute value or element content: the compiler's one escaper
+/// (`ferroc_compiler::syntax::escape::attr`), which is right in both places.
 pub fn xml(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            '\n' => out.push_str("&#10;"),
-            '\r' => out.push_str("&#13;"),
-            '\t' => out.push_str("&#9;"),
-            c => out.push(c),
-        }
-    }
-    out
+    ferroc_compiler::syntax::escape::attr(s).into_owned()
 }
 
 /// Text safe inside an XML comment (`--` is not allowed there).

@@ -249,22 +249,11 @@ fn verbatim(out: &mut String, e: &Element, sources: &SourceMap, indent: &str) {
     out.push('\n');
 }
 
-/// ` name="value"` with the value escaped for an XML attribute.
+/// ` name="value"` with the value escaped for an XML attribute (the compiler's one
+/// escaper, `ferroc_compiler::syntax::escape`).
 fn attr(out: &mut String, name: &str, value: &str) {
-    let _ = write!(out, " {name}=\"");
-    for c in value.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\n' => out.push_str("&#10;"),
-            '\t' => out.push_str("&#9;"),
-            '\r' => out.push_str("&#13;"),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
+    let value = ferroc_compiler::syntax::escape::attr(value);
+    let _ = write!(out, " {name}=\"{value}\"");
 }
 
 #[cfg(test)]

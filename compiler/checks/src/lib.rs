@@ -1,0 +1,144 @@
+//! The checks that are passes over the resolved application, and their registry
+//! ([`PASSES`]).
+//!
+//! Every check is one file under an area folder holding its code, name, severity,
+//! explanation and logic. Next to the file, a folder of the same name holds its
+//! fixtures: `fires*.xml` (models where it must fire, each with an
+//! `<!-- expect: CODE at LINE:COL -->` comment, or `at FILE:LINE:COL` for a finding in
+//! another file of the fixture folder) and `silent*.xml` (look-alikes where it must stay
+//! silent). Adding a pass means adding one file, one fixture folder, one line in
+//! [`PASSES`] and one in `ferroc_compiler::checks::REGISTRY` (every check's metadata,
+//! for `ferroc explain` and the report formats).
+//!
+//! Checks found while reading files (malformed XML, unknown elements, …) live where they
+//! are raised: `ferroc_syntax::checks`, `ferroc_model::checks`, `ferroc_finroc::checks`.
+//! T102 and P103 are raised there too; their metadata lives in `ferroc_model::checks`
+//! and their passes here. The area modules re-export those, so `model::m108_…` names
+//! every check of area M wherever it lives.
+
+#![forbid(unsafe_code)]
+
+pub use ferroc_diagnostics::check::CheckInfo;
+use ferroc_diagnostics::diagnostic::Diagnostics;
+use ferroc_diagnostics::source::SourceMap;
+use ferroc_model::ir::{Application, Connection, PortView};
+use ferroc_model::library::LibrarySet;
+
+pub mod behaviour;
+pub mod connections;
+pub mod deadlocks;
+pub mod deployment;
+pub mod model;
+pub mod parameters;
+pub mod scheduling;
+
+/// What a pass over the IR sees. Passes never mutate the IR.
+pub struct PassContext<'a> {
+    pub app: &'a Application,
+    pub libraries: &'a LibrarySet,
+    pub sources: &'a SourceMap,
+    /// Both ends of each connection (by index), looked up once for all passes: a dozen
+    /// passes look at every connection, and resolving a port is not free.
+    ends: Vec<Option<(PortView<'a>, PortView<'a>)>>,
+    /// The deadlock analysis model, built on first use: the D checks, S103 (timeouts)
+    /// and S107 (hard waits) all read it, and building it walks every module that can
+    /// wait, which is a noticeable share of checking a large model.
+    deadlock: std::cell::OnceCell<ferroc_deadlock::Model>,
+}
+
+impl<'a> PassContext<'a> {
+    pub fn new(app: &'a Application, libraries: &'a LibrarySet, sources: &'a SourceMap) -> Self {
+        let ends = app
+            .connections
+            .iter()
+            .map(|c| connections::ends(app, libraries, c))
+            .collect();
+        PassContext {
+            app,
+            libraries,
+            sources,
+            ends,
+            deadlock: std::cell::OnceCell::new(),
+        }
+    }
+
+    /// Contexts, locks, queues and wait-states ([`ferroc_deadlock::model`]), built once.
+    pub fn deadlock_model(&self) -> &ferroc_deadlock::Model {
+        self.deadlock
+            .get_or_init(|| ferroc_deadlock::model(self.app, self.libraries))
+    }
+
+    /// The connections whose two ends resolve, with those ends.
+    pub fn connections_with_ends(
+        &self,
+    ) -> impl Iterator<Item = (&'a Connection, &PortView<'a>, &PortView<'a>)> + '_ {
+        self.app
+            .connections
+            .iter()
+            .zip(&self.ends)
+            .filter_map(|(c, e)| e.as_ref().map(|(from, to)| (c, from, to)))
+    }
+}
+
+/// A check's logic: a pass over the resolved application, reporting into `out`.
+pub type Pass = fn(&PassContext<'_>, &mut Diagnostics);
+
+macro_rules! passes {
+    ($($area:ident :: $check:ident => $run:path),* $(,)?) => {
+        /// Every pass with the check it raises (passes may raise others of their area
+        /// too), in code order; [`run_passes`] runs them in this order.
+        pub static PASSES: &[(&CheckInfo, Pass)] = &[$((&$area::$check::CHECK, $run)),*];
+    };
+}
+
+passes![
+    model::m112_module_not_executed => model::m112_module_not_executed::run,
+    connections::t101_wrong_direction => connections::t101_wrong_direction::run,
+    connections::t102_incompatible_types => connections::t102_incompatible_types::run,
+    connections::t103_unit_dimension_mismatch => connections::t103_unit_dimension_mismatch::run,
+    connections::t104_implicit_unit_scale => connections::t104_implicit_unit_scale::run,
+    connections::t105_unit_on_one_end => connections::t105_unit_on_one_end::run,
+    connections::t106_narrowing_without_convert => connections::t106_narrowing_without_convert::run,
+    connections::t107_duplicate_connection => connections::t107_duplicate_connection::run,
+    connections::t108_multiple_writers => connections::t108_multiple_writers::run,
+    connections::t109_required_input_unconnected => connections::t109_required_input_unconnected::run,
+    connections::t110_unused_output => connections::t110_unused_output::run,
+    connections::t111_not_serialisable_across_parts => connections::t111_not_serialisable_across_parts::run,
+    connections::t112_double_scaling => connections::t112_double_scaling::run,
+    connections::t113_invalid_convert => connections::t113_invalid_convert::run,
+    parameters::p101_unknown_parameter => parameters::p101_unknown_parameter::run,
+    parameters::p102_missing_required_parameter => parameters::p102_missing_required_parameter::run,
+    parameters::p103_unparsable_value => parameters::p103_unparsable_value::run,
+    parameters::p107_duplicate_parameter => parameters::p107_duplicate_parameter::run,
+    parameters::p108_invalid_pin_map => parameters::p108_invalid_pin_map::run,
+    parameters::p109_const_value_type => parameters::p109_const_value_type::run,
+    behaviour::b102_meta_input_from_number => behaviour::b102_meta_input_from_number::run,
+    behaviour::b103_never_stimulated => behaviour::b103_never_stimulated::run,
+    behaviour::b104_stimulation_ignored => behaviour::b104_stimulation_ignored::run,
+    behaviour::b105_inhibition_sources => behaviour::b105_inhibition_sources::run,
+    behaviour::b106_self_inhibition => behaviour::b106_self_inhibition::run,
+    behaviour::b107_stimulation_loop => behaviour::b107_stimulation_loop::run,
+    behaviour::b108_incomplete_fusion_channel => behaviour::b108_incomplete_fusion_channel::run,
+    behaviour::b109_mixed_fusion_channel => behaviour::b109_mixed_fusion_channel::run,
+    behaviour::b110_characteristic_behaviours => behaviour::b110_characteristic_behaviours::run,
+    deadlocks::d101_call_cycle => deadlocks::run,
+    scheduling::s101_data_flow_loop => scheduling::s101_data_flow_loop::run,
+    scheduling::s102_period_overrun => scheduling::s102_period_overrun::run,
+    scheduling::s103_high_utilisation => scheduling::s103_high_utilisation::run,
+    scheduling::s104_host_overload => scheduling::s104_host_overload::run,
+    scheduling::s105_flow_latency => scheduling::s105_flow_latency::run,
+    scheduling::s106_flow_not_connected => scheduling::s106_flow_not_connected::run,
+    scheduling::s107_priority_inversion => scheduling::s107_priority_inversion::run,
+    deployment::x101_part_without_threads => deployment::x101_part_without_threads::run,
+    deployment::x102_invalid_host_label => deployment::x102_invalid_host_label::run,
+    deployment::x103_host_label_conflict => deployment::x103_host_label_conflict::run,
+    deployment::x104_pointless_connection_settings => deployment::x104_pointless_connection_settings::run,
+    deployment::x105_bundle_output_collision => deployment::x105_bundle_output_collision::run,
+];
+
+/// Runs every pass.
+pub fn run_passes(ctx: &PassContext<'_>, out: &mut Diagnostics) {
+    for (_, pass) in PASSES {
+        pass(ctx, out);
+    }
+}

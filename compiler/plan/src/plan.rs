@@ -1,0 +1,500 @@
+//! The run plan: a checked model reduced to what a runtime needs to build it.
+//!
+//! `ferroc run` turns the plan into runtime `Builder` calls, and `ferroc bundle` writes
+//! the same calls as Rust source, so both start the same application. The plan has
+//! module instances with parsed parameter values, module-to-module connections with
+//! group ports flattened away and unit scales folded into one conversion, and each
+//! thread container's step order from the scheduling pass.
+
+mod links;
+mod local;
+mod ports;
+
+pub use ferroc_model::ir::Wait;
+pub use links::{LinkSharing, PlannedCallLink, PlannedLink};
+
+use ferroc_diagnostics::source::Span;
+use ferroc_model::ir::{Application, ElementId, ElementKind, Endpoint, ParamSource, PortView};
+use ferroc_model::library::{LibrarySet, PortDir, PortRole};
+use ferroc_schedule::{self as schedule, call_edges, data_edges, DataEdge, StepKind};
+use ferroc_values::units::{relate, Unit, UnitRelation};
+use ferroc_values::values::{parse_value, Value, ValueError};
+
+/// One module instance.
+#[derive(Clone, Debug)]
+pub struct PlannedModule {
+    pub element: ElementId,
+    /// Element path, unique in the application (`robot/control/controller`).
+    pub path: String,
+    /// Qualified type name (`crash_course.Controller`).
+    pub type_name: String,
+    /// Rust path of the implementing type, from the manifest.
+    pub rust: String,
+    /// Values the model gives, parsed and converted into the declared unit.
+    pub params: Vec<(String, Value)>,
+    /// Inputs connected with `queue=N`: port, capacity, `on-full` policy.
+    pub queues: Vec<(String, u32, String)>,
+    /// The instance's flexible port groups (`<port name dir type count>`), in model
+    /// order; empty for module types with a fixed interface.
+    pub ports: Vec<PlannedPortGroup>,
+    /// What a behaviour does on an iB2C principle violation (`warn`, `clamp`, `stop`):
+    /// the module's `ib2c-violations`, else the application's, else `warn`.
+    pub ib2c_violations: String,
+    pub span: Span,
+}
+
+/// One `<port name dir type count>` of a flexible module instance: the runtime creates
+/// its ports (`name/0` … or just `name`) from the value type the model names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedPortGroup {
+    pub name: String,
+    pub dir: PortDir,
+    /// The model type (`f64`, `warehouse.RobotStatus`): the runtime's value-table key.
+    pub ty: String,
+    /// `None`: the single port `name`; `Some(n)`: `name/0` … `name/{n-1}`.
+    pub count: Option<u32>,
+    /// The declared unit, as written (`mm/s`).
+    pub unit: Option<String>,
+    /// For a library type: its library and Rust path (a bundle registers the type).
+    pub library: Option<String>,
+    pub rust: Option<String>,
+    /// For a library type: declared `serde="true"` (a bundle registers it with serde, so
+    /// that recording, replaying and constant modules can encode its values).
+    pub serde: bool,
+}
+
+/// One module output feeding one module input.
+#[derive(Clone, Debug)]
+pub struct PlannedConnection {
+    pub from: (String, String),
+    pub to: (String, String),
+    /// Parts taken out of each value first, outermost first (`port[i]`,
+    /// `<convert field|index>`).
+    pub select: Vec<Part>,
+    /// Then `to = part · scale + offset` (unit scales and `<convert>` steps combined).
+    pub scale: f64,
+    pub offset: f64,
+    /// Set when the connection joins two parts: it travels as a link.
+    pub link: Option<PlannedLink>,
+    /// The writer and the reader run in one thread container: the runtime keeps the
+    /// value in a cell only that container's thread touches (`ConnectOptions::local`).
+    pub local: bool,
+    pub span: Span,
+}
+
+/// One step into a value on a connection.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// A struct field (`<convert field="linear"/>`).
+    Field(String),
+    /// A list or array element (`<convert index="2"/>`, `from="scanner/ranges[2]"`).
+    Index(u32),
+}
+
+/// A client calling a service (`<connect from="…/client" to="…/service"/>`).
+#[derive(Clone, Debug)]
+pub struct PlannedCall {
+    /// Module path and client name.
+    pub client: (String, String),
+    /// Module path and service name.
+    pub service: (String, String),
+    /// Set when the client and the service are in different parts.
+    pub link: Option<PlannedCallLink>,
+    pub span: Span,
+}
+
+/// A module output setting a module parameter while running
+/// (`<connect from="…/max_speed" to="…/param/max_speed"/>`).
+#[derive(Clone, Debug)]
+pub struct PlannedParamLink {
+    /// Module path and output name.
+    pub from: (String, String),
+    /// Module path and parameter name.
+    pub to: (String, String),
+    /// Unit scale from the port's unit to the parameter's.
+    pub scale: f64,
+    /// Set when the output and the parameter are in different parts (numbered after
+    /// the data links).
+    pub link: Option<PlannedLink>,
+    pub span: Span,
+}
+
+/// One thread container.
+#[derive(Clone, Debug)]
+pub struct PlannedThread {
+    pub path: String,
+    /// Seconds; `None` for data-triggered and continuous containers.
+    pub period: Option<f64>,
+    /// Cycles back to back (`trigger="continuous"`).
+    pub continuous: bool,
+    /// How a data-triggered container waits for data (`wait=`).
+    pub wait: Wait,
+    /// `priority=`: higher runs first (the runtime asks the OS for it).
+    pub priority: Option<u32>,
+    /// `cpu=`: the core the thread is pinned to.
+    pub cpu: Option<u32>,
+    /// Module path and step, in execution order.
+    pub steps: Vec<(String, StepKind)>,
+}
+
+/// Everything needed to build the application.
+#[derive(Clone, Debug, Default)]
+pub struct Plan {
+    pub modules: Vec<PlannedModule>,
+    pub connections: Vec<PlannedConnection>,
+    pub calls: Vec<PlannedCall>,
+    pub param_links: Vec<PlannedParamLink>,
+    pub threads: Vec<PlannedThread>,
+    pub locks: PlannedLocks,
+}
+
+/// Application resources, the model's lock-slot bindings, and the nesting orders the
+/// module types declare, translated to resource names (the runtime validates every
+/// acquisition against them).
+#[derive(Clone, Debug, Default)]
+pub struct PlannedLocks {
+    /// `<resource>`s: name, level, recursive.
+    pub resources: Vec<(String, Option<u32>, bool)>,
+    /// `<bind lock resource>`: module path, slot, resource.
+    pub binds: Vec<(String, String, String)>,
+    /// Resource `first` is taken before `second`; the text says who declares it.
+    pub orders: Vec<(String, String, String)>,
+}
+
+/// Something a checked model uses that the runtime cannot realise yet.
+#[derive(Clone, Debug)]
+pub struct Unsupported {
+    pub what: String,
+    pub span: Span,
+}
+
+/// Builds the plan of a model that checked without errors. `cmdline` holds values
+/// given at start-up (`--param name=value`) for parameters declared `cmdline=`.
+/// The plan is complete only when the list of unsupported things is empty.
+pub fn plan(
+    app: &Application,
+    libs: &LibrarySet,
+    cmdline: &[(String, String)],
+) -> (Plan, Vec<Unsupported>) {
+    let mut problems = Vec::new();
+    let mut plan = Plan::default();
+    let mut paths = vec![String::new(); app.elements.len()];
+    for (id, m) in app.modules() {
+        let ty = &libs.get(m.library).module_types[m.type_index];
+        paths[id.0 as usize] = app.path(id);
+        let mut params = Vec::new();
+        for p in &m.params {
+            let Some(decl) = ty.param(&p.name) else {
+                continue;
+            };
+            // A command-line value overrides the inline or config value (as in FINROC).
+            let given = p.from_cmdline(cmdline);
+            let text = match (given, &p.source) {
+                (Some(v), _) => v.to_string(),
+                (None, ParamSource::Cmdline) => {
+                    let flag = p.cmdline.as_ref().map_or(p.name.as_str(), |(n, _)| n);
+                    problems.push(Unsupported {
+                        what: format!(
+                            "the parameter `{}` of `{}` is given on the command line: pass it with --param {flag}=VALUE",
+                            p.name, paths[id.0 as usize],
+                        ),
+                        span: p.span,
+                    });
+                    continue;
+                }
+                (None, _) => p.text.clone(),
+            };
+            match (
+                parse_value(&text, &decl.ty, decl.unit.as_ref()),
+                given,
+                &p.cmdline,
+            ) {
+                (Ok(v), ..) => params.push((p.name.clone(), v)),
+                // Blame the command line, at the declaration that accepts it (not the
+                // inline or config value it replaced).
+                (Err(e), Some(v), Some((flag, flag_span))) => problems.push(Unsupported {
+                    what: format!(
+                        "--param {flag}={v}: not a value of the parameter `{}` of `{}`: {}",
+                        p.name,
+                        paths[id.0 as usize],
+                        match e {
+                            ValueError::Syntax(why) | ValueError::WrongDimension(why) => why,
+                        }
+                    ),
+                    span: *flag_span,
+                }),
+                // The checker reported it already (P103/P105); nothing to run.
+                (Err(_), ..) => problems.push(Unsupported {
+                    what: format!("the value of `{}` does not parse", p.name),
+                    span: p.span,
+                }),
+            }
+        }
+        plan.modules.push(PlannedModule {
+            element: id,
+            path: paths[id.0 as usize].clone(),
+            type_name: ty.qualified.clone(),
+            rust: ty.rust.clone(),
+            params,
+            queues: Vec::new(),
+            ports: ports::port_groups(libs, ty, &m.extra_ports),
+            ib2c_violations: m
+                .ib2c_violations()
+                .or(app.ib2c_violations.as_deref())
+                .unwrap_or("warn")
+                .to_string(),
+            span: app.element(id).span,
+        });
+    }
+    let module_index: hashbrown::HashMap<ElementId, usize> = plan
+        .modules
+        .iter()
+        .enumerate()
+        .map(|(i, m)| (m.element, i))
+        .collect();
+    for (edge, from, to) in module_edges(app, libs) {
+        if from.role == PortRole::Client {
+            let response = libs
+                .module_type(&plan.modules[module_index[&edge.from_module]].type_name)
+                .and_then(|(_, ty)| ty.clients.iter().find(|c| c.name == from.name))
+                .and_then(|c| c.response.clone());
+            let id = plan.calls.iter().filter(|c| c.link.is_some()).count() as u32;
+            let link = links::call_link_of(app, &edge, from.ty, response, id);
+            plan.calls.push(PlannedCall {
+                link,
+                client: (
+                    paths[edge.from_module.0 as usize].clone(),
+                    from.name.to_string(),
+                ),
+                service: (
+                    paths[edge.to_module.0 as usize].clone(),
+                    to.name.to_string(),
+                ),
+                span: edge
+                    .hops
+                    .last()
+                    .map_or(app.element(edge.to_module).span, |&h| {
+                        app.connections[h].span
+                    }),
+            });
+            continue;
+        }
+        // A field carries its own unit: the scale is computed from the field's.
+        let (mut ty, mut from_unit) = (from.ty, from.unit);
+        for &hop in &edge.hops {
+            for step in &app.connections[hop].converts {
+                if let Some((field, _)) = &step.field {
+                    if let Some((t, u)) = libs.field_of(ty, field) {
+                        (ty, from_unit) = (t, u);
+                    }
+                }
+            }
+        }
+        let mut scale = unit_scale(from_unit, to.unit);
+        let mut offset = 0.0;
+        let mut select = Vec::new();
+        for &hop in &edge.hops {
+            let c = &app.connections[hop];
+            if let Some(i) = c.from_index {
+                select.push(Part::Index(i));
+            }
+            if c.to_index.is_some() {
+                problems.push(Unsupported {
+                    what: "writing into one element of an input (`to=\"port[i]\"`) is not supported by the runtime yet; \
+                           connect to a module that assembles the list instead"
+                        .into(),
+                    span: c.to_span,
+                });
+            }
+            for step in &c.converts {
+                if let Some((i, _)) = step.index {
+                    select.push(Part::Index(i));
+                }
+                if let Some((f, _)) = &step.field {
+                    select.push(Part::Field(f.clone()));
+                }
+                if let Some((s, _)) = step.scale {
+                    scale *= s;
+                    offset *= s;
+                }
+                if let Some((o, _)) = step.offset {
+                    offset += o;
+                }
+            }
+            if let Some(q) = c.queue {
+                let module = &mut plan.modules[module_index[&edge.to_module]];
+                if !module.queues.iter().any(|(p, ..)| p == to.name) {
+                    let policy = c.on_full_policy().to_string();
+                    module.queues.push((to.name.to_string(), q, policy));
+                }
+            }
+        }
+        let next_link = plan.connections.iter().filter(|c| c.link.is_some()).count() as u32;
+        plan.connections.push(PlannedConnection {
+            from: (
+                paths[edge.from_module.0 as usize].clone(),
+                from.name.to_string(),
+            ),
+            to: (
+                paths[edge.to_module.0 as usize].clone(),
+                to.name.to_string(),
+            ),
+            select,
+            scale,
+            offset,
+            link: links::link_of(app, libs, &edge, to.ty, next_link),
+            local: false,
+            span: edge
+                .hops
+                .last()
+                .map_or(app.element(edge.to_module).span, |&h| {
+                    app.connections[h].span
+                }),
+        });
+    }
+    plan_param_links(app, libs, &paths, &mut plan, &mut problems);
+    for container in schedule::compute(app, libs).containers {
+        let ElementKind::Thread {
+            period,
+            continuous,
+            wait,
+            ..
+        } = app.element(container.thread).kind
+        else {
+            continue;
+        };
+        plan.threads.push(PlannedThread {
+            path: app.path(container.thread),
+            period,
+            continuous,
+            wait,
+            priority: app.timing.priority.get(&container.thread).map(|(p, _)| *p),
+            cpu: app.timing.cpu.get(&container.thread).map(|(c, _)| *c),
+            steps: container
+                .steps
+                .iter()
+                .map(|s| (paths[s.module.0 as usize].clone(), s.kind))
+                .collect(),
+        });
+    }
+    local::mark_local(&mut plan);
+    plan.locks = plan_locks(app, libs, &paths);
+    (plan, problems)
+}
+
+/// Every edge from a module output to a module input (group ports flattened), with
+/// the views of both ends: what becomes one runtime connection (a data connection, or
+/// a client calling a service). The plan and the bundle's resolved model both list
+/// connections this way.
+pub fn module_edges<'a>(
+    app: &'a Application,
+    libs: &'a LibrarySet,
+) -> impl Iterator<Item = (DataEdge, PortView<'a>, PortView<'a>)> + 'a {
+    let edges = data_edges(app, libs)
+        .into_iter()
+        .chain(call_edges(app, libs));
+    edges.filter_map(move |edge| {
+        let (&first, &last) = (edge.hops.first()?, edge.hops.last()?);
+        let from = app.view(libs, app.connections[first].from)?;
+        let to = app.view(libs, app.connections[last].to)?;
+        (from.dir == PortDir::Out && to.dir == PortDir::In).then_some((edge, from, to))
+    })
+}
+
+/// The factor from values in unit `from` to unit `to` (1 unless both are given and
+/// differ by a scale; other mismatches are the checker's T10x findings).
+fn unit_scale(from: Option<&Unit>, to: Option<&Unit>) -> f64 {
+    match (from, to) {
+        (Some(a), Some(b)) => match relate(a, b) {
+            UnitRelation::Scaled(f) => f,
+            _ => 1.0,
+        },
+        _ => 1.0,
+    }
+}
+
+/// Connections into module parameters. Only a module output straight into a module's
+/// parameter is realised; through group ports it is refused by name (not ignored).
+fn plan_param_links(
+    app: &Application,
+    libs: &LibrarySet,
+    paths: &[String],
+    plan: &mut Plan,
+    problems: &mut Vec<Unsupported>,
+) {
+    for (hop, c) in app.connections.iter().enumerate() {
+        let Endpoint::Param {
+            element: target, ..
+        } = c.to
+        else {
+            continue;
+        };
+        let (Some(from), Some(to)) = (app.view(libs, c.from), app.view(libs, c.to)) else {
+            continue;
+        };
+        let Endpoint::Port {
+            element: source, ..
+        } = c.from
+        else {
+            problems.push(Unsupported {
+                what:
+                    "a parameter driven through a group port is not supported by the runtime yet; \
+                       connect the module output to the parameter directly"
+                        .into(),
+                span: c.span,
+            });
+            continue;
+        };
+        let scale = unit_scale(from.unit, to.unit);
+        let id = (plan.connections.iter().filter(|c| c.link.is_some()).count()
+            + plan.param_links.iter().filter(|l| l.link.is_some()).count()) as u32;
+        plan.param_links.push(PlannedParamLink {
+            from: (paths[source.0 as usize].clone(), from.name.to_string()),
+            to: (paths[target.0 as usize].clone(), to.name.to_string()),
+            scale,
+            link: links::param_link_of(app, hop, (source, target), id),
+            span: c.span,
+        });
+    }
+}
+
+fn plan_locks(app: &Application, libs: &LibrarySet, paths: &[String]) -> PlannedLocks {
+    let mut locks = PlannedLocks {
+        resources: app
+            .resources
+            .iter()
+            .map(|r| (r.name.clone(), r.level, r.recursive))
+            .collect(),
+        ..PlannedLocks::default()
+    };
+    let mut declared = std::collections::HashSet::new();
+    for (id, m) in app.modules() {
+        let ty = &libs.get(m.library).module_types[m.type_index];
+        let path = &paths[id.0 as usize];
+        for (slot, resource, _) in m.binds() {
+            locks
+                .binds
+                .push((path.clone(), slot.clone(), resource.clone()));
+        }
+        let resource_of = |slot: &String| {
+            m.binds()
+                .iter()
+                .find(|(s, _, _)| s == slot)
+                .map_or(slot.clone(), |(_, r, _)| r.clone())
+        };
+        for sequence in &ty.lock_orders {
+            for pair in sequence.windows(2) {
+                let (a, b) = (resource_of(&pair[0]), resource_of(&pair[1]));
+                if a != b && declared.insert((a.clone(), b.clone())) {
+                    let why = format!(
+                        "<locks order=\"{}\"> of `{}`, as bound in `{path}`",
+                        sequence.join(" "),
+                        ty.qualified
+                    );
+                    locks.orders.push((a, b, why));
+                }
+            }
+        }
+    }
+    locks
+}

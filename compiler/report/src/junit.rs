@@ -1,0 +1,118 @@
+//! `--format junit`: one test suite per model, one test case per check. A check fails on a
+//! model when it reports an error there; warnings and notes are listed as output.
+
+use super::ModelReport;
+use ferroc_diagnostics::check::CheckInfo;
+use ferroc_diagnostics::diagnostic::Severity;
+use ferroc_syntax::escape;
+
+/// `tool_errors` (models ferroc could not check, exit code 2) each become a failing
+/// test case of their own suite, so that a CI reading only the JUnit file sees the
+/// failure (without them it saw `tests="0"`, which passes).
+pub fn document(
+    checks: &[&CheckInfo],
+    models: &[(String, ModelReport<'_>)],
+    tool_errors: &[String],
+) -> String {
+    let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let total = models.len() * checks.len() + tool_errors.len();
+    let failures: usize = models
+        .iter()
+        .map(|(_, r)| {
+            checks
+                .iter()
+                .filter(|c| {
+                    r.diagnostics
+                        .iter()
+                        .any(|d| d.code() == c.code && d.severity == Severity::Error)
+                })
+                .count()
+        })
+        .sum::<usize>()
+        + tool_errors.len();
+    out.push_str(&format!(
+        "<testsuites name=\"ferroc check\" tests=\"{total}\" failures=\"{failures}\">\n"
+    ));
+    if !tool_errors.is_empty() {
+        let n = tool_errors.len();
+        out.push_str(&format!(
+            "  <testsuite name=\"ferroc\" tests=\"{n}\" failures=\"{n}\">\n"
+        ));
+        for e in tool_errors {
+            out.push_str(&format!(
+                "    <testcase classname=\"ferroc\" name=\"check could run\">\n      \
+                 <failure message=\"ferroc could not check\" type=\"tool-error\">{}</failure>\n    \
+                 </testcase>\n",
+                escape::attr(e)
+            ));
+        }
+        out.push_str("  </testsuite>\n");
+    }
+    for (path, report) in models {
+        let fails = checks
+            .iter()
+            .filter(|c| {
+                report
+                    .diagnostics
+                    .iter()
+                    .any(|d| d.code() == c.code && d.severity == Severity::Error)
+            })
+            .count();
+        out.push_str(&format!(
+            "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{fails}\">\n",
+            escape::attr(path),
+            checks.len()
+        ));
+        for check in checks {
+            let found: Vec<_> = report
+                .diagnostics
+                .iter()
+                .filter(|d| d.code() == check.code)
+                .collect();
+            let lines: Vec<String> = found
+                .iter()
+                .map(|d| {
+                    let (f, l, c) = report.sources.location(d.primary.span);
+                    format!(
+                        "{f}:{l}:{c}: {}[{}]: {}",
+                        d.severity.as_str(),
+                        d.code(),
+                        d.message
+                    )
+                })
+                .collect();
+            let name = format!("{} {}", check.code, check.name);
+            out.push_str(&format!(
+                "    <testcase classname=\"{}\" name=\"{}\"",
+                escape::attr(path),
+                escape::attr(&name)
+            ));
+            if found.is_empty() {
+                out.push_str("/>\n");
+                continue;
+            }
+            out.push_str(">\n");
+            let errors = found
+                .iter()
+                .filter(|d| d.severity == Severity::Error)
+                .count();
+            if errors > 0 {
+                out.push_str(&format!(
+                    "      <failure message=\"{} error(s)\" type=\"{}\">{}</failure>\n",
+                    errors,
+                    check.code,
+                    escape::attr(&lines.join("\n"))
+                ));
+            } else {
+                out.push_str(&format!(
+                    "      <system-out>{}</system-out>\n",
+                    escape::attr(&lines.join("\n"))
+                ));
+            }
+            out.push_str("    </testcase>\n");
+        }
+        out.push_str("  </testsuite>\n");
+    }
+    out.push_str("</testsuites>\n");
+    out
+}
