@@ -4,6 +4,7 @@
 use crate::{loader_options, output};
 use clap::ValueEnum;
 use ferroc_compiler::diagnostic::Severity;
+use ferroc_compiler::load::Options;
 use ferroc_compiler::report::{self, ModelReport};
 use ferroc_compiler::{check_model, CheckResult, Policy};
 use std::io::IsTerminal;
@@ -172,23 +173,10 @@ enum ProfileArg {
 }
 
 pub fn run(args: CheckArgs) -> ExitCode {
-    let mut options = loader_options(&args.lib_path, args.allow_outside_includes);
-    options.profile = args.profile.map(|p| match p {
-        ProfileArg::Generic => ferroc_compiler::ir::Profile::Generic,
-        ProfileArg::Finroc => ferroc_compiler::ir::Profile::Finroc,
-    });
-    for code in &args.allow {
-        if ferroc_compiler::checks::find(code).is_none() {
-            eprintln!("error: --allow {code}: no check has this code\nhelp: `ferroc explain --list` shows every code");
-            return ExitCode::from(2);
-        }
-    }
-    let policy = Policy {
-        allow: args.allow.clone(),
-        deny_warnings: !args.deny.is_empty(),
+    let (options, policy) = match options_and_policy(&args) {
+        Ok(o) => o,
+        Err(code) => return code,
     };
-    options.finroc_root = args.finroc_root.clone();
-    options.finroc_prefix = args.finroc_prefix.clone();
     let mut skipped = Vec::new();
     let mut tool_errors = Vec::new();
     let models = match collect_models(&args.paths, &mut skipped) {
@@ -206,19 +194,7 @@ pub fn run(args: CheckArgs) -> ExitCode {
     };
     let progress =
         models.len() > 1 && args.format == Format::Human && std::io::stderr().is_terminal();
-    let mut results: Vec<(String, CheckResult)> = Vec::new();
-    for (i, path) in models.iter().enumerate() {
-        if progress {
-            eprint!("\r[{}/{}] {}\x1b[K", i + 1, models.len(), path.display());
-        }
-        match check_model(path, &options, &policy) {
-            Ok(r) => results.push((path.display().to_string(), r)),
-            Err(e) => tool_errors.push(e),
-        }
-    }
-    if progress {
-        eprint!("\r\x1b[K");
-    }
+    let results = check_all(&models, &options, &policy, progress, &mut tool_errors);
     let reports: Vec<(String, ModelReport<'_>)> = results
         .iter()
         .map(|(p, r)| {
@@ -231,42 +207,147 @@ pub fn run(args: CheckArgs) -> ExitCode {
             )
         })
         .collect();
-    let mut out = String::new();
-    match args.format {
-        Format::Human => {
-            let color = match args.color {
-                ColorChoice::Always => true,
-                ColorChoice::Never => false,
-                ColorChoice::Auto => {
-                    std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none()
-                }
-            };
-            for (_, r) in &reports {
-                report::human::render(r, color, &mut out);
+    let out = match args.format {
+        Format::Human => human(&reports, &results, &skipped, args.color),
+        format => {
+            let out = machine(format, &reports, &tool_errors);
+            // Machine formats keep stdout to themselves; what was skipped goes to stderr.
+            for line in skipped_lines(&skipped, &results) {
+                eprintln!("{line}");
             }
-            let count = |s| {
-                reports
-                    .iter()
-                    .map(|(_, r)| r.diagnostics.iter().filter(|d| d.severity == s).count())
-                    .sum::<usize>()
-            };
-            for (path, why) in &skipped {
-                out.push_str(&format!("skipped {}: {why}\n", path.display()));
-            }
-            for (_, r) in &results {
-                for line in &r.not_checked {
-                    out.push_str(&format!("not checked: {line}\n"));
-                }
-            }
-            out.push_str(&format!(
-                "checked {} file(s), skipped {}: {} error(s), {} warning(s), {} note(s)\n",
-                reports.len(),
-                skipped.len(),
-                count(Severity::Error),
-                count(Severity::Warning),
-                count(Severity::Note)
-            ));
+            out
         }
+    };
+    if let Err(failed) = output::stdout(out.as_bytes()) {
+        return failed; // the report is lost: never exit 0 or 1 as if it was read
+    }
+    for e in &tool_errors {
+        eprintln!("error: {e}");
+    }
+    let code = if !tool_errors.is_empty() {
+        2
+    } else if reports
+        .iter()
+        .any(|(_, r)| r.diagnostics.iter().any(|d| d.severity == Severity::Error))
+    {
+        1
+    } else {
+        0
+    };
+    // The syntax trees and IRs of a large model take a tenth of the run to free, and the
+    // operating system reclaims them at once: exit without running their destructors.
+    // Everything the user sees has been written and flushed above.
+    std::process::exit(code)
+}
+
+/// The loader options and the check policy the arguments ask for, or exit code 2 for
+/// an `--allow` of a code no check has.
+fn options_and_policy(args: &CheckArgs) -> Result<(Options, Policy), ExitCode> {
+    let mut options = loader_options(&args.lib_path, args.allow_outside_includes);
+    options.profile = args.profile.map(|p| match p {
+        ProfileArg::Generic => ferroc_compiler::ir::Profile::Generic,
+        ProfileArg::Finroc => ferroc_compiler::ir::Profile::Finroc,
+    });
+    for code in &args.allow {
+        if ferroc_compiler::checks::find(code).is_none() {
+            eprintln!("error: --allow {code}: no check has this code\nhelp: `ferroc explain --list` shows every code");
+            return Err(ExitCode::from(2));
+        }
+    }
+    let policy = Policy {
+        allow: args.allow.clone(),
+        deny_warnings: !args.deny.is_empty(),
+    };
+    options.finroc_root = args.finroc_root.clone();
+    options.finroc_prefix = args.finroc_prefix.clone();
+    Ok((options, policy))
+}
+
+/// Checks every model in turn (`progress`: counting on standard error); a model that
+/// cannot be checked at all becomes a tool error.
+fn check_all(
+    models: &[PathBuf],
+    options: &Options,
+    policy: &Policy,
+    progress: bool,
+    tool_errors: &mut Vec<String>,
+) -> Vec<(String, CheckResult)> {
+    let mut results = Vec::new();
+    for (i, path) in models.iter().enumerate() {
+        if progress {
+            eprint!("\r[{}/{}] {}\x1b[K", i + 1, models.len(), path.display());
+        }
+        match check_model(path, options, policy) {
+            Ok(r) => results.push((path.display().to_string(), r)),
+            Err(e) => tool_errors.push(e),
+        }
+    }
+    if progress {
+        eprint!("\r\x1b[K");
+    }
+    results
+}
+
+/// The human report: every model's findings, what was skipped or not checked, and
+/// the counts.
+fn human(
+    reports: &[(String, ModelReport<'_>)],
+    results: &[(String, CheckResult)],
+    skipped: &[(PathBuf, String)],
+    color: ColorChoice,
+) -> String {
+    let mut out = String::new();
+    let color = match color {
+        ColorChoice::Always => true,
+        ColorChoice::Never => false,
+        ColorChoice::Auto => {
+            std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none()
+        }
+    };
+    for (_, r) in reports {
+        report::human::render(r, color, &mut out);
+    }
+    let count = |s| {
+        reports
+            .iter()
+            .map(|(_, r)| r.diagnostics.iter().filter(|d| d.severity == s).count())
+            .sum::<usize>()
+    };
+    for line in skipped_lines(skipped, results) {
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out.push_str(&format!(
+        "checked {} file(s), skipped {}: {} error(s), {} warning(s), {} note(s)\n",
+        reports.len(),
+        skipped.len(),
+        count(Severity::Error),
+        count(Severity::Warning),
+        count(Severity::Note)
+    ));
+    out
+}
+
+/// `skipped PATH: WHY` for every file a folder scan passed over, then `not checked:`
+/// for what the checked models left out.
+fn skipped_lines(skipped: &[(PathBuf, String)], results: &[(String, CheckResult)]) -> Vec<String> {
+    let skipped = (skipped.iter()).map(|(path, why)| format!("skipped {}: {why}", path.display()));
+    let not_checked = (results.iter())
+        .flat_map(|(_, r)| &r.not_checked)
+        .map(|line| format!("not checked: {line}"));
+    skipped.chain(not_checked).collect()
+}
+
+/// The report in a machine format (every format but `human`), tool errors included
+/// where the format has a place for them.
+fn machine(
+    format: Format,
+    reports: &[(String, ModelReport<'_>)],
+    tool_errors: &[String],
+) -> String {
+    let mut out = String::new();
+    match format {
+        Format::Human => {}
         Format::Short => reports.iter().for_each(|(_, r)| report::short(r, &mut out)),
         Format::Json => {
             let models = reports
@@ -288,42 +369,12 @@ pub fn run(args: CheckArgs) -> ExitCode {
                 })
                 .collect();
             let mut doc = report::sarif::document(&rs);
-            report::sarif::add_invocation(&mut doc, &tool_errors);
+            report::sarif::add_invocation(&mut doc, tool_errors);
             out = serde_json_pretty(&doc);
         }
-        Format::Junit => out = report::junit::document(&reports, &tool_errors),
+        Format::Junit => out = report::junit::document(reports, tool_errors),
     }
-    if args.format != Format::Human {
-        // Machine formats keep stdout to themselves; what was skipped goes to stderr.
-        for (path, why) in &skipped {
-            eprintln!("skipped {}: {why}", path.display());
-        }
-        for (_, r) in &results {
-            for line in &r.not_checked {
-                eprintln!("not checked: {line}");
-            }
-        }
-    }
-    if let Err(failed) = output::stdout(out.as_bytes()) {
-        return failed; // the report is lost: never exit 0 or 1 as if it was read
-    }
-    for e in &tool_errors {
-        eprintln!("error: {e}");
-    }
-    let code = if !tool_errors.is_empty() {
-        2
-    } else if reports
-        .iter()
-        .any(|(_, r)| r.diagnostics.iter().any(|d| d.severity == Severity::Error))
-    {
-        1
-    } else {
-        0
-    };
-    // The syntax trees and IRs of a large model take a tenth of the run to free, and the
-    // operating system reclaims them at once: exit without running their destructors.
-    // Everything the user sees has been written and flushed above.
-    std::process::exit(code)
+    out
 }
 
 fn serde_json_pretty(v: &serde_json::Value) -> String {

@@ -26,7 +26,7 @@ mod runner;
 mod schedule;
 
 // `run` and `types` live in ferroc_host, shared with the runners ferroc generates.
-pub(crate) use ferroc_host::{checked, output, run, types};
+pub(crate) use ferroc_host::{check_first, from_plan, output, run, types};
 
 /// mimalloc: checking a large model makes millions of small allocations, and glibc's
 /// allocator spent a sixth of the run in malloc/free (measured on B1).

@@ -74,7 +74,7 @@ fn library(name: &str, dir: Option<PathBuf>) -> Result<(), String> {
     let dir = dir.unwrap_or_else(|| PathBuf::from(name));
     empty_or_new(&dir)?;
     let package = name.replace('_', "-");
-    let runtime = crate::runner::program::source_dir().join("runtime");
+    let runtime = crate::runner::source_dir().join("runtime");
     for (file, text) in LIBRARY {
         let file = fill(file, name, &package, &runtime);
         write_new(&dir.join(file), &fill(text, name, &package, &runtime))?;

@@ -16,7 +16,7 @@ pub struct ScheduleArgs {
 }
 
 pub fn run(args: ScheduleArgs) -> ExitCode {
-    let result = match crate::checked::without_errors(&args.model, &args.lib_path) {
+    let result = match crate::check_first::without_errors(&args.model, &args.lib_path) {
         Ok(r) => r,
         Err(code) => return code,
     };

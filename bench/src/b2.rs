@@ -52,27 +52,28 @@ pub fn run(args: &[String]) -> u8 {
         std::mem::size_of::<Matrix>(),
         crate::b3::load_note()
     );
-    let mut runtime = Vec::new();
-    let mut inspected = Vec::new();
-    let mut baseline = Vec::new();
-    let mut local = Vec::new();
-    let mut connected = Vec::new();
-    let mut unconnected = Vec::new();
-    for _ in 0..rounds {
-        for (inspect, times) in [(false, &mut runtime), (true, &mut inspected)] {
-            match ring_in_runtime(cycles, inspect) {
-                Ok(t) => times.push(t),
-                Err(e) => {
-                    eprintln!("b2: the runtime ring could not be built: {e}");
-                    return 1;
-                }
-            }
+    match measure(cycles, rounds) {
+        Ok(times) => {
+            report(&times, cycles, rounds);
+            0
         }
-        baseline.push(hand_written(cycles));
-        local.push(publish_and_read_local(cycles * STAGES as u64));
-        connected.push(publish_and_read(cycles * STAGES as u64, true));
-        unconnected.push(publish_and_read(cycles * STAGES as u64, false));
+        Err(e) => {
+            eprintln!("b2: the runtime ring could not be built: {e}");
+            1
+        }
     }
+}
+
+/// The best and median time per cycle of each variant, the targets, the `RESULT` line.
+fn report(times: &Times, cycles: u64, rounds: u64) {
+    let Times {
+        runtime,
+        inspected,
+        baseline,
+        local,
+        connected,
+        unconnected,
+    } = times;
     let per_cycle = |times: &[Duration], n: u64| {
         let mut ns: Vec<f64> = times
             .iter()
@@ -81,12 +82,12 @@ pub fn run(args: &[String]) -> u8 {
         ns.sort_by(f64::total_cmp);
         (ns[0], ns[ns.len() / 2])
     };
-    let (rt_best, rt_median) = per_cycle(&runtime, cycles);
-    let (insp_best, insp_median) = per_cycle(&inspected, cycles);
-    let (base_best, base_median) = per_cycle(&baseline, cycles);
-    let (local_best, _) = per_cycle(&local, cycles * STAGES as u64);
-    let (pair_best, _) = per_cycle(&connected, cycles * STAGES as u64);
-    let (alone_best, _) = per_cycle(&unconnected, cycles * STAGES as u64);
+    let (rt_best, rt_median) = per_cycle(runtime, cycles);
+    let (insp_best, insp_median) = per_cycle(inspected, cycles);
+    let (base_best, base_median) = per_cycle(baseline, cycles);
+    let (local_best, _) = per_cycle(local, cycles * STAGES as u64);
+    let (pair_best, _) = per_cycle(connected, cycles * STAGES as u64);
+    let (alone_best, _) = per_cycle(unconnected, cycles * STAGES as u64);
     let rate = |ns: f64| 1e3 / ns;
     println!(
         "b2: runtime ring      {rt_best:7.1} ns/cycle ({:6.2} M cycles/s; median {rt_median:.1} ns)",
@@ -128,7 +129,35 @@ pub fn run(args: &[String]) -> u8 {
         mcps * 1e6,
         rate(base_best) * 1e6
     );
-    0
+}
+
+/// The wall times of every round, per variant.
+#[derive(Default)]
+struct Times {
+    runtime: Vec<Duration>,
+    inspected: Vec<Duration>,
+    baseline: Vec<Duration>,
+    local: Vec<Duration>,
+    connected: Vec<Duration>,
+    unconnected: Vec<Duration>,
+}
+
+/// Every variant once a round, `rounds` times; an error if the runtime ring cannot
+/// be built.
+fn measure(cycles: u64, rounds: u64) -> Result<Times, String> {
+    let mut t = Times::default();
+    for _ in 0..rounds {
+        for (inspect, times) in [(false, &mut t.runtime), (true, &mut t.inspected)] {
+            times.push(ring_in_runtime(cycles, inspect)?);
+        }
+        t.baseline.push(hand_written(cycles));
+        t.local.push(publish_and_read_local(cycles * STAGES as u64));
+        t.connected
+            .push(publish_and_read(cycles * STAGES as u64, true));
+        t.unconnected
+            .push(publish_and_read(cycles * STAGES as u64, false));
+    }
+    Ok(t)
 }
 
 /// The five-stage ring built with the Builder, run for `cycles`; the wall time from

@@ -311,24 +311,7 @@ fn once(variant: &str, n: u64, gap: Duration, wait: WaitMode) -> Result<Vec<(u64
     let mut bare = None;
     match variant {
         "ferroc" => app = Some(part(&registry, "writer", &writer, &reader, wait)?),
-        _ => {
-            let s = session("writer", &writer, &reader)?;
-            // The QoS ferroc gives the link, so that only ferroc's own work differs.
-            let qos = Qos::of(&Sending {
-                to_part: LINK.to_part.into(),
-                topic: "writer/source/out".into(),
-                model_type: LINK.model_type.into(),
-                sharing: LINK.sharing,
-                reliable: LINK.reliable,
-            });
-            let p = s
-                .declare_publisher(KEY)
-                .congestion_control(qos.congestion)
-                .express(qos.express)
-                .wait()
-                .map_err(|e| e.to_string())?;
-            bare = Some((s, p));
-        }
+        _ => bare = Some(bare_writer(&writer, &reader)?),
     }
     let stdout = child.stdout.take().ok_or("no output of the reader")?;
     let reading = std::thread::spawn(move || {
@@ -341,6 +324,51 @@ fn once(variant: &str, n: u64, gap: Duration, wait: WaitMode) -> Result<Vec<(u64
             })
             .collect::<Vec<(u64, u64)>>()
     });
+    let publisher = bare.as_ref().map(|(_, p)| p);
+    write_until_read(&mut child, publisher, gap)?;
+    drop(app);
+    drop(bare);
+    let status = child.wait().map_err(|e| e.to_string())?;
+    let samples = reading.join().map_err(|_| "reading the reader failed")?;
+    if !status.success() || samples.len() as u64 != n {
+        return Err(format!(
+            "the reader failed ({status}, {} values)",
+            samples.len()
+        ));
+    }
+    Ok(samples)
+}
+
+/// The bare Zenoh writer: a session and a publisher with the QoS ferroc gives the
+/// link, so that only ferroc's own work differs.
+fn bare_writer(
+    writer: &str,
+    reader: &str,
+) -> Result<(zenoh::Session, zenoh::pubsub::Publisher<'static>), String> {
+    let s = session("writer", writer, reader)?;
+    let qos = Qos::of(&Sending {
+        to_part: LINK.to_part.into(),
+        topic: "writer/source/out".into(),
+        model_type: LINK.model_type.into(),
+        sharing: LINK.sharing,
+        reliable: LINK.reliable,
+    });
+    let p = s
+        .declare_publisher(KEY)
+        .congestion_control(qos.congestion)
+        .express(qos.express)
+        .wait()
+        .map_err(|e| e.to_string())?;
+    Ok((s, p))
+}
+
+/// Until the reader `child` is done (at most 300 s): the bare `publisher` puts a
+/// stamped value every `gap`; ferroc's writer part (no publisher) runs on its own.
+fn write_until_read(
+    child: &mut std::process::Child,
+    publisher: Option<&zenoh::pubsub::Publisher<'static>>,
+    gap: Duration,
+) -> Result<(), String> {
     let mut next = Instant::now();
     let mut seq = 0u64;
     let deadline = Instant::now() + Duration::from_secs(300);
@@ -349,8 +377,8 @@ fn once(variant: &str, n: u64, gap: Duration, wait: WaitMode) -> Result<Vec<(u64
             let _ = child.kill();
             return Err("the reader did not finish".into());
         }
-        match &bare {
-            Some((_, publisher)) => {
+        match publisher {
+            Some(publisher) => {
                 while Instant::now() < next {
                     std::hint::spin_loop();
                 }
@@ -367,17 +395,7 @@ fn once(variant: &str, n: u64, gap: Duration, wait: WaitMode) -> Result<Vec<(u64
             None => std::thread::sleep(Duration::from_millis(5)),
         }
     }
-    drop(app);
-    drop(bare);
-    let status = child.wait().map_err(|e| e.to_string())?;
-    let samples = reading.join().map_err(|_| "reading the reader failed")?;
-    if !status.success() || samples.len() as u64 != n {
-        return Err(format!(
-            "the reader failed ({status}, {} values)",
-            samples.len()
-        ));
-    }
-    Ok(samples)
+    Ok(())
 }
 
 /// p50, p99, max (nearest rank) in microseconds.

@@ -41,36 +41,7 @@ fn measure(cycles: u64, rounds: u64) -> Result<(), String> {
     if !release {
         println!("b5: warning: not a release build; figures are meaningless (use --release)");
     }
-    let bundle = crate::b1::target_dir()
-        .join("bench-models")
-        .join("b5-bundle");
-    let out = Command::new(&ferroc)
-        .current_dir(&workspace)
-        .args(["bundle", MODEL, "--force", "-o"])
-        .arg(&bundle)
-        .output()
-        .map_err(|e| format!("cannot run {}: {e}", ferroc.display()))?;
-    if !out.status.success() {
-        return Err(format!(
-            "ferroc bundle failed:\n{}",
-            String::from_utf8_lossy(&out.stderr)
-        ));
-    }
-    println!(
-        "b5: bundled {MODEL} into {}; building it (release, shared target dir)",
-        bundle.display()
-    );
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let status = Command::new(cargo)
-        .current_dir(&bundle)
-        .env("CARGO_TARGET_DIR", crate::b1::target_dir())
-        .args(["build", "--offline", "--quiet"])
-        .args(if release { &["--release"][..] } else { &[][..] })
-        .status()
-        .map_err(|e| format!("cannot run cargo: {e}"))?;
-    if !status.success() {
-        return Err(format!("building the bundle failed ({status})"));
-    }
+    build_bundle(&ferroc, &workspace, release)?;
     let program: PathBuf = crate::b1::profile_dir().join("control_loop-bench");
     let n = cycles.to_string();
     let mut bundled = Vec::new();
@@ -116,6 +87,42 @@ fn measure(cycles: u64, rounds: u64) -> Result<(), String> {
         rate(b) * 1e6,
         rate(r) * 1e6
     );
+    Ok(())
+}
+
+/// Bundles the model and builds the bundle (in the shared target dir, release if
+/// `release`).
+fn build_bundle(ferroc: &Path, workspace: &Path, release: bool) -> Result<(), String> {
+    let bundle = crate::b1::target_dir()
+        .join("bench-models")
+        .join("b5-bundle");
+    let out = Command::new(ferroc)
+        .current_dir(workspace)
+        .args(["bundle", MODEL, "--force", "-o"])
+        .arg(&bundle)
+        .output()
+        .map_err(|e| format!("cannot run {}: {e}", ferroc.display()))?;
+    if !out.status.success() {
+        return Err(format!(
+            "ferroc bundle failed:\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    println!(
+        "b5: bundled {MODEL} into {}; building it (release, shared target dir)",
+        bundle.display()
+    );
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = Command::new(cargo)
+        .current_dir(&bundle)
+        .env("CARGO_TARGET_DIR", crate::b1::target_dir())
+        .args(["build", "--offline", "--quiet"])
+        .args(if release { &["--release"][..] } else { &[][..] })
+        .status()
+        .map_err(|e| format!("cannot run cargo: {e}"))?;
+    if !status.success() {
+        return Err(format!("building the bundle failed ({status})"));
+    }
     Ok(())
 }
 

@@ -207,7 +207,7 @@ pub fn describe(inspector: &Inspector, plan: &Plan, result: &CheckResult) {
     for m in &plan.modules {
         let origin = Origin {
             part: String::new(),
-            source: Some(crate::run::at(&result.sources, m.span)),
+            source: Some(crate::sources::at(&result.sources, m.span)),
         };
         inspector.set_origin(&m.path, origin);
     }
@@ -225,9 +225,9 @@ fn apply_diff(live: &mut Live, d: &diff::PlanDiff, new: &Plan) -> Result<Vec<Str
     let parts: Vec<_> = (added.iter())
         .map(|m| {
             (
-                crate::run::params_of(m),
-                crate::run::queues_of(m),
-                crate::run::ports_of(m),
+                crate::from_plan::params_of(m),
+                crate::from_plan::queues_of(m),
+                crate::from_plan::ports_of(m),
             )
         })
         .collect();
@@ -249,13 +249,13 @@ fn apply_diff(live: &mut Live, d: &diff::PlanDiff, new: &Plan) -> Result<Vec<Str
         disconnect: d.disconnect.iter().map(ends).collect(),
         connect: d.connect.iter().map(ends).collect(),
         params: (d.params.iter())
-            .map(|(m, n, v)| (m.clone(), n.clone(), crate::run::value(v)))
+            .map(|(m, n, v)| (m.clone(), n.clone(), crate::from_plan::value(v)))
             .collect(),
         threads: (d.threads.iter())
             .map(|&i| {
                 let t = &new.threads[i];
                 let steps = (t.steps.iter())
-                    .map(|(p, k)| (p.clone(), crate::run::step_kind(k)))
+                    .map(|(p, k)| (p.clone(), crate::from_plan::step_kind(k)))
                     .collect();
                 (t.path.clone(), steps)
             })

@@ -9,12 +9,22 @@
 use ferroc_compiler::library::{ModuleKind, ModuleType, PortDir, PortRole, PortType};
 use ferroc_compiler::units::{parse_unit, relate, Unit, UnitRelation};
 use ferroc_compiler::values::parse_duration;
-use ferroc_runtime::module::{Direction, Interface, Kind, PortInfo, Role};
+use ferroc_runtime::module::{Direction, Interface, Kind, PortInfo, Role, ServiceInfo};
 use ferroc_runtime::service::Executes;
 
 /// Every difference, one plain sentence each (empty: they agree).
 pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
     let mut out = Vec::new();
+    kind_differences(manifest, code, &mut out);
+    port_differences(manifest, code, &mut out);
+    flexible_differences(manifest, code, &mut out);
+    param_differences(manifest, code, &mut out);
+    services(manifest, code, &mut out);
+    out
+}
+
+/// The module's kind: plain, sense/control, behaviour, fusion.
+fn kind_differences(manifest: &ModuleType, code: &Interface, out: &mut Vec<String>) {
     let manifest_kind = match manifest.kind {
         ModuleKind::SenseControl => Kind::SenseControl,
         ModuleKind::Behaviour => Kind::Behaviour,
@@ -28,6 +38,11 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
             code.kind.as_str()
         ));
     }
+}
+
+/// Data and meta ports by name: direction, role, type, unit, requirement; the ports a
+/// behaviour has per instance by what its kind implies.
+fn port_differences(manifest: &ModuleType, code: &Interface, out: &mut Vec<String>) {
     for port in &manifest.ports {
         let role = match port.role {
             PortRole::Plain => Role::Plain,
@@ -83,7 +98,7 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
         }
     }
     for c in &code.ports {
-        if manifest.port(&c.name).is_none() && !instance_port(manifest, c, &mut out) {
+        if manifest.port(&c.name).is_none() && !instance_port(manifest, c, out) {
             out.push(format!(
                 "the code declares <{} name=\"{}\">, the manifest does not",
                 c.role.element(c.dir),
@@ -91,7 +106,10 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
             ));
         }
     }
-    flexible_differences(manifest, code, &mut out);
+}
+
+/// Parameters by name: type, unit, range, default, choices.
+fn param_differences(manifest: &ModuleType, code: &Interface, out: &mut Vec<String>) {
     for param in &manifest.params {
         let Some(c) = code.param(&param.name) else {
             out.push(format!(
@@ -148,8 +166,6 @@ pub fn differences(manifest: &ModuleType, code: &Interface) -> Vec<String> {
             ));
         }
     }
-    services(manifest, code, &mut out);
-    out
 }
 
 /// `<flexible port dir same-type min-count max-count>` against the groups the code
@@ -205,106 +221,30 @@ fn flexible_differences(manifest: &ModuleType, code: &Interface, out: &mut Vec<S
     }
 }
 
+/// A `<client>` or `<service>` of the manifest, as the code's services are described.
+struct Declared<'m> {
+    name: &'m str,
+    client: bool,
+    request: String,
+    response: Option<String>,
+    executes: Executes,
+    /// Seconds; only for blocking clients.
+    timeout: Option<Option<f64>>,
+}
+
 /// `<client>`s and `<service>`s: side, request and response types, who executes a
 /// service, a blocking client's timeout (the deadlock analysis relies on the last two).
 fn services(manifest: &ModuleType, code: &Interface, out: &mut Vec<String>) {
-    struct Declared<'m> {
-        name: &'m str,
-        client: bool,
-        request: String,
-        response: Option<String>,
-        executes: Executes,
-        /// Seconds; only for blocking clients.
-        timeout: Option<Option<f64>>,
-    }
-    let request = |port: usize| match manifest.ports.get(port).map(|p| &p.ty) {
-        Some(PortType::Fixed(ty)) => ty.to_string(),
-        _ => String::new(),
-    };
-    let declared = manifest
-        .clients
-        .iter()
-        .map(|c| Declared {
-            name: &c.name,
-            client: true,
-            request: request(c.port),
-            response: c.response.as_ref().map(|t| t.to_string()),
-            executes: Executes::Server,
-            timeout: c.blocking.then_some(c.timeout),
-        })
-        .chain(manifest.services.iter().map(|s| Declared {
-            name: &s.name,
-            client: false,
-            request: request(s.port),
-            response: s.response.as_ref().map(|t| t.to_string()),
-            executes: if s.inline {
-                Executes::Caller
-            } else {
-                Executes::Server
-            },
-            timeout: None,
-        }));
-    let element = |client: bool| if client { "client" } else { "service" };
-    for m in declared {
+    for m in declared_services(manifest) {
         let Some(c) = code.service(m.name) else {
             out.push(format!(
                 "the manifest declares <{} name=\"{}\">, the code has no such {0}",
-                element(m.client),
+                side(m.client),
                 m.name
             ));
             continue;
         };
-        let what = element(m.client);
-        if c.client != m.client {
-            out.push(format!(
-                "`{}`: the manifest says <{what}>, the code <{}>",
-                m.name,
-                element(c.client)
-            ));
-            continue;
-        }
-        if !same_type(&m.request, &c.request) {
-            out.push(format!(
-                "{what} `{}`: the manifest says request `{}`, the code `{}`",
-                m.name, m.request, c.request
-            ));
-        }
-        if let Some(response) = &m.response {
-            if !same_type(response, &c.response) {
-                out.push(format!(
-                    "{what} `{}`: the manifest says response `{response}`, the code `{}`",
-                    m.name, c.response
-                ));
-            }
-        }
-        if m.executes != c.executes {
-            let name = |e: Executes| match e {
-                Executes::Server => "server",
-                Executes::Caller => "caller",
-            };
-            out.push(format!(
-                "service `{}`: the manifest says executes=\"{}\", the code `{}`",
-                m.name,
-                name(m.executes),
-                name(c.executes)
-            ));
-        }
-        if let Some(timeout) = m.timeout {
-            let code_timeout = c.timeout.map(|d| d.as_secs_f64());
-            let same = match (timeout, code_timeout) {
-                (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * a.abs().max(1.0),
-                (a, b) => a.is_none() && b.is_none(),
-            };
-            if !same {
-                let text = |t: Option<f64>| t.map_or("none".to_string(), |s| format!("{s}s"));
-                out.push(format!(
-                    "client `{}`: the manifest says timeout `{}`, the code `{}`",
-                    m.name,
-                    text(timeout),
-                    text(code_timeout)
-                ));
-            }
-        }
+        service_differences(&m, c, out);
     }
     for c in &code.services {
         let known = manifest.clients.iter().any(|d| d.name == c.name)
@@ -312,8 +252,101 @@ fn services(manifest: &ModuleType, code: &Interface, out: &mut Vec<String>) {
         if !known {
             out.push(format!(
                 "the code declares <{} name=\"{}\">, the manifest does not",
-                element(c.client),
+                side(c.client),
                 c.name
+            ));
+        }
+    }
+}
+
+/// `client` or `service`.
+fn side(client: bool) -> &'static str {
+    if client {
+        "client"
+    } else {
+        "service"
+    }
+}
+
+/// The manifest's clients, then its services.
+fn declared_services(manifest: &ModuleType) -> Vec<Declared<'_>> {
+    let request = |port: usize| match manifest.ports.get(port).map(|p| &p.ty) {
+        Some(PortType::Fixed(ty)) => ty.to_string(),
+        _ => String::new(),
+    };
+    let clients = manifest.clients.iter().map(|c| Declared {
+        name: &c.name,
+        client: true,
+        request: request(c.port),
+        response: c.response.as_ref().map(|t| t.to_string()),
+        executes: Executes::Server,
+        timeout: c.blocking.then_some(c.timeout),
+    });
+    let services = manifest.services.iter().map(|s| Declared {
+        name: &s.name,
+        client: false,
+        request: request(s.port),
+        response: s.response.as_ref().map(|t| t.to_string()),
+        executes: if s.inline {
+            Executes::Caller
+        } else {
+            Executes::Server
+        },
+        timeout: None,
+    });
+    clients.chain(services).collect()
+}
+
+/// One client or service the manifest and the code both have.
+fn service_differences(m: &Declared<'_>, c: &ServiceInfo, out: &mut Vec<String>) {
+    let what = side(m.client);
+    if c.client != m.client {
+        out.push(format!(
+            "`{}`: the manifest says <{what}>, the code <{}>",
+            m.name,
+            side(c.client)
+        ));
+        return;
+    }
+    if !same_type(&m.request, &c.request) {
+        out.push(format!(
+            "{what} `{}`: the manifest says request `{}`, the code `{}`",
+            m.name, m.request, c.request
+        ));
+    }
+    if let Some(response) = &m.response {
+        if !same_type(response, &c.response) {
+            out.push(format!(
+                "{what} `{}`: the manifest says response `{response}`, the code `{}`",
+                m.name, c.response
+            ));
+        }
+    }
+    if m.executes != c.executes {
+        let name = |e: Executes| match e {
+            Executes::Server => "server",
+            Executes::Caller => "caller",
+        };
+        out.push(format!(
+            "service `{}`: the manifest says executes=\"{}\", the code `{}`",
+            m.name,
+            name(m.executes),
+            name(c.executes)
+        ));
+    }
+    if let Some(timeout) = m.timeout {
+        let code_timeout = c.timeout.map(|d| d.as_secs_f64());
+        let same = match (timeout, code_timeout) {
+            (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * a.abs().max(1.0),
+            (a, b) => a.is_none() && b.is_none(),
+        };
+        if !same {
+            let text = |t: Option<f64>| t.map_or("none".to_string(), |s| format!("{s}s"));
+            out.push(format!(
+                "client `{}`: the manifest says timeout `{}`, the code `{}`",
+                m.name,
+                text(timeout),
+                text(code_timeout)
             ));
         }
     }

@@ -1,10 +1,17 @@
-//! Hosting module types: everything between a checked model and a running application
-//! that depends on which module types are linked in.
+//! What depends on which module types are linked in, shared by the `ferroc` CLI and the
+//! runner programs it generates: building a checked model's plan in the runtime
+//! ([`build`]), `ferroc run` ([`run`]) and `ferroc types` ([`types`]).
 //!
 //! The `ferroc` CLI links only the standard library (`ferroc_std`); for a model using
 //! other libraries it generates a small runner program that links exactly their crates
-//! and calls [`main`] with a registry of their types. Both run the same code: the
-//! plan → Builder wiring ([`run::build`]), `run` and `types`.
+//! and calls [`main`] with a registry of their types. Both run the same code.
+//!
+//! Modules: `check_first` (a command checks its model first and stops on errors),
+//! `from_plan` (a plan's pieces as the runtime takes them), `build` (plan → Builder
+//! calls), `run` (the command), `record` (`--log-dir`, `--record`), `inspect` and `edit`
+//! (`--inspect`: serving the inspector, structural edits as model edits), `interface`
+//! (manifest ↔ code comparison), `types` (`ferroc types`), `sources` (spans as
+//! `FILE:LINE:COL`, the model's text), `output` (writing standard output).
 
 use ferroc_compiler::load::{BuiltinLibrary, Options};
 use ferroc_runtime::builder::Registry;
@@ -19,14 +26,16 @@ macro_rules! eprintln {
     };
 }
 
-pub mod checked;
+pub mod build;
+pub mod check_first;
 pub mod edit;
+pub mod from_plan;
 pub mod inspect;
 pub mod interface;
 pub mod output;
 pub mod record;
 pub mod run;
-mod spec;
+pub mod sources;
 pub mod types;
 
 pub use ferroc_runtime;

@@ -1,24 +1,15 @@
 //! `ferroc run`: check a model, build it in the runtime, run it, stop cleanly.
 
-pub use crate::spec::{params_of, ports_of, queues_of, step_kind};
-
-mod from_plan;
+use crate::inspect::Serve;
+use crate::sources::{at, model_text};
+use ferroc_compiler::ir::Application;
 use ferroc_compiler::library::LibrarySet;
 use ferroc_compiler::plan::{self, Plan};
-use ferroc_compiler::report::json::location;
-use ferroc_compiler::source::{SourceMap, Span};
+use ferroc_compiler::source::SourceMap;
 use ferroc_compiler::CheckResult;
-use ferroc_runtime::behaviour::ViolationPolicy;
-use ferroc_runtime::builder::{
-    Builder, Conversion, Lockstep, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,
-    ThreadSpec,
-};
-use ferroc_runtime::link::CallSpec;
-use ferroc_runtime::port::ConnectOptions;
+use ferroc_runtime::builder::{BuildError, Live, Lockstep, Registry, RunningApp, StartOptions};
+use ferroc_runtime::inspect::Catalogue;
 use ferroc_runtime::supervise;
-use from_plan::conversion;
-pub(crate) use from_plan::value;
-pub use from_plan::{link_spec, thread_options};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -115,7 +106,7 @@ pub fn run(args: RunArgs, registry: &Registry) -> ExitCode {
     if let Err(code) = cmdline_params(&args) {
         return code;
     }
-    let result = match crate::checked::without_errors(&args.model, &args.lib_path) {
+    let result = match crate::check_first::without_errors(&args.model, &args.lib_path) {
         Ok(r) => r,
         Err(code) => return code,
     };
@@ -131,55 +122,14 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
     let Some(app) = result.app.as_ref() else {
         return ExitCode::from(1);
     };
-    let accepted: std::collections::BTreeSet<&str> = app
-        .modules()
-        .flat_map(|(_, m)| m.params.iter())
-        .filter_map(|p| p.cmdline.as_ref().map(|(n, _)| n.as_str()))
-        .collect();
-    for (name, _) in &cmdline {
-        if !accepted.contains(name.as_str()) {
-            eprintln!(
-                "error: --param {name}: no parameter of {} is declared with cmdline=\"{name}\"\n  help: {}",
-                args.model.display(),
-                if accepted.is_empty() {
-                    "this model takes no command-line parameters".to_string()
-                } else {
-                    format!("it accepts: {}", accepted.iter().copied().collect::<Vec<_>>().join(", "))
-                }
-            );
-            return ExitCode::from(2);
-        }
+    if let Err(code) = refuse_unknown_params(&args, app, &cmdline) {
+        return code;
     }
-    let (mut plan, unsupported) = plan::plan(app, &result.libraries, &cmdline);
-    for p in &unsupported {
-        eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);
-    }
-    crate::record::configure(app, &plan, args.log_dir.clone());
-    // `--record` adds a recorder type: to a copy, the caller's registry stays as it is.
-    let mut registry = registry.clone();
-    let agree = interfaces_agree(&plan, &registry, &result.libraries, &result.sources);
-    if let Err(lines) = &agree {
-        for line in lines {
-            eprintln!("{line}");
-        }
-    }
-    if !unsupported.is_empty() || agree.is_err() {
-        return ExitCode::from(1);
-    }
-    if let Some(file) = &args.record {
-        let added =
-            crate::record::add_recorders(&mut plan, &mut registry, file, &args.record_filter);
-        if let Err(e) = added {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
-        }
-    }
-    // Before any thread starts, so that a signal never finds the default handler.
-    let interrupted = Arc::new(AtomicBool::new(false));
-    let flag = interrupted.clone();
-    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
-        eprintln!("warning: Ctrl-C will not stop cleanly: {e}");
-    }
+    let (plan, registry) = match plan_with_types(&args, app, result, registry, &cmdline) {
+        Ok(planned) => planned,
+        Err(code) => return code,
+    };
+    let interrupted = interrupt_flag();
     let start = StartOptions {
         limit: args.cycles,
         lockstep: args.lockstep.then(|| Lockstep {
@@ -188,29 +138,16 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         }),
         network: None,
     };
-    let serve = args
-        .inspect
-        .as_deref()
-        .map(|address| crate::inspect::Serve {
-            address,
-            public: args.inspect_public,
-            app: &app.name,
-        });
+    let serve = args.inspect.as_deref().map(|address| Serve {
+        address,
+        public: args.inspect_public,
+        app: &app.name,
+    });
     if let Some(Err(e)) = serve.as_ref().map(crate::inspect::check_address) {
         eprintln!("error: {e}");
         return ExitCode::from(2);
     }
-    let started = wire(&plan, &registry).and_then(|mut builder| match serve {
-        // Inspected: the structure stays changeable while it runs (edits).
-        Some(_) => {
-            let catalogue = builder.inspection();
-            builder
-                .start_live(start)
-                .map(|(app, live)| (app, Some((catalogue, live))))
-        }
-        None => builder.start_with(start).map(|app| (app, None)),
-    });
-    let (app, inspection) = match started {
+    let (running, inspection) = match start_app(&plan, &registry, start, serve.is_some()) {
         Ok(started) => started,
         Err(e) => {
             eprintln!("error: {e}");
@@ -220,18 +157,10 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
     // Kept until the run ends: dropping it stops serving.
     let _server = match (&serve, inspection) {
         (Some(serve), Some((catalogue, live))) => {
-            let running = crate::edit::Running {
-                model: args.model.clone(),
-                text: model_text(&args.model, &result.sources),
-                lib_path: args.lib_path.clone(),
-                cmdline: cmdline.clone(),
-                plan: plan.clone(),
-                live,
-                off: args.record.as_ref().map(|_| {
-                    "this run records (--record): its recorders are not in the model, so its structure does not change; run without --record to edit".to_string()
-                }),
-            };
-            match crate::inspect::start(serve, catalogue, &app, result, &registry, running) {
+            let running_model = editable(&args, result, &cmdline, &plan, live);
+            let started =
+                crate::inspect::start(serve, catalogue, &running, result, &registry, running_model);
+            match started {
                 Ok(server) => Some(server),
                 Err(e) => {
                     eprintln!("error: --inspect: {e}");
@@ -245,27 +174,123 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         duration: args.duration.filter(|_| !args.lockstep),
         status_line: !args.quiet && std::io::stderr().is_terminal(),
     };
-    supervise::supervise(app, &interrupted, &options)
+    supervise::supervise(running, &interrupted, &options)
 }
 
-/// The text of the model file as it was checked.
-fn model_text(model: &std::path::Path, sources: &SourceMap) -> String {
-    let canonical = model.canonicalize().unwrap_or_else(|_| model.to_path_buf());
-    let file = sources
-        .find(&canonical)
-        .unwrap_or(ferroc_compiler::source::FileId(0));
-    sources.get(file).text.clone()
+/// What structural edits of the running application (`--inspect`) start from: its
+/// model text, how it was planned, and its live handle; refused while it records.
+fn editable(
+    args: &RunArgs,
+    result: &CheckResult,
+    cmdline: &[(String, String)],
+    plan: &Plan,
+    live: Live,
+) -> crate::edit::Running {
+    crate::edit::Running {
+        model: args.model.clone(),
+        text: model_text(&args.model, &result.sources),
+        lib_path: args.lib_path.clone(),
+        cmdline: cmdline.to_vec(),
+        plan: plan.clone(),
+        live,
+        off: args.record.as_ref().map(|_| {
+            "this run records (--record): its recorders are not in the model, so its structure does not change; run without --record to edit".to_string()
+        }),
+    }
 }
 
-/// `FILE:LINE:COL` of a span.
-pub fn at(sources: &SourceMap, span: Span) -> String {
-    let l = location(sources, span);
-    format!(
-        "{}:{}:{}",
-        l["file"].as_str().unwrap_or("?"),
-        l["line"],
-        l["column"]
-    )
+/// Refuses (exit code 2) a `--param` no parameter of the model is declared with.
+fn refuse_unknown_params(
+    args: &RunArgs,
+    app: &Application,
+    cmdline: &[(String, String)],
+) -> Result<(), ExitCode> {
+    let accepted: std::collections::BTreeSet<&str> = app
+        .modules()
+        .flat_map(|(_, m)| m.params.iter())
+        .filter_map(|p| p.cmdline.as_ref().map(|(n, _)| n.as_str()))
+        .collect();
+    for (name, _) in cmdline {
+        if !accepted.contains(name.as_str()) {
+            eprintln!(
+                "error: --param {name}: no parameter of {} is declared with cmdline=\"{name}\"\n  help: {}",
+                args.model.display(),
+                if accepted.is_empty() {
+                    "this model takes no command-line parameters".to_string()
+                } else {
+                    format!("it accepts: {}", accepted.iter().copied().collect::<Vec<_>>().join(", "))
+                }
+            );
+            return Err(ExitCode::from(2));
+        }
+    }
+    Ok(())
+}
+
+/// The plan of the model and the registry to build it with: what the runtime cannot
+/// realise and module types whose code differs from their manifests stop the run
+/// (exit code 1); loggers learn `--log-dir`; `--record` adds its recorders to the plan
+/// and their type to a copy of `registry` (the caller's stays as it is).
+fn plan_with_types(
+    args: &RunArgs,
+    app: &Application,
+    result: &CheckResult,
+    registry: &Registry,
+    cmdline: &[(String, String)],
+) -> Result<(Plan, Registry), ExitCode> {
+    let (mut plan, unsupported) = plan::plan(app, &result.libraries, cmdline);
+    for p in &unsupported {
+        eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);
+    }
+    crate::record::configure(app, &plan, args.log_dir.clone());
+    let mut registry = registry.clone();
+    let agree = interfaces_agree(&plan, &registry, &result.libraries, &result.sources);
+    if let Err(lines) = &agree {
+        for line in lines {
+            eprintln!("{line}");
+        }
+    }
+    if !unsupported.is_empty() || agree.is_err() {
+        return Err(ExitCode::from(1));
+    }
+    if let Some(file) = &args.record {
+        let added =
+            crate::record::add_recorders(&mut plan, &mut registry, file, &args.record_filter);
+        if let Err(e) = added {
+            eprintln!("error: {e}");
+            return Err(ExitCode::from(2));
+        }
+    }
+    Ok((plan, registry))
+}
+
+/// The flag Ctrl-C and SIGTERM set. Installed before any thread starts, so that a
+/// signal never finds the default handler.
+fn interrupt_flag() -> Arc<AtomicBool> {
+    let interrupted = Arc::new(AtomicBool::new(false));
+    let flag = interrupted.clone();
+    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
+        eprintln!("warning: Ctrl-C will not stop cleanly: {e}");
+    }
+    interrupted
+}
+
+/// Builds and starts the application. `inspected`: its structure stays changeable
+/// while it runs (edits), and its inspection catalogue and live handle come along.
+fn start_app(
+    plan: &Plan,
+    registry: &Registry,
+    start: StartOptions,
+    inspected: bool,
+) -> Result<(RunningApp, Option<(Catalogue, Live)>), BuildError> {
+    let mut builder = crate::build::builder(plan, registry)?;
+    if inspected {
+        let catalogue = builder.inspection();
+        let (app, live) = builder.start_live(start)?;
+        Ok((app, Some((catalogue, live))))
+    } else {
+        builder.start_with(start).map(|app| (app, None))
+    }
 }
 
 /// Refuses to run a module type whose Rust interface differs from its manifest.
@@ -353,121 +378,4 @@ fn not_registered(
             registry.names().collect::<Vec<_>>().join(", ")
         ),
     }
-}
-
-/// The Builder calls for a plan (the bundle writes the same calls as source). Every
-/// part runs in this process; connections between parts still travel as links (their
-/// values encoded, paced by their `sharing=`), as they will between programs.
-pub fn build(
-    plan: &Plan,
-    registry: &Registry,
-    start: StartOptions,
-) -> Result<RunningApp, ferroc_runtime::builder::BuildError> {
-    wire(plan, registry)?.start_with(start)
-}
-
-/// The Builder calls of [`build`] up to the start: every module, connection, call and
-/// thread container declared.
-pub fn wire<'r>(
-    plan: &Plan,
-    registry: &'r Registry,
-) -> Result<Builder<'r>, ferroc_runtime::builder::BuildError> {
-    let mut builder = Builder::new(registry);
-    for m in &plan.modules {
-        let (params, queues, ports) = (params_of(m), queues_of(m), ports_of(m));
-        builder.add_module(ModuleSpec {
-            path: &m.path,
-            type_name: &m.type_name,
-            params: &params,
-            queues: &queues,
-            ports: &ports,
-            violations: ViolationPolicy::parse(&m.ib2c_violations).unwrap_or_default(),
-        })?;
-    }
-    for (name, level, recursive) in &plan.locks.resources {
-        builder.add_resource(name, *level, *recursive)?;
-    }
-    for (path, slot, resource) in &plan.locks.binds {
-        builder.bind_lock(path, slot, resource)?;
-    }
-    for (first, second, why) in &plan.locks.orders {
-        // A slot without <bind> or <resource> names its own resource.
-        for name in [first, second] {
-            if !plan.locks.resources.iter().any(|(r, _, _)| r == name) {
-                let _ = builder.add_resource(name, None, false);
-            }
-        }
-        builder.declare_lock_order(first, second, why)?;
-    }
-    for c in &plan.connections {
-        let (from, to) = (
-            (c.from.0.as_str(), c.from.1.as_str()),
-            (c.to.0.as_str(), c.to.1.as_str()),
-        );
-        match &c.link {
-            None => {
-                let options = ConnectOptions::default().with_local(c.local);
-                builder.connect(from, to, conversion(c), options)?
-            }
-            Some(link) => {
-                let spec = link_spec(link);
-                builder.link_out(&spec, from, conversion(c))?;
-                builder.link_in(&spec, to, ConnectOptions::default())?;
-            }
-        }
-    }
-    for link in &plan.param_links {
-        let (from, to) = (
-            (link.from.0.as_str(), link.from.1.as_str()),
-            (link.to.0.as_str(), link.to.1.as_str()),
-        );
-        let scale = Conversion::linear(link.scale, 0.0);
-        match &link.link {
-            None => builder.connect_param(from, to, scale)?,
-            Some(between) => {
-                let spec = link_spec(between);
-                builder.link_out(&spec, from, scale)?;
-                builder.link_in_param(&spec, to)?;
-            }
-        }
-    }
-    for call in &plan.calls {
-        let (client, service) = (
-            (call.client.0.as_str(), call.client.1.as_str()),
-            (call.service.0.as_str(), call.service.1.as_str()),
-        );
-        match &call.link {
-            // Between parts, as between the bundle's programs; types the libraries
-            // did not register for crossing are called directly (one process).
-            Some(link) if builder.can_call_across(client) => {
-                let service_key = format!("{}/{}", service.0, service.1);
-                let spec = CallSpec {
-                    id: link.id,
-                    client_part: &link.client_part,
-                    server_part: &link.server_part,
-                    service: &service_key,
-                };
-                builder.call_out(&spec, client)?;
-                builder.call_in(&spec, service)?;
-            }
-            _ => builder.connect_service(client, service)?,
-        }
-    }
-    for t in &plan.threads {
-        builder.add_thread(ThreadSpec {
-            path: t.path.clone(),
-            schedule: match (t.period, t.continuous) {
-                (Some(p), _) => Schedule::Periodic(Duration::from_secs_f64(p)),
-                (None, true) => Schedule::Continuous,
-                (None, false) => Schedule::Data,
-            },
-            options: thread_options(t),
-            steps: t
-                .steps
-                .iter()
-                .map(|(path, kind)| (path.clone(), step_kind(kind)))
-                .collect(),
-        })?;
-    }
-    Ok(builder)
 }

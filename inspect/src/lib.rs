@@ -10,6 +10,17 @@
 //!
 //! Nothing is published while nobody asks: every answer is computed when a query
 //! arrives, so an idle inspector costs the application nothing.
+//!
+//! Modules: [`server`] (the queryable a program serves, on its own thread), [`token`]
+//! (the token changes need), [`structure`] (the `edit` and `model` keys, answered by the
+//! runner's `Structure`), [`request`] (the keys and requests), [`config`] (session
+//! configuration: loopback by default, explicit endpoints, no multicast), [`client`]
+//! (what `ferroc inspect` asks with), [`param_value`] (a parameter change's text parsed
+//! as a model file's value would be, shared by `ferroc run` and bundles), [`program`]
+//! (what a bundle's part program calls for `--inspect`), [`web`] (the web page of
+//! `ferroc inspect --serve`: an axum server with the client as its Zenoh peer) and,
+//! behind the feature `foxglove`, `foxglove` (`ferroc inspect --foxglove`: a bridge to
+//! the Foxglove WebSocket protocol).
 
 pub mod client;
 pub mod config;

@@ -7,12 +7,16 @@ use ferroc_compiler::plan::{
     Plan, PlannedCall, PlannedConnection, PlannedModule, PlannedParamLink, PlannedThread,
 };
 use ferroc_compiler::source::Span;
+use ferroc_compiler::types::Type;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use super::text;
 
+pub mod recordable;
+
 /// One part: one program.
+#[derive(Default)]
 pub struct Part<'p> {
     pub name: String,
     pub host: String,
@@ -44,8 +48,8 @@ pub struct Part<'p> {
     pub behaviours: Vec<&'p str>,
     /// Field accessors its connections use, sorted, each once.
     pub fields: Vec<super::fields::FieldAccessor>,
-    /// The outputs `--record` records (`record.rs`).
-    pub recordable: Vec<super::record::RecordedOutput>,
+    /// The outputs `--record` records (`layout/recordable.rs`).
+    pub recordable: Vec<recordable::RecordedOutput>,
 }
 
 impl Part<'_> {
@@ -58,6 +62,13 @@ impl Part<'_> {
             && self.param_links_in.is_empty()
             && self.calls_out.is_empty()
             && self.calls_in.is_empty())
+    }
+
+    /// Adds the library `name` to those the part depends on, once.
+    fn use_library(&mut self, name: &str) {
+        if !self.libraries.iter().any(|l| l == name) {
+            self.libraries.push(name.to_owned());
+        }
     }
 }
 
@@ -100,378 +111,38 @@ pub fn layout<'p>(
     libs: &LibrarySet,
     plan: &'p Plan,
 ) -> Result<Layout<'p>, Vec<Problem>> {
-    let mut problems = Vec::new();
-    let root = &app.elements[0];
-    let application = app.name.clone();
-    if !text::is_rust_ident(&application) {
-        problems.push(Problem {
-            span: app.span,
-            what: format!("the application name `{application}` cannot name a program: use letters, digits and `_` (not a Rust keyword)"),
-        });
-    }
-    let mut parts: Vec<Part<'p>> = Vec::new();
-    for e in &app.elements {
-        let ElementKind::Part { host } = &e.kind else {
-            continue;
-        };
-        let host = host
-            .as_ref()
-            .map_or_else(|| "localhost".to_string(), |(h, _)| h.clone());
-        if !text::is_host(&host) {
-            problems.push(Problem {
-                span: e.span,
-                what: format!("the host `{}` of part `{}` cannot name a launch script: use letters, digits, `-`, `_` and `.`", text::comment(&host), text::comment(&e.name)),
-            });
-        }
-        if !text::is_rust_ident(&e.name) {
-            problems.push(Problem {
-                span: e.name_span,
-                what: format!("the part name `{}` cannot name a program: use letters, digits and `_` (not a Rust keyword)", text::comment(&e.name)),
-            });
-        }
-        let port = u16::try_from(parts.len())
-            .ok()
-            .and_then(|i| BASE_PORT.checked_add(i))
-            .unwrap_or(0);
-        parts.push(Part {
-            package: format!("{application}-{}", e.name),
-            name: e.name.clone(),
-            address: format!("{host}:{port}"),
-            host,
-            modules: Vec::new(),
-            connections: Vec::new(),
-            links_out: Vec::new(),
-            links_in: Vec::new(),
-            param_links_out: Vec::new(),
-            param_links_in: Vec::new(),
-            calls: Vec::new(),
-            calls_out: Vec::new(),
-            calls_in: Vec::new(),
-            call_types: Vec::new(),
-            param_links: Vec::new(),
-            threads: Vec::new(),
-            libraries: Vec::new(),
-            behaviours: Vec::new(),
-            fields: Vec::new(),
-            recordable: Vec::new(),
-        });
-    }
-    let part_names: Vec<String> = parts.iter().map(|p| p.name.clone()).collect();
-    let part_of = |path: &str| -> Option<usize> {
-        let first = path.split('/').next()?;
-        part_names.iter().position(|p| p == first)
+    let mut split = Split {
+        app,
+        libs,
+        parts: Vec::new(),
+        module_part: BTreeMap::new(),
+        problems: Vec::new(),
     };
-    let mut module_part = BTreeMap::new();
-    let mut placed = Vec::new();
-    for m in &plan.modules {
-        for segment in m.path.split('/') {
-            if !text::is_name(segment) {
-                problems.push(Problem {
-                    span: m.span,
-                    what: format!("`{}` is not a valid name", text::comment(segment)),
-                });
-            }
-        }
-        if !text::is_rust_path(&m.rust) {
-            problems.push(Problem {
-                span: m.span,
-                what: format!(
-                    "the module type `{}` names the Rust type `{}`, which is not a Rust path (`crate_name::Type`)",
-                    m.type_name,
-                    text::comment(&m.rust)
-                ),
-            });
-        }
-        for g in &m.ports {
-            if let Some(rust) = g.rust.as_deref().filter(|r| !text::is_rust_path(r)) {
-                problems.push(Problem {
-                    span: m.span,
-                    what: format!(
-                        "the type `{}` of the port group `{}` names the Rust type `{}`, which is not a Rust path (`crate_name::Type`)",
-                        g.ty,
-                        text::comment(&g.name),
-                        text::comment(rust)
-                    ),
-                });
-            }
-        }
-        let Some(p) = part_of(&m.path) else {
-            problems.push(Problem {
-                span: m.span,
-                what: format!("the module `{}` is not inside a part", m.path),
-            });
-            continue;
-        };
-        module_part.insert(m.path.as_str(), p);
-        placed.push((p, m));
-    }
-    for (p, m) in placed {
-        parts[p].modules.push(m);
-        if let Some((lib, ty)) = libs.module_type(&m.type_name) {
-            if ty.is_behaviour() && !parts[p].behaviours.contains(&m.rust.as_str()) {
-                parts[p].behaviours.push(&m.rust);
-            }
-            let name = libs.get(lib).name.clone();
-            if !parts[p].libraries.contains(&name) {
-                parts[p].libraries.push(name);
-            }
-        }
-        // The crates of library value types on flexible ports.
-        for name in m.ports.iter().filter_map(|g| g.library.clone()) {
-            if !parts[p].libraries.contains(&name) {
-                parts[p].libraries.push(name);
-            }
-        }
-    }
-    for c in &plan.connections {
-        for port in [&c.from.1, &c.to.1] {
-            // Instance ports are paths of names and indices: `in/0`, `in/2/activity`.
-            let segment_ok = |s: &str| {
-                text::is_name(s)
-                    || (!s.is_empty() && s.len() <= 10 && s.bytes().all(|b| b.is_ascii_digit()))
-            };
-            if !port.split('/').all(segment_ok) {
-                problems.push(Problem {
-                    span: c.span,
-                    what: format!("`{}` is not a valid port name", text::comment(port)),
-                });
-            }
-        }
-        if let Some(link) = &c.link {
-            let ends = (
-                module_part.get(c.from.0.as_str()),
-                module_part.get(c.to.0.as_str()),
-            );
-            let (Some(&writer), Some(&reader)) = ends else {
-                continue; // an endpoint outside every part was reported above
-            };
-            if let Some(rust) = link.rust.as_deref().filter(|r| !text::is_rust_path(r)) {
-                problems.push(Problem {
-                    span: c.span,
-                    what: format!(
-                        "the type `{}` of this connection names the Rust type `{}`, which is not a Rust path (`crate_name::Type`)",
-                        link.ty,
-                        text::comment(rust)
-                    ),
-                });
-            }
-            // The writer's program converts, so it needs the field accessors.
-            for f in super::fields::accessors(c, &parts[writer].modules, libs) {
-                if let Err(at) = parts[writer].fields.binary_search(&f) {
-                    parts[writer].fields.insert(at, f);
-                }
-            }
-            for p in [writer, reader] {
-                if let Some(name) = link.library.clone() {
-                    if !parts[p].libraries.contains(&name) {
-                        parts[p].libraries.push(name);
-                    }
-                }
-            }
-            parts[writer].links_out.push(c);
-            parts[reader].links_in.push(c);
-            continue;
-        }
-        let what = format!(
-            "connection `{}/{}` → `{}/{}`",
-            c.from.0, c.from.1, c.to.0, c.to.1
+    split.check_application_name();
+    split.add_parts();
+    split.place_modules(&plan.modules);
+    split.place_connections(&plan.connections);
+    split.place_param_links(&plan.param_links);
+    split.place_calls(&plan.calls);
+    split.place_threads(&plan.threads);
+    if split.parts.is_empty() {
+        split.problem(
+            app.elements[0].span,
+            "the application has no part: nothing to bundle".into(),
         );
-        if let Some(p) = one_part(
-            &module_part,
-            &parts,
-            (&c.from.0, &c.to.0),
-            &what,
-            c.span,
-            &mut problems,
-        ) {
-            for f in super::fields::accessors(c, &parts[p].modules, libs) {
-                if let Err(at) = parts[p].fields.binary_search(&f) {
-                    parts[p].fields.insert(at, f);
-                }
-            }
-            parts[p].connections.push(c);
-        }
     }
-    for link in &plan.param_links {
-        if link.link.is_some() {
-            let ends = (
-                module_part.get(link.from.0.as_str()),
-                module_part.get(link.to.0.as_str()),
-            );
-            if let (Some(&writer), Some(&reader)) = ends {
-                parts[writer].param_links_out.push(link);
-                parts[reader].param_links_in.push(link);
-            }
-            continue;
-        }
-        let what = format!(
-            "parameter link `{}/{}` → `{}/param/{}`",
-            link.from.0, link.from.1, link.to.0, link.to.1
-        );
-        let ends = (&link.from.0, &link.to.0);
-        if let Some(p) = one_part(&module_part, &parts, ends, &what, link.span, &mut problems) {
-            parts[p].param_links.push(link);
-        }
+    for part in &mut split.parts {
+        part.recordable = recordable::outputs(app, libs, part);
     }
-    for call in &plan.calls {
-        if let Some(link) = &call.link {
-            let ends = (
-                module_part.get(call.client.0.as_str()),
-                module_part.get(call.service.0.as_str()),
-            );
-            let (Some(&client), Some(&server)) = ends else {
-                continue; // an endpoint outside every part was reported above
-            };
-            let rust = |t: &ferroc_compiler::types::Type| {
-                super::fields::rust_type(libs, t).map(|(r, _)| r)
-            };
-            let types = link
-                .response
-                .as_ref()
-                .and_then(|resp| Some((rust(&link.request)?, rust(resp)?)));
-            let Some((request, response)) = types else {
-                problems.push(Problem {
-                    span: call.span,
-                    what: format!(
-                        "the call `{}/{}` → `{}/{}` crosses between parts, but its client declares no response type the generated code can name: add response=\"TYPE\" to the <client> in its manifest",
-                        call.client.0, call.client.1, call.service.0, call.service.1
-                    ),
-                });
-                continue;
-            };
-            for rust_path in [&request, &response] {
-                if !text::is_rust_type(rust_path) {
-                    problems.push(Problem {
-                        span: call.span,
-                        what: format!(
-                            "the call's type `{}` is not a Rust type",
-                            text::comment(rust_path)
-                        ),
-                    });
-                }
-            }
-            for t in [Some(&link.request), link.response.as_ref()]
-                .into_iter()
-                .flatten()
-            {
-                if let ferroc_compiler::types::Type::Named(id, _) = t {
-                    let name = libs.get(libs.named_type(*id).library).name.clone();
-                    for p in [client, server] {
-                        if !parts[p].libraries.contains(&name) {
-                            parts[p].libraries.push(name.clone());
-                        }
-                    }
-                }
-            }
-            for p in [client, server] {
-                let pair = (request.clone(), response.clone());
-                if !parts[p].call_types.contains(&pair) {
-                    parts[p].call_types.push(pair);
-                }
-            }
-            parts[client].calls_out.push(call);
-            parts[server].calls_in.push(call);
-            continue;
-        }
-        let what = format!(
-            "call `{}/{}` → `{}/{}`",
-            call.client.0, call.client.1, call.service.0, call.service.1
-        );
-        let ends = (&call.client.0, &call.service.0);
-        if let Some(p) = one_part(&module_part, &parts, ends, &what, call.span, &mut problems) {
-            parts[p].calls.push(call);
-        }
-    }
-    for t in &plan.threads {
-        match part_of(&t.path) {
-            Some(p) => parts[p].threads.push(t),
-            None => problems.push(Problem {
-                span: root.span,
-                what: format!("the thread container `{}` is not inside a part", t.path),
-            }),
-        }
-    }
-    if parts.is_empty() {
-        problems.push(Problem {
-            span: root.span,
-            what: "the application has no part: nothing to bundle".into(),
-        });
-    }
-    for part in &mut parts {
-        part.recordable = super::record::outputs(app, libs, part);
-    }
-    let mut libraries = BTreeMap::new();
-    for part in &mut parts {
-        part.libraries.sort();
-        for name in &part.libraries {
-            if libraries.contains_key(name) {
-                continue;
-            }
-            let Some(&id) = libs.by_name.get(name) else {
-                continue;
-            };
-            let lib = libs.get(id);
-            let Some(rust_crate) = lib.rust_crate.clone() else {
-                problems.push(Problem {
-                    span: lib.name_span,
-                    what: format!("the library `{name}` has no `rust-crate`: the bundle cannot depend on its module types\n  help: add rust-crate=\"cargo-package-name\" to its <library>"),
-                });
-                continue;
-            };
-            let (package, registry) = match rust_crate.split_once('@') {
-                Some((p, v)) => (p.to_owned(), Some(v.trim().to_owned())),
-                None => (rust_crate, None),
-            };
-            if let Some(v) = registry
-                .as_deref()
-                .filter(|v| !crate::runner::crates::is_requirement(v))
-            {
-                problems.push(Problem {
-                    span: lib.name_span,
-                    what: format!(
-                        "`{}` after the `@` of the rust-crate of library `{name}` is not a version\n  help: write e.g. rust-crate=\"{}@0.3\"",
-                        text::comment(v),
-                        text::comment(&package)
-                    ),
-                });
-                continue;
-            }
-            if !text::is_crate_name(&package) {
-                problems.push(Problem {
-                    span: lib.name_span,
-                    what: format!(
-                        "the rust-crate `{}` of library `{name}` is not a Cargo package name",
-                        text::comment(&package)
-                    ),
-                });
-                continue;
-            }
-            let version = lib.version.clone().filter(|v| text::is_version(v));
-            libraries.insert(
-                name.clone(),
-                Library {
-                    name: name.clone(),
-                    package,
-                    version,
-                    registry,
-                    manifest: (!lib.path.as_os_str().is_empty()).then(|| lib.path.clone()),
-                },
-            );
-        }
-    }
+    let libraries = split.libraries();
+    let Split {
+        parts, problems, ..
+    } = split;
     if problems.is_empty() {
-        let mut periods: Vec<std::time::Duration> = plan
-            .threads
-            .iter()
-            .filter_map(|t| t.period)
-            .map(|p| std::time::Duration::from_secs_f64(p.clamp(0.0, 1e9)))
-            .collect();
-        periods.sort();
-        periods.dedup();
         Ok(Layout {
-            application,
+            application: app.name.clone(),
             parts,
-            periods,
+            periods: periods(plan),
             libraries,
         })
     } else {
@@ -479,28 +150,419 @@ pub fn layout<'p>(
     }
 }
 
-/// The part both modules of a connection are in, if they must share one; a problem
-/// otherwise (every kind of link between parts is carried now: this is a guard).
-fn one_part(
-    module_part: &BTreeMap<&str, usize>,
-    parts: &[Part<'_>],
-    (a, b): (&String, &String),
-    what: &str,
-    span: Span,
-    problems: &mut Vec<Problem>,
-) -> Option<usize> {
-    match (module_part.get(a.as_str()), module_part.get(b.as_str())) {
-        (Some(&a), Some(&b)) if a == b => Some(a),
-        (Some(&a), Some(&b)) => {
-            problems.push(Problem {
-                span,
-                what: format!(
-                    "the {what} joins the parts `{}` and `{}`: only data connections and calls cross between parts so far; move both ends into one part",
-                    parts[a].name, parts[b].name
-                ),
-            });
-            None
-        }
-        _ => None, // an endpoint outside every part was reported above
+/// The work of [`layout`]: the parts found so far, where each module went, and the
+/// problems met, which every phase adds to.
+struct Split<'a, 'p> {
+    app: &'a Application,
+    libs: &'a LibrarySet,
+    parts: Vec<Part<'p>>,
+    /// The part of every module placed, by path.
+    module_part: BTreeMap<&'p str, usize>,
+    problems: Vec<Problem>,
+}
+
+impl<'p> Split<'_, 'p> {
+    fn problem(&mut self, span: Span, what: String) {
+        self.problems.push(Problem { span, what });
     }
+
+    /// The application's name names the programs: it must be a Rust identifier.
+    fn check_application_name(&mut self) {
+        let application = &self.app.name;
+        if !text::is_rust_ident(application) {
+            let what = format!("the application name `{application}` cannot name a program: use letters, digits and `_` (not a Rust keyword)");
+            self.problem(self.app.span, what);
+        }
+    }
+
+    /// A part for every `<part>` of the model, in model order, with its host, package
+    /// and address.
+    fn add_parts(&mut self) {
+        let app = self.app;
+        for e in &app.elements {
+            let ElementKind::Part { host } = &e.kind else {
+                continue;
+            };
+            let host = host
+                .as_ref()
+                .map_or_else(|| "localhost".to_string(), |(h, _)| h.clone());
+            if !text::is_host(&host) {
+                self.problem(e.span, format!("the host `{}` of part `{}` cannot name a launch script: use letters, digits, `-`, `_` and `.`", text::comment(&host), text::comment(&e.name)));
+            }
+            if !text::is_rust_ident(&e.name) {
+                self.problem(e.name_span, format!("the part name `{}` cannot name a program: use letters, digits and `_` (not a Rust keyword)", text::comment(&e.name)));
+            }
+            let port = u16::try_from(self.parts.len())
+                .ok()
+                .and_then(|i| BASE_PORT.checked_add(i))
+                .unwrap_or(0);
+            self.parts.push(Part {
+                package: format!("{}-{}", app.name, e.name),
+                name: e.name.clone(),
+                address: format!("{host}:{port}"),
+                host,
+                ..Part::default()
+            });
+        }
+    }
+
+    /// The part a path lies in: the part named by its first segment.
+    fn part_of(&self, path: &str) -> Option<usize> {
+        let first = path.split('/').next()?;
+        self.parts.iter().position(|p| p.name == first)
+    }
+
+    /// Every module into its part, with the libraries and behaviour types it brings;
+    /// its path and Rust types validated.
+    fn place_modules(&mut self, modules: &'p [PlannedModule]) {
+        let mut placed = Vec::new();
+        for m in modules {
+            self.check_module_names(m);
+            let Some(p) = self.part_of(&m.path) else {
+                self.problem(
+                    m.span,
+                    format!("the module `{}` is not inside a part", m.path),
+                );
+                continue;
+            };
+            self.module_part.insert(m.path.as_str(), p);
+            placed.push((p, m));
+        }
+        for (p, m) in placed {
+            let part = &mut self.parts[p];
+            part.modules.push(m);
+            if let Some((lib, ty)) = self.libs.module_type(&m.type_name) {
+                if ty.is_behaviour() && !part.behaviours.contains(&m.rust.as_str()) {
+                    part.behaviours.push(&m.rust);
+                }
+                part.use_library(&self.libs.get(lib).name);
+            }
+            // The crates of library value types on flexible ports.
+            for name in m.ports.iter().filter_map(|g| g.library.as_ref()) {
+                part.use_library(name);
+            }
+        }
+    }
+
+    /// A module's path segments are names; its type and its port groups' types name
+    /// Rust paths.
+    fn check_module_names(&mut self, m: &PlannedModule) {
+        for segment in m.path.split('/') {
+            if !text::is_name(segment) {
+                self.problem(
+                    m.span,
+                    format!("`{}` is not a valid name", text::comment(segment)),
+                );
+            }
+        }
+        if !text::is_rust_path(&m.rust) {
+            self.problem(
+                m.span,
+                format!(
+                    "the module type `{}` names the Rust type `{}`, which is not a Rust path (`crate_name::Type`)",
+                    m.type_name,
+                    text::comment(&m.rust)
+                ),
+            );
+        }
+        for g in &m.ports {
+            if let Some(rust) = g.rust.as_deref().filter(|r| !text::is_rust_path(r)) {
+                self.problem(
+                    m.span,
+                    format!(
+                        "the type `{}` of the port group `{}` names the Rust type `{}`, which is not a Rust path (`crate_name::Type`)",
+                        g.ty,
+                        text::comment(&g.name),
+                        text::comment(rust)
+                    ),
+                );
+            }
+        }
+    }
+
+    /// Every connection into the part of its modules, or as a link out of the writer's
+    /// part and into the reader's; the field accessors its conversion needs go to the
+    /// part that converts (the writer's).
+    fn place_connections(&mut self, connections: &'p [PlannedConnection]) {
+        for c in connections {
+            self.check_port_names(c);
+            let Some(link) = &c.link else {
+                let what = format!(
+                    "connection `{}/{}` → `{}/{}`",
+                    c.from.0, c.from.1, c.to.0, c.to.1
+                );
+                if let Some(p) = self.one_part((&c.from.0, &c.to.0), &what, c.span) {
+                    self.add_fields(p, c);
+                    self.parts[p].connections.push(c);
+                }
+                continue;
+            };
+            let ends = (
+                self.module_part.get(c.from.0.as_str()),
+                self.module_part.get(c.to.0.as_str()),
+            );
+            let (Some(&writer), Some(&reader)) = ends else {
+                continue; // an endpoint outside every part was reported above
+            };
+            if let Some(rust) = link.rust.as_deref().filter(|r| !text::is_rust_path(r)) {
+                self.problem(
+                    c.span,
+                    format!(
+                        "the type `{}` of this connection names the Rust type `{}`, which is not a Rust path (`crate_name::Type`)",
+                        link.ty,
+                        text::comment(rust)
+                    ),
+                );
+            }
+            // The writer's program converts, so it needs the field accessors.
+            self.add_fields(writer, c);
+            if let Some(name) = &link.library {
+                self.parts[writer].use_library(name);
+                self.parts[reader].use_library(name);
+            }
+            self.parts[writer].links_out.push(c);
+            self.parts[reader].links_in.push(c);
+        }
+    }
+
+    /// Instance ports are paths of names and indices: `in/0`, `in/2/activity`.
+    fn check_port_names(&mut self, c: &PlannedConnection) {
+        for port in [&c.from.1, &c.to.1] {
+            let segment_ok = |s: &str| {
+                text::is_name(s)
+                    || (!s.is_empty() && s.len() <= 10 && s.bytes().all(|b| b.is_ascii_digit()))
+            };
+            if !port.split('/').all(segment_ok) {
+                self.problem(
+                    c.span,
+                    format!("`{}` is not a valid port name", text::comment(port)),
+                );
+            }
+        }
+    }
+
+    /// The field accessors `c` needs, into part `p`'s sorted list, each once.
+    fn add_fields(&mut self, p: usize, c: &PlannedConnection) {
+        let part = &mut self.parts[p];
+        for f in super::fields::accessors(c, &part.modules, self.libs) {
+            if let Err(at) = part.fields.binary_search(&f) {
+                part.fields.insert(at, f);
+            }
+        }
+    }
+
+    /// Every output → parameter connection into its part, or as a link between two.
+    fn place_param_links(&mut self, links: &'p [PlannedParamLink]) {
+        for link in links {
+            if link.link.is_some() {
+                let ends = (
+                    self.module_part.get(link.from.0.as_str()),
+                    self.module_part.get(link.to.0.as_str()),
+                );
+                if let (Some(&writer), Some(&reader)) = ends {
+                    self.parts[writer].param_links_out.push(link);
+                    self.parts[reader].param_links_in.push(link);
+                }
+                continue;
+            }
+            let what = format!(
+                "parameter link `{}/{}` → `{}/param/{}`",
+                link.from.0, link.from.1, link.to.0, link.to.1
+            );
+            if let Some(p) = self.one_part((&link.from.0, &link.to.0), &what, link.span) {
+                self.parts[p].param_links.push(link);
+            }
+        }
+    }
+
+    /// Every client → service call into its part, or as a call between two, whose
+    /// request and response types both programs then name.
+    fn place_calls(&mut self, calls: &'p [PlannedCall]) {
+        for call in calls {
+            if call.link.is_some() {
+                self.place_call_between_parts(call);
+                continue;
+            }
+            let what = format!(
+                "call `{}/{}` → `{}/{}`",
+                call.client.0, call.client.1, call.service.0, call.service.1
+            );
+            let ends = (&call.client.0, &call.service.0);
+            if let Some(p) = self.one_part(ends, &what, call.span) {
+                self.parts[p].calls.push(call);
+            }
+        }
+    }
+
+    fn place_call_between_parts(&mut self, call: &'p PlannedCall) {
+        let Some(link) = &call.link else {
+            return;
+        };
+        let ends = (
+            self.module_part.get(call.client.0.as_str()),
+            self.module_part.get(call.service.0.as_str()),
+        );
+        let (Some(&client), Some(&server)) = ends else {
+            return; // an endpoint outside every part was reported above
+        };
+        let libs = self.libs;
+        let rust = |t: &Type| super::fields::rust_type(libs, t).map(|(r, _)| r);
+        let types = link
+            .response
+            .as_ref()
+            .and_then(|resp| Some((rust(&link.request)?, rust(resp)?)));
+        let Some((request, response)) = types else {
+            self.problem(
+                call.span,
+                format!(
+                    "the call `{}/{}` → `{}/{}` crosses between parts, but its client declares no response type the generated code can name: add response=\"TYPE\" to the <client> in its manifest",
+                    call.client.0, call.client.1, call.service.0, call.service.1
+                ),
+            );
+            return;
+        };
+        for rust_path in [&request, &response] {
+            if !text::is_rust_type(rust_path) {
+                self.problem(
+                    call.span,
+                    format!(
+                        "the call's type `{}` is not a Rust type",
+                        text::comment(rust_path)
+                    ),
+                );
+            }
+        }
+        for t in [Some(&link.request), link.response.as_ref()]
+            .into_iter()
+            .flatten()
+        {
+            if let Type::Named(id, _) = t {
+                let name = &libs.get(libs.named_type(*id).library).name;
+                for p in [client, server] {
+                    self.parts[p].use_library(name);
+                }
+            }
+        }
+        for p in [client, server] {
+            let pair = (request.clone(), response.clone());
+            if !self.parts[p].call_types.contains(&pair) {
+                self.parts[p].call_types.push(pair);
+            }
+        }
+        self.parts[client].calls_out.push(call);
+        self.parts[server].calls_in.push(call);
+    }
+
+    /// Every thread container into its part.
+    fn place_threads(&mut self, threads: &'p [PlannedThread]) {
+        for t in threads {
+            match self.part_of(&t.path) {
+                Some(p) => self.parts[p].threads.push(t),
+                None => self.problem(
+                    self.app.elements[0].span,
+                    format!("the thread container `{}` is not inside a part", t.path),
+                ),
+            }
+        }
+    }
+
+    /// The part both modules of a connection are in, if they must share one; a problem
+    /// otherwise (every kind of link between parts is carried now: this is a guard).
+    fn one_part(&mut self, (a, b): (&String, &String), what: &str, span: Span) -> Option<usize> {
+        match (
+            self.module_part.get(a.as_str()),
+            self.module_part.get(b.as_str()),
+        ) {
+            (Some(&a), Some(&b)) if a == b => Some(a),
+            (Some(&a), Some(&b)) => {
+                let what = format!(
+                    "the {what} joins the parts `{}` and `{}`: only data connections and calls cross between parts so far; move both ends into one part",
+                    self.parts[a].name, self.parts[b].name
+                );
+                self.problem(span, what);
+                None
+            }
+            _ => None, // an endpoint outside every part was reported above
+        }
+    }
+
+    /// The libraries the parts use, by name, each with its Cargo package; every part's
+    /// list sorted.
+    fn libraries(&mut self) -> BTreeMap<String, Library> {
+        let mut libraries = BTreeMap::new();
+        let mut parts = std::mem::take(&mut self.parts);
+        for part in &mut parts {
+            part.libraries.sort();
+            for name in &part.libraries {
+                if libraries.contains_key(name) {
+                    continue;
+                }
+                if let Some(library) = self.library(name) {
+                    libraries.insert(name.clone(), library);
+                }
+            }
+        }
+        self.parts = parts;
+        libraries
+    }
+
+    /// The library `name` as a dependency: its `rust-crate` a Cargo package, maybe
+    /// with a registry version. `None` for a library the set does not hold, and for
+    /// one whose crate cannot be named (a problem).
+    fn library(&mut self, name: &str) -> Option<Library> {
+        let &id = self.libs.by_name.get(name)?;
+        let lib = self.libs.get(id);
+        let Some(rust_crate) = lib.rust_crate.clone() else {
+            self.problem(lib.name_span, format!("the library `{name}` has no `rust-crate`: the bundle cannot depend on its module types\n  help: add rust-crate=\"cargo-package-name\" to its <library>"));
+            return None;
+        };
+        let (package, registry) = match rust_crate.split_once('@') {
+            Some((p, v)) => (p.to_owned(), Some(v.trim().to_owned())),
+            None => (rust_crate, None),
+        };
+        if let Some(v) = registry
+            .as_deref()
+            .filter(|v| !crate::runner::crates::is_requirement(v))
+        {
+            self.problem(
+                lib.name_span,
+                format!(
+                    "`{}` after the `@` of the rust-crate of library `{name}` is not a version\n  help: write e.g. rust-crate=\"{}@0.3\"",
+                    text::comment(v),
+                    text::comment(&package)
+                ),
+            );
+            return None;
+        }
+        if !text::is_crate_name(&package) {
+            self.problem(
+                lib.name_span,
+                format!(
+                    "the rust-crate `{}` of library `{name}` is not a Cargo package name",
+                    text::comment(&package)
+                ),
+            );
+            return None;
+        }
+        Some(Library {
+            name: name.to_owned(),
+            package,
+            version: lib.version.clone().filter(|v| text::is_version(v)),
+            registry,
+            manifest: (!lib.path.as_os_str().is_empty()).then(|| lib.path.clone()),
+        })
+    }
+}
+
+/// The periods of every periodic thread container, sorted, each once.
+fn periods(plan: &Plan) -> Vec<std::time::Duration> {
+    let mut periods: Vec<std::time::Duration> = plan
+        .threads
+        .iter()
+        .filter_map(|t| t.period)
+        .map(|p| std::time::Duration::from_secs_f64(p.clamp(0.0, 1e9)))
+        .collect();
+    periods.sort();
+    periods.dedup();
+    periods
 }

@@ -98,7 +98,7 @@ pub fn specs(out: &mut Code, part: &Part<'_>) {
             &format!("const {}: LinkSpec = LinkSpec {{", constant_name(link)),
         );
         // The same spec `ferroc run` gives the runtime, written out.
-        let spec = crate::run::link_spec(link);
+        let spec = crate::from_plan::link_spec(link);
         out.line(1, &format!("id: {},", spec.id));
         out.line(1, &format!("from_part: {},", rust_str(spec.from_part)));
         out.line(1, &format!("to_part: {},", rust_str(spec.to_part)));
@@ -167,111 +167,82 @@ pub fn calls(
     at: &dyn Fn(ferroc_compiler::source::Span) -> String,
     name_of: &dyn Fn(&str) -> String,
 ) {
+    let end = |(module, port): &(String, String)| call("", &[name_of(module), rust_str(port)]);
     for c in &part.links_out {
         let Some(link) = &c.link else { continue };
-        body.blank();
-        body.line(
-            1,
-            &format!(
-                "// to the part `{}`, {}",
-                link.to_part,
-                comment(&at(c.span))
-            ),
-        );
+        let what = format!("to the part `{}`, {}", link.to_part, comment(&at(c.span)));
         let args = [
             format!("&{}", constant_name(link)),
-            call("", &[name_of(&c.from.0), rust_str(&c.from.1)]),
+            end(&c.from),
             conversion(c),
         ];
-        method_call(body, "builder.link_out", &args);
+        commented_call(body, &what, "builder.link_out", &args);
     }
     for p in &part.param_links_out {
         let Some(link) = &p.link else { continue };
-        body.blank();
-        body.line(
-            1,
-            &format!(
-                "// to a parameter in the part `{}`, {}",
-                link.to_part,
-                comment(&at(p.span))
-            ),
+        let what = format!(
+            "to a parameter in the part `{}`, {}",
+            link.to_part,
+            comment(&at(p.span))
         );
         let args = [
             format!("&{}", constant_name(link)),
-            call("", &[name_of(&p.from.0), rust_str(&p.from.1)]),
+            end(&p.from),
             format!("Conversion::linear({}, 0.0)", float(p.scale)),
         ];
-        method_call(body, "builder.link_out", &args);
+        commented_call(body, &what, "builder.link_out", &args);
     }
     for p in &part.param_links_in {
         let Some(link) = &p.link else { continue };
-        body.blank();
-        body.line(
-            1,
-            &format!(
-                "// set from the part `{}`, {}",
-                link.from_part,
-                comment(&at(p.span))
-            ),
+        let what = format!(
+            "set from the part `{}`, {}",
+            link.from_part,
+            comment(&at(p.span))
         );
-        let args = [
-            format!("&{}", constant_name(link)),
-            call("", &[name_of(&p.to.0), rust_str(&p.to.1)]),
-        ];
-        method_call(body, "builder.link_in_param", &args);
+        let args = [format!("&{}", constant_name(link)), end(&p.to)];
+        commented_call(body, &what, "builder.link_in_param", &args);
     }
     for c in &part.calls_out {
         let Some(link) = &c.link else { continue };
-        body.blank();
-        body.line(
-            1,
-            &format!(
-                "// calls the part `{}`, {}",
-                link.server_part,
-                comment(&at(c.span))
-            ),
+        let what = format!(
+            "calls the part `{}`, {}",
+            link.server_part,
+            comment(&at(c.span))
         );
-        let args = [
-            format!("&CALL_{}", link.id),
-            call("", &[name_of(&c.client.0), rust_str(&c.client.1)]),
-        ];
-        method_call(body, "builder.call_out", &args);
+        let args = [format!("&CALL_{}", link.id), end(&c.client)];
+        commented_call(body, &what, "builder.call_out", &args);
     }
     for c in &part.calls_in {
         let Some(link) = &c.link else { continue };
-        body.blank();
-        body.line(
-            1,
-            &format!(
-                "// called from the part `{}`, {}",
-                link.client_part,
-                comment(&at(c.span))
-            ),
+        let what = format!(
+            "called from the part `{}`, {}",
+            link.client_part,
+            comment(&at(c.span))
         );
-        let args = [
-            format!("&CALL_{}", link.id),
-            call("", &[name_of(&c.service.0), rust_str(&c.service.1)]),
-        ];
-        method_call(body, "builder.call_in", &args);
+        let args = [format!("&CALL_{}", link.id), end(&c.service)];
+        commented_call(body, &what, "builder.call_in", &args);
     }
     for c in &part.links_in {
         let Some(link) = &c.link else { continue };
-        body.blank();
-        body.line(
-            1,
-            &format!(
-                "// from the part `{}`, {}",
-                link.from_part,
-                comment(&at(c.span))
-            ),
+        let what = format!(
+            "from the part `{}`, {}",
+            link.from_part,
+            comment(&at(c.span))
         );
         let args = [
             format!("&{}", constant_name(link)),
-            call("", &[name_of(&c.to.0), rust_str(&c.to.1)]),
+            end(&c.to),
             "ConnectOptions::default()".into(),
         ];
-        method_call(body, "builder.link_in", &args);
+        commented_call(body, &what, "builder.link_in", &args);
     }
+}
+
+/// After a blank line, `// what` and `head(args)?;` in `build`.
+fn commented_call(body: &mut Code, what: &str, head: &str, args: &[String]) {
+    body.blank();
+    body.line(1, &format!("// {what}"));
+    method_call(body, head, args);
 }
 
 /// `head(args)?;` in `build` (indent 1): on one line when the arguments fit rustfmt's

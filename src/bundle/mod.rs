@@ -19,7 +19,6 @@ mod layout;
 mod links;
 mod literals;
 mod out;
-mod record;
 mod resolved;
 mod rust;
 pub(crate) mod sha256;
@@ -73,53 +72,22 @@ fn usage_error(message: &str) -> ExitCode {
 }
 
 pub fn run(args: BundleArgs) -> ExitCode {
-    let mut cmdline = Vec::new();
-    for p in &args.params {
-        match p.split_once('=') {
-            Some((name, value)) if !name.trim().is_empty() => {
-                cmdline.push((name.trim().to_string(), value.trim().to_string()))
-            }
-            _ => {
-                return usage_error(&format!(
-                    "--param {p}: write NAME=VALUE, e.g. --param front-noise=5cm"
-                ))
-            }
-        }
-    }
-    if let Some(prefix) = &args.prefix {
-        if !files::valid_prefix(prefix) {
-            return usage_error(&format!(
-                "--prefix {}: give an absolute path of plain names, e.g. /opt/robot",
-                text::comment(prefix)
-            ));
-        }
-    }
-    let result = match crate::checked::without_errors(&args.model, &args.lib_path) {
+    let cmdline = match cmdline_params(&args) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let result = match crate::check_first::without_errors(&args.model, &args.lib_path) {
         Ok(r) => r,
         Err(code) => return code,
     };
     let Some(app) = result.app.as_ref() else {
         return ExitCode::from(1);
     };
-    let (plan, unsupported) = plan::plan(app, &result.libraries, &cmdline);
     let names = Names::new(&args.model, &result.sources);
-    for p in &unsupported {
-        eprintln!("{}: error: {}", names.at(p.span), p.what);
-    }
-    if !unsupported.is_empty() {
-        return ExitCode::from(1);
-    }
-    // Types built into this ferroc are the same code the bundle compiles: check them
-    // against their manifests as `ferroc run` does. Others are checked when built.
-    let registry = crate::run::registry();
-    let mut built_in = plan.clone();
-    built_in.modules.retain(|m| registry.contains(&m.type_name));
-    if let Err(lines) =
-        crate::run::interfaces_agree(&built_in, &registry, &result.libraries, &result.sources)
-    {
-        lines.iter().for_each(|l| eprintln!("{l}"));
-        return ExitCode::from(1);
-    }
+    let plan = match plan_built_in(app, &result, &cmdline, &names) {
+        Ok(plan) => plan,
+        Err(code) => return code,
+    };
     let layout = match layout::layout(app, &result.libraries, &plan) {
         Ok(l) => l,
         Err(problems) => {
@@ -137,26 +105,13 @@ pub fn run(args: BundleArgs) -> ExitCode {
         Ok(r) => r,
         Err(e) => return usage_error(&e),
     };
-    let deps = match dependencies(&layout, args.deps, &root) {
+    let deps = match dependencies(&layout, args.deps, &root).and_then(|d| no_clash(&layout, d)) {
         Ok(d) => d,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(1);
         }
     };
-    for d in &deps {
-        if let Some(p) = layout
-            .parts
-            .iter()
-            .find(|p| p.package == d.package || p.package == "ctrlc")
-        {
-            eprintln!(
-                "error: the program of part `{}` would be called `{}`, like a crate it depends on; rename the part",
-                p.name, p.package
-            );
-            return ExitCode::from(1);
-        }
-    }
     let generated = match generate(
         &args, &result, &plan, &layout, &deps, &cmdline, &names, &prefix,
     ) {
@@ -181,6 +136,79 @@ pub fn run(args: BundleArgs) -> ExitCode {
         args.output.display()
     );
     ExitCode::SUCCESS
+}
+
+/// The `--param NAME=VALUE` pairs, with `--prefix` checked; exit code 2 for a malformed
+/// one (reported).
+fn cmdline_params(args: &BundleArgs) -> Result<Vec<(String, String)>, ExitCode> {
+    let mut cmdline = Vec::new();
+    for p in &args.params {
+        match p.split_once('=') {
+            Some((name, value)) if !name.trim().is_empty() => {
+                cmdline.push((name.trim().to_string(), value.trim().to_string()))
+            }
+            _ => {
+                return Err(usage_error(&format!(
+                    "--param {p}: write NAME=VALUE, e.g. --param front-noise=5cm"
+                )))
+            }
+        }
+    }
+    if let Some(prefix) = &args.prefix {
+        if !files::valid_prefix(prefix) {
+            return Err(usage_error(&format!(
+                "--prefix {}: give an absolute path of plain names, e.g. /opt/robot",
+                text::comment(prefix)
+            )));
+        }
+    }
+    Ok(cmdline)
+}
+
+/// The plan of the model, refused (exit code 1) where the runtime cannot realise it or
+/// a module type built into this ferroc differs from its manifest.
+fn plan_built_in(
+    app: &ferroc_compiler::ir::Application,
+    result: &ferroc_compiler::CheckResult,
+    cmdline: &[(String, String)],
+    names: &Names<'_>,
+) -> Result<plan::Plan, ExitCode> {
+    let (plan, unsupported) = plan::plan(app, &result.libraries, cmdline);
+    for p in &unsupported {
+        eprintln!("{}: error: {}", names.at(p.span), p.what);
+    }
+    if !unsupported.is_empty() {
+        return Err(ExitCode::from(1));
+    }
+    // Types built into this ferroc are the same code the bundle compiles: check them
+    // against their manifests as `ferroc run` does. Others are checked when built.
+    let registry = crate::run::registry();
+    let mut built_in = plan.clone();
+    built_in.modules.retain(|m| registry.contains(&m.type_name));
+    if let Err(lines) =
+        crate::run::interfaces_agree(&built_in, &registry, &result.libraries, &result.sources)
+    {
+        lines.iter().for_each(|l| eprintln!("{l}"));
+        return Err(ExitCode::from(1));
+    }
+    Ok(plan)
+}
+
+/// `deps`, unless a part's program would have the name of a crate it depends on.
+fn no_clash(layout: &layout::Layout<'_>, deps: Vec<Dependency>) -> Result<Vec<Dependency>, String> {
+    for d in &deps {
+        if let Some(p) = layout
+            .parts
+            .iter()
+            .find(|p| p.package == d.package || p.package == "ctrlc")
+        {
+            return Err(format!(
+                "the program of part `{}` would be called `{}`, like a crate it depends on; rename the part",
+                p.name, p.package
+            ));
+        }
+    }
+    Ok(deps)
 }
 
 /// The generated code is emitted in rustfmt's layout already; where rustfmt is installed
@@ -283,96 +311,82 @@ fn dependencies(
     root: &Path,
 ) -> Result<Vec<Dependency>, String> {
     let checkout = Path::new(CHECKOUT);
-    let by_path = |dir: PathBuf, what: &str| -> Result<Source, String> {
-        let dir = dir.canonicalize().map_err(|_| {
-            format!(
-                "{what}: no crate at {}; build ferroc from a checkout, or use --deps version",
-                dir.display()
-            )
-        })?;
-        Ok(Source::Path(
-            relative(root, &dir).unwrap_or_else(|| dir.to_string_lossy().into_owned()),
-        ))
-    };
-    let mut out = vec![Dependency {
-        package: "ferroc-runtime".into(),
-        source: match deps {
-            Deps::Path => by_path(checkout.join("runtime"), "the runtime")?,
-            Deps::Version => Source::Version(TOOL_VERSION.into()),
-        },
-    }];
-    // Every program serves inspection on request (`--inspect`, docs/inspect.md).
-    out.push(Dependency {
-        package: "ferroc-inspect".into(),
-        source: match deps {
-            Deps::Path => by_path(checkout.join("inspect"), "the inspection server")?,
-            Deps::Version => Source::Version(TOOL_VERSION.into()),
-        },
-    });
-    // Programs of linked parts talk over Zenoh (only when some part is linked).
-    if layout.parts.iter().any(|p| p.is_linked()) {
-        out.push(Dependency {
-            package: "ferroc-zenoh".into(),
+    let ours = |package: &str, folder: &str, what: &str| -> Result<Dependency, String> {
+        Ok(Dependency {
+            package: package.into(),
             source: match deps {
-                Deps::Path => by_path(checkout.join("zenoh-link"), "the Zenoh transport")?,
+                Deps::Path => by_path(root, checkout.join(folder), what)?,
                 Deps::Version => Source::Version(TOOL_VERSION.into()),
             },
-        });
+        })
+    };
+    let mut out = vec![ours("ferroc-runtime", "runtime", "the runtime")?];
+    // Every program serves inspection on request (`--inspect`, docs/inspect.md).
+    out.push(ours("ferroc-inspect", "inspect", "the inspection server")?);
+    // Programs of linked parts talk over Zenoh (only when some part is linked).
+    if layout.parts.iter().any(|p| p.is_linked()) {
+        out.push(ours("ferroc-zenoh", "zenoh-link", "the Zenoh transport")?);
     }
     for lib in layout.libraries.values() {
-        if let Some(version) = &lib.registry {
-            // `rust-crate="PACKAGE@VERSION"`: from the registry, whatever --deps says.
-            out.push(Dependency {
-                package: lib.package.clone(),
-                source: Source::Version(version.clone()),
-            });
-            continue;
-        }
-        let source = match deps {
-            Deps::Version => Source::Version(lib.version.clone().ok_or_else(|| {
-                format!("the library `{}` declares no version: --deps version needs <library version=\"x.y.z\">", lib.name)
-            })?),
-            Deps::Path => {
-                let mut candidates: Vec<PathBuf> = Vec::new();
-                if let Some(dir) = lib.manifest.as_ref().and_then(|m| m.parent()) {
-                    candidates.push(dir.join(&lib.package));
-                }
-                candidates.push(checkout.join("components").join(&lib.package));
-                let found = candidates.iter().find(|c| c.join("Cargo.toml").is_file());
-                match found {
-                    Some(dir) => by_path(dir.clone(), &lib.name)?,
-                    None => {
-                        return Err(format!(
-                            "the crate `{}` of library `{}` was not found (looked in {}); build it there, or use --deps version",
-                            lib.package,
-                            lib.name,
-                            candidates.iter().map(|c| c.display().to_string()).collect::<Vec<_>>().join(", ")
-                        ))
-                    }
-                }
-            }
-        };
         out.push(Dependency {
             package: lib.package.clone(),
-            source,
+            source: library_source(lib, deps, root)?,
         });
     }
     // Every program can record (`--record`) with the standard library's recorders.
     if !out.iter().any(|d| d.package == STD_PACKAGE) {
-        out.push(Dependency {
-            package: STD_PACKAGE.into(),
-            source: match deps {
-                Deps::Path => by_path(
-                    checkout.join("components").join(STD_PACKAGE),
-                    "the standard library",
-                )?,
-                Deps::Version => Source::Version(TOOL_VERSION.into()),
-            },
-        });
+        let folder = format!("components/{STD_PACKAGE}");
+        out.push(ours(STD_PACKAGE, &folder, "the standard library")?);
     }
     Ok(out)
 }
 
+/// The crate in folder `dir` as a path relative to the bundle's `root` (absolute when
+/// they share only `/`).
+fn by_path(root: &Path, dir: PathBuf, what: &str) -> Result<Source, String> {
+    let dir = dir.canonicalize().map_err(|_| {
+        format!(
+            "{what}: no crate at {}; build ferroc from a checkout, or use --deps version",
+            dir.display()
+        )
+    })?;
+    Ok(Source::Path(
+        relative(root, &dir).unwrap_or_else(|| dir.to_string_lossy().into_owned()),
+    ))
+}
+
+/// Where a library's crate comes from: the registry for `rust-crate="PACKAGE@VERSION"`
+/// whatever `--deps` says; else by its version, or by path next to its manifest or
+/// among the checkout's components.
+fn library_source(lib: &layout::Library, deps: Deps, root: &Path) -> Result<Source, String> {
+    if let Some(version) = &lib.registry {
+        return Ok(Source::Version(version.clone()));
+    }
+    match deps {
+        Deps::Version => Ok(Source::Version(lib.version.clone().ok_or_else(|| {
+            format!("the library `{}` declares no version: --deps version needs <library version=\"x.y.z\">", lib.name)
+        })?)),
+        Deps::Path => {
+            let mut candidates: Vec<PathBuf> = Vec::new();
+            if let Some(dir) = lib.manifest.as_ref().and_then(|m| m.parent()) {
+                candidates.push(dir.join(&lib.package));
+            }
+            candidates.push(Path::new(CHECKOUT).join("components").join(&lib.package));
+            let found = candidates.iter().find(|c| c.join("Cargo.toml").is_file());
+            match found {
+                Some(dir) => by_path(root, dir.clone(), &lib.name),
+                None => Err(format!(
+                    "the crate `{}` of library `{}` was not found (looked in {}); build it there, or use --deps version",
+                    lib.package,
+                    lib.name,
+                    candidates.iter().map(|c| c.display().to_string()).collect::<Vec<_>>().join(", ")
+                )),
+            }
+        }
+    }
+}
+
+/// Every file of the bundle, in memory.
 #[allow(clippy::too_many_arguments)]
 fn generate(
     args: &BundleArgs,
@@ -385,18 +399,6 @@ fn generate(
     prefix: &str,
 ) -> Result<out::Files, String> {
     let mut files = out::Files::default();
-    let at = |span: Span| names.at(span);
-    let addresses: Vec<(String, String)> = (layout.parts.iter())
-        .map(|p| (p.name.clone(), p.address.clone()))
-        .collect();
-    let cx = rust::Context {
-        application: &layout.application,
-        parts: &addresses,
-        periods: &layout.periods,
-        model_file: &names.model_file,
-        tool_version: TOOL_VERSION,
-        at: &at,
-    };
     files.add(
         "Cargo.toml",
         files::workspace_toml(layout, deps, TOOL_VERSION),
@@ -411,10 +413,63 @@ fn generate(
             files.add("Cargo.lock", lock)?;
         }
     }
+    add_parts(&mut files, layout, deps, names, prefix)?;
+    let mut hosts: Vec<&str> = layout.parts.iter().map(|p| p.host.as_str()).collect();
+    hosts.sort();
+    hosts.dedup();
+    for host in hosts {
+        files.add_executable(
+            &format!("launch/{host}.sh"),
+            files::launch_script(layout, host, TOOL_VERSION),
+        )?;
+    }
+    add_resolved_model(&mut files, result, plan, layout, cmdline, names)?;
+    let model_bytes = std::fs::read(&args.model)
+        .map_err(|e| format!("cannot read {}: {e}", args.model.display()))?;
+    let sources = result
+        .sources
+        .files()
+        .map(|(_, f)| (names.file(f), sha256::hex(f.text.as_bytes())))
+        .collect();
+    let mut listed: Vec<String> = files.paths().map(str::to_string).collect();
+    listed.push("manifest.json".into());
+    listed.sort();
+    let manifest = files::ManifestInput {
+        tool_version: TOOL_VERSION,
+        model_file: &names.model_file,
+        model_sha256: sha256::hex(&model_bytes),
+        sources,
+        deps,
+        files: listed,
+    };
+    files.add("manifest.json", files::manifest_json(layout, &manifest))?;
+    Ok(files)
+}
+
+/// Each part's Cargo manifest, `main.rs` and systemd unit.
+fn add_parts(
+    files: &mut out::Files,
+    layout: &layout::Layout<'_>,
+    deps: &[Dependency],
+    names: &Names<'_>,
+    prefix: &str,
+) -> Result<(), String> {
+    let at = |span: Span| names.at(span);
+    let addresses: Vec<(String, String)> = (layout.parts.iter())
+        .map(|p| (p.name.clone(), p.address.clone()))
+        .collect();
+    let cx = rust::Context {
+        application: &layout.application,
+        parts: &addresses,
+        periods: &layout.periods,
+        model_file: &names.model_file,
+        tool_version: TOOL_VERSION,
+        at: &at,
+    };
     for (i, part) in layout.parts.iter().enumerate() {
         let zenoh = deps.iter().find(|d| d.package == "ferroc-zenoh");
         let inspect = deps.iter().find(|d| d.package == "ferroc-inspect");
-        let part_deps: Vec<&Dependency> = std::iter::once(&deps[0])
+        let mut part_deps: Vec<&Dependency> = std::iter::once(&deps[0])
             .chain(inspect)
             .chain(zenoh.filter(|_| part.is_linked()))
             .chain(part.libraries.iter().filter_map(|l| {
@@ -422,7 +477,6 @@ fn generate(
                 deps.iter().find(|d| d.package == *package)
             }))
             .collect();
-        let mut part_deps = part_deps;
         if !part_deps.iter().any(|d| d.package == STD_PACKAGE) {
             part_deps.extend(deps.iter().find(|d| d.package == STD_PACKAGE));
         }
@@ -437,16 +491,18 @@ fn generate(
             files::systemd_unit(layout, i, prefix, TOOL_VERSION),
         )?;
     }
-    let mut hosts: Vec<&str> = layout.parts.iter().map(|p| p.host.as_str()).collect();
-    hosts.sort();
-    hosts.dedup();
-    for host in hosts {
-        files.add_executable(
-            &format!("launch/{host}.sh"),
-            files::launch_script(layout, host, TOOL_VERSION),
-        )?;
-    }
-    // The resolved model, with copies of the manifests it uses.
+    Ok(())
+}
+
+/// The resolved model, with copies of the manifests it uses.
+fn add_resolved_model(
+    files: &mut out::Files,
+    result: &ferroc_compiler::CheckResult,
+    plan: &plan::Plan,
+    layout: &layout::Layout<'_>,
+    cmdline: &[(String, String)],
+    names: &Names<'_>,
+) -> Result<(), String> {
     let mut manifests = Vec::new();
     for lib in &result.libraries.libraries {
         if !text::is_name(&lib.name) {
@@ -477,24 +533,5 @@ fn generate(
         TOOL_VERSION,
     );
     files.add(&format!("model/{}.xml", layout.application), resolved)?;
-    let model_bytes = std::fs::read(&args.model)
-        .map_err(|e| format!("cannot read {}: {e}", args.model.display()))?;
-    let sources = result
-        .sources
-        .files()
-        .map(|(_, f)| (names.file(f), sha256::hex(f.text.as_bytes())))
-        .collect();
-    let mut listed: Vec<String> = files.paths().map(str::to_string).collect();
-    listed.push("manifest.json".into());
-    listed.sort();
-    let manifest = files::ManifestInput {
-        tool_version: TOOL_VERSION,
-        model_file: &names.model_file,
-        model_sha256: sha256::hex(&model_bytes),
-        sources,
-        deps,
-        files: listed,
-    };
-    files.add("manifest.json", files::manifest_json(layout, &manifest))?;
-    Ok(files)
+    Ok(())
 }

@@ -5,9 +5,9 @@
 //! conversion steps of the path it replaces. Checking it plans the same application.
 
 use super::text::{xml, xml_comment};
-use ferroc_compiler::ir::{Application, ElementId, ElementKind, ParamSource, Wait};
+use ferroc_compiler::ir::{Application, ElementId, ElementKind, ModuleInstance, ParamSource, Wait};
 use ferroc_compiler::library::LibrarySet;
-use ferroc_compiler::plan::{module_edges, Plan};
+use ferroc_compiler::plan::{module_edges, Plan, PlannedModule};
 use ferroc_compiler::values::{parse_duration, parse_value, Value};
 
 /// The resolved model's text. `manifests` maps a library name to the manifest path
@@ -83,91 +83,23 @@ fn element(
                 .unwrap_or_default();
             (format!("<part name=\"{name}\"{host}"), "part")
         }
-        ElementKind::Thread {
-            period,
-            pool,
-            data_trigger,
-            continuous,
-            wait,
-        } => {
-            let mut attrs = String::new();
-            if let Some(p) = period {
-                attrs.push_str(&format!(" period=\"{}\"", duration_text(*p)));
-            }
-            if *data_trigger {
-                attrs.push_str(" trigger=\"data\"");
-            }
-            if *continuous {
-                attrs.push_str(" trigger=\"continuous\"");
-            }
-            if *wait != Wait::Park {
-                attrs.push_str(&format!(" wait=\"{}\"", wait.as_str()));
-            }
-            if let Some(n) = pool {
-                attrs.push_str(&format!(" pool=\"{n}\""));
-            }
-            if let Some((p, _)) = app.timing.priority.get(&id) {
-                attrs.push_str(&format!(" priority=\"{p}\""));
-            }
-            if let Some((c, _)) = app.timing.cpu.get(&id) {
-                attrs.push_str(&format!(" cpu=\"{c}\""));
-            }
+        ElementKind::Thread { .. } => {
+            let attrs = thread_attributes(app, id, &e.kind);
             (format!("<thread name=\"{name}\"{attrs}"), "thread")
         }
         ElementKind::Group => (format!("<group name=\"{name}\""), "group"),
         ElementKind::Module(instance) => {
-            let Some(m) = plan.modules.iter().find(|m| m.element == id) else {
-                return;
-            };
-            let decl = libs.module_type(&m.type_name).map(|(_, t)| t);
-            let mut lines = Vec::new();
-            for g in &m.ports {
-                let dir = match g.dir {
-                    ferroc_compiler::library::PortDir::In => "in",
-                    ferroc_compiler::library::PortDir::Out => "out",
-                };
-                let unit = g
-                    .unit
-                    .as_ref()
-                    .map_or(String::new(), |u| format!(" unit=\"{}\"", xml(u)));
-                let count = g.count.map_or(String::new(), |n| format!(" count=\"{n}\""));
-                lines.push(format!(
-                    "{pad}  <port name=\"{}\" dir=\"{dir}\" type=\"{}\"{unit}{count}/>\n",
-                    xml(&g.name),
-                    xml(&g.ty)
-                ));
-            }
-            for (param, value) in &m.params {
-                // The source text (as looked up) when no normalised text reads back exactly.
-                let source = || {
-                    let p = instance.params.iter().find(|p| p.name == *param)?;
-                    match (p.from_cmdline(cmdline), &p.source) {
-                        (Some(v), _) => Some(v.to_string()),
-                        (None, ParamSource::Cmdline) => None,
-                        (None, _) => Some(p.text.clone()),
-                    }
-                };
-                let text = decl
-                    .and_then(|t| t.param(param))
-                    .and_then(|d| value_text(value, &d.ty, d.unit.as_ref()))
-                    .or_else(source);
-                let Some(text) = text else {
-                    continue;
-                };
-                lines.push(format!(
-                    "{pad}  <param name=\"{}\">{}</param>\n",
-                    xml(param),
-                    xml(&text)
-                ));
-            }
-            let open = format!(
-                "{pad}<module name=\"{name}\" type=\"{}\"",
-                xml(&m.type_name)
-            );
-            if lines.is_empty() {
-                out.push_str(&format!("{open}/>\n"));
-            } else {
-                out.push_str(&format!("{open}>\n{}{pad}</module>\n", lines.concat()));
+            if let Some(m) = plan.modules.iter().find(|m| m.element == id) {
+                let lines = module_lines(libs, m, instance, cmdline, &pad);
+                let open = format!(
+                    "{pad}<module name=\"{name}\" type=\"{}\"",
+                    xml(&m.type_name)
+                );
+                if lines.is_empty() {
+                    out.push_str(&format!("{open}/>\n"));
+                } else {
+                    out.push_str(&format!("{open}>\n{}{pad}</module>\n", lines.concat()));
+                }
             }
             return;
         }
@@ -182,6 +114,95 @@ fn element(
         element(app, libs, plan, cmdline, children, k, depth + 1, out);
     }
     out.push_str(&format!("{pad}</{tag}>\n"));
+}
+
+/// The attributes of a `<thread>` after its name: its trigger and timing.
+fn thread_attributes(app: &Application, id: ElementId, kind: &ElementKind) -> String {
+    let mut attrs = String::new();
+    let ElementKind::Thread {
+        period,
+        pool,
+        data_trigger,
+        continuous,
+        wait,
+    } = kind
+    else {
+        return attrs;
+    };
+    if let Some(p) = period {
+        attrs.push_str(&format!(" period=\"{}\"", duration_text(*p)));
+    }
+    if *data_trigger {
+        attrs.push_str(" trigger=\"data\"");
+    }
+    if *continuous {
+        attrs.push_str(" trigger=\"continuous\"");
+    }
+    if *wait != Wait::Park {
+        attrs.push_str(&format!(" wait=\"{}\"", wait.as_str()));
+    }
+    if let Some(n) = pool {
+        attrs.push_str(&format!(" pool=\"{n}\""));
+    }
+    if let Some((p, _)) = app.timing.priority.get(&id) {
+        attrs.push_str(&format!(" priority=\"{p}\""));
+    }
+    if let Some((c, _)) = app.timing.cpu.get(&id) {
+        attrs.push_str(&format!(" cpu=\"{c}\""));
+    }
+    attrs
+}
+
+/// The `<port>` and `<param>` lines inside a `<module>` (indented below `pad`).
+fn module_lines(
+    libs: &LibrarySet,
+    m: &PlannedModule,
+    instance: &ModuleInstance,
+    cmdline: &[(String, String)],
+    pad: &str,
+) -> Vec<String> {
+    let decl = libs.module_type(&m.type_name).map(|(_, t)| t);
+    let mut lines = Vec::new();
+    for g in &m.ports {
+        let dir = match g.dir {
+            ferroc_compiler::library::PortDir::In => "in",
+            ferroc_compiler::library::PortDir::Out => "out",
+        };
+        let unit = g
+            .unit
+            .as_ref()
+            .map_or(String::new(), |u| format!(" unit=\"{}\"", xml(u)));
+        let count = g.count.map_or(String::new(), |n| format!(" count=\"{n}\""));
+        lines.push(format!(
+            "{pad}  <port name=\"{}\" dir=\"{dir}\" type=\"{}\"{unit}{count}/>\n",
+            xml(&g.name),
+            xml(&g.ty)
+        ));
+    }
+    for (param, value) in &m.params {
+        // The source text (as looked up) when no normalised text reads back exactly.
+        let source = || {
+            let p = instance.params.iter().find(|p| p.name == *param)?;
+            match (p.from_cmdline(cmdline), &p.source) {
+                (Some(v), _) => Some(v.to_string()),
+                (None, ParamSource::Cmdline) => None,
+                (None, _) => Some(p.text.clone()),
+            }
+        };
+        let text = decl
+            .and_then(|t| t.param(param))
+            .and_then(|d| value_text(value, &d.ty, d.unit.as_ref()))
+            .or_else(source);
+        let Some(text) = text else {
+            continue;
+        };
+        lines.push(format!(
+            "{pad}  <param name=\"{}\">{}</param>\n",
+            xml(param),
+            xml(&text)
+        ));
+    }
+    lines
 }
 
 /// The transport settings of a connection between parts: those of the first hop that

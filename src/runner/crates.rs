@@ -83,7 +83,38 @@ pub fn needed_by_model(
 /// package, a folder named after the package next to the manifest, or one in the
 /// `components/` of the checkout ferroc was built from.
 pub fn find(lib: &Library, sources: &SourceMap) -> Result<LibraryCrate, String> {
-    let at = ferroc_host::run::at(sources, lib.name_span);
+    let at = ferroc_host::sources::at(sources, lib.name_span);
+    let (package, version) = package_and_version(lib, &at)?;
+    let manifest_dir = lib
+        .path
+        .parent()
+        .map(|d| {
+            if d.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                d
+            }
+        })
+        .unwrap_or(Path::new("."));
+    if version.is_some() {
+        // From the registry: nothing to find on disk; cargo fetches it when building.
+        let dir = manifest_dir
+            .canonicalize()
+            .unwrap_or_else(|_| manifest_dir.to_path_buf());
+        return Ok(LibraryCrate {
+            library: lib.name.clone(),
+            package,
+            dir,
+            version,
+            manifest_at: at,
+        });
+    }
+    find_on_disk(lib, package, manifest_dir, at)
+}
+
+/// The package of `lib`'s `rust-crate="PACKAGE"`, and the version requirement of
+/// `"PACKAGE@VERSION"`; an error (at `at`) where either cannot be used.
+fn package_and_version(lib: &Library, at: &str) -> Result<(String, Option<String>), String> {
     let Some(rust_crate) = lib.rust_crate.clone() else {
         return Err(format!(
             "{at}: error: the library `{}` has no `rust-crate`: ferroc cannot find the Rust code of its module types\n  \
@@ -111,36 +142,21 @@ pub fn find(lib: &Library, sources: &SourceMap) -> Result<LibraryCrate, String> 
             lib.name
         ));
     }
-    let manifest_dir = lib
-        .path
-        .parent()
-        .map(|d| {
-            if d.as_os_str().is_empty() {
-                Path::new(".")
-            } else {
-                d
-            }
-        })
-        .unwrap_or(Path::new("."));
-    if version.is_some() {
-        // From the registry: nothing to find on disk; cargo fetches it when building.
-        let dir = manifest_dir
-            .canonicalize()
-            .unwrap_or_else(|_| manifest_dir.to_path_buf());
-        return Ok(LibraryCrate {
-            library: lib.name.clone(),
-            package,
-            dir,
-            version,
-            manifest_at: at,
-        });
-    }
+    Ok((package, version))
+}
+
+/// The folder of `package` next to the manifest (in `manifest_dir`) or among the
+/// checkout's components.
+fn find_on_disk(
+    lib: &Library,
+    package: String,
+    manifest_dir: &Path,
+    at: String,
+) -> Result<LibraryCrate, String> {
     let candidates = [
         manifest_dir.to_path_buf(),
         manifest_dir.join(&package),
-        crate::runner::program::source_dir()
-            .join("components")
-            .join(&package),
+        super::source_dir().join("components").join(&package),
     ];
     let mut others = Vec::new();
     for dir in &candidates {

@@ -19,12 +19,23 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// The checkout this ferroc was built from: a runner depends on its `host/` crate.
+const CHECKOUT: &str = env!("CARGO_MANIFEST_DIR");
+
+/// ferroc's sources: `FERROC_SOURCE` if set (an installed ferroc whose checkout moved),
+/// else the checkout it was built from.
+pub fn source_dir() -> PathBuf {
+    std::env::var_os("FERROC_SOURCE")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(CHECKOUT))
+}
+
 /// `ferroc run`: in this process when the model needs only the standard library.
 pub fn run(args: RunArgs) -> ExitCode {
     if let Err(code) = ferroc_host::run::cmdline_params(&args) {
         return code;
     }
-    let result = match ferroc_host::checked::without_errors(&args.model, &args.lib_path) {
+    let result = match ferroc_host::check_first::without_errors(&args.model, &args.lib_path) {
         Ok(r) => r,
         Err(code) => return code,
     };

@@ -9,21 +9,11 @@
 
 use super::crates::LibraryCrate;
 use super::failure::{failed_package, report_failure, unfetched};
+use super::source_dir;
 use crate::bundle::text::{comment, toml_str};
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
-
-/// The checkout this ferroc was built from: the runner depends on its `host/` crate.
-const CHECKOUT: &str = env!("CARGO_MANIFEST_DIR");
-
-/// ferroc's sources: `FERROC_SOURCE` if set (an installed ferroc whose checkout moved),
-/// else the checkout it was built from.
-pub fn source_dir() -> PathBuf {
-    std::env::var_os("FERROC_SOURCE")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(CHECKOUT))
-}
 
 /// The cargo profile runners are built with: ferroc's own (a release ferroc runs
 /// release runners).
@@ -84,6 +74,27 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
             .join(", "),
         target.display()
     );
+    let mut child = match cargo_build(&dir, &target, flag).spawn() {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: cannot start cargo to build the runner: {e}\n  help: install Rust (rustup.rs) or set CARGO to cargo's path");
+            return Err(ExitCode::from(2));
+        }
+    };
+    let (failed, unavailable) = match child.stderr.take() {
+        Some(err) => follow_cargo(err, crates),
+        None => (Vec::new(), Vec::new()),
+    };
+    let status = child.wait();
+    if status.as_ref().is_ok_and(|s| s.success()) && exe.is_file() {
+        return Ok(exe);
+    }
+    report_failure(crates, &failed, &unavailable, &name, &dir);
+    Err(ExitCode::from(1))
+}
+
+/// `cargo build` of the runner package in `dir` into `target`, its errors piped.
+fn cargo_build(dir: &Path, target: &Path, flag: Option<&str>) -> Command {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut command = Command::new(cargo);
     command
@@ -91,7 +102,7 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
         .arg("--manifest-path")
         .arg(dir.join("Cargo.toml"))
         .arg("--target-dir")
-        .arg(&target)
+        .arg(target)
         .args(flag)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
@@ -110,51 +121,44 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
         ]);
         command.arg(format!("term.progress.width={width}"));
     }
-    let mut child = match command.spawn() {
-        Ok(c) => c,
-        Err(e) => {
-            eprintln!("error: cannot start cargo to build the runner: {e}\n  help: install Rust (rustup.rs) or set CARGO to cargo's path");
-            return Err(ExitCode::from(2));
-        }
-    };
-    // cargo's output as it comes (progress bar included), remembering which packages
-    // failed to compile.
+    command
+}
+
+/// cargo's output passed on as it comes (progress bar included); the packages that
+/// failed to compile, and the registry crates of `crates` that could not be fetched.
+fn follow_cargo(
+    mut err: impl std::io::Read,
+    crates: &[LibraryCrate],
+) -> (Vec<String>, Vec<String>) {
     let mut failed = Vec::new();
     let mut unavailable: Vec<String> = Vec::new();
-    if let Some(mut err) = child.stderr.take() {
-        let mut stderr = std::io::stderr();
-        let mut line = Vec::new();
-        let mut buffer = [0u8; 4096];
-        loop {
-            let n = match std::io::Read::read(&mut err, &mut buffer) {
-                Ok(0) | Err(_) => break,
-                Ok(n) => n,
-            };
-            let _ = stderr.write_all(&buffer[..n]);
-            for &b in &buffer[..n] {
-                if b == b'\n' || b == b'\r' {
-                    let text = String::from_utf8_lossy(&line);
-                    if let Some(package) = failed_package(&text) {
-                        failed.push(package);
-                    }
-                    for c in crates.iter().filter(|c| c.version.is_some()) {
-                        if unfetched(&text, &c.package) && !unavailable.contains(&c.package) {
-                            unavailable.push(c.package.clone());
-                        }
-                    }
-                    line.clear();
-                } else if line.len() < 4096 {
-                    line.push(b);
+    let mut stderr = std::io::stderr();
+    let mut line = Vec::new();
+    let mut buffer = [0u8; 4096];
+    loop {
+        let n = match err.read(&mut buffer) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => n,
+        };
+        let _ = stderr.write_all(&buffer[..n]);
+        for &b in &buffer[..n] {
+            if b == b'\n' || b == b'\r' {
+                let text = String::from_utf8_lossy(&line);
+                if let Some(package) = failed_package(&text) {
+                    failed.push(package);
                 }
+                for c in crates.iter().filter(|c| c.version.is_some()) {
+                    if unfetched(&text, &c.package) && !unavailable.contains(&c.package) {
+                        unavailable.push(c.package.clone());
+                    }
+                }
+                line.clear();
+            } else if line.len() < 4096 {
+                line.push(b);
             }
         }
     }
-    let status = child.wait();
-    if status.as_ref().is_ok_and(|s| s.success()) && exe.is_file() {
-        return Ok(exe);
-    }
-    report_failure(crates, &failed, &unavailable, &name, &dir);
-    Err(ExitCode::from(1))
+    (failed, unavailable)
 }
 
 /// A short stable name for this set of crates with these sources and profile.

@@ -58,6 +58,37 @@ pub(crate) fn open(
     links: &PartLinks,
     delivery: Delivery,
 ) -> Result<Free, String> {
+    let data = publishers(session, keys, part, links)?;
+    let subscribers = subscribers(session, keys, links, &delivery)?;
+    let waiting: Arc<Mutex<HashMap<(u32, u64), Query>>> = Arc::default();
+    let queryables = queryables(session, keys, part, links, &delivery, &waiting)?;
+    let mut calls_out = BTreeMap::new();
+    for (id, call) in &links.calls_out {
+        calls_out.insert(*id, keys.service(&call.server_part, &call.service)?);
+    }
+    let watch = Watch::start(session, keys, part, report(links, delivery.clone()))?;
+    Ok(Free {
+        session: session.clone(),
+        delivery,
+        data,
+        calls_out,
+        waiting,
+        _subscribers: subscribers,
+        _queryables: queryables,
+        watch,
+        linked: linked_names(part, links),
+        failures: AtomicU64::new(0),
+        closed: AtomicBool::new(false),
+    })
+}
+
+/// A publisher per link this part sends, with its attachment (the link number).
+fn publishers(
+    session: &Session,
+    keys: &Keys,
+    part: &str,
+    links: &PartLinks,
+) -> Result<BTreeMap<u32, (Publisher<'static>, ZBytes)>, String> {
     let mut data = BTreeMap::new();
     for (id, s) in &links.sending {
         let qos = Qos::of(s);
@@ -70,6 +101,17 @@ pub(crate) fn open(
             .map_err(|e| format!("cannot publish the link {id}: {e}"))?;
         data.insert(*id, (publisher, ZBytes::from(id.to_le_bytes().to_vec())));
     }
+    Ok(data)
+}
+
+/// A subscriber per part this one receives from, handing the samples of this part's
+/// links to `delivery`.
+fn subscribers(
+    session: &Session,
+    keys: &Keys,
+    links: &PartLinks,
+    delivery: &Delivery,
+) -> Result<Vec<Subscriber<()>>, String> {
     let mut subscribers = Vec::new();
     let mut from: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
     for (id, writer) in &links.receiving {
@@ -96,7 +138,19 @@ pub(crate) fn open(
             .map_err(|e| format!("cannot receive from the part `{writer_part}`: {e}"))?;
         subscribers.push(subscriber);
     }
-    let waiting: Arc<Mutex<HashMap<(u32, u64), Query>>> = Arc::default();
+    Ok(subscribers)
+}
+
+/// A queryable per service of this part called from others; its queries wait in
+/// `waiting` for the service's answer.
+fn queryables(
+    session: &Session,
+    keys: &Keys,
+    part: &str,
+    links: &PartLinks,
+    delivery: &Delivery,
+    waiting: &Arc<Mutex<HashMap<(u32, u64), Query>>>,
+) -> Result<Vec<Queryable<()>>, String> {
     let mut queryables = Vec::new();
     let mut services: BTreeMap<String, Vec<u32>> = BTreeMap::new();
     for (id, call) in &links.calls_in {
@@ -104,7 +158,7 @@ pub(crate) fn open(
         services.entry(key.to_string()).or_default().push(*id);
     }
     for (key, ids) in services {
-        let (delivery, waiting) = (delivery.clone(), Arc::clone(&waiting));
+        let (delivery, waiting) = (delivery.clone(), Arc::clone(waiting));
         let queryable = session
             .declare_queryable(key.clone())
             .callback(move |query| serve(query, &ids, &waiting, &delivery))
@@ -112,11 +166,12 @@ pub(crate) fn open(
             .map_err(|e| format!("cannot serve `{key}`: {e}"))?;
         queryables.push(queryable);
     }
-    let mut calls_out = BTreeMap::new();
-    for (id, call) in &links.calls_out {
-        calls_out.insert(*id, keys.service(&call.server_part, &call.service)?);
-    }
-    let watch = Watch::start(session, keys, part, report(links, delivery.clone()))?;
+    Ok(queryables)
+}
+
+/// How each part linked to this one names its link in reports (`link robot →
+/// station`, the writer first).
+fn linked_names(part: &str, links: &PartLinks) -> BTreeMap<String, String> {
     let mut linked = BTreeMap::new();
     for sending in links.sending.values() {
         let other = &sending.to_part;
@@ -136,19 +191,7 @@ pub(crate) fn open(
         let other = &call.server_part;
         linked.insert(other.clone(), format!("link {other} → {part}"));
     }
-    Ok(Free {
-        session: session.clone(),
-        delivery,
-        data,
-        calls_out,
-        waiting,
-        _subscribers: subscribers,
-        _queryables: queryables,
-        watch,
-        linked,
-        failures: AtomicU64::new(0),
-        closed: AtomicBool::new(false),
-    })
+    linked
 }
 
 /// Reports parts that go and come back, naming the links they feed into this part,

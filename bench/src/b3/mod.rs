@@ -138,30 +138,42 @@ pub fn run(args: &[String]) -> u8 {
         .chain(CONSUMERS.map(Mode::Ports))
         .chain([Mode::Wakeups(LAST), Mode::Threads(LAST)])
         .collect();
+    let rows = match measure_rounds(&modes, rounds, window) {
+        Ok(rows) => rows,
+        Err(e) => {
+            eprintln!("b3: {e}");
+            return 1;
+        }
+    };
+    for f in &rows {
+        print_row(f);
+    }
+    print_findings(&rows);
+    0
+}
+
+/// Every configuration in each of `rounds` rounds of `window` seconds, a line of CPU
+/// figures per round; the figures of each configuration merged over the rounds.
+fn measure_rounds(modes: &[Mode], rounds: u32, window: f64) -> Result<Vec<Figures>, String> {
     let mut merged: Vec<Option<Figures>> = vec![None; modes.len()];
     for round in 0..rounds as usize {
         let mut line = format!("b3 round {}: cpu %", round + 1);
         // Rotate the order, so that no configuration always runs first or last.
         for k in 0..modes.len() {
             let i = (round + k) % modes.len();
-            match configuration(modes[i], window) {
-                Ok(f) => {
-                    line += &format!("  {} {:.2}", modes[i].arg(), f.cpu_pct);
-                    merged[i] = Some(merged[i].map_or(f, |m| m.merge(f)));
-                }
-                Err(e) => {
-                    eprintln!("b3: {e}");
-                    return 1;
-                }
-            }
+            let f = configuration(modes[i], window)?;
+            line += &format!("  {} {:.2}", modes[i].arg(), f.cpu_pct);
+            merged[i] = Some(merged[i].map_or(f, |m| m.merge(f)));
         }
         println!("{line}; {}", load_note());
     }
-    let rows: Vec<Figures> = merged.into_iter().flatten().collect();
-    for f in &rows {
-        print_row(f);
-    }
-    let [base, one, _, last, wakeups, threads] = &rows[..] else {
+    Ok(merged.into_iter().flatten().collect())
+}
+
+/// What each further consumer costs, the targets at the most consumers, and the
+/// `RESULT` line.
+fn print_findings(rows: &[Figures]) {
+    let [base, one, _, last, wakeups, threads] = rows else {
         unreachable!("six configurations")
     };
     let ratio_1 = last.cpu_pct / one.cpu_pct;
@@ -203,7 +215,6 @@ pub fn run(args: &[String]) -> u8 {
         wakeups.cpu_pct,
         threads.cpu_pct,
     );
-    0
 }
 
 fn print_row(f: &Figures) {

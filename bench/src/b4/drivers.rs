@@ -204,8 +204,8 @@ pub(super) fn run_variant(
     cpu: Option<usize>,
 ) -> Result<Run, String> {
     let shared = Shared::new(n + WARM_UP);
-    let s = Arc::clone(&shared);
     let started = Instant::now();
+    let pace = Pace { n, gap, cpu };
     match variant {
         Variant::Ports | Variant::PortsSpin | Variant::PortsAdaptive => {
             let wait = match variant {
@@ -213,157 +213,183 @@ pub(super) fn run_variant(
                 Variant::PortsAdaptive => WaitMode::Adaptive,
                 _ => WaitMode::Park,
             };
-            let out = OutputPort::<Msg>::new("talker/out");
-            let input = InputPort::<Msg>::new("listener/in");
-            connect(&out, &input, ConnectOptions::default()).map_err(|e| e.to_string())?;
-            let wakeup = wakeup_for(|w| input.set_notifier(w))?;
-            let receive = move || {
-                if input.take_changed() {
-                    let m = *input.get();
-                    s.record(m.stamp_ns, m.seq);
-                    s.record_cpu();
-                }
-            };
-            with_container(placed(cpu, wait), wakeup, &shared, n, gap, receive, |seq| {
-                out.publish_with(|m| {
-                    m.seq = seq;
-                    m.stamp_ns = now_ns();
-                })
-            })?;
+            ports(&shared, pace, wait)?
         }
-        Variant::CopyPorts => {
-            let out = CopyOutputPort::<Msg>::new("talker/out");
-            let input = CopyInputPort::<Msg>::new("listener/in");
-            connect(&out, &input, ConnectOptions::default()).map_err(|e| e.to_string())?;
-            let wakeup = wakeup_for(|w| input.set_notifier(w))?;
-            let receive = move || {
-                if input.take_changed() {
-                    let m = input.get();
-                    s.record(m.stamp_ns, m.seq);
-                }
-            };
-            with_container(
-                placed(cpu, WaitMode::Park),
-                wakeup,
-                &shared,
-                n,
-                gap,
-                receive,
-                |seq| {
-                    out.publish(Msg {
-                        seq,
-                        stamp_ns: now_ns(),
-                        ..Msg::default()
-                    })
-                },
-            )?;
-        }
-        Variant::Container => {
-            let mailbox = Arc::new(Mailbox::default());
-            let wakeup = Wakeup::new();
-            let (mb, w) = (Arc::clone(&mailbox), Arc::clone(&wakeup));
-            let mut last = 0;
-            let receive = move || mb.take(&mut last, &s);
-            with_container(
-                placed(cpu, WaitMode::Park),
-                wakeup,
-                &shared,
-                n,
-                gap,
-                receive,
-                |seq| {
-                    mailbox.put(seq);
-                    w.notify();
-                },
-            )?;
-        }
-        Variant::CondvarUnlocked => {
-            let mailbox = Arc::new(Mailbox::default());
-            let pair = Arc::new((Mutex::new(false), Condvar::new()));
-            let stop = Arc::new(AtomicBool::new(false));
-            let (mb, p, halt) = (Arc::clone(&mailbox), Arc::clone(&pair), Arc::clone(&stop));
-            let receiver = spawn_thread(cpu, move || {
-                let mut last = 0;
-                while !halt.load(Ordering::Relaxed) {
-                    let mut pending = p.0.lock().unwrap_or_else(|e| e.into_inner());
-                    while !*pending {
-                        pending = p.1.wait(pending).unwrap_or_else(|e| e.into_inner());
-                    }
-                    *pending = false;
-                    drop(pending);
-                    mb.take(&mut last, &s);
-                }
-            })?;
-            let notify = || {
-                *pair.0.lock().unwrap_or_else(|e| e.into_inner()) = true;
-                pair.1.notify_one();
-            };
-            let result = drive(&shared, n, gap, |seq| {
-                mailbox.put(seq);
-                notify();
-            });
-            stop.store(true, Ordering::SeqCst);
-            notify();
-            let _ = receiver.join();
-            result?;
-        }
-        Variant::WaitTimeout | Variant::Wait | Variant::Park => {
-            let mailbox = Arc::new(Mailbox::default());
-            let wakeup = Wakeup::new();
-            let stop = Arc::new(AtomicBool::new(false));
-            let (mb, w, halt) = (Arc::clone(&mailbox), Arc::clone(&wakeup), Arc::clone(&stop));
-            let receiver = spawn_thread(cpu, move || {
-                let mut last = 0;
-                while !halt.load(Ordering::Relaxed) {
-                    match variant {
-                        Variant::WaitTimeout => {
-                            w.wait_timeout(Duration::from_millis(50));
-                        }
-                        Variant::Wait => w.wait(),
-                        _ => std::thread::park(),
-                    }
-                    mb.take(&mut last, &s);
-                    s.record_cpu();
-                }
-            })?;
-            let thread = receiver.thread().clone();
-            let result = drive(&shared, n, gap, |seq| {
-                mailbox.put(seq);
-                if variant == Variant::Park {
-                    thread.unpark();
-                } else {
-                    wakeup.notify();
-                }
-            });
-            stop.store(true, Ordering::SeqCst);
-            thread.unpark();
-            wakeup.notify();
-            let _ = receiver.join();
-            result?;
-        }
-        Variant::Mpsc => {
-            let (tx, rx) = mpsc::channel::<Msg>();
-            let receiver = spawn_thread(cpu, move || {
-                while let Ok(m) = rx.recv() {
-                    s.record(m.stamp_ns, m.seq);
-                }
-            })?;
-            let result = drive(&shared, n, gap, |seq| {
-                // The receiver lives until `tx` is dropped below.
-                let _ = tx.send(Msg {
-                    seq,
-                    stamp_ns: now_ns(),
-                    ..Msg::default()
-                });
-            });
-            drop(tx);
-            let _ = receiver.join();
-            result?;
-        }
+        Variant::CopyPorts => copy_ports(&shared, pace)?,
+        Variant::Container => container(&shared, pace)?,
+        Variant::CondvarUnlocked => condvar_unlocked(&shared, pace)?,
+        Variant::WaitTimeout | Variant::Wait | Variant::Park => waits(variant, &shared, pace)?,
+        Variant::Mpsc => channel(&shared, pace)?,
     }
     Ok(Run {
         latencies: shared.collect(),
         cpu_ns: shared.cpu_ns.load(Ordering::Relaxed),
         wall_ns: started.elapsed().as_nanos() as u64,
     })
+}
+
+/// How a run goes: `n` recorded messages, each `gap` after the previous was seen, the
+/// receiver pinned to `cpu` if given.
+#[derive(Clone, Copy)]
+struct Pace {
+    n: u64,
+    gap: Duration,
+    cpu: Option<usize>,
+}
+
+/// Ports (`Variant::Ports*`): an output port and an input in a data-triggered
+/// container waiting as `wait`.
+fn ports(shared: &Arc<Shared>, pace: Pace, wait: WaitMode) -> Result<(), String> {
+    let s = Arc::clone(shared);
+    let out = OutputPort::<Msg>::new("talker/out");
+    let input = InputPort::<Msg>::new("listener/in");
+    connect(&out, &input, ConnectOptions::default()).map_err(|e| e.to_string())?;
+    let wakeup = wakeup_for(|w| input.set_notifier(w))?;
+    let receive = move || {
+        if input.take_changed() {
+            let m = *input.get();
+            s.record(m.stamp_ns, m.seq);
+            s.record_cpu();
+        }
+    };
+    let Pace { n, gap, cpu } = pace;
+    with_container(placed(cpu, wait), wakeup, shared, n, gap, receive, |seq| {
+        out.publish_with(|m| {
+            m.seq = seq;
+            m.stamp_ns = now_ns();
+        })
+    })
+}
+
+/// Copy ports: the values copied, not shared.
+fn copy_ports(shared: &Arc<Shared>, pace: Pace) -> Result<(), String> {
+    let s = Arc::clone(shared);
+    let out = CopyOutputPort::<Msg>::new("talker/out");
+    let input = CopyInputPort::<Msg>::new("listener/in");
+    connect(&out, &input, ConnectOptions::default()).map_err(|e| e.to_string())?;
+    let wakeup = wakeup_for(|w| input.set_notifier(w))?;
+    let receive = move || {
+        if input.take_changed() {
+            let m = input.get();
+            s.record(m.stamp_ns, m.seq);
+        }
+    };
+    let Pace { n, gap, cpu } = pace;
+    let options = placed(cpu, WaitMode::Park);
+    with_container(options, wakeup, shared, n, gap, receive, |seq| {
+        out.publish(Msg {
+            seq,
+            stamp_ns: now_ns(),
+            ..Msg::default()
+        })
+    })
+}
+
+/// A bare container: its wakeup notified by the publisher, no ports.
+fn container(shared: &Arc<Shared>, pace: Pace) -> Result<(), String> {
+    let s = Arc::clone(shared);
+    let mailbox = Arc::new(Mailbox::default());
+    let wakeup = Wakeup::new();
+    let (mb, w) = (Arc::clone(&mailbox), Arc::clone(&wakeup));
+    let mut last = 0;
+    let receive = move || mb.take(&mut last, &s);
+    let Pace { n, gap, cpu } = pace;
+    let options = placed(cpu, WaitMode::Park);
+    with_container(options, wakeup, shared, n, gap, receive, |seq| {
+        mailbox.put(seq);
+        w.notify();
+    })
+}
+
+/// A thread waiting on a condition variable signalled after unlocking its mutex.
+fn condvar_unlocked(shared: &Arc<Shared>, pace: Pace) -> Result<(), String> {
+    let s = Arc::clone(shared);
+    let mailbox = Arc::new(Mailbox::default());
+    let pair = Arc::new((Mutex::new(false), Condvar::new()));
+    let stop = Arc::new(AtomicBool::new(false));
+    let (mb, p, halt) = (Arc::clone(&mailbox), Arc::clone(&pair), Arc::clone(&stop));
+    let receiver = spawn_thread(pace.cpu, move || {
+        let mut last = 0;
+        while !halt.load(Ordering::Relaxed) {
+            let mut pending = p.0.lock().unwrap_or_else(|e| e.into_inner());
+            while !*pending {
+                pending = p.1.wait(pending).unwrap_or_else(|e| e.into_inner());
+            }
+            *pending = false;
+            drop(pending);
+            mb.take(&mut last, &s);
+        }
+    })?;
+    let notify = || {
+        *pair.0.lock().unwrap_or_else(|e| e.into_inner()) = true;
+        pair.1.notify_one();
+    };
+    let result = drive(shared, pace.n, pace.gap, |seq| {
+        mailbox.put(seq);
+        notify();
+    });
+    stop.store(true, Ordering::SeqCst);
+    notify();
+    let _ = receiver.join();
+    result
+}
+
+/// A plain thread in the runtime's wakeup (`wait_timeout`, `wait`) or parked
+/// (`Variant::Park`).
+fn waits(variant: Variant, shared: &Arc<Shared>, pace: Pace) -> Result<(), String> {
+    let s = Arc::clone(shared);
+    let mailbox = Arc::new(Mailbox::default());
+    let wakeup = Wakeup::new();
+    let stop = Arc::new(AtomicBool::new(false));
+    let (mb, w, halt) = (Arc::clone(&mailbox), Arc::clone(&wakeup), Arc::clone(&stop));
+    let receiver = spawn_thread(pace.cpu, move || {
+        let mut last = 0;
+        while !halt.load(Ordering::Relaxed) {
+            match variant {
+                Variant::WaitTimeout => {
+                    w.wait_timeout(Duration::from_millis(50));
+                }
+                Variant::Wait => w.wait(),
+                _ => std::thread::park(),
+            }
+            mb.take(&mut last, &s);
+            s.record_cpu();
+        }
+    })?;
+    let thread = receiver.thread().clone();
+    let result = drive(shared, pace.n, pace.gap, |seq| {
+        mailbox.put(seq);
+        if variant == Variant::Park {
+            thread.unpark();
+        } else {
+            wakeup.notify();
+        }
+    });
+    stop.store(true, Ordering::SeqCst);
+    thread.unpark();
+    wakeup.notify();
+    let _ = receiver.join();
+    result
+}
+
+/// A plain thread receiving from std's mpsc channel.
+fn channel(shared: &Arc<Shared>, pace: Pace) -> Result<(), String> {
+    let s = Arc::clone(shared);
+    let (tx, rx) = mpsc::channel::<Msg>();
+    let receiver = spawn_thread(pace.cpu, move || {
+        while let Ok(m) = rx.recv() {
+            s.record(m.stamp_ns, m.seq);
+        }
+    })?;
+    let result = drive(shared, pace.n, pace.gap, |seq| {
+        // The receiver lives until `tx` is dropped below.
+        let _ = tx.send(Msg {
+            seq,
+            stamp_ns: now_ns(),
+            ..Msg::default()
+        });
+    });
+    drop(tx);
+    let _ = receiver.join();
+    result
 }

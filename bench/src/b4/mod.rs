@@ -208,128 +208,176 @@ pub fn run(args: &[String]) -> u8 {
         }
     };
     let gap = Duration::from_micros(gap_us);
+    let measured = measure_rounds(rounds as usize, per_round, gap, placement.receiver);
+    drop(placement);
+    let (samples, cpu) = match measured {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("{e}");
+            return 1;
+        }
+    };
+    let figures = Figures {
+        sums: samples.into_iter().map(Summary::of).collect(),
+        cpu,
+        messages: total + WARM_UP * rounds,
+    };
+    figures.print_variants();
+    figures.print_findings(gap_us, pin);
+    0
+}
+
+/// Every variant `per_round` times in each of `rounds` rounds: the latencies of each,
+/// and its receiver's CPU time and wall time summed over rounds.
+#[allow(clippy::type_complexity)]
+fn measure_rounds(
+    rounds: usize,
+    per_round: u64,
+    gap: Duration,
+    receiver: Option<usize>,
+) -> Result<(Vec<Vec<u64>>, Vec<(u64, u64)>), String> {
     let mut samples: Vec<Vec<u64>> = VARIANTS.iter().map(|_| Vec::new()).collect();
-    // Receiver CPU time and wall time per variant, summed over rounds.
     let mut cpu: Vec<(u64, u64)> = VARIANTS.iter().map(|_| (0, 0)).collect();
-    for round in 0..rounds as usize {
+    for round in 0..rounds {
         // Rotate the order so no variant always runs first or last in a round.
         for k in 0..VARIANTS.len() {
             let idx = (round + k) % VARIANTS.len();
-            match run_variant(VARIANTS[idx], per_round, gap, placement.receiver) {
-                Ok(mut run) => {
-                    samples[idx].append(&mut run.latencies);
-                    cpu[idx].0 += run.cpu_ns;
-                    cpu[idx].1 += run.wall_ns;
-                }
-                Err(e) => {
-                    eprintln!("b4: {:?}: {e}", VARIANTS[idx]);
-                    return 1;
-                }
+            let mut run = run_variant(VARIANTS[idx], per_round, gap, receiver)
+                .map_err(|e| format!("b4: {:?}: {e}", VARIANTS[idx]))?;
+            samples[idx].append(&mut run.latencies);
+            cpu[idx].0 += run.cpu_ns;
+            cpu[idx].1 += run.wall_ns;
+        }
+    }
+    Ok((samples, cpu))
+}
+
+/// What B4 measured: the latencies and receiver CPU of every variant, in `VARIANTS`'s
+/// order.
+struct Figures {
+    sums: Vec<Summary>,
+    /// Receiver CPU time and wall time per variant, summed over rounds.
+    cpu: Vec<(u64, u64)>,
+    /// Messages sent per variant, warm-up included.
+    messages: u64,
+}
+
+impl Figures {
+    /// The receiver's CPU as a share of one core over the run.
+    fn cpu_pct(&self, i: usize) -> f64 {
+        100.0 * self.cpu[i].0 as f64 / self.cpu[i].1.max(1) as f64
+    }
+
+    /// The receiver's CPU time per message.
+    fn cpu_us_per_msg(&self, i: usize) -> f64 {
+        self.cpu[i].0 as f64 / 1000.0 / self.messages as f64
+    }
+
+    /// A latency line per variant, then a CPU line per variant that measured it.
+    fn print_variants(&self) {
+        for (v, s) in VARIANTS.iter().zip(&self.sums) {
+            println!(
+                "b4 {}  p25 {:6.2}  p50 {:6.2}  p75 {:6.2}  p99 {:7.2}  p99.9 {:8.2}  max {:9.2}  \
+                 mean {:6.2} µs  n={}",
+                v.label(),
+                us(s.p25),
+                us(s.p50),
+                us(s.p75),
+                us(s.p99),
+                us(s.p999),
+                us(s.max),
+                s.mean / 1000.0,
+                s.n
+            );
+        }
+        for (i, v) in VARIANTS.iter().enumerate() {
+            if self.cpu[i].0 > 0 {
+                println!(
+                    "b4 CPU of the receiver  {}  {:6.1} % of a core  {:7.2} µs per message",
+                    v.label(),
+                    self.cpu_pct(i),
+                    self.cpu_us_per_msg(i)
+                );
             }
         }
     }
-    drop(placement);
-    let sums: Vec<Summary> = samples.into_iter().map(Summary::of).collect();
-    for (v, s) in VARIANTS.iter().zip(&sums) {
+
+    /// The wait modes compared, the ports against mpsc and the parts of their latency,
+    /// and the `RESULT` line.
+    fn print_findings(&self, gap_us: u64, pin: bool) {
+        let [ports, spin, adaptive, copy, container, chan, wait_timeout, wait, unlocked, park] =
+            &self.sums[..]
+        else {
+            unreachable!("ten variants")
+        };
+        let cpu_pct = |i: usize| self.cpu_pct(i);
         println!(
-            "b4 {}  p25 {:6.2}  p50 {:6.2}  p75 {:6.2}  p99 {:7.2}  p99.9 {:8.2}  max {:9.2}  \
-             mean {:6.2} µs  n={}",
-            v.label(),
-            us(s.p25),
-            us(s.p50),
-            us(s.p75),
-            us(s.p99),
-            us(s.p999),
-            us(s.max),
-            s.mean / 1000.0,
-            s.n
+            "b4: wait modes: p50 park {:.2} / spin {:.2} / adaptive {:.2} µs (target <= 2 for spin \
+             and adaptive), p99 {:.2} / {:.2} / {:.2} µs; receiver CPU {:.1} / {:.1} / {:.1} % of a \
+             core (park/unpark thread: p50 {:.2} µs, {:.1} %); {}",
+            us(ports.p50),
+            us(spin.p50),
+            us(adaptive.p50),
+            us(ports.p99),
+            us(spin.p99),
+            us(adaptive.p99),
+            cpu_pct(0),
+            cpu_pct(1),
+            cpu_pct(2),
+            us(park.p50),
+            cpu_pct(9),
+            load_note()
+        );
+        let ratio = ports.p50 as f64 / chan.p50 as f64;
+        println!(
+            "b4: ports p50 {:.2} µs (target <= 5), p99 {:.2} µs (target <= 50); p50 {ratio:.2}x of \
+             mpsc; p50 parts: ports {:+.2} µs over the bare container, container loop {:+.2} µs over \
+             a thread in wait_timeout, time limit {:+.2} µs over wait(), signalling under the mutex \
+             {:+.2} µs over after it, mutex + condition variable {:+.2} µs over park; {}",
+            us(ports.p50),
+            us(ports.p99),
+            us(ports.p50) - us(container.p50),
+            us(container.p50) - us(wait_timeout.p50),
+            us(wait_timeout.p50) - us(wait.p50),
+            us(wait.p50) - us(unlocked.p50),
+            us(unlocked.p50) - us(park.p50),
+            load_note()
+        );
+        println!(
+            "RESULT b4 p50_us={:.2} p99_us={:.2} max_us={:.2} messages={} scope=process \
+             mpsc_p50_us={:.2} mpsc_p99_us={:.2} mpsc_max_us={:.2} ratio_p50_vs_mpsc={ratio:.2} \
+             copy_p50_us={:.2} copy_p99_us={:.2} container_p50_us={:.2} container_p99_us={:.2} \
+             wait_timeout_p50_us={:.2} wait_p50_us={:.2} condvar_unlocked_p50_us={:.2} \
+             park_p50_us={:.2} park_p99_us={:.2} park_cpu_pct={:.1} \
+             spin_p50_us={:.2} spin_p99_us={:.2} adaptive_p50_us={:.2} adaptive_p99_us={:.2} \
+             wait_park_cpu_pct={:.1} wait_spin_cpu_pct={:.1} wait_adaptive_cpu_pct={:.1} \
+             gap_us={gap_us} pinned={pin}",
+            us(ports.p50),
+            us(ports.p99),
+            us(ports.max),
+            ports.n,
+            us(chan.p50),
+            us(chan.p99),
+            us(chan.max),
+            us(copy.p50),
+            us(copy.p99),
+            us(container.p50),
+            us(container.p99),
+            us(wait_timeout.p50),
+            us(wait.p50),
+            us(unlocked.p50),
+            us(park.p50),
+            us(park.p99),
+            cpu_pct(9),
+            us(spin.p50),
+            us(spin.p99),
+            us(adaptive.p50),
+            us(adaptive.p99),
+            cpu_pct(0),
+            cpu_pct(1),
+            cpu_pct(2),
         );
     }
-    let [ports, spin, adaptive, copy, container, chan, wait_timeout, wait, unlocked, park] =
-        &sums[..]
-    else {
-        unreachable!("ten variants")
-    };
-    // The receiver's CPU as a share of one core over the run, and per message.
-    let cpu_pct = |i: usize| 100.0 * cpu[i].0 as f64 / cpu[i].1.max(1) as f64;
-    let cpu_us_per_msg = |i: usize| cpu[i].0 as f64 / 1000.0 / (total + WARM_UP * rounds) as f64;
-    for (i, v) in VARIANTS.iter().enumerate() {
-        if cpu[i].0 > 0 {
-            println!(
-                "b4 CPU of the receiver  {}  {:6.1} % of a core  {:7.2} µs per message",
-                v.label(),
-                cpu_pct(i),
-                cpu_us_per_msg(i)
-            );
-        }
-    }
-    println!(
-        "b4: wait modes: p50 park {:.2} / spin {:.2} / adaptive {:.2} µs (target <= 2 for spin \
-         and adaptive), p99 {:.2} / {:.2} / {:.2} µs; receiver CPU {:.1} / {:.1} / {:.1} % of a \
-         core (park/unpark thread: p50 {:.2} µs, {:.1} %); {}",
-        us(ports.p50),
-        us(spin.p50),
-        us(adaptive.p50),
-        us(ports.p99),
-        us(spin.p99),
-        us(adaptive.p99),
-        cpu_pct(0),
-        cpu_pct(1),
-        cpu_pct(2),
-        us(park.p50),
-        cpu_pct(9),
-        load_note()
-    );
-    let ratio = ports.p50 as f64 / chan.p50 as f64;
-    println!(
-        "b4: ports p50 {:.2} µs (target <= 5), p99 {:.2} µs (target <= 50); p50 {ratio:.2}x of \
-         mpsc; p50 parts: ports {:+.2} µs over the bare container, container loop {:+.2} µs over \
-         a thread in wait_timeout, time limit {:+.2} µs over wait(), signalling under the mutex \
-         {:+.2} µs over after it, mutex + condition variable {:+.2} µs over park; {}",
-        us(ports.p50),
-        us(ports.p99),
-        us(ports.p50) - us(container.p50),
-        us(container.p50) - us(wait_timeout.p50),
-        us(wait_timeout.p50) - us(wait.p50),
-        us(wait.p50) - us(unlocked.p50),
-        us(unlocked.p50) - us(park.p50),
-        load_note()
-    );
-    println!(
-        "RESULT b4 p50_us={:.2} p99_us={:.2} max_us={:.2} messages={} scope=process \
-         mpsc_p50_us={:.2} mpsc_p99_us={:.2} mpsc_max_us={:.2} ratio_p50_vs_mpsc={ratio:.2} \
-         copy_p50_us={:.2} copy_p99_us={:.2} container_p50_us={:.2} container_p99_us={:.2} \
-         wait_timeout_p50_us={:.2} wait_p50_us={:.2} condvar_unlocked_p50_us={:.2} \
-         park_p50_us={:.2} park_p99_us={:.2} park_cpu_pct={:.1} \
-         spin_p50_us={:.2} spin_p99_us={:.2} adaptive_p50_us={:.2} adaptive_p99_us={:.2} \
-         wait_park_cpu_pct={:.1} wait_spin_cpu_pct={:.1} wait_adaptive_cpu_pct={:.1} \
-         gap_us={gap_us} pinned={pin}",
-        us(ports.p50),
-        us(ports.p99),
-        us(ports.max),
-        ports.n,
-        us(chan.p50),
-        us(chan.p99),
-        us(chan.max),
-        us(copy.p50),
-        us(copy.p99),
-        us(container.p50),
-        us(container.p99),
-        us(wait_timeout.p50),
-        us(wait.p50),
-        us(unlocked.p50),
-        us(park.p50),
-        us(park.p99),
-        cpu_pct(9),
-        us(spin.p50),
-        us(spin.p99),
-        us(adaptive.p50),
-        us(adaptive.p99),
-        cpu_pct(0),
-        cpu_pct(1),
-        cpu_pct(2),
-    );
-    0
 }
 
 /// `--pin`: the publisher (this thread) on CPU 0 while B4 runs, receivers on CPU 1.

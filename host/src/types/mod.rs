@@ -139,28 +139,10 @@ fn count(n: usize, noun: &str) -> String {
 }
 
 fn export(args: ExportArgs, registry: &Registry) -> ExitCode {
-    let mut libraries = by_library(registry);
-    for wanted in &args.library {
-        if !libraries.contains_key(wanted) {
-            eprintln!(
-                "error: --library {wanted}: no module type of this library is registered here\n\
-                 help: libraries with registered types: {}",
-                libraries.keys().cloned().collect::<Vec<_>>().join(", ")
-            );
-            return ExitCode::from(2);
-        }
-    }
-    if !args.library.is_empty() {
-        libraries.retain(|name, _| args.library.contains(name));
-    }
-    if !args.check && args.output.is_none() && libraries.len() != 1 {
-        eprintln!(
-            "error: {} libraries to write and no output folder\n\
-             help: add `-o DIR`, or pick one library with `--library NAME` to print it",
-            libraries.len()
-        );
-        return ExitCode::from(2);
-    }
+    let libraries = match selected_libraries(&args, registry) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
     let names: Vec<String> = libraries.keys().cloned().collect();
     let options = crate::loader_options(&args.lib_path, false);
     let loaded = ferroc_compiler::load_manifests(&names, &options);
@@ -223,6 +205,38 @@ fn export(args: ExportArgs, registry: &Registry) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+/// The registered module types of the libraries `--library` picks (all without it),
+/// by library; exit code 2 for a library without registered types, or for several
+/// libraries to print.
+fn selected_libraries(
+    args: &ExportArgs,
+    registry: &Registry,
+) -> Result<BTreeMap<String, Vec<Interface>>, ExitCode> {
+    let mut libraries = by_library(registry);
+    for wanted in &args.library {
+        if !libraries.contains_key(wanted) {
+            eprintln!(
+                "error: --library {wanted}: no module type of this library is registered here\n\
+                 help: libraries with registered types: {}",
+                libraries.keys().cloned().collect::<Vec<_>>().join(", ")
+            );
+            return Err(ExitCode::from(2));
+        }
+    }
+    if !args.library.is_empty() {
+        libraries.retain(|name, _| args.library.contains(name));
+    }
+    if !args.check && args.output.is_none() && libraries.len() != 1 {
+        eprintln!(
+            "error: {} libraries to write and no output folder\n\
+             help: add `-o DIR`, or pick one library with `--library NAME` to print it",
+            libraries.len()
+        );
+        return Err(ExitCode::from(2));
+    }
+    Ok(libraries)
 }
 
 /// Lists every difference between a built-in type and its manifest.

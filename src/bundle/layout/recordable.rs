@@ -1,7 +1,8 @@
 //! `--record` in generated programs: which outputs of a part's modules feed a
 //! connection (the ones `ferroc run --record` would record), with their model types
-//! from the compiler, written into `main.rs` as the table `RECORDABLE` that
-//! `ferroc_std::Recorders` reads when the program is started with `--record`.
+//! from the compiler. `rust/recordable.rs` writes them into `main.rs` as the table
+//! `RECORDABLE` that `ferroc_std::Recorders` reads when the program is started with
+//! `--record`.
 //!
 //! The program registers no value type for recording: it records what its registry can
 //! encode (built-in types, library types crossing to other parts or on flexible ports
@@ -9,10 +10,7 @@
 //! every recorded library type declared `serde="true"` would break the build of a
 //! bundle whose crate does not implement serde for it, for an internal connection.
 
-use super::code::Code;
-use super::layout::Part;
-use super::literals::call;
-use super::text::rust_str;
+use super::Part;
 use ferroc_compiler::ir::{Application, Endpoint};
 use ferroc_compiler::library::{LibrarySet, PortDir};
 
@@ -61,24 +59,4 @@ pub fn outputs(app: &Application, libs: &LibrarySet, part: &Part<'_>) -> Vec<Rec
         });
     }
     out
-}
-
-/// `const RECORDABLE: &[Recordable] = &[…];`, module paths by their constants.
-pub fn table(part: &Part<'_>, name_of: &dyn Fn(&str) -> String) -> String {
-    let items: Vec<String> = (part.recordable.iter())
-        .map(|o| {
-            call(
-                "Recordable::new",
-                &[
-                    name_of(&o.module),
-                    rust_str(&o.port),
-                    rust_str(&o.model_type),
-                    rust_str(&o.thread),
-                ],
-            )
-        })
-        .collect();
-    let mut code = Code::default();
-    code.list(0, "const RECORDABLE: &[Recordable] = &[", &items, "];");
-    code.text.trim_end_matches('\n').to_string()
 }

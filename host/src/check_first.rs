@@ -1,4 +1,5 @@
-//! Commands that use a model (schedule, run) check it first and stop on errors.
+//! Commands that use a model (`schedule`, `run`, `bundle`) check it first and stop on
+//! errors: [`without_errors`].
 
 use ferroc_compiler::diagnostic::Severity;
 use ferroc_compiler::report::{self, ModelReport};

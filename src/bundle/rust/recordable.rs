@@ -1,0 +1,28 @@
+//! The table `RECORDABLE` of a generated `main.rs`: the outputs `--record` may record
+//! (found by `layout/recordable.rs`), which `ferroc_std::Recorders` reads when the
+//! program is started with `--record`.
+
+use super::super::code::Code;
+use super::super::layout::Part;
+use super::super::literals::call;
+use super::super::text::rust_str;
+
+/// `const RECORDABLE: &[Recordable] = &[…];`, module paths by their constants.
+pub fn table(part: &Part<'_>, name_of: &dyn Fn(&str) -> String) -> String {
+    let items: Vec<String> = (part.recordable.iter())
+        .map(|o| {
+            call(
+                "Recordable::new",
+                &[
+                    name_of(&o.module),
+                    rust_str(&o.port),
+                    rust_str(&o.model_type),
+                    rust_str(&o.thread),
+                ],
+            )
+        })
+        .collect();
+    let mut code = Code::default();
+    code.list(0, "const RECORDABLE: &[Recordable] = &[", &items, "];");
+    code.text.trim_end_matches('\n').to_string()
+}
