@@ -86,19 +86,26 @@ pub fn registry() -> Registry {
 
 /// The `--param NAME=VALUE` pairs, or the exit code of a malformed one (reported).
 pub fn cmdline_params(args: &RunArgs) -> Result<Vec<(String, String)>, ExitCode> {
-    let mut cmdline = Vec::new();
-    for p in &args.params {
-        match p.split_once('=') {
+    param_pairs(&args.params).map_err(|e| {
+        eprintln!("error: {e}");
+        ExitCode::from(2)
+    })
+}
+
+/// `--param NAME=VALUE` arguments as (name, value), trimmed: the one reading of them,
+/// for `ferroc run` and `ferroc bundle`. The error names the malformed argument.
+pub fn param_pairs(params: &[String]) -> Result<Vec<(String, String)>, String> {
+    params
+        .iter()
+        .map(|p| match p.split_once('=') {
             Some((name, value)) if !name.trim().is_empty() => {
-                cmdline.push((name.trim().to_string(), value.trim().to_string()))
+                Ok((name.trim().to_string(), value.trim().to_string()))
             }
-            _ => {
-                eprintln!("error: --param {p}: write NAME=VALUE, e.g. --param front-noise=5cm");
-                return Err(ExitCode::from(2));
-            }
-        }
-    }
-    Ok(cmdline)
+            _ => Err(format!(
+                "--param {p}: write NAME=VALUE, e.g. --param front-noise=5cm"
+            )),
+        })
+        .collect()
 }
 
 /// `ferroc run` with the module types of `registry`: check, plan, build, supervise.

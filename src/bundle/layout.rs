@@ -1,6 +1,7 @@
 //! The plan of a model split into parts (one program each), with the crates they need,
 //! every name validated before anything is generated from it.
 
+use ferroc_compiler::checks::deployment::x102_invalid_host_label::valid_host;
 use ferroc_compiler::ir::{Application, ElementKind};
 use ferroc_compiler::library::LibrarySet;
 use ferroc_compiler::plan::{
@@ -186,8 +187,10 @@ impl<'p> Split<'_, 'p> {
             let host = host
                 .as_ref()
                 .map_or_else(|| "localhost".to_string(), |(h, _)| h.clone());
-            if !text::is_host(&host) {
-                self.problem(e.span, format!("the host `{}` of part `{}` cannot name a launch script: use letters, digits, `-`, `_` and `.`", text::comment(&host), text::comment(&e.name)));
+            // The model's rule (check X102), which also keeps a launch script's file name
+            // plain: no `/`, no `..`, no leading `-`.
+            if valid_host(&host).is_err() {
+                self.problem(e.span, format!("the host `{}` of part `{}` cannot name a launch script: use letters, digits and `-` in dot-separated labels", text::comment(&host), text::comment(&e.name)));
             }
             if !text::is_rust_ident(&e.name) {
                 self.problem(e.name_span, format!("the part name `{}` cannot name a program: use letters, digits and `_` (not a Rust keyword)", text::comment(&e.name)));

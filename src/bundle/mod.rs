@@ -141,19 +141,7 @@ pub fn run(args: BundleArgs) -> ExitCode {
 /// The `--param NAME=VALUE` pairs, with `--prefix` checked; exit code 2 for a malformed
 /// one (reported).
 fn cmdline_params(args: &BundleArgs) -> Result<Vec<(String, String)>, ExitCode> {
-    let mut cmdline = Vec::new();
-    for p in &args.params {
-        match p.split_once('=') {
-            Some((name, value)) if !name.trim().is_empty() => {
-                cmdline.push((name.trim().to_string(), value.trim().to_string()))
-            }
-            _ => {
-                return Err(usage_error(&format!(
-                    "--param {p}: write NAME=VALUE, e.g. --param front-noise=5cm"
-                )))
-            }
-        }
-    }
+    let cmdline = ferroc_host::run::param_pairs(&args.params).map_err(|e| usage_error(&e))?;
     if let Some(prefix) = &args.prefix {
         if !files::valid_prefix(prefix) {
             return Err(usage_error(&format!(

@@ -51,16 +51,6 @@ pub fn is_crate_name(s: &str) -> bool {
         && s.len() <= 64
 }
 
-/// A host name as it may appear in a file name: letters, digits, `-`, `_` and `.`, not
-/// starting with `.` or `-` (so never `..`, never an option).
-pub fn is_host(s: &str) -> bool {
-    s.starts_with(|c: char| c.is_ascii_alphanumeric())
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
-        && !s.contains("..")
-        && s.len() <= 253
-}
-
 /// A semantic version as Cargo takes it (digits and dots, optional pre-release).
 pub fn is_version(s: &str) -> bool {
     let core = s.split(['-', '+']).next().unwrap_or("");
@@ -170,10 +160,6 @@ mod tests {
             "&'static str",
         ] {
             assert!(!is_rust_type(bad), "{bad:?}");
-        }
-        assert!(is_host("robot-1.local"));
-        for bad in ["..", "../etc", "a/b", "-rf", ".hidden", "a..b", ""] {
-            assert!(!is_host(bad), "{bad:?}");
         }
         assert!(is_version("0.1.0") && is_version("1.2.3-beta.1"));
         assert!(!is_version("1") && !is_version("1.0.0\"x"));

@@ -45,7 +45,9 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     }
 }
 
-/// RFC 1123 host names.
+/// RFC 1123 host names. `ferroc bundle` names launch scripts after them with the same
+/// rule, so a host that checks never makes a file name that climbs (`..`, `/`) or
+/// reads as an option (`-rf`).
 pub fn valid_host(host: &str) -> Result<(), String> {
     if host.is_empty() || host.len() > 253 {
         return Err("it must have 1 to 253 characters".into());
@@ -65,4 +67,22 @@ pub fn valid_host(host: &str) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::valid_host;
+
+    #[test]
+    fn host_labels_follow_rfc_1123_and_stay_plain_file_names() {
+        for good in ["robot-1.local", "localhost", "pc1", "a.b.c"] {
+            assert!(valid_host(good).is_ok(), "{good:?}");
+        }
+        let long = "a".repeat(64);
+        for bad in [
+            "..", "../etc", "a/b", "-rf", ".hidden", "a..b", "", "a_b", "end-", &long,
+        ] {
+            assert!(valid_host(bad).is_err(), "{bad:?}");
+        }
+    }
 }
