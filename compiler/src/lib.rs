@@ -23,6 +23,7 @@ pub use ferroc_syntax as syntax;
 pub use ferroc_values::{types, units, values};
 
 use diagnostic::{Diagnostic, Diagnostics, Severity};
+use ferroc_syntax::AllowRegion;
 use load::{Loader, Options};
 use source::SourceMap;
 use std::path::Path;
@@ -77,22 +78,8 @@ fn check_with(
     if let Some((name, text)) = given {
         loader.set_model_text(name.to_owned(), text.to_owned());
     }
-    // A FINROC file (make.xml, application, group, config) is checked as such: there is
-    // no model. Standard input is read once here to see its root element (a pipe cannot
-    // be read twice).
-    let kind = if given.is_some() {
-        None
-    } else if load::is_stdin(path) {
-        let text = load::read_stdin(&options.limits)
-            .map_err(|r| format!("cannot read {}: {r}", path.display()))?;
-        let root = load::root_element_of(text.as_bytes());
-        loader.set_stdin_text(text);
-        finroc::kind_of_root(root.as_deref(), path)
-    } else {
-        finroc::kind_of(path)
-    };
     let mut not_checked = Vec::new();
-    let model = match kind {
+    let model = match finroc_kind(&mut loader, path, given.is_some(), options)? {
         Some(kind) => {
             not_checked = finroc::check_file(&mut loader, path, kind)?;
             None
@@ -102,39 +89,85 @@ fn check_with(
     let mut app = None;
     let mut libraries = library::LibrarySet::default();
     if let Some(model) = model {
-        let requests = model
-            .root
-            .children_named("use")
-            .filter_map(|u| {
-                Some(library::LibraryRequest {
-                    name: u.value("library")?.to_string(),
-                    manifest: u.value("manifest").map(str::to_string),
-                    span: u.value_span("library"),
-                    from_file: model.file,
-                })
-            })
-            .collect();
-        let (set, used) = library::load_libraries(&mut loader, requests);
-        libraries = set;
-        let used: Vec<_> = used.into_iter().flatten().collect();
-        let resolved = resolve::resolve(&mut loader, &model, &libraries, &used);
-        // Nothing after resolving reads the syntax trees (the passes read the IR), and
-        // they are the largest structure of a big model: free them here, on this
-        // thread, before the passes allocate their tables, so those tables reuse the
-        // trees' memory. Freed on a thread of their own (as before), the trees were
-        // still resident while the passes took fresh pages, and the peak was the sum
-        // of both (B1: +23 MiB at 100,000 modules in an RSS trace; the frees cost the
-        // same CPU on either thread).
-        drop(model);
-        let allows = std::mem::take(&mut loader.allows);
-        let ctx = ferroc_checks::PassContext::new(&resolved, &libraries, loader.sources);
-        ferroc_checks::run_passes(&ctx, loader.diags);
-        loader.allows = allows;
+        let (resolved, set) = check_loaded_model(&mut loader, model);
         app = Some(resolved);
+        libraries = set;
     }
     let allows = std::mem::take(&mut loader.allows);
     let mut items = std::mem::take(&mut diags.items);
-    for allow in &allows {
+    report_unknown_allow_codes(&allows, &mut items);
+    apply_policy(&mut items, &allows, policy);
+    sort_and_dedup(&mut items);
+    Ok(CheckResult {
+        sources,
+        diagnostics: items,
+        app,
+        libraries,
+        not_checked,
+    })
+}
+
+/// The FINROC kind of the file at `path` (make.xml, application, group, config), which
+/// is checked as such with no model; `None` for a model (always for a given text).
+/// Standard input is read once here to see its root element (a pipe cannot be read
+/// twice) and handed to the loader.
+fn finroc_kind(
+    loader: &mut Loader<'_>,
+    path: &Path,
+    given: bool,
+    options: &Options,
+) -> Result<Option<finroc::Kind>, String> {
+    Ok(if given {
+        None
+    } else if load::is_stdin(path) {
+        let text = load::read_stdin(&options.limits)
+            .map_err(|r| format!("cannot read {}: {r}", path.display()))?;
+        let root = load::root_element_of(text.as_bytes());
+        loader.set_stdin_text(text);
+        finroc::kind_of_root(root.as_deref(), path)
+    } else {
+        finroc::kind_of(path)
+    })
+}
+
+/// Loads the libraries a model uses, resolves it into the IR and runs every pass on it.
+fn check_loaded_model(
+    loader: &mut Loader<'_>,
+    model: load::ModelFiles,
+) -> (ir::Application, library::LibrarySet) {
+    let requests = model
+        .root
+        .children_named("use")
+        .filter_map(|u| {
+            Some(library::LibraryRequest {
+                name: u.value("library")?.to_string(),
+                manifest: u.value("manifest").map(str::to_string),
+                span: u.value_span("library"),
+                from_file: model.file,
+            })
+        })
+        .collect();
+    let (libraries, used) = library::load_libraries(loader, requests);
+    let used: Vec<_> = used.into_iter().flatten().collect();
+    let resolved = resolve::resolve(loader, &model, &libraries, &used);
+    // Nothing after resolving reads the syntax trees (the passes read the IR), and
+    // they are the largest structure of a big model: free them here, on this
+    // thread, before the passes allocate their tables, so those tables reuse the
+    // trees' memory. Freed on a thread of their own (as before), the trees were
+    // still resident while the passes took fresh pages, and the peak was the sum
+    // of both (B1: +23 MiB at 100,000 modules in an RSS trace; the frees cost the
+    // same CPU on either thread).
+    drop(model);
+    let allows = std::mem::take(&mut loader.allows);
+    let ctx = ferroc_checks::PassContext::new(&resolved, &libraries, loader.sources);
+    ferroc_checks::run_passes(&ctx, loader.diags);
+    loader.allows = allows;
+    (resolved, libraries)
+}
+
+/// M118 for every `allow` that names no check.
+fn report_unknown_allow_codes(allows: &[AllowRegion], items: &mut Vec<Diagnostic>) {
+    for allow in allows {
         if checks::find(&allow.code).is_none() {
             items.push(
                 Diagnostic::new(
@@ -147,6 +180,11 @@ fn check_with(
             );
         }
     }
+}
+
+/// Drops the findings `--allow` or an `allow` region silences; `--deny warnings` makes
+/// the remaining warnings errors.
+fn apply_policy(items: &mut Vec<Diagnostic>, allows: &[AllowRegion], policy: &Policy) {
     items.retain(|d| {
         !policy
             .allow
@@ -157,14 +195,17 @@ fn check_with(
             })
     });
     if policy.deny_warnings {
-        for d in &mut items {
+        for d in items {
             if d.severity == Severity::Warning {
                 d.severity = Severity::Error;
             }
         }
     }
-    // Stable order: by file, position, code. One finding per code and place: a group type
-    // used many times reports a problem in its definition once.
+}
+
+/// Stable order: by file, position, code. One finding per code and place: a group type
+/// used many times reports a problem in its definition once.
+fn sort_and_dedup(items: &mut Vec<Diagnostic>) {
     items.sort_by(|a, b| {
         (
             a.primary.span.file,
@@ -180,11 +221,4 @@ fn check_with(
             ))
     });
     items.dedup_by(|a, b| a.code() == b.code() && a.primary.span == b.primary.span);
-    Ok(CheckResult {
-        sources,
-        diagnostics: items,
-        app,
-        libraries,
-        not_checked,
-    })
 }

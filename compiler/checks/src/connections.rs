@@ -62,21 +62,6 @@ pub fn flow_types<'a>(
     from: &PortView<'a>,
     to: &PortView<'a>,
 ) -> Result<(Cow<'a, Type>, Cow<'a, Type>), ConvertError> {
-    // Element type of `t[k]`, or why `t` cannot be indexed there.
-    let element = |t: &Type, k: u32, span: Span| -> Result<Type, ConvertError> {
-        match t {
-            Type::Array(e, n) if k < *n => Ok((**e).clone()),
-            Type::Array(_, n) => Err(ConvertError {
-                span,
-                message: format!("index {k} is out of bounds for `{t}` (length {n})"),
-            }),
-            Type::Seq(e) => Ok((**e).clone()),
-            _ => Err(ConvertError {
-                span,
-                message: format!("`{t}` is not an array or sequence; it cannot be indexed"),
-            }),
-        }
-    };
     let mut t = match c.from_index {
         None => Cow::Borrowed(from.ty),
         Some(k) => Cow::Owned(element(from.ty, k, c.from_span)?),
@@ -96,26 +81,7 @@ pub fn flow_types<'a>(
             t = Cow::Owned(element(&t, k, span)?);
         }
         if let Some((field, span)) = &step.field {
-            let Type::Named(id, name) = &*t else {
-                return Err(ConvertError {
-                    span: *span,
-                    message: format!("`{t}` has no fields"),
-                });
-            };
-            let nt = ctx.libraries.named_type(*id);
-            match nt.fields.iter().find(|(f, _, _)| f == field) {
-                Some((_, ft, _)) => t = Cow::Borrowed(ft),
-                None => {
-                    let names: Vec<&str> = nt.fields.iter().map(|(f, _, _)| f.as_str()).collect();
-                    return Err(ConvertError {
-                        span: *span,
-                        message: format!(
-                            "`{name}` has no field `{field}` (fields: {})",
-                            names.join(", ")
-                        ),
-                    });
-                }
-            }
+            t = Cow::Borrowed(field_type(ctx, &t, field, *span)?);
         }
         for (what, s) in [("scale", step.scale), ("offset", step.offset)] {
             if let Some((_, span)) = s {
@@ -142,6 +108,51 @@ pub fn flow_types<'a>(
         }
     }
     Ok((t, dest))
+}
+
+/// Element type of `t[k]`, or why `t` cannot be indexed there.
+fn element(t: &Type, k: u32, span: Span) -> Result<Type, ConvertError> {
+    match t {
+        Type::Array(e, n) if k < *n => Ok((**e).clone()),
+        Type::Array(_, n) => Err(ConvertError {
+            span,
+            message: format!("index {k} is out of bounds for `{t}` (length {n})"),
+        }),
+        Type::Seq(e) => Ok((**e).clone()),
+        _ => Err(ConvertError {
+            span,
+            message: format!("`{t}` is not an array or sequence; it cannot be indexed"),
+        }),
+    }
+}
+
+/// Type of the field `field` of `t`, or why `t` has no such field.
+fn field_type<'a>(
+    ctx: &'a PassContext<'a>,
+    t: &Type,
+    field: &str,
+    span: Span,
+) -> Result<&'a Type, ConvertError> {
+    let Type::Named(id, name) = t else {
+        return Err(ConvertError {
+            span,
+            message: format!("`{t}` has no fields"),
+        });
+    };
+    let nt = ctx.libraries.named_type(*id);
+    match nt.fields.iter().find(|(f, _, _)| f == field) {
+        Some((_, ft, _)) => Ok(ft),
+        None => {
+            let names: Vec<&str> = nt.fields.iter().map(|(f, _, _)| f.as_str()).collect();
+            Err(ConvertError {
+                span,
+                message: format!(
+                    "`{name}` has no field `{field}` (fields: {})",
+                    names.join(", ")
+                ),
+            })
+        }
+    }
 }
 
 /// The unit of the value at the source, after a `field` step (fields carry units).

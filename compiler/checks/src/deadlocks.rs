@@ -92,39 +92,50 @@ fn cycle(cx: &Ctx<'_>, c: &Cycle) -> Diagnostic {
         );
     }
     if c.soft {
-        let first = &cx.m.waits[c.steps[0].0 as usize];
-        let timeout = c
-            .steps
-            .iter()
-            .filter_map(|(w, _)| cx.m.waits[*w as usize].timeout)
-            .fold(0.0, f64::max);
-        if c.certain {
-            return cx.diagnostic(
-                &d113_call_always_times_out::CHECK,
-                c,
-                format!(
-                    "this call always times out after {}: the request chain needs {}, which is blocked in the call ({ring})",
-                    seconds(timeout),
-                    cx.thread(first.ec)
-                ),
-            );
-        }
-        let overruns = c.steps.iter().any(|(w, _)| {
-            cx.m.ecs[cx.m.waits[*w as usize].ec as usize]
-                .period
-                .is_some_and(|p| timeout >= p)
-        });
-        let d = cx.diagnostic(
-            &d114_timeout_race::CHECK,
-            c,
-            format!("{threads} can wait for each other ({ring}); only a timeout of {} breaks it: a possible stall", seconds(timeout)),
-        );
-        return if overruns {
-            d.severity(Severity::Warning)
-        } else {
-            d
-        };
+        return timed_cycle(cx, c, &threads, &ring);
     }
+    hard_cycle(cx, c, &threads, &ring)
+}
+
+/// A cycle that only a timeout breaks: a call that always times out (D113) or a
+/// possible stall (D114).
+fn timed_cycle(cx: &Ctx<'_>, c: &Cycle, threads: &str, ring: &str) -> Diagnostic {
+    let first = &cx.m.waits[c.steps[0].0 as usize];
+    let timeout = c
+        .steps
+        .iter()
+        .filter_map(|(w, _)| cx.m.waits[*w as usize].timeout)
+        .fold(0.0, f64::max);
+    if c.certain {
+        return cx.diagnostic(
+            &d113_call_always_times_out::CHECK,
+            c,
+            format!(
+                "this call always times out after {}: the request chain needs {}, which is blocked in the call ({ring})",
+                seconds(timeout),
+                cx.thread(first.ec)
+            ),
+        );
+    }
+    let overruns = c.steps.iter().any(|(w, _)| {
+        cx.m.ecs[cx.m.waits[*w as usize].ec as usize]
+            .period
+            .is_some_and(|p| timeout >= p)
+    });
+    let d = cx.diagnostic(
+        &d114_timeout_race::CHECK,
+        c,
+        format!("{threads} can wait for each other ({ring}); only a timeout of {} breaks it: a possible stall", seconds(timeout)),
+    );
+    if overruns {
+        d.severity(Severity::Warning)
+    } else {
+        d
+    }
+}
+
+/// A cycle nothing breaks: a deadlock, under the code of its kind.
+fn hard_cycle(cx: &Ctx<'_>, c: &Cycle, threads: &str, ring: &str) -> Diagnostic {
     let first = &cx.m.waits[c.steps[0].0 as usize];
     match c.kind {
         CycleKind::Call if c.steps.len() == 1 => cx.diagnostic(
@@ -164,35 +175,40 @@ fn cycle(cx: &Ctx<'_>, c: &Cycle) -> Diagnostic {
                 ),
             )
         }
-        CycleKind::SelfQueue => {
-            let queue = match first.kind {
-                WaitKind::Read { queue } => cx.queue(queue),
-                _ => "its input".to_string(),
-            };
-            let d = cx.diagnostic(
-                &d110_same_thread_queue_read::CHECK,
-                c,
-                if c.tokens == 0 {
-                    format!(
-                        "deadlock: `{}` blocks reading {}, whose writers run later in the same thread container {}",
-                        cx.app.path(first.root),
-                        queue,
-                        cx.thread(first.ec)
-                    )
-                } else {
-                    format!(
-                        "`{}` blocks reading {}; its writer in the same thread container {} runs first but may skip its write",
-                        cx.app.path(first.root),
-                        queue,
-                        cx.thread(first.ec)
-                    )
-                },
-            );
-            if c.tokens > 0 {
-                d.severity(Severity::Warning)
+        CycleKind::SelfQueue => self_queue_read(cx, c),
+    }
+}
+
+/// A module blocking on a queue its own thread container writes (D110); only a
+/// warning when the writer runs first but may skip its write.
+fn self_queue_read(cx: &Ctx<'_>, c: &Cycle) -> Diagnostic {
+    let first = &cx.m.waits[c.steps[0].0 as usize];
+    let queue = match first.kind {
+        WaitKind::Read { queue } => cx.queue(queue),
+        _ => "its input".to_string(),
+    };
+    let d = cx.diagnostic(
+            &d110_same_thread_queue_read::CHECK,
+            c,
+            if c.tokens == 0 {
+                format!(
+                    "deadlock: `{}` blocks reading {}, whose writers run later in the same thread container {}",
+                    cx.app.path(first.root),
+                    queue,
+                    cx.thread(first.ec)
+                )
             } else {
-                d
-            }
-        }
+                format!(
+                    "`{}` blocks reading {}; its writer in the same thread container {} runs first but may skip its write",
+                    cx.app.path(first.root),
+                    queue,
+                    cx.thread(first.ec)
+                )
+            },
+        );
+    if c.tokens > 0 {
+        d.severity(Severity::Warning)
+    } else {
+        d
     }
 }

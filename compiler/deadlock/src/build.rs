@@ -27,49 +27,13 @@ pub(super) fn build(app: &Application, libs: &LibrarySet) -> Model {
     for r in &app.resources {
         b.lock_named(&r.name, Some(r.span), r.level, r.recursive);
     }
-    // Thread containers → execution contexts.
-    for (i, e) in app.elements.iter().enumerate() {
-        if let ElementKind::Thread { period, pool, .. } = e.kind {
-            b.ec_of_thread
-                .insert(ElementId(i as u32), b.m.ecs.len() as EcId);
-            b.m.ecs.push(Ec {
-                thread: ElementId(i as u32),
-                pool,
-                period,
-            });
-        }
-    }
-    // Which services are called from another context (they run as activities there).
-    let mut remote_called: hashbrown::HashSet<(ElementId, usize)> = Default::default();
-    for (id, _) in app.modules() {
-        let Some(mt) = app
-            .module_type(libs, id)
-            .filter(|mt| !mt.clients.is_empty())
-        else {
-            continue;
-        };
-        for c in 0..mt.clients.len() {
-            for t in b.targets(id, mt, c) {
-                if !t.inline {
-                    remote_called.insert((t.module, t.service));
-                }
-            }
-        }
-    }
+    b.add_contexts();
+    let remote_called = b.remote_called();
     for (id, _) in app.modules() {
         let Some(mt) = app.module_type(libs, id) else {
             continue;
         };
-        let block_writers = &b.block_writers;
-        let may_wait = |st: &StepDecl| match st.op {
-            StepOp::Write { port, .. } => block_writers.contains(&(id, port as u32)),
-            StepOp::Read { port } => mt.ports[port].blocking_read,
-            StepOp::Unlock { .. } | StepOp::Call { sync: false, .. } => false,
-            _ => true,
-        };
-        let waits = mt.activities.iter().flat_map(|a| &a.steps).any(may_wait)
-            || mt.services.iter().flat_map(|s| &s.body).any(may_wait);
-        if !waits {
+        if !b.may_wait(id, mt) {
             continue; // the common case: nothing this module does can block
         }
         let Some(ec) = b.ec_of(id) else {
@@ -97,6 +61,58 @@ pub(super) fn build(app: &Application, libs: &LibrarySet) -> Model {
         }
     }
     b.m
+}
+
+impl Builder<'_> {
+    /// Thread containers → execution contexts.
+    fn add_contexts(&mut self) {
+        for (i, e) in self.app.elements.iter().enumerate() {
+            if let ElementKind::Thread { period, pool, .. } = e.kind {
+                self.ec_of_thread
+                    .insert(ElementId(i as u32), self.m.ecs.len() as EcId);
+                self.m.ecs.push(Ec {
+                    thread: ElementId(i as u32),
+                    pool,
+                    period,
+                });
+            }
+        }
+    }
+
+    /// Which services are called from another context (they run as activities there).
+    fn remote_called(&self) -> hashbrown::HashSet<(ElementId, usize)> {
+        let mut remote_called: hashbrown::HashSet<(ElementId, usize)> = Default::default();
+        for (id, _) in self.app.modules() {
+            let Some(mt) = self
+                .app
+                .module_type(self.libs, id)
+                .filter(|mt| !mt.clients.is_empty())
+            else {
+                continue;
+            };
+            for c in 0..mt.clients.len() {
+                for t in self.targets(id, mt, c) {
+                    if !t.inline {
+                        remote_called.insert((t.module, t.service));
+                    }
+                }
+            }
+        }
+        remote_called
+    }
+
+    /// Whether some step of module `id` (of type `mt`) can wait.
+    fn may_wait(&self, id: ElementId, mt: &ModuleType) -> bool {
+        let block_writers = &self.block_writers;
+        let may_wait = |st: &StepDecl| match st.op {
+            StepOp::Write { port, .. } => block_writers.contains(&(id, port as u32)),
+            StepOp::Read { port } => mt.ports[port].blocking_read,
+            StepOp::Unlock { .. } | StepOp::Call { sync: false, .. } => false,
+            _ => true,
+        };
+        mt.activities.iter().flat_map(|a| &a.steps).any(may_wait)
+            || mt.services.iter().flat_map(|s| &s.body).any(may_wait)
+    }
 }
 
 struct Builder<'a> {

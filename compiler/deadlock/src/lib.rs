@@ -8,7 +8,7 @@
 //!    fixpoint, then Tarjan SCCs of that set.
 //! 3. [`witness`]: a bounded search inside each non-trivial SCC for a consistent cycle
 //!    (distinct threads, disjoint holdings, queue states, the marked-graph token rule).
-//! 4. [`extra`]: trigger cycles that never start, latent lock-order inversions.
+//! 4. [`dead_and_latent`]: trigger cycles that never start, latent lock-order inversions.
 //!
 //! Everything is linear in the model except the witness search, which is capped per SCC.
 //! The result is a value ([`Analysis`]); the checks in `checks/deadlocks/` render it.
@@ -16,7 +16,7 @@
 #![forbid(unsafe_code)]
 
 mod build;
-mod extra;
+mod dead_and_latent;
 mod follow;
 pub mod render;
 mod solve;
@@ -300,10 +300,10 @@ pub fn analyse(app: &Application, libs: &LibrarySet, model: &Model) -> Analysis 
                 }
             }
         }
-        a.latent = extra::latent_inversions(model, &covered);
+        a.latent = dead_and_latent::latent_inversions(model, &covered);
         self_queue_schedule(app, libs, model, &mut a.cycles);
     }
-    a.dead_triggers = extra::dead_triggers(app, libs);
+    a.dead_triggers = dead_and_latent::dead_triggers(app, libs);
     // A ring already reported as a deadlock is not reported again as never triggered.
     let in_cycle: hashbrown::HashSet<ElementId> = a
         .cycles

@@ -32,19 +32,86 @@ impl Solved {
 }
 
 pub(super) fn solve(m: &Model, soft: bool) -> Solved {
-    let (nw, ne, nl, nq) = (m.waits.len(), m.ecs.len(), m.locks.len(), m.queues.len());
-    let ec_hub = |e: EcId| (nw + e as usize) as u32;
-    let lock_hub = |l: u32| (nw + ne + l as usize) as u32;
-    let q_data = |q: u32| (nw + ne + nl + q as usize) as u32;
-    let q_space = |q: u32| (nw + ne + nl + nq + q as usize) as u32;
-    let n = nw + ne + nl + 2 * nq;
+    let nodes = Nodes::of(m);
+    let (nw, n) = (m.waits.len(), nodes.count());
     let included: Vec<bool> = (0..n)
         .map(|i| i >= nw || soft || m.waits[i].timeout.is_none())
         .collect();
-    let mut all = vec![false; n];
-    let mut lists: Vec<Vec<u32>> = vec![Vec::new(); n];
-    // Service → the wait-states of its body (for calls into pools).
-    let mut body: HashMap<(ferroc_model::ir::ElementId, usize), Vec<WaitId>> = HashMap::new();
+    let body = service_bodies(m, &included);
+    let demand = pool_demand(m, &body, &included);
+    let (lists, all) = wait_graph(m, &nodes, &body, &demand, &included);
+    let (offsets, succ) = csr(&lists);
+    drop(lists);
+    let stuck = greatest_fixpoint(&offsets, &succ, &included, &all);
+    let hangs = (0..nw)
+        .filter(|&i| stuck[i] && included[i])
+        .filter(|&i| match &m.waits[i].kind {
+            WaitKind::Call { targets, .. } => targets.is_empty(),
+            WaitKind::Read { queue } => {
+                let d = nodes.q_data(*queue) as usize;
+                offsets[d] == offsets[d + 1]
+            }
+            _ => false,
+        })
+        .map(|i| i as WaitId)
+        .collect();
+    let sccs = sccs(n, &offsets, &succ, &stuck);
+    Solved {
+        n_waits: nw,
+        offsets,
+        succ,
+        sccs,
+        hangs,
+        demand,
+    }
+}
+
+/// The node numbering: wait-states, then the hubs of contexts, locks, queue data and
+/// queue space.
+struct Nodes {
+    nw: usize,
+    ne: usize,
+    nl: usize,
+    nq: usize,
+}
+
+impl Nodes {
+    fn of(m: &Model) -> Self {
+        Nodes {
+            nw: m.waits.len(),
+            ne: m.ecs.len(),
+            nl: m.locks.len(),
+            nq: m.queues.len(),
+        }
+    }
+
+    fn count(&self) -> usize {
+        self.nw + self.ne + self.nl + 2 * self.nq
+    }
+
+    fn ec_hub(&self, e: EcId) -> u32 {
+        (self.nw + e as usize) as u32
+    }
+
+    fn lock_hub(&self, l: u32) -> u32 {
+        (self.nw + self.ne + l as usize) as u32
+    }
+
+    fn q_data(&self, q: u32) -> u32 {
+        (self.nw + self.ne + self.nl + q as usize) as u32
+    }
+
+    fn q_space(&self, q: u32) -> u32 {
+        (self.nw + self.ne + self.nl + self.nq + q as usize) as u32
+    }
+}
+
+/// Service (module, index) → the wait-states of its body.
+type ServiceBodies = HashMap<(ferroc_model::ir::ElementId, usize), Vec<WaitId>>;
+
+/// Service → the wait-states of its body (for calls into pools).
+fn service_bodies(m: &Model, included: &[bool]) -> ServiceBodies {
+    let mut body = ServiceBodies::new();
     for (i, w) in m.waits.iter().enumerate() {
         if let (Some(s), None) = (w.service, w.inline) {
             if included[i] {
@@ -52,7 +119,21 @@ pub(super) fn solve(m: &Model, soft: bool) -> Solved {
             }
         }
     }
-    let demand = pool_demand(m, &body, &included);
+    body
+}
+
+/// The successor list of every node, and which nodes are ALL nodes (stuck only when
+/// every successor is).
+fn wait_graph(
+    m: &Model,
+    nodes: &Nodes,
+    body: &ServiceBodies,
+    demand: &[u32],
+    included: &[bool],
+) -> (Vec<Vec<u32>>, Vec<bool>) {
+    let n = nodes.count();
+    let mut all = vec![false; n];
+    let mut lists: Vec<Vec<u32>> = vec![Vec::new(); n];
     for (i, w) in m.waits.iter().enumerate() {
         if !included[i] {
             continue;
@@ -67,57 +148,68 @@ pub(super) fn solve(m: &Model, soft: bool) -> Solved {
                 }
                 for t in targets {
                     let Some(ec) = t.ec else { continue };
-                    out.push(ec_hub(ec));
+                    out.push(nodes.ec_hub(ec));
                     if m.ecs[ec as usize].pool.is_some() {
                         out.extend(body.get(&(t.module, t.service)).into_iter().flatten());
                     }
                 }
                 if let Some(r) = response {
-                    out.push(ec_hub(*r));
+                    out.push(nodes.ec_hub(*r));
                 }
             }
-            WaitKind::Lock { lock } => out.push(lock_hub(*lock)),
-            WaitKind::Write { queues, .. } => out.extend(queues.iter().map(|q| q_space(*q))),
+            WaitKind::Lock { lock } => out.push(nodes.lock_hub(*lock)),
+            WaitKind::Write { queues, .. } => out.extend(queues.iter().map(|q| nodes.q_space(*q))),
             WaitKind::Read { queue } => {
                 all[i] = true;
-                out.push(q_data(*queue));
+                out.push(nodes.q_data(*queue));
             }
         }
         for h in &w.held {
             let hub = match *h {
-                Held::Ec(e) => ec_hub(e),
-                Held::Lock(l) => lock_hub(l),
+                Held::Ec(e) => nodes.ec_hub(e),
+                Held::Lock(l) => nodes.lock_hub(l),
             };
             lists[hub as usize].push(i as u32);
         }
         if let Some(p) = m.ecs[w.ec as usize].pool {
             if demand[w.ec as usize] >= p {
-                lists[ec_hub(w.ec) as usize].push(i as u32);
+                lists[nodes.ec_hub(w.ec) as usize].push(i as u32);
             }
         }
     }
     for (q, queue) in m.queues.iter().enumerate() {
-        let data = q_data(q as u32) as usize;
+        let data = nodes.q_data(q as u32) as usize;
         all[data] = true;
         let mut ecs: Vec<EcId> = queue.writers.iter().filter_map(|w| w.2).collect();
         ecs.sort_unstable();
         ecs.dedup();
-        lists[data].extend(ecs.into_iter().map(ec_hub));
+        lists[data].extend(ecs.into_iter().map(|e| nodes.ec_hub(e)));
         if let Some(ec) = queue.ec {
-            lists[q_space(q as u32) as usize].push(ec_hub(ec));
+            lists[nodes.q_space(q as u32) as usize].push(nodes.ec_hub(ec));
         }
     }
-    let mut offsets = Vec::with_capacity(n + 1);
+    (lists, all)
+}
+
+/// The successor lists in CSR form: offsets (one more than nodes) and successors.
+fn csr(lists: &[Vec<u32>]) -> (Vec<u32>, Vec<u32>) {
+    let mut offsets = Vec::with_capacity(lists.len() + 1);
     let mut succ = Vec::new();
     offsets.push(0u32);
-    for l in &lists {
+    for l in lists {
         succ.extend_from_slice(l);
         offsets.push(succ.len() as u32);
     }
-    drop(lists);
+    (offsets, succ)
+}
+
+/// The greatest stuck set: start with every included node stuck and free nodes with a
+/// worklist over the predecessors.
+fn greatest_fixpoint(offsets: &[u32], succ: &[u32], included: &[bool], all: &[bool]) -> Vec<bool> {
+    let n = offsets.len() - 1;
     // Predecessors (CSR) for the worklist.
     let mut pred_count = vec![0u32; n + 1];
-    for &t in &succ {
+    for &t in succ {
         pred_count[t as usize + 1] += 1;
     }
     for i in 0..n {
@@ -131,8 +223,7 @@ pub(super) fn solve(m: &Model, soft: bool) -> Solved {
             fill[t as usize] += 1;
         }
     }
-    // Greatest fixpoint.
-    let mut stuck = included.clone();
+    let mut stuck = included.to_vec();
     let mut count: Vec<u32> = (0..n).map(|i| offsets[i + 1] - offsets[i]).collect();
     let mut work: Vec<u32> = Vec::new();
     for i in 0..n {
@@ -160,27 +251,7 @@ pub(super) fn solve(m: &Model, soft: bool) -> Solved {
             }
         }
     }
-    let hangs = (0..nw)
-        .filter(|&i| stuck[i] && included[i])
-        .filter(|&i| match &m.waits[i].kind {
-            WaitKind::Call { targets, .. } => targets.is_empty(),
-            WaitKind::Read { queue } => {
-                let d = q_data(*queue) as usize;
-                offsets[d] == offsets[d + 1]
-            }
-            _ => false,
-        })
-        .map(|i| i as WaitId)
-        .collect();
-    let sccs = sccs(n, &offsets, &succ, &stuck);
-    Solved {
-        n_waits: nw,
-        offsets,
-        succ,
-        sccs,
-        hangs,
-        demand,
-    }
+    stuck
 }
 
 /// Tarjan on the stuck subgraph; only SCCs that can hold a cycle.
@@ -212,11 +283,7 @@ fn sccs(n: usize, offsets: &[u32], succ: &[u32], stuck: &[bool]) -> Vec<Vec<u32>
 
 /// demand(P) = Σ over callers from outside P of c · (L − 1), where c is the caller's
 /// concurrency and L the longest chain of synchronous calls that stays inside P.
-fn pool_demand(
-    m: &Model,
-    body: &HashMap<(ferroc_model::ir::ElementId, usize), Vec<WaitId>>,
-    included: &[bool],
-) -> Vec<u32> {
+fn pool_demand(m: &Model, body: &ServiceBodies, included: &[bool]) -> Vec<u32> {
     let mut demand = vec![0u32; m.ecs.len()];
     if m.ecs.iter().all(|e| e.pool.is_none()) {
         return demand;
@@ -255,7 +322,7 @@ fn pool_demand(
 
 fn chain(
     m: &Model,
-    body: &HashMap<(ferroc_model::ir::ElementId, usize), Vec<WaitId>>,
+    body: &ServiceBodies,
     pool: EcId,
     s: (ferroc_model::ir::ElementId, usize),
     memo: &mut HashMap<(ferroc_model::ir::ElementId, usize), u32>,

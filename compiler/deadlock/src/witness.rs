@@ -209,53 +209,19 @@ fn token_rule(
         return Some((0, false, false));
     }
     let k = cycle.len();
-    let cycle_queues: Vec<u32> = cycle
-        .iter()
-        .filter_map(|(w, h)| match h {
-            Hop::Empty(q) => Some(*q),
-            Hop::Full(_) => write_queue(m, *w, cycle),
-            _ => None,
-        })
-        .collect();
-    // Items a read hop sees: initial ones plus a write earlier in the writer's activation.
-    let tokens_of = |i: usize, q: u32| -> (u32, bool) {
-        let queue = &m.queues[q as usize];
-        let writer = &m.waits[cycle[(i + 1) % k].0 as usize];
-        let mut t = queue.initial;
-        let mut skip = false;
-        for (wm, wp, _) in &queue.writers {
-            if writer.written_before.contains(&(*wm, *wp)) {
-                t += 1;
-            }
-            if *wm == writer.root {
-                let sum = m.activity_summary(app, libs, cycle[(i + 1) % k].0);
-                skip |= sum
-                    .writes
-                    .iter()
-                    .any(|(p, c, opt)| p == wp && (*opt || *c == 0));
-            }
-        }
-        (t, skip)
-    };
-    // A writer is over-producing unless it is conserving on the cycle.
-    let over_producing = |w: WaitId| -> bool {
-        let wait = &m.waits[w as usize];
-        let WaitKind::Write { port, queues } = &wait.kind else {
-            return false;
-        };
-        let sum = m.activity_summary(app, libs, w);
-        let batch = sum
-            .writes
+    let c = QueueCycle {
+        app,
+        libs,
+        m,
+        cycle,
+        queues: cycle
             .iter()
-            .any(|(p, c, opt)| p == port && (*c > 1 || *opt));
-        let second_writer = queues
-            .iter()
-            .any(|q| m.queues[*q as usize].writers.len() > 1);
-        let paired = cycle_queues.iter().any(|q| {
-            let queue = &m.queues[*q as usize];
-            queue.module == wait.root && sum.blocking_reads.contains(&queue.port)
-        });
-        batch || second_writer || !paired
+            .filter_map(|(w, h)| match h {
+                Hop::Empty(q) => Some(*q),
+                Hop::Full(_) => write_queue(m, *w, cycle),
+                _ => None,
+            })
+            .collect(),
     };
     let all_reads = cycle.iter().all(|(_, h)| matches!(h, Hop::Empty(_)));
     let only_queues = queue_hops == k;
@@ -264,7 +230,7 @@ fn token_rule(
         let mut skip = false;
         for (i, (_, h)) in cycle.iter().enumerate() {
             if let Hop::Empty(q) = h {
-                let (t, s) = tokens_of(i, *q);
+                let (t, s) = c.tokens_of(i, *q);
                 total += t;
                 skip |= s;
             }
@@ -277,18 +243,75 @@ fn token_rule(
     if only_queues {
         let any = cycle
             .iter()
-            .any(|(w, h)| matches!(h, Hop::Full(_)) && over_producing(*w));
+            .any(|(w, h)| matches!(h, Hop::Full(_)) && c.over_producing(*w));
         return any.then_some((0, false, false));
     }
     // Mixed with locks or calls: each queue hop must be fillable or drainable on its own.
     for (i, (w, h)) in cycle.iter().enumerate() {
         match h {
-            Hop::Full(_) if !over_producing(*w) => return None,
-            Hop::Empty(q) if tokens_of(i, *q).0 > 0 => return None,
+            Hop::Full(_) if !c.over_producing(*w) => return None,
+            Hop::Empty(q) if c.tokens_of(i, *q).0 > 0 => return None,
             _ => {}
         }
     }
     Some((0, false, false))
+}
+
+/// A closed cycle with queue hops, and the queues it goes through.
+struct QueueCycle<'a> {
+    app: &'a Application,
+    libs: &'a LibrarySet,
+    m: &'a Model,
+    cycle: &'a [(WaitId, Hop)],
+    queues: Vec<u32>,
+}
+
+impl QueueCycle<'_> {
+    /// Items the read hop `i` on queue `q` sees: initial ones plus a write earlier in
+    /// the writer's activation; and whether the writer may skip its write.
+    fn tokens_of(&self, i: usize, q: u32) -> (u32, bool) {
+        let (m, cycle) = (self.m, self.cycle);
+        let k = cycle.len();
+        let queue = &m.queues[q as usize];
+        let writer = &m.waits[cycle[(i + 1) % k].0 as usize];
+        let mut t = queue.initial;
+        let mut skip = false;
+        for (wm, wp, _) in &queue.writers {
+            if writer.written_before.contains(&(*wm, *wp)) {
+                t += 1;
+            }
+            if *wm == writer.root {
+                let sum = m.activity_summary(self.app, self.libs, cycle[(i + 1) % k].0);
+                skip |= sum
+                    .writes
+                    .iter()
+                    .any(|(p, c, opt)| p == wp && (*opt || *c == 0));
+            }
+        }
+        (t, skip)
+    }
+
+    /// A writer is over-producing unless it is conserving on the cycle.
+    fn over_producing(&self, w: WaitId) -> bool {
+        let m = self.m;
+        let wait = &m.waits[w as usize];
+        let WaitKind::Write { port, queues } = &wait.kind else {
+            return false;
+        };
+        let sum = m.activity_summary(self.app, self.libs, w);
+        let batch = sum
+            .writes
+            .iter()
+            .any(|(p, c, opt)| p == port && (*c > 1 || *opt));
+        let second_writer = queues
+            .iter()
+            .any(|q| m.queues[*q as usize].writers.len() > 1);
+        let paired = self.queues.iter().any(|q| {
+            let queue = &m.queues[*q as usize];
+            queue.module == wait.root && sum.blocking_reads.contains(&queue.port)
+        });
+        batch || second_writer || !paired
+    }
 }
 
 /// The queue a write hop waits on (the one whose reader is the next wait-state).

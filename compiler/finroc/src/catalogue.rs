@@ -225,7 +225,19 @@ fn finroc_name(p: &Xml, tag: &str) -> String {
 
 fn manifest(root: &Xml, c: &mut Catalogue) {
     let library = root.value("name").unwrap_or_default().to_string();
-    // Named types: `rust="finroc::rrlib::localization::tPose2D"` → `rrlib.localization.Pose2D`.
+    let named = named_types(root, &library, c);
+    for m in root.children_named("module-type") {
+        let component = module_component(m, &library, &named, c);
+        c.components.insert(
+            (component.library.clone(), component.name.clone()),
+            component,
+        );
+    }
+}
+
+/// Named types: `rust="finroc::rrlib::localization::tPose2D"` → `rrlib.localization.Pose2D`.
+/// Registers each in the catalogue; returns ferroc's name → rrlib's name.
+fn named_types(root: &Xml, library: &str, c: &mut Catalogue) -> HashMap<String, String> {
     let mut named = HashMap::new();
     for t in root.children_named("type") {
         let rust = t.value("rust").unwrap_or_default();
@@ -243,83 +255,94 @@ fn manifest(root: &Xml, c: &mut Catalogue) {
         c.ferroc_types.insert(parts.join("."), ferroc.clone());
         named.insert(ferroc, parts.join("."));
     }
-    for m in root.children_named("module-type") {
-        let kind = m.value("kind").unwrap_or("module");
-        let behaviour = matches!(kind, "behaviour" | "fusion");
-        let mut component = Component {
-            library: library.clone(),
-            name: m.value("name").unwrap_or_default().to_string(),
-            composite: false,
-            interfaces: interfaces_of(kind, false, behaviour),
-            ports: Vec::new(),
-            open: false,
-            params: Vec::new(),
-            content: None,
-            xml_file: None,
-        };
-        for p in &m.children {
-            let (interface, output) = match p.name.as_str() {
-                "in" => ("Input", false),
-                "out" => ("Output", true),
-                "sensor-in" => ("Sensor Input", false),
-                "sensor-out" => ("Sensor Output", true),
-                "controller-in" => ("Controller Input", false),
-                "controller-out" => ("Controller Output", true),
-                "param" => {
-                    component
-                        .params
-                        .push((finroc_name(p, "param"), p.value("unit").map(str::to_string)));
-                    continue;
-                }
-                _ => continue,
-            };
-            let ty = p.value("type").unwrap_or_default();
-            c.ferroc_types
-                .entry(rrlib_type(ty, &named))
-                .or_insert_with(|| ty.to_string());
-            component.ports.push(Port {
-                interface: interface.into(),
-                name: finroc_name(p, &p.name),
-                member: p.value("name").unwrap_or_default().to_string(),
-                ty: rrlib_type(ty, &named),
-                unit: p.value("unit").map(str::to_string),
-                output,
-            });
-        }
-        if behaviour {
-            for (i, n, t, o) in [
-                (
-                    "iB2C Input",
-                    "Stimulation",
-                    "finroc.ib2c.Stimulation",
-                    false,
-                ),
-                ("iB2C Output", "Activity", "finroc.ib2c.Activity", true),
-                (
-                    "iB2C Output",
-                    "Target Rating",
-                    "finroc.ib2c.TargetRating",
-                    true,
-                ),
-                ("iB2C Output", "Status", "finroc.ib2c.Status", true),
-            ] {
-                component.ports.push(Port {
-                    interface: i.into(),
-                    name: n.into(),
-                    member: super::text::ident_of(n),
-                    ty: t.into(),
-                    unit: None,
-                    output: o,
-                });
+    named
+}
+
+/// The component a `<module-type>` of `library` declares: its ports (registering
+/// their types) and parameters, and for a behaviour the iB2C ports.
+fn module_component(
+    m: &Xml,
+    library: &str,
+    named: &HashMap<String, String>,
+    c: &mut Catalogue,
+) -> Component {
+    let kind = m.value("kind").unwrap_or("module");
+    let behaviour = matches!(kind, "behaviour" | "fusion");
+    let mut component = Component {
+        library: library.to_string(),
+        name: m.value("name").unwrap_or_default().to_string(),
+        composite: false,
+        interfaces: interfaces_of(kind, false, behaviour),
+        ports: Vec::new(),
+        open: false,
+        params: Vec::new(),
+        content: None,
+        xml_file: None,
+    };
+    for p in &m.children {
+        let (interface, output) = match p.name.as_str() {
+            "in" => ("Input", false),
+            "out" => ("Output", true),
+            "sensor-in" => ("Sensor Input", false),
+            "sensor-out" => ("Sensor Output", true),
+            "controller-in" => ("Controller Input", false),
+            "controller-out" => ("Controller Output", true),
+            "param" => {
+                component
+                    .params
+                    .push((finroc_name(p, "param"), p.value("unit").map(str::to_string)));
+                continue;
             }
-            // Inhibition ports are counted by a static parameter, fusion channels too.
-            component.open = true;
-        }
-        c.components.insert(
-            (component.library.clone(), component.name.clone()),
-            component,
-        );
+            _ => continue,
+        };
+        let ty = p.value("type").unwrap_or_default();
+        c.ferroc_types
+            .entry(rrlib_type(ty, named))
+            .or_insert_with(|| ty.to_string());
+        component.ports.push(Port {
+            interface: interface.into(),
+            name: finroc_name(p, &p.name),
+            member: p.value("name").unwrap_or_default().to_string(),
+            ty: rrlib_type(ty, named),
+            unit: p.value("unit").map(str::to_string),
+            output,
+        });
     }
+    if behaviour {
+        add_ib2c_ports(&mut component);
+    }
+    component
+}
+
+/// The iB2C ports every behaviour has; inhibition ports are counted by a static
+/// parameter, fusion channels too, so the component is open.
+fn add_ib2c_ports(component: &mut Component) {
+    for (i, n, t, o) in [
+        (
+            "iB2C Input",
+            "Stimulation",
+            "finroc.ib2c.Stimulation",
+            false,
+        ),
+        ("iB2C Output", "Activity", "finroc.ib2c.Activity", true),
+        (
+            "iB2C Output",
+            "Target Rating",
+            "finroc.ib2c.TargetRating",
+            true,
+        ),
+        ("iB2C Output", "Status", "finroc.ib2c.Status", true),
+    ] {
+        component.ports.push(Port {
+            interface: i.into(),
+            name: n.into(),
+            member: super::text::ident_of(n),
+            ty: t.into(),
+            unit: None,
+            output: o,
+        });
+    }
+    component.open = true;
 }
 
 fn groups(root: &Xml, c: &mut Catalogue) {

@@ -143,20 +143,7 @@ fn export_thread(
     let container = thread.value("name").unwrap_or_default().to_string();
     let span = model.name_span;
     let version = fact("version").and_then(|v| v.parse().ok());
-    let mut tops = Vec::new();
-    for c in thread
-        .children
-        .iter()
-        .filter(|c| c.name == "module" || c.name == "group")
-    {
-        match top(c, catalogue) {
-            Some(t) => tops.push(t),
-            None => notes.push(format!(
-                "`{}`: its type is not a FINROC catalogue type",
-                c.value("name").unwrap_or_default()
-            )),
-        }
-    }
+    let tops = top_elements(thread, catalogue, &mut notes);
     let mut dependencies: Vec<String> = Vec::new();
     match fact("dependencies").filter(|_| first) {
         Some(d) => dependencies.extend(d.split(", ").map(str::to_string)),
@@ -180,30 +167,7 @@ fn export_thread(
             children: Vec::new(),
         })
         .collect();
-    let mut edges = Vec::new();
-    let outer = outer_connects(model, part).filter_map(|(c, at_model)| {
-        let from = thread_local(c.value("from")?, at_model, part, thread)?;
-        let to = thread_local(c.value("to")?, at_model, part, thread)?;
-        Some((c, from, to))
-    });
-    let own = thread
-        .children_named("connect")
-        .filter_map(|c| Some((c, c.value("from")?, c.value("to")?)));
-    for (c, from, to) in own.chain(outer) {
-        match (end(from, &tops, c.span), end(to, &tops, c.span)) {
-            (Some(src), Some(dest)) => edges.push(Edge {
-                src,
-                dest,
-                flags: Vec::new(),
-                conversion: None,
-                params: Vec::new(),
-                span: c.span,
-            }),
-            _ => notes.push(format!(
-                "connect {from} -> {to}: an end is not a port of an exported element"
-            )),
-        }
-    }
+    let edges = thread_edges(model, part, thread, &tops, &mut notes);
     let mut links = Vec::new();
     for t in &tops {
         collect_links(
@@ -237,6 +201,67 @@ fn export_thread(
         },
         notes,
     })
+}
+
+/// The modules and groups of `thread` whose types are FINROC catalogue types (a note
+/// for each of the others).
+fn top_elements<'a, 'c>(
+    thread: &'a Xml,
+    catalogue: &'c Catalogue,
+    notes: &mut Vec<String>,
+) -> Vec<Top<'a, 'c>> {
+    let mut tops = Vec::new();
+    for c in thread
+        .children
+        .iter()
+        .filter(|c| c.name == "module" || c.name == "group")
+    {
+        match top(c, catalogue) {
+            Some(t) => tops.push(t),
+            None => notes.push(format!(
+                "`{}`: its type is not a FINROC catalogue type",
+                c.value("name").unwrap_or_default()
+            )),
+        }
+    }
+    tops
+}
+
+/// The edges between the exported elements of `thread`: its own `<connect>`s and
+/// those of the application and `part` that lead into it (a note for each whose end
+/// is not a port of an exported element).
+fn thread_edges(
+    model: &Xml,
+    part: &Xml,
+    thread: &Xml,
+    tops: &[Top<'_, '_>],
+    notes: &mut Vec<String>,
+) -> Vec<Edge> {
+    let mut edges = Vec::new();
+    let outer = outer_connects(model, part).filter_map(|(c, at_model)| {
+        let from = thread_local(c.value("from")?, at_model, part, thread)?;
+        let to = thread_local(c.value("to")?, at_model, part, thread)?;
+        Some((c, from, to))
+    });
+    let own = thread
+        .children_named("connect")
+        .filter_map(|c| Some((c, c.value("from")?, c.value("to")?)));
+    for (c, from, to) in own.chain(outer) {
+        match (end(from, tops, c.span), end(to, tops, c.span)) {
+            (Some(src), Some(dest)) => edges.push(Edge {
+                src,
+                dest,
+                flags: Vec::new(),
+                conversion: None,
+                params: Vec::new(),
+                span: c.span,
+            }),
+            _ => notes.push(format!(
+                "connect {from} -> {to}: an end is not a port of an exported element"
+            )),
+        }
+    }
+    edges
 }
 
 /// `simulation/pose` → `Simulation/Sensor Output/Pose`.

@@ -66,7 +66,28 @@ pub fn import(
         libraries: BTreeSet::new(),
         notes: Vec::new(),
     };
-    let mut root = Node {
+    let mut root = root_node(catalogue);
+    fill(&mut ctx, &mut root, &doc.elements, &doc.edges);
+    connect(&mut ctx, &mut root);
+    if !doc.interfaces.is_empty() {
+        ctx.notes.push(
+            "the application's own interfaces (ports for other processes) are not imported".into(),
+        );
+    }
+    for link in &doc.links {
+        attach_link(&mut ctx, &mut root, link);
+    }
+    let model = write_model(&ident_of(name), &file_facts(doc), &ctx.libraries, &root);
+    Imported {
+        model,
+        libraries: ctx.libraries,
+        notes: ctx.notes,
+    }
+}
+
+/// The application's node: `finroc_run`'s thread container.
+fn root_node(catalogue: &Catalogue) -> Node<'_> {
+    Node {
         finroc: String::new(),
         name: "main".into(),
         kind: Kind::Group(
@@ -82,25 +103,11 @@ pub fn import(
         params: Vec::new(),
         comments: Vec::new(),
         pending: Vec::new(),
-    };
-    fill(&mut ctx, &mut root, &doc.elements, &doc.edges);
-    connect(&mut ctx, &mut root);
-    if !doc.interfaces.is_empty() {
-        ctx.notes.push(
-            "the application's own interfaces (ports for other processes) are not imported".into(),
-        );
     }
-    for link in &doc.links {
-        attach_link(&mut ctx, &mut root, link);
-    }
-    let app = ident_of(name);
-    let mut o = String::new();
-    let _ = writeln!(o, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
-    let _ = writeln!(
-        o,
-        "<!-- Imported from FINROC by `ferroc import finroc`. -->"
-    );
-    // What the model cannot say but `export finroc` needs, in `doc` (see export.rs).
+}
+
+/// What the model cannot say but `export finroc` needs, for `doc` (see export.rs).
+fn file_facts(doc: &Finstructable) -> Vec<String> {
     let mut facts = vec!["FINROC application".to_string()];
     if doc.root_tag != "Finstructable" {
         facts.push(format!("root: {}", doc.root_tag));
@@ -115,12 +122,29 @@ pub fn import(
         let deps: Vec<&str> = doc.dependencies.iter().map(|d| d.text.as_str()).collect();
         facts.push(format!("dependencies: {}", deps.join(", ")));
     }
+    facts
+}
+
+/// The model text: the application `app` with its facts, the libraries it uses, and
+/// one part and thread container holding the imported tree.
+fn write_model(
+    app: &str,
+    facts: &[String],
+    libraries: &BTreeSet<String>,
+    root: &Node<'_>,
+) -> String {
+    let mut o = String::new();
+    let _ = writeln!(o, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
+    let _ = writeln!(
+        o,
+        "<!-- Imported from FINROC by `ferroc import finroc`. -->"
+    );
     let _ = writeln!(
         o,
         "<application name=\"{app}\" version=\"1\" profile=\"finroc\" doc=\"{}\">",
         escape::attr(&facts.join("; "))
     );
-    for lib in &ctx.libraries {
+    for lib in libraries {
         let _ = writeln!(o, "  <use library=\"{lib}\" manifest=\"{lib}.lib.xml\"/>");
     }
     let _ = writeln!(o, "  <part name=\"{app}\" host=\"localhost\">");
@@ -129,15 +153,11 @@ pub fn import(
         "    <!-- finroc_run's thread container: 40 ms unless started with -t -->"
     );
     let _ = writeln!(o, "    <thread name=\"main\" period=\"40ms\">");
-    body(&root, 3, &mut o);
+    body(root, 3, &mut o);
     let _ = writeln!(o, "    </thread>");
     let _ = writeln!(o, "  </part>");
     let _ = writeln!(o, "</application>");
-    Imported {
-        model: o,
-        libraries: ctx.libraries,
-        notes: ctx.notes,
-    }
+    o
 }
 
 fn unique(name: String, taken: &[Node<'_>]) -> String {

@@ -186,7 +186,15 @@ impl Scope<'_> {
         if segs.len() == 2 && self.owner_has_interface(&segs[0]) {
             return self.owner_port(&segs[0], &segs[1]);
         }
-        // Elements the file creates, then those the owner's constructor creates.
+        match self.find_element(segs) {
+            Ok((element, depth)) => self.element_port(element, &segs[depth..]),
+            Err(end) => end,
+        }
+    }
+
+    /// The element a path starts with and how many segments name it: elements the file
+    /// creates, then those the owner's constructor creates. `Err` says why there is none.
+    fn find_element(&self, segs: &[String]) -> Result<(&Element, usize), End> {
         let mut list: &[Element] = &self.doc.elements;
         let mut depth = 0;
         let mut element = None;
@@ -209,7 +217,7 @@ impl Scope<'_> {
             }
         }
         let Some(element) = element else {
-            return match self.owner {
+            return Err(match self.owner {
                 Some(o) if o.content.is_some() || o.open => End::Missing(format!(
                     "no element `{}` here: this file does not create one{}",
                     segs[0],
@@ -223,9 +231,14 @@ impl Scope<'_> {
                     "`{}` may be created by the group's C++ constructor, and the group's type is not in the catalogue",
                     segs[0]
                 )),
-            };
+            });
         };
-        let rest = &segs[depth..];
+        Ok((element, depth))
+    }
+
+    /// The port `rest` (`Interface/Port`) names below `element`, by its type in the
+    /// catalogue (or the group's file).
+    fn element_port(&self, element: &Element, rest: &[String]) -> End {
         let (Some(lib), Some(ty)) = (&element.group, &element.ty) else {
             return End::Unknown("the element has no type".into());
         };

@@ -249,49 +249,9 @@ impl<'a> Loader<'a> {
                 continue;
             };
             let span = href.value_span;
-            if chain.len() > self.options.limits.max_include_depth {
-                self.diags.push(
-                    Diagnostic::new(
-                        &m116_limit_exceeded::CHECK,
-                        span,
-                        format!(
-                            "includes nest more than {} deep",
-                            self.options.limits.max_include_depth
-                        ),
-                    )
-                    .label("one include too many")
-                    .help("flatten the include structure"),
-                );
+            let Some(target) = self.include_target(parent_file, href.value, span, chain) else {
                 continue;
-            }
-            let target = match self.confine(parent_file, href.value) {
-                Ok(t) => t,
-                Err(Confined::Outside) => {
-                    self.report_outside(span, href.value, "included fragments");
-                    continue;
-                }
-                Err(Confined::Unreadable(reason)) => {
-                    self.report_missing(parent_file, span, href.value, "include", &reason);
-                    continue;
-                }
             };
-            if let Some(pos) = chain.iter().position(|(p, _)| *p == target) {
-                let mut d = Diagnostic::new(
-                    &m114_include_cycle::CHECK,
-                    span,
-                    format!("including `{}` closes a cycle", href.value),
-                )
-                .label("this include leads back to a file that is being included");
-                for (_, from) in chain[pos + 1..].iter() {
-                    if let Some(from) = from {
-                        d = d.secondary(*from, "part of the cycle");
-                    }
-                }
-                self.diags.push(
-                    d.help("move the shared group types into a fragment that both files include"),
-                );
-                continue;
-            }
             if let Some(existing) = self.sources.find(&target) {
                 // Included twice without a cycle (a diamond): read once.
                 let _ = existing;
@@ -321,6 +281,62 @@ impl<'a> Loader<'a> {
                 fragments.push((file, root));
             }
         }
+    }
+
+    /// The file an `<include href>` in `parent_file` names (at `span`), made
+    /// canonical; `None`, reported, when includes nest too deep, the file lies outside
+    /// the model's folder or cannot be found, or including it closes a cycle.
+    fn include_target(
+        &mut self,
+        parent_file: FileId,
+        href: &str,
+        span: Span,
+        chain: &[(PathBuf, Option<Span>)],
+    ) -> Option<PathBuf> {
+        if chain.len() > self.options.limits.max_include_depth {
+            self.diags.push(
+                Diagnostic::new(
+                    &m116_limit_exceeded::CHECK,
+                    span,
+                    format!(
+                        "includes nest more than {} deep",
+                        self.options.limits.max_include_depth
+                    ),
+                )
+                .label("one include too many")
+                .help("flatten the include structure"),
+            );
+            return None;
+        }
+        let target = match self.confine(parent_file, href) {
+            Ok(t) => t,
+            Err(Confined::Outside) => {
+                self.report_outside(span, href, "included fragments");
+                return None;
+            }
+            Err(Confined::Unreadable(reason)) => {
+                self.report_missing(parent_file, span, href, "include", &reason);
+                return None;
+            }
+        };
+        if let Some(pos) = chain.iter().position(|(p, _)| *p == target) {
+            let mut d = Diagnostic::new(
+                &m114_include_cycle::CHECK,
+                span,
+                format!("including `{}` closes a cycle", href),
+            )
+            .label("this include leads back to a file that is being included");
+            for (_, from) in chain[pos + 1..].iter() {
+                if let Some(from) = from {
+                    d = d.secondary(*from, "part of the cycle");
+                }
+            }
+            self.diags.push(
+                d.help("move the shared group types into a fragment that both files include"),
+            );
+            return None;
+        }
+        Some(target)
     }
 
     /// A path named in `file`, resolved against that file's folder and made canonical.

@@ -14,8 +14,10 @@ pub use ferroc_model::ir::Wait;
 pub use links::{LinkSharing, PlannedCallLink, PlannedLink};
 
 use ferroc_diagnostics::source::Span;
-use ferroc_model::ir::{Application, ElementId, ElementKind, Endpoint, ParamSource, PortView};
-use ferroc_model::library::{LibrarySet, PortDir, PortRole};
+use ferroc_model::ir::{
+    Application, ElementId, ElementKind, Endpoint, ModuleInstance, ParamSource, PortView,
+};
+use ferroc_model::library::{LibrarySet, ModuleType, PortDir, PortRole};
 use ferroc_schedule::{self as schedule, call_edges, data_edges, DataEdge, StepKind};
 use ferroc_values::units::{relate, Unit, UnitRelation};
 use ferroc_values::values::{parse_value, Value, ValueError};
@@ -176,27 +178,90 @@ pub fn plan(
     libs: &LibrarySet,
     cmdline: &[(String, String)],
 ) -> (Plan, Vec<Unsupported>) {
-    let mut problems = Vec::new();
-    let mut plan = Plan::default();
-    let mut paths = vec![String::new(); app.elements.len()];
-    for (id, m) in app.modules() {
-        let ty = &libs.get(m.library).module_types[m.type_index];
-        paths[id.0 as usize] = app.path(id);
+    let mut planner = Planner {
+        app,
+        libs,
+        cmdline,
+        paths: vec![String::new(); app.elements.len()],
+        plan: Plan::default(),
+        problems: Vec::new(),
+    };
+    planner.plan_modules();
+    planner.plan_edges();
+    let Planner {
+        paths,
+        mut plan,
+        mut problems,
+        ..
+    } = planner;
+    plan_param_links(app, libs, &paths, &mut plan, &mut problems);
+    plan.threads = plan_threads(app, libs, &paths);
+    local::mark_local(&mut plan);
+    plan.locks = plan_locks(app, libs, &paths);
+    (plan, problems)
+}
+
+/// The plan under construction with what its phases share: the element paths (filled
+/// by [`Planner::plan_modules`]) and the problems found so far.
+struct Planner<'a> {
+    app: &'a Application,
+    libs: &'a LibrarySet,
+    cmdline: &'a [(String, String)],
+    paths: Vec<String>,
+    plan: Plan,
+    problems: Vec<Unsupported>,
+}
+
+impl Planner<'_> {
+    /// One [`PlannedModule`] per module instance, with its parameter values; fills the
+    /// element paths of the modules.
+    fn plan_modules(&mut self) {
+        let (app, libs) = (self.app, self.libs);
+        for (id, m) in app.modules() {
+            let ty = &libs.get(m.library).module_types[m.type_index];
+            self.paths[id.0 as usize] = app.path(id);
+            let params = self.module_params(id, m, ty);
+            self.plan.modules.push(PlannedModule {
+                element: id,
+                path: self.paths[id.0 as usize].clone(),
+                type_name: ty.qualified.clone(),
+                rust: ty.rust.clone(),
+                params,
+                queues: Vec::new(),
+                ports: ports::port_groups(libs, ty, &m.extra_ports),
+                ib2c_violations: m
+                    .ib2c_violations()
+                    .or(app.ib2c_violations.as_deref())
+                    .unwrap_or("warn")
+                    .to_string(),
+                span: app.element(id).span,
+            });
+        }
+    }
+
+    /// The parsed values of a module's parameters, a command-line value overriding the
+    /// inline or config one; a value that is missing or does not parse is a problem.
+    fn module_params(
+        &mut self,
+        id: ElementId,
+        m: &ModuleInstance,
+        ty: &ModuleType,
+    ) -> Vec<(String, Value)> {
         let mut params = Vec::new();
         for p in &m.params {
             let Some(decl) = ty.param(&p.name) else {
                 continue;
             };
             // A command-line value overrides the inline or config value (as in FINROC).
-            let given = p.from_cmdline(cmdline);
+            let given = p.from_cmdline(self.cmdline);
             let text = match (given, &p.source) {
                 (Some(v), _) => v.to_string(),
                 (None, ParamSource::Cmdline) => {
                     let flag = p.cmdline.as_ref().map_or(p.name.as_str(), |(n, _)| n);
-                    problems.push(Unsupported {
+                    self.problems.push(Unsupported {
                         what: format!(
                             "the parameter `{}` of `{}` is given on the command line: pass it with --param {flag}=VALUE",
-                            p.name, paths[id.0 as usize],
+                            p.name, self.paths[id.0 as usize],
                         ),
                         span: p.span,
                     });
@@ -212,11 +277,11 @@ pub fn plan(
                 (Ok(v), ..) => params.push((p.name.clone(), v)),
                 // Blame the command line, at the declaration that accepts it (not the
                 // inline or config value it replaced).
-                (Err(e), Some(v), Some((flag, flag_span))) => problems.push(Unsupported {
+                (Err(e), Some(v), Some((flag, flag_span))) => self.problems.push(Unsupported {
                     what: format!(
                         "--param {flag}={v}: not a value of the parameter `{}` of `{}`: {}",
                         p.name,
-                        paths[id.0 as usize],
+                        self.paths[id.0 as usize],
                         match e {
                             ValueError::Syntax(why) | ValueError::WrongDimension(why) => why,
                         }
@@ -224,67 +289,87 @@ pub fn plan(
                     span: *flag_span,
                 }),
                 // The checker reported it already (P103/P105); nothing to run.
-                (Err(_), ..) => problems.push(Unsupported {
+                (Err(_), ..) => self.problems.push(Unsupported {
                     what: format!("the value of `{}` does not parse", p.name),
                     span: p.span,
                 }),
             }
         }
-        plan.modules.push(PlannedModule {
-            element: id,
-            path: paths[id.0 as usize].clone(),
-            type_name: ty.qualified.clone(),
-            rust: ty.rust.clone(),
-            params,
-            queues: Vec::new(),
-            ports: ports::port_groups(libs, ty, &m.extra_ports),
-            ib2c_violations: m
-                .ib2c_violations()
-                .or(app.ib2c_violations.as_deref())
-                .unwrap_or("warn")
-                .to_string(),
-            span: app.element(id).span,
+        params
+    }
+
+    /// One call per client-to-service edge and one connection per data edge between
+    /// modules.
+    fn plan_edges(&mut self) {
+        let module_index: hashbrown::HashMap<ElementId, usize> = self
+            .plan
+            .modules
+            .iter()
+            .enumerate()
+            .map(|(i, m)| (m.element, i))
+            .collect();
+        for (edge, from, to) in module_edges(self.app, self.libs) {
+            if from.role == PortRole::Client {
+                self.plan_call(&module_index, &edge, &from, &to);
+            } else {
+                self.plan_connection(&module_index, &edge, &from, &to);
+            }
+        }
+    }
+
+    /// The span a planned edge is reported at: its last connection, else the module.
+    fn edge_span(&self, edge: &DataEdge) -> Span {
+        edge.hops
+            .last()
+            .map_or(self.app.element(edge.to_module).span, |&h| {
+                self.app.connections[h].span
+            })
+    }
+
+    /// The module path and port name of one end of an edge.
+    fn end(&self, module: ElementId, port: &PortView) -> (String, String) {
+        (self.paths[module.0 as usize].clone(), port.name.to_string())
+    }
+
+    /// A client calling a service, with its link when the call crosses parts.
+    fn plan_call(
+        &mut self,
+        module_index: &hashbrown::HashMap<ElementId, usize>,
+        edge: &DataEdge,
+        from: &PortView,
+        to: &PortView,
+    ) {
+        let response = self
+            .libs
+            .module_type(&self.plan.modules[module_index[&edge.from_module]].type_name)
+            .and_then(|(_, ty)| ty.clients.iter().find(|c| c.name == from.name))
+            .and_then(|c| c.response.clone());
+        let id = self.plan.calls.iter().filter(|c| c.link.is_some()).count() as u32;
+        let link = links::call_link_of(self.app, edge, from.ty, response, id);
+        self.plan.calls.push(PlannedCall {
+            link,
+            client: self.end(edge.from_module, from),
+            service: self.end(edge.to_module, to),
+            span: self.edge_span(edge),
         });
     }
-    let module_index: hashbrown::HashMap<ElementId, usize> = plan
-        .modules
-        .iter()
-        .enumerate()
-        .map(|(i, m)| (m.element, i))
-        .collect();
-    for (edge, from, to) in module_edges(app, libs) {
-        if from.role == PortRole::Client {
-            let response = libs
-                .module_type(&plan.modules[module_index[&edge.from_module]].type_name)
-                .and_then(|(_, ty)| ty.clients.iter().find(|c| c.name == from.name))
-                .and_then(|c| c.response.clone());
-            let id = plan.calls.iter().filter(|c| c.link.is_some()).count() as u32;
-            let link = links::call_link_of(app, &edge, from.ty, response, id);
-            plan.calls.push(PlannedCall {
-                link,
-                client: (
-                    paths[edge.from_module.0 as usize].clone(),
-                    from.name.to_string(),
-                ),
-                service: (
-                    paths[edge.to_module.0 as usize].clone(),
-                    to.name.to_string(),
-                ),
-                span: edge
-                    .hops
-                    .last()
-                    .map_or(app.element(edge.to_module).span, |&h| {
-                        app.connections[h].span
-                    }),
-            });
-            continue;
-        }
+
+    /// A data connection: the element or field it selects, its unit conversion folded
+    /// into one scale and offset, and the queue its connections give the input.
+    fn plan_connection(
+        &mut self,
+        module_index: &hashbrown::HashMap<ElementId, usize>,
+        edge: &DataEdge,
+        from: &PortView,
+        to: &PortView,
+    ) {
+        let app = self.app;
         // A field carries its own unit: the scale is computed from the field's.
         let (mut ty, mut from_unit) = (from.ty, from.unit);
         for &hop in &edge.hops {
             for step in &app.connections[hop].converts {
                 if let Some((field, _)) = &step.field {
-                    if let Some((t, u)) = libs.field_of(ty, field) {
+                    if let Some((t, u)) = self.libs.field_of(ty, field) {
                         (ty, from_unit) = (t, u);
                     }
                 }
@@ -299,7 +384,7 @@ pub fn plan(
                 select.push(Part::Index(i));
             }
             if c.to_index.is_some() {
-                problems.push(Unsupported {
+                self.problems.push(Unsupported {
                     what: "writing into one element of an input (`to=\"port[i]\"`) is not supported by the runtime yet; \
                            connect to a module that assembles the list instead"
                         .into(),
@@ -322,37 +407,35 @@ pub fn plan(
                 }
             }
             if let Some(q) = c.queue {
-                let module = &mut plan.modules[module_index[&edge.to_module]];
+                let module = &mut self.plan.modules[module_index[&edge.to_module]];
                 if !module.queues.iter().any(|(p, ..)| p == to.name) {
                     let policy = c.on_full_policy().to_string();
                     module.queues.push((to.name.to_string(), q, policy));
                 }
             }
         }
-        let next_link = plan.connections.iter().filter(|c| c.link.is_some()).count() as u32;
-        plan.connections.push(PlannedConnection {
-            from: (
-                paths[edge.from_module.0 as usize].clone(),
-                from.name.to_string(),
-            ),
-            to: (
-                paths[edge.to_module.0 as usize].clone(),
-                to.name.to_string(),
-            ),
+        let next_link = self
+            .plan
+            .connections
+            .iter()
+            .filter(|c| c.link.is_some())
+            .count() as u32;
+        self.plan.connections.push(PlannedConnection {
+            from: self.end(edge.from_module, from),
+            to: self.end(edge.to_module, to),
             select,
             scale,
             offset,
-            link: links::link_of(app, libs, &edge, to.ty, next_link),
+            link: links::link_of(app, self.libs, edge, to.ty, next_link),
             local: false,
-            span: edge
-                .hops
-                .last()
-                .map_or(app.element(edge.to_module).span, |&h| {
-                    app.connections[h].span
-                }),
+            span: self.edge_span(edge),
         });
     }
-    plan_param_links(app, libs, &paths, &mut plan, &mut problems);
+}
+
+/// Each thread container with its timing and the step order of the scheduling pass.
+fn plan_threads(app: &Application, libs: &LibrarySet, paths: &[String]) -> Vec<PlannedThread> {
+    let mut threads = Vec::new();
     for container in schedule::compute(app, libs).containers {
         let ElementKind::Thread {
             period,
@@ -363,7 +446,7 @@ pub fn plan(
         else {
             continue;
         };
-        plan.threads.push(PlannedThread {
+        threads.push(PlannedThread {
             path: app.path(container.thread),
             period,
             continuous,
@@ -377,9 +460,7 @@ pub fn plan(
                 .collect(),
         });
     }
-    local::mark_local(&mut plan);
-    plan.locks = plan_locks(app, libs, &paths);
-    (plan, problems)
+    threads
 }
 
 /// Every edge from a module output to a module input (group ports flattened), with

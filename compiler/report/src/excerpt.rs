@@ -91,30 +91,57 @@ fn clamp(file: &SourceFile, start: usize, end: usize) -> (usize, usize) {
     (start, end)
 }
 
+/// The line ranges an excerpt shows: each label's lines with [`CONTEXT_LINES`] around
+/// them, sorted, and merged when at most [`MAX_GAP`] lines lie between.
+fn line_ranges(file: &SourceFile, labels: &[(usize, usize)]) -> Vec<(usize, usize)> {
+    let last_line = file.line_count() - 1;
+    let mut ranges: Vec<(usize, usize)> = labels
+        .iter()
+        .map(|&(s, e)| {
+            let (a, b) = (file.line_of(s), file.line_of(e.saturating_sub(1).max(s)));
+            (
+                a.saturating_sub(CONTEXT_LINES),
+                (b + CONTEXT_LINES).min(last_line),
+            )
+        })
+        .collect();
+    ranges.sort_unstable();
+    let mut merged: Vec<(usize, usize)> = Vec::new();
+    for (a, b) in ranges {
+        match merged.last_mut() {
+            Some(last) if a <= last.1 + 1 + MAX_GAP => last.1 = last.1.max(b),
+            _ => merged.push((a, b)),
+        }
+    }
+    merged
+}
+
+/// The index range of the (sorted) `points` on `line`, its line break included.
+fn points_on_line(file: &SourceFile, points: &[usize], line: usize) -> (usize, usize) {
+    let last_line = file.line_count() - 1;
+    let range = file.line_range(line);
+    let next = if line < last_line {
+        file.line_range(line + 1).start
+    } else {
+        file.text.len()
+    };
+    let lo = points.partition_point(|&p| p < range.start);
+    let hi = points.partition_point(|&p| p <= next);
+    let hi = if line < last_line {
+        hi.min(points.partition_point(|&p| p < next))
+    } else {
+        hi
+    };
+    (lo, hi)
+}
+
 impl Excerpt {
     /// The excerpt of `file` for labels given as real byte ranges; returns it with each
     /// label's span in the excerpt, in the same order.
     pub(super) fn new(file: &SourceFile, labels: &[(usize, usize)]) -> (Excerpt, Vec<SourceSpan>) {
         let labels: Vec<(usize, usize)> = labels.iter().map(|&(s, e)| clamp(file, s, e)).collect();
         let last_line = file.line_count() - 1;
-        let mut ranges: Vec<(usize, usize)> = labels
-            .iter()
-            .map(|&(s, e)| {
-                let (a, b) = (file.line_of(s), file.line_of(e.saturating_sub(1).max(s)));
-                (
-                    a.saturating_sub(CONTEXT_LINES),
-                    (b + CONTEXT_LINES).min(last_line),
-                )
-            })
-            .collect();
-        ranges.sort_unstable();
-        let mut merged: Vec<(usize, usize)> = Vec::new();
-        for (a, b) in ranges {
-            match merged.last_mut() {
-                Some(last) if a <= last.1 + 1 + MAX_GAP => last.1 = last.1.max(b),
-                _ => merged.push((a, b)),
-            }
-        }
+        let merged = line_ranges(file, &labels);
         // Every label endpoint, so each line knows what to keep and where it lands.
         let mut points: Vec<usize> = labels.iter().flat_map(|&(s, e)| [s, e]).collect();
         points.sort_unstable();
@@ -127,19 +154,7 @@ impl Excerpt {
             for line in a..=b {
                 starts.push(text.len());
                 let range = file.line_range(line);
-                let next = if line < last_line {
-                    file.line_range(line + 1).start
-                } else {
-                    file.text.len()
-                };
-                // Points on this line, its line break included.
-                let lo = points.partition_point(|&p| p < range.start);
-                let hi = points.partition_point(|&p| p <= next);
-                let hi = if line < last_line {
-                    hi.min(points.partition_point(|&p| p < next))
-                } else {
-                    hi
-                };
+                let (lo, hi) = points_on_line(file, &points, line);
                 let base = text.len();
                 let line_points = &points[lo..hi];
                 let mut at = vec![0usize; line_points.len()];

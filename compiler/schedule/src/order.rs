@@ -37,61 +37,15 @@ pub fn schedule_container(
     steps: Vec<(ElementId, StepKind)>,
     edges: &[&DataEdge],
 ) -> ContainerSchedule {
-    let index: HashMap<(ElementId, StepKind), usize> =
-        steps.iter().enumerate().map(|(i, s)| (*s, i)).collect();
-    let sensing: hashbrown::HashSet<ElementId> = steps
-        .iter()
-        .filter(|(_, k)| *k == StepKind::Sense)
-        .map(|(m, _)| *m)
-        .collect();
-    // Step-level edges (delayed edges are intended feedback: no constraint at all).
-    let mut links: Vec<(usize, usize, &DataEdge)> = Vec::new();
-    for e in edges.iter().filter(|e| !e.delayed) {
-        let from = super::step_of(e.from_role, sensing.contains(&e.from_module));
-        let to = super::step_of(e.to_role, sensing.contains(&e.to_module));
-        if let (Some(&a), Some(&b)) = (
-            index.get(&(e.from_module, from)),
-            index.get(&(e.to_module, to)),
-        ) {
-            links.push((a, b, e));
-        }
-    }
+    let links = step_links(&steps, edges);
     let sets = assign_sets(&steps, &links);
-    let paths: Vec<String> = steps.iter().map(|(m, _)| app.path(*m)).collect();
-    // Rank = position in (set, path, kind) order: the tie-break of the sort.
-    let mut by_key: Vec<usize> = (0..steps.len()).collect();
-    by_key
-        .sort_by(|&a, &b| (sets[a], &paths[a], steps[a].1).cmp(&(sets[b], &paths[b], steps[b].1)));
-    let mut rank = vec![0; steps.len()];
-    for (r, &i) in by_key.iter().enumerate() {
-        rank[i] = r;
-    }
+    let rank = ranks(app, &steps, &sets);
     let step = |i: usize| Step {
         module: steps[i].0,
         kind: steps[i].1,
         set: sets[i],
     };
-    // Only edges inside one set constrain the order; one link per step pair.
-    let mut pair: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut pairs: Vec<Pair> = Vec::new();
-    for (a, b, e) in links {
-        if sets[a] != sets[b] {
-            continue;
-        }
-        match pair.get(&(a, b)) {
-            Some(&p) => pairs[p].inhibition &= e.into_inhibition,
-            None => {
-                pair.insert((a, b), pairs.len());
-                pairs.push(Pair {
-                    from: a,
-                    to: b,
-                    edge: e,
-                    inhibition: e.into_inhibition,
-                    broken: false,
-                });
-            }
-        }
-    }
+    let mut pairs = pairs_within_sets(links, &sets);
     let order = topological(&rank, &mut pairs);
     let broken = order
         .broken
@@ -115,6 +69,74 @@ pub fn schedule_container(
         steps: order.sequence.into_iter().map(step).collect(),
         broken,
     }
+}
+
+/// Step-level edges: the steps (indexes into `steps`) each data edge runs between.
+/// Delayed edges are intended feedback: no constraint at all.
+fn step_links<'e>(
+    steps: &[(ElementId, StepKind)],
+    edges: &[&'e DataEdge],
+) -> Vec<(usize, usize, &'e DataEdge)> {
+    let index: HashMap<(ElementId, StepKind), usize> =
+        steps.iter().enumerate().map(|(i, s)| (*s, i)).collect();
+    let sensing: hashbrown::HashSet<ElementId> = steps
+        .iter()
+        .filter(|(_, k)| *k == StepKind::Sense)
+        .map(|(m, _)| *m)
+        .collect();
+    let mut links: Vec<(usize, usize, &DataEdge)> = Vec::new();
+    for e in edges.iter().filter(|e| !e.delayed) {
+        let from = super::step_of(e.from_role, sensing.contains(&e.from_module));
+        let to = super::step_of(e.to_role, sensing.contains(&e.to_module));
+        if let (Some(&a), Some(&b)) = (
+            index.get(&(e.from_module, from)),
+            index.get(&(e.to_module, to)),
+        ) {
+            links.push((a, b, e));
+        }
+    }
+    links
+}
+
+/// Rank = position in (set, path, kind) order: the tie-break of the sort.
+fn ranks(app: &Application, steps: &[(ElementId, StepKind)], sets: &[StepSet]) -> Vec<usize> {
+    let paths: Vec<String> = steps.iter().map(|(m, _)| app.path(*m)).collect();
+    let mut by_key: Vec<usize> = (0..steps.len()).collect();
+    by_key
+        .sort_by(|&a, &b| (sets[a], &paths[a], steps[a].1).cmp(&(sets[b], &paths[b], steps[b].1)));
+    let mut rank = vec![0; steps.len()];
+    for (r, &i) in by_key.iter().enumerate() {
+        rank[i] = r;
+    }
+    rank
+}
+
+/// Only edges inside one set constrain the order; one link per step pair.
+fn pairs_within_sets<'e>(
+    links: Vec<(usize, usize, &'e DataEdge)>,
+    sets: &[StepSet],
+) -> Vec<Pair<'e>> {
+    let mut pair: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut pairs: Vec<Pair> = Vec::new();
+    for (a, b, e) in links {
+        if sets[a] != sets[b] {
+            continue;
+        }
+        match pair.get(&(a, b)) {
+            Some(&p) => pairs[p].inhibition &= e.into_inhibition,
+            None => {
+                pair.insert((a, b), pairs.len());
+                pairs.push(Pair {
+                    from: a,
+                    to: b,
+                    edge: e,
+                    inhibition: e.into_inhibition,
+                    broken: false,
+                });
+            }
+        }
+    }
+    pairs
 }
 
 struct Pair<'e> {

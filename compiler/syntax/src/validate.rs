@@ -197,26 +197,7 @@ fn check_value(element: &Element, attr: &super::xml::Attr, kind: AttrKind, out: 
         AttrKind::Text => None,
         AttrKind::Ident => {
             if !vocabulary::is_identifier(v) {
-                let fixed: String = v
-                    .chars()
-                    .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-                    .collect();
-                let fixed = if fixed.starts_with(|c: char| c.is_ascii_digit()) || fixed.is_empty() {
-                    format!("_{fixed}")
-                } else {
-                    fixed
-                };
-                out.push(
-                    Diagnostic::new(
-                        &m107_invalid_name::CHECK,
-                        attr.value_span,
-                        format!("`{v}` is not a valid name"),
-                    )
-                    .label(
-                        "names are identifiers: letters, digits and `_`, not starting with a digit",
-                    )
-                    .help(format!("use `{fixed}`")),
-                );
+                invalid_name(attr, out);
             }
             None
         }
@@ -225,22 +206,7 @@ fn check_value(element: &Element, attr: &super::xml::Attr, kind: AttrKind, out: 
             Err(_) => Some("a non-negative whole number".to_string()),
             Ok(n) if element.name == "connect" && attr.name == "queue" => {
                 if n > vocabulary::MAX_QUEUE {
-                    out.push(
-                        Diagnostic::new(
-                            &m116_limit_exceeded::CHECK,
-                            attr.value_span,
-                            format!(
-                                "a queue of {n} values is over the limit of {}",
-                                vocabulary::MAX_QUEUE
-                            ),
-                        )
-                        .label("too many values")
-                        .help(format!(
-                            "a queue is allocated in full when the run starts: give at most \
-                             queue=\"{}\" (a few values are usual)",
-                            vocabulary::MAX_QUEUE
-                        )),
-                    );
+                    queue_over_limit(attr, n, out);
                 }
                 None
             }
@@ -255,21 +221,79 @@ fn check_value(element: &Element, attr: &super::xml::Attr, kind: AttrKind, out: 
         }),
     };
     if let Some(expected) = problem {
-        let d = Diagnostic::new(
-            &m108_invalid_attribute_value::CHECK,
+        invalid_value(element, attr, kind, &expected, out);
+    }
+}
+
+/// M107: a name that is not an identifier, with one made of it.
+#[cold]
+fn invalid_name(attr: &super::xml::Attr, out: &mut Diagnostics) {
+    let v = attr.value;
+    let fixed: String = v
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    let fixed = if fixed.starts_with(|c: char| c.is_ascii_digit()) || fixed.is_empty() {
+        format!("_{fixed}")
+    } else {
+        fixed
+    };
+    out.push(
+        Diagnostic::new(
+            &m107_invalid_name::CHECK,
+            attr.value_span,
+            format!("`{v}` is not a valid name"),
+        )
+        .label("names are identifiers: letters, digits and `_`, not starting with a digit")
+        .help(format!("use `{fixed}`")),
+    );
+}
+
+/// M116: a `queue="n"` over the limit.
+#[cold]
+fn queue_over_limit(attr: &super::xml::Attr, n: u32, out: &mut Diagnostics) {
+    out.push(
+        Diagnostic::new(
+            &m116_limit_exceeded::CHECK,
             attr.value_span,
             format!(
-                "`{v}` is not a valid value for `{}` of <{}>",
-                attr.name, element.name
+                "a queue of {n} values is over the limit of {}",
+                vocabulary::MAX_QUEUE
             ),
         )
-        .label("invalid value");
-        let suggestion = match kind {
-            AttrKind::Choice(options) => {
-                did_you_mean(v, options.iter().copied()).map(|s| format!("did you mean `{s}`?"))
-            }
-            _ => None,
-        };
-        out.push(d.help(suggestion.unwrap_or(format!("expected {expected}"))));
-    }
+        .label("too many values")
+        .help(format!(
+            "a queue is allocated in full when the run starts: give at most \
+             queue=\"{}\" (a few values are usual)",
+            vocabulary::MAX_QUEUE
+        )),
+    );
+}
+
+/// M108: a value not of the attribute's kind (`expected` says what would be).
+#[cold]
+fn invalid_value(
+    element: &Element,
+    attr: &super::xml::Attr,
+    kind: AttrKind,
+    expected: &str,
+    out: &mut Diagnostics,
+) {
+    let v = attr.value;
+    let d = Diagnostic::new(
+        &m108_invalid_attribute_value::CHECK,
+        attr.value_span,
+        format!(
+            "`{v}` is not a valid value for `{}` of <{}>",
+            attr.name, element.name
+        ),
+    )
+    .label("invalid value");
+    let suggestion = match kind {
+        AttrKind::Choice(options) => {
+            did_you_mean(v, options.iter().copied()).map(|s| format!("did you mean `{s}`?"))
+        }
+        _ => None,
+    };
+    out.push(d.help(suggestion.unwrap_or(format!("expected {expected}"))));
 }

@@ -7,7 +7,7 @@
 use super::name::{known_id, known_name, Name, OTHER};
 use compact_str::CompactString;
 use ferroc_diagnostics::source::{FileId, Span};
-use quick_xml::events::{BytesStart, Event};
+use quick_xml::events::{BytesRef, BytesStart, Event};
 use quick_xml::Reader;
 
 /// An attribute as a consumer sees it: its name and value, and the spans of both (the
@@ -157,50 +157,12 @@ pub struct XmlError {
 
 /// Parses one document. `max_depth` bounds element nesting.
 pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlError> {
-    // Spans are 32-bit offsets. The loader's size limit is far below this (256 MiB by
-    // default); a text given some other way is refused here rather than misplaced.
-    if u32::try_from(text.len()).is_err() {
-        return Err(XmlError {
-            span: Span::new(file, 0, 0),
-            message: format!(
-                "the text is {} MiB; files of 4 GiB and more cannot be read",
-                text.len() >> 20
-            ),
-            too_deep: false,
-        });
-    }
-    let mut reader = Reader::from_str(text);
-    let config = reader.config_mut();
-    config.check_end_names = true;
-    config.expand_empty_elements = false;
-    config.trim_text(false);
+    check_size(file, text)?;
+    let mut reader = reader_of(text);
     let base = text.as_ptr() as usize;
     let offset_of = |slice: &[u8]| (slice.as_ptr() as usize).saturating_sub(base);
-    // The span of a syntax error ends at the end of its first line: the file may not be
-    // XML at all (a `config=` or `manifest=` naming some other file), and a report must
-    // show the place, not the whole file.
-    let malformed = |start: usize, end: usize, message: String| {
-        let end = end.max(start + 1).min(text.len().max(start));
-        let line_end = (text.as_bytes().get(start..end))
-            .and_then(|b| b.iter().position(|&c| c == b'\n'))
-            .map_or(end, |n| start + n.max(1));
-        XmlError {
-            span: Span::new(file, start, line_end),
-            message,
-            too_deep: false,
-        }
-    };
-
-    // Open elements, and the children of all of them in document order (`marks` says
-    // where each open element's children begin). A closed element gets its children
-    // and its attributes (gathered in `scratch`) in vectors of exactly their length:
-    // vectors grown by pushing would hold up to twice the room, and at 100,000 modules
-    // that slack was a fifth of the checker's peak memory.
-    let mut stack: Vec<Open> = Vec::new();
-    let mut marks: Vec<usize> = Vec::new();
-    let mut kids: Vec<Element> = Vec::new();
-    let mut scratch: Vec<StoredAttr> = Vec::new();
-    let mut root: Option<Element> = None;
+    let malformed = |start, end, message| malformed_at(file, text, start, end, message);
+    let mut tree = Tree::default();
     loop {
         let before = reader.buffer_position() as usize;
         let event = match reader.read_event() {
@@ -212,7 +174,7 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
         };
         let after = reader.buffer_position() as usize;
         match event {
-            Event::Start(tag) | Event::Empty(tag) if root.is_some() => {
+            Event::Start(tag) | Event::Empty(tag) if tree.root.is_some() => {
                 let _ = tag;
                 return Err(malformed(
                     before,
@@ -222,94 +184,183 @@ pub fn parse(file: FileId, text: &str, max_depth: usize) -> Result<Element, XmlE
                 ));
             }
             Event::Start(tag) => {
-                if stack.len() >= max_depth {
-                    return Err(XmlError {
-                        span: Span::new(file, before, after),
-                        message: format!("elements are nested more than {max_depth} deep"),
-                        too_deep: true,
-                    });
+                if tree.stack.len() >= max_depth {
+                    return Err(too_deep(file, before, after, max_depth));
                 }
-                stack.push(Open {
-                    element: start_element(file, &tag, before, after, offset_of, &mut scratch)?,
-                    text: String::new(),
-                    text_span: None,
-                });
-                marks.push(kids.len());
+                let element =
+                    start_element(file, &tag, before, after, offset_of, &mut tree.scratch)?;
+                tree.open(element);
             }
             Event::Empty(tag) => {
-                if stack.len() >= max_depth {
-                    return Err(XmlError {
-                        span: Span::new(file, before, after),
-                        message: format!("elements are nested more than {max_depth} deep"),
-                        too_deep: true,
-                    });
+                if tree.stack.len() >= max_depth {
+                    return Err(too_deep(file, before, after, max_depth));
                 }
-                let element = start_element(file, &tag, before, after, offset_of, &mut scratch)?;
-                attach(&stack, &mut kids, &mut root, element);
+                let element =
+                    start_element(file, &tag, before, after, offset_of, &mut tree.scratch)?;
+                tree.attach(element);
             }
             Event::End(_) => {
-                let Some(open) = stack.pop() else {
+                if !tree.close(after) {
                     return Err(malformed(
                         before,
                         after,
                         "closing tag without an opening tag".into(),
                     ));
-                };
-                let mark = marks.pop().unwrap_or(kids.len());
-                let element = open.close(after, kids.drain(mark..).collect());
-                attach(&stack, &mut kids, &mut root, element);
+                }
             }
             Event::Text(t) => {
                 let raw = t.into_inner();
                 let Ok(s) = std::str::from_utf8(&raw) else {
                     return Err(malformed(before, after, "text is not valid UTF-8".into()));
                 };
-                add_text(&mut stack, s, file, before, after, &malformed)?;
+                add_text(&mut tree.stack, s, file, before, after, &malformed)?;
             }
             Event::CData(t) => {
                 let raw = t.into_inner();
                 let s = String::from_utf8_lossy(&raw).into_owned();
-                add_text(&mut stack, &s, file, before, after, &malformed)?;
+                add_text(&mut tree.stack, &s, file, before, after, &malformed)?;
             }
             Event::GeneralRef(r) => {
-                let resolved = if r.is_char_ref() {
-                    match r.resolve_char_ref() {
-                        Ok(Some(c)) => c.to_string(),
-                        _ => {
-                            return Err(malformed(
-                                before,
-                                after,
-                                "invalid character reference".into(),
-                            ))
-                        }
-                    }
-                } else {
-                    let name = String::from_utf8_lossy(&r).into_owned();
-                    match predefined_entity(&name) {
-                        Some(s) => s.to_string(),
-                        None => {
-                            return Err(malformed(
-                                before,
-                                after,
-                                format!("unknown entity `&{name};`: only &amp; &lt; &gt; &quot; &apos; and character references are allowed"),
-                            ))
-                        }
-                    }
-                };
-                add_text(&mut stack, &resolved, file, before, after, &malformed)?;
+                let resolved = resolve_reference(&r).map_err(|m| malformed(before, after, m))?;
+                add_text(&mut tree.stack, &resolved, file, before, after, &malformed)?;
             }
             Event::Eof => break,
             Event::Decl(_) | Event::PI(_) | Event::Comment(_) | Event::DocType(_) => {}
         }
     }
-    if let Some(Open { element: open, .. }) = stack.last() {
+    tree.finish()
+        .map_err(|m| m.unwrap_or_else(|| malformed(0, 0, "the file holds no XML element".into())))
+}
+
+/// Spans are 32-bit offsets. The loader's size limit is far below this (256 MiB by
+/// default); a text given some other way is refused here rather than misplaced.
+fn check_size(file: FileId, text: &str) -> Result<(), XmlError> {
+    if u32::try_from(text.len()).is_err() {
         return Err(XmlError {
-            span: open.name_span,
-            message: format!("element <{}> is never closed", open.name),
+            span: Span::new(file, 0, 0),
+            message: format!(
+                "the text is {} MiB; files of 4 GiB and more cannot be read",
+                text.len() >> 20
+            ),
             too_deep: false,
         });
     }
-    root.ok_or_else(|| malformed(0, 0, "the file holds no XML element".into()))
+    Ok(())
+}
+
+/// A reader that checks end names, reports empty elements as such and keeps all text.
+fn reader_of(text: &str) -> Reader<&[u8]> {
+    let mut reader = Reader::from_str(text);
+    let config = reader.config_mut();
+    config.check_end_names = true;
+    config.expand_empty_elements = false;
+    config.trim_text(false);
+    reader
+}
+
+/// A syntax error from `start` to `end`. Its span ends at the end of its first line:
+/// the file may not be XML at all (a `config=` or `manifest=` naming some other file),
+/// and a report must show the place, not the whole file.
+#[cold]
+fn malformed_at(file: FileId, text: &str, start: usize, end: usize, message: String) -> XmlError {
+    let end = end.max(start + 1).min(text.len().max(start));
+    let line_end = (text.as_bytes().get(start..end))
+        .and_then(|b| b.iter().position(|&c| c == b'\n'))
+        .map_or(end, |n| start + n.max(1));
+    XmlError {
+        span: Span::new(file, start, line_end),
+        message,
+        too_deep: false,
+    }
+}
+
+/// Elements nested deeper than `max_depth`.
+#[cold]
+fn too_deep(file: FileId, start: usize, end: usize, max_depth: usize) -> XmlError {
+    XmlError {
+        span: Span::new(file, start, end),
+        message: format!("elements are nested more than {max_depth} deep"),
+        too_deep: true,
+    }
+}
+
+/// The text of a character or entity reference; `Err` says why it has none.
+#[inline]
+fn resolve_reference(r: &BytesRef<'_>) -> Result<String, String> {
+    if r.is_char_ref() {
+        match r.resolve_char_ref() {
+            Ok(Some(c)) => Ok(c.to_string()),
+            _ => Err("invalid character reference".into()),
+        }
+    } else {
+        let name = String::from_utf8_lossy(r).into_owned();
+        match predefined_entity(&name) {
+            Some(s) => Ok(s.to_string()),
+            None => Err(format!("unknown entity `&{name};`: only &amp; &lt; &gt; &quot; &apos; and character references are allowed")),
+        }
+    }
+}
+
+/// The tree being built. Open elements, and the children of all of them in document
+/// order (`marks` says where each open element's children begin). A closed element
+/// gets its children and its attributes (gathered in `scratch`) in vectors of exactly
+/// their length: vectors grown by pushing would hold up to twice the room, and at
+/// 100,000 modules that slack was a fifth of the checker's peak memory.
+#[derive(Default)]
+struct Tree {
+    stack: Vec<Open>,
+    marks: Vec<usize>,
+    kids: Vec<Element>,
+    scratch: Vec<StoredAttr>,
+    root: Option<Element>,
+}
+
+impl Tree {
+    /// A start tag: the element stays open until its end tag.
+    #[inline]
+    fn open(&mut self, element: Element) {
+        self.stack.push(Open {
+            element,
+            text: String::new(),
+            text_span: None,
+        });
+        self.marks.push(self.kids.len());
+    }
+
+    /// An end tag at `end`: closes the innermost open element; false when none is open.
+    #[inline]
+    fn close(&mut self, end: usize) -> bool {
+        let Some(open) = self.stack.pop() else {
+            return false;
+        };
+        let mark = self.marks.pop().unwrap_or(self.kids.len());
+        let element = open.close(end, self.kids.drain(mark..).collect());
+        self.attach(element);
+        true
+    }
+
+    /// Hands a closed element to its parent (through `kids`) or makes it the root.
+    #[inline]
+    fn attach(&mut self, element: Element) {
+        if self.stack.is_empty() {
+            self.root = Some(element);
+        } else {
+            self.kids.push(element);
+        }
+    }
+
+    /// The root once the document has ended; `Err(Some(_))` for an element never
+    /// closed, `Err(None)` when there is no element at all.
+    fn finish(self) -> Result<Element, Option<XmlError>> {
+        if let Some(Open { element: open, .. }) = self.stack.last() {
+            return Err(Some(XmlError {
+                span: open.name_span,
+                message: format!("element <{}> is never closed", open.name),
+                too_deep: false,
+            }));
+        }
+        self.root.ok_or(None)
+    }
 }
 
 /// An element whose end tag is still to come, with its text so far.
@@ -340,15 +391,6 @@ impl Open {
         }
         element.children = children;
         element
-    }
-}
-
-/// Hands a closed element to its parent (through `kids`) or makes it the root.
-fn attach(stack: &[Open], kids: &mut Vec<Element>, root: &mut Option<Element>, element: Element) {
-    if stack.is_empty() {
-        *root = Some(element);
-    } else {
-        kids.push(element);
     }
 }
 

@@ -4,6 +4,7 @@
 use super::{behaviours, channels, list, param_span, sources};
 use crate::{CheckInfo, PassContext};
 use ferroc_diagnostics::diagnostic::{Diagnostic, Diagnostics, Severity};
+use ferroc_diagnostics::source::Span;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "B108",
@@ -53,25 +54,11 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                 continue;
             }
             let k = channel.k;
-            let Some(&(at, first_name)) = present.iter().min_by_key(|(s, _)| (s.file, s.start))
-            else {
+            let Some(&first) = present.iter().min_by_key(|(s, _)| (s.file, s.start)) else {
                 empty.push(k);
                 continue;
             };
-            let missing_list = list(&missing);
-            let mut d = Diagnostic::new(
-                &CHECK,
-                at,
-                format!("fusion channel {k} of `{path}` has no {missing_list}"),
-            )
-            .label(format!(
-                "channel {k}'s `{first_name}` is connected, but not its {missing_list}"
-            ));
-            for &(span, name) in &present {
-                if span != at {
-                    d = d.secondary(span, format!("channel {k}'s `{name}`"));
-                }
-            }
+            let mut d = partly_connected(&path, k, &missing, &present, first);
             d = d.secondary(count_at, format!("{} channel(s)", all.len()));
             out.push(d.help(format!(
                 "connect {} from the behaviour whose activity feeds channel {k} (the fusion \
@@ -86,33 +73,72 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         if empty.is_empty() {
             continue;
         }
-        let which = empty
-            .iter()
-            .map(u32::to_string)
-            .collect::<Vec<_>>()
-            .join(", ");
-        let (noun, verb) = if empty.len() == 1 {
-            ("channel", "is")
-        } else {
-            ("channels", "are")
-        };
-        let used = all.len() - empty.len();
-        let mut d = Diagnostic::new(
-            &CHECK,
-            count_at,
-            format!("fusion `{path}`: {noun} {which} {verb} not connected at all"),
-        )
-        .label(match declared {
-            Some(_) => format!("{} channels declared here", all.len()),
-            None => format!("{} channels (the default)", all.len()),
-        });
+        let mut d = unconnected(&path, &empty, all.len(), count_at, declared.is_some());
         if declared.is_some() {
             d = d.secondary(element.name_span, "this fusion");
         }
+        let used = all.len() - empty.len();
         out.push(d.help(format!(
             "connect activity, target rating and data of a behaviour to each channel, or set \
              <param name=\"channels\">{used}</param> if only {used} behaviour(s) are fused \
              (channels that are not fully connected stop the fusion)"
         )));
     }
+}
+
+/// Channel `k` of fusion `path` has some ports connected (`present`; `first` comes
+/// first in the file) but not the `missing` ones: the finding, at `first`.
+fn partly_connected(
+    path: &str,
+    k: u32,
+    missing: &[&str],
+    present: &[(Span, &str)],
+    (at, first_name): (Span, &str),
+) -> Diagnostic {
+    let missing_list = list(missing);
+    let mut d = Diagnostic::new(
+        &CHECK,
+        at,
+        format!("fusion channel {k} of `{path}` has no {missing_list}"),
+    )
+    .label(format!(
+        "channel {k}'s `{first_name}` is connected, but not its {missing_list}"
+    ));
+    for &(span, name) in present {
+        if span != at {
+            d = d.secondary(span, format!("channel {k}'s `{name}`"));
+        }
+    }
+    d
+}
+
+/// The channels `empty` of fusion `path` (of `count` channels, counted at `count_at`)
+/// have nothing connected.
+fn unconnected(
+    path: &str,
+    empty: &[u32],
+    count: usize,
+    count_at: Span,
+    declared: bool,
+) -> Diagnostic {
+    let which = empty
+        .iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join(", ");
+    let (noun, verb) = if empty.len() == 1 {
+        ("channel", "is")
+    } else {
+        ("channels", "are")
+    };
+    Diagnostic::new(
+        &CHECK,
+        count_at,
+        format!("fusion `{path}`: {noun} {which} {verb} not connected at all"),
+    )
+    .label(if declared {
+        format!("{count} channels declared here")
+    } else {
+        format!("{count} channels (the default)")
+    })
 }

@@ -4,9 +4,10 @@ use crate::CheckInfo;
 use crate::PassContext;
 use ferroc_diagnostics::diagnostic::Severity;
 use ferroc_diagnostics::diagnostic::{Diagnostic, Diagnostics};
+use ferroc_diagnostics::source::Span;
 use ferroc_model::ir::ElementKind;
-use ferroc_model::library::module_type::PortDir;
-use ferroc_pinmap::Dir;
+use ferroc_model::library::module_type::{PortDecl, PortDir};
+use ferroc_pinmap::{Dir, Entry};
 use ferroc_values::units::{relate, UnitRelation};
 
 pub static CHECK: CheckInfo = CheckInfo {
@@ -96,37 +97,52 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             let (Some((_, a)), Some((_, b))) = (port(e.from.port), port(e.to.port)) else {
                 continue;
             };
-            let (Some(ua), Some(ub)) = (&a.unit, &b.unit) else {
-                continue;
-            };
-            let wanted = match relate(ua, ub) {
-                UnitRelation::Same => 1.0,
-                UnitRelation::Scaled(f) => f,
-                UnitRelation::DifferentDimension => {
-                    out.push(
-                        Diagnostic::new(
-                            &CHECK,
-                            at(e.span.clone()),
-                            format!(
-                                "`{}` is in `{ua}`, `{}` in `{ub}`: different dimensions",
-                                e.from.port, e.to.port
-                            ),
-                        )
-                        .label("maps one quantity onto another")
-                        .secondary(b.span, format!("declared in `{ub}`"))
-                        .help("map a port of the same dimension, or drop a unit that is wrong"),
-                    );
-                    continue;
-                }
-            };
-            if (e.scale - wanted).abs() > 1e-9 * wanted.abs().max(1.0) {
-                out.push(
-                    Diagnostic::new(&CHECK, at(e.span.clone()), format!("`{}` is in `{ua}`, `{}` in `{ub}`: the scale is {}, the units need {wanted}", e.from.port, e.to.port, e.scale))
-                        .label("wrong scale for these units")
-                        .secondary(b.span, format!("declared in `{ub}`"))
-                        .help(format!("write `* {wanted}`")),
-                );
+            if let Some(d) = unit_misfit(e, a, b, at(e.span.clone())) {
+                out.push(d);
             }
         }
     }
+}
+
+/// Whether the scale of entry `e` (at `span`) from port `a` to port `b` is the factor
+/// between their units (when both have one); the finding when not.
+fn unit_misfit(e: &Entry<'_>, a: &PortDecl, b: &PortDecl, span: Span) -> Option<Diagnostic> {
+    let (Some(ua), Some(ub)) = (&a.unit, &b.unit) else {
+        return None;
+    };
+    let wanted = match relate(ua, ub) {
+        UnitRelation::Same => 1.0,
+        UnitRelation::Scaled(f) => f,
+        UnitRelation::DifferentDimension => {
+            return Some(
+                Diagnostic::new(
+                    &CHECK,
+                    span,
+                    format!(
+                        "`{}` is in `{ua}`, `{}` in `{ub}`: different dimensions",
+                        e.from.port, e.to.port
+                    ),
+                )
+                .label("maps one quantity onto another")
+                .secondary(b.span, format!("declared in `{ub}`"))
+                .help("map a port of the same dimension, or drop a unit that is wrong"),
+            );
+        }
+    };
+    if (e.scale - wanted).abs() > 1e-9 * wanted.abs().max(1.0) {
+        return Some(
+            Diagnostic::new(
+                &CHECK,
+                span,
+                format!(
+                    "`{}` is in `{ua}`, `{}` in `{ub}`: the scale is {}, the units need {wanted}",
+                    e.from.port, e.to.port, e.scale
+                ),
+            )
+            .label("wrong scale for these units")
+            .secondary(b.span, format!("declared in `{ub}`"))
+            .help(format!("write `* {wanted}`")),
+        );
+    }
+    None
 }

@@ -7,7 +7,7 @@ use ferroc_diagnostics::diagnostic::{Diagnostic, Diagnostics};
 use ferroc_model::ir::ElementKind;
 use ferroc_model::library::module_type::{PortDir, PortType};
 use ferroc_model::library::LibrarySet;
-use ferroc_values::types::Type;
+use ferroc_values::types::{NamedTypeId, Type};
 use serde_json::Value;
 use std::ops::Range;
 
@@ -101,14 +101,7 @@ fn short(text: &str) -> String {
 /// `from_json` would refuse); `Ok` when it fits or cannot be known (a library type
 /// whose manifest lists no fields).
 fn fits(libs: &LibrarySet, value: &Value, ty: &Type) -> Result<(), String> {
-    let kind = || match value {
-        Value::Null => "null",
-        Value::Bool(_) => "a boolean",
-        Value::Number(_) => "a number",
-        Value::String(_) => "a string",
-        Value::Array(_) => "an array",
-        Value::Object(_) => "an object",
-    };
+    let kind = || kind_of(value);
     match ty {
         Type::Bool => value
             .is_boolean()
@@ -122,21 +115,7 @@ fn fits(libs: &LibrarySet, value: &Value, ty: &Type) -> Result<(), String> {
             .is_number()
             .then_some(())
             .ok_or_else(|| format!("{} where a number is needed", kind())),
-        Type::Int { signed, bits } => {
-            let Value::Number(n) = value else {
-                return Err(format!("{} where an integer is needed", kind()));
-            };
-            let (min, max): (i128, i128) = match (*signed, (*bits).min(64)) {
-                (true, b) => (-(1i128 << (b - 1)), (1i128 << (b - 1)) - 1),
-                (false, b) => (0, (1i128 << b) - 1),
-            };
-            let whole = n.as_i64().map(i128::from).or(n.as_u64().map(i128::from));
-            match whole {
-                None => Err(format!("{n} is not a whole number")),
-                Some(v) if v < min || v > max => Err(format!("{v} lies outside {min}..={max}")),
-                Some(_) => Ok(()),
-            }
-        }
+        Type::Int { signed, bits } => int_fits(value, *signed, *bits),
         Type::Duration => fields(
             libs,
             value,
@@ -181,20 +160,52 @@ fn fits(libs: &LibrarySet, value: &Value, ty: &Type) -> Result<(), String> {
             Value::Array(items) => elements_fit(libs, items, e),
             _ => Err(format!("{} where an array is needed", kind())),
         },
-        Type::Named(id, name) => {
-            let named = libs.named_type(*id);
-            if !named.serde {
-                return Err(format!("`{name}` has no serde form (its manifest says serde=\"false\"), so no value can be given"));
-            }
-            if named.fields.is_empty() {
-                return Ok(()); // opaque to the manifest
-            }
-            let declared: Vec<(&str, &Type)> = (named.fields.iter())
-                .map(|(f, t, _)| (f.as_str(), t))
-                .collect();
-            fields(libs, value, &declared)
-        }
+        Type::Named(id, name) => named_fits(libs, value, *id, name),
     }
+}
+
+/// What a JSON value is, for a message (`a string`).
+fn kind_of(value: &Value) -> &'static str {
+    match value {
+        Value::Null => "null",
+        Value::Bool(_) => "a boolean",
+        Value::Number(_) => "a number",
+        Value::String(_) => "a string",
+        Value::Array(_) => "an array",
+        Value::Object(_) => "an object",
+    }
+}
+
+/// Whether `value` is a whole number in the range of the integer type.
+fn int_fits(value: &Value, signed: bool, bits: u8) -> Result<(), String> {
+    let Value::Number(n) = value else {
+        return Err(format!("{} where an integer is needed", kind_of(value)));
+    };
+    let (min, max): (i128, i128) = match (signed, bits.min(64)) {
+        (true, b) => (-(1i128 << (b - 1)), (1i128 << (b - 1)) - 1),
+        (false, b) => (0, (1i128 << b) - 1),
+    };
+    let whole = n.as_i64().map(i128::from).or(n.as_u64().map(i128::from));
+    match whole {
+        None => Err(format!("{n} is not a whole number")),
+        Some(v) if v < min || v > max => Err(format!("{v} lies outside {min}..={max}")),
+        Some(_) => Ok(()),
+    }
+}
+
+/// Whether `value` fits a library type by the fields its manifest lists.
+fn named_fits(libs: &LibrarySet, value: &Value, id: NamedTypeId, name: &str) -> Result<(), String> {
+    let named = libs.named_type(id);
+    if !named.serde {
+        return Err(format!("`{name}` has no serde form (its manifest says serde=\"false\"), so no value can be given"));
+    }
+    if named.fields.is_empty() {
+        return Ok(()); // opaque to the manifest
+    }
+    let declared: Vec<(&str, &Type)> = (named.fields.iter())
+        .map(|(f, t, _)| (f.as_str(), t))
+        .collect();
+    fields(libs, value, &declared)
 }
 
 fn elements_fit(libs: &LibrarySet, items: &[Value], e: &Type) -> Result<(), String> {

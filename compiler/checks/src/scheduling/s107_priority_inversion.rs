@@ -2,7 +2,7 @@
 //! timeout, for a lower-priority one that shares its core.
 
 use crate::{CheckInfo, PassContext};
-use ferroc_deadlock::{Held, WaitKind};
+use ferroc_deadlock::{Held, Model, WaitKind};
 use ferroc_diagnostics::diagnostic::{Diagnostic, Diagnostics, Severity};
 use ferroc_diagnostics::source::Span;
 use ferroc_model::ir::{Application, ElementId};
@@ -47,9 +47,44 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
     if app.timing.priority.len() < 2 {
         return;
     }
-    let m = ctx.deadlock_model();
-    let thread = |ec: u32| m.ecs[ec as usize].thread;
-    // Who takes each lock.
+    let edges = blocking_edges(ctx, ctx.deadlock_model());
+    let mut seen = hashbrown::HashSet::new();
+    for e in edges {
+        if e.high == e.low || !seen.insert((e.high, e.low)) {
+            continue;
+        }
+        let (Some(&(ph, hs)), Some(&(pl, ls))) = (
+            app.timing.priority.get(&e.high),
+            app.timing.priority.get(&e.low),
+        ) else {
+            continue;
+        };
+        if ph <= pl || !share_core(app, e.high, e.low) {
+            continue;
+        }
+        out.push(
+            Diagnostic::new(
+                &CHECK,
+                e.site,
+                format!(
+                    "priority inversion: `{}` (priority {ph}) can wait without a timeout for `{}` (priority {pl}), which shares its core",
+                    app.path(e.high),
+                    app.path(e.low)
+                ),
+            )
+            .label(format!("`{}` waits here for {}", app.path(e.high), e.what))
+            .secondary(hs, format!("`{}`: priority {ph}", app.path(e.high)))
+            .secondary(ls, format!("`{}`: priority {pl}", app.path(e.low)))
+            .help(format!(
+                "do not share this between the two containers, raise `{}` to priority {ph} or more, pin the two to different cores (cpu=), or give the wait a timeout",
+                app.path(e.low)
+            )),
+        );
+    }
+}
+
+/// The contexts that take each lock (sorted, once each).
+fn lock_takers(m: &Model) -> Vec<Vec<u32>> {
     let mut takers: Vec<Vec<u32>> = vec![Vec::new(); m.locks.len()];
     for w in &m.waits {
         if let WaitKind::Lock { lock } = w.kind {
@@ -65,6 +100,15 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
         t.sort_unstable();
         t.dedup();
     }
+    takers
+}
+
+/// Waits without a timeout of one thread container for another: for a lock another
+/// takes, or for the reply of a service another runs.
+fn blocking_edges(ctx: &PassContext<'_>, m: &Model) -> Vec<Edge> {
+    let app = ctx.app;
+    let thread = |ec: u32| m.ecs[ec as usize].thread;
+    let takers = lock_takers(m);
     let mut edges: Vec<Edge> = Vec::new();
     for w in m.waits.iter().filter(|w| w.timeout.is_none()) {
         match &w.kind {
@@ -104,39 +148,7 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             _ => {}
         }
     }
-    let mut seen = hashbrown::HashSet::new();
-    for e in edges {
-        if e.high == e.low || !seen.insert((e.high, e.low)) {
-            continue;
-        }
-        let (Some(&(ph, hs)), Some(&(pl, ls))) = (
-            app.timing.priority.get(&e.high),
-            app.timing.priority.get(&e.low),
-        ) else {
-            continue;
-        };
-        if ph <= pl || !share_core(app, e.high, e.low) {
-            continue;
-        }
-        out.push(
-            Diagnostic::new(
-                &CHECK,
-                e.site,
-                format!(
-                    "priority inversion: `{}` (priority {ph}) can wait without a timeout for `{}` (priority {pl}), which shares its core",
-                    app.path(e.high),
-                    app.path(e.low)
-                ),
-            )
-            .label(format!("`{}` waits here for {}", app.path(e.high), e.what))
-            .secondary(hs, format!("`{}`: priority {ph}", app.path(e.high)))
-            .secondary(ls, format!("`{}`: priority {pl}", app.path(e.low)))
-            .help(format!(
-                "do not share this between the two containers, raise `{}` to priority {ph} or more, pin the two to different cores (cpu=), or give the wait a timeout",
-                app.path(e.low)
-            )),
-        );
-    }
+    edges
 }
 
 /// Same host, and not pinned to different cores.

@@ -51,12 +51,46 @@ fn load_manifest(
         }
         return Some(existing);
     }
+    let (file, root) = parse_manifest(loader, &request, path.clone(), text)?;
+    let id = LibraryId(set.libraries.len() as u32);
+    set.by_name.insert(request.name.clone(), id);
+    let mut group_types = Vec::new();
+    for gt in root.children_named("group-type") {
+        group_types.push(load_group_type(loader, file, gt));
+    }
+    set.libraries.push(Library {
+        name: request.name.clone(),
+        file,
+        path,
+        rust_crate: root.value("rust-crate").map(str::to_string),
+        version: root.value("version").map(str::to_string),
+        depends: Vec::new(),
+        module_types: Vec::new(),
+        module_index: HashMap::new(),
+        group_types: group_types.into_iter().flatten().collect(),
+        visible: Vec::new(),
+        name_span: root.value_span("name"),
+        root: root.clone(),
+    });
+    let depends = load_depends(loader, set, &root, file, depth);
+    set.libraries[id.0 as usize].depends = depends;
+    Some(id)
+}
+
+/// Parses the manifest found for `request` at `path`; `None` (reported) when it cannot
+/// be read or defines another library.
+fn parse_manifest(
+    loader: &mut Loader<'_>,
+    request: &LibraryRequest,
+    path: PathBuf,
+    text: String,
+) -> Option<(FileId, Element)> {
     let display = if path.as_os_str().is_empty() {
         format!("<built-in {}.lib.xml>", request.name)
     } else {
         loader.display_name(&path)
     };
-    let (file, root) = loader.parse(display, path.clone(), text, "library");
+    let (file, root) = loader.parse(display, path, text, "library");
     let Some(root) = root else {
         loader.diags.push(
             Diagnostic::new(
@@ -86,26 +120,18 @@ fn load_manifest(
         );
         return None;
     }
-    let id = LibraryId(set.libraries.len() as u32);
-    set.by_name.insert(request.name.clone(), id);
-    let mut group_types = Vec::new();
-    for gt in root.children_named("group-type") {
-        group_types.push(load_group_type(loader, file, gt));
-    }
-    set.libraries.push(Library {
-        name: request.name.clone(),
-        file,
-        path,
-        rust_crate: root.value("rust-crate").map(str::to_string),
-        version: root.value("version").map(str::to_string),
-        depends: Vec::new(),
-        module_types: Vec::new(),
-        module_index: HashMap::new(),
-        group_types: group_types.into_iter().flatten().collect(),
-        visible: Vec::new(),
-        name_span: root.value_span("name"),
-        root: root.clone(),
-    });
+    Some((file, root))
+}
+
+/// The `<depends>` of a manifest (in `file`), each loaded unless the chain of
+/// dependencies is too deep.
+fn load_depends(
+    loader: &mut Loader<'_>,
+    set: &mut LibrarySet,
+    root: &Element,
+    file: FileId,
+    depth: usize,
+) -> Vec<Dependency> {
     let mut depends = Vec::new();
     for dep in root.children_named("depends") {
         let Some(name) = dep.value("library") else {
@@ -132,8 +158,7 @@ fn load_manifest(
             target,
         });
     }
-    set.libraries[id.0 as usize].depends = depends;
-    Some(id)
+    depends
 }
 
 fn load_group_type(loader: &mut Loader<'_>, file: FileId, gt: &Element) -> Option<GroupTypeDecl> {

@@ -163,73 +163,20 @@ fn build(
     diags: &mut Diagnostics,
 ) -> ModuleType {
     let lib = set.get(id);
-    let name = element.value("name").unwrap_or("").to_string();
-    let kind = match element.value("kind") {
-        Some("sense-control") => ModuleKind::SenseControl,
-        Some("behaviour") => ModuleKind::Behaviour,
-        Some("fusion") => ModuleKind::Fusion,
-        _ => ModuleKind::Module,
-    };
-    let mut mt = ModuleType {
-        qualified: format!("{}.{name}", lib.name),
-        name,
-        library: id,
-        kind,
-        rust: element.value("rust").unwrap_or("").to_string(),
-        ports: Vec::new(),
-        port_index: HashMap::new(),
-        params: Vec::new(),
-        param_index: HashMap::new(),
-        flexible: Vec::new(),
-        channel_in: Vec::new(),
-        derived_activities: Vec::new(),
-        clients: Vec::new(),
-        services: Vec::new(),
-        lock_slots: Vec::new(),
-        lock_orders: Vec::new(),
-        activities: Vec::new(),
-        budget: super::steps::duration_attr(element, "budget", diags),
-        span: element.value_span("name"),
-    };
+    let mut mt = declared_type(&lib.name, id, element, diags);
     // Ports share one namespace across directions; parameters (addressed as `param/x`) another.
     let mut names: HashMap<String, Span> = HashMap::new();
     let mut param_names: HashMap<String, Span> = HashMap::new();
     for child in &element.children {
-        let (dir, role) = match child.name.as_str() {
-            "in" => (PortDir::In, PortRole::Plain),
-            "out" => (PortDir::Out, PortRole::Plain),
-            "sensor-in" => (PortDir::In, PortRole::Sensor),
-            "sensor-out" => (PortDir::Out, PortRole::Sensor),
-            "controller-in" => (PortDir::In, PortRole::Controller),
-            "controller-out" => (PortDir::Out, PortRole::Controller),
+        match child.name.as_str() {
             "param" => {
                 if let Some(p) = params::param_decl(set, &lib.visible, child, diags) {
                     if unique(&mut param_names, &p.name, p.span, diags) {
                         mt.params.push(p);
                     }
                 }
-                continue;
             }
-            "flexible" => {
-                if let Some(port) = child.value("port") {
-                    mt.flexible.push(FlexibleDecl {
-                        port: port.to_string(),
-                        dir: if child.value("dir") == Some("out") {
-                            PortDir::Out
-                        } else {
-                            PortDir::In
-                        },
-                        same_type: child.value("same-type") != Some("false"),
-                        min_count: child
-                            .value("min-count")
-                            .and_then(|v| v.parse().ok())
-                            .unwrap_or(0),
-                        max_count: child.value("max-count").and_then(|v| v.parse().ok()),
-                        span: child.value_span("port"),
-                    });
-                }
-                continue;
-            }
+            "flexible" => mt.flexible.extend(flexible_decl(child)),
             "derived-activity" => {
                 if !mt.is_behaviour() {
                     misplaced(
@@ -240,7 +187,6 @@ fn build(
                 } else if let Some(n) = child.value("name") {
                     mt.derived_activities.push(n.to_string());
                 }
-                continue;
             }
             "channel-in" => {
                 if mt.kind != ModuleKind::Fusion {
@@ -255,26 +201,13 @@ fn build(
                 ) {
                     mt.channel_in.push(p);
                 }
-                continue;
             }
-            _ => continue,
-        };
-        let sensor_or_controller = matches!(role, PortRole::Sensor | PortRole::Controller);
-        if sensor_or_controller != (mt.kind == ModuleKind::SenseControl) {
-            misplaced(
-                child,
-                if sensor_or_controller {
-                    "sensor and controller ports belong to kind=\"sense-control\" module types"
-                } else {
-                    "a sense-control module type declares sensor-/controller- ports, not plain in/out"
-                },
-                diags,
-            );
-            continue;
-        }
-        if let Some(p) = port_decl(set, &lib.visible, child, dir, role, diags) {
-            if unique(&mut names, &p.name, p.span, diags) {
-                mt.ports.push(p);
+            _ => {
+                if let Some(p) = data_port(set, &lib.visible, child, mt.kind, diags) {
+                    if unique(&mut names, &p.name, p.span, diags) {
+                        mt.ports.push(p);
+                    }
+                }
             }
         }
     }
@@ -296,6 +229,99 @@ fn build(
         .collect();
     super::steps::build(element, &mut mt, diags);
     mt
+}
+
+/// The module type as its `<module-type>` attributes declare it, with no ports,
+/// parameters or activities yet.
+fn declared_type(
+    library: &str,
+    id: LibraryId,
+    element: &Element,
+    diags: &mut Diagnostics,
+) -> ModuleType {
+    let name = element.value("name").unwrap_or("").to_string();
+    let kind = match element.value("kind") {
+        Some("sense-control") => ModuleKind::SenseControl,
+        Some("behaviour") => ModuleKind::Behaviour,
+        Some("fusion") => ModuleKind::Fusion,
+        _ => ModuleKind::Module,
+    };
+    ModuleType {
+        qualified: format!("{library}.{name}"),
+        name,
+        library: id,
+        kind,
+        rust: element.value("rust").unwrap_or("").to_string(),
+        ports: Vec::new(),
+        port_index: HashMap::new(),
+        params: Vec::new(),
+        param_index: HashMap::new(),
+        flexible: Vec::new(),
+        channel_in: Vec::new(),
+        derived_activities: Vec::new(),
+        clients: Vec::new(),
+        services: Vec::new(),
+        lock_slots: Vec::new(),
+        lock_orders: Vec::new(),
+        activities: Vec::new(),
+        budget: super::steps::duration_attr(element, "budget", diags),
+        span: element.value_span("name"),
+    }
+}
+
+/// A `<flexible port>` declaration (none without `port=`).
+fn flexible_decl(child: &Element) -> Option<FlexibleDecl> {
+    let port = child.value("port")?;
+    Some(FlexibleDecl {
+        port: port.to_string(),
+        dir: if child.value("dir") == Some("out") {
+            PortDir::Out
+        } else {
+            PortDir::In
+        },
+        same_type: child.value("same-type") != Some("false"),
+        min_count: child
+            .value("min-count")
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(0),
+        max_count: child.value("max-count").and_then(|v| v.parse().ok()),
+        span: child.value_span("port"),
+    })
+}
+
+/// A data port declared by an `<in>`, `<out>`, `<sensor-…>` or `<controller-…>` child
+/// (none for other children): sensor and controller ports belong to sense-control
+/// module types, plain ones to the others.
+fn data_port(
+    set: &LibrarySet,
+    visible: &[LibraryId],
+    child: &Element,
+    kind: ModuleKind,
+    diags: &mut Diagnostics,
+) -> Option<PortDecl> {
+    let (dir, role) = match child.name.as_str() {
+        "in" => (PortDir::In, PortRole::Plain),
+        "out" => (PortDir::Out, PortRole::Plain),
+        "sensor-in" => (PortDir::In, PortRole::Sensor),
+        "sensor-out" => (PortDir::Out, PortRole::Sensor),
+        "controller-in" => (PortDir::In, PortRole::Controller),
+        "controller-out" => (PortDir::Out, PortRole::Controller),
+        _ => return None,
+    };
+    let sensor_or_controller = matches!(role, PortRole::Sensor | PortRole::Controller);
+    if sensor_or_controller != (kind == ModuleKind::SenseControl) {
+        misplaced(
+            child,
+            if sensor_or_controller {
+                "sensor and controller ports belong to kind=\"sense-control\" module types"
+            } else {
+                "a sense-control module type declares sensor-/controller- ports, not plain in/out"
+            },
+            diags,
+        );
+        return None;
+    }
+    port_decl(set, visible, child, dir, role, diags)
 }
 
 fn misplaced(child: &Element, why: &str, diags: &mut Diagnostics) {

@@ -160,34 +160,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             if self.broken.contains(&(current, name.to_string())) {
                 return None;
             }
-            let here = self.app.path(current);
-            let mut candidates: Vec<String> =
-                self.app.child_names(current).map(str::to_string).collect();
-            candidates.extend(
-                self.app
-                    .element(current)
-                    .group_ports
-                    .iter()
-                    .map(|p| p.name.clone()),
-            );
-            candidates.sort();
-            let hint = did_you_mean(name, candidates.iter().map(String::as_str));
-            let where_ = if here.is_empty() {
-                "the top level".to_string()
-            } else {
-                format!("`{here}`")
-            };
-            let help = match hint {
-                Some(h) => format!("did you mean `{h}`?"),
-                None if candidates.is_empty() => format!("{where_} contains nothing of that name"),
-                None => format!("{where_} contains: {}", candidates.join(", ")),
-            };
-            self.unresolved(
-                span,
-                path,
-                format!("{where_} has no element or port `{name}`"),
-                help,
-            );
+            self.no_such_element(current, name, span, path);
             return None;
         }
         let what = self.app.path(current);
@@ -219,30 +192,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             return None;
         }
         if rest[0] == "param" && rest.len() == 2 {
-            let mt = self.app.module_type(libs, module)?;
-            if let Some(k) = mt.params.iter().position(|p| p.name == rest[1]) {
-                return Some((
-                    Endpoint::Param {
-                        element: module,
-                        param: k as u32,
-                    },
-                    None,
-                ));
-            }
-            let hint = did_you_mean(rest[1], mt.params.iter().map(|p| p.name.as_str()));
-            self.unresolved(
-                span,
-                path,
-                format!(
-                    "module type `{}` has no parameter `{}`",
-                    mt.qualified, rest[1]
-                ),
-                hint.map_or(
-                    "see the module type's parameters in its manifest".into(),
-                    |h| format!("did you mean `param/{h}`?"),
-                ),
-            );
-            return None;
+            return self.param_endpoint(module, rest[1], span, path);
         }
         let joined = rest.join("/");
         let (name, index) = split_index(&joined);
@@ -262,28 +212,100 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 path,
             ),
             None => {
-                let names: Vec<String> = self
-                    .app
-                    .module_ports(libs, module)
-                    .map(|(_, p)| p.name.clone())
-                    .collect();
-                let hint = did_you_mean(name, names.iter().map(String::as_str));
-                let type_name = self
-                    .app
-                    .module_type(libs, module)
-                    .map_or(String::new(), |m| m.qualified.clone());
-                self.unresolved(
-                    span,
-                    path,
-                    format!("module `{module_path}` ({type_name}) has no port `{name}`"),
-                    match hint {
-                        Some(h) => format!("did you mean `{h}`?"),
-                        None => format!("its ports are: {}", names.join(", ")),
-                    },
-                );
+                self.no_such_port(module, name, span, path);
                 None
             }
         }
+    }
+
+    /// Reports that `current` has no element or port `name`, with the names it has.
+    fn no_such_element(&mut self, current: ElementId, name: &str, span: Span, path: &str) {
+        let here = self.app.path(current);
+        let mut candidates: Vec<String> =
+            self.app.child_names(current).map(str::to_string).collect();
+        candidates.extend(
+            self.app
+                .element(current)
+                .group_ports
+                .iter()
+                .map(|p| p.name.clone()),
+        );
+        candidates.sort();
+        let hint = did_you_mean(name, candidates.iter().map(String::as_str));
+        let where_ = if here.is_empty() {
+            "the top level".to_string()
+        } else {
+            format!("`{here}`")
+        };
+        let help = match hint {
+            Some(h) => format!("did you mean `{h}`?"),
+            None if candidates.is_empty() => format!("{where_} contains nothing of that name"),
+            None => format!("{where_} contains: {}", candidates.join(", ")),
+        };
+        self.unresolved(
+            span,
+            path,
+            format!("{where_} has no element or port `{name}`"),
+            help,
+        );
+    }
+
+    /// `module/param/name`: a parameter of the module's type.
+    fn param_endpoint(
+        &mut self,
+        module: ElementId,
+        param: &str,
+        span: Span,
+        path: &str,
+    ) -> Option<Resolved> {
+        let mt = self.app.module_type(self.libs, module)?;
+        if let Some(k) = mt.params.iter().position(|p| p.name == param) {
+            return Some((
+                Endpoint::Param {
+                    element: module,
+                    param: k as u32,
+                },
+                None,
+            ));
+        }
+        let hint = did_you_mean(param, mt.params.iter().map(|p| p.name.as_str()));
+        self.unresolved(
+            span,
+            path,
+            format!(
+                "module type `{}` has no parameter `{}`",
+                mt.qualified, param
+            ),
+            hint.map_or(
+                "see the module type's parameters in its manifest".into(),
+                |h| format!("did you mean `param/{h}`?"),
+            ),
+        );
+        None
+    }
+
+    /// Reports that `module` has no port `name`, with the ports it has.
+    fn no_such_port(&mut self, module: ElementId, name: &str, span: Span, path: &str) {
+        let module_path = self.app.path(module);
+        let names: Vec<String> = self
+            .app
+            .module_ports(self.libs, module)
+            .map(|(_, p)| p.name.clone())
+            .collect();
+        let hint = did_you_mean(name, names.iter().map(String::as_str));
+        let type_name = self
+            .app
+            .module_type(self.libs, module)
+            .map_or(String::new(), |m| m.qualified.clone());
+        self.unresolved(
+            span,
+            path,
+            format!("module `{module_path}` ({type_name}) has no port `{name}`"),
+            match hint {
+                Some(h) => format!("did you mean `{h}`?"),
+                None => format!("its ports are: {}", names.join(", ")),
+            },
+        );
     }
 
     fn indexed(

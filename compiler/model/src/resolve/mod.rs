@@ -69,7 +69,35 @@ pub fn resolve(
     used: &[LibraryId],
 ) -> Application {
     let root = &model.root;
-    let app = Application {
+    let app = empty_application(loader, root);
+    let mut r = Resolver {
+        loader,
+        libs,
+        app,
+        local_group_types: HashMap::new(),
+        pending: Vec::new(),
+        contexts: Vec::new(),
+        instantiating: Vec::new(),
+        broken: HashSet::new(),
+        broken_groups: HashSet::new(),
+    };
+    let mut files: Vec<(FileId, &Element)> = vec![(model.file, root)];
+    files.extend(model.fragments.iter().map(|(f, e)| (*f, e)));
+    let mut resources: HashMap<&str, Span> = HashMap::new();
+    for (file, element) in &files {
+        r.declare_group_types(*file, element);
+        r.declare_resources(element, &mut resources);
+    }
+    r.reserve_for_walk(&files);
+    r.walk(ElementId(0), root, used, None, 0);
+    r.application_timing(root);
+    r.resolve_pending();
+    r.app
+}
+
+/// The application of `root` with its root element only.
+fn empty_application(loader: &Loader<'_>, root: &Element) -> Application {
+    Application {
         name: root.value("name").unwrap_or("").to_string(),
         span: root.name_span,
         elements: vec![ElementNode {
@@ -98,50 +126,44 @@ pub fn resolve(
         timing: Timing::default(),
         cut_off: HashSet::new(),
         ib2c_violations: root.value("ib2c-violations").map(str::to_string),
-    };
-    let mut r = Resolver {
-        loader,
-        libs,
-        app,
-        local_group_types: HashMap::new(),
-        pending: Vec::new(),
-        contexts: Vec::new(),
-        instantiating: Vec::new(),
-        broken: HashSet::new(),
-        broken_groups: HashSet::new(),
-    };
-    let mut files: Vec<(FileId, &Element)> = vec![(model.file, root)];
-    files.extend(model.fragments.iter().map(|(f, e)| (*f, e)));
-    let mut resources: HashMap<&str, Span> = HashMap::new();
-    for (file, element) in &files {
+    }
+}
+
+impl<'t> Resolver<'_, '_, 't> {
+    /// The `<group-type>`s a model file defines (a name defined twice is reported).
+    fn declare_group_types(&mut self, file: FileId, element: &'t Element) {
         for gt in element.children_named("group-type") {
             let Some(name) = gt.value("name") else {
                 continue;
             };
-            if let Some((_, first)) = r.local_group_types.get(name) {
+            if let Some((_, first)) = self.local_group_types.get(name) {
                 let first = first.value_span("name");
-                r.duplicate(
+                self.duplicate(
                     gt.value_span("name"),
                     first,
                     &format!("group type `{name}`"),
                 );
             } else {
-                r.local_group_types.insert(name, (*file, gt));
+                self.local_group_types.insert(name, (file, gt));
             }
         }
+    }
+
+    /// The `<resource>`s a model file declares; `seen` holds those of the files before.
+    fn declare_resources(&mut self, element: &'t Element, seen: &mut HashMap<&'t str, Span>) {
         for res in element.children_named("resource") {
             let Some(name) = res.value("name") else {
                 continue;
             };
-            if let Some(first) = resources.get(name) {
-                r.duplicate(
+            if let Some(first) = seen.get(name) {
+                self.duplicate(
                     res.value_span("name"),
                     *first,
                     &format!("resource `{name}`"),
                 );
             } else {
-                resources.insert(name, res.value_span("name"));
-                r.app.resources.push(Resource {
+                seen.insert(name, res.value_span("name"));
+                self.app.resources.push(Resource {
                     name: name.to_string(),
                     span: res.value_span("name"),
                     level: res.value("level").and_then(|l| l.parse().ok()),
@@ -150,32 +172,37 @@ pub fn resolve(
             }
         }
     }
-    // Room for the elements and `<connect>`s the walk will meet, those of local group
-    // type instances included: grown by doubling, the element vector's last copy held
-    // room for up to twice the elements, and the copies stayed resident (B1: at 100,000
-    // modules, where a quarter of the groups are instances, the walk's resident memory
-    // was three times what it kept).
-    let mut expected = Expected::new(&r.local_group_types);
-    let (elements, connects) = files.iter().fold((0usize, 0usize), |(n, c), (_, e)| {
-        let (n2, c2) = expected.below(e);
-        (n.saturating_add(n2), c.saturating_add(c2))
-    });
-    r.app.elements.reserve_exact(elements);
-    r.pending.reserve_exact(connects);
-    r.walk(ElementId(0), root, used, None, 0);
-    r.application_timing(root);
-    // Room for every connection, its edge and both ends up front: grown by doubling,
-    // the vectors and the node table were copied ~18 times at 100,000 modules, and each
-    // copy left its old block resident (B1 peak memory: a third of it was these copies).
-    let pending = std::mem::take(&mut r.pending);
-    r.app.connections.reserve_exact(pending.len());
-    r.app.graph.reserve_edges(pending.len());
-    r.app.graph.reserve_nodes(2 * pending.len());
-    r.app.nodes.reserve(&r.app.graph, 2 * pending.len());
-    for pending in pending {
-        r.resolve_connect(pending);
+
+    /// Room for the elements and `<connect>`s the walk will meet, those of local group
+    /// type instances included: grown by doubling, the element vector's last copy held
+    /// room for up to twice the elements, and the copies stayed resident (B1: at
+    /// 100,000 modules, where a quarter of the groups are instances, the walk's
+    /// resident memory was three times what it kept).
+    fn reserve_for_walk(&mut self, files: &[(FileId, &'t Element)]) {
+        let mut expected = Expected::new(&self.local_group_types);
+        let (elements, connects) = files.iter().fold((0usize, 0usize), |(n, c), (_, e)| {
+            let (n2, c2) = expected.below(e);
+            (n.saturating_add(n2), c.saturating_add(c2))
+        });
+        self.app.elements.reserve_exact(elements);
+        self.pending.reserve_exact(connects);
     }
-    r.app
+
+    /// Resolves the `<connect>`s collected by the walk, now that every element exists.
+    /// Room for every connection, its edge and both ends up front: grown by doubling,
+    /// the vectors and the node table were copied ~18 times at 100,000 modules, and
+    /// each copy left its old block resident (B1 peak memory: a third of it was these
+    /// copies).
+    fn resolve_pending(&mut self) {
+        let pending = std::mem::take(&mut self.pending);
+        self.app.connections.reserve_exact(pending.len());
+        self.app.graph.reserve_edges(pending.len());
+        self.app.graph.reserve_nodes(2 * pending.len());
+        self.app.nodes.reserve(&self.app.graph, 2 * pending.len());
+        for pending in pending {
+            self.resolve_connect(pending);
+        }
+    }
 }
 
 /// How many elements (parts, thread containers, groups, modules) and `<connect>`s the

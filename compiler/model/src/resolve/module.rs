@@ -4,13 +4,14 @@ use super::Resolver;
 use crate::checks::p106_config_entry_missing;
 use crate::checks::*;
 use crate::ir::*;
-use crate::library::module_type::{ModuleKind, PortType};
+use crate::library::module_type::{FlexibleDecl, ModuleKind, ModuleType, PortType};
 use crate::library::{LibraryId, PortDecl, PortDir, PortRole};
 use crate::load::Confined;
 use ferroc_diagnostics::diagnostic::{did_you_mean, Diagnostic};
 use ferroc_diagnostics::source::Span;
 use ferroc_syntax::Element;
 use ferroc_values::types::{Meta, Type};
+use ferroc_values::units::Unit;
 
 impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
     pub(super) fn module(
@@ -40,6 +41,33 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             e.children_named("param")
                 .filter_map(|p| self.param_value(p)),
         );
+        let extras = self.module_extras(scope, e, mt);
+        let mut instance = ModuleInstance {
+            library,
+            type_index,
+            type_span,
+            extra_ports: Vec::new(),
+            flexible_types: Vec::new(),
+            params,
+            extras,
+        };
+        self.flexible_ports(e, mt, &mut instance, visible);
+        if mt.is_behaviour() {
+            behaviour_ports(mt, &mut instance);
+        }
+        instance.extra_ports = exact(instance.extra_ports);
+        instance.flexible_types = exact(instance.flexible_types);
+        self.add_element(scope, e, ElementKind::Module(instance), inst);
+    }
+
+    /// What an instance writes besides its type and parameters (`<bind>`s,
+    /// `characteristic=`, `budget=`, `ib2c-violations=`); boxed, and only when written.
+    fn module_extras(
+        &mut self,
+        scope: ElementId,
+        e: &'t Element,
+        mt: &ModuleType,
+    ) -> Option<Box<ModuleExtras>> {
         let extras = ModuleExtras {
             binds: exact(
                 e.children_named("bind")
@@ -60,69 +88,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             || extras.characteristic.is_some()
             || extras.budget.is_some()
             || extras.ib2c_violations.is_some();
-        let mut instance = ModuleInstance {
-            library,
-            type_index,
-            type_span,
-            extra_ports: Vec::new(),
-            flexible_types: Vec::new(),
-            params,
-            extras: written.then(|| Box::new(extras)),
-        };
-        self.flexible_ports(e, mt, &mut instance, visible);
-        if mt.is_behaviour() {
-            let count = |name: &str, default: u32| {
-                instance
-                    .params
-                    .iter()
-                    .find(|p| p.name == name)
-                    .and_then(|p| p.text.trim().parse::<u32>().ok())
-                    .unwrap_or(default)
-                    .min(1024)
-            };
-            let (inhibitions, channels) = (count("inhibitions", 1), count("channels", 2));
-            let meta = |name: String, dir, m| PortDecl {
-                name,
-                dir,
-                role: PortRole::Meta,
-                ty: PortType::Fixed(Type::Meta(m)),
-                unit: None,
-                required: false,
-                blocking_read: false,
-                read_timeout: None,
-                merge: false,
-                span: mt.span,
-            };
-            for k in 0..inhibitions {
-                instance.extra_ports.push(meta(
-                    format!("inhibition/{k}"),
-                    PortDir::In,
-                    Meta::Inhibition,
-                ));
-            }
-            if mt.kind == ModuleKind::Fusion {
-                for k in 0..channels {
-                    instance.extra_ports.push(meta(
-                        format!("in/{k}/activity"),
-                        PortDir::In,
-                        Meta::Activity,
-                    ));
-                    instance.extra_ports.push(meta(
-                        format!("in/{k}/target_rating"),
-                        PortDir::In,
-                        Meta::TargetRating,
-                    ));
-                    for c in &mt.channel_in {
-                        let mut p = c.clone();
-                        p.name = format!("in/{k}/{}", c.name);
-                        instance.extra_ports.push(p);
-                    }
-                }
-            }
-        }
-        instance.extra_ports = exact(instance.extra_ports);
-        instance.flexible_types = exact(instance.flexible_types);
-        self.add_element(scope, e, ElementKind::Module(instance), inst);
+        written.then(|| Box::new(extras))
     }
 
     /// `characteristic="true"`: valid on a behaviour (or fusion) inside a group.
@@ -257,46 +223,9 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             let (Some(name), Some(ty_text)) = (p.value("name"), p.value("type")) else {
                 continue;
             };
-            let Some(flex) = mt.flexible.iter().find(|f| f.port == name) else {
-                let groups: Vec<&str> = mt.flexible.iter().map(|f| f.port.as_str()).collect();
-                let d = Diagnostic::new(
-                    &m105_misplaced_element::CHECK,
-                    p.value_span("name"),
-                    format!(
-                        "module type `{}` has no flexible port group `{name}`",
-                        mt.qualified
-                    ),
-                )
-                .label("not declarable here")
-                .secondary(mt.span, "module type declared here");
-                self.loader.diags.push(if groups.is_empty() {
-                    d.help("only flexible module types take <port> declarations; this type's interface is fixed")
-                } else {
-                    d.help(format!("its flexible port groups are: {}", groups.join(", ")))
-                });
+            let Some(flex) = self.flexible_group(p, name, mt) else {
                 continue;
             };
-            let dir = if p.value("dir") == Some("out") {
-                PortDir::Out
-            } else {
-                PortDir::In
-            };
-            if dir != flex.dir {
-                self.loader.diags.push(
-                    Diagnostic::new(
-                        &m108_invalid_attribute_value::CHECK,
-                        p.value_span("dir"),
-                        format!("port group `{name}` is declared with the wrong direction"),
-                    )
-                    .label("wrong direction")
-                    .secondary(flex.span, "declared by the module type here")
-                    .help(format!(
-                        "use dir=\"{}\"",
-                        if flex.dir == PortDir::In { "in" } else { "out" }
-                    )),
-                );
-                continue;
-            }
             let Some(ty) =
                 self.libs
                     .resolve_type(ty_text, p.value_span("type"), visible, self.loader.diags)
@@ -324,7 +253,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             }
             let decl = |port_name: String| PortDecl {
                 name: port_name,
-                dir,
+                dir: flex.dir,
                 role: PortRole::Plain,
                 ty: PortType::Fixed(ty.clone()),
                 unit: unit.clone(),
@@ -340,22 +269,86 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                     .extend((0..c.min(4096)).map(|k| decl(format!("{name}/{k}")))),
                 None => instance.extra_ports.push(decl(name.to_string())),
             }
-            if flex.same_type {
-                if let Some((_, first, _)) =
-                    instance.flexible_types.iter().find(|(g, _, _)| g == name)
-                {
-                    if *first != ty {
-                        self.loader.diags.push(
-                            Diagnostic::new(&crate::checks::t102_incompatible_types::CHECK, p.value_span("type"), format!("all ports of group `{name}` must have one type; `{ty}` differs from `{first}`"))
-                                .label("different type")
-                                .help(format!("declare every `{name}` port with type `{first}`")),
-                        );
-                    }
-                    continue;
-                }
-            }
-            instance.flexible_types.push((name.to_string(), ty, unit));
+            self.flexible_type(p, name, flex, instance, ty, unit);
         }
+    }
+
+    /// The flexible port group a `<port>` declares ports of, and in its direction;
+    /// `None`, reported, for a group the module type lacks or the other direction.
+    fn flexible_group<'m>(
+        &mut self,
+        p: &Element,
+        name: &str,
+        mt: &'m crate::library::ModuleType,
+    ) -> Option<&'m FlexibleDecl> {
+        let Some(flex) = mt.flexible.iter().find(|f| f.port == name) else {
+            let groups: Vec<&str> = mt.flexible.iter().map(|f| f.port.as_str()).collect();
+            let d = Diagnostic::new(
+                &m105_misplaced_element::CHECK,
+                p.value_span("name"),
+                format!(
+                    "module type `{}` has no flexible port group `{name}`",
+                    mt.qualified
+                ),
+            )
+            .label("not declarable here")
+            .secondary(mt.span, "module type declared here");
+            self.loader.diags.push(if groups.is_empty() {
+                d.help("only flexible module types take <port> declarations; this type's interface is fixed")
+            } else {
+                d.help(format!("its flexible port groups are: {}", groups.join(", ")))
+            });
+            return None;
+        };
+        let dir = if p.value("dir") == Some("out") {
+            PortDir::Out
+        } else {
+            PortDir::In
+        };
+        if dir != flex.dir {
+            self.loader.diags.push(
+                Diagnostic::new(
+                    &m108_invalid_attribute_value::CHECK,
+                    p.value_span("dir"),
+                    format!("port group `{name}` is declared with the wrong direction"),
+                )
+                .label("wrong direction")
+                .secondary(flex.span, "declared by the module type here")
+                .help(format!(
+                    "use dir=\"{}\"",
+                    if flex.dir == PortDir::In { "in" } else { "out" }
+                )),
+            );
+            return None;
+        }
+        Some(flex)
+    }
+
+    /// Records the type of a flexible port group (for `$group` port types); a group
+    /// of one type reports a `<port>` of another.
+    fn flexible_type(
+        &mut self,
+        p: &Element,
+        name: &str,
+        flex: &FlexibleDecl,
+        instance: &mut ModuleInstance,
+        ty: Type,
+        unit: Option<Unit>,
+    ) {
+        if flex.same_type {
+            if let Some((_, first, _)) = instance.flexible_types.iter().find(|(g, _, _)| g == name)
+            {
+                if *first != ty {
+                    self.loader.diags.push(
+                        Diagnostic::new(&crate::checks::t102_incompatible_types::CHECK, p.value_span("type"), format!("all ports of group `{name}` must have one type; `{ty}` differs from `{first}`"))
+                            .label("different type")
+                            .help(format!("declare every `{name}` port with type `{first}`")),
+                    );
+                }
+                return;
+            }
+        }
+        instance.flexible_types.push((name.to_string(), ty, unit));
     }
 
     fn param_value(&mut self, p: &Element) -> Option<ParamValue> {
@@ -468,4 +461,57 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
 fn exact<T>(mut v: Vec<T>) -> Vec<T> {
     v.shrink_to_fit();
     v
+}
+
+/// The meta ports of a behaviour instance: its `inhibitions` inhibition inputs and,
+/// for a fusion, activity and target rating inputs and the channel ports per channel.
+fn behaviour_ports(mt: &ModuleType, instance: &mut ModuleInstance) {
+    let count = |name: &str, default: u32| {
+        instance
+            .params
+            .iter()
+            .find(|p| p.name == name)
+            .and_then(|p| p.text.trim().parse::<u32>().ok())
+            .unwrap_or(default)
+            .min(1024)
+    };
+    let (inhibitions, channels) = (count("inhibitions", 1), count("channels", 2));
+    let meta = |name: String, dir, m| PortDecl {
+        name,
+        dir,
+        role: PortRole::Meta,
+        ty: PortType::Fixed(Type::Meta(m)),
+        unit: None,
+        required: false,
+        blocking_read: false,
+        read_timeout: None,
+        merge: false,
+        span: mt.span,
+    };
+    for k in 0..inhibitions {
+        instance.extra_ports.push(meta(
+            format!("inhibition/{k}"),
+            PortDir::In,
+            Meta::Inhibition,
+        ));
+    }
+    if mt.kind == ModuleKind::Fusion {
+        for k in 0..channels {
+            instance.extra_ports.push(meta(
+                format!("in/{k}/activity"),
+                PortDir::In,
+                Meta::Activity,
+            ));
+            instance.extra_ports.push(meta(
+                format!("in/{k}/target_rating"),
+                PortDir::In,
+                Meta::TargetRating,
+            ));
+            for c in &mt.channel_in {
+                let mut p = c.clone();
+                p.name = format!("in/{k}/{}", c.name);
+                instance.extra_ports.push(p);
+            }
+        }
+    }
 }

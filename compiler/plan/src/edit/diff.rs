@@ -76,6 +76,15 @@ pub fn diff(old: &Plan, new: &Plan, moved: &[(String, String)]) -> PlanDiff {
             .map_or_else(|| p.to_owned(), |n| (*n).to_owned())
     };
     let mut d = PlanDiff::default();
+    compare_modules(old, new, &rename, &mut d);
+    compare_connections(old, new, &rename, &mut d);
+    compare_threads(old, new, &rename, &mut d);
+    compare_rest(old, new, &rename, &mut d);
+    d
+}
+
+/// Modules to drop, to create and to move, and the parameter changes of the kept ones.
+fn compare_modules(old: &Plan, new: &Plan, rename: &dyn Fn(&str) -> String, d: &mut PlanDiff) {
     let new_modules: HashMap<&str, (usize, &PlannedModule)> = (new.modules.iter().enumerate())
         .map(|(i, m)| (m.path.as_str(), (i, m)))
         .collect();
@@ -85,23 +94,7 @@ pub fn diff(old: &Plan, new: &Plan, moved: &[(String, String)]) -> PlanDiff {
         match new_modules.get(path.as_str()) {
             Some((_, n)) if same_instance(m, n) => {
                 kept.insert(path.clone());
-                if path != m.path {
-                    d.moved.push((m.path.clone(), path.clone()));
-                }
-                for (name, value) in &n.params {
-                    let before = m.params.iter().find(|(p, _)| p == name).map(|(_, v)| v);
-                    if before != Some(value) {
-                        d.params.push((path.clone(), name.clone(), value.clone()));
-                    }
-                }
-                if m.params
-                    .iter()
-                    .any(|(p, _)| !n.params.iter().any(|(q, _)| q == p))
-                {
-                    d.unsupported.push(format!(
-                        "`{path}`: a parameter value is removed from the model; the running module keeps the value it has (set the value instead)"
-                    ));
-                }
+                compare_kept(m, n, path, d);
             }
             _ => {
                 d.removed.push(m.path.clone());
@@ -117,11 +110,38 @@ pub fn diff(old: &Plan, new: &Plan, moved: &[(String, String)]) -> PlanDiff {
             d.added.push(i);
         }
     }
+}
+
+/// A module kept across the edit (`path`: its new path): its move and its changed
+/// parameter values; a value removed from the model is unsupported.
+fn compare_kept(m: &PlannedModule, n: &PlannedModule, path: String, d: &mut PlanDiff) {
+    if path != m.path {
+        d.moved.push((m.path.clone(), path.clone()));
+    }
+    for (name, value) in &n.params {
+        let before = m.params.iter().find(|(p, _)| p == name).map(|(_, v)| v);
+        if before != Some(value) {
+            d.params.push((path.clone(), name.clone(), value.clone()));
+        }
+    }
+    if m.params
+        .iter()
+        .any(|(p, _)| !n.params.iter().any(|(q, _)| q == p))
+    {
+        d.unsupported.push(format!(
+            "`{path}`: a parameter value is removed from the model; the running module keeps the value it has (set the value instead)"
+        ));
+    }
+}
+
+/// Connections to unmake and to make: the changed ones, and the kept ones whose ends
+/// come together in one container or leave it.
+fn compare_connections(old: &Plan, new: &Plan, rename: &dyn Fn(&str) -> String, d: &mut PlanDiff) {
     let same = |p: &str| p.to_owned();
     let old_keys: HashMap<String, &PlannedConnection> = old
         .connections
         .iter()
-        .map(|c| (key(c, &rename), c))
+        .map(|c| (key(c, rename), c))
         .collect();
     let new_keys: HashMap<String, &PlannedConnection> =
         new.connections.iter().map(|c| (key(c, &same), c)).collect();
@@ -143,7 +163,7 @@ pub fn diff(old: &Plan, new: &Plan, moved: &[(String, String)]) -> PlanDiff {
         (before.0 == before.1) != (after.0 == after.1)
     };
     for c in &old.connections {
-        if new_keys.contains_key(&key(c, &rename)) && !regrouped(c) {
+        if new_keys.contains_key(&key(c, rename)) && !regrouped(c) {
             continue;
         }
         if c.link.is_some() {
@@ -161,7 +181,7 @@ pub fn diff(old: &Plan, new: &Plan, moved: &[(String, String)]) -> PlanDiff {
     }
     let regrouped_new: BTreeSet<String> = (old.connections.iter())
         .filter(|c| regrouped(c))
-        .map(|c| key(c, &rename))
+        .map(|c| key(c, rename))
         .collect();
     for c in &new.connections {
         let k = key(c, &same);
@@ -181,9 +201,6 @@ pub fn diff(old: &Plan, new: &Plan, moved: &[(String, String)]) -> PlanDiff {
         }
         d.connect.push(c.clone());
     }
-    compare_threads(old, new, &rename, &mut d);
-    compare_rest(old, new, &rename, &mut d);
-    d
 }
 
 /// The container each module's steps run in.

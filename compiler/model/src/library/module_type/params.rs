@@ -67,10 +67,6 @@ pub fn check_value(
     diags: &mut Diagnostics,
 ) -> Option<Value> {
     use crate::checks::p105_wrong_unit_dimension;
-    let with_context = |d: Diagnostic| match context {
-        Some(c) => d.secondary(c, "the parameter is declared here"),
-        None => d,
-    };
     if !decl.choices.is_empty() && !decl.choices.iter().any(|c| c == text.trim()) {
         diags.push(with_context(
             Diagnostic::new(
@@ -84,6 +80,7 @@ pub fn check_value(
             )
             .label("not a valid choice")
             .help(format!("use one of: {}", decl.choices.join(", "))),
+            context,
         ));
         return None;
     }
@@ -95,50 +92,10 @@ pub fn check_value(
                 Value::Duration(s) => Some(*s),
                 _ => None,
             };
-            if let Some(n) = number {
-                let below = decl.min.filter(|m| n < *m);
-                let above = decl.max.filter(|m| n > *m);
-                if below.is_some() || above.is_some() {
-                    // Durations are compared in seconds; say so.
-                    let unit = match (&decl.unit, &decl.ty) {
-                        (Some(u), _) => format!(" {u}"),
-                        (None, Type::Duration) => " s".to_string(),
-                        _ => String::new(),
-                    };
-                    let written = text.trim();
-                    let value = if written == format!("{n}{unit}") || written == n.to_string() {
-                        format!("{n}{unit}")
-                    } else {
-                        format!("`{written}` (= {n}{unit})")
-                    };
-                    let range = match (decl.min, decl.max) {
-                        (Some(a), Some(b)) => format!("{a}{unit} ..= {b}{unit}"),
-                        (Some(a), None) => format!(">= {a}{unit}"),
-                        (None, Some(b)) => format!("<= {b}{unit}"),
-                        _ => String::new(),
-                    };
-                    diags.push(with_context(
-                        Diagnostic::new(
-                            &p104_out_of_range::CHECK,
-                            span,
-                            format!("{value} is outside the range of `{}` ({range})", decl.name),
-                        )
-                        .label(if below.is_some() {
-                            "too small"
-                        } else {
-                            "too large"
-                        })
-                        .help(format!("use a value in {range}")),
-                    ));
-                    return None;
-                }
-                if matches!(decl.ty, Type::Meta(_)) && !(0.0..=1.0).contains(&n) {
-                    use crate::checks::b101_meta_constant_out_of_range as b101;
-                    diags.push(b101::report(decl, text, n, span, context));
-                    return None;
-                }
+            match number {
+                Some(n) if !in_range(decl, text, n, span, context, diags) => None,
+                _ => Some(value),
             }
-            Some(value)
         }
         Err(ferroc_values::values::ValueError::Syntax(msg)) => {
             diags.push(with_context(
@@ -155,6 +112,7 @@ pub fn check_value(
                     ),
                     None => format!("write a `{}` value", decl.ty),
                 }),
+                context,
             ));
             None
         }
@@ -170,8 +128,72 @@ pub fn check_value(
                     Some(u) => format!("write the value in `{u}` or a unit of the same dimension"),
                     None => "write the value without a unit".to_string(),
                 }),
+                context,
             ));
             None
         }
     }
+}
+
+/// Points a finding at the parameter's declaration too, when it is elsewhere.
+fn with_context(d: Diagnostic, context: Option<Span>) -> Diagnostic {
+    match context {
+        Some(c) => d.secondary(c, "the parameter is declared here"),
+        None => d,
+    }
+}
+
+/// Whether the number `n` (the value `text`) lies within the declaration's bounds,
+/// and within 0..=1 for a meta signal; reports it when not.
+fn in_range(
+    decl: &ParamDecl,
+    text: &str,
+    n: f64,
+    span: Span,
+    context: Option<Span>,
+    diags: &mut Diagnostics,
+) -> bool {
+    let below = decl.min.filter(|m| n < *m);
+    let above = decl.max.filter(|m| n > *m);
+    if below.is_some() || above.is_some() {
+        // Durations are compared in seconds; say so.
+        let unit = match (&decl.unit, &decl.ty) {
+            (Some(u), _) => format!(" {u}"),
+            (None, Type::Duration) => " s".to_string(),
+            _ => String::new(),
+        };
+        let written = text.trim();
+        let value = if written == format!("{n}{unit}") || written == n.to_string() {
+            format!("{n}{unit}")
+        } else {
+            format!("`{written}` (= {n}{unit})")
+        };
+        let range = match (decl.min, decl.max) {
+            (Some(a), Some(b)) => format!("{a}{unit} ..= {b}{unit}"),
+            (Some(a), None) => format!(">= {a}{unit}"),
+            (None, Some(b)) => format!("<= {b}{unit}"),
+            _ => String::new(),
+        };
+        diags.push(with_context(
+            Diagnostic::new(
+                &p104_out_of_range::CHECK,
+                span,
+                format!("{value} is outside the range of `{}` ({range})", decl.name),
+            )
+            .label(if below.is_some() {
+                "too small"
+            } else {
+                "too large"
+            })
+            .help(format!("use a value in {range}")),
+            context,
+        ));
+        return false;
+    }
+    if matches!(decl.ty, Type::Meta(_)) && !(0.0..=1.0).contains(&n) {
+        use crate::checks::b101_meta_constant_out_of_range as b101;
+        diags.push(b101::report(decl, text, n, span, context));
+        return false;
+    }
+    true
 }

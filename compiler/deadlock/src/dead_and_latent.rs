@@ -1,7 +1,7 @@
-//! Neighbours of the deadlock search (`reference/deadlocks.md` §2.6): trigger cycles of
-//! data-triggered modules that never start (a least "alive" fixpoint), and lock-order
-//! cycles that are harmless only because a guard (a shared thread, a gate lock)
-//! serialises them.
+//! Dead triggers (D115) and latent lock-order inversions (D117), the neighbours of the
+//! deadlock search (`reference/deadlocks.md` §2.6): trigger cycles of data-triggered
+//! modules that never start (a least "alive" fixpoint), and lock-order cycles that are
+//! harmless only because a guard (a shared thread, a gate lock) serialises them.
 
 use super::follow::follow;
 use super::{DeadTrigger, Held, Latent, Model, WaitKind};
@@ -14,70 +14,107 @@ use petgraph::Direction::Incoming;
 
 /// Modules of data-triggered containers that are never triggered and lie on a cycle.
 pub(super) fn dead_triggers(app: &Application, libs: &LibrarySet) -> Vec<DeadTrigger> {
-    let on_data = |m: ElementId| {
-        app.element(m).thread.is_some_and(|t| {
-            matches!(
-                app.element(t).kind,
-                ElementKind::Thread {
-                    data_trigger: true,
-                    ..
-                }
-            )
-        })
-    };
     let data_modules: Vec<ElementId> = app
         .modules()
         .map(|(id, _)| id)
-        .filter(|&id| on_data(id))
+        .filter(|&id| on_data(app, id))
         .collect();
     if data_modules.is_empty() {
         return Vec::new();
     }
-    let mut alive: hashbrown::HashSet<ElementId> = Default::default();
-    // writer → data-triggered readers, and each reader's incoming edges.
-    let mut readers: HashMap<ElementId, Vec<ElementId>> = HashMap::new();
-    let mut into: HashMap<ElementId, Vec<(ElementId, Span)>> = HashMap::new();
-    let mut work = Vec::new();
-    for &m in &data_modules {
-        for (i, p) in app.module_ports(libs, m) {
-            if p.dir != PortDir::In || p.role == PortRole::Service {
-                continue;
+    let triggers = Triggers::of(app, libs, &data_modules);
+    let alive = triggers.alive();
+    never_triggered_cycles(&data_modules, &alive, &triggers.into)
+}
+
+/// Whether module `m` runs in a data-triggered thread container.
+fn on_data(app: &Application, m: ElementId) -> bool {
+    app.element(m).thread.is_some_and(|t| {
+        matches!(
+            app.element(t).kind,
+            ElementKind::Thread {
+                data_trigger: true,
+                ..
             }
-            let input = Endpoint::Port {
-                element: m,
-                port: i,
-            };
-            for r in follow(app, input, Incoming) {
-                let c = &app.connections[r.first];
-                // Initial items belong to the queue, wherever on the path it is declared.
-                let initial = r
-                    .queued
-                    .map_or(c.initial, |hop| app.connections[hop].initial);
-                let writer = r.end.element();
-                // Initial items and writers of periodic containers start it.
-                let periodic = !on_data(writer) && app.element(writer).thread.is_some();
-                if (initial > 0 || periodic) && alive.insert(m) {
-                    work.push(m);
+        )
+    })
+}
+
+/// Who triggers the data-triggered modules.
+struct Triggers {
+    /// Modules started from outside: by initial items or by a writer of a periodic
+    /// container.
+    started: Vec<ElementId>,
+    /// Writer → data-triggered readers.
+    readers: HashMap<ElementId, Vec<ElementId>>,
+    /// Reader → its incoming edges (writer, place of the connection).
+    into: HashMap<ElementId, Vec<(ElementId, Span)>>,
+}
+
+impl Triggers {
+    fn of(app: &Application, libs: &LibrarySet, data_modules: &[ElementId]) -> Self {
+        let mut started: hashbrown::HashSet<ElementId> = Default::default();
+        let mut t = Triggers {
+            started: Vec::new(),
+            readers: HashMap::new(),
+            into: HashMap::new(),
+        };
+        for &m in data_modules {
+            for (i, p) in app.module_ports(libs, m) {
+                if p.dir != PortDir::In || p.role == PortRole::Service {
+                    continue;
                 }
-                readers.entry(writer).or_default().push(m);
-                into.entry(m).or_default().push((writer, c.to_span));
+                let input = Endpoint::Port {
+                    element: m,
+                    port: i,
+                };
+                for r in follow(app, input, Incoming) {
+                    let c = &app.connections[r.first];
+                    // Initial items belong to the queue, wherever on the path it is declared.
+                    let initial = r
+                        .queued
+                        .map_or(c.initial, |hop| app.connections[hop].initial);
+                    let writer = r.end.element();
+                    // Initial items and writers of periodic containers start it.
+                    let periodic = !on_data(app, writer) && app.element(writer).thread.is_some();
+                    if (initial > 0 || periodic) && started.insert(m) {
+                        t.started.push(m);
+                    }
+                    t.readers.entry(writer).or_default().push(m);
+                    t.into.entry(m).or_default().push((writer, c.to_span));
+                }
             }
         }
+        t
     }
-    while let Some(w) = work.pop() {
-        for &r in readers.get(&w).into_iter().flatten() {
-            if alive.insert(r) {
-                work.push(r);
+
+    /// The modules that are ever triggered (the least fixpoint from the started ones).
+    fn alive(&self) -> hashbrown::HashSet<ElementId> {
+        let mut alive: hashbrown::HashSet<ElementId> = self.started.iter().copied().collect();
+        let mut work = self.started.clone();
+        while let Some(w) = work.pop() {
+            for &r in self.readers.get(&w).into_iter().flatten() {
+                if alive.insert(r) {
+                    work.push(r);
+                }
             }
         }
+        alive
     }
-    // Cycles among the never-triggered.
+}
+
+/// Cycles among the never-triggered modules, each walked from its smallest module.
+fn never_triggered_cycles(
+    data_modules: &[ElementId],
+    alive: &hashbrown::HashSet<ElementId>,
+    into: &HashMap<ElementId, Vec<(ElementId, Span)>>,
+) -> Vec<DeadTrigger> {
     let mut g: DiGraph<ElementId, Span> = DiGraph::new();
     let mut idx: HashMap<ElementId, NodeIndex> = HashMap::new();
     for &m in data_modules.iter().filter(|m| !alive.contains(*m)) {
         idx.insert(m, g.add_node(m));
     }
-    for (&m, edges) in &into {
+    for (&m, edges) in into {
         for (w, span) in edges {
             if let (Some(&a), Some(&b)) = (idx.get(w), idx.get(&m)) {
                 g.add_edge(a, b, *span);
