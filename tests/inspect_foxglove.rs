@@ -8,6 +8,10 @@
 //! Needs Node.js and the packages in FERROC_NODE_MODULES (default
 //! target/ci-node/node_modules, which .ci/run installs); FERROC_SKIP_BROWSER=1 skips.
 
+// A scenario reads as one story from start to end; the function-length rule is for
+// the code under test.
+#![allow(clippy::too_many_lines)]
+
 mod common;
 
 use serde_json::{json, Value};
