@@ -10,7 +10,7 @@ use crate::geometry::{PurePursuit, Steering};
 use crate::{LaserScan, Pose2D};
 use ferroc_runtime::behaviour::{Behaviour, BehaviourOutput};
 use ferroc_runtime::module::{In, Out, Parameter, Setup};
-use ferroc_std::fusion::{fuse, FusionChannels};
+use ferroc_std::fusion::PairFusion;
 use std::f64::consts::PI;
 
 /// Slowest speed on the final approach, so that the robot arrives (m/s).
@@ -263,14 +263,9 @@ pub fn avoid(scan: &LaserScan, d: &Distances, activation: f64) -> Avoidance {
     }
 }
 
-/// Fuses the (velocity, angular velocity) commands of its channels by their activities.
-pub struct VelocityFusion {
-    channels: FusionChannels,
-    /// Per channel: (velocity, angular velocity).
-    inputs: Vec<(In<f64>, In<f64>)>,
-    velocity: Out<f64>,
-    angular_velocity: Out<f64>,
-}
+/// Fuses the (velocity, angular velocity) commands of its channels by their activities:
+/// `ferroc_std`'s pair fusion with this library's port names.
+pub struct VelocityFusion(PairFusion);
 
 impl Behaviour for VelocityFusion {
     const NAME: &'static str = "warehouse.VelocityFusion";
@@ -278,36 +273,15 @@ impl Behaviour for VelocityFusion {
     const FUSION: bool = true;
 
     fn create(m: &mut Setup<'_>) -> Self {
-        let channels = FusionChannels::declare(m);
-        let inputs = (0..channels.len())
-            .map(|k| {
-                (
-                    m.input(&FusionChannels::port_name(k, "velocity"))
-                        .unit("m/s")
-                        .build(),
-                    m.input(&FusionChannels::port_name(k, "angular_velocity"))
-                        .unit("rad/s")
-                        .build(),
-                )
-            })
-            .collect();
-        VelocityFusion {
-            channels,
-            inputs,
-            velocity: m.output("fused_velocity").unit("m/s").build(),
-            angular_velocity: m.output("fused_angular_velocity").unit("rad/s").build(),
-        }
+        VelocityFusion(PairFusion::declare(
+            m,
+            [("velocity", "m/s"), ("angular_velocity", "rad/s")],
+            ["fused_velocity", "fused_angular_velocity"],
+        ))
     }
 
     fn transfer(&mut self, activation: f64, _derived: &mut [f64]) -> BehaviourOutput {
-        let out = self.channels.weigh(activation);
-        let [v, w] = fuse(
-            self.channels.weights(),
-            self.inputs.iter().map(|(v, w)| [v.get(), w.get()]),
-        );
-        self.velocity.publish(v);
-        self.angular_velocity.publish(w);
-        out
+        self.0.step(activation)
     }
 }
 

@@ -304,6 +304,56 @@ impl<T: PortValue<Kind = CopyKind> + Fuse + NoUninit> FusionOf<T> {
     }
 }
 
+/// A fusion of two `f64` data ports per channel fused with the same weights, such as a
+/// velocity command's linear and angular parts: `in/k/<first>`, `in/k/<second>` → the
+/// outputs `out` names. Libraries' velocity fusions are this with their port names.
+pub struct PairFusion {
+    /// The channels' meta inputs and parameters.
+    pub channels: FusionChannels,
+    inputs: Vec<[In<f64>; 2]>,
+    outputs: [Out<f64>; 2],
+}
+
+/// A data port of a [`PairFusion`]: its name and unit.
+pub type PortName<'a> = (&'a str, &'a str);
+
+impl PairFusion {
+    /// Declares the channels, their data inputs `in/k/<data[i].0>` and the outputs
+    /// `out[i].0`, each pair in the unit of `data[i]`.
+    pub fn declare(m: &mut Setup<'_>, data: [PortName<'_>; 2], out: [&str; 2]) -> Self {
+        let channels = FusionChannels::declare(m);
+        let inputs = (0..channels.len())
+            .map(|k| {
+                data.map(|(name, unit)| {
+                    m.input(&FusionChannels::port_name(k, name))
+                        .unit(unit)
+                        .build()
+                })
+            })
+            .collect();
+        let outputs = [0, 1].map(|i| m.output(out[i]).unit(data[i].1).build());
+        PairFusion {
+            channels,
+            inputs,
+            outputs,
+        }
+    }
+
+    /// One cycle: weigh, fuse both parts with the same weights and publish them;
+    /// returns activity and target rating.
+    pub fn step(&mut self, activation: f64) -> BehaviourOutput {
+        let out = self.channels.weigh(activation);
+        let fused = fuse(
+            self.channels.weights(),
+            self.inputs.iter().map(|[a, b]| [a.get(), b.get()]),
+        );
+        for (port, value) in self.outputs.iter_mut().zip(fused) {
+            port.publish(value);
+        }
+        out
+    }
+}
+
 /// `ferroc_std.Fusion`: the iB2C fusion of `f64` data (`in/k/value` → `value`).
 pub struct Fusion(FusionOf<f64>);
 
