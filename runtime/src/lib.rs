@@ -26,3 +26,9 @@ pub use ferroc_link as link;
 pub use ferroc_module as module;
 pub use ferroc_module::{behaviour, port_value, resource};
 pub use ferroc_ports::{console, port, service};
+
+/// Compiles and runs the Rust examples of `docs/runtime-services.md` (which name the
+/// paths of this facade), so that the module writers' guide cannot drift from the API.
+#[cfg(doctest)]
+#[doc = include_str!("../../docs/runtime-services.md")]
+struct RuntimeServicesGuide;

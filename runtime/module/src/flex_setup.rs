@@ -5,7 +5,7 @@
 //! all, typed (`In<T>`, `Out<T>`).
 //!
 //! ```
-//! # use crate::*;
+//! # use ferroc_module::*;
 //! /// Prints how many of its inputs changed (any types).
 //! struct CountChanges { inputs: Vec<DynIn> }
 //! impl Module for CountChanges {

@@ -1,7 +1,7 @@
 //! Declaring services and clients in `create`, next to ports and parameters.
 //!
 //! ```
-//! # use crate::*;
+//! # use ferroc_module::*;
 //! # use ferroc_ports::service::{ClientPort, ServicePort};
 //! # use std::time::Duration;
 //! struct Localizer { relocalize: ServicePort<f64, bool>, heading: f64 }

@@ -2,7 +2,7 @@
 //! parameters in one go.
 //!
 //! ```
-//! # use crate::*;
+//! # use ferroc_module::*;
 //! struct Scale { input: In<f64>, output: Out<f64>, factor: Parameter<f64> }
 //! impl Module for Scale {
 //!     fn update(&mut self) {

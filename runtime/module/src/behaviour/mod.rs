@@ -2,8 +2,8 @@
 //! and target rating; the behaviour base does everything every behaviour shares.
 //!
 //! ```
-//! use crate::behaviour::{Behaviour, BehaviourOutput};
-//! use crate::{In, Out, Setup};
+//! use ferroc_module::behaviour::{Behaviour, BehaviourOutput};
+//! use ferroc_module::{In, Out, Setup};
 //!
 //! /// Drives forward, slower the closer the obstacle; content when nothing is near.
 //! struct Cruise { distance: In<f64>, speed: Out<f64> }

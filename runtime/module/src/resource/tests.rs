@@ -32,7 +32,7 @@ fn an_inversion_is_reported_with_both_sites_before_anything_hangs() {
     );
     // Both acquisition sites: this file, the module paths, and the help.
     assert_eq!(
-        r.matches("runtime/src/resource/tests.rs:").count(),
+        r.matches("runtime/module/src/resource/tests.rs:").count(),
         4,
         "{r}"
     );

@@ -8,7 +8,7 @@
 //! | [`CopyOutputPort`] / [`CopyInputPort`] | small padding-free `Copy` types ([`NoUninit`]) | `T` by value | copies into seqlock slots, no reference counting |
 //!
 //! ```
-//! use crate::port::{connect, ConnectOptions, InputPort, OutputPort};
+//! use ferroc_ports::port::{connect, ConnectOptions, InputPort, OutputPort};
 //!
 //! type Matrix4 = [[f64; 4]; 4];
 //! let out = OutputPort::<Matrix4>::new("out");
@@ -17,7 +17,7 @@
 //! out.publish_with(|m| m[0][0] = 1.0);
 //! let v = inp.get();
 //! assert_eq!(v[0][0], 1.0);
-//! # Ok::<(), crate::port::ConnectError>(())
+//! # Ok::<(), ferroc_ports::port::ConnectError>(())
 //! ```
 //!
 //! Where to read on: `pool.rs` (buffers, reference counts and their invariants),

@@ -25,8 +25,8 @@
 //!
 //! ```
 //! use std::time::Duration;
-//! use crate::port::Wakeup;
-//! use crate::service::{connect, CallError, ClientPort, ServicePort};
+//! use ferroc_ports::port::Wakeup;
+//! use ferroc_ports::service::{connect, CallError, ClientPort, ServicePort};
 //!
 //! let square = ServicePort::<i64, i64>::new("square");        // executes="server"
 //! let client = ClientPort::<i64, i64>::new("calculator");
@@ -63,7 +63,7 @@
 //! Mismatched types do not compile:
 //!
 //! ```compile_fail
-//! use crate::service::{connect, ClientPort, ServicePort};
+//! use ferroc_ports::service::{connect, ClientPort, ServicePort};
 //! let service = ServicePort::<f64, bool>::new("relocalize");
 //! let client = ClientPort::<f64, f64>::new("caller");
 //! connect(&client, &service);
@@ -206,9 +206,3 @@ pub fn disconnect<Req: Send + 'static, Resp: Send + 'static>(
 
 #[cfg(test)]
 mod tests;
-
-/// Compiles and runs the Rust examples of `docs/runtime-services.md`, so that the
-/// module writers' guide cannot drift from the API.
-#[cfg(doctest)]
-#[doc = include_str!("../../../docs/runtime-services.md")]
-struct RuntimeServicesGuide;

@@ -405,8 +405,6 @@ impl Live {
     }
 }
 
-#[path = "reconfigure_run.rs"]
 mod run;
 #[cfg(test)]
-#[path = "reconfigure_tests.rs"]
 mod tests;
