@@ -1,7 +1,8 @@
 //! Data connections by name, with the converters a connection needs between the
 //! writer's output and the reader's input.
 
-use super::*;
+use super::{convert, find, BuildError, Builder, Conversion, Instance, LocalClaim, Select};
+use ferroc_ports::port::{ConnectOptions, Home};
 
 impl Builder<'_> {
     /// Connects `from` (module path, output name) to `to` (module path, input name),

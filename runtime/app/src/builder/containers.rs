@@ -2,7 +2,12 @@
 //! converters run right after their writer, and a data-triggered container is woken
 //! only by inputs fed from outside it.
 
-use super::*;
+use super::{BuildError, Builder, Schedule, StepKind};
+use ferroc_exec::{Step, ThreadContainer, ThreadOptions, Trigger};
+use ferroc_module::Module;
+use ferroc_ports::port::{Notifier, Wakeup};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 impl Builder<'_> {
     /// Turns each thread spec into a container whose steps call the modules.

@@ -1,8 +1,10 @@
 //! Handing what an inspector needs over before the application starts: the ports,
 //! parameters and thread placement of every module (see [`crate::inspect`]).
 
-use super::*;
+use super::Builder;
 use crate::inspect::{Catalogue, ModuleEntry};
+use ferroc_ports::port::OutputHandle;
+use std::sync::Arc;
 
 impl Builder<'_> {
     /// What [`Inspector`](crate::inspect::Inspector) serves, taken from the wired

@@ -3,10 +3,13 @@
 //! like any output. Both reuse [`Builder::connect`], so conversions, queues and
 //! wakeups behave exactly as on a connection inside one part.
 
-use super::*;
+use super::{BuildError, Builder, Conversion, Instance};
+use ferroc_exec::Step;
 use ferroc_link::transport::{RemoteCall, Sending};
 use ferroc_link::{calls, CallSpec, Frame, LinkSpec, Pace, Receiving};
-use ferroc_module::{Timestamp, ValueType};
+use ferroc_module::{Interface, Kind, Timestamp, ValueType};
+use ferroc_ports::port::{ConnectOptions, InputHandle, OutputHandle};
+use std::sync::Arc;
 
 impl Builder<'_> {
     /// The sending end of the link `spec.id`: values of `from` (module path, output),

@@ -1,7 +1,9 @@
 //! Application resources and their locks: resources with levels, declared lock orders,
 //! and the binding of modules' lock slots to resources.
 
-use super::*;
+use super::{BuildError, Builder};
+use ferroc_module::resource::Resource;
+use std::sync::Arc;
 
 impl Builder<'_> {
     /// Declares an application resource (`<resource name level kind>`).

@@ -28,15 +28,13 @@ pub use registry::Registry;
 pub use running::{cycles_of, ContainerStatus, RunningApp};
 pub use start::StartOptions;
 
-use ferroc_exec::{Step, ThreadContainer, ThreadOptions, Trigger};
+use ferroc_exec::{Step, ThreadOptions};
 use ferroc_module::behaviour::{ViolationLog, ViolationPolicy};
 use ferroc_module::resource::{LockOrder, Resource};
 use ferroc_module::{Interface, Kind, Module, ParamHandle, PortGroup, Setup, Value};
-use ferroc_ports::port::{
-    ConnectOptions, Home, InputHandle, Notifier, OutputHandle, QueueConfig, Wakeup,
-};
+use ferroc_ports::port::{ConnectOptions, InputHandle, OutputHandle, QueueConfig};
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::Duration;
 
 /// Which method of a module a step calls.

@@ -1,9 +1,12 @@
 //! Starting a built application: free-running (a thread per container) or in
 //! lockstep, with the links to other parts set up first.
 
-use super::*;
+use super::{reconfigure, running, BuildError, Builder, Lockstep, RunningApp};
 use ferroc_link::transport::{Connection, Delivery, Network, PartLinks};
 use ferroc_link::{Hub, Inbox, Route};
+use ferroc_module::ParamHandle;
+use std::collections::HashMap;
+use std::sync::Arc;
 
 /// How [`Builder::start_with`] runs the application.
 #[derive(Clone, Default)]

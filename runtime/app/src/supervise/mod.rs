@@ -39,9 +39,40 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
     let status = options.status_line;
     ferroc_ports::console::set_status_line_active(status);
     let started = Instant::now();
+    let (reason, reported) = watch(&app, interrupted, options, started);
+    app.stop();
+    let stuck = app.join_within(STOP_GRACE);
+    ferroc_ports::console::set_status_line_active(false);
+    if status {
+        eprint!("\r\x1b[K");
+    }
+    let panicked = report_the_end(&app, &stuck, reported);
+    print_summary(&app, reason, started);
+    if !panicked && stuck.is_empty() && app.failure().is_none() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}
+
+/// How many panics and lock reports the user has seen while the application ran.
+#[derive(Clone, Copy, Default)]
+struct Reported {
+    panics: usize,
+    locks: usize,
+}
+
+/// While the application runs: reports panics, lock-order inversions, iB2C
+/// violations and network trouble as they come and redraws the status line, until
+/// the application ends, `interrupted` is set or the time is up. Gives why it stopped.
+fn watch(
+    app: &RunningApp,
+    interrupted: &AtomicBool,
+    options: &Options,
+    started: Instant,
+) -> (&'static str, Reported) {
     let mut last_draw = Instant::now() - Duration::from_secs(1);
-    let mut reported_panics = 0;
-    let mut reported_locks = 0;
+    let mut reported = Reported::default();
     let mut network_log = NetworkLog::default();
     let reason = loop {
         if app.is_finished() {
@@ -54,51 +85,57 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
             break "time is up";
         }
         let panics = app.panics();
-        for p in &panics[reported_panics..] {
+        for p in &panics[reported.panics..] {
             ferroc_ports::console::report(&format!("error: {p}"));
         }
-        reported_panics = panics.len();
+        reported.panics = panics.len();
         let locks = app.lock_reports();
-        for l in &locks[reported_locks..] {
+        for l in &locks[reported.locks..] {
             ferroc_ports::console::report(&format!("warning: {l}"));
         }
-        reported_locks = locks.len();
-        report_violations(&app);
+        reported.locks = locks.len();
+        report_violations(app);
         let network = app.network_status();
         if network_log.due(!network.is_empty(), Instant::now()) {
             for line in &network {
                 ferroc_ports::console::note(&format!("warning: {line}"));
             }
         }
-        if status && last_draw.elapsed() >= Duration::from_millis(250) {
+        if options.status_line && last_draw.elapsed() >= Duration::from_millis(250) {
             last_draw = Instant::now();
-            let line = status_line(&app, &network, started.elapsed());
+            let line = status_line(app, &network, started.elapsed());
             let _ = write!(std::io::stderr(), "\r\x1b[K{line}");
         }
         std::thread::sleep(Duration::from_millis(20));
     };
-    app.stop();
-    let stuck = app.join_within(STOP_GRACE);
-    ferroc_ports::console::set_status_line_active(false);
-    if status {
-        eprint!("\r\x1b[K");
-    }
-    for path in &stuck {
+    (reason, reported)
+}
+
+/// After the stop: the containers left behind, and the violations, panics and lock
+/// reports not shown yet. Gives whether any module panicked.
+fn report_the_end(app: &RunningApp, stuck: &[String], reported: Reported) -> bool {
+    for path in stuck {
         eprintln!(
             "error: thread container `{path}` did not stop within {} s: one of its steps \
              is still running (looping, or waiting outside the ports); exiting without it",
             STOP_GRACE.as_secs()
         );
     }
-    report_violations(&app);
+    report_violations(app);
     let panics = app.panics();
-    for p in &panics[reported_panics.min(panics.len())..] {
+    for p in &panics[reported.panics.min(panics.len())..] {
         eprintln!("error: {}", escape(p));
     }
     let locks = app.lock_reports();
-    for l in &locks[reported_locks.min(locks.len())..] {
+    for l in &locks[reported.locks.min(locks.len())..] {
         eprintln!("warning: {}", escape(l));
     }
+    !panics.is_empty()
+}
+
+/// The summary: why and when the run stopped, each container's figures, the iB2C
+/// violations counted.
+fn print_summary(app: &RunningApp, reason: &str, started: Instant) {
     eprintln!(
         "stopped ({reason}) after {:.1} s",
         started.elapsed().as_secs_f64()
@@ -128,11 +165,6 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
         if dropped > 0 {
             eprintln!("  ({dropped} reports were dropped unread)");
         }
-    }
-    if panics.is_empty() && stuck.is_empty() && app.failure().is_none() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
     }
 }
 

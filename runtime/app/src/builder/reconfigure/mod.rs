@@ -12,9 +12,17 @@
 //! [`Builder::start_live`] starts the application as [`Builder::start_with`] does and
 //! gives a [`Live`] that takes [`Reconfiguration`]s. Lockstep runs cannot be changed.
 
-use super::*;
-use ferroc_exec::ChangeSlot;
-use std::collections::{BTreeMap, BTreeSet};
+use super::{
+    create, BuildError, Builder, Instance, ModuleSpec, Registry, RunningApp, StartOptions,
+    StepKind, ThreadSpec,
+};
+use ferroc_exec::{ChangeSlot, Step};
+use ferroc_module::behaviour::ViolationLog;
+use ferroc_module::{Interface, Kind, Module, ParamHandle, Value};
+use ferroc_ports::port::{InputHandle, OutputHandle, Wakeup};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
 
 /// What the builder knew of the modules when it started the application.
 pub(super) struct Leftovers {
@@ -254,7 +262,38 @@ impl Live {
             .ok_or_else(|| format!("there is no thread container `{path}` running"))
     }
 
+    /// Checks `change` against the running application and resolves it: the modules
+    /// it names exist (or do not yet), the new ones are created, every module has a
+    /// container afterwards, the connections' ports exist with one value type, the
+    /// parameters exist. Nothing runs differently until [`execute`](Self::execute).
     fn prepare(&self, change: Reconfiguration<'_>) -> Result<Prepared, String> {
+        self.check_named_modules_run(&change)?;
+        let created = self.create_added(&change)?;
+        let mut threads = BTreeMap::new();
+        for (path, steps) in change.threads {
+            threads.insert(self.container(&path)?, steps);
+        }
+        let placement = self.place(&change.moves, &change.remove, &created, &threads)?;
+        let renamed = |path: &str| {
+            (change.moves.iter().find(|(_, new)| new == path))
+                .map_or(path.to_owned(), |(old, _)| old.clone())
+        };
+        self.check_ports(&change.connect, &change.disconnect, &created, &renamed)?;
+        let params = self.resolve_params(change.params, &renamed)?;
+        Ok(Prepared {
+            remove: change.remove,
+            moves: change.moves,
+            created,
+            disconnect: change.disconnect,
+            connect: change.connect,
+            params,
+            threads,
+            placement,
+        })
+    }
+
+    /// The modules to remove or move run.
+    fn check_named_modules_run(&self, change: &Reconfiguration<'_>) -> Result<(), String> {
         for path in change
             .remove
             .iter()
@@ -264,6 +303,14 @@ impl Live {
                 return Err(format!("there is no module `{path}` running"));
             }
         }
+        Ok(())
+    }
+
+    /// Creates the modules to add (none may run already, unless it is removed).
+    fn create_added(
+        &self,
+        change: &Reconfiguration<'_>,
+    ) -> Result<Vec<(String, Instance)>, String> {
         let mut created = Vec::new();
         for spec in &change.add {
             let gone = change.remove.iter().any(|r| r == spec.path);
@@ -274,24 +321,32 @@ impl Live {
                 create(&self.registry, &self.violations, *spec).map_err(|e| e.to_string())?;
             created.push((spec.path.to_owned(), instance));
         }
-        let mut threads = BTreeMap::new();
-        for (path, steps) in change.threads {
-            threads.insert(self.container(&path)?, steps);
-        }
-        // Where every module runs after the change.
+        Ok(created)
+    }
+
+    /// Where every module runs after the change: module path (after) → container.
+    /// Every step must name a module with that kind of step, and every created module
+    /// must get a container.
+    fn place(
+        &self,
+        moves: &[(String, String)],
+        remove: &[String],
+        created: &[(String, Instance)],
+        threads: &BTreeMap<usize, Vec<(String, StepKind)>>,
+    ) -> Result<HashMap<String, usize>, String> {
         let mut placement: HashMap<String, usize> = HashMap::new();
         for (path, m) in &self.modules {
             if let Some(t) = m.thread.filter(|t| !threads.contains_key(t)) {
                 placement.insert(path.clone(), t);
             }
         }
-        for (&t, steps) in &threads {
+        for (&t, steps) in threads {
             for (path, kind) in steps {
                 let kind_of = (created.iter().find(|(p, _)| p == path).map(|(_, i)| i.kind))
                     .or_else(|| {
-                        let old = (change.moves.iter().find(|(_, new)| new == path))
+                        let old = (moves.iter().find(|(_, new)| new == path))
                             .map_or(path.as_str(), |(old, _)| old.as_str());
-                        let removed = change.remove.iter().any(|r| r == old);
+                        let removed = remove.iter().any(|r| r == old);
                         self.modules.get(old).filter(|_| !removed).map(|m| m.kind)
                     })
                     .ok_or_else(|| {
@@ -313,19 +368,25 @@ impl Live {
                 placement.insert(path.clone(), t);
             }
         }
-        for (path, _) in &created {
+        for (path, _) in created {
             if !placement.contains_key(path) {
                 return Err(format!("`{path}` is not executed by any thread container"));
             }
         }
-        // Every port of every connection exists, with the same value type.
-        let renamed = |path: &str| {
-            (change.moves.iter().find(|(_, new)| new == path))
-                .map_or(path.to_owned(), |(old, _)| old.clone())
-        };
-        for (from, to) in change.connect.iter() {
-            let output = self.port_after(&created, &renamed, from, true)?;
-            let input = self.port_after(&created, &renamed, to, false)?;
+        Ok(placement)
+    }
+
+    /// Every port of every connection exists, with the same value type.
+    fn check_ports(
+        &self,
+        connect: &[(PortPath, PortPath)],
+        disconnect: &[(PortPath, PortPath)],
+        created: &[(String, Instance)],
+        renamed: &dyn Fn(&str) -> String,
+    ) -> Result<(), String> {
+        for (from, to) in connect {
+            let output = self.port_after(created, renamed, from, true)?;
+            let input = self.port_after(created, renamed, to, false)?;
             if output != input {
                 return Err(format!(
                     "`{}/{}` sends {output} and `{}/{}` reads {input}: a converting connection cannot be made while the application runs",
@@ -333,28 +394,28 @@ impl Live {
                 ));
             }
         }
-        for (from, to) in &change.disconnect {
+        for (from, to) in disconnect {
             self.port_after(&[], &|p: &str| p.to_owned(), from, true)?;
             self.port_after(&[], &|p: &str| p.to_owned(), to, false)?;
         }
-        let mut params = Vec::new();
-        for (module, name, value) in change.params {
+        Ok(())
+    }
+
+    /// The parameters to set: their handles, values and `module/name` for the report.
+    fn resolve_params(
+        &self,
+        params: Vec<(String, String, Value)>,
+        renamed: &dyn Fn(&str) -> String,
+    ) -> Result<Vec<(Arc<ParamHandle>, Value, String)>, String> {
+        let mut resolved = Vec::new();
+        for (module, name, value) in params {
             let m = (self.modules.get(&renamed(&module)))
                 .ok_or_else(|| format!("there is no module `{module}` running"))?;
             let (_, handle) = (m.params.iter().find(|(n, _)| *n == name))
                 .ok_or_else(|| format!("`{module}` has no parameter `{name}`"))?;
-            params.push((Arc::clone(handle), value, format!("{module}/{name}")));
+            resolved.push((Arc::clone(handle), value, format!("{module}/{name}")));
         }
-        Ok(Prepared {
-            remove: change.remove,
-            moves: change.moves,
-            created,
-            disconnect: change.disconnect,
-            connect: change.connect,
-            params,
-            threads,
-            placement,
-        })
+        Ok(resolved)
     }
 
     /// The value type of a port after the change (of a created module, or of a

@@ -2,10 +2,13 @@
 //! that move modules out switch first (their steps travel to the new container), then
 //! the others; connections between containers are unmade before and made after.
 
-use super::super::*;
 use super::{on_one_thread, step_name, steps_of, Live, LiveModule, PortPath, Prepared};
-use ferroc_exec::Change;
-use std::collections::BTreeMap;
+use crate::builder::{Instance, StepKind};
+use ferroc_exec::{Change, Step};
+use ferroc_module::{Module, ParamHandle, Value};
+use ferroc_ports::port::{ConnectOptions, InputHandle, Notifier, OutputHandle};
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
 
 /// A connection's handles and the container whose thread makes it (`None`: the
 /// caller's).

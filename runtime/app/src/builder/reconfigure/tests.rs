@@ -1,7 +1,12 @@
 use super::*;
-use ferroc_module::{In, ModuleType, Out, Parameter};
-use ferroc_ports::port::CopyInputPort;
-use std::time::Instant;
+use crate::builder::{
+    Builder, Conversion, Lockstep, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,
+    StepKind, ThreadSpec,
+};
+use ferroc_exec::ThreadOptions;
+use ferroc_module::{In, Module, ModuleType, Out, Parameter, Setup, Value};
+use ferroc_ports::port::{ConnectOptions, CopyInputPort};
+use std::time::{Duration, Instant};
 
 struct Source {
     out: Out<f64>,
