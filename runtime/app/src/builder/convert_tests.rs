@@ -3,7 +3,7 @@
 use super::tests::add;
 use super::*;
 use ferroc_module::{In, ModuleType, Out};
-use ferroc_ports::port::CopyInputPort;
+use ferroc_ports::port::{ConnectOptions, CopyInputPort};
 
 /// A small padding-free struct, as library crates declare them.
 #[repr(C)]

@@ -6,6 +6,7 @@ use super::tests::add;
 use super::*;
 use crate::test_support::*;
 use ferroc_link::LinkSpec;
+use ferroc_ports::port::ConnectOptions;
 
 /// Part `a` (10 ms) and/or part `b` (25 ms), each end of each link in its own part.
 fn build<'r>(registry: &'r Registry, parts: &[&str], tag: f64) -> Builder<'r> {

@@ -7,7 +7,7 @@ use super::tests::add;
 use super::*;
 use crate::inspect::Inspector;
 use ferroc_module::{In, ModuleType, Out};
-use ferroc_ports::port::CopyInputPort;
+use ferroc_ports::port::{ConnectOptions, CopyInputPort};
 
 /// Publishes 1, 2, 3, … on `output`.
 struct Ramp {

@@ -32,7 +32,7 @@ use ferroc_exec::{Step, ThreadOptions};
 use ferroc_module::behaviour::{ViolationLog, ViolationPolicy};
 use ferroc_module::resource::{LockOrder, Resource};
 use ferroc_module::{Interface, Kind, Module, ParamHandle, PortGroup, Setup, Value};
-use ferroc_ports::port::{ConnectOptions, InputHandle, OutputHandle, QueueConfig};
+use ferroc_ports::port::{InputHandle, OutputHandle, QueueConfig};
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::Duration;

@@ -3,7 +3,7 @@
 use super::tests::add;
 use super::*;
 use ferroc_module::{ModuleType, Out, ServiceInfo};
-use ferroc_ports::port::CopyInputPort;
+use ferroc_ports::port::{ConnectOptions, CopyInputPort};
 use ferroc_ports::service::{CallError, ClientPort, Executes, ServicePort};
 use std::time::Instant;
 

@@ -5,7 +5,7 @@
 use super::*;
 use ferroc_exec::Trigger;
 use ferroc_module::{In, ModuleType, Out};
-use ferroc_ports::port::{OnFull, QueueConfig};
+use ferroc_ports::port::{ConnectOptions, OnFull, QueueConfig};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 struct Counter {

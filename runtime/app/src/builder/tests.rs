@@ -1,7 +1,7 @@
 use super::*;
 use crate::test_support::Counter;
 use ferroc_module::{In, ModuleType, Out, Parameter};
-use ferroc_ports::port::CopyInputPort;
+use ferroc_ports::port::{ConnectOptions, CopyInputPort};
 
 struct Gain {
     input: In<f64>,
