@@ -58,21 +58,22 @@ impl Route {
     }
 }
 
-/// The stand-ins for one pair of request and response types.
+/// How to make the two ends of a call across parts (the stand-ins for a remote
+/// service or client) for one pair of request and response types.
 #[derive(Clone, Copy)]
-pub struct CallWire {
+pub struct CallEnds {
     remote_service: fn(String, Route) -> (ServiceHandle, Arc<dyn Receive>),
     remote_client: fn(String, Route) -> (ClientHandle, Arc<dyn Receive>),
 }
 
-impl CallWire {
+impl CallEnds {
     #[doc(hidden)]
     pub fn of<Req, Resp>() -> Self
     where
         Req: Serialize + DeserializeOwned + Send + 'static,
         Resp: Serialize + DeserializeOwned + Send + 'static,
     {
-        CallWire {
+        CallEnds {
             remote_service: remote_service::<Req, Resp>,
             remote_client: remote_client::<Req, Resp>,
         }

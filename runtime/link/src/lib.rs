@@ -3,7 +3,7 @@
 //! A part is one program, possibly on another computer, so a connection from one part
 //! to another cannot share a port. Its sending end is a step right after the writer
 //! (like a converter) that encodes each new value of the reader's type
-//! ([`Wire`](ferroc_module::Wire)) into a [`Frame`], paced by the connection's
+//! ([`Codec`](ferroc_module::Codec)) into a [`Frame`], paced by the connection's
 //! `sharing=`; its receiving end publishes decoded values into the reader's input
 //! through an ordinary port connection, so queues and wakeups work as for any input.
 //!
@@ -22,7 +22,7 @@
 pub mod calls;
 pub mod transport;
 
-use ferroc_module::{DynOut, Timestamp, Wire};
+use ferroc_module::{Codec, DynOut, Timestamp};
 use ferroc_ports::fresh;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -156,7 +156,7 @@ pub struct Inbox {
 #[doc(hidden)]
 pub struct Receiving {
     pub(crate) out: DynOut,
-    pub(crate) wire: Wire,
+    pub(crate) codec: Codec,
     /// `robot/vision/detector/victims → station/…`, for reports.
     pub(crate) describe: String,
     failures: AtomicU64,
@@ -169,10 +169,10 @@ pub struct Receiving {
 
 impl Receiving {
     #[doc(hidden)]
-    pub fn new(out: DynOut, wire: Wire, describe: String, from_part: &str) -> Self {
+    pub fn new(out: DynOut, codec: Codec, describe: String, from_part: &str) -> Self {
         Receiving {
             out,
-            wire,
+            codec,
             describe,
             failures: AtomicU64::new(0),
             from_part: from_part.to_owned(),
@@ -245,7 +245,7 @@ impl Inbox {
         // The arrival is noted before the value is published, so that a reader woken
         // by it sees its age and freshness, never those of the value before.
         let before = link.fresh.arriving(Timestamp::now());
-        match link.wire.decode(&link.out, bytes) {
+        match link.codec.decode(&link.out, bytes) {
             Ok(()) => {
                 if let Some(missed) = link.fresh.arrived_after(before) {
                     link.fresh.report_missed(&link.describe, missed);

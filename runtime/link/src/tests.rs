@@ -45,9 +45,9 @@ fn a_value_that_does_not_decode_is_dropped_not_published() {
     handle
         .connect(&input_handle, ferroc_ports::port::ConnectOptions::default())
         .unwrap();
-    let wire = *f64_type.wire().unwrap();
+    let codec = *f64_type.codec().unwrap();
     let inbox = Inbox::new(
-        [(0, Receiving::new(out, wire, "test".into(), "a"))].into(),
+        [(0, Receiving::new(out, codec, "test".into(), "a"))].into(),
         Default::default(),
     );
     inbox.deliver(&Frame {
@@ -84,7 +84,7 @@ mod properties {
             for name in table.names() {
                 let value_type = table.get(name).unwrap();
                 let (out, _) = value_type.output("link in");
-                let _ = value_type.wire().unwrap().decode(&out, &bytes);
+                let _ = value_type.codec().unwrap().decode(&out, &bytes);
             }
         }
     }

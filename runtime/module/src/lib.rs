@@ -10,7 +10,7 @@
 //! Besides the module API this crate holds what modules are built from and with:
 //! [`behaviour`] (the iB2C behaviour base), [`resource`] (the model's locks),
 //! [`violations`] (the log of broken iB2C principles), the [`ValueTable`] (every value
-//! type, how it is shown, encoded and connected) and the [`Wire`] codec (postcard).
+//! type, how it is shown, encoded and connected) and the [`Codec`] (postcard).
 //! It depends on `ferroc-ports` only.
 
 #![forbid(unsafe_code)]
@@ -20,22 +20,19 @@ pub mod behaviour;
 pub mod resource;
 pub mod violations;
 
-mod flex;
-mod flex_setup;
+mod codec;
+mod flexible;
 mod interface;
 mod param;
 mod services;
 #[doc(hidden)]
 pub mod setup;
 mod value;
-mod wire;
+mod value_table;
 
+pub use codec::Codec;
 pub use ferroc_ports::time::Timestamp;
-pub use flex::{
-    ArrayText, DebugText, DynIn, DynOut, Number, NumberArray, NumberText, PlainText, ValueTable,
-    ValueText, ValueType,
-};
-pub use flex_setup::{FlexibleDecl, PortGroup, MAX_GROUP_PORTS};
+pub use flexible::{FlexibleDecl, PortGroup, MAX_GROUP_PORTS};
 pub use interface::{
     Direction, FlexibleInfo, Interface, Kind, MetaType, ParamInfo, PortInfo, Role, ServiceInfo,
 };
@@ -43,7 +40,12 @@ pub use param::{ParamHandle, ParamValue, Parameter, Value};
 pub use services::{ClientDecl, ServiceDecl};
 pub use setup::{InputDecl, OutputDecl, ParamDecl, PortDecl, Setup};
 pub use value::{CopyKind, In, Out, PooledKind, PortKind, PortValue};
-pub use wire::Wire;
+pub use value_table::{
+    ArrayText, DebugText, DynIn, DynOut, Number, NumberArray, NumberText, PlainText, ValueTable,
+    ValueText, ValueType,
+};
+/// The former name of [`Codec`], kept for the crates that name it.
+pub type Wire = Codec;
 
 /// What a module does in a cycle. Plain modules implement `update`; sense-control
 /// modules `sense` (read sensor inputs, publish sensor outputs) and `control` (read

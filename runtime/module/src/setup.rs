@@ -22,11 +22,11 @@
 //! }
 //! ```
 
-use super::flex::ValueTable;
-use super::flex_setup::PortGroup;
+use super::flexible::PortGroup;
 use super::interface::{Direction, Interface, MetaType, ParamInfo, PortInfo, Role};
 use super::param::{Check, ParamHandle, ParamValue, Parameter, Value};
 use super::value::{In, Out, PortKind, PortValue};
+use super::value_table::ValueTable;
 use crate::behaviour::{ViolationLog, ViolationPolicy};
 use crate::resource::LockSlot;
 use ferroc_ports::port::{CopyPeek, InputHandle, OutputHandle, QueueConfig};

@@ -23,7 +23,7 @@ impl Builder<'_> {
             output
                 .connect(input, options)
                 .map_err(|e| BuildError::Connect(format!("{}: {e}", describe())))?;
-            self.links.push((writer, reader, to.1.to_owned()));
+            self.connections.push((writer, reader, to.1.to_owned()));
             if options.local {
                 let pair = output.local_pair(input);
                 self.claim_local(writer, reader, describe(), pair);
@@ -78,7 +78,7 @@ impl Builder<'_> {
         upstream.connect(input, options).map_err(fail)?;
         let steps = &mut self.modules[writer].converters;
         steps.extend(chain.into_iter().map(|c| c.step));
-        self.links.push((writer, reader, to.1.to_owned()));
+        self.connections.push((writer, reader, to.1.to_owned()));
         if options.local {
             // Checked like the others, but the converters keep it on the lock-free path.
             self.claim_local(writer, reader, describe(), None);

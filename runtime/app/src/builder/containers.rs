@@ -95,7 +95,7 @@ impl Builder<'_> {
     fn fed_only_from_within(&self, reader: usize, input: &str) -> bool {
         let thread = self.modules[reader].thread;
         let mut writers = self
-            .links
+            .connections
             .iter()
             .filter(|(_, r, name)| *r == reader && name == input)
             .peekable();

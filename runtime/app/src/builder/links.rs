@@ -23,7 +23,7 @@ impl Builder<'_> {
     ) -> Result<(), BuildError> {
         let describe = format!("`{}/{}` → part `{}`", from.0, from.1, spec.to_part);
         let value_type = self.link_type(spec, &describe)?;
-        let wire = *value_type.wire().expect("link_type checked it");
+        let codec = *value_type.codec().expect("link_type checked it");
         let writer = self.module(from.0)?;
         let (input, handle) = value_type.input(&format!("link {} out", spec.id), None);
         let end = self.link_end(
@@ -41,7 +41,7 @@ impl Builder<'_> {
                 return;
             }
             let mut bytes = Vec::new();
-            match wire.encode(&input, &mut bytes) {
+            match codec.encode(&input, &mut bytes) {
                 Ok(()) => hub.send(&to_part, Frame { link, bytes }),
                 Err(why) if !std::mem::replace(&mut failed, true) => {
                     ferroc_ports::console::line(&format!("warning: {describe}: not sent: {why}"))
@@ -71,7 +71,7 @@ impl Builder<'_> {
     ) -> Result<(), BuildError> {
         let describe = format!("part `{}` → `{}/{}`", spec.from_part, to.0, to.1);
         let value_type = self.link_type(spec, &describe)?;
-        let wire = *value_type.wire().expect("link_type checked it");
+        let codec = *value_type.codec().expect("link_type checked it");
         if self.receiving.contains_key(&spec.id) {
             return Err(BuildError::Connect(format!(
                 "{describe}: the link {} is received twice",
@@ -86,7 +86,7 @@ impl Builder<'_> {
         );
         self.connect((&end, "out"), to, Conversion::default(), options)?;
         let receiving =
-            Receiving::new(out, wire, describe, spec.from_part).with_deadline(spec.deadline);
+            Receiving::new(out, codec, describe, spec.from_part).with_deadline(spec.deadline);
         // The input shows the link's freshness (`In::age`, `In::is_stale`).
         let reader = self.module(to.0)?;
         let input = super::find(&self.modules[reader].inputs, to, "input")?;
@@ -105,7 +105,7 @@ impl Builder<'_> {
                 spec.model_type
             ))
         })?;
-        if value_type.wire().is_none() {
+        if value_type.codec().is_none() {
             return Err(BuildError::Connect(format!(
                 "{describe}: values of `{}` cannot cross between parts: register it with \
                  `register_serde` (and mark it serde=\"true\" in its library manifest)",
@@ -163,9 +163,9 @@ impl Builder<'_> {
         let m = self.module(client.0)?;
         let describe = format!("`{}/{}` → part `{}`", client.0, client.1, spec.server_part);
         let handle = super::find(&self.modules[m].clients, client, "client")?;
-        let wire = self.call_wire(handle.types(), &describe)?;
+        let ends = self.call_ends(handle.types(), &describe)?;
         let route = self.route(calls::request_link(spec.id), spec.server_part);
-        let (service, end) = wire.remote_service(format!("{} (remote)", client.1), route);
+        let (service, end) = ends.remote_service(format!("{} (remote)", client.1), route);
         let handle = super::find(&self.modules[m].clients, client, "client")?;
         handle
             .connect(&service)
@@ -188,9 +188,9 @@ impl Builder<'_> {
             spec.client_part, service.0, service.1
         );
         let handle = super::find(&self.modules[m].services, service, "service")?;
-        let wire = self.call_wire(handle.types(), &describe)?;
+        let ends = self.call_ends(handle.types(), &describe)?;
         let route = self.route(calls::answer_link(spec.id), spec.client_part);
-        let (client, end) = wire.remote_client(format!("{} (remote)", service.1), route);
+        let (client, end) = ends.remote_client(format!("{} (remote)", service.1), route);
         let handle = super::find(&self.modules[m].services, service, "service")?;
         client
             .connect(handle)
@@ -207,15 +207,15 @@ impl Builder<'_> {
             return false;
         };
         super::find(&self.modules[m].clients, client, "client")
-            .is_ok_and(|c| self.registry.call_wire(c.types()).is_some())
+            .is_ok_and(|c| self.registry.call_ends(c.types()).is_some())
     }
 
-    fn call_wire(
+    fn call_ends(
         &self,
         types: (&str, &str),
         describe: &str,
-    ) -> Result<calls::CallWire, BuildError> {
-        self.registry.call_wire(types).ok_or_else(|| {
+    ) -> Result<calls::CallEnds, BuildError> {
+        self.registry.call_ends(types).ok_or_else(|| {
             BuildError::Connect(format!(
                 "{describe}: calls with requests `{}` and responses `{}` cannot cross between \
                  parts: register them with `register_call::<{}, {}>()`",

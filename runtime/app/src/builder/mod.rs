@@ -14,7 +14,7 @@ mod inspection;
 mod links;
 mod locks;
 mod lockstep;
-mod param_links;
+mod params_from_ports;
 mod reconfigure;
 mod registry;
 mod running;
@@ -192,7 +192,7 @@ pub struct Builder<'r> {
     threads: Vec<ThreadSpec>,
     /// Module connections as (writer, reader, input name): a data-triggered container
     /// must not be woken by its own modules' outputs, or it would never sleep.
-    links: Vec<(usize, usize, String)>,
+    connections: Vec<(usize, usize, String)>,
     /// Connections marked as inside one thread container (`ConnectOptions::local`).
     local: Vec<LocalClaim>,
     /// Application resources by name, validated against one order graph.
@@ -223,7 +223,7 @@ impl<'r> Builder<'r> {
             modules: Vec::new(),
             index: HashMap::new(),
             threads: Vec::new(),
-            links: Vec::new(),
+            connections: Vec::new(),
             local: Vec::new(),
             violations: Arc::default(),
             resources: HashMap::new(),
@@ -421,7 +421,7 @@ mod call_link_tests;
 #[cfg(test)]
 mod convert_tests;
 #[cfg(test)]
-mod flex_tests;
+mod flexible_tests;
 #[cfg(test)]
 mod link_tests;
 #[cfg(test)]

@@ -30,7 +30,7 @@ pub struct Registry {
     parts: BTreeMap<(&'static str, &'static str), Extract>,
     values: ValueTable,
     /// (Rust request type, Rust response type) → how calls of them cross parts.
-    calls: BTreeMap<(&'static str, &'static str), ferroc_link::calls::CallWire>,
+    calls: BTreeMap<(&'static str, &'static str), ferroc_link::calls::CallEnds>,
 }
 
 impl Default for Registry {
@@ -145,13 +145,13 @@ impl Registry {
     {
         self.calls.insert(
             (std::any::type_name::<Req>(), std::any::type_name::<Resp>()),
-            ferroc_link::calls::CallWire::of::<Req, Resp>(),
+            ferroc_link::calls::CallEnds::of::<Req, Resp>(),
         );
         self
     }
 
     /// How calls of these Rust request and response types cross between parts.
-    pub(crate) fn call_wire(&self, types: (&str, &str)) -> Option<ferroc_link::calls::CallWire> {
+    pub(crate) fn call_ends(&self, types: (&str, &str)) -> Option<ferroc_link::calls::CallEnds> {
         self.calls
             .iter()
             .find(|((req, resp), _)| *req == types.0 && *resp == types.1)

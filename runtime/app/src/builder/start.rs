@@ -97,7 +97,7 @@ impl Builder<'_> {
         let leftovers = reconfigure::Leftovers {
             modules: std::mem::take(&mut self.modules),
             threads: specs,
-            links: std::mem::take(&mut self.links),
+            connections: std::mem::take(&mut self.connections),
             inspected: std::mem::take(&mut self.inspected),
             violations: self.violations.clone(),
         };

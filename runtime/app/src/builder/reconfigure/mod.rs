@@ -28,7 +28,7 @@ use std::time::Duration;
 pub(super) struct Leftovers {
     pub modules: Vec<Instance>,
     pub threads: Vec<ThreadSpec>,
-    pub links: Vec<(usize, usize, String)>,
+    pub connections: Vec<(usize, usize, String)>,
     pub inspected: HashMap<String, Vec<(String, Arc<OutputHandle>)>>,
     pub violations: Arc<ViolationLog>,
 }
@@ -60,7 +60,7 @@ pub struct Live {
     order: Vec<String>,
     containers: Vec<LiveContainer>,
     /// Module connections: (writer, reader, input).
-    links: BTreeSet<(String, String, String)>,
+    connections: BTreeSet<(String, String, String)>,
     /// How long to wait for a container to reach its cycle boundary.
     pub timeout: Duration,
 }
@@ -136,7 +136,7 @@ impl Builder<'_> {
                 (m.path, live)
             })
             .collect();
-        let links = (left.links.into_iter())
+        let connections = (left.connections.into_iter())
             .map(|(w, r, input)| (paths[w].clone(), paths[r].clone(), input))
             .collect();
         let live = Live {
@@ -145,7 +145,7 @@ impl Builder<'_> {
             modules,
             order,
             containers,
-            links,
+            connections,
             timeout: Duration::from_secs(5),
         };
         Ok((app, live))

@@ -12,21 +12,21 @@ use std::sync::Arc;
 
 /// A connection's handles and the container whose thread makes it (`None`: the
 /// caller's).
-struct Wire {
+struct Connection {
     output: Arc<OutputHandle>,
     input: Arc<InputHandle>,
     thread: Option<usize>,
     what: String,
 }
 
-impl Wire {
+impl Connection {
     fn new(
         (output, input): (Arc<OutputHandle>, Arc<InputHandle>),
         thread: Option<usize>,
         from: &PortPath,
         to: &PortPath,
-    ) -> Wire {
-        Wire {
+    ) -> Connection {
+        Connection {
             output,
             input,
             thread,
@@ -58,8 +58,8 @@ impl Live {
     pub(super) fn execute(&mut self, mut p: Prepared) -> Vec<String> {
         let mut done = Vec::new();
         let mut instances = self.add_created(std::mem::take(&mut p.created), &p.placement);
-        let unmake = self.wires_to_unmake(&p.disconnect);
-        let make = self.wires_to_make(&p);
+        let unmake = self.connections_to_unmake(&p.disconnect);
+        let make = self.connections_to_make(&p);
         let mut changes = assign_steps(&p.threads, &mut instances);
         let imports = self.plan_moves(&p, &mut changes);
         queue_unmaking(unmake, &mut changes, &mut done);
@@ -108,7 +108,7 @@ impl Live {
     }
 
     /// The connections to unmake, between the modules as they are now.
-    fn wires_to_unmake(&self, disconnect: &[(PortPath, PortPath)]) -> Vec<Wire> {
+    fn connections_to_unmake(&self, disconnect: &[(PortPath, PortPath)]) -> Vec<Connection> {
         let before = |path: &str| path.to_owned();
         (disconnect.iter())
             .filter_map(|(from, to)| {
@@ -117,14 +117,14 @@ impl Live {
                     self.modules.get(&from.0).and_then(|m| m.thread),
                     self.modules.get(&to.0).and_then(|m| m.thread),
                 );
-                Some(Wire::new((output, input), thread, from, to))
+                Some(Connection::new((output, input), thread, from, to))
             })
             .collect()
     }
 
     /// The connections to make, between the modules as they will be (a new module
     /// under its temporary name, a moved one under its old name).
-    fn wires_to_make(&self, p: &Prepared) -> Vec<Wire> {
+    fn connections_to_make(&self, p: &Prepared) -> Vec<Connection> {
         let old_of = |path: &str| {
             (p.moves.iter().find(|(_, new)| new == path))
                 .map_or(path.to_owned(), |(old, _)| old.clone())
@@ -144,7 +144,7 @@ impl Live {
                     p.placement.get(&from.0).copied(),
                     p.placement.get(&to.0).copied(),
                 );
-                Some(Wire::new((output, input), thread, from, to))
+                Some(Connection::new((output, input), thread, from, to))
             })
             .collect()
     }
@@ -303,16 +303,16 @@ impl Live {
             (moves.iter().find(|(old, _)| old == p)).map_or(p.to_owned(), |(_, new)| new.clone())
         };
         for (from, to) in disconnect {
-            self.links
+            self.connections
                 .remove(&(from.0.clone(), to.0.clone(), to.1.clone()));
         }
-        self.links = std::mem::take(&mut self.links)
+        self.connections = std::mem::take(&mut self.connections)
             .into_iter()
             .filter(|(w, r, _)| !remove.contains(w) && !remove.contains(r))
             .map(|(w, r, i)| (rename(&w), rename(&r), i))
             .collect();
         for (from, to) in connect {
-            self.links
+            self.connections
                 .insert((from.0.clone(), to.0.clone(), to.1.clone()));
         }
     }
@@ -328,7 +328,7 @@ impl Live {
                 continue;
             };
             for (name, input) in &m.inputs {
-                let mut writers = (self.links.iter())
+                let mut writers = (self.connections.iter())
                     .filter(|(_, r, i)| r == path && i == name)
                     .peekable();
                 let within = writers.peek().is_some()
@@ -377,56 +377,56 @@ fn assign_steps(
 /// Connections inside one container are unmade by its thread at its boundary; the
 /// others at once, from the caller's thread.
 fn queue_unmaking(
-    unmake: Vec<Wire>,
+    unmake: Vec<Connection>,
     changes: &mut BTreeMap<usize, Change>,
     done: &mut Vec<String>,
 ) {
-    for wire in unmake {
-        match wire.thread {
+    for conn in unmake {
+        match conn.thread {
             Some(t) => changes
                 .entry(t)
                 .or_default()
                 .actions
                 .push(Box::new(move || {
-                    wire.output.disconnect(&wire.input);
+                    conn.output.disconnect(&conn.input);
                 })),
             None => {
-                wire.output.disconnect(&wire.input);
+                conn.output.disconnect(&conn.input);
             }
         }
-        done.push(format!("disconnected {}", wire.what));
+        done.push(format!("disconnected {}", conn.what));
     }
 }
 
 /// Connections inside one container are made by its thread at its boundary; gives the
 /// others, made after every container switched ([`connect_late`]).
 fn queue_making(
-    make: Vec<Wire>,
+    make: Vec<Connection>,
     changes: &mut BTreeMap<usize, Change>,
     done: &mut Vec<String>,
-) -> Vec<Wire> {
+) -> Vec<Connection> {
     let mut late = Vec::new();
-    for wire in make {
-        done.push(format!("connected {}", wire.what));
-        match wire.thread {
+    for conn in make {
+        done.push(format!("connected {}", conn.what));
+        match conn.thread {
             Some(t) => changes
                 .entry(t)
                 .or_default()
                 .actions
                 .push(Box::new(move || {
-                    let _ = wire.output.connect(&wire.input, ConnectOptions::default());
+                    let _ = conn.output.connect(&conn.input, ConnectOptions::default());
                 })),
-            None => late.push(wire),
+            None => late.push(conn),
         }
     }
     late
 }
 
 /// Makes the connections between containers, once every container switched.
-fn connect_late(late: Vec<Wire>, done: &mut Vec<String>) {
-    for wire in late {
-        if let Err(e) = wire.output.connect(&wire.input, ConnectOptions::default()) {
-            done.push(format!("could not connect {}: {e}", wire.what));
+fn connect_late(late: Vec<Connection>, done: &mut Vec<String>) {
+    for conn in late {
+        if let Err(e) = conn.output.connect(&conn.input, ConnectOptions::default()) {
+            done.push(format!("could not connect {}: {e}", conn.what));
         }
     }
 }

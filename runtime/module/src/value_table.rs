@@ -23,8 +23,8 @@ pub use array::{ArrayText, NumberArray};
 use text::quote_tail;
 pub use text::{DebugText, Number, NumberText, PlainText, ValueText};
 
+use super::codec::Codec;
 use super::value::{In, Out, PortKind, PortValue};
-use super::wire::Wire;
 use super::Timestamp;
 use ferroc_ports::port::{InputHandle, OutputHandle, QueueConfig};
 use std::any::Any;
@@ -42,7 +42,7 @@ pub struct ValueType {
     copy: bool,
     input: fn(&str, Option<QueueConfig>) -> (DynIn, InputHandle),
     output: fn(&str) -> (DynOut, OutputHandle),
-    wire: Option<Wire>,
+    codec: Option<Codec>,
 }
 
 impl ValueType {
@@ -63,8 +63,12 @@ impl ValueType {
         self.copy
     }
     /// How its values cross between parts; `None` for a type registered without serde.
-    pub fn wire(&self) -> Option<&Wire> {
-        self.wire.as_ref()
+    pub fn codec(&self) -> Option<&Codec> {
+        self.codec.as_ref()
+    }
+    /// The former name of [`codec`](Self::codec), kept for the crates that call it.
+    pub fn wire(&self) -> Option<&Codec> {
+        self.codec()
     }
 }
 
@@ -107,7 +111,7 @@ impl Default for ValueTable {
         t.insert_serde::<std::time::Duration, PlainText>();
         // The iB2C meta signals travel as `f64` under their own model names.
         for meta in ["Stimulation", "Inhibition", "Activity", "TargetRating"] {
-            t.insert_as::<f64, NumberText>(meta, Some(Wire::of::<f64>()));
+            t.insert_as::<f64, NumberText>(meta, Some(Codec::of::<f64>()));
         }
         t
     }
@@ -130,12 +134,12 @@ impl ValueTable {
         T: PortValue + Clone + serde::Serialize + serde::de::DeserializeOwned,
         S: ValueText<T>,
     {
-        self.insert_as::<T, S>(&T::model_type(), Some(Wire::of::<T>()))
+        self.insert_as::<T, S>(&T::model_type(), Some(Codec::of::<T>()))
     }
 
     /// Registers `T` under another model name than its own (the meta types, which are
     /// `f64` values with their own names).
-    fn insert_as<T, S>(&mut self, model_type: &str, wire: Option<Wire>) -> &mut Self
+    fn insert_as<T, S>(&mut self, model_type: &str, codec: Option<Codec>) -> &mut Self
     where
         T: PortValue + Clone,
         S: ValueText<T>,
@@ -150,7 +154,7 @@ impl ValueTable {
                 copy,
                 input: new_input::<T, S>,
                 output: new_output::<T, S>,
-                wire,
+                codec,
             },
         );
         self

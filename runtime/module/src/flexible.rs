@@ -22,10 +22,10 @@
 //! }
 //! ```
 
-use super::flex::{DynIn, DynOut, ValueType};
 use super::interface::{Direction, FlexibleInfo, PortInfo, Role};
 use super::setup::Setup;
 use super::value::{In, Out, PortValue};
+use super::value_table::{DynIn, DynOut, ValueType};
 
 /// Ports one flexible group may have at most (the compiler's bound too): a model
 /// cannot make the runtime allocate without limit.

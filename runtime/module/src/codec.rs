@@ -9,25 +9,25 @@
 //! Like the rest of the value table these are plain function pointers, monomorphised
 //! when the type is registered, working on the type-erased [`DynIn`]/[`DynOut`].
 
-use super::flex::{DynIn, DynOut};
 use super::value::PortValue;
+use super::value_table::{DynIn, DynOut};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::borrow::Borrow;
 
 /// Encoding and decoding of one value type (an entry of the value table).
 #[derive(Clone, Copy)]
-pub struct Wire {
+pub struct Codec {
     encode: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     decode: fn(&DynOut, &[u8]) -> Result<(), String>,
     json: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     from_json: fn(Option<&DynOut>, &[u8]) -> Result<(), String>,
 }
 
-impl Wire {
+impl Codec {
     /// The functions for `T`.
     pub(crate) fn of<T: PortValue + Serialize + DeserializeOwned>() -> Self {
-        Wire {
+        Codec {
             encode: encode::<T>,
             decode: decode::<T>,
             json: json::<T>,
