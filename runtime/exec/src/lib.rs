@@ -23,7 +23,7 @@
 //! While it runs cycles, a container's thread holds the session of its [`Home`]: the
 //! connections the Builder made local to it are read and written only there, and
 //! changes to them that other threads ask for are applied between cycles
-//! ([`Session::boundary`], `port/local.rs`): before each periodic or data-triggered
+//! ([`Session::boundary`], `ferroc_ports`' `port/local.rs`): before each periodic or data-triggered
 //! cycle, and between the batches of a continuous one.
 //!
 //! This crate depends on `ferroc-ports` (ports, wakeups, the stop flag) and

@@ -52,6 +52,7 @@ impl Freshness {
     /// A value arrived now; the gap since the previous one when it exceeded the
     /// deadline.
     #[cfg(test)]
+    #[inline]
     pub fn arrived(&self, now: Timestamp) -> Option<Duration> {
         self.arrived_after(self.arriving(now))
     }
@@ -59,6 +60,7 @@ impl Freshness {
     /// A value is arriving now: its time is noted before it is published (so that a
     /// reader it wakes sees it), to be confirmed with [`arrived_after`](Self::arrived_after)
     /// or taken back with [`not_arrived`](Self::not_arrived) if it does not decode.
+    #[inline]
     pub fn arriving(&self, now: Timestamp) -> Arrival {
         let before = self.last.swap(now.nanos, Ordering::Relaxed);
         Arrival {
@@ -69,6 +71,7 @@ impl Freshness {
 
     /// The value of `arrival` was published: the gap since the previous one when it
     /// exceeded the deadline.
+    #[inline]
     pub fn arrived_after(&self, arrival: Arrival) -> Option<Duration> {
         let deadline = self.deadline?;
         if arrival.before == i64::MIN {
@@ -85,6 +88,7 @@ impl Freshness {
 
     /// The value of `arrival` did not decode: the previous arrival time stands (unless
     /// another value arrived meanwhile).
+    #[inline]
     pub fn not_arrived(&self, arrival: Arrival) {
         let _ = self.last.compare_exchange(
             arrival.now,
@@ -110,21 +114,25 @@ impl Freshness {
 
     /// How many gaps exceeded the deadline.
     #[cfg(test)]
+    #[inline]
     pub fn missed(&self) -> u64 {
         self.missed.load(Ordering::Relaxed)
     }
 
     /// The writer's part is gone (`true`) or back.
+    #[inline]
     pub fn set_gone(&self, gone: bool) {
         self.gone.store(gone, Ordering::Relaxed);
     }
 
     /// Whether the writer's part is gone (for inspection).
+    #[inline]
     pub fn is_gone(&self) -> bool {
         self.gone.load(Ordering::Relaxed)
     }
 
     /// How long ago the latest value arrived; `None` before the first.
+    #[inline]
     pub fn age(&self, now: Timestamp) -> Option<Duration> {
         let last = self.last.load(Ordering::Relaxed);
         (last != i64::MIN).then(|| {
@@ -134,6 +142,7 @@ impl Freshness {
 
     /// No value arrived yet, the writer's part is gone, or the latest value is older
     /// than the deadline.
+    #[inline]
     pub fn is_stale(&self, now: Timestamp) -> bool {
         let overdue = self
             .deadline

@@ -24,6 +24,7 @@ pub fn watch(stop: Arc<AtomicBool>) {
 
 /// Whether the application running on this thread has been asked to stop. False on
 /// threads that run no container (and under loom, whose threads share one OS thread).
+#[inline]
 pub fn requested() -> bool {
     #[cfg(loom)]
     return false;

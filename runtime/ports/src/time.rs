@@ -34,6 +34,7 @@ impl Timestamp {
     /// The current time: the wall clock, or on a thread that runs the application in
     /// simulated time (lockstep) the model time, counted from [`Self::LOCKSTEP_EPOCH`].
     /// Modules that read the time through here run the same way in every lockstep run.
+    #[inline]
     pub fn now() -> Self {
         match MODEL_TIME.with(Cell::get) {
             Some(since_start) => Timestamp {
@@ -49,6 +50,7 @@ impl Timestamp {
     };
 
     /// Converts a `SystemTime`, saturating at the `i64` range.
+    #[inline]
     pub fn from_system_time(t: SystemTime) -> Self {
         let nanos = match t.duration_since(UNIX_EPOCH) {
             Ok(d) => i64::try_from(d.as_nanos()).unwrap_or(i64::MAX),

@@ -14,7 +14,7 @@ use super::copy_local::{LocalIn, LocalOut};
 use super::notify::{Notifier, SetOnce};
 use super::queue::{OnFull, Queue, QueueConfig, Signal};
 use super::seqlock::SeqCell;
-use super::wiring::{self, Fanout, InCore, Links, OutCore};
+use super::wiring::{self, Fanout, InCore, InputSources, OutCore};
 use crate::sync::{lock, Arc, Mutex};
 
 pub(crate) struct CopyOutputCore<T: NoUninit + Send + Sync> {
@@ -32,7 +32,7 @@ pub(crate) struct CopyInputCore<T: NoUninit + Send + Sync> {
     pub(crate) queue: Option<Queue<T>>,
     signal: Signal,
     notifier: SetOnce<Notifier>,
-    pub(crate) links: Mutex<Links<CopyOutputCore<T>, ()>>,
+    pub(crate) input_sources: Mutex<InputSources<CopyOutputCore<T>, ()>>,
     /// Set while the input reads its output's local cell (`copy_local.rs`).
     pub(crate) local: LocalIn<T>,
 }
@@ -179,7 +179,7 @@ impl<T: NoUninit + Send + Sync> CopyInputPort<T> {
             queue: queue.map(Queue::new),
             signal: Signal::new(),
             notifier: SetOnce::new(),
-            links: Mutex::new(Links {
+            input_sources: Mutex::new(InputSources {
                 sources: Vec::new(),
                 retained: (),
             }),
@@ -277,7 +277,7 @@ impl<T: NoUninit + Send + Sync> CopyInputPort<T> {
 
     /// Number of connected outputs.
     pub fn connection_count(&self) -> usize {
-        lock(&self.core.links).sources.len()
+        lock(&self.core.input_sources).sources.len()
     }
 
     /// A second reader of the latest value that leaves the changed mark alone.
@@ -411,8 +411,8 @@ impl<T: NoUninit + Send + Sync> InCore for CopyInputCore<T> {
         &self.name
     }
 
-    fn links(&self) -> &Mutex<Links<CopyOutputCore<T>, ()>> {
-        &self.links
+    fn input_sources(&self) -> &Mutex<InputSources<CopyOutputCore<T>, ()>> {
+        &self.input_sources
     }
 
     fn refs_per_delivery(&self) -> usize {

@@ -285,8 +285,8 @@ pub(crate) fn localize<T: NoUninit + Send + Sync>(
     if !writer.get().list.iter().any(|t| Arc::ptr_eq(t, inp)) {
         return false;
     }
-    let links = lock(&inp.links);
-    let only_source = links.sources.len() == 1;
+    let side = lock(&inp.input_sources);
+    let only_source = side.sources.len() == 1;
     if inp.queue.is_some() || !only_source || !inp.local.src.load(Ordering::Relaxed).is_null() {
         return false;
     }
@@ -325,7 +325,7 @@ pub(crate) fn localize<T: NoUninit + Send + Sync>(
         .any(|t| t.local.src.load(Ordering::Relaxed) != out_ptr);
     out.local.both.store(both, Ordering::Release);
     home.set_gate(&out.local.gate, !both);
-    drop(links);
+    drop(side);
     true
 }
 
@@ -379,7 +379,7 @@ fn unlocalize<T: NoUninit + Send + Sync>(proof: &Exclusive<'_>, inp: &CopyInputC
 }
 
 /// Whether changing the connection `out → inp` must first move either off the local
-/// path (called with `out`'s connection lock and `inp`'s links held).
+/// path (called with `out`'s connection lock and `inp`'s sources held).
 pub(crate) fn is_local<T: NoUninit + Send + Sync>(
     out: &CopyOutputCore<T>,
     inp: &CopyInputCore<T>,

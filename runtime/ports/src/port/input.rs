@@ -9,13 +9,13 @@ use super::notify::{Notifier, SetOnce};
 use super::output::{Deferred, OutputCore};
 use super::pool::{PoolHandle, Slot};
 use super::queue::{OnFull, Queue, QueueConfig, Signal};
-use super::wiring::{self, InCore, Links};
+use super::wiring::{self, InCore, InputSources};
 use super::PortRef;
 use crate::sync::{Arc, Mutex};
 
 pub(crate) struct InputCore<T: Send + Sync + 'static> {
     name: String,
-    /// Latest value (also for queued inputs). Declared before `links` so it is released
+    /// Latest value (also for queued inputs). Declared before `input_sources` so it is released
     /// before the retained pools on drop.
     cell: ValueCell<T>,
     queue: Option<Queue<PortRef<T>>>,
@@ -23,7 +23,7 @@ pub(crate) struct InputCore<T: Send + Sync + 'static> {
     notifier: SetOnce<Notifier>,
     /// Sources, and a handle of every pool whose buffers may reach `cell` (our own
     /// default's pool and each output's ever connected): the cell's safety contract.
-    links: Mutex<Links<OutputCore<T>, Vec<PoolHandle<T>>>>,
+    input_sources: Mutex<InputSources<OutputCore<T>, Vec<PoolHandle<T>>>>,
 }
 
 /// An input data port.
@@ -83,7 +83,7 @@ impl<T: Send + Sync + 'static> InputPort<T> {
             queue: queue.map(Queue::new),
             signal: Signal::new(),
             notifier: SetOnce::new(),
-            links: Mutex::new(Links {
+            input_sources: Mutex::new(InputSources {
                 sources: Vec::new(),
                 retained: vec![pool],
             }),
@@ -186,7 +186,7 @@ impl<T: Send + Sync + 'static> InputPort<T> {
 
     /// Number of connected outputs.
     pub fn connection_count(&self) -> usize {
-        crate::sync::lock(&self.core.links).sources.len()
+        crate::sync::lock(&self.core.input_sources).sources.len()
     }
 
     /// Disconnects every output.
@@ -272,8 +272,8 @@ impl<T: Send + Sync + 'static> InCore for InputCore<T> {
         &self.name
     }
 
-    fn links(&self) -> &Mutex<Links<OutputCore<T>, Vec<PoolHandle<T>>>> {
-        &self.links
+    fn input_sources(&self) -> &Mutex<InputSources<OutputCore<T>, Vec<PoolHandle<T>>>> {
+        &self.input_sources
     }
 
     fn refs_per_delivery(&self) -> usize {

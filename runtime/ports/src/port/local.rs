@@ -3,6 +3,13 @@
 //! touches. Publishing is a store, reading a load: no CAS, no reference count, no
 //! seqlock (issue 18, benchmark B2).
 //!
+//! The words of this file, in short: a **home** ([`Home`]) is one thread container's
+//! set of local connections; a **session** ([`Session`]) is the container thread's
+//! hold on its home while it runs cycles (one at a time); a thread's **mark**
+//! ([`mark`]) is a number that identifies it (its thread pointer); an output's **gate**
+//! is the word a port access compares with the caller's mark — equal means the caller
+//! may touch the local cell without atomics.
+//!
 //! # Who may touch a local cell
 //!
 //! A thread container owns a [`Home`]. While the container runs cycles, its thread

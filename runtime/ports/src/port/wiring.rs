@@ -1,9 +1,9 @@
 //! Connecting and disconnecting outputs and inputs (n:m), shared by both port kinds.
 //!
 //! Each output has a [`Fanout`]: the copy-on-write list of its inputs, read by publishers
-//! through a [`Snapshot`]. Each input has [`Links`]: its sources and whatever it must
+//! through a [`Snapshot`]. Each input has [`InputSources`]: its sources and whatever it must
 //! keep alive for them (the buffer pools of refcounted outputs). Connection changes lock
-//! the output's snapshot writer first, then the input's links — always in that order —
+//! the output's snapshot writer first, then the input's sources — always in that order —
 //! and never run user code (notifiers) while holding either.
 
 use std::fmt;
@@ -135,7 +135,7 @@ impl<I> Fanout<I> {
 }
 
 /// An input's side of its connections.
-pub(crate) struct Links<O, R> {
+pub(crate) struct InputSources<O, R> {
     pub(crate) sources: Vec<Arc<O>>,
     /// Kept alive for the sources, past disconnection (see `pool.rs`).
     pub(crate) retained: R,
@@ -176,7 +176,7 @@ pub(crate) trait InCore: Send + Sync + Sized + 'static {
     type Retained: Send;
     type Mark;
     fn name(&self) -> &str;
-    fn links(&self) -> &Mutex<Links<Self::Out, Self::Retained>>;
+    fn input_sources(&self) -> &Mutex<InputSources<Self::Out, Self::Retained>>;
     /// Buffer references one delivery to this input consumes.
     fn refs_per_delivery(&self) -> usize;
     fn is_queued(&self) -> bool;
@@ -187,7 +187,7 @@ pub(crate) trait InCore: Send + Sync + Sized + 'static {
 
 /// Is `out` (still) a source of `inp`? Used by publishers blocked on a full queue.
 pub(crate) fn is_source<I: InCore>(inp: &I, out: &I::Out) -> bool {
-    lock(inp.links())
+    lock(inp.input_sources())
         .sources
         .iter()
         .any(|s| std::ptr::eq(Arc::as_ptr(s), out))
@@ -198,7 +198,7 @@ pub(crate) fn connect<O: OutCore>(
     inp: &Arc<O::In>,
     opts: ConnectOptions,
 ) -> Result<(), ConnectError> {
-    let (mut writer, mut links) = loop {
+    let (mut writer, mut side) = loop {
         let writer = out.fanout().snap.write();
         if writer.get().list.iter().any(|t| Arc::ptr_eq(t, inp)) {
             return Err(ConnectError::AlreadyConnected {
@@ -206,13 +206,13 @@ pub(crate) fn connect<O: OutCore>(
                 input: inp.name().to_owned(),
             });
         }
-        let links = lock(inp.links());
+        let side = lock(inp.input_sources());
         if !out.is_local(inp) {
-            break (writer, links);
+            break (writer, side);
         }
         // A local end changes only on its container's thread: have it moved to the
         // lock-free path there, then look again (nothing makes it local again).
-        drop(links);
+        drop(side);
         drop(writer);
         O::leave_local(out, inp, false).map_err(|Busy| ConnectError::Busy {
             output: out.name().to_owned(),
@@ -220,9 +220,9 @@ pub(crate) fn connect<O: OutCore>(
         })?;
     };
     let current = writer.get();
-    out.retain(&mut links.retained);
-    let only_source = links.sources.is_empty();
-    links.sources.push(Arc::clone(out));
+    out.retain(&mut side.retained);
+    let only_source = side.sources.is_empty();
+    side.sources.push(Arc::clone(out));
     // Taken before the input becomes visible to our publishers: anything delivered
     // after this point wins over the initial push.
     let mark = inp.mark();
@@ -231,7 +231,7 @@ pub(crate) fn connect<O: OutCore>(
     let refs = current.refs + inp.refs_per_delivery();
     out.fanout().refs_hint.store(refs, Ordering::Relaxed);
     writer.replace(Targets { list, refs });
-    drop(links);
+    drop(side);
     drop(writer);
     if opts.initial_push && only_source && !inp.is_queued() {
         // Publish swaps the output's value in, then registers as a reader of the list
@@ -249,16 +249,16 @@ pub(crate) fn connect<O: OutCore>(
 /// Removes the connection; false if there was none. Publishes already under way may
 /// still deliver to the input once (they read the list before the change).
 pub(crate) fn disconnect<O: OutCore>(out: &Arc<O>, inp: &Arc<O::In>) -> bool {
-    let (mut writer, mut links) = loop {
+    let (mut writer, mut side) = loop {
         let writer = out.fanout().snap.write();
         if !writer.get().list.iter().any(|t| Arc::ptr_eq(t, inp)) {
             return false;
         }
-        let links = lock(inp.links());
+        let side = lock(inp.input_sources());
         if !out.is_local(inp) {
-            break (writer, links);
+            break (writer, side);
         }
-        drop(links);
+        drop(side);
         drop(writer);
         // A container that does not reach a boundary in time applies the change at its
         // next one: until then its input still sees the output's values, as a publish
@@ -268,12 +268,12 @@ pub(crate) fn disconnect<O: OutCore>(out: &Arc<O>, inp: &Arc<O::In>) -> bool {
             if !writer.get().list.iter().any(|t| Arc::ptr_eq(t, inp)) {
                 return false;
             }
-            let links = lock(inp.links());
-            break (writer, links);
+            let side = lock(inp.input_sources());
+            break (writer, side);
         }
     };
     let current = writer.get();
-    links.sources.retain(|s| !Arc::ptr_eq(s, out));
+    side.sources.retain(|s| !Arc::ptr_eq(s, out));
     let list: Vec<_> = current
         .list
         .iter()
@@ -283,7 +283,7 @@ pub(crate) fn disconnect<O: OutCore>(out: &Arc<O>, inp: &Arc<O::In>) -> bool {
     let refs = current.refs - inp.refs_per_delivery();
     out.fanout().refs_hint.store(refs, Ordering::Relaxed);
     writer.replace(Targets { list, refs });
-    drop(links);
+    drop(side);
     drop(writer);
     inp.wake_producers();
     true
@@ -297,7 +297,7 @@ pub(crate) fn disconnect_all_targets<O: OutCore>(out: &Arc<O>) {
 }
 
 pub(crate) fn disconnect_all_sources<I: InCore>(inp: &Arc<I>) {
-    let sources: Vec<_> = lock(inp.links()).sources.clone();
+    let sources: Vec<_> = lock(inp.input_sources()).sources.clone();
     for s in &sources {
         disconnect(s, inp);
     }

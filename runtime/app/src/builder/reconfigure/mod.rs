@@ -2,7 +2,7 @@
 //! runtime construction): modules created by their type's factory as the builder does,
 //! modules dropped or moved to another thread container, connections made and unmade
 //! on the live ports. Only the containers a change touches switch, each at its own
-//! cycle boundary (`container/change.rs`): the others keep their period and never wait.
+//! cycle boundary (`ferroc_exec`'s `change.rs`): the others keep their period and never wait.
 //!
 //! Connections between two modules of one container are made and unmade by that
 //! container's thread at its boundary (with its step change), so a container never
