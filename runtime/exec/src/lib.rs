@@ -32,6 +32,15 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+/// `eprintln!` that does not panic when standard error is closed or full (see
+/// `ferroc_ports::console::stderr_line`); it shadows std's in this whole crate.
+#[allow(unused_macros)] // nothing prints with it today; kept so that nothing uses std's
+macro_rules! eprintln {
+    ($($arg:tt)*) => {
+        ferroc_ports::console::stderr_line(format_args!($($arg)*))
+    };
+}
+
 mod change;
 mod clock;
 mod os;
