@@ -153,6 +153,11 @@ impl<T: NoUninit> LocalOut<T> {
     }
 
     /// Read by the session thread or an `Exclusive` holder of the home.
+    ///
+    /// # Safety
+    ///
+    /// The caller holds the session of the output's home or an `Exclusive` proof of
+    /// it: no other thread writes the version meanwhile.
     unsafe fn version(&self) -> u64 {
         // SAFETY: caller's contract.
         unsafe { self.version.with(|p| *p) }

@@ -38,6 +38,11 @@ const PIECES: usize = 16;
 
 /// `size` bytes from `src` to `dst` in straight-line 16-, 8-, 4-, 2- and 1-byte pieces
 /// (`size` is a constant after inlining, so every test below folds away).
+///
+/// # Safety
+///
+/// `src` must be valid for reads and `dst` for writes of `size` bytes, and the two
+/// ranges must not overlap (as for [`copy`]).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 unsafe fn copy_pieces(src: *const u8, dst: *mut u8, size: usize) {
