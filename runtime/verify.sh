@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
 # Model checks of the port core and services (used by CI):
 #   1. loom: every interleaving, up to a preemption bound, of the scenarios in
-#      runtime/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs
+#      runtime/ports/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs
 #      and loom_local.rs
 #      (LOOM_MAX_PREEMPTIONS, default 3; ~20 s).
 #   2. Miri: undefined behaviour, data races and leaks in the unit tests of the port
-#      core (cargo +nightly miri test -p ferroc-runtime --lib port::), where every
-#      unsafe block Miri can check lives (the others are FFI calls: thread placement,
-#      terminal size). The rest of the unit tests run containers on wall clocks, which
-#      Miri's isolation refuses (clock_gettime REALTIME) and which would take hours
-#      under it.
+#      core (cargo +nightly miri test -p ferroc-ports --lib port::), where every
+#      unsafe block Miri can check lives (the others are FFI calls: thread placement
+#      in ferroc-ports' thread.rs). Every other runtime crate forbids unsafe code. The
+#      other unit tests run containers on wall clocks, which Miri's isolation refuses
+#      (clock_gettime REALTIME) and which would take hours under it.
 #      Miri needs a nightly toolchain. Where there is none (CI machines have only
 #      the one stable toolchain and cannot fetch another) Miri is skipped with a
 #      message; set VERIFY_REQUIRE_MIRI=1 to make that an error instead.
@@ -22,14 +22,14 @@ run() {
   "$@"
 }
 
-echo "== loom (runtime/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs, loom_local.rs)" >&2
+echo "== loom (runtime/ports/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs, loom_local.rs)" >&2
 # A separate target dir: --cfg loom changes every fingerprint, and sharing target/
 # would rebuild the normal build after each loom run.
 run env RUSTFLAGS="--cfg loom" CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-target}/loom" \
   LOOM_MAX_PREEMPTIONS="${LOOM_MAX_PREEMPTIONS:-3}" \
-  cargo test -p ferroc-runtime --release --test loom_ports --test loom_services --test loom_wakeup --test loom_local
+  cargo test -p ferroc-ports --release --test loom_ports --test loom_services --test loom_wakeup --test loom_local
 
-echo "== miri (ferroc-runtime unit tests)" >&2
+echo "== miri (ferroc-ports unit tests of the port core)" >&2
 if ! cargo +nightly miri --version >/dev/null 2>&1; then
   if [ "${VERIFY_REQUIRE_MIRI:-0}" = 1 ]; then
     echo "error: Miri is not installed (rustup toolchain install nightly --component miri)" >&2
@@ -38,6 +38,6 @@ if ! cargo +nightly miri --version >/dev/null 2>&1; then
   echo "verify.sh: loom passed; Miri SKIPPED: no nightly toolchain with Miri here" >&2
   exit 0
 fi
-run cargo +nightly miri test -p ferroc-runtime --lib port::
+run cargo +nightly miri test -p ferroc-ports --lib port::
 
 echo "verify.sh: loom and Miri passed" >&2

@@ -1,58 +1,34 @@
 //! ferroc's runtime: what a checked application model runs on.
 //!
-//! This crate grows with the runtime issue (modules, thread containers, parts, iB2C,
-//! introspection). Today it holds the data-port core, services and thread containers:
+//! This crate only re-exports the runtime crates under the paths generated bundles,
+//! component libraries and users' crates name (`ferroc_runtime::port::…`,
+//! `ferroc_runtime::module::…`, …). The runtime itself is five crates, each on the ones
+//! below it (ARCHITECTURE.md, "Inside the runtime"):
 //!
-//! * [`container`] — one OS thread per thread container, executing the compiler's static
-//!   step order periodically (absolute deadlines, overrun counting) or when data
-//!   arrives; per-step timing statistics; a panicking step is stopped, the rest run on.
-//! * [`port`] — output and input ports, buffer pools, n:m connections, input queues,
-//!   data-triggered wakeups. Publishing is lock-free and zero-copy; connections change
-//!   at run time without blocking publishers.
-//! * [`resource`] — the model's `<resource>` locks as real locks, with lockdep-style
-//!   validation: an acquisition order that contradicts one seen before (or the
-//!   declared one) is reported with both sites before it can deadlock.
-//! * [`behaviour`] — the iB2C behaviour base: meta ports, activation, and the runtime
-//!   principles (activity limitation, goal state, …) checked every cycle under a
-//!   per-module policy (`warn`, `clamp`, `stop`).
-//! * [`service`] — request/response ports: a service executed by the serving module's
-//!   thread container (or inline by its callers), blocking and asynchronous clients
-//!   with optional timeouts; every failure is an error value, never a hang.
-//! * [`inspect`] — a read-only look into a running application (element tree, each
-//!   port's latest value on request, parameters, container figures, link state, iB2C
-//!   activities) and checked parameter changes: what `ferroc inspect` shows.
-//! * [`supervise`] — running a started application until its cycle limit, a time limit
-//!   or Ctrl-C, with a live status line and a summary: shared by `ferroc run` and the
-//!   programs of a `ferroc bundle`.
-//!
-//! The crate does not depend on the compiler. Its concurrency is verified with loom
-//! (`RUSTFLAGS="--cfg loom" cargo test -p ferroc-runtime --release --test loom_ports
-//! --test loom_services`)
-//! and Miri (`cargo +nightly miri test -p ferroc-runtime --lib`); `runtime/verify.sh`
-//! runs both.
+//! * `ferroc-ports` — [`port`], [`service`], [`console`]: data ports and services, with
+//!   timestamps, link freshness, the stop flag and thread placement they need;
+//! * `ferroc-module` — [`module`], [`behaviour`], [`resource`]: the module API, iB2C
+//!   behaviours, the model's locks;
+//! * `ferroc-exec` — [`container`]: thread containers running a static step order;
+//! * `ferroc-link` — [`link`]: connections between parts;
+//! * `ferroc-app` — [`builder`], [`inspect`], [`supervise`]: building, starting,
+//!   inspecting, supervising and reconfiguring an application.
 
+#![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-/// `eprintln!` that does not panic when standard error is closed or full (see
-/// `ferroc_runtime::console::stderr_line`); it shadows std's in this whole crate.
-macro_rules! eprintln {
-    ($($arg:tt)*) => {
-        $crate::console::stderr_line(format_args!($($arg)*))
-    };
-}
-
-pub mod behaviour;
-pub mod builder;
-pub mod console;
-pub mod container;
-pub mod inspect;
-pub mod link;
-pub mod module;
-pub mod port;
-pub mod resource;
-pub mod service;
-pub mod supervise;
-mod sync;
-#[cfg(any(test, feature = "test-support"))]
+#[cfg(feature = "test-support")]
 #[doc(hidden)]
-pub mod test_support;
+pub use ferroc_app::test_support;
+pub use ferroc_app::{builder, inspect, supervise};
+pub use ferroc_exec as container;
+pub use ferroc_link as link;
+pub use ferroc_module as module;
+pub use ferroc_module::{behaviour, port_value, resource};
+pub use ferroc_ports::{console, port, service};
+
+/// Compiles and runs the Rust examples of `docs/runtime-services.md` (which name the
+/// paths of this facade), so that the module writers' guide cannot drift from the API.
+#[cfg(doctest)]
+#[doc = include_str!("../../docs/runtime-services.md")]
+struct RuntimeServicesGuide;

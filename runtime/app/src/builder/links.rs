@@ -1,0 +1,257 @@
+//! The two ends of a connection between parts (see [`ferroc_link`]): the sending end
+//! runs after the writer in the writer's container, the receiving end feeds the reader
+//! like any output. Both reuse [`Builder::connect`], so conversions, queues and
+//! wakeups behave exactly as on a connection inside one part.
+
+use super::{BuildError, Builder, Conversion, Instance};
+use ferroc_exec::Step;
+use ferroc_link::transport::{RemoteCall, Sending};
+use ferroc_link::{calls, CallSpec, Frame, LinkSpec, Pace, Receiving};
+use ferroc_module::{Interface, Kind, Timestamp, ValueType};
+use ferroc_ports::port::{ConnectOptions, InputHandle, OutputHandle};
+use std::sync::Arc;
+
+impl Builder<'_> {
+    /// The sending end of the link `spec.id`: values of `from` (module path, output),
+    /// converted by `conversion` into the reader's type `spec.model_type`, are sent to
+    /// the part `spec.to_part` as `spec.sharing` says.
+    pub fn link_out(
+        &mut self,
+        spec: &LinkSpec<'_>,
+        from: (&str, &str),
+        conversion: Conversion,
+    ) -> Result<(), BuildError> {
+        let describe = format!("`{}/{}` → part `{}`", from.0, from.1, spec.to_part);
+        let value_type = self.link_type(spec, &describe)?;
+        let codec = *value_type.codec().expect("link_type checked it");
+        let writer = self.module(from.0)?;
+        let (input, handle) = value_type.input(&format!("link {} out", spec.id), None);
+        let end = self.link_end(
+            format!("link {} out", spec.id),
+            vec![("in".into(), handle)],
+            vec![],
+        );
+        self.connect(from, (&end, "in"), conversion, ConnectOptions::default())?;
+        let hub = Arc::clone(&self.hub);
+        let (link, to_part) = (spec.id, Arc::<str>::from(spec.to_part));
+        let mut pace = Pace::new(spec.sharing);
+        let mut failed = false;
+        let step = Step::new(describe.clone(), move || {
+            if !pace.send(input.changed(), Timestamp::now()) {
+                return;
+            }
+            let mut bytes = Vec::new();
+            match codec.encode(&input, &mut bytes) {
+                Ok(()) => hub.send(&to_part, Frame { link, bytes }),
+                Err(why) if !std::mem::replace(&mut failed, true) => {
+                    ferroc_ports::console::line(&format!("warning: {describe}: not sent: {why}"))
+                }
+                Err(_) => {}
+            }
+        });
+        self.modules[writer].converters.push(step);
+        let sending = Sending {
+            to_part: spec.to_part.to_owned(),
+            topic: format!("{}/{}", from.0, from.1),
+            model_type: spec.model_type.to_owned(),
+            sharing: spec.sharing,
+            reliable: spec.reliable,
+        };
+        self.remote.sending.insert(spec.id, sending);
+        Ok(())
+    }
+
+    /// The receiving end of the link `spec.id`: values arriving from the part
+    /// `spec.from_part` are published into `to` (module path, input) with `options`.
+    pub fn link_in(
+        &mut self,
+        spec: &LinkSpec<'_>,
+        to: (&str, &str),
+        options: ConnectOptions,
+    ) -> Result<(), BuildError> {
+        let describe = format!("part `{}` → `{}/{}`", spec.from_part, to.0, to.1);
+        let value_type = self.link_type(spec, &describe)?;
+        let codec = *value_type.codec().expect("link_type checked it");
+        if self.receiving.contains_key(&spec.id) {
+            return Err(BuildError::Connect(format!(
+                "{describe}: the link {} is received twice",
+                spec.id
+            )));
+        }
+        let (out, handle) = value_type.output(&format!("link {} in", spec.id));
+        let end = self.link_end(
+            format!("link {} in", spec.id),
+            vec![],
+            vec![("out".into(), handle)],
+        );
+        self.connect((&end, "out"), to, Conversion::default(), options)?;
+        let receiving =
+            Receiving::new(out, codec, describe, spec.from_part).with_deadline(spec.deadline);
+        // The input shows the link's freshness (`In::age`, `In::is_stale`).
+        let reader = self.module(to.0)?;
+        let input = super::find(&self.modules[reader].inputs, to, "input")?;
+        let _ = input.source().set(Arc::clone(&receiving.fresh));
+        self.receiving.insert(spec.id, receiving);
+        (self.remote.receiving).insert(spec.id, spec.from_part.to_owned());
+        Ok(())
+    }
+
+    /// The value-table entry of a link's type, which must be able to cross.
+    fn link_type(&self, spec: &LinkSpec<'_>, describe: &str) -> Result<ValueType, BuildError> {
+        let value_type = self.registry.values().get(spec.model_type).ok_or_else(|| {
+            BuildError::Connect(format!(
+                "{describe}: the type `{}` is not registered in this binary (its crate's \
+                 register function should call `register_serde` for it)",
+                spec.model_type
+            ))
+        })?;
+        if value_type.codec().is_none() {
+            return Err(BuildError::Connect(format!(
+                "{describe}: values of `{}` cannot cross between parts: register it with \
+                 `register_serde` (and mark it serde=\"true\" in its library manifest)",
+                spec.model_type
+            )));
+        }
+        Ok(*value_type)
+    }
+
+    /// A port-only instance standing for one end of a link (no module, no thread).
+    fn link_end(
+        &mut self,
+        path: String,
+        inputs: Vec<(String, InputHandle)>,
+        outputs: Vec<(String, OutputHandle)>,
+    ) -> String {
+        self.index.insert(path.clone(), self.modules.len());
+        self.modules.push(Instance {
+            path: path.clone(),
+            kind: Kind::Plain,
+            module: None,
+            interface: Interface {
+                name: "link".into(),
+                rust: String::new(),
+                kind: Kind::Plain,
+                doc: None,
+                ports: Vec::new(),
+                params: Vec::new(),
+                flexible: Vec::new(),
+                services: Vec::new(),
+            },
+            inputs,
+            outputs,
+            params: Vec::new(),
+            services: Vec::new(),
+            clients: Vec::new(),
+            locks: Vec::new(),
+            converters: Vec::new(),
+            thread: None,
+            link_end: true,
+        });
+        path
+    }
+}
+
+impl Builder<'_> {
+    /// The client's end of the call `spec.id`: the client `client` (module path,
+    /// client name) calls, through the network, the service of `spec.server_part` that
+    /// the other end ([`Builder::call_in`]) names.
+    pub fn call_out(
+        &mut self,
+        spec: &CallSpec<'_>,
+        client: (&str, &str),
+    ) -> Result<(), BuildError> {
+        let m = self.module(client.0)?;
+        let describe = format!("`{}/{}` → part `{}`", client.0, client.1, spec.server_part);
+        let handle = super::find(&self.modules[m].clients, client, "client")?;
+        let ends = self.call_ends(handle.types(), &describe)?;
+        let route = self.route(calls::request_link(spec.id), spec.server_part);
+        let (service, end) = ends.remote_service(format!("{} (remote)", client.1), route);
+        let handle = super::find(&self.modules[m].clients, client, "client")?;
+        handle
+            .connect(&service)
+            .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
+        self.direct_end(calls::answer_link(spec.id), end, &describe)?;
+        self.remote.calls_out.insert(spec.id, remote_call(spec));
+        Ok(())
+    }
+
+    /// The service's end of the call `spec.id`: requests from the client in
+    /// `spec.client_part` are executed by the service `service` (module path, name).
+    pub fn call_in(
+        &mut self,
+        spec: &CallSpec<'_>,
+        service: (&str, &str),
+    ) -> Result<(), BuildError> {
+        let m = self.module(service.0)?;
+        let describe = format!(
+            "part `{}` → `{}/{}`",
+            spec.client_part, service.0, service.1
+        );
+        let handle = super::find(&self.modules[m].services, service, "service")?;
+        let ends = self.call_ends(handle.types(), &describe)?;
+        let route = self.route(calls::answer_link(spec.id), spec.client_part);
+        let (client, end) = ends.remote_client(format!("{} (remote)", service.1), route);
+        let handle = super::find(&self.modules[m].services, service, "service")?;
+        client
+            .connect(handle)
+            .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
+        self.direct_end(calls::request_link(spec.id), end, &describe)?;
+        self.remote.calls_in.insert(spec.id, remote_call(spec));
+        Ok(())
+    }
+
+    /// Whether the calls of this client (module path, client name) can cross between
+    /// parts: their request and response types are registered with `register_call`.
+    pub fn can_call_across(&self, client: (&str, &str)) -> bool {
+        let Ok(m) = self.module(client.0) else {
+            return false;
+        };
+        super::find(&self.modules[m].clients, client, "client")
+            .is_ok_and(|c| self.registry.call_ends(c.types()).is_some())
+    }
+
+    fn call_ends(
+        &self,
+        types: (&str, &str),
+        describe: &str,
+    ) -> Result<calls::CallEnds, BuildError> {
+        self.registry.call_ends(types).ok_or_else(|| {
+            BuildError::Connect(format!(
+                "{describe}: calls with requests `{}` and responses `{}` cannot cross between \
+                 parts: register them with `register_call::<{}, {}>()`",
+                types.0, types.1, types.0, types.1
+            ))
+        })
+    }
+
+    fn route(&self, link: u32, to_part: &str) -> calls::Route {
+        calls::Route {
+            hub: Arc::clone(&self.hub),
+            link,
+            to_part: Arc::from(to_part),
+        }
+    }
+
+    /// Registers an end that handles its frames itself, refusing a link built twice.
+    pub(super) fn direct_end(
+        &mut self,
+        link: u32,
+        end: Arc<dyn ferroc_link::Receive>,
+        describe: &str,
+    ) -> Result<(), BuildError> {
+        if self.direct_ends.insert(link, end).is_some() {
+            return Err(BuildError::Connect(format!(
+                "{describe}: this link is received twice"
+            )));
+        }
+        Ok(())
+    }
+}
+
+fn remote_call(spec: &CallSpec<'_>) -> RemoteCall {
+    RemoteCall {
+        client_part: spec.client_part.to_owned(),
+        server_part: spec.server_part.to_owned(),
+        service: spec.service.to_owned(),
+    }
+}
