@@ -17,26 +17,10 @@ pub fn set_status_line_active(active: bool) {
 /// `text` with every control character but newline and tab written as an escape
 /// (`\u{1b}`), and the bidirectional overrides too. Warnings and errors of a run carry
 /// text from outside the program (model names, module panic messages, values from
-/// peers); they must not drive the terminal. (The compiler escapes its diagnostics
-/// the same way, `ferroc_compiler::diagnostic::escape_controls`; the runtime does not
-/// depend on the compiler.)
+/// peers); they must not drive the terminal. The compiler's diagnostics escape with
+/// the same function (`ferroc_terminal`, which depends on nothing).
 pub fn escape(text: &str) -> std::borrow::Cow<'_, str> {
-    let unsafe_char = |c: char| {
-        (c.is_control() && c != '\n' && c != '\t')
-            || matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
-    };
-    if !text.chars().any(unsafe_char) {
-        return text.into();
-    }
-    let mut out = String::with_capacity(text.len() + 8);
-    for c in text.chars() {
-        if unsafe_char(c) {
-            out.extend(c.escape_unicode());
-        } else {
-            out.push(c);
-        }
-    }
-    out.into()
+    ferroc_terminal::escape_controls(text)
 }
 
 /// Prints a warning or error of the run (already prefixed) on standard output like

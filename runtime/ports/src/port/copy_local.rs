@@ -221,11 +221,11 @@ impl<T: NoUninit + Send + Sync> CopyInputCore<T> {
                 shared.as_ptr()
             }
         };
+        let mut value = std::mem::MaybeUninit::uninit();
         // SAFETY: `from` is the local cell (this thread holds its home's session, and
         // nothing else touches it until we return) or `shared`, initialised above.
         // Under loom the cell's access is recorded by `with` above; nothing between it
         // and this read can switch threads, so the check covers the read.
-        let mut value = std::mem::MaybeUninit::uninit();
         unsafe {
             words::copy(from, value.as_mut_ptr());
             value.assume_init()

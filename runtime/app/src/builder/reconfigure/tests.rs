@@ -1,3 +1,6 @@
+// A scenario reads as one story from start to end; the function-length rule is for
+// the code under test.
+#![allow(clippy::too_many_lines)]
 use super::*;
 use crate::builder::{
     Builder, Conversion, Lockstep, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,
