@@ -1,5 +1,7 @@
 //! `ferroc`: the command line. Subcommands parse arguments and call the compiler.
 
+#![forbid(unsafe_code)]
+
 use clap::{Parser, Subcommand};
 use ferroc_compiler::checks::REGISTRY;
 use ferroc_compiler::load::Options;

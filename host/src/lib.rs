@@ -13,6 +13,8 @@
 //! (manifest ↔ code comparison), `types` (`ferroc types`), `sources` (spans as
 //! `FILE:LINE:COL`, the model's text), `output` (writing standard output).
 
+#![forbid(unsafe_code)]
+
 use ferroc_compiler::load::{BuiltinLibrary, Options};
 use ferroc_runtime::builder::Registry;
 use std::path::PathBuf;

@@ -22,6 +22,8 @@
 //! behind the feature `foxglove`, `foxglove` (`ferroc inspect --foxglove`: a bridge to
 //! the Foxglove WebSocket protocol).
 
+#![forbid(unsafe_code)]
+
 pub mod client;
 pub mod config;
 #[cfg(feature = "foxglove")]

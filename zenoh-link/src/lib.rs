@@ -17,6 +17,8 @@
 //! The crate uses Zenoh's synchronous API (`.wait()`) from the runtime's threads; the
 //! runtime itself depends on neither Zenoh nor tokio.
 
+#![forbid(unsafe_code)]
+
 pub mod alive;
 pub mod config;
 pub mod free;

@@ -7,6 +7,8 @@
 //! controller looks around (turning in place while both rays sample the walls), then
 //! drives straight only as far as its body's corridor is free (`plan.rs`).
 
+#![forbid(unsafe_code)]
+
 mod controller;
 mod noise;
 pub mod plan;

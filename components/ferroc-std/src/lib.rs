@@ -14,6 +14,8 @@
 //! a tick count.
 //! `ScaleService` and `Ask` are the smallest service and client (`services.rs`).
 
+#![forbid(unsafe_code)]
+
 /// `eprintln!` that does not panic when standard error is closed or full (see
 /// `ferroc_runtime::console::stderr_line`); it shadows std's in this whole crate.
 macro_rules! eprintln {

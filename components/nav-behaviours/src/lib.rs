@@ -8,6 +8,8 @@
 //! `WheelOdometry`, `BatteryMonitor`, `DiffDrive`) and `Explore` / `Dock` are not: the
 //! simulation stands in for the hardware.
 
+#![forbid(unsafe_code)]
+
 mod behaviours;
 mod fusion;
 mod monitor;

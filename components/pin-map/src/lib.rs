@@ -12,6 +12,8 @@
 //! an optional offset (`+ N` or `- N`), and an optional cast (`as TYPE`), which a
 //! conversion that loses data must name (`f64` → `i32`). `out = in · scale + offset`.
 
+#![forbid(unsafe_code)]
+
 use std::ops::Range;
 
 /// One end of a mapping: a port and perhaps an element of it.

@@ -6,6 +6,8 @@
 //! sees scans, frames and odometry. The simulation advances by a fixed step per base
 //! control step, never by wall-clock time, and uses no randomness.
 
+#![forbid(unsafe_code)]
+
 mod camera;
 mod console;
 mod detector;

@@ -5,6 +5,8 @@
 //! element and publishes the result, so every cycle does real reads and writes that the
 //! optimiser cannot remove. `models/control_loop.xml` is the model.
 
+#![forbid(unsafe_code)]
+
 use ferroc_runtime::builder::Registry;
 use ferroc_runtime::module::{In, Module, ModuleType, Out, Parameter, Setup};
 

@@ -15,6 +15,8 @@
 //! - tasks: [`TaskExecutor`] (per robot), [`WmsBridge`] (order intake),
 //!   [`FleetManager`] (dispatch), [`FleetDashboard`] (status line).
 
+#![forbid(unsafe_code)]
+
 mod behaviours;
 mod dashboard;
 mod dispatch;
