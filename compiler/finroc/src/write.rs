@@ -116,7 +116,7 @@ fn params(tag: &str, list: &[StaticParam], level: usize, o: &mut String) {
                 "{}<parameter{}>{}</parameter>\n",
                 pad(level + 1),
                 attrs(&a),
-                escape::text(&p.value.text)
+                escape::content(&p.value.text)
             ));
         }
     }
@@ -195,7 +195,7 @@ fn edge(e: &Edge, encoded: bool, o: &mut String) {
         o.push_str(&format!(
             "    <parameter{}>{}</parameter>\n",
             attrs(&[("name", n.text.clone())]),
-            escape::text(&v.text)
+            escape::content(&v.text)
         ));
     }
     o.push_str("  </edge>\n");

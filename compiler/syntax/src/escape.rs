@@ -11,6 +11,8 @@
 //! * [`text`]: element content. `&` and `<` become entities, `>` only where it would
 //!   close `]]>` (so `in/0 -> out` stays readable in a model), carriage return a
 //!   character reference (a reader turns it into a newline otherwise).
+//! * [`content`]: element content as libxml2 (FINROC's writer) escapes it: as [`text`],
+//!   and every `>` an entity, so a FINROC file comes back byte for byte.
 //!
 //! In both, characters XML 1.0 cannot carry at all (controls other than tab, newline
 //! and carriage return; U+FFFE, U+FFFF) become U+FFFD: no reference can spell them,
@@ -25,15 +27,21 @@ pub fn attr(s: &str) -> Cow<'_, str> {
     escape(s, Place::Attribute)
 }
 
-/// `s` escaped for element content.
+/// `s` escaped for element content, `>` kept readable.
 pub fn text(s: &str) -> Cow<'_, str> {
     escape(s, Place::Text)
+}
+
+/// `s` escaped for element content with every `>` an entity, as libxml2 writes it.
+pub fn content(s: &str) -> Cow<'_, str> {
+    escape(s, Place::Content)
 }
 
 #[derive(Clone, Copy, PartialEq)]
 enum Place {
     Attribute,
     Text,
+    Content,
 }
 
 /// What `c` becomes at `place` (after `before`, the text written so far), or `None` to
@@ -43,7 +51,7 @@ fn replacement(c: char, place: Place, before: &str) -> Option<&'static str> {
     match c {
         '&' => Some("&amp;"),
         '<' => Some("&lt;"),
-        '>' if attribute || before.ends_with("]]") => Some("&gt;"),
+        '>' if place != Place::Text || before.ends_with("]]") => Some("&gt;"),
         '"' if attribute => Some("&quot;"),
         '\t' if attribute => Some("&#9;"),
         '\n' if attribute => Some("&#10;"),
@@ -92,6 +100,11 @@ mod tests {
     }
 
     #[test]
+    fn content_escapes_every_closing_bracket_as_libxml2_does() {
+        assert_eq!(content("a -> b < c\n\"d\""), "a -&gt; b &lt; c\n\"d\"");
+    }
+
+    #[test]
     fn characters_xml_cannot_carry_become_the_replacement_character() {
         assert_eq!(
             attr("a\u{1b}[31m\u{0}\u{ffff}"),
@@ -118,11 +131,13 @@ mod tests {
             "ünïcode ✓ \u{10ffff}",
         ];
         for s in samples {
-            let doc = format!("<e a=\"{}\">{}</e>", attr(s), text(s));
-            let file = ferroc_diagnostics::source::FileId(0);
-            let e = crate::xml::parse(file, &doc, 8).unwrap();
-            assert_eq!(e.value("a"), Some(s), "attribute of {doc}");
-            assert_eq!(e.text(), s, "text of {doc}");
+            for body in [text(s), content(s)] {
+                let doc = format!("<e a=\"{}\">{body}</e>", attr(s));
+                let file = ferroc_diagnostics::source::FileId(0);
+                let e = crate::xml::parse(file, &doc, 8).unwrap();
+                assert_eq!(e.value("a"), Some(s), "attribute of {doc}");
+                assert_eq!(e.text(), s, "text of {doc}");
+            }
         }
     }
 }
