@@ -249,7 +249,13 @@ fn apply_diff(live: &mut Live, d: &diff::PlanDiff, new: &Plan) -> Result<Vec<Str
         disconnect: d.disconnect.iter().map(ends).collect(),
         connect: d.connect.iter().map(ends).collect(),
         params: (d.params.iter())
-            .map(|(m, n, v)| (m.clone(), n.clone(), crate::from_plan::value(v)))
+            .map(|(m, n, v)| {
+                (
+                    m.clone(),
+                    n.clone(),
+                    ferroc_inspect::param_value::runtime_value(v),
+                )
+            })
             .collect(),
         threads: (d.threads.iter())
             .map(|&i| {

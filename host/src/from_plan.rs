@@ -5,19 +5,13 @@
 
 use ferroc_compiler::plan;
 use ferroc_compiler::schedule::StepKind as PlanStep;
-use ferroc_compiler::values::Value as ModelValue;
+use ferroc_inspect::param_value::runtime_value;
 use ferroc_runtime::builder::{Conversion, StepKind};
 use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::link::{LinkSpec, Sharing};
 use ferroc_runtime::module::{Direction, PortGroup, Value};
 use ferroc_runtime::port::{OnFull, QueueConfig, WaitMode};
 use std::time::Duration;
-
-/// A plan's parameter value as modules receive it: the conversion parameter changes
-/// while running take too (`ferroc_inspect::param_value`).
-pub fn value(v: &ModelValue) -> Value {
-    ferroc_inspect::param_value::runtime_value(v)
-}
 
 /// Priority and CPU of a planned thread. Model priorities are "higher runs first" like
 /// SCHED_FIFO's, whose range is 1–99 on Linux; values beyond are clamped to it.
@@ -66,7 +60,7 @@ pub fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
 /// The parameter values of a planned module, as the runtime takes them.
 pub fn params_of(m: &plan::PlannedModule) -> Vec<(String, Value)> {
     (m.params.iter())
-        .map(|(n, v)| (n.clone(), value(v)))
+        .map(|(n, v)| (n.clone(), runtime_value(v)))
         .collect()
 }
 

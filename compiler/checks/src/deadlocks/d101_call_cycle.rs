@@ -31,3 +31,6 @@ executes=\"caller\" (it then runs inline in the caller's thread), call asynchron
 out: D113).",
     fixtures: "compiler/checks/src/deadlocks/d101_call_cycle",
 };
+
+/// The pass of every D check: the analysis runs once, here.
+pub(crate) use super::run;
