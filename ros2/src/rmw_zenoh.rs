@@ -187,6 +187,13 @@ pub fn liveliness_key(
     key
 }
 
+/// The entity's GID as rmw_zenoh derives it (liveliness_utils.cpp, `Entity::Entity`):
+/// the XXH3 128-bit hash of its liveliness key expression, the low 64 bits then the high
+/// 64 bits, each little endian. It goes into every attachment the entity sends.
+pub fn gid_of(liveliness_key: &str) -> [u8; 16] {
+    xxhash_rust::xxh3::xxh3_128(liveliness_key.as_bytes()).to_le_bytes()
+}
+
 /// What every published sample, request and reply carries besides its payload
 /// (attachment_helpers.cpp, `AttachmentData`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
