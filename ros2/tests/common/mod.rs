@@ -68,7 +68,7 @@ fn base_value(registry: &Registry, base: &BaseType, g: &mut Gen) -> Value {
     match base {
         BaseType::Primitive(p) => primitive_value(*p, g),
         BaseType::String { bound } => {
-            let max = bound.map_or(12, |b| u64::from(b));
+            let max = bound.map_or(12, u64::from);
             let len = g.below(max + 1);
             Value::String(
                 (0..len)
