@@ -84,3 +84,4 @@ pub fn python() -> Option<String> {
         }
     }
 }
+pub mod lsp_client;
