@@ -70,3 +70,4 @@ pub fn build_bundle(out: &Path) -> PathBuf {
 pub fn python() -> Option<std::path::PathBuf> {
     ferroc_testkit::python(&["mcap", "jsonschema"])
 }
+pub mod lsp_client;
