@@ -1,7 +1,7 @@
 //! Recording and replay through the CLI: the demo models (a run that logs, a run that
 //! replays the log into the controller), `ferroc run --record`, `ferroc log`, and the
 //! files read by an MCAP reader we did not write (the Python `mcap` package; CI
-//! installs it, see .ci/run and FERROC_PYTHON).
+//! installs it, see scripts/test and FERROC_PYTHON).
 
 mod common;
 use common::{ferroc, python, tempdir};

@@ -65,22 +65,8 @@ pub fn build_bundle(out: &Path) -> PathBuf {
     target
 }
 
-/// The Python interpreter with `mcap` and `jsonschema`: FERROC_PYTHON (CI sets it;
-/// then it must work), else `python3` if it has them, else `None` (said on stderr).
-pub fn python() -> Option<String> {
-    let set = std::env::var("FERROC_PYTHON").ok();
-    let python = set.clone().unwrap_or_else(|| "python3".into());
-    let ok = Command::new(&python)
-        .args(["-c", "import mcap, jsonschema"])
-        .stderr(std::process::Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    match (ok, set) {
-        (true, _) => Some(python),
-        (false, Some(p)) => panic!("FERROC_PYTHON={p} cannot import mcap and jsonschema"),
-        (false, None) => {
-            eprintln!("SKIPPED: no Python with `mcap` and `jsonschema` (set FERROC_PYTHON)");
-            None
-        }
-    }
+/// The Python interpreter with `mcap` and `jsonschema` (FERROC_PYTHON, else the venv
+/// `scripts/test` makes), or `None` after a visible skip.
+pub fn python() -> Option<std::path::PathBuf> {
+    ferroc_testkit::python(&["mcap", "jsonschema"])
 }
