@@ -84,3 +84,35 @@ pub fn python() -> Option<String> {
         }
     }
 }
+
+/// A tmpfs of `size` mounted on `dir` for as long as it lives; `None` (and a visible
+/// SKIPPED line) where mounting is refused (not root, no CAP_SYS_ADMIN).
+pub struct SmallDisk(PathBuf);
+
+impl SmallDisk {
+    pub fn mount(dir: &Path, size: &str, test: &str) -> Option<SmallDisk> {
+        std::fs::create_dir_all(dir).unwrap();
+        let mounted = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(dir)
+            .output();
+        match mounted {
+            Ok(o) if o.status.success() => Some(SmallDisk(dir.to_path_buf())),
+            Ok(o) => {
+                let why = String::from_utf8_lossy(&o.stderr);
+                eprintln!("SKIPPED {test}: needs to mount a small tmpfs (as root): {why}");
+                None
+            }
+            Err(e) => {
+                eprintln!("SKIPPED {test}: needs `mount` to make a small tmpfs: {e}");
+                None
+            }
+        }
+    }
+}
+
+impl Drop for SmallDisk {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+    }
+}
