@@ -558,7 +558,7 @@ fn a_bundle_is_written_whole_or_not_at_all() {
     assert_eq!(left.len(), 2, "{left:?}");
     // A disk too small for the bundle.
     let small = dir.join("small");
-    let Some(_disk) = common::SmallDisk::mount(&small, "16k", "a_bundle_is_written_whole") else {
+    let Some(_disk) = common::SmallDisk::mount(&small, "16k") else {
         return;
     };
     let (code, err) = bundle(model, &small.join("bundle"), &[]);

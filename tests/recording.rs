@@ -1,7 +1,7 @@
 //! Recording and replay through the CLI: the demo models (a run that logs, a run that
 //! replays the log into the controller), `ferroc run --record`, `ferroc log`, and the
 //! files read by an MCAP reader we did not write (the Python `mcap` package; CI
-//! installs it, see .ci/run and FERROC_PYTHON).
+//! installs it, see scripts/test and FERROC_PYTHON).
 
 mod common;
 use common::{ferroc, python, tempdir};
@@ -385,8 +385,7 @@ fn a_logger_writes_only_recordings_inside_the_log_folder() {
 fn a_full_disk_is_named_in_the_summary_and_the_exit_code() {
     let dir = tempdir("recording_full_disk");
     let full = dir.join("full");
-    let Some(_disk) = common::SmallDisk::mount(&full, "32k", "a_full_disk_is_named_in_the_summary")
-    else {
+    let Some(_disk) = common::SmallDisk::mount(&full, "32k") else {
         return;
     };
     let (code, out, err) = ferroc(&[
