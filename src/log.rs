@@ -76,6 +76,9 @@ fn info(out: &mut impl Write, file: &std::path::Path, rec: &Recording) -> std::i
         (None, false) => "not finished (no summary): still being written, or stopped hard".into(),
     };
     writeln!(out, "{}: {state}", file.display())?;
+    if let Some(seed) = rec.seed {
+        writeln!(out, "run seed {seed} (repeat the run with --seed {seed})")?;
+    }
     writeln!(
         out,
         "{} message(s) in {} channel(s)",

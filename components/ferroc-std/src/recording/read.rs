@@ -60,6 +60,8 @@ pub struct Recording {
     pub damaged: Option<String>,
     /// Whether the file ends with a summary and footer (finished cleanly).
     pub finished: bool,
+    /// The run seed the recording's metadata `ferroc.run` names (`--seed`).
+    pub seed: Option<u64>,
 }
 
 impl Recording {
@@ -89,7 +91,10 @@ impl Recording {
         if !bytes.starts_with(mcap::MAGIC) {
             return Err("is not an MCAP file (it does not start with the MCAP magic)".into());
         }
-        let mut rec = Recording::default();
+        let mut rec = Recording {
+            seed: run_seed(bytes),
+            ..Recording::default()
+        };
         let stream = MessageStream::new_with_options(bytes, Options::IgnoreEndMagic.into())
             .map_err(|e| format!("is not a readable MCAP file: {e}"))?;
         for item in stream {
@@ -131,6 +136,23 @@ impl Recording {
             .values()
             .find(|c| c.topic == topic && c.is_exact())
     }
+}
+
+/// The seed of the `ferroc.run` metadata record, which ferroc writes right after the
+/// header: only the records before the first chunk or message are looked at.
+fn run_seed(bytes: &[u8]) -> Option<u64> {
+    use mcap::records::Record;
+    let records = mcap::read::LinearReader::new_with_options(bytes, Options::IgnoreEndMagic.into());
+    for record in records.ok()? {
+        match record.ok()? {
+            Record::Metadata(m) if m.name == super::META_RUN => {
+                return m.metadata.get("seed")?.parse().ok();
+            }
+            Record::Header(_) | Record::Metadata(_) => {}
+            _ => return None,
+        }
+    }
+    None
 }
 
 fn summary_of(ch: &mcap::Channel<'_>) -> ChannelSummary {

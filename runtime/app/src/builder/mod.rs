@@ -440,6 +440,8 @@ mod call_link_tests;
 #[cfg(test)]
 mod convert_tests;
 #[cfg(test)]
+mod determinism_tests;
+#[cfg(test)]
 mod flexible_tests;
 #[cfg(test)]
 mod link_tests;
