@@ -43,6 +43,10 @@ part runs inline in the caller's thread unless the service declares executes=, a
 unconnected call fails at once (D111)."
     )]
     profile: Option<ProfileArg>,
+    /// Judge the model as run with `ferroc run --lockstep`: also report what makes such a
+    /// run differ from the next (X106: modules reading the wall clock or the OS's randomness)
+    #[arg(long)]
+    lockstep: bool,
     /// Colour in human output: auto, always, never
     #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
     color: ColorChoice,
@@ -248,6 +252,7 @@ fn options_and_policy(args: &CheckArgs) -> Result<(Options, Policy), ExitCode> {
         ProfileArg::Generic => ferroc_compiler::ir::Profile::Generic,
         ProfileArg::Finroc => ferroc_compiler::ir::Profile::Finroc,
     });
+    options.lockstep = args.lockstep;
     for code in &args.allow {
         if ferroc_compiler::checks::find(code).is_none() {
             eprintln!("error: --allow {code}: no check has this code\nhelp: `ferroc explain --list` shows every code");

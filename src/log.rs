@@ -111,6 +111,9 @@ fn info(out: &mut impl Write, file: &std::path::Path, rec: &Recording) -> std::i
         shown(&file.display().to_string()),
         shown(&state)
     )?;
+    if let Some(seed) = rec.seed {
+        writeln!(out, "run seed {seed} (repeat the run with --seed {seed})")?;
+    }
     writeln!(
         out,
         "{} message(s) in {} channel(s)",

@@ -100,6 +100,7 @@ pub static REGISTRY: &[&CheckInfo] = &[
     &ferroc_checks::deployment::x103_host_label_conflict::CHECK,
     &ferroc_checks::deployment::x104_pointless_connection_settings::CHECK,
     &ferroc_checks::deployment::x105_bundle_output_collision::CHECK,
+    &ferroc_checks::deployment::x106_nondeterministic_in_lockstep::CHECK,
     &ferroc_finroc::checks::f101_finroc_structure::CHECK,
     &ferroc_finroc::checks::f102_edge_end_missing::CHECK,
     &ferroc_finroc::checks::f103_duplicate_edge::CHECK,

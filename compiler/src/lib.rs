@@ -159,7 +159,8 @@ fn check_loaded_model(
     // same CPU on either thread).
     drop(model);
     let allows = std::mem::take(&mut loader.allows);
-    let ctx = ferroc_checks::PassContext::new(&resolved, &libraries, loader.sources);
+    let mut ctx = ferroc_checks::PassContext::new(&resolved, &libraries, loader.sources);
+    ctx.lockstep = loader.options.lockstep;
     ferroc_checks::run_passes(&ctx, loader.diags);
     loader.allows = allows;
     (resolved, libraries)

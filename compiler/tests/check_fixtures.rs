@@ -1,6 +1,7 @@
 //! Every registered check has fixtures next to its file (see `ferroc_checks`' docs):
 //! `fires*.xml` must raise the check at each `<!-- expect: CODE at LINE:COL -->`, and
-//! `silent*.xml` must not raise it at all. The rendered findings of each fixture are
+//! `silent*.xml` must not raise it at all. `<!-- check-options: lockstep -->` in a
+//! fixture checks it as `ferroc check --lockstep` does. The rendered findings of each fixture are
 //! snapshot-tested against `NAME.out`; `FERROC_BLESS=1 cargo test` rewrites snapshots.
 
 use ferroc_compiler::checks::REGISTRY;
@@ -53,8 +54,19 @@ fn display(path: &Path) -> String {
         .to_string()
 }
 
+/// The options a fixture is checked with: `<!-- check-options: lockstep -->` judges it
+/// as run in lockstep (`ferroc check --lockstep`).
+fn options_for(path: &Path) -> Options {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    Options {
+        lockstep: text.contains("<!-- check-options: lockstep -->"),
+        ..options()
+    }
+}
+
 fn render(path: &Path) -> (Vec<Finding>, String) {
-    let result = check_model(path, &options(), &Policy::default()).expect("fixture readable");
+    let result =
+        check_model(path, &options_for(path), &Policy::default()).expect("fixture readable");
     let report = ModelReport {
         sources: &result.sources,
         diagnostics: &result.diagnostics,

@@ -20,15 +20,22 @@ use std::time::Duration;
 pub fn build(
     plan: &Plan,
     registry: &Registry,
+    seed: u64,
     start: StartOptions,
 ) -> Result<RunningApp, BuildError> {
-    builder(plan, registry)?.start_with(start)
+    builder(plan, registry, seed)?.start_with(start)
 }
 
 /// The Builder calls of [`build`] up to the start: a Builder with every module,
-/// connection, call and thread container of the plan declared.
-pub fn builder<'r>(plan: &Plan, registry: &'r Registry) -> Result<Builder<'r>, BuildError> {
+/// connection, call and thread container of the plan declared; the modules' random
+/// sources derived from the run `seed`.
+pub fn builder<'r>(
+    plan: &Plan,
+    registry: &'r Registry,
+    seed: u64,
+) -> Result<Builder<'r>, BuildError> {
     let mut builder = Builder::new(registry);
+    builder.set_seed(seed);
     add_modules(&mut builder, plan)?;
     add_locks(&mut builder, plan)?;
     connect_data(&mut builder, plan)?;

@@ -36,7 +36,12 @@ pub struct RunArgs {
     /// is the same on every run, and the same as the bundle's programs with
     /// `--lockstep` (use with --cycles, or --for in model time)
     #[arg(long)]
-    lockstep: bool,
+    pub lockstep: bool,
+    /// The run seed every module's random source is derived from, with the module's
+    /// path: the same seed gives the same numbers (default: chosen at random and
+    /// printed at start, so that a run can be repeated)
+    #[arg(long, value_name = "N", value_parser = supervise::parse_seed)]
+    seed: Option<u64>,
     /// A value for a parameter declared with `cmdline=NAME` (repeatable)
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
@@ -118,10 +123,11 @@ pub fn run(args: RunArgs, registry: &Registry) -> ExitCode {
     if let Err(code) = cmdline_params(&args) {
         return code;
     }
-    let result = match crate::check_first::without_errors(&args.model, &args.lib_path) {
-        Ok(r) => r,
-        Err(code) => return code,
-    };
+    let result =
+        match crate::check_first::without_errors_as(&args.model, &args.lib_path, args.lockstep) {
+            Ok(r) => r,
+            Err(code) => return code,
+        };
     run_checked(args, &result, registry)
 }
 
@@ -141,6 +147,12 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         Ok(planned) => planned,
         Err(code) => return code,
     };
+    if args.lockstep {
+        crate::check_first::print_lockstep_findings(result);
+    }
+    // `--seed`, else the model's `<application seed>`, else one chosen and printed.
+    let seed = supervise::run_seed(args.seed.or(app.seed));
+    ferroc_std::recording::set_run_seed(seed);
     let interrupted = interrupt_flag();
     let start = StartOptions {
         limit: args.cycles,
@@ -159,7 +171,7 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         eprintln!("error: {e}");
         return ExitCode::from(2);
     }
-    let (running, inspection) = match start_app(&plan, &registry, start, serve.is_some()) {
+    let (running, inspection) = match start_app(&plan, &registry, seed, start, serve.is_some()) {
         Ok(started) => started,
         Err(e) => {
             eprintln!("error: {e}");
@@ -292,10 +304,11 @@ fn interrupt_flag() -> Arc<AtomicBool> {
 fn start_app(
     plan: &Plan,
     registry: &Registry,
+    seed: u64,
     start: StartOptions,
     inspected: bool,
 ) -> Result<(RunningApp, Option<(Catalogue, Live)>), BuildError> {
-    let mut builder = crate::build::builder(plan, registry)?;
+    let mut builder = crate::build::builder(plan, registry, seed)?;
     if inspected {
         let catalogue = builder.inspection();
         let (app, live) = builder.start_live(start)?;

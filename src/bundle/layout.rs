@@ -92,6 +92,8 @@ pub struct Library {
 /// What gets bundled.
 pub struct Layout<'p> {
     pub application: String,
+    /// `<application seed>`: the run seed of a program started without `--seed`.
+    pub seed: Option<u64>,
     pub parts: Vec<Part<'p>>,
     /// The periods of every periodic thread container, sorted, each once: every
     /// program needs them all to keep in step with the others (`--lockstep`).
@@ -142,6 +144,7 @@ pub fn layout<'p>(
     if problems.is_empty() {
         Ok(Layout {
             application: app.name.clone(),
+            seed: app.seed,
             parts,
             periods: periods(plan),
             libraries,

@@ -449,6 +449,7 @@ fn add_parts(
         .collect();
     let cx = rust::Context {
         application: &layout.application,
+        seed: layout.seed,
         parts: &addresses,
         periods: &layout.periods,
         model_file: &names.model_file,

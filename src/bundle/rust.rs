@@ -25,6 +25,8 @@ use constants::module_constants;
 /// What a generated file needs to know besides the part.
 pub struct Context<'a> {
     pub application: &'a str,
+    /// The model's run seed (`<application seed>`), if it gives one.
+    pub seed: Option<u64>,
     pub model_file: &'a str,
     pub tool_version: &'a str,
     /// Every part's name and address (`host:port`).
@@ -54,6 +56,10 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         package: &part.package,
         part: &part.name,
         application: cx.application,
+        seed: match cx.seed {
+            Some(seed) => format!("Some({seed})"),
+            None => "None".into(),
+        },
         tool_version: cx.tool_version,
         model_file: cx.model_file,
         imports: lines(|code| imports(code, part_uses(part, &uses))),
@@ -300,6 +306,8 @@ struct MainRs<'a> {
     package: &'a str,
     part: &'a str,
     application: &'a str,
+    /// `Some(N)` or `None`: the model's run seed.
+    seed: String,
     tool_version: &'a str,
     model_file: &'a str,
     imports: String,

@@ -35,7 +35,9 @@ pub fn run(args: RunArgs) -> ExitCode {
     if let Err(code) = ferroc_host::run::cmdline_params(&args) {
         return code;
     }
-    let result = match ferroc_host::check_first::without_errors(&args.model, &args.lib_path) {
+    let checked =
+        ferroc_host::check_first::without_errors_as(&args.model, &args.lib_path, args.lockstep);
+    let result = match checked {
         Ok(r) => r,
         Err(code) => return code,
     };

@@ -37,6 +37,8 @@ pub struct PassContext<'a> {
     pub app: &'a Application,
     pub libraries: &'a LibrarySet,
     pub sources: &'a SourceMap,
+    /// The model is judged as run in lockstep (`Options::lockstep`): X106 applies.
+    pub lockstep: bool,
     /// Both ends of each connection (by index), looked up once for all passes: a dozen
     /// passes look at every connection, and resolving a port is not free.
     ends: Vec<Option<(PortView<'a>, PortView<'a>)>>,
@@ -57,6 +59,7 @@ impl<'a> PassContext<'a> {
             app,
             libraries,
             sources,
+            lockstep: false,
             ends,
             deadlock: std::cell::OnceCell::new(),
         }
@@ -135,6 +138,7 @@ passes![
     deployment::x103_host_label_conflict,
     deployment::x104_pointless_connection_settings,
     deployment::x105_bundle_output_collision,
+    deployment::x106_nondeterministic_in_lockstep,
 ];
 
 /// Runs every pass.

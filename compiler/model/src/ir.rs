@@ -251,6 +251,9 @@ pub struct Application {
     pub profile: Profile,
     /// `<application ib2c-violations>`: the policy of behaviours that give none.
     pub ib2c_violations: Option<String>,
+    /// `<application seed>`: the run seed when the command line gives none, so that a
+    /// model's runs repeat as printed (`--seed` overrides it).
+    pub seed: Option<u64>,
     /// What the timing checks (S102–S107) read: priorities, cores, flows.
     pub timing: Timing,
     /// Ends of `<connect>`s whose other end did not resolve (reported there): checks that

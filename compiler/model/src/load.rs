@@ -51,6 +51,9 @@ pub struct Options {
     /// profile>` says (`ferroc check --profile`: audit a configuration as another
     /// framework would run it).
     pub profile: Option<crate::ir::Profile>,
+    /// Judge the model as run in lockstep (`ferroc check --lockstep`, `ferroc run
+    /// --lockstep`): X106 reports what makes such a run differ from the next.
+    pub lockstep: bool,
     /// The root of the FINROC checkout FINROC files are resolved in (`--finroc-root`).
     pub finroc_root: Option<PathBuf>,
     /// The FINROC target prefix of make.xml files (`--finroc-prefix`, e.g. `rrlib_math`).

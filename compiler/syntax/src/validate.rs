@@ -228,6 +228,11 @@ fn check_value(element: &Element, attr: &super::xml::Attr, kind: AttrKind, out: 
             None
         }
         AttrKind::Bool => (!matches!(v, "true" | "false")).then(|| "`true` or `false`".to_string()),
+        // A run seed takes 64 bits; every other count 32.
+        AttrKind::Count if attr.name == "seed" => v
+            .parse::<u64>()
+            .is_err()
+            .then(|| format!("a whole number from 0 to {}", u64::MAX)),
         AttrKind::Count => match v.parse::<u32>() {
             Err(_) => Some("a non-negative whole number".to_string()),
             Ok(n) if element.name == "connect" && attr.name == "queue" => {

@@ -1,14 +1,20 @@
 //! `crash_course.AddNoise`: Gaussian noise on a distance.
 
-use ferroc_runtime::module::{In, Module, ModuleType, Out, Parameter, Setup};
+use ferroc_runtime::module::{In, Module, ModuleType, Out, Parameter, Random, Setup};
 
-/// Adds zero-mean Gaussian noise to a distance signal.
+/// Adds zero-mean Gaussian noise to a distance signal. Its numbers come from the
+/// runtime's random source for this module (derived from the run seed, `--seed`, and
+/// the module's path) or from its own `seed` parameter, never from a clock: a lockstep
+/// run with the same seed adds the same noise.
 pub struct AddNoise {
     input: In<f64>,
     output: Out<f64>,
     standard_deviation: Parameter<f64>,
     seed: Parameter<u64>,
-    state: u64,
+    /// The module's stream of the run seed, as at the start (for `seed` = 0).
+    from_run: Random,
+    /// The numbers drawn; `None` until the first cycle or after `seed` changed.
+    random: Option<Random>,
 }
 
 impl ModuleType for AddNoise {
@@ -29,41 +35,24 @@ impl ModuleType for AddNoise {
             seed: m
                 .param("seed")
                 .default(0)
-                .doc("0 seeds from the system clock")
+                .doc("0: this module's stream of the run seed (--seed); another value seeds the noise itself")
                 .build(),
-            state: 0,
+            from_run: m.random(),
+            random: None,
         }
-    }
-}
-
-impl AddNoise {
-    /// xorshift64*: plenty for sensor noise, and no dependency.
-    fn next_unit(&mut self) -> f64 {
-        if self.state == 0 || self.seed.changed() {
-            self.state = match self.seed.get() {
-                0 => {
-                    std::time::SystemTime::now()
-                        .duration_since(std::time::UNIX_EPOCH)
-                        .map_or(1, |d| d.as_nanos() as u64)
-                        | 1
-                }
-                seed => seed,
-            };
-        }
-        self.state ^= self.state >> 12;
-        self.state ^= self.state << 25;
-        self.state ^= self.state >> 27;
-        let r = self.state.wrapping_mul(0x2545_F491_4F6C_DD1D);
-        ((r >> 11) as f64 + 0.5) / (1u64 << 53) as f64
     }
 }
 
 impl Module for AddNoise {
     fn update(&mut self) {
+        if self.seed.changed() || self.random.is_none() {
+            self.random = Some(match self.seed.get() {
+                0 => self.from_run.clone(),
+                seed => Random::from_seed(seed),
+            });
+        }
+        let gauss = self.random.as_mut().map_or(0.0, Random::gaussian);
         let sd = self.standard_deviation.get();
-        // Box–Muller.
-        let (u1, u2) = (self.next_unit(), self.next_unit());
-        let gauss = (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
         self.output
             .publish((self.input.get() + sd * gauss).max(0.0));
     }

@@ -9,7 +9,8 @@
 //!
 //! Besides the module API this crate holds what modules are built from and with:
 //! [`behaviour`] (the iB2C behaviour base), [`resource`] (the model's locks),
-//! [`violations`] (the log of broken iB2C principles), the [`ValueTable`] (every value
+//! [`violations`] (the log of broken iB2C principles), each module's [`Random`] source
+//! and what the run knows of its reproducibility ([`Determinism`]), the [`ValueTable`] (every value
 //! type, how it is shown, encoded and connected) and the [`Codec`] (postcard).
 //! It depends on `ferroc-ports` only.
 
@@ -31,9 +32,11 @@ pub mod violations;
 
 mod codec;
 mod data_loss;
+mod determinism;
 mod flexible;
 mod interface;
 mod param;
+mod random;
 mod services;
 #[doc(hidden)]
 pub mod setup;
@@ -42,12 +45,14 @@ mod value_table;
 
 pub use codec::Codec;
 pub use data_loss::{data_losses, report_data_loss};
+pub use determinism::{Determinism, Nondeterminism, WallClock};
 pub use ferroc_ports::time::Timestamp;
 pub use flexible::{FlexibleDecl, PortGroup, MAX_GROUP_PORTS};
 pub use interface::{
     Direction, FlexibleInfo, Interface, Kind, MetaType, ParamInfo, PortInfo, Role, ServiceInfo,
 };
 pub use param::{ParamHandle, ParamValue, Parameter, Value};
+pub use random::{seed_from_os, Random};
 pub use services::{ClientDecl, ServiceDecl};
 pub use setup::{InputDecl, OutputDecl, ParamDecl, PortDecl, Setup};
 pub use value::{CopyKind, In, Out, PooledKind, PortKind, PortValue};

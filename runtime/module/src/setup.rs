@@ -28,6 +28,8 @@ use super::param::{Check, ParamHandle, ParamValue, Parameter, Value};
 use super::value::{In, Out, PortKind, PortValue};
 use super::value_table::ValueTable;
 use crate::behaviour::{ViolationLog, ViolationPolicy};
+use crate::determinism::{Determinism, Nondeterminism, WallClock};
+use crate::random::{seed_from_os, Random};
 use crate::resource::LockSlot;
 use ferroc_ports::port::{CopyPeek, InputHandle, OutputHandle, QueueConfig};
 use std::any::Any;
@@ -47,6 +49,10 @@ pub struct Setup<'a> {
     #[doc(hidden)]
     pub claimed: Vec<String>,
     path: String,
+    /// The run seed and where reads of the wall clock and the OS's randomness go.
+    run: Arc<Determinism>,
+    /// Streams handed out by [`Setup::random`] so far.
+    streams: u64,
     pub(crate) policy: ViolationPolicy,
     pub(crate) log: Arc<ViolationLog>,
     #[doc(hidden)]
@@ -99,6 +105,8 @@ impl<'a> Setup<'a> {
             groups,
             claimed: Vec::new(),
             path: String::new(),
+            run: Determinism::new(0),
+            streams: 0,
             policy: ViolationPolicy::default(),
             log: Arc::default(),
             interface,
@@ -147,6 +155,38 @@ impl<'a> Setup<'a> {
         self.policy = policy;
         self.log = log;
         self
+    }
+
+    /// The run the instance belongs to: its seed, and where reads of the wall clock
+    /// and of the OS's randomness are reported.
+    #[doc(hidden)]
+    pub fn in_run(mut self, run: Arc<Determinism>) -> Self {
+        self.run = run;
+        self
+    }
+
+    /// The module's random source: a stream derived from the run seed (`--seed`) and
+    /// the module's path, the same on every run with that seed. Each call gives
+    /// another independent stream (the first call's is always the same one).
+    pub fn random(&mut self) -> Random {
+        let stream = self.streams;
+        self.streams += 1;
+        Random::for_module(self.run.seed(), &self.path, stream)
+    }
+
+    /// A random source seeded from the operating system's randomness: different on
+    /// every run whatever the seed. In lockstep the runtime reports the module (once)
+    /// as making the run differ; prefer [`Setup::random`].
+    pub fn os_random(&mut self) -> Random {
+        self.run.note(&self.path, Nondeterminism::OsRandom);
+        Random::from_seed(seed_from_os())
+    }
+
+    /// The wall clock, for what must be real time even in lockstep; reading it in
+    /// lockstep is reported (once). For the time of a cycle take `Timestamp::now()`,
+    /// which is model time in lockstep.
+    pub fn wall_clock(&self) -> WallClock {
+        WallClock::new(&self.path, Arc::clone(&self.run))
     }
 
     /// The element path of the module being created (`robot/control/avoid`); empty

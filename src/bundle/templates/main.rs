@@ -13,6 +13,8 @@ const PROGRAM: &str = {{ package|rust_str }};
 const ABOUT: &str = {{ about|rust_str }};
 /// The application: the first chunk of its Zenoh keys after `ferroc/`.
 const APPLICATION: &str = {{ application|rust_str }};
+/// The model's run seed (`<application seed>`), taken when `--seed` gives none.
+const SEED: Option<u64> = {{ seed|safe }};
 {{ links|safe -}}
 {%- if !module_constants.is_empty() %}
 
@@ -62,6 +64,10 @@ fn main() -> ExitCode {
 {%- else %}
     let start = args.start_options(PERIODS);
 {%- endif %}
+    // The run seed (`--seed`, else the model's, else chosen and printed): every module's
+    // random source is derived from it and the module's path; recordings note it.
+    let seed = supervise::run_seed(args.seed.or(SEED));
+    ferroc_std::recording::set_run_seed(seed);
     let mut registry = registry();
     let record = match Recorders::from_args(&args, &mut registry, PART, RECORDABLE) {
         Ok(record) => record,
@@ -70,7 +76,7 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let (app, catalogue) = match build(&registry, start, &record, args.inspect.is_some()) {
+    let (app, catalogue) = match build(&registry, seed, start, &record, args.inspect.is_some()) {
         Ok(built) => built,
         Err(e) => {
             ferroc_runtime::console::stderr_line(format_args!("error: part `{PART}`: {e}"));
@@ -101,15 +107,18 @@ fn registry() -> Registry {
     registry
 }
 
-/// Creates the modules, connects them, declares the thread containers and starts them;
-/// with `inspect`, also hands what inspection needs over (before the start).
+/// Creates the modules (their random sources from `seed`), connects them, declares the
+/// thread containers and starts them; with `inspect`, also hands what inspection needs
+/// over (before the start).
 fn build(
     registry: &Registry,
+    seed: u64,
     start: StartOptions,
     record: &Recorders,
     inspect: bool,
 ) -> Result<(RunningApp, Option<Catalogue>), BuildError> {
     let mut builder = Builder::new(registry);
+    builder.set_seed(seed);
 {%- for m in modules %}
 
     // {{ m.type_name }}, {{ m.at }}

@@ -74,6 +74,10 @@ pub struct ParamDecl {
     pub default: Option<String>,
     pub required: bool,
     pub choices: Vec<String>,
+    /// The value at which the module reads the wall clock or the OS's randomness (a
+    /// seed where 0 means "from the clock"): `nondeterministic-value="0"`, or a `doc`
+    /// that says so. With the span that says it (X106 points there).
+    pub nondeterministic_value: Option<(String, Span)>,
     pub span: Span,
 }
 
@@ -114,6 +118,9 @@ pub struct ModuleType {
     pub activities: Vec<super::steps::ActivityDecl>,
     /// `budget="2ms"`: worst-case execution time of one activation, seconds (value span).
     pub budget: Option<(f64, Span)>,
+    /// `nondeterministic="true"`: the type reads the wall clock or the OS's
+    /// randomness, so a lockstep run differs from the next (X106); the value's span.
+    pub nondeterministic: Option<Span>,
     pub span: Span,
 }
 
@@ -265,6 +272,8 @@ fn declared_type(
         lock_orders: Vec::new(),
         activities: Vec::new(),
         budget: super::steps::duration_attr(element, "budget", diags),
+        nondeterministic: (element.value("nondeterministic") == Some("true"))
+            .then(|| element.value_span("nondeterministic")),
         span: element.value_span("name"),
     }
 }

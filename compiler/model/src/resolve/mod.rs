@@ -126,6 +126,7 @@ fn empty_application(loader: &Loader<'_>, root: &Element) -> Application {
         timing: Timing::default(),
         cut_off: HashSet::new(),
         ib2c_violations: root.value("ib2c-violations").map(str::to_string),
+        seed: root.value("seed").and_then(|s| s.parse().ok()),
     }
 }
 

@@ -63,6 +63,7 @@ pub(super) const MODULE_TYPE: ElementSpec = ElementSpec {
         req("rust", Text),
         opt("kind", Choice(MODULE_KINDS)),
         opt("budget", Text),
+        opt("nondeterministic", Bool),
     ],
     children: &[
         "in",
@@ -143,6 +144,7 @@ pub(super) const PARAM_DECL: ElementSpec = ElementSpec {
         opt("default", Text),
         opt("required", Bool),
         opt("choices", Text),
+        opt("nondeterministic-value", Text),
     ],
     children: &[],
     text: false,

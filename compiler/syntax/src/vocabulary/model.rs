@@ -12,6 +12,7 @@ pub(super) const APPLICATION: ElementSpec = ElementSpec {
         opt("profile", Choice(PROFILES)),
         opt("utilisation-warning", Text),
         opt("ib2c-violations", Choice(IB2C_VIOLATIONS)),
+        opt("seed", Count),
     ],
     children: &[
         "use",

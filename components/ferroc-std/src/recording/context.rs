@@ -1,6 +1,6 @@
 //! What the program running the application tells the recording modules: where
-//! relative log paths go, and which part each module belongs to (for channel
-//! metadata). Process-wide, set once before the application is built.
+//! relative log paths go, which part each module belongs to (for channel metadata),
+//! and the run seed (for the file's metadata). Process-wide, set once before the application is built.
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, PoisonError};
 
 static LOG_DIR: Mutex<Option<PathBuf>> = Mutex::new(None);
+static RUN_SEED: Mutex<Option<u64>> = Mutex::new(None);
 /// (module path prefix, part name), longest prefix first.
 static PARTS: Mutex<Vec<(String, String)>> = Mutex::new(Vec::new());
 
@@ -148,6 +149,17 @@ pub fn is_ferroc_recording(head: &[u8]) -> bool {
 
 /// The library named in the header of every recording ferroc writes.
 pub const LIBRARY: &str = "ferroc";
+
+/// The run seed (`--seed`, or the one chosen and printed at start), which every
+/// recording notes in its metadata so that the run can be repeated.
+pub fn set_run_seed(seed: u64) {
+    *RUN_SEED.lock().unwrap_or_else(PoisonError::into_inner) = Some(seed);
+}
+
+/// The run seed, if the program told it.
+pub fn run_seed() -> Option<u64> {
+    *RUN_SEED.lock().unwrap_or_else(PoisonError::into_inner)
+}
 
 /// Tells the recording modules which part holds which module: `(module path, part)`
 /// for every module (or every part's top element; the longest prefix wins).

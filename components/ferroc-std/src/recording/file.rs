@@ -3,7 +3,7 @@
 //! thread container): they take turns through a mutex, each message one lock.
 
 use super::TYPE_SCHEMA_ENCODING;
-use super::{json_schema, EXACT_ENCODING, META_FORM, META_PART, META_PORT, META_TYPE};
+use super::{json_schema, EXACT_ENCODING, META_FORM, META_PART, META_PORT, META_RUN, META_TYPE};
 use mcap::records::MessageHeader;
 use mcap::{WriteOptions, Writer};
 use std::collections::{BTreeMap, HashMap};
@@ -154,6 +154,15 @@ impl LogFile {
         let mut writer = options
             .create(BufWriter::new(file))
             .map_err(|e| mcap_error(path, e))?;
+        if let Some(seed) = super::run_seed() {
+            let run = mcap::records::Metadata {
+                name: META_RUN.to_owned(),
+                metadata: BTreeMap::from([("seed".to_owned(), seed.to_string())]),
+            };
+            writer
+                .write_metadata(&run)
+                .map_err(|e| mcap_error(path, e))?;
+        }
         // The header on disk at once: the file is an MCAP file from the start.
         writer.flush().map_err(|e| mcap_error(path, e))?;
         Ok(LogFile {

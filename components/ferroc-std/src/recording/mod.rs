@@ -12,7 +12,8 @@
 //!   keeps the real value.
 //!
 //! Channel metadata names the part, the port path, the model type and which of the two
-//! forms the channel holds. Log time and publish time are `Timestamp::now()`: model
+//! forms the channel holds. A metadata record `ferroc.run` holds the run seed (`seed`),
+//! with which the run can be repeated (`--seed`). Log time and publish time are `Timestamp::now()`: model
 //! time in lockstep, so a lockstep recording is the same file every run.
 //!
 //! The file stays readable while it is written: messages go into chunks that are
@@ -37,7 +38,7 @@ mod schema;
 
 pub use context::{
     check_in_log_dir, check_overwrite, is_ferroc_recording, log_dir, part_of, resolve_log_path,
-    set_log_dir, set_overwrite, set_parts, LIBRARY,
+    run_seed, set_log_dir, set_overwrite, set_parts, set_run_seed, LIBRARY,
 };
 pub use file::{ChannelId, ChannelInfo, LogFile, SharedLog};
 pub use read::{
@@ -54,3 +55,6 @@ pub const META_PART: &str = "ferroc.part";
 pub const META_PORT: &str = "ferroc.port";
 pub const META_TYPE: &str = "ferroc.type";
 pub const META_FORM: &str = "ferroc.form";
+/// The name of the file's metadata record about the run (`seed`: the run seed, when
+/// the program told it with [`set_run_seed`]).
+pub const META_RUN: &str = "ferroc.run";

@@ -91,6 +91,8 @@ pub struct Recording {
     pub finished: bool,
     /// What did not match its checksum (read with [`Checksums::Ignore`]).
     pub corrupt: Vec<String>,
+    /// The run seed the recording's metadata `ferroc.run` names (`--seed`).
+    pub seed: Option<u64>,
 }
 
 /// What a reader is asked to keep of each message: `true` keeps it in
@@ -352,6 +354,10 @@ impl Scan<'_, '_> {
             Record::Channel(ch) if !self.rec.channels.contains_key(&ch.id) => {
                 let summary = self.summary_of(ch);
                 self.rec.channels.insert(summary.id, summary);
+            }
+            // ferroc writes its `ferroc.run` metadata (the run seed) before any message.
+            Record::Metadata(m) if m.name == super::META_RUN => {
+                self.rec.seed = m.metadata.get("seed").and_then(|s| s.parse().ok());
             }
             Record::Message { header, data } => {
                 let Some(channel) = self.rec.channels.get_mut(&header.channel_id) else {

@@ -31,7 +31,7 @@ pub use start::StartOptions;
 use ferroc_exec::{Step, ThreadOptions};
 use ferroc_module::behaviour::{ViolationLog, ViolationPolicy};
 use ferroc_module::resource::{LockOrder, Resource};
-use ferroc_module::{Interface, Kind, Module, ParamHandle, PortGroup, Setup, Value};
+use ferroc_module::{Determinism, Interface, Kind, Module, ParamHandle, PortGroup, Setup, Value};
 use ferroc_ports::port::{InputHandle, OutputHandle, QueueConfig};
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -200,6 +200,9 @@ pub struct Builder<'r> {
     lock_order: Arc<LockOrder>,
     /// Where the behaviours report principle violations.
     violations: Arc<ViolationLog>,
+    /// The run seed every module's random source is derived from, and the reads of
+    /// the wall clock and the OS's randomness that lockstep reports.
+    run: Arc<Determinism>,
     /// Routes the values of links between parts.
     hub: Arc<ferroc_link::Hub>,
     /// The receiving ends of links, by link number.
@@ -226,6 +229,7 @@ impl<'r> Builder<'r> {
             connections: Vec::new(),
             local: Vec::new(),
             violations: Arc::default(),
+            run: Determinism::new(0),
             resources: HashMap::new(),
             lock_order: Arc::new(LockOrder::new()),
             hub: Arc::default(),
@@ -234,6 +238,19 @@ impl<'r> Builder<'r> {
             remote: Default::default(),
             inspected: HashMap::new(),
         }
+    }
+
+    /// Sets the run seed (0 until set) from which every module's random source
+    /// ([`Setup::random`]) is derived with its path. Set it before adding modules:
+    /// those added before keep the seed they were created with.
+    pub fn set_seed(&mut self, seed: u64) {
+        debug_assert!(self.modules.is_empty(), "the seed is set after modules");
+        self.run = Determinism::new(seed);
+    }
+
+    /// The run seed and the modules that read the wall clock or the OS's randomness.
+    pub fn run(&self) -> &Arc<Determinism> {
+        &self.run
     }
 
     /// Creates a module instance.
@@ -248,7 +265,7 @@ impl<'r> Builder<'r> {
                 })?;
             return Err(BuildError::DuplicatePath(spec.path.into()));
         }
-        let instance = create(self.registry, &self.violations, spec)?;
+        let instance = create(self.registry, &self.violations, &self.run, spec)?;
         self.index.insert(spec.path.into(), self.modules.len());
         self.modules.push(instance);
         Ok(())
@@ -339,6 +356,7 @@ impl<'r> Builder<'r> {
 fn create(
     registry: &Registry,
     violations: &Arc<ViolationLog>,
+    run: &Arc<Determinism>,
     spec: ModuleSpec<'_>,
 ) -> Result<Instance, BuildError> {
     let entry = registry
@@ -355,7 +373,8 @@ fn create(
         registry.values(),
         spec.ports,
     )
-    .for_instance(spec.path, spec.violations, violations.clone());
+    .for_instance(spec.path, spec.violations, violations.clone())
+    .in_run(Arc::clone(run));
     let module = (entry.factory)(&mut setup);
     let mut problems = std::mem::take(&mut setup.errors);
     for (name, _) in spec.params {
@@ -420,6 +439,8 @@ mod behaviour_tests;
 mod call_link_tests;
 #[cfg(test)]
 mod convert_tests;
+#[cfg(test)]
+mod determinism_tests;
 #[cfg(test)]
 mod flexible_tests;
 #[cfg(test)]

@@ -87,6 +87,9 @@ impl Builder<'_> {
             network: options.network,
             remote: only_remote(std::mem::take(&mut self.remote)),
         };
+        if options.lockstep.is_some() {
+            self.run.start_lockstep();
+        }
         let app = match options.lockstep {
             Some(lockstep) => lockstep.start(containers, links, shared, options.limit)?,
             None => {
@@ -100,6 +103,7 @@ impl Builder<'_> {
             connections: std::mem::take(&mut self.connections),
             inspected: std::mem::take(&mut self.inspected),
             violations: self.violations.clone(),
+            run: Arc::clone(&self.run),
         };
         Ok((app, leftovers))
     }

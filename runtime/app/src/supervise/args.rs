@@ -43,6 +43,9 @@ pub struct Args {
     pub inspect: Option<String>,
     /// `--inspect-public`: allow `--inspect` on an address other computers can reach.
     pub inspect_public: bool,
+    /// `--seed N`: the run seed every module's random source is derived from (chosen
+    /// from the OS's randomness and printed when not given: [`run_seed`]).
+    pub seed: Option<u64>,
 }
 
 impl Args {
@@ -93,6 +96,7 @@ impl Args {
                 }
                 "--lockstep" => out.lockstep = true,
                 "--force" => out.force = true,
+                "--seed" => out.seed = Some(parse_seed(&value("a number, e.g. --seed 42")?)?),
                 "--local" => out.local = true,
                 "--peer" => {
                     let v = value("a part and its address, e.g. --peer station=10.0.0.2:47801")?;
@@ -199,6 +203,12 @@ impl Args {
         })
     }
 
+    /// The run seed: `--seed`, else one chosen from the OS's randomness and printed
+    /// ([`run_seed`]).
+    pub fn run_seed(&self) -> u64 {
+        run_seed(self.seed)
+    }
+
     /// The supervision options these arguments ask for (status line only on a terminal;
     /// in lockstep `--for` is model time, which the lockstep driver counts itself).
     pub fn options(&self) -> Options {
@@ -209,9 +219,33 @@ impl Args {
     }
 }
 
+/// The run seed: `given` (`--seed N`), or else one from the OS's randomness, printed
+/// on standard error so that the run can be repeated (`seed: N (random; repeat this
+/// run with --seed N)`). Standard output stays the application's own, the same on every
+/// lockstep run with the same seed.
+pub fn run_seed(given: Option<u64>) -> u64 {
+    given.unwrap_or_else(|| {
+        let seed = ferroc_module::seed_from_os();
+        ferroc_ports::console::note(&format!(
+            "seed: {seed} (random; repeat this run with --seed {seed})"
+        ));
+        seed
+    })
+}
+
+/// `--seed N`: a whole number that fits 64 bits.
+pub fn parse_seed(text: &str) -> Result<u64, String> {
+    text.trim().parse().map_err(|_| {
+        format!(
+            "--seed {text}: not a seed; write a whole number from 0 to {}",
+            u64::MAX
+        )
+    })
+}
+
 fn usage(program: &str) -> String {
     format!(
-        "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--local] [--peer PART=HOST:PORT]...\n       \
+        "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--seed N] [--local] [--peer PART=HOST:PORT]...\n       \
          [--listen ADDR] [--zenoh-config FILE] [--record FILE [--record-filter PATTERN]...]\n       \
          [--force] [--inspect [ADDR] [--inspect-public]] [--quiet]\n\n\
          Options:\n  \
@@ -221,6 +255,8 @@ fn usage(program: &str) -> String {
          lockstep)\n  \
          --lockstep        run in simulated time, in step with the other parts: the same\n                    \
          output on every run, and the same as `ferroc run --lockstep`\n  \
+         --seed N          the run seed every module's random source is derived from\n                    \
+         (default: chosen at random and printed at start)\n  \
          --local           every part runs on this computer (127.0.0.1, same ports)\n  \
          --peer PART=HOST:PORT\n                    \
          where another part listens (default: its host and port in the model)\n  \
@@ -318,6 +354,10 @@ mod tests {
         assert_eq!(network.peers["b"], "10.0.0.2:9", "--peer wins");
         assert_eq!(args.zenoh_config.as_deref(), Some("z.json5".as_ref()));
         assert!(args.start_options(&[]).lockstep.is_some());
+        assert_eq!(args.seed, None);
+        let seeded = parse(&["--seed", "42"]).unwrap().unwrap();
+        assert_eq!((seeded.seed, seeded.run_seed()), (Some(42), 42));
+        assert!(parse(&["--seed", "-1"]).unwrap_err().contains("not a seed"));
         let stranger = parse(&["--peer", "c=h:1"]).unwrap().unwrap();
         let err = stranger.addresses("a", &parts).unwrap_err();
         assert!(err.contains("no part `c`"), "{err}");

@@ -12,7 +12,7 @@
 mod args;
 
 use crate::builder::RunningApp;
-pub use args::{parse_duration, Args};
+pub use args::{parse_duration, parse_seed, run_seed, Args};
 use ferroc_ports::console::escape;
 use std::io::Write;
 use std::process::ExitCode;

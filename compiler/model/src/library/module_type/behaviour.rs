@@ -38,6 +38,7 @@ pub(super) fn add_behaviour_interface(mt: &mut ModuleType) {
         default: Some(default.to_string()),
         required: false,
         choices: choices.iter().map(|c| c.to_string()).collect(),
+        nondeterministic_value: None,
         span,
     };
     let u32t = Type::Int {

@@ -49,12 +49,32 @@ pub(super) fn param_decl(
             .value("choices")
             .map(|c| c.split_whitespace().map(str::to_string).collect())
             .unwrap_or_default(),
+        nondeterministic_value: nondeterministic_value(e),
         span: e.value_span("name"),
     };
     if let Some(default) = e.attr("default") {
         check_value(&decl, default.value, default.value_span, None, diags);
     }
     Some(decl)
+}
+
+/// The value at which the parameter makes its module read the wall clock or the OS's
+/// randomness: `nondeterministic-value`, else a `doc` that documents 0 that way ("0
+/// seeds from the system clock", "0 = from the clock", "0: random seed from the OS's
+/// entropy"): the word `0` and one of clock, entropy, system time, urandom.
+fn nondeterministic_value(e: &Element) -> Option<(String, Span)> {
+    if let Some(a) = e.attr("nondeterministic-value") {
+        return Some((a.value.trim().to_string(), a.value_span));
+    }
+    let doc = e.attr("doc")?;
+    let text = doc.value.to_ascii_lowercase();
+    let zero = text
+        .split(|c: char| !c.is_ascii_alphanumeric() && c != '.')
+        .any(|w| w == "0");
+    let source = ["clock", "entropy", "system time", "urandom"]
+        .iter()
+        .any(|w| text.contains(w));
+    (zero && source).then(|| ("0".to_string(), doc.value_span))
 }
 
 /// Parses a value for a parameter and checks choices and range. Shared by defaults in

@@ -31,6 +31,7 @@ pub(super) struct Leftovers {
     pub connections: Vec<(usize, usize, String)>,
     pub inspected: HashMap<String, Vec<(String, Arc<OutputHandle>)>>,
     pub violations: Arc<ViolationLog>,
+    pub run: Arc<ferroc_module::Determinism>,
 }
 
 struct LiveModule {
@@ -55,6 +56,8 @@ struct LiveContainer {
 pub struct Live {
     registry: Registry,
     violations: Arc<ViolationLog>,
+    /// The run seed and reads of the wall clock, for the modules added while running.
+    run: Arc<ferroc_module::Determinism>,
     modules: BTreeMap<String, LiveModule>,
     /// Module paths in the order they were added (the inspector's tree keeps it).
     order: Vec<String>,
@@ -142,6 +145,7 @@ impl Builder<'_> {
         let live = Live {
             registry,
             violations: left.violations,
+            run: left.run,
             modules,
             order,
             containers,
@@ -317,8 +321,8 @@ impl Live {
             if self.modules.contains_key(spec.path) && !gone {
                 return Err(format!("`{}` runs already", spec.path));
             }
-            let instance =
-                create(&self.registry, &self.violations, *spec).map_err(|e| e.to_string())?;
+            let instance = create(&self.registry, &self.violations, &self.run, *spec)
+                .map_err(|e| e.to_string())?;
             created.push((spec.path.to_owned(), instance));
         }
         Ok(created)
