@@ -458,3 +458,36 @@ fn shown(path: &Path) -> String {
         Err(_) => path.display().to_string(),
     }
 }
+
+/// Issue 27 item 16: `new library ferroc_runtime` (and `ferroc_host`) were accepted
+/// and never built (this test failed so before the fix; only `ferroc_std` was
+/// refused). Every crate of the workspace, read here from its manifests, is refused.
+#[test]
+fn new_library_refuses_the_name_of_every_crate_of_the_workspace() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).unwrap();
+    let members = manifest.split("members = [").nth(1).unwrap();
+    let members = &members[..members.find(']').unwrap()];
+    let dir = common::tempdir("new_library_names");
+    let mut names = Vec::new();
+    for member in members.split(',').map(|m| m.trim().trim_matches('"')) {
+        if member.is_empty() {
+            continue;
+        }
+        let text = std::fs::read_to_string(root.join(member).join("Cargo.toml")).unwrap();
+        let line = text.lines().find(|l| l.starts_with("name = ")).unwrap();
+        names.push(line["name = ".len()..].trim_matches('"').replace('-', "_"));
+    }
+    assert!(names.len() >= 30, "{names:?}");
+    for name in &names {
+        let d = dir.join(name);
+        let (code, _, err) = ferroc(&["new", "library", name, "--dir", d.to_str().unwrap()]);
+        assert_eq!(code, 2, "{name}: {err}");
+        assert!(
+            err.contains("is the name of ferroc's own crate"),
+            "{name}: {err}"
+        );
+        assert!(err.contains("help: choose another name"), "{name}: {err}");
+        assert!(!d.exists(), "{name}");
+    }
+}

@@ -14,7 +14,7 @@ use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::inspect::view::ParamView;
 use ferroc_runtime::inspect::Inspector;
 use ferroc_runtime::module::{Module, ModuleType, Out, Parameter, Setup, Value};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::sync::Arc;
 use std::time::Duration;

@@ -70,3 +70,35 @@ pub fn build_bundle(out: &Path) -> PathBuf {
 pub fn python() -> Option<std::path::PathBuf> {
     ferroc_testkit::python(&["mcap", "jsonschema"])
 }
+pub mod lsp_client;
+
+/// A tmpfs of `size` mounted on `dir` for as long as it lives; `None` after a visible
+/// skip (ferroc_testkit) where mounting is refused (not root, no CAP_SYS_ADMIN).
+pub struct SmallDisk(PathBuf);
+
+impl SmallDisk {
+    pub fn mount(dir: &Path, size: &str) -> Option<SmallDisk> {
+        let mount = ferroc_testkit::command("mount")?;
+        std::fs::create_dir_all(dir).unwrap();
+        let mounted = Command::new(mount)
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(dir)
+            .output()
+            .expect("mount runs");
+        if mounted.status.success() {
+            return Some(SmallDisk(dir.to_path_buf()));
+        }
+        let why = String::from_utf8_lossy(&mounted.stderr);
+        ferroc_testkit::skip(&format!(
+            "needs to mount a small tmpfs (as root): {}",
+            why.trim()
+        ));
+        None
+    }
+}
+
+impl Drop for SmallDisk {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+    }
+}
