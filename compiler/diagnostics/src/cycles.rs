@@ -8,6 +8,9 @@ use crate::source::Span;
 use petgraph::graph::{DiGraph, NodeIndex};
 use std::collections::VecDeque;
 
+/// Hops of a cycle a finding names and points at; a longer cycle is shortened.
+pub const MAX_HOPS_SHOWN: usize = 32;
+
 /// One edge of a [`DependencyGraph`]: the node depended on and the place that says so.
 #[derive(Clone, Copy, Debug)]
 pub struct Dependency {
@@ -77,14 +80,23 @@ pub fn report_dependency_cycles(
                 format!("`{}` {} `{}`", names[i], dep.verb, names[i + 1]),
             )
         };
+        // A cycle of thousands of hops is named by its ends; all of it would be text no
+        // one reads, and a report quadratic in its length.
+        let shown = hops.len().min(MAX_HOPS_SHOWN);
+        let path = if shown < hops.len() {
+            format!(
+                "{} → … ({} more) → {}",
+                names[..shown].join(" → "),
+                hops.len() - shown,
+                names[hops.len()]
+            )
+        } else {
+            names.join(" → ")
+        };
         let (span, label) = hop(0);
-        let mut d = Diagnostic::new(
-            report.check,
-            span,
-            format!("{}: {}", report.what, names.join(" → ")),
-        )
-        .label(label);
-        for i in 1..hops.len() {
+        let mut d =
+            Diagnostic::new(report.check, span, format!("{}: {path}", report.what)).label(label);
+        for i in 1..shown {
             let (span, label) = hop(i);
             d = d.secondary(span, label);
         }
