@@ -13,8 +13,8 @@
 //! exists but is not a regular file (a folder, a device, a symbolic link) are refused
 //! with an error naming the module. A relative path lies under the log folder
 //! (`ferroc run --log-dir`, else `FERROC_LOG_DIR`, else the working directory). The
-//! file is created at the first value (its folders too; an existing file is
-//! replaced); if that or a later write fails, the logger reports it once and stops
+//! file is created at the first step, whether or not a value has arrived (its folders
+//! too; an existing file is replaced), so a run always leaves its recording; if that or a later write fails, the logger reports it once and stops
 //! logging rather than stopping the application.
 
 use crate::recording::{self, ChannelInfo, LogFile, SharedLog};
@@ -301,13 +301,10 @@ impl Module for Logger {
         if self.failed {
             return;
         }
+        // The file is created at the first step, before any value: a run that stops
+        // before its inputs receive anything leaves an empty recording (valid MCAP),
+        // not no file.
         if self.log.is_none() {
-            for port in &mut self.ports {
-                port.pending |= port.input.changed();
-            }
-            if !self.ports.iter().any(|p| p.pending) {
-                return;
-            }
             let flush = u64::try_from(self.flush.as_nanos()).unwrap_or(u64::MAX);
             match LogFile::open_shared(&self.path, flush) {
                 Ok(log) => self.log = Some(log),
