@@ -52,7 +52,8 @@ Its modules and groups of FINROC catalogue types become elements, its <connect>s
 made by `ferroc import finroc` keeps FINROC's names and file attributes in `doc`, so it exports \
 to the file it came from. From a FINROC application or group file: the file as FINROC's writer \
 (SaveXml) writes it.\n\n\
-Examples:\n  ferroc export finroc crash_course/model.xml -o CrashCourse.finroc\n  \
+Examples (the first where the import example wrote crash_course.xml):\n  \
+ferroc export finroc crash_course.xml -o CrashCourse.finroc\n  \
 ferroc export finroc type_conversion.finroc -o -")]
     Finroc(ExportArgs),
 }
