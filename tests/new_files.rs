@@ -25,14 +25,6 @@ fn xmllint(xmllint: &Path, schema: Option<&str>, file: &Path) -> (bool, String) 
     )
 }
 
-fn find_xmllint() -> Option<PathBuf> {
-    let ok = Command::new("xmllint")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    ok.then(|| PathBuf::from("xmllint"))
-}
-
 fn xml_files(dir: &Path, found: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).unwrap().flatten() {
         let path = entry.path();
@@ -46,8 +38,7 @@ fn xml_files(dir: &Path, found: &mut Vec<PathBuf>) {
 
 #[test]
 fn every_file_ferroc_new_writes_validates_with_xmllint() {
-    let Some(lint) = find_xmllint() else {
-        eprintln!("SKIPPED every_file_ferroc_new_writes_validates_with_xmllint: needs xmllint");
+    let Some(lint) = ferroc_testkit::command("xmllint") else {
         return;
     };
     let dir = tempdir("new_files");
