@@ -278,12 +278,16 @@ fn check_all(
     tool_errors: &mut Vec<String>,
 ) -> Vec<(String, CheckResult)> {
     let mut results = Vec::new();
+    let mut seen = std::collections::HashSet::new();
     for (i, path) in models.iter().enumerate() {
         if progress {
             eprint!("\r[{}/{}] {}\x1b[K", i + 1, models.len(), path.display());
         }
         match check_model(path, options, policy) {
-            Ok(r) => results.push((path.display().to_string(), r)),
+            Ok(mut r) => {
+                once(&mut r, &mut seen);
+                results.push((path.display().to_string(), r));
+            }
             Err(e) => tool_errors.push(e),
         }
     }
@@ -291,6 +295,26 @@ fn check_all(
         eprint!("\r\x1b[K");
     }
     results
+}
+
+/// A finding is reported once per check run: two files of a folder can both reach the
+/// same place (two FINROC applications linking one config value, a fragment two models
+/// include), and the same code at the same place with the same message is one finding.
+fn once(
+    result: &mut CheckResult,
+    seen: &mut std::collections::HashSet<(String, PathBuf, usize, usize, String)>,
+) {
+    let sources = &result.sources;
+    result.diagnostics.retain(|d| {
+        let span = d.primary.span;
+        seen.insert((
+            d.code().to_string(),
+            sources.get(span.file).path.clone(),
+            span.start as usize,
+            span.end as usize,
+            d.message.clone(),
+        ))
+    });
 }
 
 /// The human report: every model's findings, what was skipped or not checked, and

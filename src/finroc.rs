@@ -19,7 +19,10 @@ ferroc model: the thread container finroc_run makes, a <module> per element whos
 catalogue knows, a <group> per composite (what its C++ constructor builds and its group file \
 adds), <connect> per edge, <param config cmdline> per parameter link. The catalogue manifests \
 the model uses are written next to it. What cannot be imported is listed on stderr.\n\n\
-Example:\n  ferroc import finroc CrashCourse.finroc -o crash_course/model.xml\n  ferroc check crash_course/model.xml"
+The model is written into the checkout, so that the config files it names lie inside its \
+folder (`check` confines them there, M113); written elsewhere, the import says so.\n\n\
+Example (in the checkout's folder):\n  ferroc import finroc CrashCourse.finroc -o crash_course.xml\n  \
+ferroc check crash_course.xml"
     )]
     Finroc(ImportArgs),
 }
@@ -49,7 +52,8 @@ Its modules and groups of FINROC catalogue types become elements, its <connect>s
 made by `ferroc import finroc` keeps FINROC's names and file attributes in `doc`, so it exports \
 to the file it came from. From a FINROC application or group file: the file as FINROC's writer \
 (SaveXml) writes it.\n\n\
-Examples:\n  ferroc export finroc crash_course/model.xml -o CrashCourse.finroc\n  \
+Examples (the first where the import example wrote crash_course.xml):\n  \
+ferroc export finroc crash_course.xml -o CrashCourse.finroc\n  \
 ferroc export finroc type_conversion.finroc -o -")]
     Finroc(ExportArgs),
 }
@@ -167,15 +171,23 @@ pub fn import(format: ImportFormat) -> ExitCode {
     };
     let root = Checkout::root_of(&args.input, args.finroc_root.as_deref());
     let checkout = Checkout::discover(&root, &args.input, &Limits::default(), None, &mut sources);
-    let out_dir = args
-        .output
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_default();
+    // `-o model.xml` names no folder: the model goes into the current one.
+    let out_dir = match args.output.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    // Config files the model names from outside its folder (`check` refuses them, M113).
+    let outside = std::cell::RefCell::new(Vec::<String>::new());
     let config_ref = |c: &ferroc_compiler::finroc::config::ConfigFile| {
-        relative(&sources.get(c.file).path, &out_dir)
-            .display()
-            .to_string()
+        let rel = relative(&sources.get(c.file).path, &out_dir);
+        let shown = rel.display().to_string();
+        if rel.starts_with("..") || rel.is_absolute() {
+            let mut outside = outside.borrow_mut();
+            if !outside.contains(&shown) {
+                outside.push(shown.clone());
+            }
+        }
+        shown
     };
     let name = doc
         .defaultname
@@ -211,7 +223,24 @@ pub fn import(format: ImportFormat) -> ExitCode {
     for n in &imported.notes {
         eprintln!("not imported: {n}");
     }
+    warn_outside(&outside.into_inner(), &args.output, &root);
     ExitCode::SUCCESS
+}
+
+/// Says at import time what `check` would refuse: config files outside the model's
+/// folder (M113), and where to write the model instead so that it checks.
+fn warn_outside(outside: &[String], output: &Path, root: &Path) {
+    if outside.is_empty() {
+        return;
+    }
+    let name = output.file_name().unwrap_or_default().to_string_lossy();
+    eprintln!(
+        "warning: the model names config files outside its folder ({}); `ferroc check` keeps \
+config files inside the model's folder (M113)\n  help: write the model into the checkout \
+(-o {}), or check it with --allow-outside-includes",
+        outside.join(", "),
+        root.join(&*name).display()
+    );
 }
 
 pub fn export(format: ExportFormat) -> ExitCode {

@@ -135,7 +135,7 @@ encoding, ferroc type, part, message count) and log-time span; `cat` prints one 
 messages, one line each (log time in seconds, then the JSON form, or with --exact the exact \
 postcard bytes in hex). A recording cut off by a crash is read up to the cut, and says so.\n\n\
 Examples:\n  ferroc run models/crash_course.xml --lockstep --for 5s --record run.mcap\n  \
-ferroc log info run.mcap\n  ferroc log cat run.mcap --channel bot/simulation/distance_front"
+ferroc log info run.mcap\n  ferroc log cat run.mcap --channel fragile_bot/main/control/controller/velocity"
     )]
     Log(log::LogArgs),
     /// Look into a program running with --inspect: list, get, set, watch
@@ -148,9 +148,9 @@ A parameter change is checked (type, unit, range, choices) before it is applied,
 token.\n\n\
 Exit codes: 0 answered, 1 the program refused or does not know the path, 2 no program reached.\n\n\
 Examples:\n  ferroc run models/nav_behaviours.xml --inspect &\n  ferroc inspect --list\n  \
-ferroc inspect --get robot/avoid/activity\n  \
-ferroc inspect --set robot/go_to_goal/max_speed=0.3m/s --token TOKEN\n  \
-ferroc inspect --watch robot/avoid/activity --for 5s"
+ferroc inspect --get robot/control/avoid/activity\n  \
+ferroc inspect --set robot/control/go_to_goal/max_speed=0.3m/s --token TOKEN\n  \
+ferroc inspect --watch robot/control/avoid/activity --for 5s"
     )]
     Inspect(inspect::InspectArgs),
     /// Language server for editors: live findings, go to definition, hover, completion, quick fixes

@@ -282,3 +282,147 @@ fn copy_tree(from: &Path, to: &Path) {
         }
     }
 }
+
+/// `ferroc` run in `dir`: (exit code, stdout, stderr).
+fn ferroc_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ferroc"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("ferroc runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A FINROC file named without a folder lies in the current one: its checkout is found
+/// as with `./NAME`. Before, its folder was the empty path: `CrashCourse.finroc` found no
+/// config file (`under ` an empty path) and lost its F106 warning.
+#[test]
+fn finroc_files_named_without_a_folder_give_the_findings_of_dot_slash() {
+    let dir = tempdir("finroc_bare_names").join("cc");
+    copy_tree(&Path::new(FILES).join("crash_course"), &dir);
+    for (folder, name) in [
+        ("", "CrashCourse.finroc"),
+        ("", "gSimulation.h.xml"),
+        ("", "make.xml"),
+        ("etc", "fragile_bot.xml"),
+        ("control", "gControl.h.xml"),
+    ] {
+        let cwd = dir.join(folder);
+        let dotted = format!("./{name}");
+        for format in ["short", "human"] {
+            let bare = ferroc_in(&cwd, &["check", name, "--format", format]);
+            let with_dot = ferroc_in(&cwd, &["check", &dotted, "--format", format]);
+            assert_eq!(
+                bare.0, with_dot.0,
+                "{name}: {bare:?}\nwith ./: {with_dot:?}"
+            );
+            assert_eq!(
+                bare.1.replace(&dotted, name),
+                with_dot.1.replace(&dotted, name),
+                "{name} ({format})"
+            );
+            assert!(
+                !bare.1.contains("under \n") && !bare.1.contains("under ,"),
+                "{}",
+                bare.1
+            );
+        }
+    }
+    let (_, out, _) = ferroc_in(&dir, &["check", "CrashCourse.finroc", "--format", "short"]);
+    assert!(out.contains("warning[F106]"), "{out}");
+}
+
+/// `import finroc NAME.finroc` inside a checkout imports what `./NAME.finroc` does (the
+/// group files beside it), and the `--help` example's pair checks clean.
+#[test]
+fn importing_a_finroc_file_named_without_a_folder_finds_its_checkout() {
+    let dir = tempdir("finroc_import_bare").join("cc");
+    copy_tree(&Path::new(FILES).join("crash_course"), &dir);
+    let (code, _, err) = ferroc_in(
+        &dir,
+        &[
+            "import",
+            "finroc",
+            "CrashCourse.finroc",
+            "-o",
+            "crash_course.xml",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("not in the checkout"), "{err}");
+    assert!(!err.contains("warning"), "{err}");
+    let text = std::fs::read_to_string(dir.join("crash_course.xml")).unwrap();
+    assert_eq!(text.matches("<module ").count(), 5, "{text}");
+    assert!(text.contains("config=\"etc/fragile_bot.xml#"), "{text}");
+    let (code, out, err) = ferroc_in(&dir, &["check", "crash_course.xml", "--format", "short"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        !out.contains("error[") && !out.contains("warning["),
+        "{out}"
+    );
+}
+
+/// Written outside the checkout, the model names config files `check` refuses (M113):
+/// the import says so, and where to write it instead. Before, it said nothing and
+/// `check` gave three M113 errors.
+#[test]
+fn importing_outside_the_checkout_says_what_check_will_refuse() {
+    let dir = tempdir("finroc_import_outside").join("cc");
+    copy_tree(&Path::new(FILES).join("crash_course"), &dir);
+    let (code, _, err) = ferroc_in(
+        &dir,
+        &[
+            "import",
+            "finroc",
+            "CrashCourse.finroc",
+            "-o",
+            "crash_course/model.xml",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(
+            "warning: the model names config files outside its folder (../etc/fragile_bot.xml)"
+        ),
+        "{err}"
+    );
+    assert!(
+        err.contains("help: write the model into the checkout (-o ./model.xml)"),
+        "{err}"
+    );
+    // What it warned of is what check finds; the flag it names makes it pass.
+    let (code, out, _) = ferroc_in(
+        &dir,
+        &["check", "crash_course/model.xml", "--format", "short"],
+    );
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("error[M113]"), "{out}");
+    let (code, out, _) = ferroc_in(
+        &dir,
+        &[
+            "check",
+            "crash_course/model.xml",
+            "--allow-outside-includes",
+            "--format",
+            "short",
+        ],
+    );
+    assert_eq!(code, 0, "{out}");
+}
+
+/// One finding is printed once per check run: two applications of a folder linking the
+/// same config value without its unit reach the same F106 at the same place. Before, the
+/// folder check printed it once per application.
+#[test]
+fn a_finding_two_files_reach_is_printed_once() {
+    let dir = tempdir("finroc_once").join("cc");
+    copy_tree(&Path::new(FILES).join("crash_course"), &dir);
+    std::fs::copy(dir.join("CrashCourse.finroc"), dir.join("Again.finroc")).unwrap();
+    let (_, out, err) = ferroc(&["check", dir.to_str().unwrap(), "--format", "short"]);
+    let f106 = out.lines().filter(|l| l.contains("warning[F106]")).count();
+    assert_eq!(f106, 1, "{out}{err}");
+}

@@ -189,3 +189,58 @@ fn a_drifted_flexible_declaration_fails_the_types_check() {
     ]);
     assert_eq!(code, 0, "{err}");
 }
+
+/// A `ferroc_std.Constant` given its unit by the instance (`<port name="value" …
+/// unit="cm"/>`, as a flexible port's `<port>` gives one) checks without T105 and runs
+/// with the unit's scale on its connection: 40 cm arrive as 0.4 m. Before, the instance
+/// could not give the unit, and T105's help asked to edit the standard library.
+#[test]
+fn a_constant_given_its_unit_by_the_instance_is_scaled_into_the_input() {
+    let dir = tempdir("constant_unit");
+    let model = dir.join("setpoint.xml");
+    std::fs::write(
+        &model,
+        r#"<application name="setpoint" version="1">
+  <use library="ferroc_std"/>
+  <part name="p" host="localhost">
+    <thread name="main" period="10ms">
+      <module name="setpoint" type="ferroc_std.Constant">
+        <port name="value" dir="out" type="f64" unit="cm"/>
+        <param name="value">40</param>
+      </module>
+      <module name="show" type="ferroc_std.Dump">
+        <port name="in" dir="in" type="f64" unit="m" count="1"/>
+        <param name="label">metres</param>
+      </module>
+      <connect from="setpoint/value" to="show/in/0"/>
+    </thread>
+  </part>
+</application>
+"#,
+    )
+    .unwrap();
+    let model = model.to_str().unwrap();
+    let (code, out, err) = ferroc(&["check", model, "--format", "short"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(!out.contains("T105"), "{out}");
+    assert!(
+        out.contains("note[T104]: values are scaled by 0.01 from `cm` to `m`"),
+        "{out}"
+    );
+    let (code, out, err) = ferroc(&["run", model, "--lockstep", "--cycles", "2", "-q"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out, "metres: in/0 = 0.4\nmetres: in/0 = 0.4\n");
+    // Another type than the port's is refused: the instance gives a unit, not a type.
+    let text = std::fs::read_to_string(model).unwrap();
+    std::fs::write(
+        model,
+        text.replace(r#"type="f64" unit="cm""#, r#"type="f32" unit="cm""#),
+    )
+    .unwrap();
+    let (code, out, _) = ferroc(&["check", model, "--format", "short"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("error[M108]: `value` of `ferroc_std.Constant` has type `f64`, not `f32`"),
+        "{out}"
+    );
+}

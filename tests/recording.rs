@@ -24,7 +24,11 @@ fn exact(rec: &Recording, topic: &str) -> Vec<(u64, Vec<u8>)> {
 }
 
 fn run(model: &str, dir: &Path, extra: &[&str]) -> String {
-    let mut args = vec!["run", model, "--lockstep", "--for", "2s", "-q", "--log-dir"];
+    run_for(model, "2s", dir, extra)
+}
+
+fn run_for(model: &str, time: &str, dir: &Path, extra: &[&str]) -> String {
+    let mut args = vec!["run", model, "--lockstep", "--for", time, "-q", "--log-dir"];
     args.push(dir.to_str().unwrap());
     args.extend_from_slice(extra);
     let (code, out, err) = ferroc(&args);
@@ -32,23 +36,35 @@ fn run(model: &str, dir: &Path, extra: &[&str]) -> String {
     err
 }
 
+/// The README's pair as printed (20 s each): the replay feeds the controller everything
+/// it read (pose and both distances), so every command of the whole run is the same, bit
+/// for bit. Before the pose was recorded and replayed, 173 of 501 velocities differed
+/// (the robot turned in place for the first 2 s, which hid it).
 #[test]
 fn the_logged_demo_replays_into_the_controller_with_identical_commands() {
     let dir = tempdir("recording_demo");
-    run("models/crash_course_logged.xml", &dir, &[]);
-    run("models/crash_course_replay.xml", &dir, &[]);
+    run_for("models/crash_course_logged.xml", "20s", &dir, &[]);
+    run_for("models/crash_course_replay.xml", "20s", &dir, &[]);
     let live = Recording::read(&dir.join("logs/crash_course.mcap")).unwrap();
     let replay = Recording::read(&dir.join("logs/crash_course_replay.mcap")).unwrap();
-    // 2 s of a 40 ms container: the instants 0, 40 ms, …, 2 s.
+    // 20 s of a 40 ms container: the instants 0, 40 ms, …, 20 s.
     let front = exact(&live, "fragile_bot/main/sensor_log/in/0");
-    assert_eq!(front.len(), 51);
-    assert_eq!(front.last().unwrap().0, EPOCH + 2_000_000_000);
+    assert_eq!(front.len(), 501);
+    assert_eq!(front.last().unwrap().0, EPOCH + 20_000_000_000);
+    assert_eq!(exact(&live, "fragile_bot/main/pose_log/in/0").len(), 501);
     for log in ["velocity_log", "turn_log"] {
         let topic = format!("fragile_bot/main/{log}/in/0");
         let commands = exact(&live, &topic);
-        assert_eq!(commands.len(), 51);
+        assert_eq!(commands.len(), 501);
         assert_eq!(exact(&replay, &topic), commands, "{topic}");
     }
+    // The robot drove (not only turned in place): the comparison covers driving.
+    let velocity = exact(&live, "fragile_bot/main/velocity_log/in/0");
+    let driving = velocity
+        .iter()
+        .filter(|(_, bytes)| bytes.iter().any(|b| *b != 0))
+        .count();
+    assert!(driving > 50, "{driving} of 501 commands drive");
 }
 
 #[test]
@@ -60,9 +76,8 @@ fn record_writes_every_connection_and_log_shows_it() {
         &dir,
         &["--record", file.to_str().unwrap()],
     );
-    // Pose2D is registered without serde: left out, and said so.
-    assert!(err.contains("--record leaves out"), "{err}");
-    assert!(err.contains("crash_course.Pose2D has no serde"), "{err}");
+    // Pose2D is registered with its serde form: recorded like the rest, nothing left out.
+    assert!(!err.contains("--record leaves out"), "{err}");
     let (code, out, err) = ferroc(&["log", "info", file.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains(": finished"), "{out}");
@@ -78,6 +93,11 @@ fn record_writes_every_connection_and_log_shows_it() {
         line.contains("type f64  part fragile_bot  51 message(s)"),
         "{line}"
     );
+    let pose = out
+        .lines()
+        .find(|l| l.contains("simulation/main_simulation/pose  [postcard]"))
+        .unwrap_or_else(|| panic!("{out}"));
+    assert!(pose.contains("type crash_course.Pose2D"), "{pose}");
     // A filter records only what matches.
     let some = dir.join("some.mcap");
     run(
@@ -536,4 +556,48 @@ fn log_info_escapes_control_characters_of_topics() {
     );
     assert!(out.contains("part p\\u{1b}]0;title\\u{7}"), "{out}");
     assert_eq!(out.lines().count(), 4, "{out}");
+}
+
+/// A logger whose input receives nothing still leaves its file: created at the first
+/// step, finished on stop, an empty recording that `ferroc log info` (and any MCAP
+/// reader) reads. Before, the file was created at the first value: no file at all.
+#[test]
+fn a_logger_that_receives_nothing_leaves_an_empty_valid_recording() {
+    let dir = tempdir("recording_empty");
+    let model = dir.join("quiet.xml");
+    std::fs::write(
+        &model,
+        r#"<application name="quiet" version="1">
+  <use library="ferroc_std"/>
+  <part name="p" host="localhost">
+    <thread name="main" period="10ms">
+      <module name="log" type="ferroc_std.Logger">
+        <port name="in" dir="in" type="f64" unit="m" count="1"/>
+        <param name="file">quiet.mcap</param>
+      </module>
+    </thread>
+  </part>
+</application>
+"#,
+    )
+    .unwrap();
+    let (code, out, err) = ferroc(&[
+        "run",
+        model.to_str().unwrap(),
+        "--lockstep",
+        "--cycles",
+        "3",
+        "-q",
+        "--log-dir",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    let file = dir.join("quiet.mcap");
+    assert!(file.is_file(), "no recording: {err}");
+    let rec = Recording::read(&file).unwrap();
+    assert!(rec.finished, "the empty recording is finished on stop");
+    assert!(rec.messages.is_empty());
+    let (code, out, err) = ferroc(&["log", "info", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(": finished"), "{out}");
 }

@@ -10,6 +10,21 @@ fn checked_in_manifests_agree_with_the_code_and_export_to_themselves() {
     let (code, _, err) = ferroc(&["types", "export", "--check", "--lib-path", "components"]);
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("agree with their manifests"), "{err}");
+    // One library is one library (before: "in 1 libraries").
+    let (code, _, err) = ferroc(&[
+        "types",
+        "export",
+        "--check",
+        "--lib-path",
+        "components",
+        "--library",
+        "ferroc_std",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(" in 1 library agree with their manifests"),
+        "{err}"
+    );
     // Byte for byte: a manifest that agrees with the code is its own export.
     let out = tempdir("types_same");
     let (code, _, err) = ferroc(&[

@@ -54,6 +54,7 @@ pub static REGISTRY: &[&CheckInfo] = &[
     &ferroc_checks::parameters::p107_duplicate_parameter::CHECK,
     &ferroc_checks::parameters::p108_invalid_pin_map::CHECK,
     &ferroc_checks::parameters::p109_const_value_type::CHECK,
+    &ferroc_checks::parameters::p110_value_without_unit::CHECK,
     &ferroc_checks::behaviour::b101_meta_constant_out_of_range::CHECK,
     &ferroc_checks::behaviour::b102_meta_input_from_number::CHECK,
     &ferroc_checks::behaviour::b103_never_stimulated::CHECK,

@@ -116,6 +116,7 @@ passes![
     parameters::p107_duplicate_parameter,
     parameters::p108_invalid_pin_map,
     parameters::p109_const_value_type,
+    parameters::p110_value_without_unit,
     behaviour::b102_meta_input_from_number,
     behaviour::b103_never_stimulated,
     behaviour::b104_stimulation_ignored,

@@ -41,7 +41,12 @@ impl Checkout {
         if let Some(g) = given {
             return g.to_path_buf();
         }
-        let dir = file.parent().map(Path::to_path_buf).unwrap_or_default();
+        // A file named without a folder (`CrashCourse.finroc`) lies in the current one:
+        // its parent is the empty path, which names no folder to look in.
+        let dir = match file.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
         let mut up = dir.clone();
         for _ in 0..4 {
             if up.join("make.xml").is_file() {

@@ -431,7 +431,10 @@ impl<'a> Loader<'a> {
             .label("resolves outside the model root")
             .help(format!(
                 "keep {what} under {}, or pass --allow-outside-includes if you trust this model",
-                self.display_name(&self.root_dir)
+                match self.display_name(&self.root_dir).as_str() {
+                    "." => "the current folder".to_string(),
+                    folder => folder.to_string(),
+                }
             )),
         );
     }
@@ -452,6 +455,8 @@ impl<'a> Loader<'a> {
             .ok()
             .and_then(|c| c.canonicalize().ok());
         match cwd.as_deref().and_then(|c| path.strip_prefix(c).ok()) {
+            // The current folder itself: `.`, not an empty name.
+            Some(rel) if rel.as_os_str().is_empty() => ".".to_string(),
             Some(rel) => rel.display().to_string(),
             None => path.display().to_string(),
         }

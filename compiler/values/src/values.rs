@@ -131,7 +131,7 @@ fn parse_number(t: &str, ty: &Type, unit: Option<&Unit>) -> Result<Value, ValueE
                 let f: f64 = num
                     .parse()
                     .map_err(|_| ValueError::Syntax(format!("`{num}` is not a number")))?;
-                let scaled = f * factor;
+                let scaled = scale(f, factor);
                 if scaled.fract() != 0.0 {
                     return Err(ValueError::Syntax(format!(
                         "`{t}` is not a whole number of `{ty}`"
@@ -153,8 +153,20 @@ fn parse_number(t: &str, ty: &Type, unit: Option<&Unit>) -> Result<Value, ValueE
                     "`{num}` is not a finite number"
                 )));
             }
-            Ok(Value::Float(f * factor))
+            Ok(Value::Float(scale(f, factor)))
         }
+    }
+}
+
+/// `value` converted by `factor` as a person would: `70 cm` in metres is `0.7`, not
+/// `70 * 0.01 = 0.7000000000000001`. Dividing by a whole inverse (100) rounds once,
+/// correctly; multiplying by its inexact reciprocal (0.01) rounds twice.
+pub fn scale(value: f64, factor: f64) -> f64 {
+    let inverse = 1.0 / factor;
+    if factor < 1.0 && inverse.fract() == 0.0 && inverse.is_finite() {
+        value / inverse
+    } else {
+        value * factor
     }
 }
 
@@ -278,6 +290,28 @@ mod tests {
             parse_value("1.5 m", &builtin("i32").unwrap(), Some(&unit("mm"))),
             Ok(Value::Int(1500))
         );
+    }
+
+    /// Converted values are the numbers people write: before, `70 cm` in metres was
+    /// `0.7000000000000001` (70 × 0.01) and printed so.
+    #[test]
+    fn converted_values_are_the_numbers_written() {
+        let f64t = builtin("f64").unwrap();
+        for (text, unit_text, want) in [
+            ("70 cm", "m", 0.7),
+            ("30 cm/s", "m/s", 0.3),
+            ("15 cm", "m", 0.15),
+            ("7 mm", "m", 0.007),
+            ("1.5 m", "cm", 150.0),
+            ("90 deg/s", "deg/s", 90.0),
+        ] {
+            assert_eq!(
+                parse_value(text, &f64t, Some(&unit(unit_text))),
+                Ok(Value::Float(want)),
+                "{text} in {unit_text}"
+            );
+        }
+        assert_eq!(format!("{}", scale(70.0, 0.01)), "0.7");
     }
 
     #[test]

@@ -45,6 +45,7 @@ pub fn register(registry: &mut Registry) {
         .register::<AddNoise>()
         .register::<Visualization>()
         .register::<Controller>()
-        // Its value type, for flexible ports (`ferroc_std.Dump`, `Logger`, …).
-        .register_value::<Pose2D>();
+        // Its value type, for flexible ports (`ferroc_std.Dump`, `Logger`, `Player`, …)
+        // and `--record`: with its serde form, so a recording holds the pose.
+        .register_serde::<Pose2D>();
 }

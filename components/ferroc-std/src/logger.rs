@@ -15,10 +15,11 @@
 //! (`ferroc run --log-dir`, else `FERROC_LOG_DIR`, else the working directory), and an
 //! absolute one must lead there too: a model (or an edit) never writes elsewhere. An
 //! existing file that is not a recording of ours is refused unless `--force` (see
-//! [`recording`](crate::recording)). The file is created at the first value (its
-//! folders too; a recording of ours is replaced); if that or a later write fails, the
-//! logger reports it once, stops logging rather than stopping the application, and the
-//! run's summary names the lost recording (exit code 3).
+//! [`recording`](crate::recording)). The file is created at the first step, whether or
+//! not a value has arrived (its folders too; a recording of ours is replaced), so a run
+//! always leaves its recording; if that or a later write fails, the logger reports it
+//! once, stops logging rather than stopping the application, and the run's summary
+//! names the lost recording (exit code 3).
 
 use crate::recording::{self, ChannelInfo, LogFile, SharedLog};
 use ferroc_runtime::module::{DynIn, Module, ModuleType, Parameter, Setup, Timestamp, Wire};
@@ -311,13 +312,10 @@ impl Module for Logger {
         if self.failed {
             return;
         }
+        // The file is created at the first step, before any value: a run that stops
+        // before its inputs receive anything leaves an empty recording (valid MCAP),
+        // not no file.
         if self.log.is_none() {
-            for port in &mut self.ports {
-                port.pending |= port.input.changed();
-            }
-            if !self.ports.iter().any(|p| p.pending) {
-                return;
-            }
             let flush = u64::try_from(self.flush.as_nanos()).unwrap_or(u64::MAX);
             match LogFile::open_shared(&self.path, flush) {
                 Ok(log) => self.log = Some(log),

@@ -301,8 +301,9 @@ fn check(
         ExitCode::from(1)
     } else {
         eprintln!(
-            "{compared} module types in {} libraries agree with their manifests",
-            libraries.len()
+            "{} in {} agree with their manifests",
+            counted(compared, "module type", "module types"),
+            counted(libraries.len(), "library", "libraries")
         );
         ExitCode::SUCCESS
     }
@@ -326,4 +327,9 @@ fn write_atomically(dir: &Path, name: &str, text: &str) -> Result<(PathBuf, bool
         format!("cannot replace {}: {e}", path.display())
     })?;
     Ok((path, true))
+}
+
+/// `1 library`, `3 libraries`: a count as people write it.
+fn counted(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }

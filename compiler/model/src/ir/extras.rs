@@ -82,6 +82,10 @@ pub struct ModuleExtras {
     pub budget: Option<(f64, Span)>,
     /// `ib2c-violations` of the instance (`warn`, `clamp`, `stop`), if given.
     pub ib2c_violations: Option<String>,
+    /// `<port name unit>` naming a port its type declares without a unit: the unit this
+    /// instance gives it (index among the type's ports, unit), as a flexible port's
+    /// `<port>` gives one (`ferroc_std.Constant`'s `value` in metres).
+    pub port_units: Vec<(u32, ferroc_values::units::Unit)>,
 }
 
 impl ModuleInstance {
@@ -103,5 +107,15 @@ impl ModuleInstance {
     /// `ib2c-violations` of the instance, if given.
     pub fn ib2c_violations(&self) -> Option<&str> {
         self.extras.as_ref()?.ib2c_violations.as_deref()
+    }
+
+    /// The unit the instance gives its type's port `port` (declared without one).
+    pub fn port_unit(&self, port: u32) -> Option<&ferroc_values::units::Unit> {
+        let extras = self.extras.as_ref()?;
+        extras
+            .port_units
+            .iter()
+            .find(|(p, _)| *p == port)
+            .map(|(_, u)| u)
     }
 }

@@ -85,7 +85,10 @@ impl Application {
                     None => m.extra_ports.get(port - type_ports.len())?,
                 };
                 let (ty, unit) = match &decl.ty {
-                    PortType::Fixed(t) => (t, decl.unit.as_ref()),
+                    // A port its type leaves without a unit may get one from the instance.
+                    PortType::Fixed(t) => {
+                        (t, decl.unit.as_ref().or_else(|| m.port_unit(port as u32)))
+                    }
                     PortType::SameAs(group) => {
                         let (_, t, u) = m.flexible_types.iter().find(|(g, _, _)| g == group)?;
                         (t, decl.unit.as_ref().or(u.as_ref()))

@@ -83,6 +83,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             characteristic: self.characteristic(scope, e, mt),
             budget: crate::library::steps::duration_attr(e, "budget", self.loader.diags),
             ib2c_violations: e.value("ib2c-violations").map(str::to_string),
+            port_units: Vec::new(),
         };
         let written = !extras.binds.is_empty()
             || extras.characteristic.is_some()
@@ -223,6 +224,12 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             let (Some(name), Some(ty_text)) = (p.value("name"), p.value("type")) else {
                 continue;
             };
+            if !mt.flexible.iter().any(|f| f.port == name) {
+                if let Some(index) = mt.ports.iter().position(|d| d.name == name) {
+                    self.port_unit(p, mt, index, instance, visible);
+                    continue;
+                }
+            }
             let Some(flex) = self.flexible_group(p, name, mt) else {
                 continue;
             };
@@ -272,6 +279,83 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
             }
             self.flexible_type(p, name, flex, instance, ty, unit);
         }
+    }
+
+    /// `<port name dir type unit>` naming a fixed port of the type: the instance gives a
+    /// port its type declares without a unit one (a `ferroc_std.Constant` publishing
+    /// metres), as a flexible port's `<port>` does. Direction and type must be the
+    /// type's; a port that has a unit keeps it.
+    fn port_unit(
+        &mut self,
+        p: &Element,
+        mt: &crate::library::ModuleType,
+        index: usize,
+        instance: &mut ModuleInstance,
+        visible: &[LibraryId],
+    ) {
+        let fixed = &mt.ports[index];
+        let dir = if p.value("dir") == Some("out") {
+            PortDir::Out
+        } else {
+            PortDir::In
+        };
+        let ty = self.libs.resolve_type(
+            p.value("type").unwrap_or_default(),
+            p.value_span("type"),
+            visible,
+            self.loader.diags,
+        );
+        let wrong = |what: &str, span, label: &str, help: String| {
+            Diagnostic::new(&m108_invalid_attribute_value::CHECK, span, what.to_string())
+                .label(label.to_string())
+                .secondary(fixed.span, "the port is declared here")
+                .help(help)
+        };
+        let name = &fixed.name;
+        let d = match (&fixed.ty, &fixed.unit, p.attr("unit"), ty) {
+            _ if dir != fixed.dir => wrong(
+                &format!("`{name}` of `{}` is declared with the other direction", mt.qualified),
+                p.value_span("dir"),
+                "wrong direction",
+                format!("use dir=\"{}\"", if fixed.dir == PortDir::In { "in" } else { "out" }),
+            ),
+            (PortType::Fixed(t), _, _, Some(ty)) if *t != ty => wrong(
+                &format!("`{name}` of `{}` has type `{t}`, not `{ty}`", mt.qualified),
+                p.value_span("type"),
+                "another type",
+                format!("write type=\"{t}\": a <port> on an instance can give a port a unit, not another type"),
+            ),
+            (_, Some(u), _, _) => wrong(
+                &format!("`{name}` of `{}` is measured in `{u}` already", mt.qualified),
+                p.value_span("name"),
+                "has a unit",
+                "remove this <port>: only a port declared without a unit takes one from the instance".into(),
+            ),
+            (PortType::Fixed(t), None, Some(_), _) if !t.is_numeric() => wrong(
+                &format!("`{name}` of `{}` carries `{t}`, which has no unit", mt.qualified),
+                p.value_span("unit"),
+                "not a number",
+                "remove this <port>: units belong to numbers".into(),
+            ),
+            (PortType::Fixed(_), None, Some(_), Some(_)) => {
+                if let Some(unit) = crate::library::unit_attr(p, self.loader.diags) {
+                    instance
+                        .extras
+                        .get_or_insert_with(Default::default)
+                        .port_units
+                        .push((index as u32, unit));
+                }
+                return;
+            }
+            (_, None, None, Some(_)) => wrong(
+                &format!("`{name}` is a port of `{}`'s own interface", mt.qualified),
+                p.value_span("name"),
+                "declares nothing new",
+                "give it a unit (unit=\"m\") or remove this <port>; only flexible port groups take <port> declarations of new ports".into(),
+            ),
+            _ => return,
+        };
+        self.loader.diags.push(d);
     }
 
     /// The flexible port group a `<port>` declares ports of, and in its direction;
