@@ -9,6 +9,7 @@ pub use ferroc_model::checks::p106_config_entry_missing;
 pub mod p107_duplicate_parameter;
 pub mod p108_invalid_pin_map;
 pub mod p109_const_value_type;
+pub mod p110_value_without_unit;
 
 use crate::PassContext;
 use ferroc_diagnostics::source::Span;
