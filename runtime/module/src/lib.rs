@@ -31,6 +31,7 @@ pub mod resource;
 pub mod violations;
 
 mod codec;
+mod data_loss;
 mod determinism;
 mod flexible;
 mod interface;
@@ -43,6 +44,7 @@ mod value;
 mod value_table;
 
 pub use codec::Codec;
+pub use data_loss::{data_losses, report_data_loss};
 pub use determinism::{Determinism, Nondeterminism, WallClock};
 pub use ferroc_ports::time::Timestamp;
 pub use flexible::{FlexibleDecl, PortGroup, MAX_GROUP_PORTS};
