@@ -144,11 +144,12 @@ fn every_example_model_runs_the_same_twice_with_one_seed() {
     }
 }
 
-/// crash_course_logged.xml without its fixed seeds, in a folder of its own (with the
-/// config file it reads): its noise is the run seed's.
-fn unseeded_crash_course() -> PathBuf {
+/// crash_course_logged.xml without its fixed seeds (the model's run seed and the
+/// rear noise's own), in a folder of its own with the config file it reads: all of its
+/// noise is the run seed's, and the run seed is `--seed`'s or chosen.
+fn unseeded_crash_course(dir: &str) -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = tempdir("repeat_unseeded_model");
+    let dir = tempdir(dir);
     std::fs::create_dir_all(dir.join("etc")).unwrap();
     std::fs::copy(
         root.join("models/etc/crash_course.xml"),
@@ -165,6 +166,7 @@ fn unseeded_crash_course() -> PathBuf {
                 "../components/crash_course.lib.xml",
                 manifest.to_str().unwrap(),
             )
+            .replace(" seed=\"1\"", "")
         })
         .map(|l| l + "\n")
         .collect();
@@ -175,7 +177,7 @@ fn unseeded_crash_course() -> PathBuf {
 
 #[test]
 fn the_run_seed_decides_the_noise_of_a_model_without_fixed_seeds() {
-    let model = unseeded_crash_course();
+    let model = unseeded_crash_course("repeat_unseeded_model");
     let a = run(&model, "repeat_unseeded_7a", "7", &[]);
     let b = run(&model, "repeat_unseeded_7b", "7", &[]);
     let c = run(&model, "repeat_unseeded_8", "8", &[]);
@@ -188,7 +190,7 @@ fn the_run_seed_decides_the_noise_of_a_model_without_fixed_seeds() {
 
 #[test]
 fn without_a_seed_one_is_chosen_and_printed_and_runs_differ() {
-    let model = unseeded_crash_course();
+    let model = unseeded_crash_course("repeat_unseeded_model_random");
     let runs: Vec<(String, Vec<u8>)> = (0..2)
         .map(|i| {
             let dir = tempdir(&format!("repeat_unseeded_random_{i}"));
@@ -235,4 +237,20 @@ fn without_a_seed_one_is_chosen_and_printed_and_runs_differ() {
         std::fs::read(dir.join("logs/crash_course.mcap")).unwrap(),
         runs[0].1
     );
+}
+
+/// What would make a lockstep run differ is said before it runs: `ferroc check
+/// --lockstep` reports X106 for a module seeded from the clock and a type marked
+/// nondeterministic; without `--lockstep` nothing (a free run differs anyway).
+#[test]
+fn check_lockstep_reports_modules_that_seed_from_the_clock() {
+    let fixture = "compiler/checks/src/deployment/x106_nondeterministic_in_lockstep/fires.xml";
+    let (_, out, _) = common::ferroc(&["check", "--lockstep", "--format", "short", fixture]);
+    assert_eq!(out.matches("warning[X106]").count(), 3, "{out}");
+    assert!(
+        out.contains("`robot/main/noise`: `seed` is left at 0"),
+        "{out}"
+    );
+    let (_, free, _) = common::ferroc(&["check", "--format", "short", fixture]);
+    assert!(!free.contains("X106"), "{free}");
 }

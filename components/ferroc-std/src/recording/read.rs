@@ -91,7 +91,7 @@ pub struct Recording {
     pub finished: bool,
     /// What did not match its checksum (read with [`Checksums::Ignore`]).
     pub corrupt: Vec<String>,
-    /// The run seed the recording's metadata `ferroc.run` names (`--seed`).
+    /// The run seed the recording's metadata record `ferroc.run` names (`--seed`).
     pub seed: Option<u64>,
 }
 
@@ -344,20 +344,20 @@ impl Scan<'_, '_> {
         Ok(())
     }
 
-    /// A record outside chunks or inside one: schemas, channels and messages count.
+    /// A record outside chunks or inside one: schemas, channels and messages count, and
+    /// the run's metadata.
     fn inner(&mut self, record: Record<'_>) -> Result<(), String> {
         match record {
             Record::Schema { header, data } => {
                 let schema = (header.name, header.encoding, data.into_owned());
                 self.schemas.insert(header.id, schema);
             }
+            Record::Metadata(m) if m.name == super::META_RUN => {
+                self.rec.seed = m.metadata.get("seed").and_then(|s| s.parse().ok());
+            }
             Record::Channel(ch) if !self.rec.channels.contains_key(&ch.id) => {
                 let summary = self.summary_of(ch);
                 self.rec.channels.insert(summary.id, summary);
-            }
-            // ferroc writes its `ferroc.run` metadata (the run seed) before any message.
-            Record::Metadata(m) if m.name == super::META_RUN => {
-                self.rec.seed = m.metadata.get("seed").and_then(|s| s.parse().ok());
             }
             Record::Message { header, data } => {
                 let Some(channel) = self.rec.channels.get_mut(&header.channel_id) else {
