@@ -153,6 +153,21 @@ ferroc inspect --set robot/go_to_goal/max_speed=0.3m/s --token TOKEN\n  \
 ferroc inspect --watch robot/avoid/activity --for 5s"
     )]
     Inspect(inspect::InspectArgs),
+    /// Language server for editors: live findings, go to definition, hover, completion, quick fixes
+    #[command(
+        long_about = "Serve the Language Server Protocol over standard input and output, for an \
+editor to start (docs/editors.md). Every check `ferroc check` runs is reported as you type, \
+for models, included fragments, library manifests and FINROC files; go to definition, hover, \
+completion, document symbols and quick fixes from `did you mean` hints."
+    )]
+    Lsp {
+        /// Extra folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH)
+        #[arg(long, value_name = "DIR")]
+        lib_path: Vec<PathBuf>,
+        /// Accepted for clients that pass it; standard input and output are the only transport
+        #[arg(long)]
+        stdio: bool,
+    },
     /// Explain a finding code: what it protects, a bad example, the fix
     Explain {
         /// A code (`T102`) or a check name (`incompatible-types`)
@@ -164,7 +179,10 @@ ferroc inspect --watch robot/avoid/activity --for 5s"
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return parse_error(&e),
+    };
     match cli.command {
         Command::Check(args) => check::run(args),
         Command::Schedule(args) => schedule::run(args),
@@ -178,7 +196,32 @@ fn main() -> ExitCode {
         Command::Log(args) => log::run(args),
         Command::Inspect(args) => inspect::run(args),
         Command::Explain { code, list } => explain(code, list),
+        Command::Lsp { lib_path, .. } => lsp(&lib_path),
     }
+}
+
+/// `--help`, `--version` and bad arguments: help and version go to standard output
+/// like any report (a full disk is exit code 2, not a silent 0), usage errors to
+/// standard error with clap's exit code (2).
+fn parse_error(e: &clap::Error) -> ExitCode {
+    use std::io::IsTerminal;
+    if e.use_stderr() {
+        let text = e.render();
+        let text = if std::io::stderr().is_terminal() {
+            text.ansi().to_string()
+        } else {
+            text.to_string()
+        };
+        eprintln!("{}", text.trim_end());
+        return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2));
+    }
+    let text = e.render();
+    let text = if std::io::stdout().is_terminal() {
+        text.ansi().to_string()
+    } else {
+        text.to_string()
+    };
+    output::stdout_then(text.as_bytes(), ExitCode::SUCCESS)
 }
 
 fn explain(code: Option<String>, list: bool) -> ExitCode {
@@ -211,6 +254,17 @@ fn explain(code: Option<String>, list: bool) -> ExitCode {
         None => {
             eprintln!("error: no check has the code `{code}`\nhelp: `ferroc explain --list` shows every code");
             ExitCode::from(2)
+        }
+    }
+}
+
+/// `ferroc lsp`: exit 0 after the client's `exit`, 1 when its input ended without one.
+fn lsp(lib_path: &[PathBuf]) -> ExitCode {
+    match ferroc_lsp::run_stdio(loader_options(lib_path, false)) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(why) => {
+            eprintln!("error: {why}");
+            ExitCode::from(1)
         }
     }
 }

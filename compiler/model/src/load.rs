@@ -55,6 +55,32 @@ pub struct Options {
     pub finroc_root: Option<PathBuf>,
     /// The FINROC target prefix of make.xml files (`--finroc-prefix`, e.g. `rrlib_math`).
     pub finroc_prefix: Option<String>,
+    /// Texts that stand in for files on disk, by canonical path: an editor's unsaved
+    /// buffers (`ferroc lsp`), so a model is checked with the fragments and manifests
+    /// as they are being typed. Empty for the command line.
+    pub overlay: Overlay,
+}
+
+/// Unsaved texts by canonical path, shared between check runs without copying.
+pub type Overlay = std::sync::Arc<std::collections::HashMap<PathBuf, std::sync::Arc<str>>>;
+
+impl Options {
+    /// The text of the file at `path`: the overlay's when it holds the path, else the
+    /// file read within the limits ([`read_text`]). Every reading of a model, fragment,
+    /// manifest, group type file or config file goes through here.
+    pub fn read(&self, path: &Path) -> Result<String, String> {
+        if let Some(text) = self.overlay.get(path) {
+            if text.len() as u64 > self.limits.max_file_bytes {
+                return Err(format!(
+                    "it is {} MiB, over the limit of {} MiB",
+                    text.len() >> 20,
+                    self.limits.max_file_bytes >> 20
+                ));
+            }
+            return Ok(text.to_string());
+        }
+        read_text(path, &self.limits)
+    }
 }
 
 /// Why [`Loader::confine`] refused a path.
@@ -191,11 +217,9 @@ impl<'a> Loader<'a> {
                 .unwrap_or_default();
             return Ok((cwd.join("<stdin>"), text));
         }
-        let text = read_text(path, &self.options.limits).map_err(cannot)?;
-        Ok((
-            path.canonicalize().unwrap_or_else(|_| path.to_path_buf()),
-            text,
-        ))
+        let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        let text = self.options.read(&canonical).map_err(cannot)?;
+        Ok((canonical, text))
     }
 
     /// Hands the loader standard input already read (to look at its root element).
@@ -257,7 +281,7 @@ impl<'a> Loader<'a> {
                 let _ = existing;
                 continue;
             }
-            let text = match read_text(&target, &self.options.limits) {
+            let text = match self.options.read(&target) {
                 Ok(t) => t,
                 Err(reason) => {
                     self.diags.push(
@@ -436,7 +460,7 @@ impl<'a> Loader<'a> {
             let text = &self.sources.get(id).text;
             return Ok((id, xml::parse(id, text, self.options.limits.max_depth).ok()));
         }
-        let text = read_text(path, &self.options.limits)?;
+        let text = self.options.read(path)?;
         let file = self
             .sources
             .add(self.display_name(path), path.to_path_buf(), text);

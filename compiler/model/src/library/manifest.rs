@@ -171,7 +171,7 @@ fn load_group_type(loader: &mut Loader<'_>, file: FileId, gt: &Element) -> Optio
         });
     };
     let path = loader.resolve_relative(file, rel.value, rel.value_span, "group type file")?;
-    let text = match crate::load::read_text(&path, &loader.options.limits) {
+    let text = match loader.options.read(&path) {
         Ok(t) => t,
         Err(reason) => {
             loader.diags.push(
@@ -247,7 +247,7 @@ fn locate(loader: &mut Loader<'_>, request: &LibraryRequest) -> Option<(PathBuf,
             loader.report_outside(request.span, rel, why);
             return None;
         }
-        return match crate::load::read_text(&path, &loader.options.limits) {
+        return match loader.options.read(&path) {
             Ok(text) => Some((path, text)),
             Err(reason) => {
                 loader.diags.push(
@@ -273,7 +273,7 @@ fn locate(loader: &mut Loader<'_>, request: &LibraryRequest) -> Option<(PathBuf,
         let candidate = dir.join(format!("{}.lib.xml", request.name));
         if candidate.is_file() {
             let path = candidate.canonicalize().unwrap_or(candidate);
-            if let Ok(text) = crate::load::read_text(&path, &loader.options.limits) {
+            if let Ok(text) = loader.options.read(&path) {
                 return Some((path, text));
             }
         }

@@ -1,0 +1,435 @@
+//! Completion from the text before the cursor: element names a parent may hold and
+//! attribute names an element takes (the vocabulary table the validator and the XSDs
+//! use), enumerated attribute values, module types of the libraries in scope in
+//! `type=`, and port paths in `from=`/`to=` (outputs first in `from=`, inputs first in
+//! `to=`, ports of the other end's type and unit before the rest).
+
+use crate::request::{self, Reply};
+use crate::server::Server;
+use ferroc_compiler::ir::{Application, ElementKind, Endpoint};
+use ferroc_compiler::library::{LibrarySet, PortDir};
+use ferroc_compiler::syntax::vocabulary::{self, AttrKind, ElementSpec};
+use ferroc_compiler::CheckResult;
+use lsp_server::Request;
+use lsp_types::{CompletionItem, CompletionItemKind, CompletionList, CompletionParams};
+
+/// At most this many items are sent (a 10,000-module model has ~50,000 ports); the
+/// list says it is incomplete, so the client asks again as the user types.
+const MAX_ITEMS: usize = 1000;
+
+pub fn completion(server: &Server, req: &Request) -> Reply {
+    let p: CompletionParams = request::params(req)?;
+    let Some(at) = request::at(server, &p.text_document_position) else {
+        return Ok(Some(serde_json::Value::Null));
+    };
+    let Some(doc) = server.docs.get(&at.path) else {
+        return Ok(Some(serde_json::Value::Null));
+    };
+    let before = &doc.text[..at.offset];
+    let latest = server.latest(&at.path);
+    let items = match context(before) {
+        Some(Place::Tag { parents, partial }) => tags(&parents, &partial),
+        Some(Place::Attr { parents, tag, .. }) => attrs(&parents, &tag),
+        Some(Place::Value {
+            parents,
+            tag,
+            attr,
+            typed,
+            other,
+        }) => values(
+            &parents,
+            &tag,
+            &attr,
+            &typed,
+            other.as_deref(),
+            latest.as_deref(),
+        ),
+        None => Vec::new(),
+    };
+    let incomplete = items.len() > MAX_ITEMS;
+    let list = CompletionList {
+        is_incomplete: incomplete,
+        items: items.into_iter().take(MAX_ITEMS).collect(),
+    };
+    Ok(Some(serde_json::to_value(list).unwrap_or_default()))
+}
+
+/// Where the cursor is, read from the text before it.
+#[derive(Debug, PartialEq)]
+enum Place {
+    /// After `<`: an element name (`partial` typed so far).
+    Tag {
+        parents: Vec<(String, Option<String>)>,
+        partial: String,
+    },
+    /// Inside a start tag, between attributes.
+    Attr {
+        parents: Vec<(String, Option<String>)>,
+        tag: String,
+    },
+    /// Inside an attribute's value (`typed` so far); `other`: for `from=`/`to=`, the
+    /// other end's value when written before.
+    Value {
+        parents: Vec<(String, Option<String>)>,
+        tag: String,
+        attr: String,
+        typed: String,
+        other: Option<String>,
+    },
+}
+
+fn context(before: &str) -> Option<Place> {
+    let lt = before.rfind('<')?;
+    if before[lt..].contains('>') {
+        return None;
+    }
+    let parents = open_elements(&before[..lt]);
+    let inside = &before[lt + 1..];
+    if inside.starts_with(['/', '!', '?']) {
+        return None;
+    }
+    let name_end = inside.find(char::is_whitespace);
+    let Some(name_end) = name_end else {
+        return Some(Place::Tag {
+            parents,
+            partial: inside.to_string(),
+        });
+    };
+    let tag = inside[..name_end].to_string();
+    let rest = &inside[name_end..];
+    if rest.matches('"').count() % 2 == 1 {
+        let quote = rest.rfind('"')?;
+        let attr = rest[..quote].trim_end().trim_end_matches('=').trim_end();
+        let attr = attr
+            .rsplit(char::is_whitespace)
+            .next()
+            .unwrap_or("")
+            .to_string();
+        let typed = rest[quote + 1..].to_string();
+        let other_name = match attr.as_str() {
+            "from" => Some("to"),
+            "to" => Some("from"),
+            _ => None,
+        };
+        let other = other_name.and_then(|n| attr_value(rest, n));
+        return Some(Place::Value {
+            parents,
+            tag,
+            attr,
+            typed,
+            other,
+        });
+    }
+    Some(Place::Attr { parents, tag })
+}
+
+/// `name="value"` in a start tag's text.
+fn attr_value(tag_text: &str, name: &str) -> Option<String> {
+    let pat = format!("{name}=\"");
+    let mut from = 0;
+    while let Some(i) = tag_text[from..].find(&pat) {
+        let start = from + i;
+        let ok = start == 0 || tag_text[..start].ends_with(char::is_whitespace);
+        let value_start = start + pat.len();
+        if ok {
+            let end = tag_text[value_start..].find('"')?;
+            return Some(tag_text[value_start..value_start + end].to_string());
+        }
+        from = value_start;
+    }
+    None
+}
+
+/// The elements open at the end of `text`: tag and `name=`, outermost first.
+fn open_elements(text: &str) -> Vec<(String, Option<String>)> {
+    let mut stack: Vec<(String, Option<String>)> = Vec::new();
+    let mut rest = text;
+    while let Some(lt) = rest.find('<') {
+        rest = &rest[lt..];
+        if let Some(after) = rest.strip_prefix("<!--") {
+            rest = after.find("-->").map_or("", |e| &after[e + 3..]);
+            continue;
+        }
+        let end = rest.find('>').map_or(rest.len(), |e| e + 1);
+        let tag = &rest[1..end.saturating_sub(1).max(1)];
+        if let Some(closing) = tag.strip_prefix('/') {
+            let name = closing.trim();
+            if let Some(pos) = stack.iter().rposition(|(t, _)| t == name) {
+                stack.truncate(pos);
+            }
+        } else if !tag.starts_with(['?', '!'])
+            && !tag.ends_with('/')
+            && end <= rest.len()
+            && rest[..end].ends_with('>')
+        {
+            let name = tag
+                .split(char::is_whitespace)
+                .next()
+                .unwrap_or("")
+                .to_string();
+            stack.push((name, attr_value(tag, "name")));
+        }
+        rest = &rest[end..];
+    }
+    stack
+}
+
+/// The vocabulary entry of the innermost open element, found from the root down.
+fn spec_of(parents: &[(String, Option<String>)]) -> Option<&'static ElementSpec> {
+    let (root, rest) = parents.split_first()?;
+    let mut spec = vocabulary::ELEMENTS
+        .iter()
+        .find(|e| e.tag == root.0 && ["application", "fragment", "library"].contains(&e.key))?;
+    for (tag, _) in rest {
+        spec = vocabulary::spec(vocabulary::child_key(spec, tag)?);
+    }
+    Some(spec)
+}
+
+fn child_spec(parents: &[(String, Option<String>)], tag: &str) -> Option<&'static ElementSpec> {
+    if parents.is_empty() {
+        return vocabulary::ELEMENTS.iter().find(|e| e.tag == tag);
+    }
+    let parent = spec_of(parents)?;
+    Some(vocabulary::spec(vocabulary::child_key(parent, tag)?))
+}
+
+fn item(label: &str, kind: CompletionItemKind, detail: Option<String>) -> CompletionItem {
+    CompletionItem {
+        label: label.to_string(),
+        kind: Some(kind),
+        detail,
+        ..CompletionItem::default()
+    }
+}
+
+fn tags(parents: &[(String, Option<String>)], partial: &str) -> Vec<CompletionItem> {
+    let names: Vec<&str> = match spec_of(parents) {
+        Some(parent) => parent
+            .children
+            .iter()
+            .map(|k| vocabulary::spec(k).tag)
+            .collect(),
+        None if parents.is_empty() => vec!["application", "fragment", "library"],
+        None => Vec::new(),
+    };
+    let mut out: Vec<CompletionItem> = Vec::new();
+    for name in names {
+        if name.starts_with(partial) && !out.iter().any(|i| i.label == name) {
+            out.push(item(name, CompletionItemKind::CLASS, None));
+        }
+    }
+    out
+}
+
+fn attrs(parents: &[(String, Option<String>)], tag: &str) -> Vec<CompletionItem> {
+    let Some(spec) = child_spec(parents, tag) else {
+        return Vec::new();
+    };
+    let mut out: Vec<CompletionItem> = spec
+        .attrs
+        .iter()
+        .map(|a| {
+            let detail = a.required.then(|| "required".to_string());
+            let mut it = item(a.name, CompletionItemKind::PROPERTY, detail);
+            it.insert_text = Some(format!("{}=\"", a.name));
+            it
+        })
+        .collect();
+    for common in vocabulary::COMMON_ATTRS {
+        out.push(item(common, CompletionItemKind::PROPERTY, None));
+    }
+    out
+}
+
+fn values(
+    parents: &[(String, Option<String>)],
+    tag: &str,
+    attr: &str,
+    typed: &str,
+    other: Option<&str>,
+    result: Option<&CheckResult>,
+) -> Vec<CompletionItem> {
+    let spec = child_spec(parents, tag);
+    let kind = spec
+        .and_then(|s| s.attrs.iter().find(|a| a.name == attr))
+        .map(|a| a.kind);
+    if let Some(AttrKind::Choice(choices)) = kind {
+        return choices
+            .iter()
+            .map(|c| item(c, CompletionItemKind::ENUM_MEMBER, None))
+            .collect();
+    }
+    if let Some(AttrKind::Bool) = kind {
+        return ["true", "false"]
+            .iter()
+            .map(|c| item(c, CompletionItemKind::ENUM_MEMBER, None))
+            .collect();
+    }
+    let Some(result) = result else {
+        return Vec::new();
+    };
+    match (tag, attr) {
+        ("module", "type") => module_types(result),
+        ("connect", "from" | "to") => match &result.app {
+            Some(app) => ports(
+                app,
+                &result.libraries,
+                parents,
+                attr == "from",
+                typed,
+                other,
+            ),
+            None => Vec::new(),
+        },
+        _ => Vec::new(),
+    }
+}
+
+fn module_types(result: &CheckResult) -> Vec<CompletionItem> {
+    let mut out = Vec::new();
+    for lib in &result.libraries.libraries {
+        for ty in &lib.module_types {
+            out.push(item(
+                &ty.qualified,
+                CompletionItemKind::CLASS,
+                Some(format!("{:?}", ty.kind).to_lowercase()),
+            ));
+        }
+    }
+    out
+}
+
+/// Port paths relative to the connection's scope (the names of the enclosing parts,
+/// thread containers and groups).
+fn ports(
+    app: &Application,
+    libs: &LibrarySet,
+    parents: &[(String, Option<String>)],
+    from: bool,
+    typed: &str,
+    other: Option<&str>,
+) -> Vec<CompletionItem> {
+    let scope: Vec<&str> = parents
+        .iter()
+        .filter(|(t, _)| matches!(t.as_str(), "part" | "thread" | "group"))
+        .filter_map(|(_, n)| n.as_deref())
+        .collect();
+    let scope = scope.join("/");
+    let prefix = if scope.is_empty() {
+        String::new()
+    } else {
+        format!("{scope}/")
+    };
+    let mut found: Vec<(String, Endpoint, PortDir)> = Vec::new();
+    for (i, e) in app.elements.iter().enumerate() {
+        let id = ferroc_compiler::ir::ElementId(i as u32);
+        let Some(rel) = app.path(id).strip_prefix(&prefix).map(str::to_string) else {
+            continue;
+        };
+        if rel.is_empty() {
+            continue;
+        }
+        match &e.kind {
+            ElementKind::Module(_) => {
+                for (port, decl) in app.module_ports(libs, id) {
+                    found.push((
+                        format!("{rel}/{}", decl.name),
+                        Endpoint::Port { element: id, port },
+                        decl.dir,
+                    ));
+                }
+            }
+            ElementKind::Group => {
+                for (port, gp) in e.group_ports.iter().enumerate() {
+                    found.push((
+                        format!("{rel}/{}", gp.name),
+                        Endpoint::GroupPort {
+                            element: id,
+                            port: port as u32,
+                        },
+                        gp.dir,
+                    ));
+                }
+            }
+            _ => {}
+        }
+        if found.len() > 200_000 {
+            break;
+        }
+    }
+    let other_view = other
+        .and_then(|o| found.iter().find(|(p, _, _)| p == o))
+        .and_then(|(_, ep, _)| app.view(libs, *ep));
+    let want = if from { PortDir::Out } else { PortDir::In };
+    let mut items: Vec<CompletionItem> = found
+        .iter()
+        .filter(|(p, _, _)| p.starts_with(typed) || typed.is_empty())
+        .map(|(path, ep, dir)| {
+            let view = app.view(libs, *ep);
+            let fits = match (&view, &other_view) {
+                (Some(v), Some(o)) => {
+                    v.ty.to_string() == o.ty.to_string()
+                        && v.unit.map(|u| u.to_string()) == o.unit.map(|u| u.to_string())
+                }
+                _ => false,
+            };
+            let rank = match (*dir == want, fits) {
+                (true, true) => 0,
+                (true, false) => 1,
+                _ => 2,
+            };
+            let detail = view.map(|v| {
+                let unit = v.unit.map(|u| format!(" [{u}]")).unwrap_or_default();
+                format!(
+                    "{} {}{unit}",
+                    if v.dir == PortDir::In { "in" } else { "out" },
+                    v.ty
+                )
+            });
+            let mut it = item(path, CompletionItemKind::FIELD, detail);
+            it.sort_text = Some(format!("{rank}{path}"));
+            it
+        })
+        .collect();
+    items.sort_by(|a, b| a.sort_text.cmp(&b.sort_text));
+    items
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_where_the_cursor_is() {
+        let text = "<application name=\"a\" version=\"1\">\n <part name=\"robot\">\n  <thread name=\"main\" period=\"10ms\">\n   <connect from=\"a/out\" to=\"b/";
+        match context(text) {
+            Some(Place::Value {
+                parents,
+                tag,
+                attr,
+                typed,
+                other,
+            }) => {
+                assert_eq!(tag, "connect");
+                assert_eq!(attr, "to");
+                assert_eq!(typed, "b/");
+                assert_eq!(other.as_deref(), Some("a/out"));
+                assert_eq!(parents.len(), 3);
+                assert_eq!(parents[2].1.as_deref(), Some("main"));
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(
+            matches!(context("<application name=\"a\">\n<th"), Some(Place::Tag { partial, .. }) if partial == "th")
+        );
+        assert!(
+            matches!(context("<application name=\"a\">\n<thread "), Some(Place::Attr { tag, .. }) if tag == "thread")
+        );
+        let names: Vec<String> = tags(&[("application".into(), None)], "pa")
+            .into_iter()
+            .map(|i| i.label)
+            .collect();
+        assert_eq!(names, ["part"]);
+    }
+}

@@ -1,0 +1,190 @@
+//! Hover: a connection end's port (type, unit, direction, writer and readers); a
+//! parameter (type, unit, range, default, choices and the value the model resolves);
+//! a module type; the explanation of a finding's check.
+
+use crate::navigate::covers;
+use crate::request::{self, Reply};
+use crate::server::Server;
+use ferroc_compiler::diagnostic::Diagnostic;
+use ferroc_compiler::ir::{Application, Endpoint, ParamSource};
+use ferroc_compiler::library::{LibrarySet, PortDir};
+use ferroc_compiler::source::Span;
+use ferroc_compiler::CheckResult;
+use lsp_server::Request;
+use lsp_types::{Hover, HoverContents, HoverParams, MarkupContent, MarkupKind};
+
+pub fn hover(server: &Server, req: &Request) -> Reply {
+    let p: HoverParams = request::params(req)?;
+    let Some(at) = request::at(server, &p.text_document_position_params) else {
+        return Ok(Some(serde_json::Value::Null));
+    };
+    let (result, file) = match request::checked(server, &at) {
+        Ok(found) => found,
+        Err(reply) => return reply,
+    };
+    let here = Span::new(file, at.offset, at.offset);
+    let mut parts = Vec::new();
+    if let Some(app) = &result.app {
+        parts.extend(port_text(app, &result.libraries, here));
+        parts.extend(param_text(app, &result.libraries, here));
+        parts.extend(module_type_text(app, &result.libraries, here));
+    }
+    parts.extend(findings_text(&result, here));
+    if parts.is_empty() {
+        return Ok(Some(serde_json::Value::Null));
+    }
+    let hover = Hover {
+        contents: HoverContents::Markup(MarkupContent {
+            kind: MarkupKind::Markdown,
+            value: parts.join("\n\n---\n\n"),
+        }),
+        range: None,
+    };
+    Ok(Some(serde_json::to_value(hover).unwrap_or_default()))
+}
+
+fn port_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<String> {
+    let c = app
+        .connections
+        .iter()
+        .find(|c| covers(c.from_span, here) || covers(c.to_span, here))?;
+    let end = if covers(c.from_span, here) {
+        c.from
+    } else {
+        c.to
+    };
+    Some(describe_port(app, libs, end))
+}
+
+/// `port robot/control/avoid/activity: out f64 [m/s]`, its writers and readers.
+pub fn describe_port(app: &Application, libs: &LibrarySet, end: Endpoint) -> String {
+    let path = format!(
+        "{}/{}",
+        app.path(end.element()),
+        app.view(libs, end).map_or("", |v| v.name)
+    );
+    let Some(view) = app.view(libs, end) else {
+        return format!("`{path}`");
+    };
+    let dir = match view.dir {
+        PortDir::In => "input",
+        PortDir::Out => "output",
+    };
+    let unit = view.unit.map(|u| format!(" in `{u}`")).unwrap_or_default();
+    let mut text = format!("**{dir}** `{path}`: `{}`{unit}", view.ty);
+    if view.required {
+        text.push_str(" (required)");
+    }
+    let writers: Vec<String> = app
+        .incoming(end)
+        .map(|c| end_path(app, libs, c.from))
+        .collect();
+    let readers: Vec<String> = (app.connections.iter())
+        .filter(|c| c.from == end)
+        .map(|c| end_path(app, libs, c.to))
+        .collect();
+    if !writers.is_empty() {
+        text.push_str(&format!("\n\nwritten by: `{}`", writers.join("`, `")));
+    }
+    if !readers.is_empty() {
+        text.push_str(&format!("\n\nread by: `{}`", readers.join("`, `")));
+    }
+    text
+}
+
+fn end_path(app: &Application, libs: &LibrarySet, end: Endpoint) -> String {
+    let name = app.view(libs, end).map_or("?", |v| v.name);
+    format!("{}/{name}", app.path(end.element()))
+}
+
+fn param_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<String> {
+    for (id, m) in app.modules() {
+        for value in &m.params {
+            if !(covers(value.name_span, here) || covers(value.span, here)) {
+                continue;
+            }
+            let ty = app.module_type(libs, id)?;
+            let decl = ty.param(&value.name)?;
+            let mut text = format!(
+                "**parameter** `{}/{}`: `{}`",
+                app.path(id),
+                decl.name,
+                decl.ty
+            );
+            if let Some(u) = &decl.unit {
+                text.push_str(&format!(" in `{u}`"));
+            }
+            match (decl.min, decl.max) {
+                (Some(lo), Some(hi)) => text.push_str(&format!("\n\nrange: {lo} … {hi}")),
+                (Some(lo), None) => text.push_str(&format!("\n\nat least {lo}")),
+                (None, Some(hi)) => text.push_str(&format!("\n\nat most {hi}")),
+                (None, None) => {}
+            }
+            if let Some(d) = &decl.default {
+                text.push_str(&format!("\n\ndefault: `{d}`"));
+            }
+            if !decl.choices.is_empty() {
+                text.push_str(&format!("\n\none of: `{}`", decl.choices.join("`, `")));
+            }
+            let source = match &value.source {
+                ParamSource::Inline => "written here".to_string(),
+                ParamSource::Config(Ok(_)) => "from its config file".to_string(),
+                ParamSource::Config(Err(why)) => format!("config entry missing: {why}"),
+                ParamSource::Cmdline => "given on the command line (`--param`)".to_string(),
+            };
+            text.push_str(&format!("\n\nvalue: `{}` ({source})", value.text));
+            return Some(text);
+        }
+    }
+    None
+}
+
+fn module_type_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<String> {
+    let (_, m) = app.modules().find(|(_, m)| covers(m.type_span, here))?;
+    let ty = &libs.get(m.library).module_types[m.type_index];
+    let mut text = format!("**module type** `{}`", ty.qualified);
+    for p in &ty.ports {
+        let dir = match p.dir {
+            PortDir::In => "in ",
+            PortDir::Out => "out",
+        };
+        let unit = p
+            .unit
+            .as_ref()
+            .map(|u| format!(" [{u}]"))
+            .unwrap_or_default();
+        text.push_str(&format!("\n- {dir} `{}`{unit}", p.name));
+    }
+    for p in &ty.params {
+        text.push_str(&format!("\n- param `{}`", p.name));
+    }
+    Some(text)
+}
+
+/// The findings at the cursor with their check's explanation (`ferroc explain`).
+fn findings_text(result: &CheckResult, here: Span) -> Vec<String> {
+    let mut seen = Vec::new();
+    result
+        .diagnostics
+        .iter()
+        .filter(|d| covers(d.primary.span, here))
+        .filter(|d| {
+            let new = !seen.contains(&d.code());
+            seen.push(d.code());
+            new
+        })
+        .map(explain)
+        .collect()
+}
+
+pub fn explain(d: &Diagnostic) -> String {
+    let c = d.check;
+    format!(
+        "**{} {}** ({})\n\n{}\n\n{}",
+        c.code,
+        c.name,
+        c.severity.as_str(),
+        c.summary,
+        c.explanation
+    )
+}

@@ -1,0 +1,135 @@
+//! Go to definition: from a connection end to the module instance and to the port's
+//! declaration in its manifest; from a module's `type=` to the module type; from a
+//! group's `type=` to the group type.
+
+use crate::convert::Spans;
+use crate::request::{self, Reply};
+use crate::server::Server;
+use ferroc_compiler::ir::Application;
+use ferroc_compiler::library::LibrarySet;
+use ferroc_compiler::source::{SourceMap, Span};
+use ferroc_compiler::syntax::xml::{self, Element};
+use ferroc_compiler::CheckResult;
+use lsp_server::Request;
+use lsp_types::{GotoDefinitionParams, Location};
+
+pub fn definition(server: &Server, req: &Request) -> Reply {
+    let p: GotoDefinitionParams = request::params(req)?;
+    let Some(at) = request::at(server, &p.text_document_position_params) else {
+        return Ok(Some(serde_json::Value::Null));
+    };
+    let (result, file) = match request::checked(server, &at) {
+        Ok(found) => found,
+        Err(reply) => return reply,
+    };
+    let here = Span::new(file, at.offset, at.offset);
+    let targets = targets(&result, here);
+    let mut spans = Spans::new(&result.sources, server.enc);
+    let mut locations: Vec<Location> = Vec::new();
+    for span in targets {
+        if let Some(l) = spans.location(span) {
+            if !locations.contains(&l) {
+                locations.push(l);
+            }
+        }
+    }
+    Ok(Some(serde_json::to_value(locations).unwrap_or_default()))
+}
+
+/// Whether the cursor (an empty span) is inside `span`, its end included (the cursor
+/// right after a word still names it).
+pub fn covers(span: Span, here: Span) -> bool {
+    span.file == here.file && span.start <= here.start && here.start <= span.end
+}
+
+/// The places the text at `here` refers to.
+pub fn targets(result: &CheckResult, here: Span) -> Vec<Span> {
+    let mut out = Vec::new();
+    if let Some(app) = &result.app {
+        connection_ends(app, &result.libraries, here, &mut out);
+        module_types(app, &result.libraries, here, &mut out);
+    }
+    if out.is_empty() {
+        group_types(&result.sources, &result.libraries, here, &mut out);
+    }
+    out
+}
+
+fn connection_ends(app: &Application, libs: &LibrarySet, here: Span, out: &mut Vec<Span>) {
+    for c in &app.connections {
+        for (span, end) in [(c.from_span, c.from), (c.to_span, c.to)] {
+            if covers(span, here) {
+                out.push(app.element(end.element()).name_span);
+                if let Some(view) = app.view(libs, end) {
+                    out.push(view.span);
+                }
+            }
+        }
+    }
+}
+
+fn module_types(app: &Application, libs: &LibrarySet, here: Span, out: &mut Vec<Span>) {
+    for (_, m) in app.modules() {
+        if covers(m.type_span, here) {
+            out.push(libs.get(m.library).module_types[m.type_index].span);
+            return;
+        }
+    }
+}
+
+/// `<group type="T">` → the `<group-type name="T">` of the model's files or of a library.
+fn group_types(sources: &SourceMap, libs: &LibrarySet, here: Span, out: &mut Vec<Span>) {
+    let text = &sources.get(here.file).text;
+    let Ok(root) = xml::parse(here.file, text, 256) else {
+        return;
+    };
+    let Some(group) = find_element(&root, here, &|e| e.name.as_str() == "group") else {
+        return;
+    };
+    let Some(ty) = group.attr("type").filter(|a| covers(a.value_span, here)) else {
+        return;
+    };
+    let wanted = ty.value;
+    for (id, _) in sources.files() {
+        let Ok(tree) = xml::parse(id, &sources.get(id).text, 256) else {
+            continue;
+        };
+        walk(&tree, &mut |e| {
+            if e.name.as_str() == "group-type" && e.value("name") == Some(wanted) {
+                out.push(e.name_span);
+            }
+        });
+    }
+    for lib in &libs.libraries {
+        for gt in &lib.group_types {
+            let qualified = format!("{}.{}", lib.name, gt.name);
+            if gt.name == wanted || qualified == wanted {
+                out.push(gt.element.name_span);
+            }
+        }
+    }
+}
+
+/// The innermost element containing `here` that `pick` accepts.
+pub fn find_element<'e>(
+    root: &'e Element,
+    here: Span,
+    pick: &dyn Fn(&Element) -> bool,
+) -> Option<&'e Element> {
+    if !covers(root.span, here) {
+        return None;
+    }
+    for child in root.children.iter() {
+        if let Some(found) = find_element(child, here, pick) {
+            return Some(found);
+        }
+    }
+    pick(root).then_some(root)
+}
+
+pub fn walk(e: &Element, f: &mut dyn FnMut(&Element)) {
+    f(e);
+    for c in e.children.iter() {
+        walk(c, f);
+    }
+}

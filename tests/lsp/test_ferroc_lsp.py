@@ -1,0 +1,222 @@
+"""End-to-end tests of `ferroc lsp` with pytest-lsp (a client we did not write).
+
+Run by tests/lsp_clients.rs with FERROC (the binary) and FERROC_ROOT (the checkout)
+set: initialize, open, diagnostics, change, definition, hover, completion, code
+action (applied and re-checked clean), document symbols and shutdown.
+"""
+
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import pytest
+import pytest_lsp
+from lsprotocol import types
+from pytest_lsp import ClientServerConfig, LanguageClient
+
+FERROC = os.environ["FERROC"]
+ROOT = pathlib.Path(os.environ["FERROC_ROOT"]).resolve()
+SCRATCH = pathlib.Path(os.environ["FERROC_SCRATCH"]).resolve()
+MODEL = ROOT / "models" / "crash_course.xml"
+MANIFEST = ROOT / "components" / "crash_course.lib.xml"
+
+
+@pytest_lsp.fixture(config=ClientServerConfig(server_command=[FERROC, "lsp"]))
+async def client(lsp_client: LanguageClient):
+    params = types.InitializeParams(
+        capabilities=types.ClientCapabilities(),
+        root_uri=SCRATCH.as_uri(),
+    )
+    await lsp_client.initialize_session(params)
+    yield
+    await lsp_client.shutdown_session()
+
+
+def scratch_model(name: str, text: str) -> pathlib.Path:
+    """A copy of the example models (with the crash-course manifest where the models
+    look for it) and `text` as `name` beside them."""
+    models = SCRATCH / "models"
+    if not models.exists():
+        shutil.copytree(ROOT / "models", models)
+        (SCRATCH / "components").mkdir(exist_ok=True)
+        shutil.copy(MANIFEST, SCRATCH / "components" / MANIFEST.name)
+    path = models / name
+    path.write_text(text)
+    return path
+
+
+def summary(diagnostics) -> list:
+    """(code, line, column, severity) of LSP diagnostics, 1-based as ferroc check says."""
+    return sorted((d.code, d.range.start.line + 1, d.range.start.character + 1, d.severity.value) for d in diagnostics)
+
+
+def cli_summary(path: pathlib.Path) -> list:
+    sev = {"error": 1, "warning": 2, "note": 3}
+    return sorted(
+        (d["code"], d["primary"]["location"]["line"], d["primary"]["location"]["column"], sev[d["severity"]])
+        for d in check_json(path)
+        if pathlib.Path(ROOT / d["primary"]["location"]["file"]).resolve() == path.resolve()
+        or pathlib.Path(d["primary"]["location"]["file"]).resolve() == path.resolve()
+    )
+
+
+def position_of(text: str, needle: str, into: int = 0) -> types.Position:
+    offset = text.index(needle) + into
+    line = text.count("\n", 0, offset)
+    column = offset - (text.rfind("\n", 0, offset) + 1)
+    return types.Position(line=line, character=column)
+
+
+def check_json(path: pathlib.Path) -> list:
+    out = subprocess.run(
+        [FERROC, "check", "--format", "json", str(path)],
+        capture_output=True, text=True, cwd=ROOT, check=False,
+    )
+    return json.loads(out.stdout)["models"][0]["diagnostics"]
+
+
+async def open_and_settle(client: LanguageClient, path: pathlib.Path, text: str, version: int = 1):
+    client.text_document_did_open(
+        types.DidOpenTextDocumentParams(
+            text_document=types.TextDocumentItem(
+                uri=path.as_uri(), language_id="xml", version=version, text=text
+            )
+        )
+    )
+    await settle(client, path)
+
+
+async def settle(client: LanguageClient, path: pathlib.Path):
+    # A hover is answered after the check of the current text: the diagnostics of
+    # that check have been published by then.
+    await client.text_document_hover_async(
+        types.HoverParams(
+            text_document=types.TextDocumentIdentifier(uri=path.as_uri()),
+            position=types.Position(line=0, character=0),
+        )
+    )
+
+
+async def test_example_model_is_clean_and_navigation_works(client: LanguageClient):
+    text = MODEL.read_text()
+    await open_and_settle(client, MODEL, text)
+    assert summary(client.diagnostics.get(MODEL.as_uri(), [])) == cli_summary(MODEL)
+    assert not [d for d in client.diagnostics.get(MODEL.as_uri(), []) if d.severity.value == 1]
+
+    # Go to definition from a connection end: the instance and the port's line in
+    # the manifest.
+    at = position_of(text, 'from="main_simulation/ir_distance_front"', len('from="main_simulation/ir_d'))
+    result = await client.text_document_definition_async(
+        types.DefinitionParams(
+            text_document=types.TextDocumentIdentifier(uri=MODEL.as_uri()), position=at
+        )
+    )
+    targets = {(pathlib.Path(l.uri[len("file://"):]).resolve(), l.range.start.line) for l in result}
+    manifest_lines = MANIFEST.read_text().split("\n")
+    port_lines = [i for i, l in enumerate(manifest_lines) if 'name="ir_distance_front"' in l]
+    assert any(p == MANIFEST.resolve() and line in port_lines for p, line in targets), targets
+    instance_line = text.split("\n").index(next(l for l in text.split("\n") if 'name="main_simulation"' in l))
+    assert (MODEL.resolve(), instance_line) in targets, targets
+
+    # Hover on the same end: the port's type and direction.
+    hover = await client.text_document_hover_async(
+        types.HoverParams(text_document=types.TextDocumentIdentifier(uri=MODEL.as_uri()), position=at)
+    )
+    assert "output" in hover.contents.value and "ir_distance_front" in hover.contents.value, hover
+
+    # Completion in from= offers the ports that exist, outputs first.
+    at = position_of(text, 'from="main_simulation/ir_distance_front"', len('from="'))
+    items = await client.text_document_completion_async(
+        types.CompletionParams(text_document=types.TextDocumentIdentifier(uri=MODEL.as_uri()), position=at)
+    )
+    labels = [i.label for i in sorted(items.items, key=lambda i: i.sort_text or i.label)]
+    assert "main_simulation/ir_distance_front" in labels, labels[:20]
+    assert "main_simulation/velocity" in labels
+    assert labels.index("main_simulation/ir_distance_front") < labels.index("main_simulation/velocity")
+
+    # Document symbols: the element tree, by name.
+    symbols = await client.text_document_document_symbol_async(
+        types.DocumentSymbolParams(text_document=types.TextDocumentIdentifier(uri=MODEL.as_uri()))
+    )
+    names = []
+
+    def walk(s):
+        names.append(s.name)
+        for c in s.children or []:
+            walk(c)
+
+    for s in symbols:
+        walk(s)
+    assert "main_simulation" in names and "crash_course" in names, names
+
+
+async def test_broken_model_diagnostics_equal_ferroc_check_and_quick_fix_makes_it_clean(client: LanguageClient):
+    clean = MODEL.read_text()
+    text = clean.replace('type="crash_course.AddNoise"', 'type="crash_course.AddNoize"', 1)
+    model = scratch_model("broken.xml", text)
+    await open_and_settle(client, model, text)
+    got = [d for d in client.diagnostics[model.as_uri()] if d.severity.value == 1]
+    assert summary(client.diagnostics[model.as_uri()]) == cli_summary(model)
+    assert got, "the misspelt type is an error"
+
+    # The quick fix from "did you mean": applied as the client would, then re-checked.
+    at = got[0].range
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri=model.as_uri()),
+            range=at,
+            context=types.CodeActionContext(diagnostics=got),
+        )
+    )
+    assert actions, "a quick fix is offered"
+    edit = actions[0].edit.changes[model.as_uri()][0]
+    lines = text.split("\n")
+    line = lines[edit.range.start.line]
+    lines[edit.range.start.line] = line[: edit.range.start.character] + edit.new_text + line[edit.range.end.character :]
+    fixed = "\n".join(lines)
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=model.as_uri(), version=2),
+            content_changes=[types.TextDocumentContentChangeWholeDocument(text=fixed)],
+        )
+    )
+    await settle(client, model)
+    assert fixed == clean, "the fix restores the model's text, layout and comments"
+    model.write_text(fixed)
+    assert summary(client.diagnostics[model.as_uri()]) == cli_summary(model)
+    assert not [d for d in client.diagnostics[model.as_uri()] if d.severity.value == 1]
+
+
+async def test_incremental_change_breaks_and_repairs(client: LanguageClient):
+    text = MODEL.read_text()
+    model = scratch_model("incremental.xml", text)
+    await open_and_settle(client, model, text)
+    clean = summary(client.diagnostics.get(model.as_uri(), []))
+    assert clean == cli_summary(model)
+    start = position_of(text, 'to="add_noise_front/input"', len('to="'))
+    end = types.Position(line=start.line, character=start.character + len("add_noise_front"))
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=model.as_uri(), version=2),
+            content_changes=[types.TextDocumentContentChangePartial(range=types.Range(start=start, end=end), text="add_noise_nowhere")],
+        )
+    )
+    await settle(client, model)
+    broken = summary(client.diagnostics[model.as_uri()])
+    assert broken != clean, "the unknown module in to= is a finding"
+    model.write_text(text.replace('to="add_noise_front/input"', 'to="add_noise_nowhere/input"', 1))
+    assert broken == cli_summary(model)
+    model.write_text(text)
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=model.as_uri(), version=3),
+            content_changes=[types.TextDocumentContentChangePartial(
+                range=types.Range(start=start, end=types.Position(line=start.line, character=start.character + len("add_noise_nowhere"))),
+                text="add_noise_front")],
+        )
+    )
+    await settle(client, model)
+    assert summary(client.diagnostics[model.as_uri()]) == clean

@@ -1,0 +1,141 @@
+//! `ferroc lsp` with clients we did not write: pytest-lsp (tests/lsp/test_ferroc_lsp.py)
+//! and Neovim's built-in LSP client (tests/lsp/nvim_diagnostics.lua). A missing client
+//! is a visible SKIPPED line, not a silent pass.
+
+mod common;
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn python_with(module: &str) -> Option<PathBuf> {
+    let python = std::env::var_os("FERROC_PYTHON")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("/work/main/target/ci-venv/bin/python"));
+    let ok = Command::new(&python)
+        .args(["-c", &format!("import {module}")])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    ok.then_some(python)
+}
+
+fn skipped(test: &str, needs: &str) {
+    println!("SKIPPED {test}: needs {needs}; run scripts/test");
+    eprintln!("SKIPPED {test}: needs {needs}; run scripts/test");
+    assert!(
+        std::env::var_os("FERROC_REQUIRE_ALL").is_none(),
+        "{test} needs {needs}"
+    );
+}
+
+#[test]
+fn pytest_lsp_end_to_end() {
+    let Some(python) = python_with("pytest_lsp") else {
+        return skipped("pytest_lsp_end_to_end", "pytest-lsp in the Python venv");
+    };
+    let scratch = common::tempdir("lsp-pytest");
+    let out = Command::new(python)
+        .args(["-m", "pytest", "-q", "-p", "no:cacheprovider", "-c"])
+        .arg(root().join("tests/lsp/pytest.ini"))
+        .arg(root().join("tests/lsp/test_ferroc_lsp.py"))
+        .env("FERROC", env!("CARGO_BIN_EXE_ferroc"))
+        .env("FERROC_ROOT", root())
+        .env("FERROC_SCRATCH", &scratch)
+        .current_dir(&scratch)
+        .output()
+        .expect("python runs");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("{text}");
+    assert!(out.status.success(), "pytest-lsp failed:\n{text}");
+    assert!(text.contains("3 passed"), "{text}");
+}
+
+/// `CODE LINE:COL SEVERITY` of `ferroc check --format json`'s findings in the model.
+fn cli_lines(model: &Path) -> Vec<String> {
+    let (_, stdout, _) = common::ferroc(&["check", "--format", "json", model.to_str().unwrap()]);
+    let doc: Value = serde_json::from_str(&stdout).unwrap();
+    let name = model.file_name().unwrap().to_string_lossy().into_owned();
+    let severity = |s: &str| match s {
+        "error" => 1,
+        "warning" => 2,
+        _ => 3,
+    };
+    (doc["models"][0]["diagnostics"].as_array().unwrap().iter())
+        .filter(|d| {
+            d["primary"]["location"]["file"]
+                .as_str()
+                .unwrap()
+                .ends_with(&name)
+        })
+        .map(|d| {
+            let l = &d["primary"]["location"];
+            format!(
+                "{} {}:{} {}",
+                d["code"].as_str().unwrap(),
+                l["line"],
+                l["column"],
+                severity(d["severity"].as_str().unwrap())
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn neovim_shows_what_ferroc_check_finds() {
+    let has_nvim = Command::new("nvim")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has_nvim {
+        return skipped(
+            "neovim_shows_what_ferroc_check_finds",
+            "nvim (Debian package neovim)",
+        );
+    }
+    let dir = common::tempdir("lsp-nvim");
+    let fixture =
+        root().join("compiler/checks/src/connections/t103_unit_dimension_mismatch/fires.xml");
+    let model = dir.join("broken.xml");
+    let manifest = root().join("compiler/checks/src/fixtures.lib.xml");
+    let text = std::fs::read_to_string(&fixture).unwrap().replace(
+        "manifest=\"../../fixtures.lib.xml\"",
+        &format!("manifest=\"{}\"", manifest.display()),
+    );
+    std::fs::write(&model, text).unwrap();
+    let want = cli_lines(&model);
+    assert!(!want.is_empty(), "the fixture has findings");
+    let out_file = dir.join("diagnostics.txt");
+    let status = Command::new("nvim")
+        .args(["--headless", "-n", "-i", "NONE", "-u", "NONE", "-c"])
+        .arg(format!(
+            "luafile {}",
+            root().join("tests/lsp/nvim_diagnostics.lua").display()
+        ))
+        .env("FERROC", env!("CARGO_BIN_EXE_ferroc"))
+        .env("FERROC_MODEL", &model)
+        .env("FERROC_OUT", &out_file)
+        .current_dir(&dir)
+        .status()
+        .expect("nvim runs");
+    assert!(status.success());
+    let got: Vec<String> = std::fs::read_to_string(&out_file)
+        .expect("nvim wrote the diagnostics")
+        .lines()
+        .map(str::to_string)
+        .collect();
+    let (mut got_sorted, mut want_sorted) = (got.clone(), want.clone());
+    got_sorted.sort();
+    want_sorted.sort();
+    assert_eq!(
+        got_sorted, want_sorted,
+        "nvim received {got:?}, ferroc check found {want:?}"
+    );
+}
