@@ -54,6 +54,11 @@ pub struct InspectArgs {
     /// With --foxglove: serve on an address other computers can reach
     #[arg(long, requires = "foxglove")]
     foxglove_public: bool,
+    /// With --foxglove: let web pages of this origin connect (`https://host:port`;
+    /// repeatable). The Foxglove app's https://app.foxglove.dev always may; clients
+    /// that are not browsers send no origin and always may
+    #[arg(long, value_name = "ORIGIN", requires = "foxglove")]
+    foxglove_origin: Vec<String>,
     /// With --watch or --foxglove: stop after this long (`5s`, `500ms`)
     #[arg(long = "for", value_name = "DURATION", value_parser = parse_duration)]
     duration: Option<Duration>,
@@ -96,7 +101,7 @@ pub fn run(args: InspectArgs) -> ExitCode {
         Ok(c) => c,
         Err(e) => return fail(2, &e),
     };
-    let result = if args.list {
+    let result: Result<(), Failure> = if args.list {
         list(&client, &args)
     } else if let Some(path) = &args.get {
         get(&client, &args, path)
@@ -113,19 +118,57 @@ pub fn run(args: InspectArgs) -> ExitCode {
         Ok(())
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => fail(1, &e),
+        Ok(()) | Err(Failure::ReaderGone) => ExitCode::SUCCESS,
+        Err(Failure::Refused(e)) => fail(1, &e),
+        Err(Failure::Output(code)) => code,
     }
+}
+
+/// Why an action of `ferroc inspect` ended early.
+pub(crate) enum Failure {
+    /// The program refused, or nobody answered: exit code 1 with the reason.
+    Refused(String),
+    /// Standard output cannot be written (a full disk): said already, exit code 2.
+    Output(ExitCode),
+    /// The reader of standard output is gone (`| head -1`): stop quietly, as the other
+    /// commands do.
+    ReaderGone,
+}
+
+impl From<String> for Failure {
+    fn from(e: String) -> Failure {
+        Failure::Refused(e)
+    }
+}
+
+/// Writes `text` to standard output as every command does (crate::output): a closed
+/// pipe ends the action quietly, another failure is exit code 2.
+pub(crate) fn emit(text: &str) -> Result<(), Failure> {
+    match crate::output::write(text.as_bytes()) {
+        Ok(crate::output::Written::Read) => Ok(()),
+        Ok(crate::output::Written::ReaderGone) => Err(Failure::ReaderGone),
+        Err(code) => Err(Failure::Output(code)),
+    }
+}
+
+/// [`emit`] of one line.
+fn line(text: impl std::fmt::Display) -> Result<(), Failure> {
+    emit(&format!("{text}\n"))
 }
 
 /// `--serve`: the web page (ferroc_inspect::web) until Ctrl-C; it connects to the
 /// program itself, and again whenever the program was unreachable.
 fn serve(args: &InspectArgs, listen: &str) -> ExitCode {
+    let limits = match ferroc_inspect::limits::Limits::from_env() {
+        Ok(l) => l,
+        Err(e) => return fail(2, &e),
+    };
     let options = web::Options {
         listen: listen.to_owned(),
         public: args.serve_public,
         connect: args.connect.clone(),
         app: args.app.clone(),
+        limits,
     };
     let server = match web::start(&options) {
         Ok(s) => s,
@@ -152,11 +195,17 @@ fn foxglove(args: &InspectArgs, address: &str) -> ExitCode {
     if let Err(e) = bind_address(address, args.foxglove_public) {
         return fail(2, &e);
     }
+    let limits = match ferroc_inspect::limits::Limits::from_env() {
+        Ok(l) => l,
+        Err(e) => return fail(2, &e),
+    };
     let options = Options {
         address: address.to_owned(),
         public: args.foxglove_public,
         app: args.app.clone(),
         token: args.token.clone(),
+        origins: args.foxglove_origin.clone(),
+        limits,
         every: args.every,
         duration: args.duration,
     };
@@ -171,13 +220,13 @@ fn fail(code: u8, message: &str) -> ExitCode {
     ExitCode::from(code)
 }
 
-fn list(client: &Client, args: &InspectArgs) -> Result<(), String> {
+fn list(client: &Client, args: &InspectArgs) -> Result<(), Failure> {
     let trees = client.ask(&key(&args.app, "*", &What::Tree), None)?;
     if trees.is_empty() {
-        return Err(format!(
+        return Err(Failure::Refused(format!(
             "no program answered on {}: is it running with --inspect, and is --app right?",
             args.connect.join(", ")
-        ));
+        )));
     }
     let mut all = serde_json::Map::new();
     for answer in &trees {
@@ -195,20 +244,17 @@ fn list(client: &Client, args: &InspectArgs) -> Result<(), String> {
             );
             continue;
         }
-        println!(
-            "{}",
-            escape_controls(show_part(
-                app,
-                part,
-                &tree,
-                &containers,
-                &links,
-                &activities
-            ))
-        );
+        line(escape_controls(show_part(
+            app,
+            part,
+            &tree,
+            &containers,
+            &links,
+            &activities,
+        )))?;
     }
     if args.json {
-        println!("{}", serde_json::Value::Object(all));
+        line(serde_json::Value::Object(all))?;
     }
     Ok(())
 }
@@ -300,30 +346,24 @@ fn show_param(p: &ParamView) -> String {
     format!("{} = {}{unit} ({})", p.name, p.value, limits.join(", "))
 }
 
-fn get(client: &Client, args: &InspectArgs, path: &str) -> Result<(), String> {
+fn get(client: &Client, args: &InspectArgs, path: &str) -> Result<(), Failure> {
     let part = part_of(path);
     let value = client.ask(&key(&args.app, part, &What::Value(path.into())), None)?;
     match value.first().map(|a| a.parse::<PortValue>()) {
-        Some(Ok(v)) => {
-            print_value(&v, args.json, None);
-            Ok(())
-        }
+        Some(Ok(v)) => print_value(&v, args.json, None),
         Some(Err(port_error)) => {
             // Not a port: perhaps a parameter.
             let param = client.ask(&key(&args.app, part, &What::Param(path.into())), None)?;
             match param.first().map(Answer::parse::<ParamView>) {
-                Some(Ok(p)) => {
-                    print_param(&p, args.json);
-                    Ok(())
-                }
+                Some(Ok(p)) => print_param(&p, args.json),
                 Some(Err(param_error)) if param_error.contains("has no parameter") => {
-                    Err(format!("{port_error}; {param_error}"))
+                    Err(format!("{port_error}; {param_error}").into())
                 }
-                Some(Err(e)) => Err(e),
-                None => Err(port_error),
+                Some(Err(e)) => Err(e.into()),
+                None => Err(port_error.into()),
             }
         }
-        None => Err(nobody(args, part, path)),
+        None => Err(nobody(args, part, path).into()),
     }
 }
 
@@ -334,14 +374,13 @@ fn nobody(args: &InspectArgs, part: &str, path: &str) -> String {
     )
 }
 
-fn print_value(v: &PortValue, json: bool, at: Option<f64>) {
+fn print_value(v: &PortValue, json: bool, at: Option<f64>) -> Result<(), Failure> {
     if json {
         let mut value = serde_json::to_value(v).unwrap_or_default();
         if let (Some(t), Some(o)) = (at, value.as_object_mut()) {
             o.insert("t".into(), serde_json::json!(t));
         }
-        println!("{value}");
-        return;
+        return line(value);
     }
     let unit = v.unit.as_ref().map(|u| format!(" {u}")).unwrap_or_default();
     let note = if v.published {
@@ -349,38 +388,37 @@ fn print_value(v: &PortValue, json: bool, at: Option<f64>) {
     } else {
         " (nothing published yet)"
     };
-    let line = match at {
+    let text = match at {
         Some(t) => format!("{t:8.3} s  {}{unit}{note}", v.value),
         None => format!("{} = {}{unit}{note}", v.port, v.value),
     };
-    println!("{}", escape_controls(line));
+    line(escape_controls(text))
 }
 
-fn print_param(p: &ParamView, json: bool) {
+fn print_param(p: &ParamView, json: bool) -> Result<(), Failure> {
     if json {
-        println!("{}", serde_json::to_value(p).unwrap_or_default());
+        line(serde_json::to_value(p).unwrap_or_default())
     } else {
-        println!(
+        line(format!(
             "{}/{}",
             escape_controls(&p.module),
             escape_controls(show_param(p))
-        );
+        ))
     }
 }
 
-fn set(client: &Client, args: &InspectArgs, assignment: &str) -> Result<(), String> {
+fn set(client: &Client, args: &InspectArgs, assignment: &str) -> Result<(), Failure> {
     let Some((path, value)) = assignment.split_once('=') else {
-        return Err(format!(
+        return Err(Failure::Refused(format!(
             "--set {assignment}: write MODULE/PATH/NAME=VALUE, e.g. --set robot/avoid/min_activity=0.4"
-        ));
+        )));
     };
     let token = args.token.as_deref().unwrap_or_default();
     let p: ParamView = client.set(&args.app, path.trim(), value.trim(), token)?;
-    print_param(&p, args.json);
-    Ok(())
+    print_param(&p, args.json)
 }
 
-fn watch(client: &Client, args: &InspectArgs, path: &str) -> Result<(), String> {
+fn watch(client: &Client, args: &InspectArgs, path: &str) -> Result<(), Failure> {
     let what = What::Value(path.into());
     let key = key(&args.app, part_of(path), &what);
     let start = Instant::now();
@@ -395,9 +433,10 @@ fn watch(client: &Client, args: &InspectArgs, path: &str) -> Result<(), String> 
         let answers = client.ask(&key, None)?;
         let v: PortValue = match answers.first() {
             Some(a) => a.parse()?,
-            None => return Err(nobody(args, part_of(path), path)),
+            None => return Err(nobody(args, part_of(path), path).into()),
         };
-        print_value(&v, args.json, Some(start.elapsed().as_secs_f64()));
+        // A reader that went away ends the watch (quietly, exit code 0).
+        print_value(&v, args.json, Some(start.elapsed().as_secs_f64()))?;
         printed += 1;
         let next = asked + args.every;
         let now = Instant::now();

@@ -2,6 +2,7 @@
 //! running with `ferroc run --inspect`, and its model as it runs now (docs/inspect.md,
 //! "Structural edits").
 
+use crate::inspect::{emit, Failure};
 use ferroc_compiler::diagnostic::escape_controls;
 use ferroc_compiler::load::{self, Limits};
 use ferroc_inspect::client::Client;
@@ -40,14 +41,13 @@ pub fn edit(
     path: &Path,
     token: &str,
     json: bool,
-) -> Result<(), String> {
+) -> Result<(), Failure> {
     let ops = read_ops(path)?;
     let answer = client.edit(app, "*", ops, token)?;
     if json {
-        println!("{answer}");
-        return Ok(());
+        return emit(&format!("{answer}\n"));
     }
-    println!("applied:");
+    let mut out = String::from("applied:\n");
     let sections = [
         ("edit", "model"),
         ("runtime", "running"),
@@ -56,14 +56,14 @@ pub fn edit(
     for (section, prefix) in sections {
         for line in answer[section].as_array().into_iter().flatten() {
             let line = escape_controls(line.as_str().unwrap_or_default());
-            println!("  {prefix}: {line}");
+            out.push_str(&format!("  {prefix}: {line}\n"));
         }
     }
-    Ok(())
+    emit(&out)
 }
 
 /// `--save`: writes the model the program runs now to `file` (`-`: standard output).
-pub fn save(client: &Client, app: &str, file: &Path) -> Result<(), String> {
+pub fn save(client: &Client, app: &str, file: &Path) -> Result<(), Failure> {
     let k = key(app, "*", &What::Model);
     let answers = client.ask(&k, None)?;
     let answer = answers.into_iter().next().ok_or_else(|| {
@@ -74,9 +74,12 @@ pub fn save(client: &Client, app: &str, file: &Path) -> Result<(), String> {
         .as_str()
         .ok_or_else(|| format!("`{}` answered without a model text", answer.key))?;
     if file == Path::new("-") {
-        print!("{text}");
-        return Ok(());
+        return emit(text);
     }
+    let text = match model["folder"].as_str() {
+        Some(folder) => relocated(text, Path::new(folder), file)?,
+        None => text.to_owned(),
+    };
     std::fs::write(file, text).map_err(|e| format!("cannot write {}: {e}", file.display()))?;
     eprintln!(
         "saved the model of {} to {}",
@@ -84,4 +87,16 @@ pub fn save(client: &Client, app: &str, file: &Path) -> Result<(), String> {
         file.display()
     );
     Ok(())
+}
+
+/// `text` (the model in `folder`) with its paths written for where `file` lies.
+fn relocated(text: &str, folder: &Path, file: &Path) -> Result<String, String> {
+    let parent = match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let to = std::fs::canonicalize(parent)
+        .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
+    ferroc_compiler::edit::relocate(text, folder, &to)
+        .map_err(|e| format!("the model cannot be saved as {}: {e}", file.display()))
 }

@@ -241,11 +241,10 @@ fn edits_breaking_a_rule_are_refused_and_a_filter_is_inserted_while_the_other_co
     assert_eq!(status, 0, "{err}");
     eventually(&r, "robot/fast/scaled/output", json!(60.0));
 
-    // (c) Save back: it checks clean and runs as the edited application.
+    // (c) Save back: it checks clean and runs as the edited application, saved in
+    // another folder than the model's (issue 27, item 17: the manifest's path stayed
+    // relative to the old folder, and the saved model failed with L102).
     let saved = common::tempdir("inspect_edit_saved").join("saved.xml");
-    // Beside the library its model uses, as the original.
-    let saved_here =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/edit/saved.tmp.xml");
     let (status, _, err) = inspect(&r, &["--save", saved.to_str().unwrap()]);
     assert_eq!(status, 0, "{err}");
     let text = std::fs::read_to_string(&saved).unwrap();
@@ -254,15 +253,17 @@ fn edits_breaking_a_rule_are_refused_and_a_filter_is_inserted_while_the_other_co
         "{text}"
     );
     assert!(text.contains("<param name=\"factor\">5</param>"), "{text}");
-    std::fs::write(&saved_here, &text).unwrap();
-    let (status, out, err) = ferroc(&["check", saved_here.to_str().unwrap(), "--format", "short"]);
+    assert!(
+        text.contains("tests/fixtures/edit/extra.lib.xml\"/>"),
+        "{text}"
+    );
+    let (status, out, err) = ferroc(&["check", saved.to_str().unwrap(), "--format", "short"]);
     assert_eq!(status, 0, "{out}{err}");
     assert!(!out.contains("error"), "{out}");
-    let again = start("tests/fixtures/edit/saved.tmp.xml");
+    let again = start(saved.to_str().unwrap());
     eventually(&again, "robot/fast/scaled/output", json!(60.0));
     let tree_again = ask(&again, "tree");
     drop(again);
-    let _ = std::fs::remove_file(&saved_here);
     assert_eq!(structure(&tree_again), structure(&ask(&r, "tree")));
 }
 
@@ -352,4 +353,33 @@ fn snapshot(name: &str, actual: &str) {
         "snapshot {} differs (FERROC_BLESS=1 to update)",
         file.display()
     );
+}
+
+/// Issue 27, item 5: an edit removing every module was applied, and the program then
+/// answered no inspection key at all, so its model could be neither saved nor edited
+/// back. The part stays inspectable: its tree is empty, its containers are listed, the
+/// model is saved, and an edit brings a module back. Failed before the fix (`--list`
+/// found no program).
+#[test]
+fn a_part_emptied_by_an_edit_stays_inspectable() {
+    let r = start(MODEL);
+    eventually(&r, "robot/fast/scaled/output", json!(8.0));
+    let every = ["fast/source", "fast/scaled", "slow/distance", "slow/shown"]
+        .map(|m| json!({"op": "remove", "module": format!("robot/{m}")}));
+    let (status, out, err) = edit(&r, "empty_all", json!(every));
+    assert_eq!(status, 0, "{out}{err}");
+    let tree = ask(&r, "tree");
+    assert_eq!(tree["modules"], json!([]), "{tree}");
+    let containers: Vec<&Value> = (tree["containers"].as_array().unwrap().iter())
+        .map(|c| &c["path"])
+        .collect();
+    assert_eq!(containers, [&json!("robot/fast"), &json!("robot/slow")]);
+    let (status, saved, err) = inspect(&r, &["--save", "-"]);
+    assert_eq!(status, 0, "{err}");
+    assert!(!saved.contains("<module"), "{saved}");
+    let back = json!([{"op": "add", "module": "robot/fast/source", "type": "ferroc_std.Constant",
+                       "params": {"value": "7"}}]);
+    let (status, out, err) = edit(&r, "back", back);
+    assert_eq!(status, 0, "{out}{err}");
+    eventually(&r, "robot/fast/source/value", json!(7.0));
 }

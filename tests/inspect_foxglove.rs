@@ -161,11 +161,17 @@ fn param<'a>(list: &'a [Value], name: &str) -> &'a Value {
 /// Starts `ferroc inspect --foxglove` for the program on `inspect`; waits for it to
 /// serve.
 fn bridge(inspect: &str, token: Option<&str>) -> (Proc, String) {
+    bridge_limited(inspect, token, "")
+}
+
+/// [`bridge`] with the limits `FERROC_INSPECT_LIMITS` sets (`""`: the defaults).
+fn bridge_limited(inspect: &str, token: Option<&str>, limits: &str) -> (Proc, String) {
     let address = format!("127.0.0.1:{}", free_port());
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_ferroc"));
     cmd.args(["inspect", "--connect", inspect, "--foxglove", &address]);
     cmd.args(["--every", "50ms"]);
     cmd.env_remove("FERROC_INSPECT_TOKEN");
+    cmd.env("FERROC_INSPECT_LIMITS", limits);
     if let Some(t) = token {
         cmd.args(["--token", t]);
     }
@@ -190,7 +196,8 @@ fn a_foxglove_client_sees_channels_and_values_and_sets_a_parameter() {
     let token = line.rsplit_once(": ").unwrap().1.trim().to_owned();
 
     let (first_bridge, address) = bridge(&inspect, Some(&token));
-    let (mut fox, info) = Foxglove::connect(&modules, &address);
+    // Changes need the token in the connection's URL (issue 27, item 1).
+    let (mut fox, info) = Foxglove::connect(&modules, &format!("{address}/?token={token}"));
     assert!(
         info["capabilities"]
             .as_array()
@@ -369,4 +376,134 @@ fn a_non_local_foxglove_address_needs_the_public_flag() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("cannot reach 127.0.0.1:1"), "{err}");
+}
+
+/// What tests/foxglove/raw.mjs saw: the refused upgrade's status and body, or that the
+/// connection opened, or an error.
+fn raw(modules: &PathBuf, url: &str, origin: Option<&str>) -> Value {
+    let mut node = Command::new("node");
+    node.arg("tests/foxglove/raw.mjs").arg(url);
+    node.args(origin);
+    let out = node
+        .env("FERROC_NODE_MODULES", modules)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("node runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    serde_json::from_str(text.trim()).unwrap_or_else(|e| panic!("raw.mjs wrote `{text}`: {e}"))
+}
+
+fn float(list: &[Value], name: &str) -> f64 {
+    param(list, name).as_f64().unwrap()
+}
+
+/// Issue 27, item 1: the bridge applied `setParameters` from any client, including a
+/// web page of another site. Now a change needs the bridge's token in the connection's
+/// URL, a wrong token and a foreign `Origin` are refused at the upgrade (403), and a
+/// connection without the token reads but changes nothing. Failed before the fix (the
+/// change without the token in the URL was applied, the foreign origin admitted).
+#[test]
+fn changes_need_the_token_in_the_url_and_other_sites_are_refused() {
+    let Some(modules) = node_modules() else {
+        return;
+    };
+    let program = common::inspected::start("tests/fixtures/inspect.xml");
+    let (_bridge, address) = bridge(&program.address, Some(&program.token));
+    let factor = "robot/main/scaled/factor";
+
+    // No token in the URL: values and parameters are read, a change is refused.
+    let (mut reader, _) = Foxglove::connect(&modules, &address);
+    reader.send(
+        json!({"op": "setParameters", "parameters": [{"name": factor, "value": 5.0}], "id": "no"}),
+    );
+    let status = reader.until("an error status", |e| e["ev"] == "status");
+    let message = status["message"].as_str().unwrap();
+    assert!(
+        message.contains("not authorised") && message.contains("?token="),
+        "{status}"
+    );
+    assert_eq!(float(&reader.parameters("no"), factor), 2.0);
+
+    // The token in the URL: the change is made.
+    let url = format!("{address}/?token={}", program.token);
+    let (mut writer, _) = Foxglove::connect(&modules, &url);
+    writer.send(
+        json!({"op": "setParameters", "parameters": [{"name": factor, "value": 3.0}], "id": "yes"}),
+    );
+    assert_eq!(float(&writer.parameters("yes"), factor), 3.0);
+    // The other connection still cannot.
+    reader.send(json!({"op": "setParameters", "parameters": [{"name": factor, "value": 5.0}], "id": "again"}));
+    assert_eq!(float(&reader.parameters("again"), factor), 3.0);
+
+    // A wrong token: refused at the upgrade.
+    let wrong = raw(
+        &modules,
+        &format!("ws://{address}/?token={}", "0".repeat(32)),
+        None,
+    );
+    assert_eq!(wrong["status"], 403, "{wrong}");
+    assert!(
+        wrong["body"].as_str().unwrap().contains("not authorised"),
+        "{wrong}"
+    );
+    // A page of another site: refused, with or without the token.
+    for url in [format!("ws://{address}/"), format!("ws://{url}")] {
+        let evil = raw(&modules, &url, Some("http://evil.example"));
+        assert_eq!(evil["status"], 403, "{evil}");
+        assert!(
+            evil["body"].as_str().unwrap().contains("another site"),
+            "{evil}"
+        );
+    }
+    // A foreign host name (DNS rebinding): refused.
+    let port = address.rsplit_once(':').unwrap().1;
+    let rebound = raw(&modules, &format!("ws://localhost.:{port}/"), None);
+    assert!(
+        rebound["status"] == 403 || rebound.get("error").is_some(),
+        "{rebound}"
+    );
+    // The Foxglove app's own origin, and clients that are no browser: admitted.
+    let app = raw(
+        &modules,
+        &format!("ws://{address}/"),
+        Some("https://app.foxglove.dev"),
+    );
+    assert_eq!(app["open"], true, "{app}");
+    assert_eq!(app["protocol"], "foxglove.sdk.v1", "{app}");
+    assert_eq!(
+        raw(&modules, &format!("ws://{address}/"), None)["open"],
+        true
+    );
+    // The value is the one the token's connection set.
+    let (code, out, err) =
+        common::ferroc(&["inspect", "--connect", &program.address, "--get", factor]);
+    assert_eq!(
+        (code, out.trim()),
+        (0, "robot/main/scaled/factor = 3 (f64)"),
+        "{err}"
+    );
+}
+
+/// Issue 27, item 3: an idle client of the bridge was never dropped. The upgrade must
+/// arrive in time (set small here); clients within it are served. Failed before the
+/// fix (the idle connection stayed open).
+#[test]
+fn an_idle_client_of_the_bridge_is_dropped() {
+    use std::io::Read;
+    let Some(modules) = node_modules() else {
+        return;
+    };
+    let program = common::inspected::start("tests/fixtures/inspect.xml");
+    let (_bridge, address) = bridge_limited(&program.address, None, "header_ms=300");
+    let mut idle = std::net::TcpStream::connect(&address).unwrap();
+    idle.set_read_timeout(Some(Duration::from_secs(60)))
+        .unwrap();
+    let mut chunk = [0u8; 256];
+    let closed = match idle.read(&mut chunk) {
+        Ok(n) => n == 0,
+        Err(e) => e.kind() == std::io::ErrorKind::ConnectionReset,
+    };
+    assert!(closed, "the idle connection stays open");
+    let (_, info) = Foxglove::connect(&modules, &address);
+    assert_eq!(info["ev"], "serverInfo");
 }

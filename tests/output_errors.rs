@@ -2,7 +2,10 @@
 //! that closed the pipe ends the output quietly (the exit code stands), a full disk is
 //! exit code 2 with a message.
 
+mod common;
+
 use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 /// Runs ferroc with standard output as given: (exit code, stderr).
 fn run_into(args: &[&str], stdout: Stdio) -> (i32, String) {
@@ -111,4 +114,62 @@ fn an_unwritable_standard_error_changes_nothing_but_the_messages() {
             );
         }
     }
+}
+
+/// `ferroc inspect`'s commands that print, against a running program (issue 27, item
+/// 11: they panicked with exit code 101 on a closed pipe or a full disk).
+fn inspect_commands(address: &str) -> Vec<Vec<String>> {
+    let with = |rest: &[&str]| {
+        let mut args = vec!["inspect", "--connect", address];
+        args.extend_from_slice(rest);
+        args.into_iter().map(String::from).collect()
+    };
+    vec![
+        with(&["--list"]),
+        with(&["--list", "--json"]),
+        with(&["--get", "robot/main/scaled/output"]),
+        with(&["--get", "robot/main/scaled/factor", "--json"]),
+        with(&["--watch", "robot/main/scaled/output", "--count", "3"]),
+        with(&["--save", "-"]),
+    ]
+}
+
+/// Issue 27, item 11: `ferroc inspect` follows the rule of every command. Failed
+/// before the fix (exit code 101, "panicked" on standard error).
+#[test]
+fn inspect_follows_the_output_rule() {
+    let program = common::inspected::start("tests/fixtures/inspect.xml");
+    for args in inspect_commands(&program.address) {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (code, err) = run_into(&args, closed_pipe());
+        assert_eq!(code, 0, "{args:?}: {err}");
+        assert!(err.is_empty(), "{args:?} says nothing: {err}");
+        let (code, err) = run_into(&args, full_disk());
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.contains("error: cannot write to standard output: No space left on device"),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    // A watch without an end stops when its reader is gone (exit code 0).
+    let mut watch = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+        .args(["inspect", "--connect", &program.address])
+        .args(["--watch", "robot/main/scaled/output"])
+        .stdout(closed_pipe())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let status = loop {
+        if let Some(status) = watch.try_wait().unwrap() {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = watch.kill();
+            panic!("--watch goes on writing into a closed pipe");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert_eq!(status.code(), Some(0));
 }

@@ -184,7 +184,17 @@ impl Structure for Editor {
 
     fn model(&self) -> serde_json::Value {
         let state = self.lock();
-        serde_json::json!({"model": state.model.display().to_string(), "text": state.text})
+        // The model's folder as an absolute path: `ferroc inspect --save` (run in
+        // another folder, maybe) writes the model's paths again relative to where it
+        // saves it.
+        let folder = std::fs::canonicalize(&state.model)
+            .ok()
+            .and_then(|m| m.parent().map(|p| p.display().to_string()));
+        serde_json::json!({
+            "model": state.model.display().to_string(),
+            "folder": folder,
+            "text": state.text,
+        })
     }
 
     fn param_changed(&self, module: &str, name: &str, text: &str) {

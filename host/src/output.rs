@@ -12,10 +12,25 @@ use std::process::ExitCode;
 /// Writes `text` to standard output and flushes it. `Err` carries exit code 2 after
 /// saying why on standard error.
 pub fn stdout(text: &[u8]) -> Result<(), ExitCode> {
+    write(text).map(|_| ())
+}
+
+/// Whether what was written has a reader.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Written {
+    /// Written and flushed.
+    Read,
+    /// The reader closed the pipe: nothing more need be written (a command that goes
+    /// on writing, `ferroc inspect --watch`, stops).
+    ReaderGone,
+}
+
+/// [`stdout`], saying whether the reader is still there.
+pub fn write(text: &[u8]) -> Result<Written, ExitCode> {
     let mut out = std::io::stdout().lock();
     match out.write_all(text).and_then(|()| out.flush()) {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Ok(()) => Ok(Written::Read),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(Written::ReaderGone),
         Err(e) => {
             eprintln!("error: cannot write to standard output: {e}");
             Err(ExitCode::from(2))

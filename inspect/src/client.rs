@@ -67,7 +67,29 @@ impl Client {
         payload: Option<Vec<u8>>,
         timeout: Duration,
     ) -> Result<Vec<Answer>, String> {
-        for attempt in 0..5 {
+        self.ask_attempts(key, payload, timeout, 5)
+    }
+
+    /// [`ask`](Self::ask) without asking again: for a server answering many requests,
+    /// where a query nobody answers (an application that does not exist) must not
+    /// hold a thread for the retries.
+    pub fn ask_once(
+        &self,
+        key: &str,
+        payload: Option<Vec<u8>>,
+        timeout: Duration,
+    ) -> Result<Vec<Answer>, String> {
+        self.ask_attempts(key, payload, timeout, 1)
+    }
+
+    fn ask_attempts(
+        &self,
+        key: &str,
+        payload: Option<Vec<u8>>,
+        timeout: Duration,
+        attempts: u32,
+    ) -> Result<Vec<Answer>, String> {
+        for attempt in 0..attempts {
             if attempt > 0 {
                 std::thread::sleep(Duration::from_millis(200));
             }

@@ -12,7 +12,8 @@
 //! arrives, so an idle inspector costs the application nothing.
 //!
 //! Modules: [`server`] (the queryable a program serves, on its own thread), [`token`]
-//! (the token changes need), [`structure`] (the `edit` and `model` keys, answered by the
+//! (the token changes need), [`limits`] (what one client of the web page or the
+//! Foxglove bridge may cost), [`structure`] (the `edit` and `model` keys, answered by the
 //! runner's `Structure`), [`request`] (the keys and requests), [`config`] (session
 //! configuration: loopback by default, explicit endpoints, no multicast), [`client`]
 //! (what `ferroc inspect` asks with), [`param_value`] (a parameter change's text parsed
@@ -28,6 +29,7 @@ pub mod client;
 pub mod config;
 #[cfg(feature = "foxglove")]
 pub mod foxglove;
+pub mod limits;
 pub mod param_value;
 pub mod program;
 pub mod request;

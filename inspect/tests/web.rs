@@ -41,6 +41,7 @@ fn the_server_serves_its_page_reports_an_unreachable_program_and_stops_cleanly()
         public: false,
         connect: vec![nobody.to_string()],
         app: "*".into(),
+        limits: ferroc_inspect::limits::Limits::default(),
     };
     let server = web::start(&options).map_err(|e| e.0).unwrap();
     let address = server.address().to_string();

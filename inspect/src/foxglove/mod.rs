@@ -9,13 +9,20 @@
 //! part ([`channels`]). Values are polled from the inspection keys every `--every`,
 //! and only for channels some client subscribed to: a channel nobody watches costs no
 //! query. Parameters go through [`params`].
+//!
+//! Clients never reach the SDK's server directly: they connect to the [`gate`], which
+//! refuses foreign origins and wrong tokens at the upgrade, bounds what a client
+//! costs, and vouches for connections that gave the token, the only ones whose
+//! changes the parameter handler takes.
 
 pub mod channels;
+pub mod gate;
 pub mod params;
 pub mod schema;
 
 use crate::client::Client;
 use crate::config;
+use crate::limits::Limits;
 use crate::request::{key, What};
 use ferroc_runtime::inspect::view::Tree;
 use foxglove::{Context, WebSocketServer};
@@ -24,6 +31,10 @@ use std::time::{Duration, Instant};
 
 /// The address the bridge serves on by default (the Foxglove app's default).
 pub const DEFAULT_ADDRESS: &str = "127.0.0.1:8765";
+
+/// The origin of the Foxglove app in a browser, which may always connect (it still
+/// needs the token to change anything).
+pub const APP_ORIGIN: &str = "https://app.foxglove.dev";
 
 /// What the bridge serves, and how.
 pub struct Options {
@@ -35,6 +46,11 @@ pub struct Options {
     pub app: String,
     /// The token for parameter changes, if given.
     pub token: Option<String>,
+    /// Origins of web pages that may connect besides [`APP_ORIGIN`]
+    /// (`--foxglove-origin`).
+    pub origins: Vec<String>,
+    /// What one client may cost.
+    pub limits: Limits,
     /// How often subscribed channels are polled.
     pub every: Duration,
     /// Stop after this long (none: run until killed).
@@ -68,21 +84,42 @@ pub fn run(client: Client, options: &Options) -> Result<(), String> {
     let context = Context::new();
     let feeds = channels::build(&client, &app, &parts, &context)?;
     let server_slot = Arc::new(OnceLock::new());
-    let handler = params::Handler::start(params::Worker {
-        client: client.clone(),
-        app: app.clone(),
-        token: options.token.clone().unwrap_or_default(),
-        server: server_slot.clone(),
-        parts: parts.iter().map(|(p, _)| p.clone()).collect(),
-    })?;
+    let secret = crate::token::generate()?;
+    let handler = params::Handler::start(
+        params::Worker {
+            client: client.clone(),
+            app: app.clone(),
+            token: options.token.clone().unwrap_or_default(),
+            server: server_slot.clone(),
+            parts: parts.iter().map(|(p, _)| p.clone()).collect(),
+        },
+        &secret,
+    )?;
+    let cannot =
+        |e: &dyn std::fmt::Display| format!("--foxglove {}: cannot serve: {e}", options.address);
+    // The public address is bound first, so a port in use is reported as such.
+    let door = std::net::TcpListener::bind((host.as_str(), port)).map_err(|e| cannot(&e))?;
+    let hidden = gate::hidden_host();
     let server = WebSocketServer::new()
         .name(format!("ferroc {app}"))
-        .bind(host, port)
+        .bind(hidden.to_string(), 0)
         .context(&context)
         .parameter_handler(Arc::new(handler))
         .start_blocking()
-        .map_err(|e| format!("--foxglove {}: cannot serve: {e}", options.address))?;
+        .map_err(|e| cannot(&e))?;
+    let backend = std::net::SocketAddr::new(hidden.into(), server.port());
     let _ = server_slot.set(server);
+    let mut origins = vec![APP_ORIGIN.to_owned()];
+    origins.extend(options.origins.iter().cloned());
+    let rules = Arc::new(gate::Rules {
+        token: options.token.clone(),
+        public: options.public,
+        origins,
+        backend,
+        secret,
+        limits: options.limits.clone(),
+    });
+    let _gate = start_gate(door, rules).map_err(|e| cannot(&e))?;
     if !config::is_local(&options.address) {
         eprintln!(
             "warning: Foxglove is served on {}, not only on this computer: anyone who reaches it can read every value",
@@ -91,6 +128,11 @@ pub fn run(client: Client, options: &Options) -> Result<(), String> {
     }
     if options.token.is_none() {
         eprintln!("foxglove: no --token: parameter changes will be refused");
+    } else {
+        eprintln!(
+            "foxglove: parameter changes only from connections with the token in the URL: ws://{}/?token=TOKEN",
+            options.address
+        );
     }
     eprintln!(
         "foxglove: serving {} channels of {app} on ws://{} (subprotocol foxglove.sdk.v1)",
@@ -99,6 +141,26 @@ pub fn run(client: Client, options: &Options) -> Result<(), String> {
     );
     poll(&client, &feeds, options);
     Ok(())
+}
+
+/// Serves the gate on `door`, on a runtime of its own (kept while the bridge runs).
+fn start_gate(
+    door: std::net::TcpListener,
+    rules: Arc<gate::Rules>,
+) -> std::io::Result<tokio::runtime::Runtime> {
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .thread_name("foxglove-gate")
+        .enable_io()
+        .enable_time()
+        .build()?;
+    door.set_nonblocking(true)?;
+    let listener = {
+        let _inside = runtime.enter();
+        tokio::net::TcpListener::from_std(door)?
+    };
+    runtime.spawn(gate::serve(listener, rules));
+    Ok(runtime)
 }
 
 /// The application (the one named, or the only one answering) and its parts' trees.

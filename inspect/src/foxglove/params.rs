@@ -4,6 +4,10 @@
 //! the bridge's token. A refused change leaves the parameter as it was: the client
 //! gets its current value back and an error status saying why.
 //!
+//! A change is taken only from a connection the gate vouched for (it gave the token
+//! in its URL, [`super::gate`]): the SDK tells the handler nothing else about a
+//! connection. Any other connection's `setParameters` is refused, whatever it holds.
+//!
 //! The SDK calls the handler on its own tasks, which must not block; the Zenoh
 //! queries run on one worker thread of ours, fed through a bounded queue.
 
@@ -11,12 +15,13 @@ use crate::client::{part_of, Client};
 use crate::request::What;
 use ferroc_runtime::inspect::view::{ParamView, Tree};
 use foxglove::websocket::{
-    AnyClient, GetParametersResponder, Parameter, ParameterHandler, ParameterValue,
+    AnyClient, ClientId, GetParametersResponder, Parameter, ParameterHandler, ParameterValue,
     SetParametersResponder,
 };
 use foxglove::WebSocketServerHandle;
+use std::collections::HashSet;
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender, TrySendError};
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Requests waiting for the worker; more are refused as busy.
 const QUEUE: usize = 64;
@@ -58,12 +63,18 @@ pub fn to_text(value: &ParameterValue) -> Result<String, String> {
 
 enum Job {
     Get(Vec<String>, GetParametersResponder),
-    Set(Vec<Parameter>, AnyClient, SetParametersResponder),
+    /// The change, its client, whether the gate vouched for that client.
+    Set(Vec<Parameter>, AnyClient, bool, SetParametersResponder),
 }
 
 /// The handler the server calls; see the [module docs](self).
 pub struct Handler {
     jobs: SyncSender<Job>,
+    /// The id of the gate's vouching request (`super::gate::VOUCH` and the secret).
+    vouch_id: String,
+    /// Connections the gate vouched for. Only connections with the token are added
+    /// (one per connection the operator opens), so the set stays small.
+    vouched: Mutex<HashSet<ClientId>>,
 }
 
 /// What the worker needs: the Zenoh client, the application, the token, and the
@@ -82,14 +93,19 @@ pub struct Worker {
 }
 
 impl Handler {
-    /// A handler whose requests `worker` answers on a thread of its own.
-    pub fn start(worker: Worker) -> Result<Handler, String> {
+    /// A handler whose requests `worker` answers on a thread of its own; changes
+    /// only from connections vouched for with `secret`.
+    pub fn start(worker: Worker, secret: &str) -> Result<Handler, String> {
         let (jobs, queue) = sync_channel(QUEUE);
         std::thread::Builder::new()
             .name("foxglove-params".into())
             .spawn(move || work(&worker, &queue))
             .map_err(|e| format!("the parameter thread could not start: {e}"))?;
-        Ok(Handler { jobs })
+        Ok(Handler {
+            jobs,
+            vouch_id: format!("{}{secret}", super::gate::VOUCH),
+            vouched: Mutex::new(HashSet::new()),
+        })
     }
 
     fn queue(&self, job: Job) {
@@ -102,7 +118,7 @@ impl Handler {
                     responder.client().send_error(busy);
                     responder.respond(Vec::new());
                 }
-                Job::Set(_, client, responder) => {
+                Job::Set(_, client, _, responder) => {
                     client.send_error(busy);
                     responder.respond(Vec::new());
                 }
@@ -116,9 +132,16 @@ impl ParameterHandler for Handler {
         &self,
         _client: AnyClient,
         names: Vec<String>,
-        _request_id: Option<String>,
+        request_id: Option<String>,
         responder: GetParametersResponder,
     ) {
+        if request_id.is_some_and(|id| crate::token::matches(&self.vouch_id, &id)) {
+            let mut vouched = self.vouched.lock().unwrap_or_else(|p| p.into_inner());
+            vouched.insert(responder.client().id());
+            // The gate keeps this answer from the client.
+            responder.respond(Vec::new());
+            return;
+        }
         self.queue(Job::Get(names, responder));
     }
 
@@ -129,7 +152,9 @@ impl ParameterHandler for Handler {
         _request_id: Option<String>,
         responder: SetParametersResponder,
     ) {
-        self.queue(Job::Set(parameters, client, responder));
+        let vouched =
+            (self.vouched.lock().unwrap_or_else(|p| p.into_inner())).contains(&client.id());
+        self.queue(Job::Set(parameters, client, vouched, responder));
     }
 }
 
@@ -143,10 +168,14 @@ fn work(w: &Worker, queue: &Receiver<Job>) {
                 }
                 responder.respond(found);
             }
-            Job::Set(parameters, client, responder) => {
+            Job::Set(parameters, client, vouched, responder) => {
                 let mut now = Vec::new();
                 for p in &parameters {
-                    match set(w, p) {
+                    let result = match vouched {
+                        true => set(w, p),
+                        false => Err((NOT_VOUCHED.to_owned(), current(w, &p.name))),
+                    };
+                    match result {
                         Ok(after) => now.push(after),
                         Err((why, current)) => {
                             client.send_error(why);
@@ -193,10 +222,19 @@ fn read(w: &Worker, name: &str) -> Result<ParamView, String> {
         .one(&w.app, part_of(name), &What::Param(name.to_owned()))
 }
 
+/// Why a connection without the token cannot change anything.
+const NOT_VOUCHED: &str = "not authorised: this connection gave no token; changes need \
+     the bridge's token in the connection's URL: ws://HOST:PORT/?token=TOKEN";
+
+/// The parameter's current value, if it can be read.
+fn current(w: &Worker, name: &str) -> Option<Parameter> {
+    read(w, name).ok().map(|v| to_foxglove(&v))
+}
+
 /// Sets one parameter: its value afterwards, or why not and (if it can be read) its
 /// unchanged value.
 fn set(w: &Worker, p: &Parameter) -> Result<Parameter, (String, Option<Parameter>)> {
-    let current = || read(w, &p.name).ok().map(|v| to_foxglove(&v));
+    let current = || current(w, &p.name);
     let Some(value) = &p.value else {
         return Err((
             format!("`{}`: a parameter cannot be unset", p.name),

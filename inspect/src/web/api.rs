@@ -22,16 +22,30 @@ const MAX_PATHS: usize = 256;
 /// Longest name or path accepted.
 const MAX_NAME: usize = 1000;
 
+/// API requests asking the programs at once; more wait (at most the lookup limit) for
+/// one to finish. Fewer than the runtime's blocking threads (16), so a flood of
+/// requests that wait for answers cannot take every thread.
+const LOOKUPS: usize = 12;
+
 /// What every request handler shares.
 pub struct State {
     peer: Peer,
     /// The application asked for when a request names none (`--app`, default `*`).
     app: String,
+    /// Room for requests asking the programs ([`LOOKUPS`]).
+    lookups: Arc<tokio::sync::Semaphore>,
+    /// How long a request waits for room before it is answered 503.
+    wait: std::time::Duration,
 }
 
 impl State {
-    pub fn new(peer: Peer, app: String) -> State {
-        State { peer, app }
+    pub fn new(peer: Peer, app: String, wait: std::time::Duration) -> State {
+        State {
+            peer,
+            app,
+            lookups: Arc::new(tokio::sync::Semaphore::new(LOOKUPS)),
+            wait,
+        }
     }
 }
 
@@ -46,7 +60,28 @@ pub fn routes(state: Arc<State>) -> Router {
         .route("/api/param/{*path}", get(param).post(set_param))
         .route("/api/edit", post(edit))
         .layer(DefaultBodyLimit::max(MAX_BODY))
+        .layer(axum::middleware::from_fn_with_state(state.clone(), room))
         .with_state(state)
+}
+
+/// Lets an API request ask the programs when there is room ([`LOOKUPS`]), or answers
+/// 503 after waiting the lookup limit: under a flood, a request gives up in time
+/// instead of queueing behind every other.
+async fn room(
+    Shared(s): Shared<Arc<State>>,
+    request: axum::extract::Request,
+    next: axum::middleware::Next,
+) -> axum::response::Response {
+    use axum::response::IntoResponse;
+    let slot = tokio::time::timeout(s.wait, s.lookups.clone().acquire_owned()).await;
+    match slot {
+        Ok(Ok(_slot)) => next.run(request).await,
+        _ => ApiError::new(
+            axum::http::StatusCode::SERVICE_UNAVAILABLE,
+            "the inspector is busy with other requests; ask again",
+        )
+        .into_response(),
+    }
 }
 
 /// The query string every API takes (each uses some of the fields).

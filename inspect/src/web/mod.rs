@@ -14,6 +14,9 @@ mod error;
 mod guard;
 mod peer;
 
+pub(crate) use guard::is_loopback_host;
+
+use crate::limits::Limits;
 use std::net::{SocketAddr, TcpListener};
 use std::sync::Arc;
 use std::time::Duration;
@@ -32,6 +35,8 @@ pub struct Options {
     pub connect: Vec<String>,
     /// The application asked for (`*`: any).
     pub app: String,
+    /// What one client may cost.
+    pub limits: Limits,
 }
 
 /// Why the server could not start; every one is a usage or environment error.
@@ -79,8 +84,9 @@ pub fn start(options: &Options) -> Result<WebServer, StartError> {
         .build()
         .map_err(|e| StartError(format!("cannot start the web server's threads: {e}")))?;
     let state = Arc::new(api::State::new(
-        peer::Peer::new(options.connect.clone()),
+        peer::Peer::new(options.connect.clone(), options.limits.lookup),
         options.app.clone(),
+        options.limits.lookup,
     ));
     let router = api::routes(state.clone())
         .merge(assets::routes())
@@ -89,19 +95,17 @@ pub fn start(options: &Options) -> Result<WebServer, StartError> {
         .layer(axum::middleware::from_fn_with_state(
             guard::Allowed::new(options.public),
             guard::check,
+        ))
+        .layer(axum::middleware::from_fn_with_state(
+            options.limits.request,
+            deadline,
         ));
     let listener = {
         let _inside = runtime.enter();
         tokio::net::TcpListener::from_std(listener).map_err(|e| StartError(e.to_string()))?
     };
-    let (stop, mut stopped) = tokio::sync::watch::channel(false);
-    let task = runtime.spawn(async move {
-        axum::serve(listener, router)
-            .with_graceful_shutdown(async move {
-                let _ = stopped.wait_for(|s| *s).await;
-            })
-            .await
-    });
+    let (stop, stopped) = tokio::sync::watch::channel(false);
+    let task = runtime.spawn(serve(listener, router, options.limits.clone(), stopped));
     Ok(WebServer {
         runtime: Some(runtime),
         task: Some(task),
@@ -109,6 +113,67 @@ pub fn start(options: &Options) -> Result<WebServer, StartError> {
         address,
         state: Some(state),
     })
+}
+
+/// Serves `router` on `listener` until `stopped`: each connection on a task of its
+/// own, closed when its request head is late (idle keep-alive connections too); at
+/// most `limits.connections` at once, more closed at once.
+async fn serve(
+    listener: tokio::net::TcpListener,
+    router: axum::Router,
+    limits: Limits,
+    mut stopped: tokio::sync::watch::Receiver<bool>,
+) -> std::io::Result<()> {
+    use hyper_util::rt::{TokioIo, TokioTimer};
+    let slots = Arc::new(tokio::sync::Semaphore::new(limits.connections));
+    loop {
+        let accepted = tokio::select! {
+            a = listener.accept() => a,
+            _ = stopped.wait_for(|s| *s) => return Ok(()),
+        };
+        let Ok((stream, _)) = accepted else {
+            // Out of descriptors, say: wait a moment rather than spin.
+            tokio::time::sleep(Duration::from_millis(50)).await;
+            continue;
+        };
+        let Ok(slot) = slots.clone().try_acquire_owned() else {
+            drop(stream);
+            continue;
+        };
+        let service = hyper_util::service::TowerToHyperService::new(router.clone());
+        let header = limits.header;
+        tokio::spawn(async move {
+            let _slot = slot;
+            let mut http = hyper::server::conn::http1::Builder::new();
+            http.timer(TokioTimer::new()).header_read_timeout(header);
+            let _ = http.serve_connection(TokioIo::new(stream), service).await;
+        });
+    }
+}
+
+/// A request (its body and its answer included) must be done within `limit`: one that
+/// announces a body it never sends is answered 408 and its connection closed.
+async fn deadline(
+    axum::extract::State(limit): axum::extract::State<Duration>,
+    request: axum::extract::Request,
+    next: axum::middleware::Next,
+) -> axum::response::Response {
+    use axum::response::IntoResponse;
+    match tokio::time::timeout(limit, next.run(request)).await {
+        Ok(response) => response,
+        Err(_) => {
+            let mut response = error::ApiError::new(
+                axum::http::StatusCode::REQUEST_TIMEOUT,
+                format!("the request took longer than {} ms", limit.as_millis()),
+            )
+            .into_response();
+            response.headers_mut().insert(
+                axum::http::header::CONNECTION,
+                axum::http::HeaderValue::from_static("close"),
+            );
+            response
+        }
+    }
 }
 
 fn bind_address(options: &Options) -> Result<SocketAddr, StartError> {
@@ -181,6 +246,7 @@ mod tests {
             public,
             connect: vec!["127.0.0.1:1".into()],
             app: "*".into(),
+            limits: Limits::default(),
         }
     }
 

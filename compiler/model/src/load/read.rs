@@ -19,7 +19,7 @@ pub fn read_text(path: &Path, limits: &Limits) -> Result<String, String> {
         return Err(not_regular(&meta));
     }
     if meta.len() > limits.max_file_bytes {
-        return Err(over_limit(meta.len(), limits));
+        return Err(over_limit(Some(meta.len()), limits));
     }
     let file = std::fs::File::open(path).map_err(|e| io_reason(&e))?;
     // The path may have been replaced since the check above: judge the opened file.
@@ -51,7 +51,8 @@ fn read_bounded_sized(
         .read_to_end(&mut bytes)
         .map_err(|e| io_reason(&e))?;
     if bytes.len() as u64 > limits.max_file_bytes {
-        return Err(over_limit(bytes.len() as u64, limits));
+        // Reading stopped one byte past the limit: how much more there was is unknown.
+        return Err(over_limit(None, limits));
     }
     String::from_utf8(bytes).map_err(|e| {
         format!(
@@ -72,12 +73,37 @@ pub fn is_stdin(path: &Path) -> bool {
     path == Path::new("-") || path == Path::new("/dev/stdin")
 }
 
-fn over_limit(len: u64, limits: &Limits) -> String {
-    format!(
-        "it is {} MiB, over the limit of {} MiB",
-        len >> 20,
-        limits.max_file_bytes >> 20
-    )
+/// Why a file of `len` bytes (`None`: more than the limit, how much more unknown) is
+/// refused, in units that tell the sizes apart (a 100 KiB file over a 64 KiB limit is
+/// not "0 MiB, over the limit of 0 MiB").
+fn over_limit(len: Option<u64>, limits: &Limits) -> String {
+    let limit = limits.max_file_bytes;
+    match len {
+        Some(len) => {
+            let (it, max) = (size(len), size(limit));
+            if it == max {
+                format!("it is {len} bytes, over the limit of {limit} bytes")
+            } else {
+                format!("it is {it}, over the limit of {max}")
+            }
+        }
+        None => format!("it is larger than the limit of {}", size(limit)),
+    }
+}
+
+/// `n` bytes in the largest unit it reaches (bytes, KiB, MiB, GiB), with one decimal
+/// unless that is 0.
+fn size(n: u64) -> String {
+    let units = [(1u64 << 30, "GiB"), (1 << 20, "MiB"), (1 << 10, "KiB")];
+    for (unit, name) in units {
+        if n >= unit {
+            #[allow(clippy::cast_precision_loss)] // one decimal is shown
+            let value = format!("{:.1}", n as f64 / unit as f64);
+            let value = value.strip_suffix(".0").unwrap_or(&value);
+            return format!("{value} {name}");
+        }
+    }
+    format!("{n} bytes")
 }
 
 fn not_regular(meta: &std::fs::Metadata) -> String {
@@ -140,5 +166,38 @@ pub(super) fn io_reason(e: &std::io::Error) -> String {
         std::io::ErrorKind::NotFound => "no such file".into(),
         std::io::ErrorKind::PermissionDenied => "permission denied".into(),
         _ => e.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn limit(bytes: u64) -> Limits {
+        Limits {
+            max_file_bytes: bytes,
+            ..Limits::default()
+        }
+    }
+
+    /// Issue 27, item 17: a 100 KB edit file was "0 MiB, over the limit of 0 MiB".
+    #[test]
+    fn sizes_over_the_limit_are_told_apart() {
+        assert_eq!(
+            over_limit(Some(100_000), &limit(64 * 1024)),
+            "it is 97.7 KiB, over the limit of 64 KiB"
+        );
+        assert_eq!(
+            over_limit(Some(3 << 30), &limit(16 << 20)),
+            "it is 3 GiB, over the limit of 16 MiB"
+        );
+        // Sizes that would read the same are given in bytes.
+        assert_eq!(
+            over_limit(Some(64 * 1024 + 1), &limit(64 * 1024)),
+            "it is 65537 bytes, over the limit of 65536 bytes"
+        );
+        assert_eq!(size(1000), "1000 bytes");
+        let e = read_bounded(&[b'x'; 2000][..], &limit(1024)).unwrap_err();
+        assert_eq!(e, "it is larger than the limit of 1 KiB");
     }
 }

@@ -10,9 +10,11 @@
 //! inside a group type are refused with a message saying so.
 
 pub mod diff;
+mod relocate;
 mod splice;
 mod text;
 
+pub use relocate::relocate;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 

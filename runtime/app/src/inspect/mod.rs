@@ -64,6 +64,10 @@ struct State {
     origins: HashMap<String, Origin>,
     /// Reader (`module/input`) → writers (`module/output`).
     sources: HashMap<String, Vec<String>>,
+    /// Every part this inspector has served. An edit may remove a part's last module;
+    /// the part still runs (its containers cycle), and it must stay inspectable, or
+    /// its model could be neither saved nor edited back.
+    served: BTreeSet<String>,
 }
 
 impl Inspector {
@@ -74,7 +78,7 @@ impl Inspector {
         let index = (catalogue.modules.iter().enumerate())
             .map(|(i, m)| (m.path.clone(), i))
             .collect();
-        let state = State {
+        let mut state = State {
             modules: catalogue.modules,
             index,
             threads: catalogue.threads,
@@ -82,7 +86,9 @@ impl Inspector {
             values: values.clone(),
             origins: HashMap::new(),
             sources: HashMap::new(),
+            served: BTreeSet::new(),
         };
+        state.served = state.parts();
         Inspector {
             state: std::sync::RwLock::new(state),
         }
@@ -100,6 +106,8 @@ impl Inspector {
     /// change); origins and connections are forgotten, to be recorded again.
     pub fn rebuild(&self, catalogue: Catalogue) {
         let mut state = self.write();
+        let before = state.parts();
+        state.served.extend(before);
         state.index = (catalogue.modules.iter().enumerate())
             .map(|(i, m)| (m.path.clone(), i))
             .collect();
@@ -190,9 +198,20 @@ impl State {
         }
     }
 
-    /// The parts whose modules this inspector sees.
+    /// The parts whose modules or containers this inspector sees, and every part it
+    /// served before (a part whose last module an edit removed still runs).
     fn parts(&self) -> BTreeSet<String> {
-        self.modules.iter().map(|m| self.part_of(&m.path)).collect()
+        let modules = self.modules.iter().map(|m| self.part_of(&m.path));
+        let containers = (self.threads.iter()).map(|(t, _)| self.part_of(t));
+        let mut parts: BTreeSet<String> = modules.chain(containers).collect();
+        parts.extend(self.served.iter().cloned());
+        parts
+    }
+
+    /// Whether the container `path` (executing `modules`) belongs to `part`: its
+    /// first module's part, or, with none, the part its path starts with.
+    fn container_in_part(&self, path: &str, modules: &[String], part: Option<&str>) -> bool {
+        self.in_part(modules.first().map_or(path, String::as_str), part)
     }
 
     fn in_part(&self, path: &str, part: Option<&str>) -> bool {
@@ -206,7 +225,7 @@ impl State {
             .map(|m| self.module_view(m))
             .collect();
         let containers = (self.threads.iter())
-            .filter(|(_, ms)| ms.first().is_some_and(|m| self.in_part(m, part)))
+            .filter(|(path, ms)| self.container_in_part(path, ms, part))
             .map(|(path, modules)| ContainerTree {
                 path: path.clone(),
                 modules: modules.clone(),
@@ -353,10 +372,8 @@ impl State {
         let micros = |d: std::time::Duration| d.as_secs_f64() * 1e6;
         (self.stats.iter())
             .filter(|s| {
-                let first = (self.threads.iter())
-                    .find(|(p, _)| *p == s.name)
-                    .and_then(|(_, ms)| ms.first());
-                first.is_none_or(|m| self.in_part(m, part))
+                let modules = (self.threads.iter()).find(|(p, _)| *p == s.name);
+                modules.is_none_or(|(p, ms)| self.container_in_part(p, ms, part))
             })
             .map(|s| ContainerView {
                 path: s.name.clone(),

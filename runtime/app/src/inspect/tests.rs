@@ -216,3 +216,28 @@ fn the_tree_has_kinds_sources_containers_and_connections() {
     assert!(i.links(None).is_empty(), "no links between parts here");
     assert!(i.activities(None).is_empty(), "no behaviours here");
 }
+
+/// Issue 27, item 5: an edit that removed every module left the program answering no
+/// key at all (its parts came from its modules), so the model could be neither saved
+/// nor edited back. The part stays inspectable: its tree is empty, its container
+/// still shows.
+#[test]
+fn a_part_whose_last_module_is_removed_is_still_served() {
+    let r = registry();
+    let i = run(&r, 3);
+    i.rebuild(Catalogue {
+        modules: Vec::new(),
+        threads: vec![("robot/control".into(), Vec::new())],
+    });
+    assert_eq!(i.parts().into_iter().collect::<Vec<_>>(), ["robot"]);
+    let t = i.tree(Some("robot"));
+    assert!(t.modules.is_empty());
+    assert_eq!(t.containers[0].path, "robot/control");
+    assert_eq!(i.containers(Some("robot"))[0].path, "robot/control");
+    // Even with no container left in the catalogue, a part once served stays.
+    i.rebuild(Catalogue {
+        modules: Vec::new(),
+        threads: Vec::new(),
+    });
+    assert_eq!(i.parts().into_iter().collect::<Vec<_>>(), ["robot"]);
+}
