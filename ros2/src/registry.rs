@@ -256,7 +256,8 @@ fn event_message(service: &Service) -> Message {
         default: None,
         comment: String::new(),
         unit: None,
-        place: Place::default(),
+        // Derived, not written: errors about it point at the service file's start.
+        place: Place { line: 1, col: 1 },
     };
     let info = TypeName::new("service_msgs", "msg", "ServiceEventInfo");
     Message {
