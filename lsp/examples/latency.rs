@@ -32,34 +32,10 @@ fn main() {
     let path = Path::new(&file).canonicalize().expect("the model exists");
     let text = std::fs::read_to_string(&path).expect("the model reads");
     let uri = url::Url::from_file_path(&path).unwrap().to_string();
-    // The checker alone, in this process and at this moment (the machine's load):
-    // what a keystroke cannot take less than.
-    let alone = (0..5)
-        .map(|_| {
-            let t = Instant::now();
-            let o = Options {
-                builtins: vec![BuiltinLibrary {
-                    name: "ferroc_std".into(),
-                    text: STD.into(),
-                }],
-                ..Options::default()
-            };
-            let r = ferroc_compiler::check_model(&path, &o, &ferroc_compiler::Policy::default());
-            let took = t.elapsed();
-            drop(r);
-            took
-        })
-        .min()
-        .unwrap();
+    let alone = check_alone(&path);
     println!("check_model alone (best of 5): {:.0} ms", ms(alone));
     let (server, client) = Connection::memory();
-    let options = Options {
-        builtins: vec![BuiltinLibrary {
-            name: "ferroc_std".into(),
-            text: STD.into(),
-        }],
-        ..Options::default()
-    };
+    let options = options();
     let thread = std::thread::spawn(move || ferroc_lsp::serve(&server, options));
     let send = |m: Message| client.sender.send(m).unwrap();
     send(Message::Request(Request::new(
@@ -144,6 +120,32 @@ fn main() {
     wait(&client, |m| matches!(m, Message::Response(_)));
     send(note("exit", Value::Null));
     thread.join().unwrap().unwrap();
+}
+
+fn options() -> Options {
+    Options {
+        builtins: vec![BuiltinLibrary {
+            name: "ferroc_std".into(),
+            text: STD.into(),
+        }],
+        ..Options::default()
+    }
+}
+
+/// The checker alone, in this process and at this moment (the machine's load): what
+/// a keystroke cannot take less than. Best of 5.
+fn check_alone(path: &Path) -> Duration {
+    (0..5)
+        .map(|_| {
+            let t = Instant::now();
+            let r =
+                ferroc_compiler::check_model(path, &options(), &ferroc_compiler::Policy::default());
+            let took = t.elapsed();
+            drop(r);
+            took
+        })
+        .min()
+        .unwrap_or_default()
 }
 
 fn note(method: &str, params: Value) -> Message {
