@@ -1,7 +1,7 @@
 //! `ferroc log info FILE` and `ferroc log cat FILE --channel TOPIC`: what an MCAP
 //! recording holds (ferroc's, or any other), also one cut off by a crash.
 
-use ferroc_std::recording::{ChannelSummary, Recording};
+use ferroc_std::recording::{ChannelSummary, Checksums, Message, Recording};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -18,6 +18,9 @@ enum LogCommand {
     Info {
         /// The MCAP file
         file: PathBuf,
+        /// Read a file whose checksums do not match anyway, and say where
+        #[arg(long)]
+        ignore_checksums: bool,
     },
     /// The messages of one topic, one line each: log time in seconds, then the value
     /// (the JSON form; --exact: the exact channel's bytes in hex)
@@ -30,30 +33,39 @@ enum LogCommand {
         /// Print the exact (postcard) payloads instead of the JSON form
         #[arg(long)]
         exact: bool,
+        /// Print the messages of chunks whose checksums do not match too
+        #[arg(long)]
+        ignore_checksums: bool,
     },
 }
 
 pub fn run(args: LogArgs) -> ExitCode {
-    let file = match &args.command {
-        LogCommand::Info { file } | LogCommand::Cat { file, .. } => file,
+    let mut out = std::io::stdout().lock();
+    let result = match &args.command {
+        LogCommand::Info {
+            file,
+            ignore_checksums,
+        } => Recording::read_with(file, checksums(*ignore_checksums), &mut |_, _| false)
+            .map(|rec| info(&mut out, file, &rec)),
+        LogCommand::Cat {
+            file,
+            channel,
+            exact,
+            ignore_checksums,
+        } => cat(
+            &mut out,
+            file,
+            channel,
+            *exact,
+            checksums(*ignore_checksums),
+        ),
     };
-    let rec = match Recording::read(file) {
-        Ok(r) => r,
+    let written = match result {
+        Ok(written) => written,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(2);
         }
-    };
-    let mut out = std::io::stdout().lock();
-    let written = match &args.command {
-        LogCommand::Info { file } => info(&mut out, file, &rec),
-        LogCommand::Cat { channel, exact, .. } => match cat(&mut out, &rec, channel, *exact) {
-            Ok(r) => r,
-            Err(e) => {
-                eprintln!("error: {e}");
-                return ExitCode::from(2);
-            }
-        },
     };
     match written.and_then(|()| out.flush()) {
         Ok(()) => ExitCode::SUCCESS,
@@ -65,21 +77,44 @@ pub fn run(args: LogArgs) -> ExitCode {
     }
 }
 
+fn checksums(ignore: bool) -> Checksums {
+    if ignore {
+        Checksums::Ignore
+    } else {
+        Checksums::Verify
+    }
+}
+
+/// Text of the recording on one line of the output: control characters (a topic
+/// named `\x1b[2J`, a bell) and line breaks escaped, never sent to the terminal.
+fn shown(text: &str) -> String {
+    ferroc_terminal::escape_controls(text).replace('\n', "\\u{a}")
+}
+
 fn seconds(nanos: u64) -> String {
     format!("{}.{:09}", nanos / 1_000_000_000, nanos % 1_000_000_000)
 }
 
 fn info(out: &mut impl Write, file: &std::path::Path, rec: &Recording) -> std::io::Result<()> {
     let state = match (&rec.damaged, rec.finished) {
+        _ if !rec.corrupt.is_empty() => format!(
+            "corrupted: {}; read anyway (--ignore-checksums)",
+            rec.corrupt.join("; ")
+        ),
         (Some(why), _) => format!("cut off ({why}); the messages before the cut are counted"),
         (None, true) => "finished".to_owned(),
         (None, false) => "not finished (no summary): still being written, or stopped hard".into(),
     };
-    writeln!(out, "{}: {state}", file.display())?;
+    writeln!(
+        out,
+        "{}: {}",
+        shown(&file.display().to_string()),
+        shown(&state)
+    )?;
     writeln!(
         out,
         "{} message(s) in {} channel(s)",
-        rec.messages.len(),
+        rec.message_count,
         rec.channels.len()
     )?;
     let first = rec.channels.values().filter_map(|c| c.first).min();
@@ -104,25 +139,29 @@ fn channel_line(c: &ChannelSummary) -> String {
     format!(
         "  {:>3}  {}  [{}]  type {}{}  {} message(s)",
         c.id,
-        c.topic,
-        c.message_encoding,
-        c.model_type(),
+        shown(&c.topic),
+        shown(&c.message_encoding),
+        shown(c.model_type()),
         if part.is_empty() {
             String::new()
         } else {
-            format!("  part {part}")
+            format!("  part {}", shown(part))
         },
         c.count
     )
 }
 
+/// Prints the messages of `topic` as the file is read (nothing is kept); an error if
+/// the file cannot be read, has no such channel, or (unless ignored) a checksum does
+/// not match: the messages of a chunk are printed only after its CRC matched.
 fn cat(
     out: &mut impl Write,
-    rec: &Recording,
+    file: &std::path::Path,
     topic: &str,
     exact: bool,
+    checksums: Checksums,
 ) -> Result<std::io::Result<()>, String> {
-    let pick = |c: &&ChannelSummary| {
+    let pick = |c: &ChannelSummary| {
         c.topic == topic
             && (if exact {
                 c.is_exact()
@@ -130,30 +169,38 @@ fn cat(
                 c.message_encoding == "json"
             })
     };
-    let Some(channel) = rec.channels.values().find(pick) else {
-        let topics: std::collections::BTreeSet<&str> =
-            rec.channels.values().map(|c| c.topic.as_str()).collect();
+    let mut picked = None;
+    let mut written = Ok(());
+    let rec = Recording::read_with(file, checksums, &mut |c, m| {
+        if written.is_ok() && pick(c) && picked.is_none_or(|id| id == c.id) {
+            picked = Some(c.id);
+            written = message_line(out, m, exact);
+        }
+        false
+    })?;
+    if picked.is_none() && !rec.channels.values().any(pick) {
+        let topics: std::collections::BTreeSet<String> =
+            rec.channels.values().map(|c| shown(&c.topic)).collect();
         return Err(format!(
-            "no {} channel `{topic}` in the recording\n  help: its topics are: {}",
+            "no {} channel `{}` in the recording\n  help: its topics are: {}",
             if exact { "exact" } else { "JSON" },
+            shown(topic),
             topics.into_iter().collect::<Vec<_>>().join(", ")
         ));
-    };
-    let write = |out: &mut dyn Write| -> std::io::Result<()> {
-        for m in rec.messages.iter().filter(|m| m.channel == channel.id) {
-            write!(out, "{} ", seconds(m.log_time))?;
-            if exact {
-                for b in &m.data {
-                    write!(out, "{b:02x}")?;
-                }
-            } else {
-                // Recorded text is printed escaped: control bytes never reach the terminal.
-                let text = String::from_utf8_lossy(&m.data);
-                write!(out, "{}", text.escape_debug())?;
-            }
-            writeln!(out)?;
+    }
+    Ok(written)
+}
+
+fn message_line(out: &mut impl Write, m: &Message, exact: bool) -> std::io::Result<()> {
+    write!(out, "{} ", seconds(m.log_time))?;
+    if exact {
+        for b in &m.data {
+            write!(out, "{b:02x}")?;
         }
-        Ok(())
-    };
-    Ok(write(out))
+    } else {
+        // Recorded text is printed escaped: control bytes never reach the terminal.
+        let text = String::from_utf8_lossy(&m.data);
+        write!(out, "{}", text.escape_debug())?;
+    }
+    writeln!(out)
 }

@@ -179,7 +179,10 @@ completion, document symbols and quick fixes from `did you mean` hints."
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return parse_error(&e),
+    };
     match cli.command {
         Command::Check(args) => check::run(args),
         Command::Schedule(args) => schedule::run(args),
@@ -195,6 +198,30 @@ fn main() -> ExitCode {
         Command::Explain { code, list } => explain(code, list),
         Command::Lsp { lib_path, .. } => lsp(&lib_path),
     }
+}
+
+/// `--help`, `--version` and bad arguments: help and version go to standard output
+/// like any report (a full disk is exit code 2, not a silent 0), usage errors to
+/// standard error with clap's exit code (2).
+fn parse_error(e: &clap::Error) -> ExitCode {
+    use std::io::IsTerminal;
+    if e.use_stderr() {
+        let text = e.render();
+        let text = if std::io::stderr().is_terminal() {
+            text.ansi().to_string()
+        } else {
+            text.to_string()
+        };
+        eprintln!("{}", text.trim_end());
+        return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2));
+    }
+    let text = e.render();
+    let text = if std::io::stdout().is_terminal() {
+        text.ansi().to_string()
+    } else {
+        text.to_string()
+    };
+    output::stdout_then(text.as_bytes(), ExitCode::SUCCESS)
 }
 
 fn explain(code: Option<String>, list: bool) -> ExitCode {

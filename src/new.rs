@@ -37,7 +37,7 @@ docs/writing-modules.md explains every file."
     /// A model: one part, one thread container, one instance of each module type of
     /// the library given (or a standard-library example)
     Model {
-        /// The model file to write (must not exist)
+        /// The model file to write (must not exist); `-` writes it to standard output
         file: PathBuf,
         /// A library manifest whose module types the model instantiates
         #[arg(long, value_name = "MANIFEST")]
@@ -65,10 +65,17 @@ fn library(name: &str, dir: Option<PathBuf>) -> Result<(), String> {
         && name
             .chars()
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
-    if !valid || name == "ferroc_std" {
+    if !valid {
         return Err(format!(
             "`{}` cannot name a library\n  help: use lowercase letters, digits and `_`, starting with a letter, e.g. `my_robot`",
             crate::bundle::text::comment(name)
+        ));
+    }
+    if let Some(taken) = ferroc_crate(name) {
+        return Err(format!(
+            "`{name}` is the name of ferroc's own crate `{taken}`: a library of that name \
+             would collide with it when a model's program is built\n  help: choose another \
+             name, e.g. `my_{name}`"
         ));
     }
     let dir = dir.unwrap_or_else(|| PathBuf::from(name));
@@ -87,6 +94,17 @@ fn library(name: &str, dir: Option<PathBuf>) -> Result<(), String> {
          cargo test --manifest-path {shown}/Cargo.toml"
     );
     Ok(())
+}
+
+/// The crates of ferroc's workspace, read from its manifests when ferroc was built
+/// (`build.rs`).
+const WORKSPACE_CRATES: &[&str] = include!(concat!(env!("OUT_DIR"), "/workspace_crates.rs"));
+
+/// The workspace crate a library called `name` would collide with: the package is
+/// `name` with `-` for `_`, its Rust name `name` itself.
+fn ferroc_crate(name: &str) -> Option<&'static str> {
+    let package = name.replace('_', "-");
+    WORKSPACE_CRATES.iter().copied().find(|c| *c == package)
 }
 
 fn empty_or_new(dir: &Path) -> Result<(), String> {
@@ -173,6 +191,9 @@ fn model(file: &Path, library: Option<&Path>) -> Result<(), String> {
     let text = format!(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<application name=\"{app}\" version=\"1\">\n{uses}\n  <part name=\"main\" host=\"localhost\">\n    <thread name=\"loop\" period=\"100ms\">\n{modules}    </thread>\n  </part>\n</application>\n"
     );
+    if file == Path::new("-") {
+        return to_stdout(&text);
+    }
     write_new(file, &text)?;
     eprintln!(
         "wrote {}\nnext:\n  ferroc check {}\n  ferroc run {} --cycles 5",
@@ -181,6 +202,18 @@ fn model(file: &Path, library: Option<&Path>) -> Result<(), String> {
         file.display()
     );
     Ok(())
+}
+
+/// `ferroc new model -`: the model on standard output (a closed pipe ends it quietly).
+fn to_stdout(text: &str) -> Result<(), String> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write to standard output: {e}"))
+        }
+        _ => Ok(()),
+    }
 }
 
 /// The library name and module type names of a manifest `NAME.lib.xml`.

@@ -527,3 +527,47 @@ fn module_names_that_match_generated_constants_get_other_constant_names() {
     }
     assert!(seen_link, "the model has a link numbered 0");
 }
+
+/// Issue 27 item 9: `bundle -o -` made a folder named `-`, and a bundle that ran out
+/// of disk left a half-written folder (this test failed so before the fix). Now `-` is
+/// refused, and the bundle is written beside its folder and renamed into place at the
+/// end: a full disk leaves nothing behind.
+#[test]
+fn a_bundle_is_written_whole_or_not_at_all() {
+    let dir = tempdir("whole");
+    let model = Path::new("models/crash_course.xml");
+    let (code, err) = bundle(model, Path::new("-"), &[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("`-o -` cannot name the bundle") && err.contains("help:"),
+        "{err}"
+    );
+    assert!(!Path::new(env!("CARGO_MANIFEST_DIR")).join("-").exists());
+    // Into a new folder and an empty one: whole, and nothing beside it.
+    let (code, err) = bundle(model, &dir.join("new"), &[]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::create_dir_all(dir.join("empty")).unwrap();
+    let (code, err) = bundle(model, &dir.join("empty"), &[]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(read_tree(&dir.join("new")), read_tree(&dir.join("empty")));
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    assert_eq!(left.len(), 2, "{left:?}");
+    // A disk too small for the bundle.
+    let small = dir.join("small");
+    let Some(_disk) = common::SmallDisk::mount(&small, "16k") else {
+        return;
+    };
+    let (code, err) = bundle(model, &small.join("bundle"), &[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("No space left on device"), "{err}");
+    let left: Vec<_> = std::fs::read_dir(&small)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    assert!(left.is_empty(), "a full disk left {left:?}");
+}

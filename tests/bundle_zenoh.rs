@@ -322,7 +322,9 @@ fn the_rescue_programs_on_two_hosts_in_network_namespaces_print_what_ferroc_run_
     let hosts = match Hosts::new() {
         Ok(hosts) => hosts,
         Err(why) => {
-            eprintln!("skipped: two hosts in network namespaces cannot be made here: {why}");
+            ferroc_testkit::skip(&format!(
+                "two hosts in network namespaces cannot be made here: {why}"
+            ));
             return;
         }
     };

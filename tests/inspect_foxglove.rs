@@ -6,7 +6,8 @@
 //! in the next values) and has wrong values and a change without the token refused.
 //!
 //! Needs Node.js and the packages in FERROC_NODE_MODULES (default
-//! target/ci-node/node_modules, which .ci/run installs); FERROC_SKIP_BROWSER=1 skips.
+//! target/ci-node/node_modules); `scripts/test` installs them, and without them the
+//! test skips visibly (ferroc-testkit).
 
 // A scenario reads as one story from start to end; the function-length rule is for
 // the code under test.
@@ -92,36 +93,10 @@ fn free_port() -> u16 {
     listener.local_addr().unwrap().port()
 }
 
-/// The node_modules folder with @foxglove/ws-protocol and ws, or `None` when the test
-/// is to be skipped.
+/// The node_modules folder with @foxglove/ws-protocol and ws, or `None` after a
+/// visible skip.
 fn node_modules() -> Option<PathBuf> {
-    let skip = std::env::var("FERROC_SKIP_BROWSER").is_ok_and(|v| v == "1");
-    let dir = std::env::var_os("FERROC_NODE_MODULES")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/ci-node/node_modules")
-        });
-    let node = Command::new("node")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    let ready = node && dir.join("@foxglove/ws-protocol").is_dir() && dir.join("ws").is_dir();
-    match (ready, skip) {
-        (true, _) => Some(dir),
-        (false, true) => {
-            eprintln!(
-                "SKIPPED (FERROC_SKIP_BROWSER=1): no node or no {}",
-                dir.display()
-            );
-            None
-        }
-        (false, false) => panic!(
-            "this test needs Node.js and, in {}, @foxglove/ws-protocol and ws: \
-             `npm install --prefix DIR @foxglove/ws-protocol ws` and FERROC_NODE_MODULES=DIR/node_modules \
-             (default target/ci-node/node_modules, which .ci/run installs); FERROC_SKIP_BROWSER=1 skips",
-            dir.display()
-        ),
-    }
+    ferroc_testkit::node_modules(&["@foxglove/ws-protocol", "ws"])
 }
 
 /// The Foxglove client's side: commands in, events out.

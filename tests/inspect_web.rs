@@ -5,10 +5,9 @@
 //! values change, sets a parameter with the token and sees its effect, and sees a
 //! change with a wrong token refused. Its screenshot is printed.
 //!
-//! The browser test needs `node` and `chromium` (`apt-get install chromium nodejs npm`)
-//! and playwright-core in FERROC_NODE_MODULES (default: `node/node_modules` in the
-//! target dir; `npm install --prefix TARGET/node playwright-core`); `.ci/run` installs
-//! them. Without them it fails saying so, unless FERROC_SKIP_BROWSER=1.
+//! The browser test needs `node`, Debian's `chromium` and playwright-core in
+//! FERROC_NODE_MODULES (default target/ci-node/node_modules); `scripts/test` installs
+//! them, and without them the test skips visibly (ferroc-testkit).
 
 mod common;
 
@@ -341,44 +340,22 @@ fn an_unreachable_program_is_reported_and_a_port_in_use_is_an_error() {
     std::net::TcpListener::bind(&web.address).expect("the port is free again");
 }
 
-/// Where playwright-core is installed.
-fn node_modules() -> PathBuf {
-    match std::env::var_os("FERROC_NODE_MODULES") {
-        Some(dir) => PathBuf::from(dir),
-        None => PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("../node/node_modules"),
-    }
-}
-
-/// What the browser test needs, or what to install.
-fn browser_missing(chromium: &str) -> Option<String> {
-    let mut missing = Vec::new();
-    if Command::new("node").arg("--version").output().is_err() {
-        missing.push("node (apt-get install nodejs npm)".to_owned());
-    }
-    if !std::path::Path::new(chromium).exists() {
-        missing.push(format!("{chromium} (apt-get install chromium)"));
-    }
-    let playwright = node_modules().join("playwright-core");
-    if !playwright.exists() {
-        missing.push(format!(
-            "playwright-core in {} (npm install --prefix {} playwright-core@1.56.0, or set FERROC_NODE_MODULES)",
-            node_modules().display(),
-            node_modules().join("..").display()
-        ));
-    }
-    (!missing.is_empty()).then(|| missing.join("; "))
+/// The node_modules with playwright-core and the Chromium it drives, or `None` after a
+/// visible skip.
+fn browser() -> Option<(PathBuf, PathBuf)> {
+    let chromium = std::env::var("FERROC_CHROMIUM").unwrap_or_else(|_| "chromium".into());
+    let chromium = ferroc_testkit::command(&chromium)?;
+    Some((
+        ferroc_testkit::node_modules(&["playwright-core"])?,
+        chromium,
+    ))
 }
 
 #[test]
 fn the_page_shows_nav_behaviours_live_in_a_real_browser_and_sets_a_parameter() {
-    let chromium = std::env::var("FERROC_CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
-    if let Some(missing) = browser_missing(&chromium) {
-        if std::env::var("FERROC_SKIP_BROWSER").as_deref() == Ok("1") {
-            eprintln!("skipped (FERROC_SKIP_BROWSER=1): missing {missing}");
-            return;
-        }
-        panic!("the browser test needs {missing}; .ci/run installs them (FERROC_SKIP_BROWSER=1 skips this test)");
-    }
+    let Some((node_modules, chromium)) = browser() else {
+        return;
+    };
     let program: Running = start("models/nav_behaviours.xml");
     let web = serve(&program.address);
     let shots = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("inspect_web");
@@ -388,7 +365,7 @@ fn the_page_shows_nav_behaviours_live_in_a_real_browser_and_sets_a_parameter() {
     let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/web/inspect_page.mjs");
     let out = Command::new("node")
         .arg(&script)
-        .env("FERROC_NODE_MODULES", node_modules())
+        .env("FERROC_NODE_MODULES", &node_modules)
         .env("FERROC_CHROMIUM", &chromium)
         .env("FERROC_PAGE_URL", format!("http://{}/", web.address))
         .env("FERROC_TOKEN", &program.token)

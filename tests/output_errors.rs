@@ -44,6 +44,12 @@ const COMMANDS: &[&[&str]] = &[
     &["check", "models/crash_course.xml", "--format", "sarif"],
     &["check", "models/crash_course.xml"],
     &["graph", "models/crash_course.xml"],
+    // Issue 27 item 9: help and version to /dev/full exited 0 (these failed so before
+    // the fix); `new model -` writes the model to standard output.
+    &["--help"],
+    &["--version"],
+    &["check", "--help"],
+    &["new", "model", "-"],
 ];
 
 #[test]

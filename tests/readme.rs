@@ -27,3 +27,31 @@ fn the_readme_installs_once_and_uses_the_installed_ferroc() {
         assert!(readme.contains(&format!("\n{command}\n")), "{command}");
     }
 }
+
+/// The README's test command is the one CI runs, and it names the set-up that the
+/// skipped tests point to.
+#[test]
+fn the_readme_test_command_is_what_ci_runs() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let readme = std::fs::read_to_string(format!("{root}/README.md")).unwrap();
+    let ci = std::fs::read_to_string(format!("{root}/.ci/run")).unwrap();
+    assert!(
+        readme.contains("\nscripts/test\n"),
+        "the README's test command"
+    );
+    assert!(
+        ci.lines()
+            .any(|l| l.trim() == "FERROC_REQUIRE_ALL=1 exec scripts/test"),
+        "{ci}"
+    );
+    assert!(
+        readme.contains(ferroc_testkit::SETUP),
+        "{}",
+        ferroc_testkit::SETUP
+    );
+    let script = std::fs::read_to_string(format!("{root}/scripts/test")).unwrap();
+    assert!(
+        script.contains("cargo test --workspace\n"),
+        "the script runs the suite"
+    );
+}

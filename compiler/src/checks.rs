@@ -44,6 +44,7 @@ pub static REGISTRY: &[&CheckInfo] = &[
     &ferroc_checks::connections::t111_not_serialisable_across_parts::CHECK,
     &ferroc_checks::connections::t112_double_scaling::CHECK,
     &ferroc_checks::connections::t113_invalid_convert::CHECK,
+    &ferroc_checks::connections::t114_queue_memory_unbounded::CHECK,
     &ferroc_checks::parameters::p101_unknown_parameter::CHECK,
     &ferroc_checks::parameters::p102_missing_required_parameter::CHECK,
     &ferroc_checks::parameters::p103_unparsable_value::CHECK,
@@ -112,6 +113,7 @@ pub static REGISTRY: &[&CheckInfo] = &[
     &ferroc_finroc::checks::f111_edge_type_mismatch::CHECK,
     &ferroc_finroc::checks::f112_library_not_built::CHECK,
     &ferroc_finroc::checks::f113_parameter_link_target_missing::CHECK,
+    &ferroc_finroc::checks::f114_edge_to_itself::CHECK,
 ];
 
 /// Looks a check up by code (`t102` works too) or by name.

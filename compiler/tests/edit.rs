@@ -166,6 +166,40 @@ fn set_writes_a_parameter_value_into_the_model() {
     );
 }
 
+/// Issue 27 item 15: a port group's `count` over the runtime's limit was capped silently
+/// (`count="4000000000"` checked clean, so the edit was applied); it is an error at the
+/// attribute that names the limit, and the editor refuses edits with errors.
+#[test]
+fn an_edit_with_a_port_count_over_the_limit_is_refused() {
+    let add = |count: u64| {
+        format!(
+            r#"[{{"op": "add", "module": "robot/fast/dump", "type": "ferroc_std.Dump",
+                 "ports": [{{"name": "in", "dir": "in", "type": "f64", "count": {count}}}]}}]"#
+        )
+    };
+    let edited = apply(MODEL, &ops(&add(4_000_000_000))).unwrap();
+    let r = check(&edited.text);
+    let m116: Vec<_> = (r.diagnostics.iter())
+        .filter(|d| d.code() == "M116")
+        .collect();
+    assert_eq!(m116.len(), 1, "{:?}", r.diagnostics);
+    assert_eq!(m116[0].severity, Severity::Error);
+    assert!(
+        m116[0].message.contains("4000000000") && m116[0].message.contains("4096"),
+        "{}",
+        m116[0].message
+    );
+    assert_eq!(
+        r.sources.text(m116[0].primary.span),
+        "4000000000",
+        "the finding points at the count"
+    );
+    // The limit itself is accepted.
+    let edited = apply(MODEL, &ops(&add(4096))).unwrap();
+    let r = check(&edited.text);
+    assert!(!errors(&r).contains(&"M116"), "{:?}", r.diagnostics);
+}
+
 #[test]
 fn operations_that_cannot_apply_say_which_and_why() {
     let cases = [

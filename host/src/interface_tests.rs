@@ -106,3 +106,13 @@ fn defaults_compare_by_value() {
     assert!(!same_default(Some("idle"), Some("explore")));
     assert!(!same_default(Some("1s"), None));
 }
+
+/// The compiler refuses a port group the runtime would cut short (M116 above the limit):
+/// both must use one number.
+#[test]
+fn the_compiler_bounds_port_groups_as_the_runtime_does() {
+    assert_eq!(
+        ferroc_compiler::syntax::vocabulary::MAX_GROUP_PORTS,
+        ferroc_runtime::module::MAX_GROUP_PORTS
+    );
+}

@@ -10,9 +10,11 @@ use ferroc_compiler::values::Value as ModelValue;
 use ferroc_runtime::builder::Registry;
 use std::path::{Path, PathBuf};
 
-/// Sets the log folder and the parts of the plan's modules.
-pub fn configure(app: &Application, plan: &Plan, log_dir: Option<PathBuf>) {
+/// Sets the log folder, whether files that are not recordings may be replaced
+/// (`--force`) and the parts of the plan's modules.
+pub fn configure(app: &Application, plan: &Plan, log_dir: Option<PathBuf>, force: bool) {
     ferroc_std::recording::set_log_dir(log_dir);
+    ferroc_std::recording::set_overwrite(force);
     ferroc_std::recording::set_parts(
         plan.modules
             .iter()
@@ -38,6 +40,7 @@ pub fn add_recorders(
     // A command-line path: relative to the working directory, whatever --log-dir says.
     let file = &std::path::absolute(file).map_err(|e| format!("--record: {e}"))?;
     ferroc_std::check_log_path(file).map_err(|e| format!("--record: {e}"))?;
+    ferroc_std::recording::check_overwrite(file).map_err(|e| format!("--record: {e}"))?;
     registry.register::<ferroc_std::Recorder>();
     let mut outputs: Vec<(&str, &str, String, &str)> = Vec::new();
     for c in &plan.connections {

@@ -46,10 +46,15 @@ pub struct RunArgs {
     /// Extra folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH)
     #[arg(long, value_name = "DIR")]
     pub lib_path: Vec<PathBuf>,
-    /// Where loggers' relative file paths lie (default: FERROC_LOG_DIR, else the
-    /// working directory); absolute paths in the model are kept
+    /// Where loggers write (default: FERROC_LOG_DIR, else the working directory):
+    /// their relative paths lie under it, and an absolute path in the model must lead
+    /// into it
     #[arg(long, value_name = "DIR")]
     pub log_dir: Option<PathBuf>,
+    /// Let --record and loggers replace an existing file that is not a ferroc
+    /// recording (without it, such a file is never overwritten)
+    #[arg(long)]
+    pub force: bool,
     /// Record every connection between modules into this MCAP file (relative to the
     /// working directory), without editing the model; read it with `ferroc log`
     #[arg(long, value_name = "FILE")]
@@ -249,7 +254,7 @@ fn plan_with_types(
     for p in &unsupported {
         eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);
     }
-    crate::record::configure(app, &plan, args.log_dir.clone());
+    crate::record::configure(app, &plan, args.log_dir.clone(), args.force);
     let mut registry = registry.clone();
     let agree = interfaces_agree(&plan, &registry, &result.libraries, &result.sources);
     if let Err(lines) = &agree {

@@ -38,12 +38,24 @@ pub fn is_local(address: &str) -> bool {
             .is_ok_and(|ip| ip.is_loopback())
 }
 
-/// The session of a serving program: listens on `address` only.
+/// The largest message the serving session takes from the network: a request is at
+/// most [`MAX_PAYLOAD`](crate::server::MAX_PAYLOAD) and a key. Zenoh reassembles a
+/// message from its fragments before anyone sees it, up to 1 GiB by default; a larger
+/// one is dropped here, before it costs memory.
+pub const MAX_MESSAGE: usize = 256 * 1024;
+
+/// The session of a serving program: listens on `address` only, and takes no
+/// message larger than [`MAX_MESSAGE`].
 pub fn server(address: &str) -> Result<Config, String> {
     let listen = endpoint(address, "--inspect")?;
     let mut c = base()?;
     set(&mut c, "listen/endpoints", &format!("[\"{listen}\"]"))?;
     set(&mut c, "connect/endpoints", "[]")?;
+    set(
+        &mut c,
+        "transport/link/rx/max_message_size",
+        &MAX_MESSAGE.to_string(),
+    )?;
     Ok(c)
 }
 
@@ -112,6 +124,10 @@ mod tests {
             .unwrap()
             .contains("tcp/127.0.0.1:47999"));
         assert_eq!(s.get_json("scouting/multicast/enabled").unwrap(), "false");
+        assert_eq!(
+            s.get_json("transport/link/rx/max_message_size").unwrap(),
+            MAX_MESSAGE.to_string()
+        );
         let c = client(&["127.0.0.1:47999".into()]).unwrap();
         assert!(c
             .get_json("connect/endpoints")

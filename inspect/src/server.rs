@@ -23,7 +23,7 @@ use zenoh::{Session, Wait};
 pub type ParseValue = Box<dyn Fn(&ParamView, &str) -> Result<Value, String> + Send + Sync>;
 
 /// Payloads larger than this are refused unread (a change request is a few bytes).
-const MAX_PAYLOAD: usize = 64 * 1024;
+pub const MAX_PAYLOAD: usize = 64 * 1024;
 
 /// A running inspection server; dropping it undeclares the queryable, closes the
 /// session and ends the thread.
@@ -124,6 +124,15 @@ fn answer(query: &Query, c: &Context) {
         Ok(w) => w,
         Err(e) => return reply_err(query, e),
     };
+    // The size first: a payload arrives in pieces, and is copied into one buffer only
+    // when it is small enough to be a request.
+    let size = query.payload().map_or(0, zenoh::bytes::ZBytes::len);
+    if size > MAX_PAYLOAD {
+        return reply_err(
+            query,
+            format!("the request has {size} bytes; a request is at most {MAX_PAYLOAD}"),
+        );
+    }
     let payload = query.payload().map(|p| p.to_bytes().into_owned());
     let asked: Vec<&String> = match any_part {
         // One model for the whole program: asked once, whatever the part.
@@ -222,9 +231,9 @@ fn set(c: &Context, module: &str, name: &str, bytes: &[u8]) -> Result<ParamView,
         format!("a change is the JSON {{\"set\": \"VALUE\", \"token\": \"TOKEN\"}}: {e}")
     })?;
     if !crate::token::matches(&c.token, &request.token) {
-        ferroc_runtime::console::note(&format!(
-            "inspect: refused a change of `{module}/{name}` with a wrong token"
-        ));
+        // One line per kind, throttled: a client trying tokens as fast as it can
+        // must not flood the operator's terminal.
+        ferroc_runtime::console::note_repeated("inspect: refused a change with a wrong token");
         return Err(
             "not authorised: a change needs the token the program printed at start (--token)"
                 .into(),
@@ -268,7 +277,9 @@ fn structural(what: &What, payload: Option<&[u8]>, c: &Context) -> Answer {
                 Err(r) => return Answer::Refused(r),
             };
             if !crate::token::matches(&c.token, &request.token) {
-                ferroc_runtime::console::note("inspect: refused an edit with a wrong token");
+                ferroc_runtime::console::note_repeated(
+                    "inspect: refused an edit with a wrong token",
+                );
                 return Answer::Error(
                     "not authorised: an edit needs the token the program printed at start (--token)".into(),
                 );

@@ -121,10 +121,11 @@ pub fn run(args: BundleArgs) -> ExitCode {
             return ExitCode::from(1);
         }
     };
-    if let Err(e) = out::write(&root, &generated) {
+    if let Err(e) = out::write(&root, &generated, |staged| {
+        format_generated(staged, &layout)
+    }) {
         return usage_error(&e);
     }
-    format_generated(&root, &layout);
     let parts: Vec<&str> = layout.parts.iter().map(|p| p.name.as_str()).collect();
     eprintln!(
         "bundled `{}` ({} part(s): {}) into {}\n  build: cargo build --release --manifest-path {}\n  run:   {}/launch/<host>.sh, or target/release/<application>-<part>",

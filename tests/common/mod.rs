@@ -65,23 +65,40 @@ pub fn build_bundle(out: &Path) -> PathBuf {
     target
 }
 
-/// The Python interpreter with `mcap` and `jsonschema`: FERROC_PYTHON (CI sets it;
-/// then it must work), else `python3` if it has them, else `None` (said on stderr).
-pub fn python() -> Option<String> {
-    let set = std::env::var("FERROC_PYTHON").ok();
-    let python = set.clone().unwrap_or_else(|| "python3".into());
-    let ok = Command::new(&python)
-        .args(["-c", "import mcap, jsonschema"])
-        .stderr(std::process::Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    match (ok, set) {
-        (true, _) => Some(python),
-        (false, Some(p)) => panic!("FERROC_PYTHON={p} cannot import mcap and jsonschema"),
-        (false, None) => {
-            eprintln!("SKIPPED: no Python with `mcap` and `jsonschema` (set FERROC_PYTHON)");
-            None
-        }
-    }
+/// The Python interpreter with `mcap` and `jsonschema` (FERROC_PYTHON, else the venv
+/// `scripts/test` makes), or `None` after a visible skip.
+pub fn python() -> Option<std::path::PathBuf> {
+    ferroc_testkit::python(&["mcap", "jsonschema"])
 }
 pub mod lsp_client;
+
+/// A tmpfs of `size` mounted on `dir` for as long as it lives; `None` after a visible
+/// skip (ferroc_testkit) where mounting is refused (not root, no CAP_SYS_ADMIN).
+pub struct SmallDisk(PathBuf);
+
+impl SmallDisk {
+    pub fn mount(dir: &Path, size: &str) -> Option<SmallDisk> {
+        let mount = ferroc_testkit::command("mount")?;
+        std::fs::create_dir_all(dir).unwrap();
+        let mounted = Command::new(mount)
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(dir)
+            .output()
+            .expect("mount runs");
+        if mounted.status.success() {
+            return Some(SmallDisk(dir.to_path_buf()));
+        }
+        let why = String::from_utf8_lossy(&mounted.stderr);
+        ferroc_testkit::skip(&format!(
+            "needs to mount a small tmpfs (as root): {}",
+            why.trim()
+        ));
+        None
+    }
+}
+
+impl Drop for SmallDisk {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+    }
+}

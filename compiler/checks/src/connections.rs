@@ -13,6 +13,7 @@ pub mod t110_unused_output;
 pub mod t111_not_serialisable_across_parts;
 pub mod t112_double_scaling;
 pub mod t113_invalid_convert;
+pub mod t114_queue_memory_unbounded;
 
 use crate::PassContext;
 use ferroc_diagnostics::source::Span;

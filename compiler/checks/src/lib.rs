@@ -106,6 +106,7 @@ passes![
     connections::t111_not_serialisable_across_parts,
     connections::t112_double_scaling,
     connections::t113_invalid_convert,
+    connections::t114_queue_memory_unbounded,
     parameters::p101_unknown_parameter,
     parameters::p102_missing_required_parameter,
     parameters::p103_unparsable_value,

@@ -53,7 +53,7 @@ pub fn report_dependency_cycles(
         }
     }
     let mut component_of = vec![usize::MAX; edges.len()];
-    for (c, component) in petgraph::algo::tarjan_scc(&g).into_iter().enumerate() {
+    for (c, component) in petgraph::algo::kosaraju_scc(&g).into_iter().enumerate() {
         for n in &component {
             component_of[g[*n]] = c;
         }

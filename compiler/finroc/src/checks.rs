@@ -18,6 +18,7 @@ pub mod f110_unknown_component_type;
 pub mod f111_edge_type_mismatch;
 pub mod f112_library_not_built;
 pub mod f113_parameter_link_target_missing;
+pub mod f114_edge_to_itself;
 pub mod l106_make_cycle;
 pub mod l107_duplicate_make_lib;
 
@@ -50,7 +51,7 @@ pub struct Facts<'a> {
 }
 
 /// An edge's identity once FINROC has read it: scheme and decoded path of each end.
-fn key(e: &crate::finstructable::EdgeEnd) -> String {
+pub(crate) fn key(e: &crate::finstructable::EdgeEnd) -> String {
     format!(
         "{}:{}{}",
         e.scheme.as_deref().unwrap_or(""),
@@ -121,6 +122,7 @@ pub fn check_structure(ctx: &Context<'_>, out: &mut Diagnostics, not_checked: &m
     f111_edge_type_mismatch::check(ctx, &facts, out);
     f112_library_not_built::check(ctx, out);
     f113_parameter_link_target_missing::check(ctx, out);
+    f114_edge_to_itself::check(ctx, out);
     f106_config_value_unparsable::check_linked_units(ctx, out);
     // What stayed unknown, grouped by reason.
     let mut reasons: BTreeMap<String, usize> = BTreeMap::new();

@@ -13,7 +13,7 @@ use super::checkout::Checkout;
 use super::finstructable::{Edge, Element, Finstructable};
 use super::text::ident_of;
 use ferroc_syntax::escape;
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap, HashSet};
 use std::fmt::Write;
 
 /// The imported model.
@@ -40,6 +40,70 @@ struct Node<'c> {
     comments: Vec<String>,
     /// Edges read but not yet turned into connects (all elements must be known first).
     pending: Vec<Edge>,
+    /// Each child's FINROC name to the first child of that name, and the ferroc names
+    /// taken with the next suffix to try for each base name: an application of 100,000
+    /// elements is imported in linear time.
+    index: ChildIndex,
+}
+
+#[derive(Default)]
+struct ChildIndex {
+    by_finroc: HashMap<String, usize>,
+    taken: HashSet<String>,
+    next_suffix: HashMap<String, usize>,
+}
+
+impl<'c> Node<'c> {
+    fn new(finroc: String, name: String, kind: Kind<'c>) -> Self {
+        Node {
+            finroc,
+            name,
+            kind,
+            children: Vec::new(),
+            connects: Vec::new(),
+            params: Vec::new(),
+            comments: Vec::new(),
+            pending: Vec::new(),
+            index: ChildIndex::default(),
+        }
+    }
+
+    /// `name`, or `name_2`, `name_3`, … : the first no child has.
+    fn unique(&mut self, name: String) -> String {
+        let index = &mut self.index;
+        if !index.taken.contains(&name) {
+            return name;
+        }
+        // Suffixes below the one remembered are taken: names are only ever added.
+        let mut i = index.next_suffix.get(&name).copied().unwrap_or(2);
+        let mut candidate = format!("{name}_{i}");
+        while index.taken.contains(&candidate) {
+            i += 1;
+            candidate = format!("{name}_{i}");
+        }
+        index.next_suffix.insert(name, i + 1);
+        candidate
+    }
+
+    fn push_child(&mut self, child: Node<'c>) {
+        let i = self.children.len();
+        self.index
+            .by_finroc
+            .entry(child.finroc.clone())
+            .or_insert(i);
+        self.index.taken.insert(child.name.clone());
+        self.children.push(child);
+    }
+
+    /// The first child of FINROC name `finroc`.
+    fn child(&self, finroc: &str) -> Option<&Node<'c>> {
+        self.index.by_finroc.get(finroc).map(|&i| &self.children[i])
+    }
+
+    fn child_mut(&mut self, finroc: &str) -> Option<&mut Node<'c>> {
+        let i = *self.index.by_finroc.get(finroc)?;
+        Some(&mut self.children[i])
+    }
 }
 
 struct Ctx<'a> {
@@ -87,10 +151,10 @@ pub fn import(
 
 /// The application's node: `finroc_run`'s thread container.
 fn root_node(catalogue: &Catalogue) -> Node<'_> {
-    Node {
-        finroc: String::new(),
-        name: "main".into(),
-        kind: Kind::Group(
+    Node::new(
+        String::new(),
+        "main".into(),
+        Kind::Group(
             catalogue
                 .get(
                     "finroc_plugins_structure",
@@ -98,12 +162,7 @@ fn root_node(catalogue: &Catalogue) -> Node<'_> {
                 )
                 .expect("built-in"),
         ),
-        children: Vec::new(),
-        connects: Vec::new(),
-        params: Vec::new(),
-        comments: Vec::new(),
-        pending: Vec::new(),
-    }
+    )
 }
 
 /// What the model cannot say but `export finroc` needs, for `doc` (see export.rs).
@@ -160,16 +219,6 @@ fn write_model(
     o
 }
 
-fn unique(name: String, taken: &[Node<'_>]) -> String {
-    let mut candidate = name.clone();
-    let mut i = 2;
-    while taken.iter().any(|n| n.name == candidate) {
-        candidate = format!("{name}_{i}");
-        i += 1;
-    }
-    candidate
-}
-
 /// Adds `elements` and `edges` (of a file or of a constructor) to `node`.
 fn fill<'c>(ctx: &mut Ctx<'c>, node: &mut Node<'c>, elements: &[Element], edges: &[Edge]) {
     for e in elements {
@@ -187,21 +236,13 @@ fn fill<'c>(ctx: &mut Ctx<'c>, node: &mut Node<'c>, elements: &[Element], edges:
             ));
             continue;
         };
-        let name = unique(ident_of(&e.name.text), &node.children);
-        let mut child = Node {
-            finroc: e.name.text.clone(),
-            name,
-            kind: if component.composite {
-                Kind::Group(component)
-            } else {
-                Kind::Module(component)
-            },
-            children: Vec::new(),
-            connects: Vec::new(),
-            params: Vec::new(),
-            comments: Vec::new(),
-            pending: Vec::new(),
+        let name = node.unique(ident_of(&e.name.text));
+        let kind = if component.composite {
+            Kind::Group(component)
+        } else {
+            Kind::Module(component)
         };
+        let mut child = Node::new(e.name.text.clone(), name, kind);
         if component.composite {
             if let Some(content) = &component.content {
                 fill(ctx, &mut child, &content.elements, &content.edges);
@@ -226,7 +267,7 @@ fn fill<'c>(ctx: &mut Ctx<'c>, node: &mut Node<'c>, elements: &[Element], edges:
             fill(ctx, &mut child, &e.children, &[]);
         }
         connect(ctx, &mut child);
-        node.children.push(child);
+        node.push_child(child);
     }
     node.pending.extend(edges.iter().cloned());
 }
@@ -262,16 +303,14 @@ fn connect(ctx: &mut Ctx<'_>, node: &mut Node<'_>) {
 fn path_of(node: &Node<'_>, segs: &[String]) -> Option<String> {
     if segs.len() == 2 {
         let (Kind::Group(c) | Kind::Module(c)) = node.kind;
-        if c.interfaces.iter().any(|i| i == &segs[0])
-            && !node.children.iter().any(|n| n.finroc == segs[0])
-        {
+        if c.interfaces.iter().any(|i| i == &segs[0]) && node.child(&segs[0]).is_none() {
             return Some(
                 c.port(&segs[0], &segs[1])
                     .map_or_else(|| ident_of(&segs[1]), |p| p.member.clone()),
             );
         }
     }
-    let child = node.children.iter().find(|n| n.finroc == segs[0])?;
+    let child = node.child(&segs[0])?;
     let rest = path_of(child, &segs[1..])?;
     Some(format!("{}/{rest}", child.name))
 }
@@ -282,7 +321,7 @@ fn attach_link(ctx: &mut Ctx<'_>, root: &mut Node<'_>, link: &super::finstructab
     };
     let mut node = &mut *root;
     for seg in elems.iter().filter(|s| *s != "Parameters") {
-        match node.children.iter_mut().find(|n| &n.finroc == seg) {
+        match node.child_mut(seg) {
             Some(n) => node = n,
             None => {
                 ctx.notes.push(format!(
@@ -392,4 +431,56 @@ fn ports_type(_c: &Component, p: &super::catalogue::Port) -> String {
         .get(&p.ty)
         .cloned()
         .unwrap_or_else(|| p.ty.clone())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ferroc_diagnostics::diagnostic::Diagnostics;
+    use ferroc_diagnostics::source::FileId;
+
+    /// Issue 27 item 14: each element's name was made unique by scanning every earlier
+    /// child, and every suffix again from `_2` (an application of many elements of one
+    /// name did not finish); names and edge ends are now found through an index. The
+    /// elements of one name get the suffixes in order, and an edge between the last two
+    /// finds them.
+    #[test]
+    fn many_elements_of_one_name_are_imported_in_order() {
+        const N: usize = 20_000;
+        let mut text = String::from("<Finstructable version=\"1703\">");
+        for _ in 0..N {
+            text.push_str(
+                "<element name=\"Noise\" group=\"finroc_projects_crash_course\" type=\"AddNoise\"/>",
+            );
+        }
+        text.push_str(
+            "<element name=\"Last\" group=\"finroc_projects_crash_course\" type=\"AddNoise\"/>",
+        );
+        text.push_str("<edge src=\"Noise/Output/Output\" dest=\"Last/Input/Input\"/>");
+        text.push_str("</Finstructable>");
+        let root = ferroc_syntax::xml::parse(FileId(0), &text, 64).unwrap();
+        let doc = crate::read::read(FileId(0), &root, &mut Diagnostics::default());
+        let checkout = Checkout::default();
+        let imported = import(
+            &doc,
+            "many",
+            crate::catalogue::builtin(),
+            &checkout,
+            &|_| String::new(),
+        );
+        let model = &imported.model;
+        assert!(
+            model.contains("<module name=\"noise\" "),
+            "the first keeps its name"
+        );
+        assert!(model.contains("<module name=\"noise_2\" "));
+        assert!(model.contains(&format!("<module name=\"noise_{N}\" ")));
+        assert!(!model.contains(&format!("<module name=\"noise_{}\" ", N + 1)));
+        // The edge leads from the first element of the name, as FINROC resolves it.
+        assert!(
+            model.contains("<connect from=\"noise/output\" to=\"last/input\"/>"),
+            "{}",
+            &model[model.len().saturating_sub(600)..]
+        );
+    }
 }

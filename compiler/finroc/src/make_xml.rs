@@ -25,6 +25,7 @@
 
 use ferroc_diagnostics::source::{FileId, Span};
 use ferroc_syntax::Element;
+use std::collections::HashMap;
 use std::path::Path;
 
 /// What a target builds.
@@ -78,14 +79,15 @@ pub struct MakeFile {
     /// The FINROC target prefix of the file's folder, when its location tells it.
     pub prefix: Option<String>,
     pub targets: Vec<Target>,
+    /// Each reference name to the first target that has it: [`MakeFile::resolve`] in
+    /// constant time, so a file of many targets is checked in linear time.
+    by_reference: HashMap<String, usize>,
 }
 
 impl MakeFile {
     /// The local target a `libs` entry refers to (the first one with that reference name).
     pub fn resolve(&self, lib: &str) -> Option<usize> {
-        self.targets
-            .iter()
-            .position(|t| t.reference_names.iter().any(|r| r == lib))
+        self.by_reference.get(lib).copied()
     }
 }
 
@@ -129,10 +131,17 @@ const TARGET_TAGS: &[(&str, TargetKind, bool, Option<&str>)] = &[
 pub fn read(file: FileId, root: &Element, prefix: Option<&str>) -> MakeFile {
     let mut targets = Vec::new();
     collect(root, prefix, &mut targets);
+    let mut by_reference = HashMap::new();
+    for (i, t) in targets.iter().enumerate() {
+        for r in &t.reference_names {
+            by_reference.entry(r.clone()).or_insert(i);
+        }
+    }
     MakeFile {
         file,
         prefix: prefix.map(str::to_string),
         targets,
+        by_reference,
     }
 }
 

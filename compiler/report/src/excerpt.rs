@@ -158,13 +158,7 @@ impl Excerpt {
                 let base = text.len();
                 let line_points = &points[lo..hi];
                 let mut at = vec![0usize; line_points.len()];
-                write_line(
-                    &file.text[range.clone()],
-                    range.start,
-                    line_points,
-                    &mut at,
-                    &mut text,
-                );
+                write_line(file, range, line_points, &mut at, &mut text);
                 // A point inside a `\r\n` break lands at the line's end (`write_line`
                 // puts points past the line there): the excerpt writes `\n` alone.
                 for (i, _) in line_points.iter().enumerate() {
@@ -253,25 +247,29 @@ fn visible(c: char) -> char {
     }
 }
 
-/// Writes one line (without its break), clipped around `points` (real offsets, sorted,
-/// all on this line or its break) when long; `at[i]` receives where `points[i]` lands,
-/// relative to the line's start in `out`.
-fn write_line(line: &str, offset: usize, points: &[usize], at: &mut [usize], out: &mut String) {
+/// Writes one line of `file` (its byte `range`, without the break), clipped around
+/// `points` (real offsets, sorted, all on this line or its break) when long; `at[i]`
+/// receives where `points[i]` lands, relative to the line's start in `out`.
+///
+/// Columns come from the file's column index and only the kept parts of a long line are
+/// read, so a finding costs what its snippet costs however long the line: a line with
+/// 100,000 findings is not read 100,000 times.
+fn write_line(
+    file: &SourceFile,
+    range: std::ops::Range<usize>,
+    points: &[usize],
+    at: &mut [usize],
+    out: &mut String,
+) {
     let base = out.len();
-    // Columns before each character and after the last: a tab is counted as wide as
-    // miette may draw it, so a line of tabs is clipped like a line of letters.
-    let mut cols = Vec::with_capacity(line.len() + 1);
-    let mut width = 0;
-    for c in line.chars() {
-        cols.push(width);
-        width += if c == '\t' { TAB_WIDTH } else { 1 };
-    }
-    cols.push(width);
+    // A tab is counted as wide as miette may draw it, so a line of tabs is clipped like a
+    // line of letters.
+    let col_of = |p: usize| file.columns(range.start, p.min(range.end), TAB_WIDTH);
+    let width = col_of(range.end);
     // Column ranges to keep.
     let keep: Vec<(usize, usize)> = if width <= MAX_LINE_CHARS {
         vec![(0, width)]
     } else {
-        let col_of = |p: usize| cols[line[..(p - offset).min(line.len())].chars().count()];
         let mut keep: Vec<(usize, usize)> = Vec::new();
         let wanted = if points.is_empty() {
             vec![(0, 2 * KEEP_AROUND)]
@@ -293,28 +291,37 @@ fn write_line(line: &str, offset: usize, points: &[usize], at: &mut [usize], out
         keep
     };
     let mut next_point = 0;
-    let mut kept = keep.iter().peekable();
-    let mut in_gap = false;
-    for (i, (byte, c)) in line.char_indices().enumerate() {
-        while next_point < points.len() && points[next_point] <= offset + byte {
-            at[next_point] = out.len() - base;
-            next_point += 1;
+    // Points up to `byte` land where the excerpt is now.
+    let mut place = |byte: usize, out: &String, next_point: &mut usize| {
+        while *next_point < points.len() && points[*next_point] <= byte {
+            at[*next_point] = out.len() - base;
+            *next_point += 1;
         }
-        let col = cols[i];
-        while kept.peek().is_some_and(|&&(_, b)| col >= b) {
-            kept.next();
+    };
+    // The first character not yet written or skipped.
+    let mut cursor = range.start;
+    for (a, b) in keep {
+        // The characters that start in columns a..b.
+        let start = file.offset_of_column(range.start, range.end, a, TAB_WIDTH);
+        if start > cursor {
+            place(cursor, out, &mut next_point);
+            out.push(ELLIPSIS);
         }
-        match kept.peek() {
-            Some(&&(a, _)) if col >= a => {
-                in_gap = false;
-                out.push(visible(c));
+        let mut col = col_of(start);
+        cursor = start;
+        for (i, c) in file.text[start..range.end].char_indices() {
+            if col >= b {
+                break;
             }
-            _ if !in_gap => {
-                in_gap = true;
-                out.push(ELLIPSIS);
-            }
-            _ => {}
+            place(start + i, out, &mut next_point);
+            out.push(visible(c));
+            col += if c == '\t' { TAB_WIDTH } else { 1 };
+            cursor = start + i + c.len_utf8();
         }
+    }
+    if cursor < range.end {
+        place(cursor, out, &mut next_point);
+        out.push(ELLIPSIS);
     }
     for slot in &mut at[next_point..] {
         *slot = out.len() - base;

@@ -6,6 +6,8 @@ use super::xml::Element;
 use crate::checks::*;
 use ferroc_diagnostics::diagnostic::{did_you_mean, Diagnostic, Diagnostics};
 use ferroc_diagnostics::source::Span;
+use std::collections::hash_map::Entry;
+use std::collections::{HashMap, HashSet};
 
 /// `<allow code reason>`: silences `code` for findings inside `region`.
 #[derive(Clone, Debug)]
@@ -118,12 +120,35 @@ fn check_attributes(
     is_root: bool,
     out: &mut Diagnostics,
 ) {
+    // One pass: the first occurrence of each repeated name, and which names of the
+    // vocabulary the element has (a misspelt one is only read as a name it lacks), so an
+    // element of 100,000 attributes is checked in linear time.
     let count = element.attrs().len();
-    for i in 0..count {
-        let Some(attr) = element.attrs().nth(i) else {
+    let mut first_of = vec![None; count];
+    let mut present: HashSet<&'static str> = HashSet::new();
+    {
+        let mut seen: HashMap<&str, Span> = HashMap::with_capacity(count);
+        for (i, attr) in element.attrs().enumerate() {
+            match seen.entry(attr.name) {
+                Entry::Occupied(first) => first_of[i] = Some(*first.get()),
+                Entry::Vacant(slot) => {
+                    slot.insert(attr.name_span);
+                }
+            }
+            let known = spec.attrs.iter().map(|a| a.name);
+            if let Some(name) = known
+                .chain(COMMON_ATTRS.iter().copied())
+                .find(|n| *n == attr.name)
+            {
+                present.insert(name);
+            }
+        }
+    }
+    for (i, first) in first_of.into_iter().enumerate() {
+        let Some(attr) = element.attr_at(i) else {
             break;
         };
-        if let Some(first) = element.attrs().take(i).find(|a| a.name == attr.name) {
+        if let Some(first) = first {
             out.push(
                 Diagnostic::new(
                     &m106_duplicate_attribute::CHECK,
@@ -131,7 +156,7 @@ fn check_attributes(
                     format!("attribute `{}` appears twice", attr.name),
                 )
                 .label("second occurrence")
-                .secondary(first.name_span, "first occurrence")
+                .secondary(first, "first occurrence")
                 .help("keep one of them"),
             );
             continue;
@@ -156,7 +181,7 @@ fn check_attributes(
                 let meant = did_you_mean(attr.name, all.iter().copied());
                 // Read it as the attribute it was meant to be, if that one is free.
                 let recovered = meant
-                    .filter(|s| element.attr(s).is_none())
+                    .filter(|s| !present.contains(*s))
                     .and_then(|s| spec.attrs.iter().find(|a| a.name == s));
                 out.push(match (meant, recovered) {
                     (Some(s), Some(_)) => d.help(format!(
@@ -166,8 +191,9 @@ fn check_attributes(
                     (None, _) => d.help(format!("<{}> takes: {}", element.name, all.join(", "))),
                 });
                 if let Some(known) = recovered {
+                    present.insert(known.name);
                     element.rename_attr(i, known.name);
-                    if let Some(attr) = element.attrs().nth(i) {
+                    if let Some(attr) = element.attr_at(i) {
                         check_value(element, &attr, known.kind, out);
                     }
                 }
@@ -207,6 +233,12 @@ fn check_value(element: &Element, attr: &super::xml::Attr, kind: AttrKind, out: 
             Ok(n) if element.name == "connect" && attr.name == "queue" => {
                 if n > vocabulary::MAX_QUEUE {
                     queue_over_limit(attr, n, out);
+                }
+                None
+            }
+            Ok(n) if element.name == "port" && attr.name == "count" => {
+                if n > vocabulary::MAX_GROUP_PORTS {
+                    group_over_limit(attr, n, out);
                 }
                 None
             }
@@ -266,6 +298,27 @@ fn queue_over_limit(attr: &super::xml::Attr, n: u32, out: &mut Diagnostics) {
             "a queue is allocated in full when the run starts: give at most \
              queue=\"{}\" (a few values are usual)",
             vocabulary::MAX_QUEUE
+        )),
+    );
+}
+
+/// M116: a flexible port group's `count="n"` over the limit.
+#[cold]
+fn group_over_limit(attr: &super::xml::Attr, n: u32, out: &mut Diagnostics) {
+    out.push(
+        Diagnostic::new(
+            &m116_limit_exceeded::CHECK,
+            attr.value_span,
+            format!(
+                "a port group of {n} ports is over the limit of {}",
+                vocabulary::MAX_GROUP_PORTS
+            ),
+        )
+        .label("too many ports")
+        .help(format!(
+            "every port of a group is made when the module is created: give at most \
+             count=\"{}\", or split the values over several modules or into a vector type",
+            vocabulary::MAX_GROUP_PORTS
         )),
     );
 }

@@ -71,6 +71,10 @@ pub const DEFAULT_ON_FULL: &str = "drop-oldest";
 /// The largest `queue=`: the runtime allocates a queue in full when a run starts, so an
 /// unbounded size would let a model exhaust memory (M116 above it).
 pub const MAX_QUEUE: u32 = 65_536;
+/// The largest `count=` of a flexible port group (`<port count>` on a module): the
+/// runtime makes every port when the module is created and refuses more
+/// (`ferroc_module::MAX_GROUP_PORTS`, the same number; M116 above it).
+pub const MAX_GROUP_PORTS: u32 = 4096;
 pub const DIRECTIONS: &[&str] = &["in", "out"];
 pub const PROFILES: &[&str] = &["generic", "finroc"];
 pub const MODULE_KINDS: &[&str] = &["module", "sense-control", "behaviour", "fusion"];

@@ -111,6 +111,11 @@ impl Element {
         self.attr(name).map_or(self.name_span, |a| a.value_span)
     }
 
+    /// Attribute `index` in document order.
+    pub fn attr_at(&self, index: usize) -> Option<Attr<'_>> {
+        self.attrs.get(index).map(|a| a.view(self.span.file))
+    }
+
     /// The attributes in document order.
     pub fn attrs(&self) -> impl ExactSizeIterator<Item = Attr<'_>> + '_ {
         self.attrs.iter().map(|a| a.view(self.span.file))

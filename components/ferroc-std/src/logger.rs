@@ -12,10 +12,13 @@
 //! control characters, `..` components, a folder that is not one, or something that
 //! exists but is not a regular file (a folder, a device, a symbolic link) are refused
 //! with an error naming the module. A relative path lies under the log folder
-//! (`ferroc run --log-dir`, else `FERROC_LOG_DIR`, else the working directory). The
-//! file is created at the first value (its folders too; an existing file is
-//! replaced); if that or a later write fails, the logger reports it once and stops
-//! logging rather than stopping the application.
+//! (`ferroc run --log-dir`, else `FERROC_LOG_DIR`, else the working directory), and an
+//! absolute one must lead there too: a model (or an edit) never writes elsewhere. An
+//! existing file that is not a recording of ours is refused unless `--force` (see
+//! [`recording`](crate::recording)). The file is created at the first value (its
+//! folders too; a recording of ours is replaced); if that or a later write fails, the
+//! logger reports it once, stops logging rather than stopping the application, and the
+//! run's summary names the lost recording (exit code 3).
 
 use crate::recording::{self, ChannelInfo, LogFile, SharedLog};
 use ferroc_runtime::module::{DynIn, Module, ModuleType, Parameter, Setup, Timestamp, Wire};
@@ -25,6 +28,8 @@ use std::time::Duration;
 
 /// `ferroc_std.Logger`: records its inputs into an MCAP file.
 pub struct Logger {
+    /// The module's path (named when its recording is lost).
+    module: String,
     ports: Vec<Recorded>,
     path: PathBuf,
     period: Parameter<Duration>,
@@ -98,11 +103,16 @@ impl ModuleType for Logger {
         // The registry learning the interface gives no path: nothing to check then.
         // The path as written first (empty, `..`), then where it leads.
         if !m.path().is_empty() {
-            if let Err(why) = check_log_path(&raw).and_then(|()| check_log_path(&path)) {
+            let checked = check_log_path(&raw)
+                .and_then(|()| check_log_path(&path))
+                .and_then(|()| recording::check_in_log_dir(&raw))
+                .and_then(|()| recording::check_overwrite(&path));
+            if let Err(why) = checked {
                 m.problem(format!("parameter `file`: {why}"));
             }
         }
         Logger {
+            module: m.path().to_owned(),
             ports,
             path,
             period,
@@ -334,6 +344,10 @@ impl Logger {
         self.failed = true;
         self.log = None;
         eprintln!("warning: ferroc_std.Logger: {why}; it records nothing more");
+        ferroc_runtime::module::report_data_loss(format!(
+            "ferroc_std.Logger `{}`: {why}; nothing was recorded after that",
+            self.module
+        ));
     }
 }
 

@@ -6,7 +6,10 @@
 //! first). When the instance is created, before anything runs, the recording is read
 //! and checked: every topic must have an exact (postcard) channel there, recorded
 //! with the output's model type; otherwise the instance is refused with what the file
-//! has. A recording cut off by a crash is replayed up to the cut, with a warning.
+//! has. A recording cut off by a crash is replayed up to the cut, with a warning. A
+//! recording whose checksums do not match (it changed after it was written) is refused
+//! naming the chunk, unless `checksums` is `ignore`. Only the replayed channels'
+//! messages are kept in memory.
 //!
 //! `mode`: `recorded` replays at the recorded timing (a message is published in the
 //! first step at or after its log time, counted from the first step and the first
@@ -135,6 +138,17 @@ impl ModuleType for Player {
             .choices(&["recorded", "now"])
             .doc("replay timestamp values as recorded, or shifted by how much later they are replayed")
             .build();
+        let mut checksums: Parameter<String> = m
+            .param("checksums")
+            .default("verify".to_owned())
+            .choices(&["verify", "ignore"])
+            .doc("refuse a recording whose checksums do not match (verify), or replay it anyway (ignore)")
+            .build();
+        let checksums = if checksums.value() == "ignore" {
+            recording::Checksums::Ignore
+        } else {
+            recording::Checksums::Verify
+        };
         let mode = match mode.value().as_str() {
             "rate" => Mode::Rate,
             "step" => Mode::Step,
@@ -159,7 +173,7 @@ impl ModuleType for Player {
             .map(|t| t.trim().to_owned())
             .filter(|t| !t.is_empty())
             .collect();
-        match load(m, &path, outputs, &topics) {
+        match load(m, &path, outputs, &topics, checksums) {
             Ok(replayed) => player.outputs = replayed,
             Err(why) => m.problem(why),
         }
@@ -173,6 +187,7 @@ fn load(
     path: &std::path::Path,
     outputs: Vec<DynOut>,
     topics: &[String],
+    checksums: recording::Checksums,
 ) -> Result<Vec<Replayed>, String> {
     if topics.len() != outputs.len() {
         return Err(format!(
@@ -182,23 +197,19 @@ fn load(
             outputs.len()
         ));
     }
-    let rec = Recording::read(path)?;
-    if let Some(why) = &rec.damaged {
-        eprintln!(
-            "warning: ferroc_std.Player `{}`: the recording `{}` is cut off ({why}); \
-             it replays the {} messages before the cut",
-            m.path(),
-            path.display(),
-            rec.messages.len()
-        );
-    }
+    let mut rec = read_replayed(m, path, topics, checksums)?;
     let types: Vec<(String, &str)> = m
         .port_groups()
         .iter()
         .flat_map(|g| g.port_names().into_iter().map(move |n| (n, g.model_type)))
         .collect();
     let mut replayed = Vec::with_capacity(outputs.len());
-    for (out, topic) in outputs.into_iter().zip(topics) {
+    let mut by_channel: std::collections::HashMap<u16, VecDeque<(u64, Vec<u8>)>> =
+        std::collections::HashMap::new();
+    for msg in std::mem::take(&mut rec.messages) {
+        (by_channel.entry(msg.channel).or_default()).push_back((msg.log_time, msg.data));
+    }
+    for (k, (out, topic)) in outputs.into_iter().zip(topics).enumerate() {
         let Some(channel) = rec.exact_channel(topic) else {
             let known: Vec<&str> = rec
                 .channels
@@ -239,12 +250,14 @@ fn load(
                 out.name()
             ));
         };
-        let messages = rec
-            .messages
-            .iter()
-            .filter(|msg| msg.channel == channel.id)
-            .map(|msg| (msg.log_time, msg.data.clone()))
-            .collect();
+        // Moved out of the recording; copied only for a topic two outputs replay.
+        let rest = topics[k + 1..].iter().any(|t| t == topic);
+        let messages = if rest {
+            by_channel.get(&channel.id).cloned()
+        } else {
+            by_channel.remove(&channel.id)
+        }
+        .unwrap_or_default();
         replayed.push(Replayed {
             out,
             wire,
@@ -255,6 +268,51 @@ fn load(
         });
     }
     Ok(replayed)
+}
+
+/// Reads the channels of `topics` from the recording at `path` (the others are only
+/// counted), saying on standard error what is corrupted (with `checksums=ignore`) or
+/// cut off.
+fn read_replayed(
+    m: &Setup<'_>,
+    path: &std::path::Path,
+    topics: &[String],
+    checksums: recording::Checksums,
+) -> Result<Recording, String> {
+    // Only the replayed channels' messages are kept, and only up to a bound.
+    let mut kept = 0u64;
+    let rec = Recording::read_with(path, checksums, &mut |c, msg| {
+        let replayed = c.is_exact() && topics.contains(&c.topic);
+        if replayed {
+            kept += msg.data.len() as u64;
+        }
+        replayed && kept <= recording::MAX_KEPT_BYTES
+    })?;
+    if kept > recording::MAX_KEPT_BYTES {
+        return Err(format!(
+            "the channels to replay of `{}` hold more than {} GiB: too many to keep in memory",
+            path.display(),
+            recording::MAX_KEPT_BYTES >> 30
+        ));
+    }
+    for what in &rec.corrupt {
+        eprintln!(
+            "warning: ferroc_std.Player `{}`: the recording `{}` is corrupted ({what}); it \
+             replays it anyway (checksums=\"ignore\")",
+            m.path(),
+            path.display()
+        );
+    }
+    if let Some(why) = rec.damaged.as_ref().filter(|_| rec.corrupt.is_empty()) {
+        eprintln!(
+            "warning: ferroc_std.Player `{}`: the recording `{}` is cut off ({why}); \
+             it replays the {} messages before the cut",
+            m.path(),
+            path.display(),
+            rec.messages.len()
+        );
+    }
+    Ok(rec)
 }
 
 impl Module for Player {

@@ -205,3 +205,79 @@ fn a_recording_cut_mid_chunk_replays_up_to_the_cut() {
     let n = messages(&Recording::read(&replayed).unwrap(), "log/in/0").len();
     assert_eq!(n, messages(&rec, "log/in/0").len());
 }
+
+/// Where the first chunk's records end in an MCAP file (the byte after its last
+/// record): the magic, the header record, then the first chunk.
+fn end_of_first_chunk(bytes: &[u8]) -> usize {
+    let record_len = |at: usize| u64::from_le_bytes(bytes[at + 1..at + 9].try_into().unwrap());
+    let header = 8;
+    let chunk = header + 9 + record_len(header) as usize;
+    assert_eq!(bytes[chunk], 0x06, "a chunk follows the header");
+    chunk + 9 + record_len(chunk) as usize
+}
+
+/// Issue 27 item 7: in bit-flipped files the reader delivered flipped values (this
+/// test failed so before the fix: checksums were not verified). Every single-bit flip
+/// of a finished recording is now refused as corrupted, or reads exactly the
+/// original messages (a flip the reader never depends on, like the end magic).
+#[test]
+fn every_bit_flip_is_refused_or_harmless() {
+    let dir = scratch("replay_flipped");
+    let original = dir.join("live.mcap");
+    live(&original);
+    let bytes = std::fs::read(&original).unwrap();
+    let clean = Recording::parse(&bytes).unwrap();
+    assert!(clean.finished && clean.corrupt.is_empty());
+    let (mut refused, mut flipped) = (0, bytes.clone());
+    for at in 8..bytes.len() {
+        let bit = 1u8 << (at % 8);
+        flipped[at] ^= bit;
+        match Recording::parse(&flipped) {
+            Err(e) => {
+                assert!(e.contains("is corrupted: "), "byte {at}: {e}");
+                refused += 1;
+            }
+            Ok(rec) => assert_eq!(rec.messages, clean.messages, "byte {at} flipped"),
+        }
+        flipped[at] ^= bit;
+    }
+    assert!(
+        refused > bytes.len() * 9 / 10,
+        "{refused} of {}",
+        bytes.len()
+    );
+    // A flip inside the first chunk's records: the chunk is named.
+    flipped[end_of_first_chunk(&bytes) - 1] ^= 1;
+    let e = Recording::parse(&flipped).unwrap_err();
+    assert!(
+        e.contains("is corrupted: chunk 1 (the record at byte ")
+            && e.contains("does not match its CRC (saved "),
+        "{e}"
+    );
+}
+
+/// Issue 27 item 7: the Player refuses a corrupted recording, naming the chunk (it
+/// replayed the flipped value before the fix); `checksums="ignore"` replays it.
+#[test]
+fn the_player_refuses_a_corrupted_recording_unless_told_otherwise() {
+    let dir = scratch("replay_corrupted");
+    let original = dir.join("live.mcap");
+    live(&original);
+    let mut bytes = std::fs::read(&original).unwrap();
+    let at = end_of_first_chunk(&bytes) - 1;
+    bytes[at] ^= 0x10;
+    let corrupted = dir.join("corrupted.mcap");
+    std::fs::write(&corrupted, &bytes).unwrap();
+    let e = refusal(&corrupted, "log/in/0", "f64");
+    assert!(e.contains("corrupted.mcap` is corrupted: chunk 1"), "{e}");
+    assert!(e.contains("checksums=\"ignore\""), "{e}");
+    let r = registry();
+    let mut b = Builder::new(&r);
+    let params = [
+        ("file", text(&corrupted)),
+        ("channels", Value::Text("log/in/0".into())),
+        ("checksums", Value::Text("ignore".into())),
+    ];
+    let out = [PortGroup::new("out", Direction::Out, "f64", Some(1))];
+    add(&mut b, "player", "ferroc_std.Player", &params, &out).unwrap();
+}

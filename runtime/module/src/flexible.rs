@@ -27,8 +27,9 @@ use super::setup::Setup;
 use super::value::{In, Out, PortValue};
 use super::value_table::{DynIn, DynOut, ValueType};
 
-/// Ports one flexible group may have at most (the compiler's bound too): a model
-/// cannot make the runtime allocate without limit.
+/// Ports one flexible group may have at most: a model cannot make the runtime allocate
+/// without limit. The compiler reports a larger `count` (M116 at the attribute,
+/// `ferroc_syntax::vocabulary::MAX_GROUP_PORTS`, held equal by a test in `ferroc-host`).
 pub const MAX_GROUP_PORTS: u32 = 4096;
 
 /// One `<port name dir type count>` of a module instance: a flexible port group as

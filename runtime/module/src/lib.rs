@@ -30,6 +30,7 @@ pub mod resource;
 pub mod violations;
 
 mod codec;
+mod data_loss;
 mod flexible;
 mod interface;
 mod param;
@@ -40,6 +41,7 @@ mod value;
 mod value_table;
 
 pub use codec::Codec;
+pub use data_loss::{data_losses, report_data_loss};
 pub use ferroc_ports::time::Timestamp;
 pub use flexible::{FlexibleDecl, PortGroup, MAX_GROUP_PORTS};
 pub use interface::{

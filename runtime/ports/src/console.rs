@@ -100,6 +100,16 @@ pub fn note(text: &str) {
     let _ = writeln!(err, "{}", escape(text));
 }
 
+/// [`note()`], throttled as [`report()`] is: the same text again is written only at its
+/// 10th, 100th, 1000th … occurrence, with the count. For what a client can make us say
+/// as often as it likes (a wrong token, 2,000 tries in a fraction of a second).
+pub fn note_repeated(text: &str) {
+    let shown = (REPEATS.lock().unwrap_or_else(|p| p.into_inner())).note(text);
+    if let Some(text) = shown {
+        note(&text);
+    }
+}
+
 /// Writes one line to standard error, dropping it when standard error cannot be
 /// written (a pipe whose reader is gone, a full disk). std's `eprintln!` panics there,
 /// turning a lost message into a crash (exit 101); the crates of ferroc shadow

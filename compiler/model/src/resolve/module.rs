@@ -264,9 +264,10 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                 span: p.value_span("name"),
             };
             match count {
-                Some(c) => instance
-                    .extra_ports
-                    .extend((0..c.min(4096)).map(|k| decl(format!("{name}/{k}")))),
+                Some(c) => instance.extra_ports.extend(
+                    (0..c.min(ferroc_syntax::vocabulary::MAX_GROUP_PORTS))
+                        .map(|k| decl(format!("{name}/{k}"))),
+                ),
                 None => instance.extra_ports.push(decl(name.to_string())),
             }
             self.flexible_type(p, name, flex, instance, ty, unit);

@@ -71,6 +71,7 @@ impl Module for Recorder {
                 Err(e) => {
                     self.failed = true;
                     eprintln!("warning: ferroc run --record: {e}; nothing is recorded");
+                    lost(&e);
                     return;
                 }
             }
@@ -87,6 +88,16 @@ impl Module for Recorder {
             self.failed = true;
             self.log = None;
             eprintln!("warning: ferroc run --record: {e}; it records nothing more");
+            lost(&e);
         }
+    }
+}
+
+/// Reports the recording lost for the run's summary (once per file: every
+/// recorder of a run writes the same one).
+fn lost(why: &str) {
+    let what = format!("--record: {why}; nothing was recorded after that");
+    if !ferroc_runtime::module::data_losses().contains(&what) {
+        ferroc_runtime::module::report_data_loss(what);
     }
 }

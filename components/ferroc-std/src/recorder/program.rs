@@ -61,6 +61,7 @@ impl Recorders {
         outputs: &[Recordable],
     ) -> Result<Recorders, String> {
         crate::recording::set_parts(vec![(part.to_owned(), part.to_owned())]);
+        crate::recording::set_overwrite(args.force);
         let Some(file) = &args.record else {
             return Ok(Recorders::default());
         };
@@ -68,6 +69,7 @@ impl Recorders {
         // folder is.
         let file = std::path::absolute(file).map_err(|e| format!("--record: {e}"))?;
         crate::check_log_path(&file).map_err(|e| format!("--record: {e}"))?;
+        crate::recording::check_overwrite(&file).map_err(|e| format!("--record: {e}"))?;
         let outputs = outputs
             .iter()
             .map(|o| (o.module, o.port, o.model_type, o.thread));

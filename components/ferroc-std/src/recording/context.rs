@@ -2,7 +2,9 @@
 //! relative log paths go, and which part each module belongs to (for channel
 //! metadata). Process-wide, set once before the application is built.
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, PoisonError};
 
 static LOG_DIR: Mutex<Option<PathBuf>> = Mutex::new(None);
@@ -39,6 +41,113 @@ pub fn resolve_log_path(path: &Path) -> PathBuf {
         log_dir().join(path)
     }
 }
+
+/// Whether files that are not ferroc recordings may be replaced (`--force`).
+static OVERWRITE: AtomicBool = AtomicBool::new(false);
+
+/// From now on, a log file may replace a file that is not a ferroc recording
+/// (`ferroc run --force`, a generated program's `--force`).
+pub fn set_overwrite(allowed: bool) {
+    OVERWRITE.store(allowed, Ordering::SeqCst);
+}
+
+/// Whether `path`, a log path a model (or an edit of it) names, lies inside the log
+/// folder: relative paths always do (`..` is refused elsewhere); an absolute one only
+/// if it leads there, also through symbolic links of folders that exist already.
+pub fn check_in_log_dir(path: &Path) -> Result<(), String> {
+    let dir = log_dir();
+    let file = resolve_log_path(path);
+    let inside = match (real(&dir), real(&file)) {
+        (Some(dir), Some(file)) => file.starts_with(&dir),
+        _ => false,
+    };
+    if inside {
+        return Ok(());
+    }
+    Err(format!(
+        "`{}` lies outside the log folder `{}`: a model writes its logs only there\n  \
+         help: name the file relative to the log folder (e.g. `logs/run.mcap`), or choose \
+         the folder with `ferroc run --log-dir DIR` (FERROC_LOG_DIR for generated programs)",
+        path.display(),
+        dir.display()
+    ))
+}
+
+/// `path` absolute with its existing part's symbolic links resolved (the rest, not
+/// created yet, appended as it is); `None` if the existing part cannot be resolved.
+fn real(path: &Path) -> Option<PathBuf> {
+    let path = std::path::absolute(path).ok()?;
+    let mut rest = Vec::new();
+    let mut existing = path.as_path();
+    loop {
+        if let Ok(found) = existing.canonicalize() {
+            let mut out = found;
+            out.extend(rest.iter().rev());
+            return Some(out);
+        }
+        rest.push(existing.file_name()?.to_owned());
+        existing = existing.parent()?;
+    }
+}
+
+/// Whether the log file at `path` may be written: it does not exist, is empty, or is
+/// a recording of ours (MCAP whose header names the library `ferroc`); anything else
+/// only after [`set_overwrite`]. Nothing is changed.
+pub fn check_overwrite(path: &Path) -> Result<(), String> {
+    match std::fs::File::open(path) {
+        Ok(mut file) => check_replaceable(path, &mut file),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(format!("`{}` cannot be read: {e}", path.display())),
+    }
+}
+
+/// [`check_overwrite`] of the open `file` (read from its start).
+pub(crate) fn check_replaceable(path: &Path, file: &mut std::fs::File) -> Result<(), String> {
+    if OVERWRITE.load(Ordering::SeqCst) {
+        return Ok(());
+    }
+    let mut head = Vec::with_capacity(HEAD);
+    file.take(HEAD as u64)
+        .read_to_end(&mut head)
+        .map_err(|e| format!("`{}` cannot be read: {e}", path.display()))?;
+    if head.is_empty() || is_ferroc_recording(&head) {
+        return Ok(());
+    }
+    Err(format!(
+        "`{}` exists and is not a ferroc recording: it is not replaced\n  help: name \
+         another file, or pass --force to replace it",
+        path.display()
+    ))
+}
+
+/// How much of a file's start tells whether it is a recording of ours.
+const HEAD: usize = 4096;
+
+/// Whether `head`, the start of a file, is the start of an MCAP file written by ferroc:
+/// the magic, then the header record whose library is `ferroc`.
+pub fn is_ferroc_recording(head: &[u8]) -> bool {
+    fn string(bytes: &[u8]) -> Option<(&[u8], &[u8])> {
+        let (len, rest) = bytes.split_first_chunk::<4>()?;
+        let len = usize::try_from(u32::from_le_bytes(*len)).ok()?;
+        (rest.len() >= len).then(|| rest.split_at(len))
+    }
+    let Some(rest) = head.strip_prefix(mcap::MAGIC) else {
+        return false;
+    };
+    let Some((&[op], rest)) = rest.split_first_chunk::<1>() else {
+        return false;
+    };
+    let Some((_, rest)) = rest.split_first_chunk::<8>() else {
+        return false;
+    };
+    let library = string(rest)
+        .and_then(|(_, rest)| string(rest))
+        .map(|(l, _)| l);
+    op == 0x01 && library == Some(LIBRARY.as_bytes())
+}
+
+/// The library named in the header of every recording ferroc writes.
+pub const LIBRARY: &str = "ferroc";
 
 /// Tells the recording modules which part holds which module: `(module path, part)`
 /// for every module (or every part's top element; the longest prefix wins).

@@ -8,7 +8,7 @@ use mcap::records::MessageHeader;
 use mcap::{WriteOptions, Writer};
 use std::collections::{BTreeMap, HashMap};
 use std::fs::File;
-use std::io::BufWriter;
+use std::io::{BufWriter, Seek};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError, Weak};
 
@@ -64,15 +64,52 @@ pub struct LogFile {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ChannelId(usize);
 
-fn mcap_error(path: &Path, e: impl std::fmt::Display) -> String {
-    format!("cannot write the recording `{}`: {e}", path.display())
+fn mcap_error(path: &Path, e: impl Into<WriteError>) -> String {
+    format!(
+        "cannot write the recording `{}`: {}",
+        path.display(),
+        e.into().0
+    )
+}
+
+/// Why a write failed, in plain words: the operating system's reason where there is
+/// one (a full disk, a missing permission), not the MCAP library's wrapper of it.
+struct WriteError(String);
+
+impl From<std::io::Error> for WriteError {
+    fn from(e: std::io::Error) -> Self {
+        use std::io::ErrorKind;
+        WriteError(match e.kind() {
+            ErrorKind::StorageFull => "the disk is full (no space left on the device)".into(),
+            ErrorKind::QuotaExceeded => "the disk quota is used up".into(),
+            ErrorKind::PermissionDenied => format!("permission denied ({e})"),
+            ErrorKind::ReadOnlyFilesystem => "the file system is read-only".into(),
+            _ => e.to_string(),
+        })
+    }
+}
+
+impl From<mcap::McapError> for WriteError {
+    fn from(e: mcap::McapError) -> Self {
+        match e {
+            mcap::McapError::Io(io) => io.into(),
+            other => WriteError(other.to_string()),
+        }
+    }
+}
+
+impl From<serde_json::Error> for WriteError {
+    fn from(e: serde_json::Error) -> Self {
+        WriteError(e.to_string())
+    }
 }
 
 impl LogFile {
     /// The recording at `path` (already resolved, see
     /// [`resolve_log_path`](super::resolve_log_path)): joined if a module of this
-    /// process writes it already, else created (its folders too; an existing file is
-    /// replaced). `flush_every`: how often chunks are written out, in nanoseconds.
+    /// process writes it already, else created (its folders too; an existing
+    /// recording of ours or empty file is replaced, anything else refused without
+    /// `--force`: [`check_overwrite`](super::check_overwrite)). `flush_every`: how often chunks are written out, in nanoseconds.
     pub fn open_shared(path: &Path, flush_every: u64) -> Result<SharedLog, String> {
         let key = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
         let mut open = OPEN.lock().unwrap_or_else(PoisonError::into_inner);
@@ -96,11 +133,23 @@ impl LogFile {
         if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
             std::fs::create_dir_all(folder).map_err(|e| mcap_error(path, e))?;
         }
-        let file = File::create(path).map_err(|e| mcap_error(path, e))?;
+        // Opened without truncating: only a recording of ours (or an empty file) is
+        // replaced, unless `--force` said otherwise.
+        let mut file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(path)
+            .map_err(|e| mcap_error(path, e))?;
+        super::context::check_replaceable(path, &mut file)?;
+        file.set_len(0).map_err(|e| mcap_error(path, e))?;
+        file.seek(std::io::SeekFrom::Start(0))
+            .map_err(|e| mcap_error(path, e))?;
         let options = WriteOptions::new()
             .compression(None)
             .chunk_size(Some(CHUNK_SIZE))
-            .library("ferroc")
+            .library(super::LIBRARY)
             .profile("");
         let mut writer = options
             .create(BufWriter::new(file))
@@ -264,7 +313,7 @@ impl LogFile {
         let file = writer
             .into_inner()
             .into_inner()
-            .map_err(|e| mcap_error(&path, e.error()))?;
+            .map_err(|e| mcap_error(&path, e.into_error()))?;
         file.sync_all().map_err(|e| mcap_error(&path, e))
     }
 }

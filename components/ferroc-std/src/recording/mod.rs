@@ -22,16 +22,27 @@
 //!
 //! Relative log paths are resolved against the log folder ([`set_log_dir`]; `ferroc
 //! run --log-dir`, else the environment variable `FERROC_LOG_DIR`, else the working
-//! directory): a model writes under `/var/log` only if it says so with an absolute path.
+//! directory). A model (or an edit of a running one) writes only inside the log folder
+//! ([`check_in_log_dir`]): an absolute path must lead there. Only the command line
+//! (`--record FILE`) names a file anywhere.
+//!
+//! Nothing but a recording of ours is replaced: a log file that exists, is not empty
+//! and is not an MCAP file whose header names the library `ferroc` is refused
+//! ([`check_overwrite`]) unless `--force` said otherwise ([`set_overwrite`]).
 
 mod context;
 mod file;
 mod read;
 mod schema;
 
-pub use context::{log_dir, part_of, resolve_log_path, set_log_dir, set_parts};
+pub use context::{
+    check_in_log_dir, check_overwrite, is_ferroc_recording, log_dir, part_of, resolve_log_path,
+    set_log_dir, set_overwrite, set_parts, LIBRARY,
+};
 pub use file::{ChannelId, ChannelInfo, LogFile, SharedLog};
-pub use read::{ChannelSummary, Message, Recording};
+pub use read::{
+    ChannelSummary, Checksums, Keep, Message, Recording, MAX_KEPT_BYTES, MAX_RECORD_BYTES,
+};
 pub use schema::json_schema;
 
 /// Message encoding of the exact channels.

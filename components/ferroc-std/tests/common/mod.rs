@@ -50,7 +50,10 @@ pub fn wire(b: &mut Builder<'_>, from: (&str, &str), to: (&str, &str)) {
 }
 
 /// An empty folder of this name below the test's scratch directory.
+///
+/// Loggers write only inside the log folder: it is the scratch directory.
 pub fn scratch(name: &str) -> PathBuf {
+    ferroc_std::recording::set_log_dir(Some(env!("CARGO_TARGET_TMPDIR").into()));
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();

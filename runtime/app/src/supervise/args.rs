@@ -35,6 +35,9 @@ pub struct Args {
     /// `--record-filter PATTERN` (repeatable, needs `--record`): only outputs whose
     /// path (`module/port`) matches; `*` matches any characters.
     pub record_filter: Vec<String>,
+    /// `--force`: `--record` and loggers may replace an existing file that is not a
+    /// ferroc recording.
+    pub force: bool,
     /// `--inspect [ADDR]`: serve live inspection over Zenoh on ADDR (default
     /// 127.0.0.1:47900; docs/inspect.md), read with `ferroc inspect`.
     pub inspect: Option<String>,
@@ -89,6 +92,7 @@ impl Args {
                     out.duration = Some(parse_duration(&v)?);
                 }
                 "--lockstep" => out.lockstep = true,
+                "--force" => out.force = true,
                 "--local" => out.local = true,
                 "--peer" => {
                     let v = value("a part and its address, e.g. --peer station=10.0.0.2:47801")?;
@@ -209,7 +213,7 @@ fn usage(program: &str) -> String {
     format!(
         "Usage: {program} [--cycles N] [--for DURATION] [--lockstep] [--local] [--peer PART=HOST:PORT]...\n       \
          [--listen ADDR] [--zenoh-config FILE] [--record FILE [--record-filter PATTERN]...]\n       \
-         [--inspect [ADDR] [--inspect-public]] [--quiet]\n\n\
+         [--force] [--inspect [ADDR] [--inspect-public]] [--quiet]\n\n\
          Options:\n  \
          --cycles N        stop after N cycles of the application: of its fastest\n                    \
          periodic thread containers; slower ones run until then\n  \
@@ -229,6 +233,8 @@ fn usage(program: &str) -> String {
          --record-filter PATTERN\n                    \
          with --record: only outputs whose path (module/port) matches;\n                    \
          `*` matches any characters (repeatable)\n  \
+         --force           let --record and loggers replace a file that is not a ferroc\n                    \
+         recording (without it such a file is never overwritten)\n  \
          --inspect [ADDR]  serve live inspection over Zenoh on ADDR (default\n                    \
          127.0.0.1:47900): read it with `ferroc inspect`; changes need the\n                    \
          token printed at start\n  \
@@ -238,7 +244,8 @@ fn usage(program: &str) -> String {
          Ctrl-C or SIGTERM stops after the current cycle. A summary (cycles, overruns and\n\
          load per thread container) is printed on standard error at the end.\n\n\
          Exit codes: 0 stopped cleanly, 1 the application could not be built, a module\n\
-         panicked or (in lockstep) a linked part is gone, 2 bad arguments."
+         panicked or (in lockstep) a linked part is gone, 2 bad arguments, 3 the run\n\
+         lost data it was meant to keep (a recording cut short, named in the summary)."
     )
 }
 

@@ -31,7 +31,8 @@ pub struct Options {
 /// Runs `app` until every container reached its cycle limit, `options.duration` passed
 /// or `interrupted` is set; prints the operating system's warnings first, panics as they
 /// happen and a summary at the end. Exit code 1 if a module panicked or a container
-/// did not stop within a few seconds of being asked (it is left behind), else 0.
+/// did not stop within a few seconds of being asked (it is left behind), else 3
+/// ([`DATA_LOST`]) if a module reported data lost (a recording cut short), else 0.
 pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Options) -> ExitCode {
     for w in app.warnings() {
         eprintln!("warning: {}", escape(w));
@@ -48,11 +49,31 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
     }
     let panicked = report_the_end(&app, &stuck, reported);
     print_summary(&app, reason, started);
-    if !panicked && stuck.is_empty() && app.failure().is_none() {
-        ExitCode::SUCCESS
-    } else {
+    let lost = report_losses();
+    if panicked || !stuck.is_empty() || app.failure().is_some() {
         ExitCode::from(1)
+    } else if lost {
+        ExitCode::from(DATA_LOST)
+    } else {
+        ExitCode::SUCCESS
     }
+}
+
+/// The exit code of a run that ended without errors but lost data it was meant to
+/// keep (a recording cut short): a script sees that the run is not whole.
+pub const DATA_LOST: u8 = 3;
+
+/// The end of the summary: the data modules reported lost
+/// ([`ferroc_module::report_data_loss`]). Gives whether there was any.
+fn report_losses() -> bool {
+    let lost = ferroc_module::data_losses();
+    if !lost.is_empty() {
+        eprintln!("data lost (exit code {DATA_LOST}):");
+        for l in &lost {
+            eprintln!("  {}", escape(l));
+        }
+    }
+    !lost.is_empty()
 }
 
 /// How many panics and lock reports the user has seen while the application ran.
