@@ -1,6 +1,6 @@
 //! `ferroc lsp` with clients we did not write: pytest-lsp (tests/lsp/test_ferroc_lsp.py)
 //! and Neovim's built-in LSP client (tests/lsp/nvim_diagnostics.lua). A missing client
-//! is a visible SKIPPED line, not a silent pass.
+//! is a visible SKIPPED line (ferroc-testkit; `scripts/test` installs both).
 
 mod common;
 
@@ -12,30 +12,10 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn python_with(module: &str) -> Option<PathBuf> {
-    let python = std::env::var_os("FERROC_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("/work/main/target/ci-venv/bin/python"));
-    let ok = Command::new(&python)
-        .args(["-c", &format!("import {module}")])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    ok.then_some(python)
-}
-
-fn skipped(test: &str, needs: &str) {
-    println!("SKIPPED {test}: needs {needs}; run scripts/test");
-    eprintln!("SKIPPED {test}: needs {needs}; run scripts/test");
-    assert!(
-        std::env::var_os("FERROC_REQUIRE_ALL").is_none(),
-        "{test} needs {needs}"
-    );
-}
-
 #[test]
 fn pytest_lsp_end_to_end() {
-    let Some(python) = python_with("pytest_lsp") else {
-        return skipped("pytest_lsp_end_to_end", "pytest-lsp in the Python venv");
+    let Some(python) = ferroc_testkit::python(&["pytest_lsp"]) else {
+        return; // skipped visibly by the testkit
     };
     let scratch = common::tempdir("lsp-pytest");
     let out = Command::new(python)
@@ -90,16 +70,9 @@ fn cli_lines(model: &Path) -> Vec<String> {
 
 #[test]
 fn neovim_shows_what_ferroc_check_finds() {
-    let has_nvim = Command::new("nvim")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !has_nvim {
-        return skipped(
-            "neovim_shows_what_ferroc_check_finds",
-            "nvim (Debian package neovim)",
-        );
-    }
+    let Some(nvim) = ferroc_testkit::command("nvim") else {
+        return; // skipped visibly by the testkit
+    };
     let dir = common::tempdir("lsp-nvim");
     let fixture =
         root().join("compiler/checks/src/connections/t103_unit_dimension_mismatch/fires.xml");
@@ -113,7 +86,7 @@ fn neovim_shows_what_ferroc_check_finds() {
     let want = cli_lines(&model);
     assert!(!want.is_empty(), "the fixture has findings");
     let out_file = dir.join("diagnostics.txt");
-    let status = Command::new("nvim")
+    let status = Command::new(nvim)
         .args(["--headless", "-n", "-i", "NONE", "-u", "NONE", "-c"])
         .arg(format!(
             "luafile {}",

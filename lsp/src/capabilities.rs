@@ -18,6 +18,7 @@ pub fn initialize_result(enc: Encoding) -> Value {
             TextDocumentSyncKind::INCREMENTAL,
         )),
         definition_provider: Some(OneOf::Left(true)),
+        references_provider: Some(OneOf::Left(true)),
         hover_provider: Some(HoverProviderCapability::Simple(true)),
         completion_provider: Some(CompletionOptions {
             trigger_characters: Some(vec!["<".into(), " ".into(), "\"".into(), "/".into()]),

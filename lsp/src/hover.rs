@@ -6,7 +6,7 @@ use crate::navigate::covers;
 use crate::request::{self, Reply};
 use crate::server::Server;
 use ferroc_compiler::diagnostic::Diagnostic;
-use ferroc_compiler::ir::{Application, Endpoint, ParamSource};
+use ferroc_compiler::ir::{Application, ElementId, ElementKind, Endpoint, ParamSource};
 use ferroc_compiler::library::{LibrarySet, PortDir};
 use ferroc_compiler::source::Span;
 use ferroc_compiler::CheckResult;
@@ -28,6 +28,7 @@ pub fn hover(server: &Server, req: &Request) -> Reply {
         parts.extend(port_text(app, &result.libraries, here));
         parts.extend(param_text(app, &result.libraries, here));
         parts.extend(module_type_text(app, &result.libraries, here));
+        parts.extend(thread_text(app, here));
     }
     parts.extend(findings_text(&result, here));
     if parts.is_empty() {
@@ -159,6 +160,42 @@ fn module_type_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<
         text.push_str(&format!("\n- param `{}`", p.name));
     }
     Some(text)
+}
+
+/// A thread container's name: its period or trigger, and how many modules it runs.
+fn thread_text(app: &Application, here: Span) -> Option<String> {
+    let (i, e) =
+        app.elements.iter().enumerate().find(|(_, e)| {
+            matches!(e.kind, ElementKind::Thread { .. }) && covers(e.name_span, here)
+        })?;
+    let ElementKind::Thread {
+        period,
+        data_trigger,
+        continuous,
+        pool,
+        ..
+    } = &e.kind
+    else {
+        return None;
+    };
+    let id = ElementId(i as u32);
+    let how = match (period, data_trigger, continuous) {
+        (_, true, _) => "runs when data arrives".to_string(),
+        (_, _, true) => "runs continuously".to_string(),
+        (Some(p), _, _) => format!("runs every {} ms", p * 1000.0),
+        (None, _, _) => "has no period".to_string(),
+    };
+    let modules = app
+        .modules()
+        .filter(|(m, _)| app.element(*m).thread == Some(id))
+        .count();
+    let pool = pool
+        .map(|n| format!(", a pool of {n} workers"))
+        .unwrap_or_default();
+    Some(format!(
+        "**thread container** `{}` {how}{pool}; {modules} module(s)",
+        app.path(id)
+    ))
 }
 
 /// The findings at the cursor with their check's explanation (`ferroc explain`).

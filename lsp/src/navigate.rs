@@ -133,3 +133,86 @@ pub fn walk(e: &Element, f: &mut dyn FnMut(&Element)) {
         walk(c, f);
     }
 }
+
+/// Find references: every connection end and module `type=` that names the same
+/// thing as the text at the cursor — a connection end (that port of that instance), a
+/// port or module type declaration (every use of it), a module instance's name.
+pub fn references(server: &Server, req: &Request) -> Reply {
+    let p: lsp_types::ReferenceParams = request::params(req)?;
+    let Some(at) = request::at(server, &p.text_document_position) else {
+        return Ok(Some(serde_json::Value::Null));
+    };
+    let (result, file) = match request::checked(server, &at) {
+        Ok(found) => found,
+        Err(reply) => return reply,
+    };
+    let Some(app) = &result.app else {
+        return Ok(Some(serde_json::json!([])));
+    };
+    let here = Span::new(file, at.offset, at.offset);
+    let uses = uses(app, &result.libraries);
+    let same: Box<dyn Fn(&Use) -> bool> = if let Some(u) = uses.iter().find(|u| covers(u.at, here))
+    {
+        let key = (u.instance, u.decl);
+        Box::new(move |v: &Use| (v.instance, v.decl) == key)
+    } else if let Some(u) = uses.iter().find(|u| covers(u.decl, here)) {
+        let decl = u.decl;
+        Box::new(move |v: &Use| v.decl == decl)
+    } else if let Some(u) = uses
+        .iter()
+        .find(|u| u.instance.is_some_and(|i| covers(i, here)))
+    {
+        let instance = u.instance;
+        Box::new(move |v: &Use| v.instance == instance)
+    } else {
+        return Ok(Some(serde_json::json!([])));
+    };
+    let mut spans = Spans::new(&result.sources, server.enc);
+    let mut locations: Vec<Location> = Vec::new();
+    for u in uses.iter().filter(|u| same(u)) {
+        let mut found = vec![u.at];
+        if p.context.include_declaration {
+            found.push(u.decl);
+        }
+        for span in found {
+            if let Some(l) = spans.location(span) {
+                if !locations.contains(&l) {
+                    locations.push(l);
+                }
+            }
+        }
+    }
+    Ok(Some(serde_json::to_value(locations).unwrap_or_default()))
+}
+
+/// A use in the model: a connection end (the instance and the port declaration it
+/// names) or a module's `type=` (the module type).
+struct Use {
+    at: Span,
+    instance: Option<Span>,
+    decl: Span,
+}
+
+fn uses(app: &Application, libs: &LibrarySet) -> Vec<Use> {
+    let mut out = Vec::new();
+    for c in &app.connections {
+        for (at, end) in [(c.from_span, c.from), (c.to_span, c.to)] {
+            let instance = app.element(end.element()).name_span;
+            let decl = app.view(libs, end).map_or(instance, |v| v.span);
+            out.push(Use {
+                at,
+                instance: Some(instance),
+                decl,
+            });
+        }
+    }
+    for (_, m) in app.modules() {
+        let ty = &libs.get(m.library).module_types[m.type_index];
+        out.push(Use {
+            at: m.type_span,
+            instance: None,
+            decl: ty.span,
+        });
+    }
+    out
+}

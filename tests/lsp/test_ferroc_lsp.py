@@ -127,6 +127,24 @@ async def test_example_model_is_clean_and_navigation_works(client: LanguageClien
     )
     assert "output" in hover.contents.value and "ir_distance_front" in hover.contents.value, hover
 
+    # References of that port: every connection end that names it.
+    refs = await client.text_document_references_async(
+        types.ReferenceParams(
+            text_document=types.TextDocumentIdentifier(uri=MODEL.as_uri()),
+            position=at,
+            context=types.ReferenceContext(include_declaration=False),
+        )
+    )
+    uses = [i for i, l in enumerate(text.split("\n")) if '"main_simulation/ir_distance_front"' in l]
+    assert sorted(r.range.start.line for r in refs) == uses, refs
+
+    # Hover on a thread container's name: its period.
+    at = position_of(text, '<thread name="main"', len('<thread name="'))
+    hover = await client.text_document_hover_async(
+        types.HoverParams(text_document=types.TextDocumentIdentifier(uri=MODEL.as_uri()), position=at)
+    )
+    assert "thread container" in hover.contents.value and "ms" in hover.contents.value, hover
+
     # Completion in from= offers the ports that exist, outputs first.
     at = position_of(text, 'from="main_simulation/ir_distance_front"', len('from="'))
     items = await client.text_document_completion_async(
