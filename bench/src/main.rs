@@ -10,6 +10,7 @@ mod b3;
 mod b4;
 mod b4_parts;
 mod b5;
+mod cdr;
 mod generate;
 mod measure;
 mod options;
@@ -61,6 +62,11 @@ IDs:
         from their summaries, rounds alternate
           --cycles N      cycles per run (default 20000000)
           --rounds R      runs of each program (default 3)
+  cdr   ROS 2's CDR (ferroc-ros2, a dynamic value) against postcard (the codec of
+        links between parts, serde structs): encoding and decoding a LaserScan of
+        720 ranges and an Odometry, ns per message, variants interleaved in rounds
+          --messages N    messages per variant and round (default 100000)
+          --rounds R      rounds, best reported (default 5)
   all   every benchmark (b1 to b5) with default options
   gen   write the B1 model with N modules to FILE and its manifest b1.lib.xml next to
         it (default: the model alone to standard output),
@@ -94,6 +100,7 @@ fn main() -> ExitCode {
         "b4-parts" => ExitCode::from(b4_parts::run(&args[1..])),
         b4_parts::CHILD_ARG => ExitCode::from(b4_parts::child(&args[1..])),
         "b5" => ExitCode::from(b5::run(&args[1..])),
+        "cdr" => ExitCode::from(cdr::run(&args[1..])),
         "all" => no_options("all", &args[1..]).unwrap_or_else(all),
         "gen" => gen(&args[1..]),
         b3::CHILD_ARG => ExitCode::from(b3::child(&args[1..])),
