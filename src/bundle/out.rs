@@ -83,12 +83,12 @@ pub fn prepare_dir(dir: &Path, force: bool) -> Result<PathBuf, String> {
     }
     match std::fs::symlink_metadata(dir) {
         Ok(meta) if meta.file_type().is_symlink() => {
-            return Err(format!(
+            Err(format!(
                 "{shown} is a symbolic link; give the real folder it points to (a bundle is never written through a link)"
             ))
         }
         Ok(meta) if !meta.is_dir() => {
-            return Err(format!("{shown} exists and is not a folder"))
+            Err(format!("{shown} exists and is not a folder"))
         }
         Ok(_) => {
             let mut entries = std::fs::read_dir(dir)
