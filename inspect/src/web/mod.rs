@@ -14,6 +14,7 @@ mod error;
 mod guard;
 mod peer;
 
+#[cfg(feature = "foxglove")]
 pub(crate) use guard::is_loopback_host;
 
 use crate::limits::Limits;
