@@ -51,7 +51,7 @@ fn the_readme_test_command_is_what_ci_runs() {
     );
     let script = std::fs::read_to_string(format!("{root}/scripts/test")).unwrap();
     assert!(
-        script.contains("cargo test --workspace\n"),
+        script.contains("cargo test --workspace --no-fail-fast\n"),
         "the script runs the suite"
     );
 }
