@@ -58,7 +58,9 @@ group files, config files, finroc_sync configs; docs/finroc.md). Folders are sea
 `*.xml` and `*.finroc` files; every other file found is named with the reason it was skipped \
 (manifests `*.lib.xml` and fragments are checked where they are used), and what could not be \
 checked is listed (human format on stdout, other formats on stderr).\n\n\
-Exit codes: 0 no errors (warnings allowed), 1 errors (or warnings with --deny warnings), 2 ferroc could not run."
+Exit codes: 0 no errors (warnings allowed), 1 errors (or warnings with --deny warnings), 2 ferroc could not run.\n\n\
+Examples:\n  ferroc check models/crash_course.xml\n  \
+ferroc check models/crash_course.xml --format json"
     )]
     Check(check::CheckArgs),
     /// Show the static execution order of every thread container

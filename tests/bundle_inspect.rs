@@ -86,8 +86,9 @@ fn a_bundled_part_program_is_inspected_and_changed_with_its_token() {
             }
         }
     });
-    let line = lines
-        .recv_timeout(Duration::from_secs(60))
+    // The first lines may say other things (the run seed it chose); then the token.
+    let line = std::iter::from_fn(|| lines.recv_timeout(Duration::from_secs(60)).ok())
+        .find(|l| l.contains("serving "))
         .expect("the program prints its inspection token");
     assert!(
         line.contains(&format!(

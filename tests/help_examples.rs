@@ -41,6 +41,8 @@ fn subcommands(text: &str) -> Vec<String> {
     text[at + 11..]
         .lines()
         .take_while(|l| l.starts_with("  "))
+        // A wrapped description continues deeper in; a command stands at two spaces.
+        .filter(|l| !l[2..].starts_with(' '))
         .filter_map(|l| l.split_whitespace().next())
         .filter(|c| *c != "help")
         .map(str::to_string)

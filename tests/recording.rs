@@ -194,11 +194,11 @@ print(json.dumps(out))
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     let v: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
-    let channel = |topic: &str, enc: &str| {
+    let channel = |topic: &str, enc: &str, ty: &str| {
         serde_json::json!([
             format!("fragile_bot/main/{topic}"),
             enc,
-            "f64",
+            ty,
             if enc == "json" {
                 "jsonschema"
             } else {
@@ -209,14 +209,15 @@ print(json.dumps(out))
         ])
     };
     let mut expected = Vec::new();
-    for topic in [
-        "sensor_log/in/0",
-        "sensor_log/in/1",
-        "velocity_log/in/0",
-        "turn_log/in/0",
+    for (topic, ty) in [
+        ("sensor_log/in/0", "f64"),
+        ("sensor_log/in/1", "f64"),
+        ("velocity_log/in/0", "f64"),
+        ("turn_log/in/0", "f64"),
+        ("pose_log/in/0", "crash_course.Pose2D"),
     ] {
-        expected.push(channel(topic, "postcard"));
-        expected.push(channel(topic, "json"));
+        expected.push(channel(topic, "postcard", ty));
+        expected.push(channel(topic, "json", ty));
     }
     let mut got = v["channels"].as_array().unwrap().clone();
     got.sort_by_key(|c| c.to_string());
@@ -237,7 +238,7 @@ print(json.dumps(out))
     }
     assert_eq!(
         v["json_ok"],
-        4 * 51,
+        5 * 51,
         "every JSON message validates against its schema"
     );
 }
@@ -462,8 +463,11 @@ fn log_refuses_a_corrupted_recording_naming_the_chunk() {
     let mut bytes = std::fs::read(&file).unwrap();
     // The last byte of the first chunk's records (after the magic and header).
     let len = |at: usize| u64::from_le_bytes(bytes[at + 1..at + 9].try_into().unwrap()) as usize;
-    let chunk = 8 + 9 + len(8);
-    assert_eq!(bytes[chunk], 0x06);
+    // The first chunk: after the header and the records before it (ferroc.run metadata).
+    let mut chunk = 8;
+    while bytes[chunk] != 0x06 {
+        chunk += 9 + len(chunk);
+    }
     let at = chunk + 9 + len(chunk) - 1;
     bytes[at] ^= 0x02;
     std::fs::write(&file, &bytes).unwrap();

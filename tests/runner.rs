@@ -131,7 +131,7 @@ fn a_library_written_outside_ferroc_runs_checks_and_rebuilds_only_when_its_crate
 
     let (code, _, err) = ferroc_in(&dir, &["types", "export", "--check", "--lib-path", "."]);
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains("1 module types in 1 libraries agree"), "{err}");
+    assert!(err.contains("1 module type in 1 library agree"), "{err}");
 
     // A changed model: the same runner, nothing built.
     std::fs::write(dir.join("beeper.xml"), model("2.5")).unwrap();

@@ -93,7 +93,11 @@ mod tests {
         assert_eq!(idx.position(text, x, Encoding::Utf16), Position::new(1, 3));
         assert_eq!(idx.position(text, x, Encoding::Utf8), Position::new(1, 6));
         assert_eq!(idx.offset(text, Position::new(1, 3), Encoding::Utf16), x);
-        assert_eq!(idx.offset(text, Position::new(1, 99), Encoding::Utf16), 9);
+        // Past the end of a line: the end of that line (before its line break).
+        assert_eq!(
+            idx.offset(text, Position::new(1, 99), Encoding::Utf16),
+            x + 1
+        );
         assert_eq!(
             idx.offset(text, Position::new(9, 0), Encoding::Utf16),
             text.len()

@@ -10,7 +10,7 @@ use ferroc_syntax::AllowRegion;
 use std::path::{Path, PathBuf};
 
 mod read;
-use read::io_reason;
+use read::{io_reason, over_limit};
 pub use read::{is_stdin, read_bounded, read_stdin, read_text, root_element, root_element_of};
 
 /// Bounds that keep hostile input from exhausting memory or the stack.
@@ -74,11 +74,7 @@ impl Options {
     pub fn read(&self, path: &Path) -> Result<String, String> {
         if let Some(text) = self.overlay.get(path) {
             if text.len() as u64 > self.limits.max_file_bytes {
-                return Err(format!(
-                    "it is {} MiB, over the limit of {} MiB",
-                    text.len() >> 20,
-                    self.limits.max_file_bytes >> 20
-                ));
+                return Err(over_limit(Some(text.len() as u64), &self.limits));
             }
             return Ok(text.to_string());
         }

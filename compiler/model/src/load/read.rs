@@ -76,7 +76,7 @@ pub fn is_stdin(path: &Path) -> bool {
 /// Why a file of `len` bytes (`None`: more than the limit, how much more unknown) is
 /// refused, in units that tell the sizes apart (a 100 KiB file over a 64 KiB limit is
 /// not "0 MiB, over the limit of 0 MiB").
-fn over_limit(len: Option<u64>, limits: &Limits) -> String {
+pub(crate) fn over_limit(len: Option<u64>, limits: &Limits) -> String {
     let limit = limits.max_file_bytes;
     match len {
         Some(len) => {
@@ -87,7 +87,7 @@ fn over_limit(len: Option<u64>, limits: &Limits) -> String {
                 format!("it is {it}, over the limit of {max}")
             }
         }
-        None => format!("it is larger than the limit of {}", size(limit)),
+        None => format!("it is over the limit of {}", size(limit)),
     }
 }
 
@@ -198,6 +198,6 @@ mod tests {
         );
         assert_eq!(size(1000), "1000 bytes");
         let e = read_bounded(&[b'x'; 2000][..], &limit(1024)).unwrap_err();
-        assert_eq!(e, "it is larger than the limit of 1 KiB");
+        assert_eq!(e, "it is over the limit of 1 KiB");
     }
 }
