@@ -181,7 +181,12 @@ fn run_served(lines: &[String], dir: &Path) -> Vec<String> {
         let mut seen = String::new();
         let start = Instant::now();
         let mut buf = [0u8; 256];
-        while !seen.contains("token for changes: ") && start.elapsed() < Duration::from_secs(900) {
+        // The whole token line: a read may end inside it.
+        let whole = |seen: &str| {
+            seen.find("token for changes: ")
+                .is_some_and(|at| seen[at..].contains('\n'))
+        };
+        while !whole(&seen) && start.elapsed() < Duration::from_secs(900) {
             match stderr.read(&mut buf) {
                 Ok(0) | Err(_) => break,
                 Ok(n) => seen.push_str(&String::from_utf8_lossy(&buf[..n])),
