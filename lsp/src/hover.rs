@@ -15,14 +15,10 @@ use lsp_types::{Hover, HoverContents, HoverParams, MarkupContent, MarkupKind};
 
 pub fn hover(server: &Server, req: &Request) -> Reply {
     let p: HoverParams = request::params(req)?;
-    let Some(at) = request::at(server, &p.text_document_position_params) else {
-        return Ok(Some(serde_json::Value::Null));
-    };
-    let (result, file) = match request::checked(server, &at) {
+    let (result, here) = match request::checked_at(server, &p.text_document_position_params) {
         Ok(found) => found,
         Err(reply) => return reply,
     };
-    let here = Span::new(file, at.offset, at.offset);
     let mut parts = Vec::new();
     if let Some(app) = &result.app {
         parts.extend(port_text(app, &result.libraries, here));

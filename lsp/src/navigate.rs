@@ -15,14 +15,10 @@ use lsp_types::{GotoDefinitionParams, Location};
 
 pub fn definition(server: &Server, req: &Request) -> Reply {
     let p: GotoDefinitionParams = request::params(req)?;
-    let Some(at) = request::at(server, &p.text_document_position_params) else {
-        return Ok(Some(serde_json::Value::Null));
-    };
-    let (result, file) = match request::checked(server, &at) {
+    let (result, here) = match request::checked_at(server, &p.text_document_position_params) {
         Ok(found) => found,
         Err(reply) => return reply,
     };
-    let here = Span::new(file, at.offset, at.offset);
     let targets = targets(&result, here);
     let mut spans = Spans::new(&result.sources, server.enc);
     let mut locations: Vec<Location> = Vec::new();
@@ -139,17 +135,13 @@ pub fn walk(e: &Element, f: &mut dyn FnMut(&Element)) {
 /// port or module type declaration (every use of it), a module instance's name.
 pub fn references(server: &Server, req: &Request) -> Reply {
     let p: lsp_types::ReferenceParams = request::params(req)?;
-    let Some(at) = request::at(server, &p.text_document_position) else {
-        return Ok(Some(serde_json::Value::Null));
-    };
-    let (result, file) = match request::checked(server, &at) {
+    let (result, here) = match request::checked_at(server, &p.text_document_position) {
         Ok(found) => found,
         Err(reply) => return reply,
     };
     let Some(app) = &result.app else {
         return Ok(Some(serde_json::json!([])));
     };
-    let here = Span::new(file, at.offset, at.offset);
     let uses = uses(app, &result.libraries);
     let same: Box<dyn Fn(&Use) -> bool> = if let Some(u) = uses.iter().find(|u| covers(u.at, here))
     {

@@ -2,7 +2,7 @@
 //! result of the document they name.
 
 use crate::server::Server;
-use ferroc_compiler::source::FileId;
+use ferroc_compiler::source::{FileId, Span};
 use ferroc_compiler::CheckResult;
 use lsp_server::Request;
 use lsp_types::TextDocumentPositionParams;
@@ -31,6 +31,19 @@ pub fn at(server: &Server, p: &TextDocumentPositionParams) -> Option<At> {
     let doc = server.docs.get(&path)?;
     let offset = doc.lines.offset(&doc.text, p.position, server.enc);
     Some(At { path, offset })
+}
+
+/// The check result of the document a position request names, and the cursor as an
+/// empty span in it: `Err(reply)` when there is no document (`null`) or no result yet.
+pub fn checked_at(
+    server: &Server,
+    p: &TextDocumentPositionParams,
+) -> Result<(Arc<CheckResult>, Span), Reply> {
+    let Some(at) = at(server, p) else {
+        return Err(Ok(Some(Value::Null)));
+    };
+    let (result, file) = checked(server, &at)?;
+    Ok((result, Span::new(file, at.offset, at.offset)))
 }
 
 /// The check result of the document's current text: `Ok(Err(reply))` when there is
