@@ -11,7 +11,8 @@
 //! calls), `run` (the command), `record` (`--log-dir`, `--record`), `inspect` and `edit`
 //! (`--inspect`: serving the inspector, structural edits as model edits), `interface`
 //! (manifest ↔ code comparison), `types` (`ferroc types`), `sources` (spans as
-//! `FILE:LINE:COL`, the model's text), `output` (writing standard output).
+//! `FILE:LINE:COL`, the model's text), `output` (writing standard output), `summary`
+//! (`ferroc run --format json`).
 
 #![forbid(unsafe_code)]
 
@@ -38,6 +39,7 @@ pub mod output;
 pub mod record;
 pub mod run;
 pub mod sources;
+pub mod summary;
 pub mod types;
 
 pub use ferroc_runtime;
@@ -72,6 +74,10 @@ pub fn loader_options(lib_path: &[PathBuf], allow_outside_includes: bool) -> Opt
 struct Runner {
     #[command(subcommand)]
     command: RunnerCommand,
+    /// ferroc's `--color` (its command line is handed on as it is); a runner prints
+    /// nothing in colour
+    #[arg(long, global = true, hide = true)]
+    color: Option<String>,
 }
 
 #[derive(clap::Subcommand)]

@@ -75,6 +75,10 @@ pub struct RunArgs {
     /// Allow --inspect on an address other computers can reach (prints a warning)
     #[arg(long, requires = "inspect")]
     pub inspect_public: bool,
+    /// The summary at the end: human (on standard error) or also json, one line on
+    /// standard output after the run (docs/run-summary.md)
+    #[arg(long, value_enum, default_value_t = crate::summary::Format::Human)]
+    pub format: crate::summary::Format,
 }
 
 fn parse_duration(text: &str) -> Result<Duration, String> {
@@ -198,7 +202,8 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         duration: args.duration.filter(|_| !args.lockstep),
         status_line: !args.quiet && std::io::stderr().is_terminal(),
     };
-    supervise::supervise(running, &interrupted, &options)
+    let (code, summary) = supervise::supervise_summarised(running, &interrupted, &options);
+    crate::summary::finish(&args, &app.name, seed, &summary, code)
 }
 
 /// What structural edits of the running application (`--inspect`) start from: its

@@ -3,6 +3,7 @@
 //! endpoints; both in peer mode with multicast scouting off, so nothing leaves the
 //! addresses given.
 
+use ferroc_terminal::engine_error;
 use zenoh::Config;
 
 /// The port `ferroc run --inspect` listens on by default (the parts of a bundle use
@@ -24,7 +25,7 @@ pub fn endpoint(address: &str, option: &str) -> Result<String, String> {
     }
     text.parse::<zenoh::config::EndPoint>()
         .map(|e| e.to_string())
-        .map_err(|e| format!("{option} {address}: not an address: {e}"))
+        .map_err(|e| format!("{option} {address}: not an address: {}", engine_error(&e)))
 }
 
 /// Whether `address` (`HOST:PORT` or `tcp/HOST:PORT`) is on the loopback interface.
@@ -92,9 +93,12 @@ fn base() -> Result<Config, String> {
 }
 
 fn set(config: &mut Config, key: &str, value: &str) -> Result<(), String> {
-    config
-        .insert_json5(key, value)
-        .map_err(|e| format!("the Zenoh setting {key} = {value} was refused: {e}"))
+    config.insert_json5(key, value).map_err(|e| {
+        format!(
+            "the Zenoh setting {key} = {value} was refused: {}",
+            engine_error(&e)
+        )
+    })
 }
 
 #[cfg(test)]

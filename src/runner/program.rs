@@ -107,18 +107,20 @@ fn cargo_build(dir: &Path, target: &Path, flag: Option<&str>) -> Command {
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
+    // cargo sees a pipe: say whether to colour (ferroc's --color, for its stderr).
+    let colours = crate::color::enabled(crate::color::Stream::Stderr);
+    command.arg(if colours {
+        "--color=always"
+    } else {
+        "--color=never"
+    });
     if std::io::stderr().is_terminal() {
-        // cargo sees a pipe: ask for its colours and progress bar all the same.
+        // Ask for cargo's progress bar all the same.
         let width = std::env::var("COLUMNS")
             .ok()
             .and_then(|c| c.parse::<u16>().ok())
             .unwrap_or(80);
-        command.args([
-            "--color=always",
-            "--config",
-            "term.progress.when=\"always\"",
-            "--config",
-        ]);
+        command.args(["--config", "term.progress.when=\"always\"", "--config"]);
         command.arg(format!("term.progress.width={width}"));
     }
     command

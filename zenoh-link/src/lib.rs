@@ -68,15 +68,17 @@ impl Zenoh {
         zenoh::open(self.config.clone()).wait().map_err(|e| {
             let part = &self.addresses.part;
             let listen = &self.addresses.listen;
-            let text = e.to_string();
-            if text.contains("in use") || text.contains("Can not create a new") {
-                format!(
-                    "the part `{part}` cannot listen on {listen} ({text}); choose another \
+            let text = engine_error(&e);
+            match text.strip_prefix("cannot listen on ") {
+                Some(endpoint_and_reason) => format!(
+                    "the part `{part}` cannot listen on {listen}: {}; choose another \
                      address with --listen ADDR and tell the other parts with \
-                     --peer {part}=HOST:PORT"
-                )
-            } else {
-                format!("the part `{part}` cannot open its Zenoh session: {text}")
+                     --peer {part}=HOST:PORT",
+                    endpoint_and_reason
+                        .split_once(": ")
+                        .map_or(endpoint_and_reason, |(_, reason)| reason)
+                ),
+                None => format!("the part `{part}` cannot open its Zenoh session: {text}"),
             }
         })
     }
