@@ -166,7 +166,6 @@ fn run_format_json_is_one_versioned_line_with_the_runs_figures() {
     let last = out.lines().last().unwrap_or_default();
     let doc: serde_json::Value = serde_json::from_str(last).unwrap();
     assert_eq!(doc["version"], 1);
-    assert_eq!(doc["model"], "tests/fixtures/inspect.xml");
     assert_eq!(doc["application"], "inspected");
     assert_eq!(doc["seed"], 42);
     assert_eq!(doc["lockstep"], true);

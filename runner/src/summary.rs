@@ -2,7 +2,7 @@
 //! output, after the run (the human summary stays on standard error). The shape, with
 //! its `version`, is documented in docs/run-summary.md.
 
-use crate::run::RunArgs;
+use crate::plan::RunPlan;
 use ferroc_runtime::supervise::Summary;
 use std::process::ExitCode;
 
@@ -10,41 +10,24 @@ use std::process::ExitCode;
 /// (new fields may come without it).
 pub const VERSION: u32 = 1;
 
-/// How `ferroc run` reports its end.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
-pub enum Format {
-    /// The summary on standard error
-    #[default]
-    Human,
-    /// Also one line of JSON on standard output (docs/run-summary.md)
-    Json,
-}
-
-/// The summary in the format asked for; the run's exit code, or 2 if standard output
-/// could not take the JSON.
-pub fn finish(
-    args: &RunArgs,
-    application: &str,
-    seed: u64,
-    summary: &Summary,
-    code: ExitCode,
-) -> ExitCode {
-    if args.format != Format::Json {
+/// The summary as the plan asks (`format_json`); the run's exit code, or 2 if
+/// standard output could not take the JSON.
+pub fn finish(plan: &RunPlan, seed: u64, summary: &Summary, code: ExitCode) -> ExitCode {
+    if !plan.run.format_json {
         return code;
     }
-    let mut line = json(args, application, seed, summary).to_string();
+    let mut line = json(plan, seed, summary).to_string();
     line.push('\n');
     crate::output::stdout_then(line.as_bytes(), code)
 }
 
 /// The JSON document: what the run was, then the summary's fields.
-pub fn json(args: &RunArgs, application: &str, seed: u64, summary: &Summary) -> serde_json::Value {
+pub fn json(plan: &RunPlan, seed: u64, summary: &Summary) -> serde_json::Value {
     let mut doc = serde_json::json!({
         "version": VERSION,
-        "model": args.model.display().to_string(),
-        "application": application,
+        "application": plan.app,
         "seed": seed,
-        "lockstep": args.lockstep,
+        "lockstep": plan.run.lockstep,
     });
     if let (Some(doc), Ok(serde_json::Value::Object(fields))) =
         (doc.as_object_mut(), serde_json::to_value(summary))
