@@ -9,6 +9,8 @@
 //!   rosidl computes them.
 //! - [`cdr`]: XCDR1 little-endian encoding and decoding of a dynamic [`Value`] of any
 //!   registered type, bounded against hostile input.
+//! - [`names`]: the node, namespace and topic names ROS 2 accepts, and how a relative
+//!   topic name expands against a node's namespace.
 //! - [`rmw_zenoh`]: the topic key expression, the attachment and the liveliness tokens
 //!   exactly as rmw_zenoh writes them.
 //!
@@ -19,6 +21,7 @@ pub mod cdr;
 pub mod def;
 mod error;
 pub mod hash;
+pub mod names;
 pub mod parse;
 mod registry;
 pub mod rmw_zenoh;
