@@ -11,6 +11,7 @@
 //!   registered type, bounded against hostile input.
 //! - [`names`]: the node, namespace and topic names ROS 2 accepts, and how a relative
 //!   topic name expands against a node's namespace.
+//! - [`units`]: the units REP-103 fixes for fields of the shipped messages.
 //! - [`rmw_zenoh`]: the topic key expression, the attachment and the liveliness tokens
 //!   exactly as rmw_zenoh writes them.
 //!
@@ -25,6 +26,7 @@ pub mod names;
 pub mod parse;
 mod registry;
 pub mod rmw_zenoh;
+pub mod units;
 mod value;
 
 pub use error::DefinitionError;

@@ -182,7 +182,9 @@ mod tests {
 
     #[test]
     fn topic_names_as_rcl_checks_them() {
-        for good in ["cmd_vel", "/cmd_vel", "~/status", "~", "a/b", "{node}/x", "/ns/{ns}"] {
+        for good in [
+            "cmd_vel", "/cmd_vel", "~/status", "~", "a/b", "{node}/x", "/ns/{ns}",
+        ] {
             assert!(validate_topic_name(good).is_ok(), "{good}");
         }
         for bad in [

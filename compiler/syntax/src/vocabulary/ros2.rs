@@ -44,7 +44,12 @@ pub(super) const ROS2: ElementSpec = ElementSpec {
     key: "ros2",
     tag: "ros2",
     attrs: NODE_ATTRS,
-    children: &["ros2-publish", "ros2-subscribe", "ros2-service", "ros2-client"],
+    children: &[
+        "ros2-publish",
+        "ros2-subscribe",
+        "ros2-service",
+        "ros2-client",
+    ],
     text: false,
 };
 
