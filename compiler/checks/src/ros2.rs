@@ -200,7 +200,8 @@ impl Walk<'_> {
             }
             for ((name, ty, u), f) in named.fields.iter().zip(&m.fields) {
                 let conv = ferroc_ros2::units::convention(&full, name).or(expected);
-                self.field(ty, u.as_ref(), &f.ty, conv, &join(name));
+                // A field without a unit of its own is in its enclosing one's.
+                self.field(ty, u.as_ref().or(unit), &f.ty, conv, &join(name));
             }
         } else if let [only] = m.fields.as_slice() {
             // A wrapper such as std_msgs/msg/Float64 carries one value.

@@ -81,6 +81,7 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                         .label(format!("`{unit}`, ROS 2 expects `{want}`"))
                         .help(help),
                 );
+                break; // one finding per end: the first field in the wrong unit
             }
         }
     }
