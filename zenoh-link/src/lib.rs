@@ -11,6 +11,8 @@
 //!   makes ([`free`]);
 //! - in lockstep, one message per instant for every part it sends to, carrying the
 //!   frames of that instant ([`lockstep`]);
+//! - for a part that is a ROS 2 node, the node's and its topics' liveliness tokens and
+//!   samples on rmw_zenoh's keys, in CDR ([`ros2`], docs/ros2.md);
 //! - always, a liveliness token, and a liveliness subscriber that notices parts that
 //!   come and go ([`alive`]).
 //!
@@ -24,6 +26,7 @@ pub mod config;
 pub mod free;
 pub mod keys;
 pub mod lockstep;
+pub mod ros2;
 
 use ferroc_runtime::link::transport::{Addresses, Connection, Delivery, Network, PartLinks};
 use std::path::Path;
