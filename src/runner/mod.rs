@@ -7,6 +7,8 @@
 //! ferroc checks the model first (errors stop here, before any build), then hands its
 //! own command line to the runner, which replaces this process.
 
+pub mod build;
+pub mod cache;
 pub mod checkout;
 pub mod crates;
 mod failure;
@@ -50,7 +52,7 @@ pub fn run(args: RunArgs) -> ExitCode {
         return ferroc_host::run::run_checked(args, &result, &registry);
     }
     let argv: Vec<OsString> = std::env::args_os().skip(1).collect();
-    hand_over(&crates, argv)
+    hand_over(&crates, argv, args.verbose)
 }
 
 /// `ferroc types`: the libraries on the lib path (or those asked for) in a runner; in
@@ -83,7 +85,7 @@ pub fn types(args: TypesArgs) -> ExitCode {
         let argv = std::iter::once(OsString::from("ferroc")).chain(argv);
         return ferroc_host::main_from(ferroc_host::run::registry(), argv);
     }
-    hand_over(&crates, argv)
+    hand_over(&crates, argv, args.verbose())
 }
 
 /// The names of the `NAME.lib.xml` manifests in these folders, sorted, each once.
@@ -111,9 +113,9 @@ fn report(problems: &[String]) -> ExitCode {
 }
 
 /// Builds the runner if needed and runs it with `argv` in place of this process (same
-/// process id: signals and the exit code are the runner's).
-fn hand_over(crates: &[LibraryCrate], argv: Vec<OsString>) -> ExitCode {
-    let exe = match program::ensure(crates) {
+/// process id: signals and the exit code are the runner's). `verbose`: cargo's output.
+fn hand_over(crates: &[LibraryCrate], argv: Vec<OsString>, verbose: bool) -> ExitCode {
+    let exe = match program::ensure(crates, verbose) {
         Ok(exe) => exe,
         Err(code) => return code,
     };
