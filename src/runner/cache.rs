@@ -189,6 +189,25 @@ pub fn says_full(line: &str) -> bool {
     line.contains("No space left on device") || line.contains("Disk quota exceeded")
 }
 
+impl Cache {
+    /// After a failed build: the system's words if the cache has no room for a few
+    /// megabytes. A full disk does not always say so: the linker writes through a
+    /// memory map and dies of SIGBUS ("ld terminated with signal 7 [Bus error]").
+    pub fn full_now(&self) -> Option<String> {
+        let probe = self
+            .dir
+            .join(format!(".ferroc-room-{}", std::process::id()));
+        let written = std::fs::write(&probe, vec![0u8; 4 << 20]);
+        let _ = std::fs::remove_file(&probe);
+        match written {
+            Err(e) if matches!(e.kind(), ErrorKind::StorageFull | ErrorKind::QuotaExceeded) => {
+                Some(e.to_string())
+            }
+            _ => None,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

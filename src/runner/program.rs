@@ -89,10 +89,10 @@ pub fn ensure(crates: &[LibraryCrate], verbose: bool) -> Result<PathBuf, ExitCod
     if outcome.success && exe.is_file() {
         return Ok(exe);
     }
-    if let Some(line) = &outcome.full {
+    if let Some(line) = outcome.full.or_else(|| cache.full_now()) {
         eprintln!(
             "{}",
-            cache.unusable_because(std::io::ErrorKind::StorageFull, line)
+            cache.unusable_because(std::io::ErrorKind::StorageFull, &line)
         );
         return Err(ExitCode::from(2));
     }
