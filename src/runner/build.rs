@@ -77,9 +77,11 @@ pub fn kind(exe: &Path, target: &Path, profile: &str) -> Kind {
     }
     let fingerprints = target.join(profile).join(".fingerprint");
     let host_built = std::fs::read_dir(fingerprints).is_ok_and(|entries| {
-        entries
-            .flatten()
-            .any(|e| e.file_name().to_string_lossy().starts_with("ferroc-host-"))
+        entries.flatten().any(|e| {
+            e.file_name()
+                .to_string_lossy()
+                .starts_with("ferroc-runtime-")
+        })
     });
     if host_built {
         Kind::New

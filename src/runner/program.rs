@@ -6,6 +6,12 @@
 //! `CACHE/PROFILE/`: runners of different libraries never replace each other's files,
 //! and share every compiled dependency. A model is not part of the runner: the runner
 //! checks and plans the model it is given, so editing a model never rebuilds anything.
+//!
+//! Two kinds of runner per set of libraries ([`Kind`]), each its own package with one
+//! feature set, sharing the cache: the plain runner links `ferroc-runner` (the runtime,
+//! the standard library, no compiler, no Zenoh) and is handed the plan of the model;
+//! the inspecting runner (`ferroc run --inspect`) links `ferroc-host` with the compiler
+//! and the inspection server.
 
 use super::build::{self, Build};
 use super::cache::{self, Cache};
@@ -26,12 +32,40 @@ fn profile() -> &'static str {
     }
 }
 
-/// A built runner for `crates`: its executable, built now if needed (one line of
-/// progress; cargo's own output with `verbose`). On failure the cause is reported,
-/// pointing at the manifests.
-pub fn ensure(crates: &[LibraryCrate], verbose: bool) -> Result<PathBuf, ExitCode> {
+/// What a runner links, by what the run asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// `ferroc run` and `ferroc types`: `ferroc-runner` (no compiler, no Zenoh).
+    Plain,
+    /// `ferroc run --inspect`: `ferroc-host`, with the inspection server on Zenoh and
+    /// the compiler that checks structural edits.
+    Inspect,
+}
+
+impl Kind {
+    /// The workspace crate the runner depends on: its folder and package name.
+    fn host_crate(self) -> (&'static str, &'static str) {
+        match self {
+            Kind::Plain => ("runner", "ferroc-runner"),
+            Kind::Inspect => ("host", "ferroc-host"),
+        }
+    }
+
+    /// Its name in the runner's key and messages.
+    fn name(self) -> &'static str {
+        match self {
+            Kind::Plain => "plain",
+            Kind::Inspect => "inspect",
+        }
+    }
+}
+
+/// A built runner of this kind for `crates`: its executable, built now if needed (one
+/// line of progress; cargo's own output with `verbose`). On failure the cause is
+/// reported, pointing at the manifests.
+pub fn ensure(crates: &[LibraryCrate], kind: Kind, verbose: bool) -> Result<PathBuf, ExitCode> {
     let source = source_dir();
-    let host = source.join("host");
+    let host = source.join(kind.host_crate().0);
     if !host.join("Cargo.toml").is_file() {
         eprintln!(
             "error: ferroc's sources are not at {} (a runner for your libraries is built from them)\n  \
@@ -42,14 +76,14 @@ pub fn ensure(crates: &[LibraryCrate], verbose: bool) -> Result<PathBuf, ExitCod
         return Err(ExitCode::from(2));
     }
     let profile = profile();
-    let key = key(&source, crates, profile);
+    let key = key(&source, crates, &format!("{profile} {}", kind.name()));
     let cache = cache::locate();
     let name = format!("ferroc-runner-{key}");
     let dir = cache.dir.join(cache::PACKAGES).join(&key);
     let exe = build::executable(&cache.dir, profile, &name);
     let written = cache
         .prepare()
-        .and_then(|()| write_all(&dir, &name, &host, crates, &source, &cache));
+        .and_then(|()| write_all(&dir, &name, kind, &host, crates, &source, &cache));
     if let Err(message) = written {
         eprintln!("{message}");
         return Err(ExitCode::from(2));
@@ -68,14 +102,14 @@ pub fn ensure(crates: &[LibraryCrate], verbose: bool) -> Result<PathBuf, ExitCod
         }
         return Err(ExitCode::from(1));
     }
-    let kind = build::kind(&exe, &cache.dir, profile);
-    let why = build::why(kind, changed.as_deref(), crates, &source, &dir);
+    let build_kind = build::kind(&exe, &cache.dir, profile);
+    let why = build::why(build_kind, changed.as_deref(), crates, &source, &dir);
     let b = Build {
         crates,
         package: &dir,
         target: &cache.dir,
         profile,
-        kind,
+        kind: build_kind,
         why,
         verbose,
     };
@@ -105,6 +139,7 @@ pub fn ensure(crates: &[LibraryCrate], verbose: bool) -> Result<PathBuf, ExitCod
 fn write_all(
     dir: &Path,
     name: &str,
+    kind: Kind,
     host: &Path,
     crates: &[LibraryCrate],
     source: &Path,
@@ -115,11 +150,10 @@ fn write_all(
         .iter()
         .map(|c| format!("{} ({})", c.library, c.dir.display()))
         .collect();
-    write_package(dir, name, host, crates)
+    let listed = format!("{}; {} runner", libraries.join(", "), kind.name());
+    write_package(dir, name, kind, host, crates)
         .and_then(|()| seed_lock(dir, source))
-        .and_then(|()| {
-            replace_if_changed(&dir.join("libraries.txt"), libraries.join(", ").as_bytes())
-        })
+        .and_then(|()| replace_if_changed(&dir.join("libraries.txt"), listed.as_bytes()))
         .map_err(|e| cache.unusable(&e))
 }
 
@@ -166,19 +200,40 @@ fn key(source: &Path, crates: &[LibraryCrate], profile: &str) -> String {
 fn write_package(
     dir: &Path,
     name: &str,
+    kind: Kind,
     host: &Path,
     crates: &[LibraryCrate],
 ) -> std::io::Result<()> {
     std::fs::create_dir_all(dir.join("src"))?;
+    let toml = cargo_toml(name, kind, host, crates);
+    let main = main_rs(kind, crates);
+    replace_if_changed(&dir.join("Cargo.toml"), toml.as_bytes())?;
+    replace_if_changed(&dir.join("src/main.rs"), main.as_bytes())
+}
+
+/// The runner's main.rs: the registry of the standard library's types and the
+/// libraries', handed to the kind's `main`.
+fn main_rs(kind: Kind, crates: &[LibraryCrate]) -> String {
     let version = env!("CARGO_PKG_VERSION");
-    let toml = cargo_toml(name, host, crates);
+    let (what, krate, registry) = match kind {
+        Kind::Plain => (
+            "runs the plans `ferroc run` hands it and describes its module types",
+            "ferroc_runner",
+            "ferroc_runner::registry()",
+        ),
+        Kind::Inspect => (
+            "runs `ferroc run --inspect`",
+            "ferroc_host",
+            "ferroc_host::run::registry()",
+        ),
+    };
     let mut main = format!(
-        "//! Generated by ferroc {version}: runs `ferroc run` and `ferroc types` with the module\n\
+        "//! Generated by ferroc {version}: {what}, with the module\n\
          //! types of the standard library and of the libraries linked here.\n\n\
          /// The allocator ferroc itself uses (applications allocate as under ferroc).\n\
          #[global_allocator]\n\
-         static GLOBAL: ferroc_host::mimalloc::MiMalloc = ferroc_host::mimalloc::MiMalloc;\n\n\
-         fn main() -> std::process::ExitCode {{\n    let mut registry = ferroc_host::run::registry();\n"
+         static GLOBAL: {krate}::mimalloc::MiMalloc = {krate}::mimalloc::MiMalloc;\n\n\
+         fn main() -> std::process::ExitCode {{\n    let mut registry = {registry};\n"
     );
     for (i, c) in crates.iter().enumerate() {
         main.push_str(&format!(
@@ -186,14 +241,13 @@ fn write_package(
             comment(&c.library)
         ));
     }
-    main.push_str("    ferroc_host::main(registry)\n}\n");
-    replace_if_changed(&dir.join("Cargo.toml"), toml.as_bytes())?;
-    replace_if_changed(&dir.join("src/main.rs"), main.as_bytes())
+    main.push_str(&format!("    {krate}::main(registry)\n}}\n"));
+    main
 }
 
-/// The runner's Cargo.toml: ferroc's host crate by path, each library's crate by path
-/// or, for `rust-crate="PACKAGE@VERSION"`, by version from the registry.
-fn cargo_toml(name: &str, host: &Path, crates: &[LibraryCrate]) -> String {
+/// The runner's Cargo.toml: the kind's ferroc crate by path, each library's crate by
+/// path or, for `rust-crate="PACKAGE@VERSION"`, by version from the registry.
+fn cargo_toml(name: &str, kind: Kind, host: &Path, crates: &[LibraryCrate]) -> String {
     let libraries: Vec<String> = crates
         .iter()
         .map(|c| format!("{} ({})", comment(&c.library), comment(&c.package)))
@@ -202,9 +256,10 @@ fn cargo_toml(name: &str, host: &Path, crates: &[LibraryCrate]) -> String {
         "# Generated by ferroc {}: the runner of the libraries {}.\n\
          # ferroc rewrites this file; it is built in the runner cache (`ferroc cache`).\n\
          [package]\nname = \"{name}\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
-         [dependencies]\nferroc-host = {{ path = {} }}\n",
+         [dependencies]\n{} = {{ path = {} }}\n",
         env!("CARGO_PKG_VERSION"),
         libraries.join(", "),
+        kind.host_crate().1,
         toml_str(&host.to_string_lossy())
     );
     for (i, c) in crates.iter().enumerate() {
@@ -249,6 +304,7 @@ fn stale_input(exe: &Path, dir: &Path, crates: &[LibraryCrate]) -> Result<(), Op
     inputs.push(dir.join("Cargo.toml"));
     inputs.push(dir.join("Cargo.lock"));
     inputs.push(source_dir().join("host/Cargo.toml"));
+    inputs.push(source_dir().join("runner/Cargo.toml"));
     // (A registry crate's sources are in cargo's cache, listed in the dep-info.)
     inputs
         .extend((crates.iter().filter(|c| c.version.is_none())).map(|c| c.dir.join("Cargo.toml")));
@@ -327,7 +383,12 @@ mod tests {
         let workspace = include_str!("../../Cargo.toml");
         let ours = profiles(workspace);
         assert!(ours.contains("[profile.release]\n"), "{ours}");
-        let toml = cargo_toml("ferroc-runner-k", Path::new("/ferroc/host"), &[]);
+        let toml = cargo_toml(
+            "ferroc-runner-k",
+            Kind::Plain,
+            Path::new("/ferroc/runner"),
+            &[],
+        );
         assert_eq!(profiles(&toml), ours, "{toml}");
         // Only the profile tables are taken, comments left out.
         assert_eq!(
@@ -347,6 +408,7 @@ mod tests {
         };
         let toml = cargo_toml(
             "ferroc-runner-k",
+            Kind::Inspect,
             Path::new("/ferroc/host"),
             &[
                 lib("beep", "beep-lib", None),
