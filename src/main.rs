@@ -17,6 +17,7 @@ macro_rules! eprintln {
 }
 
 mod bundle;
+mod cache;
 mod check;
 mod color;
 mod completions;
@@ -83,7 +84,7 @@ Example:\n  ferroc schedule models/crash_course.xml"
 types of its libraries, and run every thread container in one process. The standard library \
 is built into ferroc; for other libraries ferroc builds a runner program linking their crates \
 (the manifests' `rust-crate`, next to the manifest), once per set of libraries, with cargo in \
-their target folder; a changed model needs no rebuild. A live status \
+the runner cache (`ferroc cache`; -v shows cargo's output); a changed model needs no rebuild. A live status \
 line (cycles, overruns, load per thread container) is shown on a terminal. Ctrl-C or SIGTERM \
 stops cleanly after the current cycle. A module that panics is reported with its path and \
 stopped; the others keep running, and the exit code is 1.\n\n\
@@ -130,6 +131,22 @@ ferroc graph models/warehouse_fleet.xml --format svg -o fleet.svg"
     Types(types::TypesArgs),
     /// Start a library crate (module, manifest, test, model) or a model
     New(new::NewArgs),
+    /// Show where the runners of libraries are built, their size; --clean removes them
+    #[command(
+        long_about = "Show the runner cache: the cargo target folder where `ferroc run` and `ferroc \
+types` build the runners of libraries (one for all of them, so a second library compiles only \
+its own crate), why it is there, its size, and each runner with its libraries and last build.\n\n\
+The cache is FERROC_CACHE if set, else CARGO_TARGET_DIR, else the `target/` folder of ferroc's \
+checkout, where `cargo install --locked --path .` compiled ferroc (runners reuse that work), \
+else, when that folder is not writable, the user cache folder ($XDG_CACHE_HOME/ferroc or \
+~/.cache/ferroc).\n\n\
+--clean removes what ferroc put there: in a folder ferroc made for itself (FERROC_CACHE or the \
+user cache folder, marked with ferroc-cache.txt) everything; in a checkout's target/ or a \
+CARGO_TARGET_DIR only the runners' own files, since the dependencies compiled there serve the \
+other builds too (`cargo clean` removes those). A running build is waited for.\n\n\
+Examples:\n  ferroc cache\n  ferroc cache --clean --dry-run"
+    )]
+    Cache(cache::CacheArgs),
     /// Import an application from another framework as a ferroc model
     #[command(subcommand)]
     Import(finroc::ImportFormat),
@@ -206,6 +223,7 @@ fn main() -> ExitCode {
         Command::Graph(args) => graph::run(args),
         Command::Types(args) => runner::types(args),
         Command::New(args) => new::run(args),
+        Command::Cache(args) => cache::run(args),
         Command::Import(format) => finroc::import(format),
         Command::Export(format) => finroc::export(format),
         Command::Log(args) => log::run(args),

@@ -22,8 +22,11 @@ enum What {
         long_about = "Write a library crate in DIR (default: ./NAME): Cargo.toml \
 (depending on this ferroc's runtime by path), the manifest NAME.lib.xml, src/lib.rs with one \
 module type (an input, an output, a parameter), its registration and a unit test, and demo.xml, \
-a model using it. Then:\n\n  ferroc run NAME/demo.xml --cycles 5\n  \
-ferroc types export --check --lib-path NAME\n  cargo test --manifest-path NAME/Cargo.toml\n\n\
+a model using it. Beside them .cargo/config.toml, which builds the crate in ferroc's runner \
+cache (`ferroc cache`) rather than a target folder of its own, and Cargo.lock, a copy of the \
+checkout's: the versions ferroc was built with, compiled once for both. Then:\n\n  \
+ferroc run NAME/demo.xml --cycles 5\n  \
+ferroc types export --check --lib-path NAME\n  (cd NAME && cargo test)\n\n\
 docs/writing-modules.md explains every file."
     )]
     Library {
@@ -86,14 +89,37 @@ fn library(name: &str, dir: Option<PathBuf>) -> Result<(), String> {
         let file = fill(file, name, &package, &runtime);
         write_new(&dir.join(file), &fill(text, name, &package, &runtime))?;
     }
+    one_build_cache(&dir)?;
     let shown = dir.display();
     eprintln!(
-        "wrote the library `{name}` in {shown}: Cargo.toml, {name}.lib.xml, src/lib.rs, demo.xml\n\
+        "wrote the library `{name}` in {shown}: Cargo.toml, {name}.lib.xml, src/lib.rs, demo.xml, \
+         Cargo.lock, .cargo/config.toml (builds go to the runner cache)\n\
          next:\n  ferroc run {shown}/demo.xml --cycles 5\n  \
          ferroc types export --check --lib-path {shown}\n  \
-         cargo test --manifest-path {shown}/Cargo.toml"
+         (cd {shown} && cargo test)"
     );
     Ok(())
+}
+
+/// No second copy of the world for a new library: cargo in its folder (`cargo test`, an
+/// editor's rust-analyzer) builds into the runner cache, where `ferroc run` builds its
+/// runner, and starts from the checkout's Cargo.lock (the versions ferroc was built
+/// and installed with; cargo keeps only those the crate uses).
+fn one_build_cache(dir: &Path) -> Result<(), String> {
+    let cache = crate::runner::cache::locate();
+    let config = format!(
+        "# Written by `ferroc new library`: build in ferroc's runner cache (`ferroc cache`),\n\
+         # where `ferroc run` builds this library's runner, so both compile it once.\n\
+         # CARGO_TARGET_DIR, if set, still wins.\n\
+         [build]\ntarget-dir = {}\n",
+        toml_str(&cache.dir.to_string_lossy())
+    );
+    write_new(&dir.join(".cargo/config.toml"), &config)?;
+    let lock = crate::runner::source_dir().join("Cargo.lock");
+    match std::fs::read_to_string(&lock) {
+        Ok(text) => write_new(&dir.join("Cargo.lock"), &text),
+        Err(_) => Ok(()), // no checkout lock: cargo resolves the crate's own
+    }
 }
 
 /// The crates of ferroc's workspace, read from its manifests when ferroc was built

@@ -233,7 +233,9 @@ fn a_library_written_outside_ferroc_runs_checks_and_rebuilds_only_when_its_crate
 
     // A changed crate: rebuilt (the library and the runner only), and the change runs.
     std::fs::write(dir.join("src/lib.rs"), LIB.replace("beep {}", "boop {}")).unwrap();
-    let (code, out, err) = ferroc_in(&dir, &run);
+    // (-v: cargo's own lines, which say what was compiled)
+    let verbose: Vec<&str> = run.iter().copied().chain(["-v"]).collect();
+    let (code, out, err) = ferroc_in(&dir, &verbose);
     assert_eq!(code, 0, "{err}");
     assert_eq!(out, "boop 2.5\nboop 5\nboop 7.5\n");
     assert!(err.contains("Compiling beep-lib"), "{err}");

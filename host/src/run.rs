@@ -49,6 +49,10 @@ pub struct RunArgs {
     /// No live status line
     #[arg(long, short)]
     quiet: bool,
+    /// Show cargo's own output while the runner of the model's libraries is built
+    /// (without it: one line saying what is built and why, then the time it took)
+    #[arg(long, short)]
+    pub verbose: bool,
     /// Extra folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH)
     #[arg(long, value_name = "DIR")]
     pub lib_path: Vec<PathBuf>,

@@ -12,7 +12,7 @@ pub(super) fn failed_package(line: &str) -> Option<String> {
     Some(rest.split('`').next()?.to_string())
 }
 
-fn strip_ansi(s: &str) -> String {
+pub(super) fn strip_ansi(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     let mut chars = s.chars();
     while let Some(c) = chars.next() {

@@ -11,6 +11,8 @@
 //! process. `run --inspect` uses the inspecting kind of runner (`program::Kind`),
 //! which checks the model itself: its structural edits need the compiler.
 
+pub mod build;
+pub mod cache;
 pub mod checkout;
 pub mod crates;
 mod failure;
@@ -56,9 +58,9 @@ pub fn run(args: RunArgs) -> ExitCode {
     }
     if args.inspect.is_some() {
         let argv: Vec<OsString> = std::env::args_os().skip(1).collect();
-        return hand_over(&crates, Kind::Inspect, argv);
+        return hand_over(&crates, Kind::Inspect, argv, args.verbose);
     }
-    let exe = match program::ensure(&crates, Kind::Plain) {
+    let exe = match program::ensure(&crates, Kind::Plain, args.verbose) {
         Ok(exe) => exe,
         Err(code) => return code,
     };
@@ -138,7 +140,7 @@ pub fn types(mut args: TypesArgs) -> ExitCode {
     let interfaces = if crates.is_empty() {
         ferroc_host::run::interfaces_of(&ferroc_host::run::registry())
     } else {
-        let exe = match program::ensure(&crates, Kind::Plain) {
+        let exe = match program::ensure(&crates, Kind::Plain, args.verbose()) {
             Ok(exe) => exe,
             Err(code) => return code,
         };
@@ -175,9 +177,9 @@ fn report(problems: &[String]) -> ExitCode {
 }
 
 /// Builds the runner if needed and runs it with `argv` in place of this process (same
-/// process id: signals and the exit code are the runner's).
-fn hand_over(crates: &[LibraryCrate], kind: Kind, argv: Vec<OsString>) -> ExitCode {
-    let exe = match program::ensure(crates, kind) {
+/// process id: signals and the exit code are the runner's). `verbose`: cargo's output.
+fn hand_over(crates: &[LibraryCrate], kind: Kind, argv: Vec<OsString>, verbose: bool) -> ExitCode {
+    let exe = match program::ensure(crates, kind, verbose) {
         Ok(exe) => exe,
         Err(code) => return code,
     };

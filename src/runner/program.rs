@@ -1,34 +1,34 @@
 //! The runner program of a set of libraries: generated once, built by cargo in the
-//! libraries' target folder, rebuilt only when one of its sources changed.
+//! runner cache (`cache.rs`), rebuilt only when one of its sources changed.
 //!
-//! The package lives in `TARGET/ferroc-runner/KEY/` (KEY: a hash of the libraries'
-//! crates, ferroc's sources and the profile), its binary in `TARGET/PROFILE/`. Sharing
-//! the target folder with the libraries' own workspace means their dependencies are
-//! compiled once for both. A model is not part of the runner: the runner checks and
-//! is handed the plan of the model (or, the inspecting kind, checks it), so editing a
-//! model never rebuilds anything.
+//! The package lives in `CACHE/ferroc-runner/KEY/` (KEY: a hash of the libraries'
+//! crates, ferroc's sources and the profile), its binary `ferroc-runner-KEY` in
+//! `CACHE/PROFILE/`: runners of different libraries never replace each other's files,
+//! and share every compiled dependency. A model is not part of the runner: the runner
+//! checks and plans the model it is given, so editing a model never rebuilds anything.
 //!
 //! Two kinds of runner per set of libraries ([`Kind`]), each its own package with one
-//! feature set, sharing the target folder: the plain runner links `ferroc-runner`
-//! (the runtime, the standard library, no compiler, no Zenoh); the inspecting runner
-//! (`ferroc run --inspect`) links `ferroc-host` with the compiler and the inspection
-//! server.
+//! feature set, sharing the cache: the plain runner links `ferroc-runner` (the runtime,
+//! the standard library, no compiler, no Zenoh) and is handed the plan of the model;
+//! the inspecting runner (`ferroc run --inspect`) links `ferroc-host` with the compiler
+//! and the inspection server.
 
+use super::build::{self, Build};
+use super::cache::{self, Cache};
 use super::crates::LibraryCrate;
-use super::failure::{failed_package, report_failure, unfetched};
+use super::failure::report_failure;
 use super::source_dir;
 use crate::bundle::text::{comment, toml_str};
-use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitCode, Stdio};
+use std::process::ExitCode;
 
 /// The cargo profile runners are built with: ferroc's own (a release ferroc runs
 /// release runners).
-fn profile() -> (&'static str, Option<&'static str>) {
+fn profile() -> &'static str {
     if cfg!(debug_assertions) {
-        ("debug", None)
+        "debug"
     } else {
-        ("release", Some("--release"))
+        "release"
     }
 }
 
@@ -60,10 +60,10 @@ impl Kind {
     }
 }
 
-/// A built runner of this kind for `crates`: its executable, built now if needed
-/// (cargo's progress on stderr). On failure the cause is reported, pointing at the
-/// manifests.
-pub fn ensure(crates: &[LibraryCrate], kind: Kind) -> Result<PathBuf, ExitCode> {
+/// A built runner of this kind for `crates`: its executable, built now if needed (one
+/// line of progress; cargo's own output with `verbose`). On failure the cause is
+/// reported, pointing at the manifests.
+pub fn ensure(crates: &[LibraryCrate], kind: Kind, verbose: bool) -> Result<PathBuf, ExitCode> {
     let source = source_dir();
     let host = source.join(kind.host_crate().0);
     if !host.join("Cargo.toml").is_file() {
@@ -75,22 +75,23 @@ pub fn ensure(crates: &[LibraryCrate], kind: Kind) -> Result<PathBuf, ExitCode> 
         );
         return Err(ExitCode::from(2));
     }
-    let (profile, flag) = profile();
+    let profile = profile();
     let key = key(&source, crates, &format!("{profile} {}", kind.name()));
-    let target = target_dir(crates);
+    let cache = cache::locate();
     let name = format!("ferroc-runner-{key}");
-    let dir = target.join("ferroc-runner").join(&key);
-    let exe = target.join(profile).join(&name);
-    if let Err(e) = write_package(&dir, &name, kind, &host, crates, &source) {
-        eprintln!(
-            "error: cannot write the runner package in {}: {e}",
-            dir.display()
-        );
+    let dir = cache.dir.join(cache::PACKAGES).join(&key);
+    let exe = build::executable(&cache.dir, profile, &name);
+    let written = cache
+        .prepare()
+        .and_then(|()| write_all(&dir, &name, kind, &host, crates, &source, &cache));
+    if let Err(message) = written {
+        eprintln!("{message}");
         return Err(ExitCode::from(2));
     }
-    if is_fresh(&exe, &dir, crates) {
-        return Ok(exe);
-    }
+    let changed = match stale_input(&exe, &dir, crates) {
+        Ok(()) => return Ok(exe),
+        Err(changed) => changed,
+    };
     // Before cargo: a crate linking another ferroc-runtime would fail with cargo's
     // lockfile collision, which does not say what to do.
     let runtime = source.join("runtime");
@@ -101,102 +102,78 @@ pub fn ensure(crates: &[LibraryCrate], kind: Kind) -> Result<PathBuf, ExitCode> 
         }
         return Err(ExitCode::from(1));
     }
-    eprintln!(
-        "building the runner of {} in {} (first use, or a crate changed)",
-        crates
-            .iter()
-            .map(|c| format!("`{}`", c.library))
-            .collect::<Vec<_>>()
-            .join(", "),
-        target.display()
-    );
-    let mut child = match cargo_build(&dir, &target, flag).spawn() {
-        Ok(c) => c,
+    let build_kind = build::kind(&exe, &cache.dir, profile);
+    let why = build::why(build_kind, changed.as_deref(), crates, &source, &dir);
+    let b = Build {
+        crates,
+        package: &dir,
+        target: &cache.dir,
+        profile,
+        kind: build_kind,
+        why,
+        verbose,
+    };
+    let outcome = match build::build(&b) {
+        Ok(o) => o,
         Err(e) => {
             eprintln!("error: cannot start cargo to build the runner: {e}\n  help: install Rust (rustup.rs) or set CARGO to cargo's path");
             return Err(ExitCode::from(2));
         }
     };
-    let (failed, unavailable) = match child.stderr.take() {
-        Some(err) => follow_cargo(err, crates),
-        None => (Vec::new(), Vec::new()),
-    };
-    let status = child.wait();
-    if status.as_ref().is_ok_and(|s| s.success()) && exe.is_file() {
+    if outcome.success && exe.is_file() {
         return Ok(exe);
     }
-    report_failure(crates, &failed, &unavailable, &name, &dir);
+    if let Some(line) = outcome.full.or_else(|| cache.full_now()) {
+        eprintln!(
+            "{}",
+            cache.unusable_because(std::io::ErrorKind::StorageFull, &line)
+        );
+        return Err(ExitCode::from(2));
+    }
+    report_failure(crates, &outcome.failed, &outcome.unavailable, &name, &dir);
     Err(ExitCode::from(1))
 }
 
-/// `cargo build` of the runner package in `dir` into `target`, its errors piped.
-fn cargo_build(dir: &Path, target: &Path, flag: Option<&str>) -> Command {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let mut command = Command::new(cargo);
-    command
-        .arg("build")
-        .arg("--manifest-path")
-        .arg(dir.join("Cargo.toml"))
-        .arg("--target-dir")
-        .arg(target)
-        .args(flag)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped());
-    // cargo sees a pipe: say whether to colour (ferroc's --color, for its stderr).
-    let colours = crate::color::enabled(crate::color::Stream::Stderr);
-    command.arg(if colours {
-        "--color=always"
-    } else {
-        "--color=never"
-    });
-    if std::io::stderr().is_terminal() {
-        // Ask for cargo's progress bar all the same.
-        let width = std::env::var("COLUMNS")
-            .ok()
-            .and_then(|c| c.parse::<u16>().ok())
-            .unwrap_or(80);
-        command.args(["--config", "term.progress.when=\"always\"", "--config"]);
-        command.arg(format!("term.progress.width={width}"));
-    }
-    command
+/// The runner's package in `dir` and its lock file; a message naming the cache when
+/// they cannot be written there.
+fn write_all(
+    dir: &Path,
+    name: &str,
+    kind: Kind,
+    host: &Path,
+    crates: &[LibraryCrate],
+    source: &Path,
+    cache: &Cache,
+) -> Result<(), String> {
+    // What `ferroc cache` lists for this runner.
+    let libraries: Vec<String> = crates
+        .iter()
+        .map(|c| format!("{} ({})", c.library, c.dir.display()))
+        .collect();
+    let listed = format!("{}; {} runner", libraries.join(", "), kind.name());
+    write_package(dir, name, kind, host, crates)
+        .and_then(|()| seed_lock(dir, source))
+        .and_then(|()| replace_if_changed(&dir.join("libraries.txt"), listed.as_bytes()))
+        .map_err(|e| cache.unusable(&e))
 }
 
-/// cargo's output passed on as it comes (progress bar included); the packages that
-/// failed to compile, and the registry crates of `crates` that could not be fetched.
-fn follow_cargo(
-    mut err: impl std::io::Read,
-    crates: &[LibraryCrate],
-) -> (Vec<String>, Vec<String>) {
-    let mut failed = Vec::new();
-    let mut unavailable: Vec<String> = Vec::new();
-    let mut stderr = std::io::stderr();
-    let mut line = Vec::new();
-    let mut buffer = [0u8; 4096];
-    loop {
-        let n = match err.read(&mut buffer) {
-            Ok(0) | Err(_) => break,
-            Ok(n) => n,
-        };
-        let _ = stderr.write_all(&buffer[..n]);
-        for &b in &buffer[..n] {
-            if b == b'\n' || b == b'\r' {
-                let text = String::from_utf8_lossy(&line);
-                if let Some(package) = failed_package(&text) {
-                    failed.push(package);
-                }
-                for c in crates.iter().filter(|c| c.version.is_some()) {
-                    if unfetched(&text, &c.package) && !unavailable.contains(&c.package) {
-                        unavailable.push(c.package.clone());
-                    }
-                }
-                line.clear();
-            } else if line.len() < 4096 {
-                line.push(b);
-            }
-        }
+/// The runner's Cargo.lock starts as a copy of the checkout's, the versions ferroc is
+/// built, tested and installed with (`cargo install --locked`), so that what the
+/// install compiled is reused; cargo adds the libraries' own. When the checkout's lock
+/// changes (a pull), the copy is made again rather than left to diverge.
+fn seed_lock(dir: &Path, source: &Path) -> std::io::Result<()> {
+    let Ok(text) = std::fs::read(source.join("Cargo.lock")) else {
+        return Ok(());
+    };
+    let seed = crate::bundle::sha256::hex(&text);
+    let seed_file = dir.join("Cargo.lock.seed");
+    let lock = dir.join("Cargo.lock");
+    let same = std::fs::read_to_string(&seed_file).is_ok_and(|s| s.trim() == seed);
+    if same && lock.is_file() {
+        return Ok(());
     }
-    (failed, unavailable)
+    replace_if_changed(&lock, &text)?;
+    replace_if_changed(&seed_file, seed.as_bytes())
 }
 
 /// A short stable name for this set of crates with these sources and profile.
@@ -217,51 +194,21 @@ fn key(source: &Path, crates: &[LibraryCrate], profile: &str) -> String {
     crate::bundle::sha256::hex(text.as_bytes())[..16].to_string()
 }
 
-/// `CARGO_TARGET_DIR` if set; else the `target/` of the first library's workspace (the
-/// nearest folder above its crate whose Cargo.toml declares `[workspace]`), or of the
-/// crate itself.
-fn target_dir(crates: &[LibraryCrate]) -> PathBuf {
-    target_dir_from(std::env::var_os("CARGO_TARGET_DIR"), &crates[0].dir)
-}
-
-fn target_dir_from(env: Option<std::ffi::OsString>, first: &Path) -> PathBuf {
-    if let Some(dir) = env.filter(|d| !d.is_empty()) {
-        let dir = PathBuf::from(dir);
-        return std::path::absolute(&dir).unwrap_or(dir);
-    }
-    let root = first
-        .ancestors()
-        .find(|d| {
-            std::fs::read_to_string(d.join("Cargo.toml"))
-                .is_ok_and(|t| t.lines().any(|l| l.trim() == "[workspace]"))
-        })
-        .unwrap_or(first);
-    root.join("target")
-}
-
-/// Writes the runner's Cargo.toml, main.rs and (first time) Cargo.lock, each only when
-/// its text changes, through a rename (runs started together write the same files).
+/// Writes the runner's Cargo.toml and main.rs, each only when its text changes, through
+/// a rename (runs started together write the same files; an interrupted run leaves the
+/// old file or the new one, never half of one).
 fn write_package(
     dir: &Path,
     name: &str,
     kind: Kind,
     host: &Path,
     crates: &[LibraryCrate],
-    source: &Path,
 ) -> std::io::Result<()> {
     std::fs::create_dir_all(dir.join("src"))?;
     let toml = cargo_toml(name, kind, host, crates);
     let main = main_rs(kind, crates);
     replace_if_changed(&dir.join("Cargo.toml"), toml.as_bytes())?;
-    replace_if_changed(&dir.join("src/main.rs"), main.as_bytes())?;
-    let lock = dir.join("Cargo.lock");
-    if !lock.exists() {
-        // The versions ferroc is built and tested with (cargo adds the libraries' own).
-        if let Ok(text) = std::fs::read(source.join("Cargo.lock")) {
-            replace_if_changed(&lock, &text)?;
-        }
-    }
-    Ok(())
+    replace_if_changed(&dir.join("src/main.rs"), main.as_bytes())
 }
 
 /// The runner's main.rs: the registry of the standard library's types and the
@@ -307,7 +254,7 @@ fn cargo_toml(name: &str, kind: Kind, host: &Path, crates: &[LibraryCrate]) -> S
         .collect();
     let mut toml = format!(
         "# Generated by ferroc {}: the runner of the libraries {}.\n\
-         # ferroc rewrites this file; build output goes to the libraries' target folder.\n\
+         # ferroc rewrites this file; it is built in the runner cache (`ferroc cache`).\n\
          [package]\nname = \"{name}\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
          [dependencies]\n{} = {{ path = {} }}\n",
         env!("CARGO_PKG_VERSION"),
@@ -325,8 +272,8 @@ fn cargo_toml(name: &str, kind: Kind, host: &Path, crates: &[LibraryCrate]) -> S
             toml_str(&c.package),
         ));
     }
-    // The checkout's profile, so that its already compiled dependencies are reused.
-    toml.push_str("\n[profile.release]\ndebug = 1\n\n# Not a member of any enclosing workspace.\n[workspace]\n");
+    toml.push_str(&profiles(&workspace_manifest()));
+    toml.push_str("\n# Not a member of any enclosing workspace.\n[workspace]\n");
     toml
 }
 
@@ -341,23 +288,18 @@ fn replace_if_changed(path: &Path, text: &[u8]) -> std::io::Result<()> {
     })
 }
 
-/// Whether `exe` is newer than everything it was built from: the source files cargo
+/// `Ok` when `exe` is newer than everything it was built from: the source files cargo
 /// listed in its dep-info (`exe.d`: every local crate's sources), the Cargo.toml of
 /// the runner, of ferroc's host crate and of every library crate, and the lock file.
-/// Anything else (or no dep-info) leaves the decision to cargo.
-fn is_fresh(exe: &Path, dir: &Path, crates: &[LibraryCrate]) -> bool {
-    let Some(built) = modified(exe) else {
-        return false;
-    };
-    let Ok(dep_info) = std::fs::read_to_string(exe.with_extension("d")) else {
-        return false;
-    };
-    let Some((_, deps)) = dep_info.split_once(": ") else {
-        return false;
-    };
+/// Else the first input found newer (`None`: no executable or dep-info), and the
+/// decision is cargo's.
+fn stale_input(exe: &Path, dir: &Path, crates: &[LibraryCrate]) -> Result<(), Option<PathBuf>> {
+    let built = modified(exe).ok_or(None)?;
+    let dep_info = std::fs::read_to_string(exe.with_extension("d")).map_err(|_| None)?;
+    let (_, deps) = dep_info.split_once(": ").ok_or(None)?;
     let mut inputs: Vec<PathBuf> = split_dep_info(deps);
     if inputs.is_empty() {
-        return false;
+        return Err(None);
     }
     inputs.push(dir.join("Cargo.toml"));
     inputs.push(dir.join("Cargo.lock"));
@@ -366,9 +308,42 @@ fn is_fresh(exe: &Path, dir: &Path, crates: &[LibraryCrate]) -> bool {
     // (A registry crate's sources are in cargo's cache, listed in the dep-info.)
     inputs
         .extend((crates.iter().filter(|c| c.version.is_none())).map(|c| c.dir.join("Cargo.toml")));
-    inputs
-        .iter()
-        .all(|p| modified(p).is_some_and(|m| m <= built))
+    match inputs
+        .into_iter()
+        .find(|p| modified(p).is_none_or(|m| m > built))
+    {
+        Some(changed) => Err(Some(changed)),
+        None => Ok(()),
+    }
+}
+
+/// ferroc's workspace manifest: the checkout's at run time (what `cargo install` there
+/// uses), else the one ferroc was built from.
+fn workspace_manifest() -> String {
+    std::fs::read_to_string(source_dir().join("Cargo.toml"))
+        .unwrap_or_else(|_| include_str!("../../Cargo.toml").to_string())
+}
+
+/// The `[profile.*]` tables of a manifest, as written (without comments and blank
+/// lines, a blank line before each table): the runner takes the workspace's
+/// so that both compile every shared crate alike and one reuses the other's output.
+pub fn profiles(manifest: &str) -> String {
+    let mut out = String::new();
+    let mut inside = false;
+    for line in manifest.lines() {
+        let trimmed = line.trim_start();
+        if trimmed.starts_with('[') {
+            inside = trimmed.starts_with("[profile.");
+            if inside {
+                out.push('\n');
+            }
+        }
+        if inside && !trimmed.starts_with('#') && !trimmed.is_empty() {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    out
 }
 
 fn modified(path: &Path) -> Option<std::time::SystemTime> {
@@ -404,31 +379,22 @@ mod tests {
     use super::*;
 
     #[test]
-    fn runners_build_in_the_target_folder_of_the_library_s_workspace() {
-        let root = std::env::temp_dir().join(format!("ferroc-target-{}", std::process::id()));
-        let member = root.join("crates/beep");
-        std::fs::create_dir_all(&member).unwrap();
-        std::fs::write(
-            root.join("Cargo.toml"),
-            "[workspace]\nmembers = [\"crates/*\"]\n",
-        )
-        .unwrap();
-        std::fs::write(member.join("Cargo.toml"), "[package]\nname = \"beep\"\n").unwrap();
-        assert_eq!(target_dir_from(None, &member), root.join("target"));
-        // A crate of its own (no workspace above declares it).
-        std::fs::write(root.join("Cargo.toml"), "[package]\nname = \"top\"\n").unwrap();
-        assert_eq!(target_dir_from(None, &member), member.join("target"));
-        // CARGO_TARGET_DIR wins, made absolute; empty counts as unset.
-        let shared = root.join("shared");
-        assert_eq!(
-            target_dir_from(Some(shared.clone().into()), &member),
-            shared
+    fn the_runner_is_built_with_the_workspace_s_profiles() {
+        let workspace = include_str!("../../Cargo.toml");
+        let ours = profiles(workspace);
+        assert!(ours.contains("[profile.release]\n"), "{ours}");
+        let toml = cargo_toml(
+            "ferroc-runner-k",
+            Kind::Plain,
+            Path::new("/ferroc/runner"),
+            &[],
         );
+        assert_eq!(profiles(&toml), ours, "{toml}");
+        // Only the profile tables are taken, comments left out.
         assert_eq!(
-            target_dir_from(Some("".into()), &member),
-            member.join("target")
+            profiles("[package]\nname = \"x\"\n[profile.release]\n# why\ndebug = 0\n[profile.dev.package.\"*\"]\nopt-level = 1\n\n[workspace]\n"),
+            "\n[profile.release]\ndebug = 0\n\n[profile.dev.package.\"*\"]\nopt-level = 1\n"
         );
-        std::fs::remove_dir_all(&root).unwrap();
     }
 
     #[test]

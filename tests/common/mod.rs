@@ -78,10 +78,15 @@ pub struct SmallDisk(PathBuf);
 
 impl SmallDisk {
     pub fn mount(dir: &Path, size: &str) -> Option<SmallDisk> {
+        Self::mount_with(dir, &format!("size={size}"))
+    }
+
+    /// A tmpfs mounted with these options (`ro`: a read-only folder even for root).
+    pub fn mount_with(dir: &Path, options: &str) -> Option<SmallDisk> {
         let mount = ferroc_testkit::command("mount")?;
         std::fs::create_dir_all(dir).unwrap();
         let mounted = Command::new(mount)
-            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .args(["-t", "tmpfs", "-o", options, "tmpfs"])
             .arg(dir)
             .output()
             .expect("mount runs");

@@ -20,9 +20,17 @@ use std::process::ExitCode;
 pub struct TypesArgs {
     #[command(subcommand)]
     command: TypesCommand,
+    /// Show cargo's own output while the runner of the libraries is built
+    #[arg(long, short, global = true)]
+    verbose: bool,
 }
 
 impl TypesArgs {
+    /// `-v`: cargo's output while a runner is built.
+    pub fn verbose(&self) -> bool {
+        self.verbose
+    }
+
     /// The libraries asked for with `--library` (none: every one found).
     pub fn libraries(&self) -> &[String] {
         match &self.command {
