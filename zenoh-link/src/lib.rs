@@ -29,6 +29,7 @@ pub mod lockstep;
 pub mod ros2;
 
 use ferroc_runtime::link::transport::{Addresses, Connection, Delivery, Network, PartLinks};
+use ferroc_terminal::engine_error;
 use std::path::Path;
 use zenoh::Wait;
 
