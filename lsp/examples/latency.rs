@@ -34,19 +34,7 @@ fn main() {
     let path = Path::new(&file).canonicalize().expect("the model exists");
     let text = std::fs::read_to_string(&path).expect("the model reads");
     let uri = url::Url::from_file_path(&path).unwrap().to_string();
-    let (wall, cpu) = check_alone(&path, None);
-    println!(
-        "check_model alone, whole model parsed (best of 5): {:.0} ms, {:.0} ms CPU",
-        ms(wall),
-        ms(cpu)
-    );
-    let cache = Arc::new(ParseCache::default());
-    let (wall, cpu) = check_alone(&path, Some(&cache));
-    println!(
-        "check_model alone after a keystroke, with the server's parse cache (best of 5): {:.0} ms, {:.0} ms CPU",
-        ms(wall),
-        ms(cpu)
-    );
+    print_check_alone(&path);
     let (server, client) = Connection::memory();
     let options = options();
     let thread = std::thread::spawn(move || ferroc_lsp::serve(&server, options));
@@ -147,6 +135,22 @@ fn options() -> Options {
         }],
         ..Options::default()
     }
+}
+
+fn print_check_alone(path: &Path) {
+    let (wall, cpu) = check_alone(path, None);
+    println!(
+        "check_model alone, whole model parsed (best of 5): {:.0} ms, {:.0} ms CPU",
+        ms(wall),
+        ms(cpu)
+    );
+    let cache = Arc::new(ParseCache::default());
+    let (wall, cpu) = check_alone(path, Some(&cache));
+    println!(
+        "check_model alone after a keystroke, with the server's parse cache (best of 5): {:.0} ms, {:.0} ms CPU",
+        ms(wall),
+        ms(cpu)
+    );
 }
 
 /// The checker alone, in this process and at this moment (the machine's load): what

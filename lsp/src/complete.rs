@@ -1,6 +1,6 @@
 //! Completion from the text before the cursor: element names a parent may hold and
 //! attribute names an element takes (the vocabulary table the validator and the XSDs
-//! use), enumerated attribute values, module types of the libraries in scope in
+//! use), enumerated attribute values, units in `unit=` (ferroc-values' table), module types of the libraries in scope in
 //! `type=`, and port paths in `from=`/`to=` (outputs first in `from=`, inputs first in
 //! `to=`, ports of the other end's type and unit before the rest).
 
@@ -260,6 +260,9 @@ fn values(
             .map(|c| item(c, CompletionItemKind::ENUM_MEMBER, None))
             .collect();
     }
+    if attr == "unit" {
+        return units(typed);
+    }
     if let Some(AttrKind::Bool) = kind {
         return ["true", "false"]
             .iter()
@@ -284,6 +287,19 @@ fn values(
         },
         _ => Vec::new(),
     }
+}
+
+/// The units of ferroc-values' table that start with what is typed.
+fn units(typed: &str) -> Vec<CompletionItem> {
+    (ferroc_compiler::units::SUGGESTED.iter())
+        .filter(|u| u.starts_with(typed))
+        .map(|u| {
+            let detail = ferroc_compiler::units::parse_unit(u)
+                .ok()
+                .map(|p| ferroc_compiler::units::describe_dimension(&p.dimension));
+            item(u, CompletionItemKind::UNIT, detail)
+        })
+        .collect()
 }
 
 fn module_types(result: &CheckResult) -> Vec<CompletionItem> {
@@ -426,6 +442,28 @@ mod tests {
         assert!(
             matches!(context("<application name=\"a\">\n<thread "), Some(Place::Attr { tag, .. }) if tag == "thread")
         );
+        let units: Vec<String> = values(&[], "port", "unit", "m/", None, None)
+            .into_iter()
+            .map(|i| i.label)
+            .collect();
+        assert!(units.contains(&"m/s".to_string()), "{units:?}");
+        assert!(units.iter().all(|u| u.starts_with("m/")), "{units:?}");
+        let kinds: Vec<String> = values(
+            &[
+                ("application".into(), None),
+                ("part".into(), Some("p".into())),
+                ("thread".into(), Some("t".into())),
+            ],
+            "connect",
+            "on-full",
+            "",
+            None,
+            None,
+        )
+        .into_iter()
+        .map(|i| i.label)
+        .collect();
+        assert!(kinds.contains(&"drop-oldest".to_string()), "{kinds:?}");
         let names: Vec<String> = tags(&[("application".into(), None)], "pa")
             .into_iter()
             .map(|i| i.label)

@@ -24,7 +24,7 @@ pub fn hover(server: &Server, req: &Request) -> Reply {
         parts.extend(port_text(app, &result.libraries, here));
         parts.extend(param_text(app, &result.libraries, here));
         parts.extend(module_type_text(app, &result.libraries, here));
-        parts.extend(thread_text(app, here));
+        parts.extend(thread_text(app, &result.libraries, here));
     }
     parts.extend(findings_text(&result, here));
     if parts.is_empty() {
@@ -117,6 +117,9 @@ fn param_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<String
                 (None, Some(hi)) => text.push_str(&format!("\n\nat most {hi}")),
                 (None, None) => {}
             }
+            if let Some(doc) = param_doc(libs, decl) {
+                text.push_str(&format!("\n\n{doc}"));
+            }
             if let Some(d) = &decl.default {
                 text.push_str(&format!("\n\ndefault: `{d}`"));
             }
@@ -130,6 +133,11 @@ fn param_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<String
                 ParamSource::Cmdline => "given on the command line (`--param`)".to_string(),
             };
             text.push_str(&format!("\n\nvalue: `{}` ({source})", value.text));
+            if let Some((name, _)) = &value.cmdline {
+                text.push_str(&format!(
+                    "; `--param {name}=VALUE` at start-up overrides it"
+                ));
+            }
             return Some(text);
         }
     }
@@ -158,8 +166,21 @@ fn module_type_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<
     Some(text)
 }
 
-/// A thread container's name: its period or trigger, and how many modules it runs.
-fn thread_text(app: &Application, here: Span) -> Option<String> {
+/// The `doc` of a parameter's declaration in its manifest.
+fn param_doc(libs: &LibrarySet, decl: &ferroc_compiler::library::ParamDecl) -> Option<String> {
+    let lib = libs.libraries.iter().find(|l| l.file == decl.span.file)?;
+    let mut found = None;
+    crate::navigate::walk(lib.root(), &mut |e| {
+        if found.is_none() && e.name.as_str() == "param" && e.value_span("name") == decl.span {
+            found = e.value("doc").map(str::to_string);
+        }
+    });
+    found
+}
+
+/// A thread container's name: its period or trigger, how many modules it runs, and
+/// its load from the declared budgets (the figure S102/S103 judge).
+fn thread_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<String> {
     let (i, e) =
         app.elements.iter().enumerate().find(|(_, e)| {
             matches!(e.kind, ElementKind::Thread { .. }) && covers(e.name_span, here)
@@ -188,10 +209,31 @@ fn thread_text(app: &Application, here: Span) -> Option<String> {
     let pool = pool
         .map(|n| format!(", a pool of {n} workers"))
         .unwrap_or_default();
-    Some(format!(
+    let mut text = format!(
         "**thread container** `{}` {how}{pool}; {modules} module(s)",
         app.path(id)
-    ))
+    );
+    use ferroc_compiler::checks::scheduling;
+    match scheduling::loads(app, libs, None)
+        .into_iter()
+        .find(|l| l.thread == id)
+    {
+        Some(load) => {
+            let total = scheduling::duration(load.total());
+            let with = load.budgets.len();
+            text.push_str(&format!(
+                "\n\nload: {total} per cycle from the budgets of {with} module(s)"
+            ));
+            if load.unbudgeted > 0 {
+                text.push_str(&format!(" ({} without a budget)", load.unbudgeted));
+            }
+            if let Some(u) = load.utilisation() {
+                text.push_str(&format!(", {} of the period", scheduling::percent(u)));
+            }
+        }
+        None => text.push_str("\n\nload: unknown (no module it runs declares a `budget`)"),
+    }
+    Some(text)
 }
 
 /// The findings at the cursor with their check's explanation (`ferroc explain`).

@@ -5,7 +5,7 @@
 use crate::convert::Spans;
 use crate::request::{self, Reply};
 use crate::server::Server;
-use ferroc_compiler::ir::Application;
+use ferroc_compiler::ir::{Application, ParamSource};
 use ferroc_compiler::library::LibrarySet;
 use ferroc_compiler::source::{SourceMap, Span};
 use ferroc_compiler::syntax::xml::{self, Element};
@@ -44,6 +44,7 @@ pub fn targets(result: &CheckResult, here: Span) -> Vec<Span> {
     if let Some(app) = &result.app {
         connection_ends(app, &result.libraries, here, &mut out);
         module_types(app, &result.libraries, here, &mut out);
+        config_entries(app, here, &mut out);
     }
     if out.is_empty() {
         group_types(&result.sources, &result.libraries, here, &mut out);
@@ -69,6 +70,20 @@ fn module_types(app: &Application, libs: &LibrarySet, here: Span, out: &mut Vec<
         if covers(m.type_span, here) {
             out.push(libs.get(m.library).module_types[m.type_index].span);
             return;
+        }
+    }
+}
+
+/// `config="file#/entry"` → the entry's `<value>` in the config file.
+fn config_entries(app: &Application, here: Span, out: &mut Vec<Span>) {
+    for (_, m) in app.modules() {
+        for value in &m.params {
+            if let ParamSource::Config(Ok((_, entry))) = &value.source {
+                if covers(value.source_span, here) {
+                    out.push(*entry);
+                    return;
+                }
+            }
         }
     }
 }
@@ -139,6 +154,14 @@ pub fn references(server: &Server, req: &Request) -> Reply {
         Ok(found) => found,
         Err(reply) => return reply,
     };
+    if let Some(found) = group_type_uses(&result.sources, here, p.context.include_declaration) {
+        let mut spans = Spans::new(&result.sources, server.enc);
+        let locations: Vec<Location> = found
+            .into_iter()
+            .filter_map(|s| spans.location(s))
+            .collect();
+        return Ok(Some(serde_json::to_value(locations).unwrap_or_default()));
+    }
     let Some(app) = &result.app else {
         return Ok(Some(serde_json::json!([])));
     };
@@ -175,6 +198,40 @@ pub fn references(server: &Server, req: &Request) -> Reply {
         }
     }
     Ok(Some(serde_json::to_value(locations).unwrap_or_default()))
+}
+
+/// References of a group type, from its `<group-type name>` or from an instance's
+/// `<group type>`: the `type=` of every `<group>` of the model's files that names it
+/// (and the declaration's name when asked). `None`: the cursor is on neither.
+fn group_type_uses(sources: &SourceMap, here: Span, declaration: bool) -> Option<Vec<Span>> {
+    let text = &sources.get(here.file).text;
+    let root = xml::parse(here.file, text, 256).ok()?;
+    let at = find_element(&root, here, &|e| {
+        matches!(e.name.as_str(), "group" | "group-type")
+    })?;
+    let attr = if at.name.as_str() == "group" {
+        "type"
+    } else {
+        "name"
+    };
+    let named = at.attr(attr).filter(|a| covers(a.value_span, here))?;
+    let wanted = named.value.rsplit('.').next().unwrap_or(named.value);
+    let mut out = Vec::new();
+    for (id, _) in sources.files() {
+        let Ok(tree) = xml::parse(id, &sources.get(id).text, 256) else {
+            continue;
+        };
+        walk(&tree, &mut |e| {
+            let short = |v: &str| v.rsplit('.').next() == Some(wanted);
+            if e.name.as_str() == "group" && e.value("type").is_some_and(short) {
+                out.push(e.value_span("type"));
+            }
+            if declaration && e.name.as_str() == "group-type" && e.value("name") == Some(wanted) {
+                out.push(e.value_span("name"));
+            }
+        });
+    }
+    Some(out)
 }
 
 /// A use in the model: a connection end (the instance and the port declaration it

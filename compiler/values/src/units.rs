@@ -68,6 +68,15 @@ fn dim(m: i8, kg: i8, s: i8, a: i8, k: i8, rad: i8) -> Dimension {
     [m, kg, s, a, k, 0, 0, rad]
 }
 
+/// Units an editor offers as completions (`ferroc lsp`): the symbols [`parse_unit`]
+/// reads and the prefixed and compound units robot models use most. Each parses (a
+/// test says so); [`parse_unit`] accepts many more.
+pub const SUGGESTED: &[&str] = &[
+    "m", "mm", "cm", "km", "m/s", "mm/s", "km/h", "m/s^2", "rad", "rad/s", "rad/s^2", "deg",
+    "deg/s", "rpm", "s", "ms", "us", "ns", "min", "h", "Hz", "kHz", "kg", "g", "N", "N*m", "Pa",
+    "kPa", "bar", "J", "W", "kW", "V", "mV", "A", "mA", "C", "Ohm", "K", "mol", "cd", "L", "%",
+];
+
 /// Unprefixed symbols: (symbol, dimension, scale, accepts SI prefixes).
 fn symbol(sym: &str) -> Option<(Dimension, f64, bool)> {
     use std::f64::consts::PI;
@@ -316,6 +325,16 @@ mod tests {
     fn rejects_nonsense() {
         for bad in ["", "furlong", "m/", "m^x", "xm", "m^100000", "/"] {
             assert!(parse_unit(bad).is_err(), "{bad}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod suggested_tests {
+    #[test]
+    fn every_suggested_unit_parses() {
+        for u in super::SUGGESTED {
+            assert!(super::parse_unit(u).is_ok(), "{u}");
         }
     }
 }
