@@ -26,6 +26,7 @@ pub mod keys;
 pub mod lockstep;
 
 use ferroc_runtime::link::transport::{Addresses, Connection, Delivery, Network, PartLinks};
+use ferroc_terminal::engine_error;
 use std::path::Path;
 use zenoh::Wait;
 
