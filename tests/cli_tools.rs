@@ -34,7 +34,7 @@ fn completion_scripts_parse_in_their_shells_and_know_the_commands() {
     ] {
         let (code, script, err) = ferroc(&["completions", shell]);
         assert_eq!(code, 0, "{err}");
-        for word in ["check", "inspect", "completions", "--lockstep", "--color"] {
+        for word in ["check", "inspect", "completions", "lockstep", "color"] {
             assert!(script.contains(word), "{shell}: no `{word}`");
         }
         std::fs::write(dir.join(file), &script).unwrap();
