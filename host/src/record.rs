@@ -11,7 +11,7 @@ use ferroc_runtime::builder::Registry;
 use std::path::{Path, PathBuf};
 
 /// Sets the log folder, whether files that are not recordings may be replaced
-/// (`--force`) and the parts of the plan's modules.
+/// (`--force`), the parts of the plan's modules and the units of their ports.
 pub fn configure(app: &Application, plan: &Plan, log_dir: Option<PathBuf>, force: bool) {
     ferroc_std::recording::set_log_dir(log_dir);
     ferroc_std::recording::set_overwrite(force);
@@ -24,6 +24,7 @@ pub fn configure(app: &Application, plan: &Plan, log_dir: Option<PathBuf>, force
             })
             .collect(),
     );
+    ferroc_std::recording::set_units(&plan.units);
 }
 
 /// `--record FILE`: a `ferroc_std.Recorder` at the end of every thread container,
