@@ -47,9 +47,6 @@ unconnected call fails at once (D111)."
     /// run differ from the next (X106: modules reading the wall clock or the OS's randomness)
     #[arg(long)]
     lockstep: bool,
-    /// Colour in human output: auto, always, never
-    #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
-    color: ColorChoice,
     /// FINROC files: the checkout root their group and config files are looked up in
     /// (default: the nearest folder above holding a make.xml, else the file's folder)
     #[arg(long, value_name = "DIR")]
@@ -77,13 +74,6 @@ enum Format {
 #[derive(Clone, Copy, ValueEnum)]
 enum DenyLevel {
     Warnings,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum ColorChoice {
-    Auto,
-    Always,
-    Never,
 }
 
 /// Model files under the given paths: files as given, folders searched recursively
@@ -212,7 +202,7 @@ pub fn run(args: CheckArgs) -> ExitCode {
         })
         .collect();
     let out = match args.format {
-        Format::Human => human(&reports, &results, &skipped, args.color),
+        Format::Human => human(&reports, &results, &skipped),
         format => {
             let out = machine(format, &reports, &tool_errors);
             // Machine formats keep stdout to themselves; what was skipped goes to stderr.
@@ -323,16 +313,9 @@ fn human(
     reports: &[(String, ModelReport<'_>)],
     results: &[(String, CheckResult)],
     skipped: &[(PathBuf, String)],
-    color: ColorChoice,
 ) -> String {
     let mut out = String::new();
-    let color = match color {
-        ColorChoice::Always => true,
-        ColorChoice::Never => false,
-        ColorChoice::Auto => {
-            std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none()
-        }
-    };
+    let color = crate::color::enabled(crate::color::Stream::Stdout);
     for (_, r) in reports {
         report::human::render(r, color, &mut out);
     }

@@ -3,7 +3,7 @@
 //! (with the program's token), watch a port for a while, or serve it all over the
 //! Foxglove WebSocket protocol (`--foxglove`, inspect/src/foxglove/).
 
-use ferroc_compiler::diagnostic::escape_controls;
+use ferroc_compiler::diagnostic::{did_you_mean, escape_controls};
 use ferroc_inspect::client::{part_of, Answer, Client};
 use ferroc_inspect::request::{key, What};
 use ferroc_inspect::web;
@@ -119,10 +119,47 @@ pub fn run(args: InspectArgs) -> ExitCode {
     };
     match result {
         Ok(()) | Err(Failure::ReaderGone) => ExitCode::SUCCESS,
-        Err(Failure::Refused(e)) => fail(1, &e),
+        Err(Failure::Refused(e)) => {
+            eprintln!("error: {}", escape_controls(&e));
+            if let Some(near) = nearest_path(&client, &args) {
+                eprintln!("  help: did you mean `{}`?", escape_controls(&near));
+            }
+            ExitCode::from(1)
+        }
         Err(Failure::Output(code)) => code,
     }
 }
+
+/// For `--get`, `--set` and `--watch` of a path the programs do not have: the nearest
+/// path they do have (ports for --watch, parameters for --set, both for --get), by the
+/// compiler's "did you mean" (`ferroc check` suggests names the same way).
+fn nearest_path(client: &Client, args: &InspectArgs) -> Option<String> {
+    let (path, ports, params) = if let Some(p) = &args.get {
+        (p.as_str(), true, true)
+    } else if let Some(p) = &args.watch {
+        (p.as_str(), true, false)
+    } else {
+        let assignment = args.set.as_deref()?;
+        (assignment.split_once('=')?.0.trim(), false, true)
+    };
+    let trees = client.ask_once(&key(&args.app, "*", &What::Tree), None, TREE_TIMEOUT);
+    let mut known = Vec::new();
+    for tree in trees.ok()?.iter().filter_map(|a| a.parse::<Tree>().ok()) {
+        for m in tree.modules {
+            let names = (m.ports.iter().filter(|_| ports).map(|p| &p.name))
+                .chain(m.params.iter().filter(|_| params).map(|p| &p.name));
+            known.extend(names.map(|n| format!("{}/{n}", m.path)));
+        }
+    }
+    if known.iter().any(|k| k == path) {
+        return None; // it exists: the refusal was for another reason
+    }
+    did_you_mean(path, known.iter().map(String::as_str)).map(str::to_owned)
+}
+
+/// How long [`nearest_path`] waits for the element trees (the programs answered the
+/// failed request already, or did not at all).
+const TREE_TIMEOUT: Duration = Duration::from_secs(2);
 
 /// Why an action of `ferroc inspect` ended early.
 pub(crate) enum Failure {

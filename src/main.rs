@@ -18,11 +18,14 @@ macro_rules! eprintln {
 
 mod bundle;
 mod check;
+mod color;
+mod completions;
 mod finroc;
 mod graph;
 mod inspect;
 mod inspect_edit;
 mod log;
+mod man;
 mod new;
 mod runner;
 mod schedule;
@@ -47,6 +50,9 @@ Examples:\n  ferroc check models/crash_course.xml\n  ferroc check models/ --form
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Colour: auto (on a terminal, unless NO_COLOR is set), always, never
+    #[arg(long, global = true, value_enum, default_value_t, value_name = "WHEN")]
+    color: color::ColorChoice,
 }
 
 #[derive(Subcommand)]
@@ -178,6 +184,12 @@ completion, document symbols and quick fixes from `did you mean` hints."
         #[arg(long)]
         list: bool,
     },
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell)
+    #[command(long_about = completions::LONG_ABOUT)]
+    Completions(completions::CompletionsArgs),
+    /// Print the manual page of ferroc or of one command (roff), or write them all
+    #[command(long_about = man::LONG_ABOUT)]
+    Man(man::ManArgs),
 }
 
 fn main() -> ExitCode {
@@ -185,6 +197,7 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => return parse_error(&e),
     };
+    color::choose(cli.color);
     match cli.command {
         Command::Check(args) => check::run(args),
         Command::Schedule(args) => schedule::run(args),
@@ -199,6 +212,8 @@ fn main() -> ExitCode {
         Command::Inspect(args) => inspect::run(args),
         Command::Explain { code, list } => explain(code, list),
         Command::Lsp { lib_path, .. } => lsp(&lib_path),
+        Command::Completions(args) => completions::run(&args),
+        Command::Man(args) => man::run(&args),
     }
 }
 
@@ -206,10 +221,11 @@ fn main() -> ExitCode {
 /// like any report (a full disk is exit code 2, not a silent 0), usage errors to
 /// standard error with clap's exit code (2).
 fn parse_error(e: &clap::Error) -> ExitCode {
-    use std::io::IsTerminal;
+    use color::{ColorChoice, Stream};
+    let chosen = ColorChoice::from_args(std::env::args_os().skip(1));
     if e.use_stderr() {
         let text = e.render();
-        let text = if std::io::stderr().is_terminal() {
+        let text = if chosen.colours(Stream::Stderr) {
             text.ansi().to_string()
         } else {
             text.to_string()
@@ -218,7 +234,7 @@ fn parse_error(e: &clap::Error) -> ExitCode {
         return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2));
     }
     let text = e.render();
-    let text = if std::io::stdout().is_terminal() {
+    let text = if chosen.colours(Stream::Stdout) {
         text.ansi().to_string()
     } else {
         text.to_string()

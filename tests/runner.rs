@@ -97,19 +97,52 @@ fn write_library(dir: &Path, package: &str, lib: &str) {
     std::fs::write(dir.join("beeper.xml"), model("1")).unwrap();
 }
 
-/// The runner executable whose generated main.rs links the library `library` from `dir`.
+/// The (plain) runner executable whose generated main.rs links the library from `dir`.
 fn runner_of(dir: &Path) -> PathBuf {
     let dir = dir.canonicalize().unwrap();
     let generated = target().join("ferroc-runner");
     for entry in std::fs::read_dir(&generated).unwrap() {
         let package = entry.unwrap().path();
         let toml = std::fs::read_to_string(package.join("Cargo.toml")).unwrap_or_default();
-        if toml.contains(&format!("path = {:?}", dir.to_str().unwrap())) {
+        if toml.contains(&format!("path = {:?}", dir.to_str().unwrap()))
+            && toml.contains("ferroc-runner = { path = ")
+        {
             let key = package.file_name().unwrap().to_str().unwrap().to_string();
             return target().join("debug").join(format!("ferroc-runner-{key}"));
         }
     }
     panic!("no runner links {}", dir.display());
+}
+
+/// The runner refuses a plan of another layout and ferroc with what to do, and
+/// deletes it; without a plan it says what it is.
+fn a_plan_of_another_version_is_refused(exe: &Path, dir: &Path) {
+    let plan = dir.join("old-plan.json");
+    std::fs::write(
+        &plan,
+        r#"{"format":"ferroc-run-plan","version":999,"ferroc":"9.9.9","modules":[]}"#,
+    )
+    .unwrap();
+    let out = Command::new(exe)
+        .args(["run", "--plan"])
+        .arg(&plan)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("layout version 999 (written by ferroc 9.9.9); this runner reads version 1"),
+        "{err}"
+    );
+    assert!(
+        err.contains("help: run the model with `ferroc run`"),
+        "{err}"
+    );
+    assert!(!plan.exists(), "the refused plan is left behind");
+    let out = Command::new(exe).arg("beeper.xml").output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("this program is a ferroc runner"), "{err}");
 }
 
 fn modified(path: &Path) -> std::time::SystemTime {
@@ -128,6 +161,7 @@ fn a_library_written_outside_ferroc_runs_checks_and_rebuilds_only_when_its_crate
     assert!(err.contains("p/t: 3 cycles"), "{err}");
     let exe = runner_of(&dir);
     let built = modified(&exe);
+    a_plan_of_another_version_is_refused(&exe, &dir);
 
     let (code, _, err) = ferroc_in(&dir, &["types", "export", "--check", "--lib-path", "."]);
     assert_eq!(code, 0, "{err}");

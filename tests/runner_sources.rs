@@ -90,7 +90,7 @@ fn a_crate_named_by_version_is_fetched_by_cargo_and_a_failed_fetch_points_at_the
     // The runner asks for the package by version, not by path.
     let line = format!("library_0 = {{ package = \"{package}\", version = \"0.3\" }}");
     let toml = runner_toml_with(&line).unwrap_or_else(|| panic!("no runner says {line}"));
-    assert!(toml.contains("ferroc-host = { path = "), "{toml}");
+    assert!(toml.contains("ferroc-runner = { path = "), "{toml}");
     // cargo's reason first, then ours at the manifest.
     assert!(
         err.contains(&format!("no matching package named `{package}`")),

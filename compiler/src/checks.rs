@@ -55,6 +55,13 @@ pub static REGISTRY: &[&CheckInfo] = &[
     &ferroc_checks::parameters::p108_invalid_pin_map::CHECK,
     &ferroc_checks::parameters::p109_const_value_type::CHECK,
     &ferroc_checks::parameters::p110_value_without_unit::CHECK,
+    &ferroc_checks::ros2::r101_invalid_ros2_end::CHECK,
+    &ferroc_checks::ros2::r102_ros2_type_mismatch::CHECK,
+    &ferroc_checks::ros2::r103_ros2_unit_convention::CHECK,
+    &ferroc_checks::ros2::r104_invalid_ros2_name::CHECK,
+    &ferroc_checks::ros2::r105_topic_type_conflict::CHECK,
+    &ferroc_checks::ros2::r106_ros2_qos_incompatible::CHECK,
+    &ferroc_checks::ros2::r107_ros2_topic_without_publisher::CHECK,
     &ferroc_checks::behaviour::b101_meta_constant_out_of_range::CHECK,
     &ferroc_checks::behaviour::b102_meta_input_from_number::CHECK,
     &ferroc_checks::behaviour::b103_never_stimulated::CHECK,
@@ -137,7 +144,7 @@ mod tests {
             assert!(seen.insert(c.code), "duplicate code {}", c.code);
             assert!(seen.insert(c.name), "duplicate name {}", c.name);
             let mut chars = c.code.chars();
-            assert!("MTPLBDSXF".contains(chars.next().unwrap()), "{}", c.code);
+            assert!("MTPLBDSXFR".contains(chars.next().unwrap()), "{}", c.code);
             assert!(
                 c.code.len() == 4 && chars.all(|d| d.is_ascii_digit()),
                 "{}",

@@ -231,21 +231,22 @@ pub fn describe(inspector: &Inspector, plan: &Plan, result: &CheckResult) {
 
 /// The plan difference as runtime calls.
 fn apply_diff(live: &mut Live, d: &diff::PlanDiff, new: &Plan) -> Result<Vec<String>, String> {
-    let added: Vec<&plan::PlannedModule> = d.added.iter().map(|&i| &new.modules[i]).collect();
+    let added: Vec<ferroc_runner::plan::Module> = (d.added.iter())
+        .map(|&i| crate::from_plan::module(&new.modules[i], None))
+        .collect();
     let parts: Vec<_> = (added.iter())
         .map(|m| {
             (
-                crate::from_plan::params_of(m),
-                crate::from_plan::queues_of(m),
-                crate::from_plan::ports_of(m),
+                ferroc_runner::from_plan::queues_of(m),
+                ferroc_runner::from_plan::ports_of(m),
             )
         })
         .collect();
     let add = (added.iter().zip(&parts))
-        .map(|(m, (params, queues, ports))| ModuleSpec {
+        .map(|(m, (queues, ports))| ModuleSpec {
             path: &m.path,
             type_name: &m.type_name,
-            params,
+            params: &m.params,
             queues,
             ports,
             violations: ViolationPolicy::parse(&m.ib2c_violations).unwrap_or_default(),
@@ -271,7 +272,10 @@ fn apply_diff(live: &mut Live, d: &diff::PlanDiff, new: &Plan) -> Result<Vec<Str
             .map(|&i| {
                 let t = &new.threads[i];
                 let steps = (t.steps.iter())
-                    .map(|(p, k)| (p.clone(), crate::from_plan::step_kind(k)))
+                    .map(|(p, k)| {
+                        let step = crate::from_plan::step(k);
+                        (p.clone(), ferroc_runner::from_plan::step_kind(step))
+                    })
                     .collect();
                 (t.path.clone(), steps)
             })

@@ -1,101 +1,147 @@
-//! A plan's pieces as the runtime's Builder takes them: values, modules' parameters,
-//! queues and port groups, steps, thread settings, conversions and links. Shared by the
-//! start of `ferroc run` (`build.rs`), by structural edits (`edit.rs`) and by the
-//! bundle, which writes the same as source.
+//! The compiler's plan as a run plan (`ferroc_runner::plan`): what a runner is handed,
+//! and, piece by piece, what structural edits (`edit.rs`) and the bundle take from it.
+//! The runtime's view of each piece is `ferroc_runner::from_plan`'s, the one
+//! implementation.
 
-use ferroc_compiler::plan;
-use ferroc_compiler::schedule::StepKind as PlanStep;
+use ferroc_compiler::ir::Application;
+use ferroc_compiler::library::PortDir;
+use ferroc_compiler::plan::{self, Plan};
+use ferroc_compiler::schedule::StepKind;
 use ferroc_inspect::param_value::runtime_value;
-use ferroc_runtime::builder::{Conversion, StepKind};
+use ferroc_runner::plan as run;
 use ferroc_runtime::container::ThreadOptions;
-use ferroc_runtime::link::{LinkSpec, Sharing};
-use ferroc_runtime::module::{Direction, PortGroup, Value};
-use ferroc_runtime::port::{OnFull, QueueConfig, WaitMode};
-use std::time::Duration;
+use ferroc_runtime::module::Direction;
 
-/// Priority and CPU of a planned thread. Model priorities are "higher runs first" like
-/// SCHED_FIFO's, whose range is 1–99 on Linux; values beyond are clamped to it.
-pub fn thread_options(t: &plan::PlannedThread) -> ThreadOptions {
-    ThreadOptions {
-        priority: t.priority.map(|p| p.clamp(1, 99) as i32),
-        cpu: t.cpu.map(|c| c as usize),
+/// The run plan of `plan` (of the checked `app`), with `app`'s name and seed, and
+/// default run options (the caller sets them).
+pub fn run_plan(plan: &Plan, app: &Application) -> run::RunPlan {
+    let mut out = run::RunPlan::new(&app.name);
+    out.seed = app.seed;
+    out.modules = (plan.modules.iter())
+        .map(|m| {
+            let part = app.element(m.element).part;
+            module(m, part.map(|p| app.element(p).name.clone()))
+        })
+        .collect();
+    out.connections = plan.connections.iter().map(connection).collect();
+    out.calls = (plan.calls.iter())
+        .map(|c| run::Call {
+            client: c.client.clone(),
+            service: c.service.clone(),
+            link: c.link.as_ref().map(|l| run::CallLink {
+                id: l.id,
+                client_part: l.client_part.clone(),
+                server_part: l.server_part.clone(),
+            }),
+        })
+        .collect();
+    out.param_links = (plan.param_links.iter())
+        .map(|l| run::ParamLink {
+            from: l.from.clone(),
+            to: l.to.clone(),
+            scale: l.scale,
+            link: l.link.as_ref().map(link),
+        })
+        .collect();
+    out.threads = plan.threads.iter().map(thread).collect();
+    out.locks = run::Locks {
+        resources: plan.locks.resources.clone(),
+        binds: plan.locks.binds.clone(),
+        orders: plan.locks.orders.clone(),
+    };
+    out.units = plan.units.clone();
+    out
+}
+
+/// A planned module, in the part `part`.
+pub fn module(m: &plan::PlannedModule, part: Option<String>) -> run::Module {
+    run::Module {
+        path: m.path.clone(),
+        type_name: m.type_name.clone(),
+        part,
+        params: (m.params.iter())
+            .map(|(n, v)| (n.clone(), runtime_value(v)))
+            .collect(),
+        queues: m.queues.clone(),
+        ports: (m.ports.iter())
+            .map(|g| run::PortGroup {
+                name: g.name.clone(),
+                dir: match g.dir {
+                    PortDir::In => Direction::In,
+                    PortDir::Out => Direction::Out,
+                },
+                ty: g.ty.clone(),
+                count: g.count,
+            })
+            .collect(),
+        ib2c_violations: m.ib2c_violations.clone(),
+    }
+}
+
+fn connection(c: &plan::PlannedConnection) -> run::Connection {
+    run::Connection {
+        from: c.from.clone(),
+        to: c.to.clone(),
+        select: (c.select.iter())
+            .map(|p| match p {
+                plan::Part::Field(f) => run::Part::Field(f.clone()),
+                plan::Part::Index(i) => run::Part::Index(*i),
+            })
+            .collect(),
+        scale: c.scale,
+        offset: c.offset,
+        link: c.link.as_ref().map(link),
+        local: c.local,
+    }
+}
+
+/// A planned link between parts.
+pub fn link(l: &plan::PlannedLink) -> run::Link {
+    run::Link {
+        id: l.id,
+        from_part: l.from_part.clone(),
+        to_part: l.to_part.clone(),
+        ty: l.ty.clone(),
+        sharing: match l.sharing {
+            plan::LinkSharing::OnChange { min_interval } => {
+                run::LinkSharing::OnChange { min_interval }
+            }
+            plan::LinkSharing::Periodic { period } => run::LinkSharing::Periodic { period },
+        },
+        reliable: l.reliable,
+        deadline: l.deadline,
+    }
+}
+
+/// A planned thread container.
+pub fn thread(t: &plan::PlannedThread) -> run::Thread {
+    run::Thread {
+        path: t.path.clone(),
+        period: t.period,
+        continuous: t.continuous,
         wait: match t.wait {
-            plan::Wait::Park => WaitMode::Park,
-            plan::Wait::Spin => WaitMode::Spin,
-            plan::Wait::Adaptive => WaitMode::Adaptive,
+            plan::Wait::Park => run::Wait::Park,
+            plan::Wait::Spin => run::Wait::Spin,
+            plan::Wait::Adaptive => run::Wait::Adaptive,
         },
+        priority: t.priority,
+        cpu: t.cpu,
+        steps: (t.steps.iter())
+            .map(|(p, k)| (p.clone(), step(k)))
+            .collect(),
     }
 }
 
-/// What a planned connection does to values (the bundle writes the same as source).
-pub fn conversion(c: &plan::PlannedConnection) -> Conversion {
-    c.select.iter().fold(
-        Conversion::linear(c.scale, c.offset),
-        |conv, part| match part {
-            plan::Part::Field(f) => conv.field(f),
-            plan::Part::Index(i) => conv.index(*i as usize),
-        },
-    )
-}
-
-/// The runtime's description of a planned link.
-pub fn link_spec(link: &plan::PlannedLink) -> LinkSpec<'_> {
-    let seconds = |s: f64| Duration::from_secs_f64(s.clamp(0.0, 1e9));
-    LinkSpec {
-        id: link.id,
-        from_part: &link.from_part,
-        to_part: &link.to_part,
-        model_type: &link.ty,
-        sharing: match link.sharing {
-            plan::LinkSharing::OnChange { min_interval } => Sharing::OnChange {
-                min_interval: seconds(min_interval),
-            },
-            plan::LinkSharing::Periodic { period } => Sharing::Periodic(seconds(period)),
-        },
-        reliable: link.reliable,
-        deadline: link.deadline.map(seconds),
-    }
-}
-
-/// The parameter values of a planned module, as the runtime takes them.
-pub fn params_of(m: &plan::PlannedModule) -> Vec<(String, Value)> {
-    (m.params.iter())
-        .map(|(n, v)| (n.clone(), runtime_value(v)))
-        .collect()
-}
-
-/// The input queues of a planned module.
-pub fn queues_of(m: &plan::PlannedModule) -> Vec<(String, QueueConfig)> {
-    (m.queues.iter())
-        .map(|(port, n, policy)| {
-            let on_full = match policy.as_str() {
-                "drop-oldest" => OnFull::DropOldest,
-                "drop-newest" => OnFull::DropNewest,
-                _ => OnFull::Block,
-            };
-            (port.clone(), QueueConfig::new(*n as usize).on_full(on_full))
-        })
-        .collect()
-}
-
-/// The flexible port groups of a planned module.
-pub fn ports_of(m: &plan::PlannedModule) -> Vec<PortGroup<'_>> {
-    (m.ports.iter())
-        .map(|g| {
-            let dir = match g.dir {
-                ferroc_compiler::library::PortDir::In => Direction::In,
-                ferroc_compiler::library::PortDir::Out => Direction::Out,
-            };
-            PortGroup::new(&g.name, dir, &g.ty, g.count)
-        })
-        .collect()
-}
-
-/// The runtime's step kind of a planned step.
-pub fn step_kind(kind: &PlanStep) -> StepKind {
+/// A planned step.
+pub fn step(kind: &StepKind) -> run::Step {
     match kind {
-        PlanStep::Update => StepKind::Update,
-        PlanStep::Sense => StepKind::Sense,
-        PlanStep::Control => StepKind::Control,
+        StepKind::Update => run::Step::Update,
+        StepKind::Sense => run::Step::Sense,
+        StepKind::Control => run::Step::Control,
     }
+}
+
+/// Priority, CPU and waiting of a planned thread, as the runtime takes them.
+pub fn thread_options(t: &plan::PlannedThread) -> ThreadOptions {
+    ferroc_runner::from_plan::thread_options(&thread(t))
 }

@@ -1,17 +1,19 @@
-//! What depends on which module types are linked in, shared by the `ferroc` CLI and the
-//! runner programs it generates: building a checked model's plan in the runtime
-//! ([`build`]), `ferroc run` ([`run`]) and `ferroc types` ([`types`]).
+//! `ferroc run` ([`run`]) and `ferroc types` ([`types`]) with any set of module types.
 //!
 //! The `ferroc` CLI links only the standard library (`ferroc_std`); for a model using
 //! other libraries it generates a small runner program that links exactly their crates
-//! and calls [`main`] with a registry of their types. Both run the same code.
+//! (src/runner/). A runner with `--inspect` calls [`main`] with a registry of their
+//! types and runs the same code as the CLI.
+//!
+//! What a runner links is `ferroc_runner` (no compiler): this crate is the CLI's side
+//! of a run, which checks and plans the model and compares the manifests with the
+//! code, and the `--inspect` runner's (structural edits check the edited model).
 //!
 //! Modules: `check_first` (a command checks its model first and stops on errors),
-//! `from_plan` (a plan's pieces as the runtime takes them), `build` (plan → Builder
-//! calls), `run` (the command), `record` (`--log-dir`, `--record`), `inspect` and `edit`
-//! (`--inspect`: serving the inspector, structural edits as model edits), `interface`
-//! (manifest ↔ code comparison), `types` (`ferroc types`), `sources` (spans as
-//! `FILE:LINE:COL`, the model's text), `output` (writing standard output).
+//! `from_plan` (the compiler's plan as a run plan), `run` (the command), `inspect` and
+//! `edit` (`--inspect`: serving the inspector, structural edits as model edits),
+//! `interface` (manifest ↔ code comparison), `types` (`ferroc types`), `sources`
+//! (spans as `FILE:LINE:COL`, the model's text).
 
 #![forbid(unsafe_code)]
 
@@ -28,20 +30,17 @@ macro_rules! eprintln {
     };
 }
 
-pub mod build;
 pub mod check_first;
 pub mod edit;
 pub mod from_plan;
 pub mod inspect;
 pub mod interface;
-pub mod output;
-pub mod record;
 pub mod run;
 pub mod sources;
 pub mod types;
 
-pub use ferroc_runtime;
-pub use mimalloc;
+pub use ferroc_runner::output;
+pub use ferroc_runner::{self, ferroc_runtime, mimalloc};
 
 /// The standard library's manifest, built into the tool.
 pub const FERROC_STD: &str = include_str!("../../components/ferroc_std.lib.xml");
@@ -63,25 +62,29 @@ pub fn loader_options(lib_path: &[PathBuf], allow_outside_includes: bool) -> Opt
     }
 }
 
-/// The commands a runner answers: `run` and `types`, with `ferroc`'s arguments.
+/// The command an inspecting runner answers: `run`, with `ferroc`'s arguments.
 #[derive(clap::Parser)]
 #[command(
     name = "ferroc",
-    about = "A ferroc runner: runs models with the module types linked in"
+    about = "A ferroc runner: runs models with the module types linked in, inspected"
 )]
 struct Runner {
     #[command(subcommand)]
     command: RunnerCommand,
+    /// ferroc's `--color` (its command line is handed on as it is); a runner prints
+    /// nothing in colour
+    #[arg(long, global = true, hide = true)]
+    color: Option<String>,
 }
 
 #[derive(clap::Subcommand)]
 enum RunnerCommand {
     Run(run::RunArgs),
-    Types(types::TypesArgs),
 }
 
-/// The `main` of a generated runner: `registry` holds the standard library's types and
-/// those of the libraries linked in. `ferroc` passes its own command line on.
+/// The `main` of a generated runner for `ferroc run --inspect`: `registry` holds the
+/// standard library's types and those of the libraries linked in. `ferroc` passes its
+/// own command line on.
 pub fn main(registry: Registry) -> ExitCode {
     main_from(registry, std::env::args_os())
 }
@@ -94,6 +97,5 @@ pub fn main_from(
     let runner = <Runner as clap::Parser>::parse_from(args);
     match runner.command {
         RunnerCommand::Run(args) => run::run(args, &registry),
-        RunnerCommand::Types(args) => types::run(args, &registry),
     }
 }

@@ -1,4 +1,5 @@
-//! `ferroc run`: check a model, build it in the runtime, run it, stop cleanly.
+//! `ferroc run`: check a model, plan it, compare the manifests with the module types'
+//! code, and run the plan (`ferroc_runner`), here or in a runner.
 
 use crate::inspect::Serve;
 use crate::sources::{at, model_text};
@@ -7,14 +8,14 @@ use ferroc_compiler::library::LibrarySet;
 use ferroc_compiler::plan::{self, Plan};
 use ferroc_compiler::source::SourceMap;
 use ferroc_compiler::CheckResult;
-use ferroc_runtime::builder::{BuildError, Live, Lockstep, Registry, RunningApp, StartOptions};
+use ferroc_runner::plan::{RunOptions, RunPlan};
+use ferroc_runtime::builder::{BuildError, Live, Registry, RunningApp, StartOptions};
 use ferroc_runtime::inspect::Catalogue;
+use ferroc_runtime::module::Interface;
 use ferroc_runtime::supervise;
-use std::io::IsTerminal;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::Duration;
 
 #[derive(clap::Args)]
@@ -75,6 +76,20 @@ pub struct RunArgs {
     /// Allow --inspect on an address other computers can reach (prints a warning)
     #[arg(long, requires = "inspect")]
     pub inspect_public: bool,
+    /// The summary at the end: human (on standard error), or also json: one line on
+    /// standard output after the run (docs/run-summary.md)
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    pub format: Format,
+}
+
+/// How `ferroc run` reports its end.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// The summary on standard error
+    #[default]
+    Human,
+    /// Also one line of JSON on standard output (docs/run-summary.md)
+    Json,
 }
 
 fn parse_duration(text: &str) -> Result<Duration, String> {
@@ -89,9 +104,21 @@ fn parse_duration(text: &str) -> Result<Duration, String> {
 /// The module types built into `ferroc` itself: the standard library's. A runner adds
 /// those of the libraries it links.
 pub fn registry() -> Registry {
-    let mut registry = Registry::new();
-    ferroc_std::register(&mut registry);
-    registry
+    ferroc_runner::registry()
+}
+
+/// The interfaces of registered module types by name: what manifests are compared with
+/// (a runner's come from its `describe`).
+pub type Interfaces = BTreeMap<String, Interface>;
+
+/// The interfaces of every type of `registry`.
+pub fn interfaces_of(registry: &Registry) -> Interfaces {
+    Interfaces::from_iter(interface_list(ferroc_runner::interfaces(registry)))
+}
+
+/// `list` keyed by type name.
+pub fn interface_list(list: Vec<Interface>) -> impl Iterator<Item = (String, Interface)> {
+    list.into_iter().map(|i| (i.name.clone(), i))
 }
 
 /// The `--param NAME=VALUE` pairs, or the exit code of a malformed one (reported).
@@ -131,47 +158,93 @@ pub fn run(args: RunArgs, registry: &Registry) -> ExitCode {
     run_checked(args, &result, registry)
 }
 
-/// `ferroc run` of a model checked without errors.
+/// `ferroc run` of a model checked without errors, in this process.
 pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> ExitCode {
-    let cmdline = match cmdline_params(&args) {
-        Ok(c) => c,
-        Err(code) => return code,
-    };
-    let Some(app) = result.app.as_ref() else {
-        return ExitCode::from(1);
-    };
-    if let Err(code) = refuse_unknown_params(&args, app, &cmdline) {
-        return code;
-    }
-    let (plan, registry) = match plan_with_types(&args, app, result, registry, &cmdline) {
+    let (plan, run_plan) = match plan_run(&args, result, &interfaces_of(registry)) {
         Ok(planned) => planned,
         Err(code) => return code,
     };
+    if args.inspect.is_none() {
+        return ferroc_runner::run::run(run_plan, registry);
+    }
+    run_inspected(args, result, plan, run_plan, registry)
+}
+
+/// The run plan a runner is handed (and the compiler's plan it came from): the
+/// `--param`s known, nothing the runtime cannot realise, every module type used
+/// registered with the interface its manifest declares (`interfaces`: the types the
+/// runner registers); else the problems are reported and the exit code given.
+pub fn plan_run(
+    args: &RunArgs,
+    result: &CheckResult,
+    interfaces: &Interfaces,
+) -> Result<(Plan, RunPlan), ExitCode> {
+    let cmdline = cmdline_params(args)?;
+    let Some(app) = result.app.as_ref() else {
+        return Err(ExitCode::from(1));
+    };
+    refuse_unknown_params(args, app, &cmdline)?;
+    let (plan, unsupported) = plan::plan(app, &result.libraries, &cmdline);
+    for p in &unsupported {
+        eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);
+    }
+    let agree = interfaces_agree(&plan, interfaces, &result.libraries, &result.sources);
+    if let Err(lines) = &agree {
+        for line in lines {
+            eprintln!("{line}");
+        }
+    }
+    if !unsupported.is_empty() || agree.is_err() {
+        return Err(ExitCode::from(1));
+    }
     if args.lockstep {
         crate::check_first::print_lockstep_findings(result);
     }
-    // `--seed`, else the model's `<application seed>`, else one chosen and printed.
-    let seed = supervise::run_seed(args.seed.or(app.seed));
-    ferroc_std::recording::set_run_seed(seed);
-    let interrupted = interrupt_flag();
-    let start = StartOptions {
-        limit: args.cycles,
-        lockstep: args.lockstep.then(|| Lockstep {
-            periods: Vec::new(),
-            until: args.duration,
-        }),
-        network: None,
+    let mut run_plan = crate::from_plan::run_plan(&plan, app);
+    run_plan.seed = args.seed.or(app.seed);
+    run_plan.run = RunOptions {
+        duration: args.duration,
+        cycles: args.cycles,
+        lockstep: args.lockstep,
+        quiet: args.quiet,
+        log_dir: args.log_dir.clone(),
+        force: args.force,
+        record: args.record.clone(),
+        record_filter: args.record_filter.clone(),
+        format_json: args.format == Format::Json,
     };
-    let serve = args.inspect.as_deref().map(|address| Serve {
-        address,
+    Ok((plan, run_plan))
+}
+
+/// `ferroc run --inspect`: the run of [`ferroc_runner::run::run`] with the inspection
+/// server and structural edits (which check the edited model: the compiler is here).
+fn run_inspected(
+    args: RunArgs,
+    result: &CheckResult,
+    plan: Plan,
+    mut run_plan: RunPlan,
+    registry: &Registry,
+) -> ExitCode {
+    let Some(app) = result.app.as_ref() else {
+        return ExitCode::from(1);
+    };
+    let serve = Serve {
+        address: args.inspect.as_deref().unwrap_or_default(),
         public: args.inspect_public,
         app: &app.name,
-    });
-    if let Some(Err(e)) = serve.as_ref().map(crate::inspect::check_address) {
+    };
+    if let Err(e) = crate::inspect::check_address(&serve) {
         eprintln!("error: {e}");
         return ExitCode::from(2);
     }
-    let (running, inspection) = match start_app(&plan, &registry, seed, start, serve.is_some()) {
+    let registry = match ferroc_runner::run::prepare(&mut run_plan, registry) {
+        Ok(r) => r,
+        Err(code) => return code,
+    };
+    let seed = ferroc_runner::run::seed(&run_plan);
+    let interrupted = ferroc_runner::run::interrupt_flag();
+    let start = ferroc_runner::run::start_options(&run_plan.run);
+    let (running, catalogue, live) = match start_live(&run_plan, &registry, seed, start) {
         Ok(started) => started,
         Err(e) => {
             eprintln!("error: {e}");
@@ -179,26 +252,26 @@ pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> 
         }
     };
     // Kept until the run ends: dropping it stops serving.
-    let _server = match (&serve, inspection) {
-        (Some(serve), Some((catalogue, live))) => {
-            let running_model = editable(&args, result, &cmdline, &plan, live);
-            let started =
-                crate::inspect::start(serve, catalogue, &running, result, &registry, running_model);
-            match started {
-                Ok(server) => Some(server),
-                Err(e) => {
-                    eprintln!("error: --inspect: {e}");
-                    return ExitCode::from(1);
-                }
-            }
+    let cmdline = cmdline_params(&args).unwrap_or_default();
+    let running_model = editable(&args, result, &cmdline, &plan, live);
+    let started = crate::inspect::start(
+        &serve,
+        catalogue,
+        &running,
+        result,
+        &registry,
+        running_model,
+    );
+    let _server = match started {
+        Ok(server) => server,
+        Err(e) => {
+            eprintln!("error: --inspect: {e}");
+            return ExitCode::from(1);
         }
-        _ => None,
     };
-    let options = supervise::Options {
-        duration: args.duration.filter(|_| !args.lockstep),
-        status_line: !args.quiet && std::io::stderr().is_terminal(),
-    };
-    supervise::supervise(running, &interrupted, &options)
+    let options = ferroc_runner::run::supervise_options(&run_plan.run);
+    let (code, summary) = supervise::supervise_summarised(running, &interrupted, &options);
+    ferroc_runner::summary::finish(&run_plan, seed, &summary, code)
 }
 
 /// What structural edits of the running application (`--inspect`) start from: its
@@ -251,77 +324,24 @@ fn refuse_unknown_params(
     Ok(())
 }
 
-/// The plan of the model and the registry to build it with: what the runtime cannot
-/// realise and module types whose code differs from their manifests stop the run
-/// (exit code 1); loggers learn `--log-dir`; `--record` adds its recorders to the plan
-/// and their type to a copy of `registry` (the caller's stays as it is).
-fn plan_with_types(
-    args: &RunArgs,
-    app: &Application,
-    result: &CheckResult,
-    registry: &Registry,
-    cmdline: &[(String, String)],
-) -> Result<(Plan, Registry), ExitCode> {
-    let (mut plan, unsupported) = plan::plan(app, &result.libraries, cmdline);
-    for p in &unsupported {
-        eprintln!("{}: error: {}", at(&result.sources, p.span), p.what);
-    }
-    crate::record::configure(app, &plan, args.log_dir.clone(), args.force);
-    let mut registry = registry.clone();
-    let agree = interfaces_agree(&plan, &registry, &result.libraries, &result.sources);
-    if let Err(lines) = &agree {
-        for line in lines {
-            eprintln!("{line}");
-        }
-    }
-    if !unsupported.is_empty() || agree.is_err() {
-        return Err(ExitCode::from(1));
-    }
-    if let Some(file) = &args.record {
-        let added =
-            crate::record::add_recorders(&mut plan, &mut registry, file, &args.record_filter);
-        if let Err(e) = added {
-            eprintln!("error: {e}");
-            return Err(ExitCode::from(2));
-        }
-    }
-    Ok((plan, registry))
-}
-
-/// The flag Ctrl-C and SIGTERM set. Installed before any thread starts, so that a
-/// signal never finds the default handler.
-fn interrupt_flag() -> Arc<AtomicBool> {
-    let interrupted = Arc::new(AtomicBool::new(false));
-    let flag = interrupted.clone();
-    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
-        eprintln!("warning: Ctrl-C will not stop cleanly: {e}");
-    }
-    interrupted
-}
-
-/// Builds and starts the application. `inspected`: its structure stays changeable
-/// while it runs (edits), and its inspection catalogue and live handle come along.
-fn start_app(
-    plan: &Plan,
+/// Builds and starts the application with its structure changeable while it runs
+/// (edits); its inspection catalogue and live handle come along.
+fn start_live(
+    plan: &RunPlan,
     registry: &Registry,
     seed: u64,
     start: StartOptions,
-    inspected: bool,
-) -> Result<(RunningApp, Option<(Catalogue, Live)>), BuildError> {
-    let mut builder = crate::build::builder(plan, registry, seed)?;
-    if inspected {
-        let catalogue = builder.inspection();
-        let (app, live) = builder.start_live(start)?;
-        Ok((app, Some((catalogue, live))))
-    } else {
-        builder.start_with(start).map(|app| (app, None))
-    }
+) -> Result<(RunningApp, Catalogue, Live), BuildError> {
+    let mut builder = ferroc_runner::build::builder(plan, registry, seed)?;
+    let catalogue = builder.inspection();
+    let (app, live) = builder.start_live(start)?;
+    Ok((app, catalogue, live))
 }
 
 /// Refuses to run a module type whose Rust interface differs from its manifest.
 pub fn interfaces_agree(
     plan: &Plan,
-    registry: &Registry,
+    registry: &Interfaces,
     libs: &LibrarySet,
     sources: &SourceMap,
 ) -> Result<(), Vec<String>> {
@@ -331,14 +351,14 @@ pub fn interfaces_agree(
         if !seen.insert(m.type_name.as_str()) {
             continue;
         }
-        let Some(code) = registry.interface(&m.type_name) else {
+        let Some(code) = registry.get(&m.type_name) else {
             lines.push(not_registered(m, registry, libs, sources));
             continue;
         };
         let Some((_, manifest)) = libs.module_type(&m.type_name) else {
             continue;
         };
-        let differences = crate::interface::differences(manifest, &code);
+        let differences = crate::interface::differences(manifest, code);
         if !differences.is_empty() {
             lines.push(format!(
                 "{}: error: the Rust type `{}` does not implement the interface its manifest declares for `{}`:\n{}\n  \
@@ -365,7 +385,7 @@ pub fn interfaces_agree(
 /// lacks the `register` call (or the manifest names a type the crate does not have).
 fn not_registered(
     m: &plan::PlannedModule,
-    registry: &Registry,
+    registry: &Interfaces,
     libs: &LibrarySet,
     sources: &SourceMap,
 ) -> String {
@@ -375,7 +395,8 @@ fn not_registered(
     };
     let prefix = library.map(|l| format!("{}.", l.name)).unwrap_or_default();
     let mut same_library: Vec<&str> = registry
-        .names()
+        .keys()
+        .map(String::as_str)
         .filter(|n| !prefix.is_empty() && n.starts_with(&prefix))
         .collect();
     same_library.sort_unstable();
@@ -400,7 +421,7 @@ fn not_registered(
             at(sources, m.span),
             m.type_name,
             m.path,
-            registry.names().collect::<Vec<_>>().join(", ")
+            registry.keys().cloned().collect::<Vec<_>>().join(", ")
         ),
     }
 }

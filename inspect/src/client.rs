@@ -2,6 +2,7 @@
 //! queries of [`request`](crate::request) and reading their JSON answers.
 
 use crate::request::{self, EditRequest, ErrorReply, SetRequest, What};
+use ferroc_terminal::engine_error;
 use serde::de::DeserializeOwned;
 use std::time::Duration;
 use zenoh::query::ConsolidationMode;
@@ -45,9 +46,12 @@ impl Client {
     pub fn connect(addresses: &[String]) -> Result<Client, String> {
         let config = crate::config::client(addresses)?;
         let session = zenoh::open(config).wait().map_err(|e| {
+            let shown = addresses.join(", ");
             format!(
-                "cannot reach {} ({e}); is the program running with --inspect?",
-                addresses.join(", ")
+                "cannot reach {shown}: {}\n  help: is the program running with --inspect {shown}? \
+                 (`ferroc run MODEL --inspect` serves on 127.0.0.1:{}; --connect names another address)",
+                engine_error(&e),
+                crate::config::DEFAULT_PORT
             )
         })?;
         Ok(Client { session })
@@ -101,9 +105,9 @@ impl Client {
             if let Some(p) = &payload {
                 get = get.payload(p.clone());
             }
-            let replies = get
-                .wait()
-                .map_err(|e| format!("the query `{key}` could not be sent: {e}"))?;
+            let replies = get.wait().map_err(|e| {
+                format!("the query `{key}` could not be sent: {}", engine_error(&e))
+            })?;
             let mut answers = Vec::new();
             while let Ok(reply) = replies.recv() {
                 answers.push(read(key, &reply));
@@ -208,6 +212,16 @@ fn first(key: &str, answers: Vec<Answer>) -> Result<Answer, String> {
     })
 }
 
+/// A reply error that is not the server's (which are JSON): Zenoh's own, `Timeout`
+/// when the program did not answer in time.
+fn unanswered(key: &str, error: &str) -> String {
+    if error.trim() == "Timeout" {
+        format!("`{key}` was not answered in time: the program is busy or stopping; ask again")
+    } else {
+        format!("`{key}` was not answered: {}", engine_error(&error))
+    }
+}
+
 fn read(key: &str, reply: &zenoh::query::Reply) -> Answer {
     match reply.result() {
         Ok(sample) => {
@@ -226,7 +240,7 @@ fn read(key: &str, reply: &zenoh::query::Reply) -> Answer {
             let bytes = e.payload().to_bytes();
             let error = serde_json::from_slice::<ErrorReply>(&bytes)
                 .map(|r| r.error)
-                .unwrap_or_else(|_| String::from_utf8_lossy(&bytes).into_owned());
+                .unwrap_or_else(|_| unanswered(key, &String::from_utf8_lossy(&bytes)));
             Answer {
                 key: key.to_owned(),
                 result: Err(error),

@@ -3,6 +3,7 @@
 //! endpoints; both in peer mode with multicast scouting off, so nothing leaves the
 //! addresses given.
 
+use ferroc_terminal::engine_error;
 use zenoh::Config;
 
 /// The port `ferroc run --inspect` listens on by default (the parts of a bundle use
@@ -22,9 +23,32 @@ pub fn endpoint(address: &str, option: &str) -> Result<String, String> {
             "{option} {address}: not an address HOST:PORT (e.g. 127.0.0.1:{DEFAULT_PORT})"
         ));
     }
+    let host = host_port.rsplit_once(':').map_or("", |(h, _)| h);
+    if !is_host(host) {
+        return Err(format!(
+            "{option} {address}: `{host}` is not a host name or IP address (e.g. 127.0.0.1:{DEFAULT_PORT}, [::1]:{DEFAULT_PORT})"
+        ));
+    }
     text.parse::<zenoh::config::EndPoint>()
         .map(|e| e.to_string())
-        .map_err(|e| format!("{option} {address}: not an address: {e}"))
+        .map_err(|e| format!("{option} {address}: not an address: {}", engine_error(&e)))
+}
+
+/// A host name, an IPv4 address or a bracketed IPv6 address: what is neither would
+/// only time out later, after Zenoh tried to reach it.
+fn is_host(host: &str) -> bool {
+    if let Some(inner) = host.strip_prefix('[') {
+        return (inner.strip_suffix(']'))
+            .is_some_and(|ip| ip.parse::<std::net::Ipv6Addr>().is_ok());
+    }
+    if host.bytes().all(|b| b.is_ascii_digit() || b == b'.') {
+        return host.parse::<std::net::Ipv4Addr>().is_ok();
+    }
+    !host.is_empty()
+        && !host.starts_with(['-', '.'])
+        && host
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'.')
 }
 
 /// Whether `address` (`HOST:PORT` or `tcp/HOST:PORT`) is on the loopback interface.
@@ -92,9 +116,12 @@ fn base() -> Result<Config, String> {
 }
 
 fn set(config: &mut Config, key: &str, value: &str) -> Result<(), String> {
-    config
-        .insert_json5(key, value)
-        .map_err(|e| format!("the Zenoh setting {key} = {value} was refused: {e}"))
+    config.insert_json5(key, value).map_err(|e| {
+        format!(
+            "the Zenoh setting {key} = {value} was refused: {}",
+            engine_error(&e)
+        )
+    })
 }
 
 #[cfg(test)]
@@ -138,5 +165,12 @@ mod tests {
         assert!(server("nonsense")
             .unwrap_err()
             .contains("--inspect nonsense"));
+        for bad in ["256.1.1.1:80", "[::1:5", "tcp/[::1:5", ":80", "robot pc:80"] {
+            let e = client(&[bad.to_string()]).unwrap_err();
+            assert!(e.contains("is not a host name or IP address"), "{bad}: {e}");
+        }
+        for good in ["robot-pc:1", "[::1]:2", "localhost:3", "10.0.0.1:4"] {
+            assert!(client(&[good.to_string()]).is_ok(), "{good}");
+        }
     }
 }

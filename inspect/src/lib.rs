@@ -19,7 +19,8 @@
 //! (what `ferroc inspect` asks with), [`param_value`] (a parameter change's text parsed
 //! as a model file's value would be, shared by `ferroc run` and bundles), [`program`]
 //! (what a bundle's part program calls for `--inspect`), [`web`] (the web page of
-//! `ferroc inspect --serve`: an axum server with the client as its Zenoh peer) and,
+//! `ferroc inspect --serve`: an axum server with the client as its Zenoh peer; behind
+//! the feature `web`, which only the CLI enables) and,
 //! behind the feature `foxglove`, `foxglove` (`ferroc inspect --foxglove`: a bridge to
 //! the Foxglove WebSocket protocol).
 
@@ -36,4 +37,5 @@ pub mod request;
 pub mod server;
 pub mod structure;
 pub mod token;
+#[cfg(feature = "web")]
 pub mod web;

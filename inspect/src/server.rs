@@ -11,6 +11,7 @@ use crate::structure::{Refusal, Structure};
 use ferroc_runtime::inspect::view::ParamView;
 use ferroc_runtime::inspect::Inspector;
 use ferroc_runtime::module::Value;
+use ferroc_terminal::engine_error;
 use serde::Serialize;
 use std::sync::Arc;
 use zenoh::bytes::Encoding;
@@ -65,14 +66,22 @@ pub fn serve_structure(
 ) -> Result<Server, String> {
     let key = format!("ferroc/{app}/inspect/**");
     let key = zenoh::key_expr::OwnedKeyExpr::try_from(key.clone())
-        .map_err(|e| format!("`{key}` cannot be a Zenoh key expression: {e}"))?;
-    let session = zenoh::open(config)
-        .wait()
-        .map_err(|e| format!("cannot open the inspection session: {e}"))?;
+        .map_err(|e| format!("`{key}` cannot be a key: {}", engine_error(&e)))?;
+    let session = zenoh::open(config).wait().map_err(|e| {
+        let why = engine_error(&e);
+        if why.contains("in use") {
+            format!(
+                "{why}\n  help: another program serves there (another run with --inspect?); \
+                 choose another address with --inspect 127.0.0.1:PORT"
+            )
+        } else {
+            format!("cannot open the inspection session: {why}")
+        }
+    })?;
     let queryable = session
         .declare_queryable(key.clone())
         .wait()
-        .map_err(|e| format!("cannot serve `{key}`: {e}"))?;
+        .map_err(|e| format!("cannot serve `{key}`: {}", engine_error(&e)))?;
     let context = Context {
         app: app.to_owned(),
         inspector,
@@ -149,7 +158,10 @@ fn answer(query: &Query, c: &Context) {
                     .encoding(Encoding::APPLICATION_JSON)
                     .wait();
                 if let Err(e) = sent {
-                    ferroc_runtime::console::note(&format!("inspect: cannot answer: {e}"));
+                    ferroc_runtime::console::note(&format!(
+                        "inspect: cannot answer: {}",
+                        engine_error(&e)
+                    ));
                 }
             }
             // A module of another part: with `*`, that part answers.

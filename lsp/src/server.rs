@@ -305,7 +305,10 @@ impl Server {
         self.in_flight.remove(&outcome.root);
         let name = outcome.root.display();
         let took = outcome.took.as_secs_f64() * 1000.0;
-        self.log(4, format!("checked {name} in {took:.0} ms"));
+        let cpu = (outcome.cpu)
+            .map(|c| format!(" ({:.0} ms CPU)", c.as_secs_f64() * 1000.0))
+            .unwrap_or_default();
+        self.log(4, format!("checked {name} in {took:.0} ms{cpu}"));
         match outcome.result {
             Ok(result) => self.publish_result(&outcome.root, result),
             Err(why) => {

@@ -9,6 +9,10 @@
 //!   rosidl computes them.
 //! - [`cdr`]: XCDR1 little-endian encoding and decoding of a dynamic [`Value`] of any
 //!   registered type, bounded against hostile input.
+//! - [`names`]: the node, namespace and topic names ROS 2 accepts, and how a relative
+//!   topic name expands against a node's namespace.
+//! - [`json`]: a port's value (its serde JSON) as a message of a type, and back.
+//! - [`units`]: the units REP-103 fixes for fields of the shipped messages.
 //! - [`rmw_zenoh`]: the topic key expression, the attachment and the liveliness tokens
 //!   exactly as rmw_zenoh writes them.
 //!
@@ -19,9 +23,12 @@ pub mod cdr;
 pub mod def;
 mod error;
 pub mod hash;
+pub mod json;
+pub mod names;
 pub mod parse;
 mod registry;
 pub mod rmw_zenoh;
+pub mod units;
 mod value;
 
 pub use error::DefinitionError;

@@ -98,7 +98,8 @@ pub fn specs(out: &mut Code, part: &Part<'_>) {
             &format!("const {}: LinkSpec = LinkSpec {{", constant_name(link)),
         );
         // The same spec `ferroc run` gives the runtime, written out.
-        let spec = crate::from_plan::link_spec(link);
+        let wire = crate::from_plan::link(link);
+        let spec = ferroc_runner::from_plan::link_spec(&wire);
         out.line(1, &format!("id: {},", spec.id));
         out.line(1, &format!("from_part: {},", rust_str(spec.from_part)));
         out.line(1, &format!("to_part: {},", rust_str(spec.to_part)));

@@ -171,9 +171,11 @@ fn plan_built_in(
     }
     // Types built into this ferroc are the same code the bundle compiles: check them
     // against their manifests as `ferroc run` does. Others are checked when built.
-    let registry = crate::run::registry();
+    let registry = crate::run::interfaces_of(&crate::run::registry());
     let mut built_in = plan.clone();
-    built_in.modules.retain(|m| registry.contains(&m.type_name));
+    built_in
+        .modules
+        .retain(|m| registry.contains_key(&m.type_name));
     if let Err(lines) =
         crate::run::interfaces_agree(&built_in, &registry, &result.libraries, &result.sources)
     {

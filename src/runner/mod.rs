@@ -3,9 +3,13 @@
 //! ferroc links only the standard library. A model using other libraries runs in a
 //! runner: a small program, generated and built by cargo once per set of libraries
 //! (`program.rs`), that links exactly their crates (found from the manifests'
-//! `rust-crate`, `crates.rs`) and runs the same `ferroc_host` code as ferroc itself.
-//! ferroc checks the model first (errors stop here, before any build), then hands its
-//! own command line to the runner, which replaces this process.
+//! `rust-crate`, `crates.rs`) and the run itself (`ferroc_runner`), no compiler.
+//! ferroc checks the model first (errors stop here, before any build), asks the
+//! runner which module types it registers (`describe`) to compare them with the
+//! manifests, plans the model and hands the runner the plan (a temporary file the
+//! runner deletes when it has read it, docs/writing-modules.md); the runner replaces this
+//! process. `run --inspect` uses the inspecting kind of runner (`program::Kind`),
+//! which checks the model itself: its structural edits need the compiler.
 
 pub mod checkout;
 pub mod crates;
@@ -13,8 +17,9 @@ mod failure;
 pub mod program;
 
 use crates::LibraryCrate;
-use ferroc_host::run::RunArgs;
+use ferroc_host::run::{Interfaces, RunArgs};
 use ferroc_host::types::TypesArgs;
+use program::Kind;
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -49,13 +54,68 @@ pub fn run(args: RunArgs) -> ExitCode {
         let registry = ferroc_host::run::registry();
         return ferroc_host::run::run_checked(args, &result, &registry);
     }
-    let argv: Vec<OsString> = std::env::args_os().skip(1).collect();
-    hand_over(&crates, argv)
+    if args.inspect.is_some() {
+        let argv: Vec<OsString> = std::env::args_os().skip(1).collect();
+        return hand_over(&crates, Kind::Inspect, argv);
+    }
+    let exe = match program::ensure(&crates, Kind::Plain) {
+        Ok(exe) => exe,
+        Err(code) => return code,
+    };
+    let interfaces = match describe(&exe) {
+        Ok(i) => i,
+        Err(code) => return code,
+    };
+    let run_plan = match ferroc_host::run::plan_run(&args, &result, &interfaces) {
+        Ok((_, run_plan)) => run_plan,
+        Err(code) => return code,
+    };
+    let file = match ferroc_runner::plan::write_temporary(&run_plan) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let code = exec(
+        &exe,
+        vec!["run".into(), "--plan".into(), file.clone().into()],
+    );
+    // Only when the runner did not start (it deletes the plan once read).
+    let _ = std::fs::remove_file(&file);
+    code
+}
+
+/// The module types a runner registers, as it describes them; on failure the cause is
+/// reported (exit code 2).
+fn describe(exe: &Path) -> Result<Interfaces, ExitCode> {
+    let failed = |why: String| {
+        eprintln!(
+            "error: the runner {} did not describe its module types: {why}\n  \
+             help: delete it to have it built again",
+            exe.display()
+        );
+        ExitCode::from(2)
+    };
+    let output = std::process::Command::new(exe)
+        .arg("describe")
+        .stdin(std::process::Stdio::null())
+        .stderr(std::process::Stdio::inherit())
+        .output()
+        .map_err(|e| failed(e.to_string()))?;
+    if !output.status.success() {
+        return Err(failed(output.status.to_string()));
+    }
+    let list: Vec<ferroc_runtime::module::Interface> =
+        serde_json::from_slice(&output.stdout).map_err(|e| failed(e.to_string()))?;
+    Ok(Interfaces::from_iter(ferroc_host::run::interface_list(
+        list,
+    )))
 }
 
 /// `ferroc types`: the libraries on the lib path (or those asked for) in a runner; in
 /// this process when there are none but the standard library.
-pub fn types(args: TypesArgs) -> ExitCode {
+pub fn types(mut args: TypesArgs) -> ExitCode {
     let options = ferroc_host::loader_options(args.lib_path(), false);
     let mut names = manifests_on(&options.lib_path);
     if !args.libraries().is_empty() {
@@ -71,19 +131,23 @@ pub fn types(args: TypesArgs) -> ExitCode {
         Ok(c) => c,
         Err(problems) => return report(&problems),
     };
-    let mut argv: Vec<OsString> = std::env::args_os().skip(1).collect();
     if args.libraries().is_empty() && !names.is_empty() {
         // Export and list what the lib path holds, not every library linked in.
-        for name in &names {
-            argv.push("--library".into());
-            argv.push(name.into());
+        args.set_libraries(names);
+    }
+    let interfaces = if crates.is_empty() {
+        ferroc_host::run::interfaces_of(&ferroc_host::run::registry())
+    } else {
+        let exe = match program::ensure(&crates, Kind::Plain) {
+            Ok(exe) => exe,
+            Err(code) => return code,
+        };
+        match describe(&exe) {
+            Ok(i) => i,
+            Err(code) => return code,
         }
-    }
-    if crates.is_empty() {
-        let argv = std::iter::once(OsString::from("ferroc")).chain(argv);
-        return ferroc_host::main_from(ferroc_host::run::registry(), argv);
-    }
-    hand_over(&crates, argv)
+    };
+    ferroc_host::types::run(args, &interfaces)
 }
 
 /// The names of the `NAME.lib.xml` manifests in these folders, sorted, each once.
@@ -112,8 +176,8 @@ fn report(problems: &[String]) -> ExitCode {
 
 /// Builds the runner if needed and runs it with `argv` in place of this process (same
 /// process id: signals and the exit code are the runner's).
-fn hand_over(crates: &[LibraryCrate], argv: Vec<OsString>) -> ExitCode {
-    let exe = match program::ensure(crates) {
+fn hand_over(crates: &[LibraryCrate], kind: Kind, argv: Vec<OsString>) -> ExitCode {
+    let exe = match program::ensure(crates, kind) {
         Ok(exe) => exe,
         Err(code) => return code,
     };

@@ -5,7 +5,14 @@
 //! crates, ferroc's sources and the profile), its binary in `TARGET/PROFILE/`. Sharing
 //! the target folder with the libraries' own workspace means their dependencies are
 //! compiled once for both. A model is not part of the runner: the runner checks and
-//! plans the model it is given, so editing a model never rebuilds anything.
+//! is handed the plan of the model (or, the inspecting kind, checks it), so editing a
+//! model never rebuilds anything.
+//!
+//! Two kinds of runner per set of libraries ([`Kind`]), each its own package with one
+//! feature set, sharing the target folder: the plain runner links `ferroc-runner`
+//! (the runtime, the standard library, no compiler, no Zenoh); the inspecting runner
+//! (`ferroc run --inspect`) links `ferroc-host` with the compiler and the inspection
+//! server.
 
 use super::crates::LibraryCrate;
 use super::failure::{failed_package, report_failure, unfetched};
@@ -25,11 +32,40 @@ fn profile() -> (&'static str, Option<&'static str>) {
     }
 }
 
-/// A built runner for `crates`: its executable, built now if needed (cargo's progress on
-/// stderr). On failure the cause is reported, pointing at the manifests.
-pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
+/// What a runner links, by what the run asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// `ferroc run` and `ferroc types`: `ferroc-runner` (no compiler, no Zenoh).
+    Plain,
+    /// `ferroc run --inspect`: `ferroc-host`, with the inspection server on Zenoh and
+    /// the compiler that checks structural edits.
+    Inspect,
+}
+
+impl Kind {
+    /// The workspace crate the runner depends on: its folder and package name.
+    fn host_crate(self) -> (&'static str, &'static str) {
+        match self {
+            Kind::Plain => ("runner", "ferroc-runner"),
+            Kind::Inspect => ("host", "ferroc-host"),
+        }
+    }
+
+    /// Its name in the runner's key and messages.
+    fn name(self) -> &'static str {
+        match self {
+            Kind::Plain => "plain",
+            Kind::Inspect => "inspect",
+        }
+    }
+}
+
+/// A built runner of this kind for `crates`: its executable, built now if needed
+/// (cargo's progress on stderr). On failure the cause is reported, pointing at the
+/// manifests.
+pub fn ensure(crates: &[LibraryCrate], kind: Kind) -> Result<PathBuf, ExitCode> {
     let source = source_dir();
-    let host = source.join("host");
+    let host = source.join(kind.host_crate().0);
     if !host.join("Cargo.toml").is_file() {
         eprintln!(
             "error: ferroc's sources are not at {} (a runner for your libraries is built from them)\n  \
@@ -40,12 +76,12 @@ pub fn ensure(crates: &[LibraryCrate]) -> Result<PathBuf, ExitCode> {
         return Err(ExitCode::from(2));
     }
     let (profile, flag) = profile();
-    let key = key(&source, crates, profile);
+    let key = key(&source, crates, &format!("{profile} {}", kind.name()));
     let target = target_dir(crates);
     let name = format!("ferroc-runner-{key}");
     let dir = target.join("ferroc-runner").join(&key);
     let exe = target.join(profile).join(&name);
-    if let Err(e) = write_package(&dir, &name, &host, crates, &source) {
+    if let Err(e) = write_package(&dir, &name, kind, &host, crates, &source) {
         eprintln!(
             "error: cannot write the runner package in {}: {e}",
             dir.display()
@@ -107,18 +143,20 @@ fn cargo_build(dir: &Path, target: &Path, flag: Option<&str>) -> Command {
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
+    // cargo sees a pipe: say whether to colour (ferroc's --color, for its stderr).
+    let colours = crate::color::enabled(crate::color::Stream::Stderr);
+    command.arg(if colours {
+        "--color=always"
+    } else {
+        "--color=never"
+    });
     if std::io::stderr().is_terminal() {
-        // cargo sees a pipe: ask for its colours and progress bar all the same.
+        // Ask for cargo's progress bar all the same.
         let width = std::env::var("COLUMNS")
             .ok()
             .and_then(|c| c.parse::<u16>().ok())
             .unwrap_or(80);
-        command.args([
-            "--color=always",
-            "--config",
-            "term.progress.when=\"always\"",
-            "--config",
-        ]);
+        command.args(["--config", "term.progress.when=\"always\"", "--config"]);
         command.arg(format!("term.progress.width={width}"));
     }
     command
@@ -206,28 +244,14 @@ fn target_dir_from(env: Option<std::ffi::OsString>, first: &Path) -> PathBuf {
 fn write_package(
     dir: &Path,
     name: &str,
+    kind: Kind,
     host: &Path,
     crates: &[LibraryCrate],
     source: &Path,
 ) -> std::io::Result<()> {
     std::fs::create_dir_all(dir.join("src"))?;
-    let version = env!("CARGO_PKG_VERSION");
-    let toml = cargo_toml(name, host, crates);
-    let mut main = format!(
-        "//! Generated by ferroc {version}: runs `ferroc run` and `ferroc types` with the module\n\
-         //! types of the standard library and of the libraries linked here.\n\n\
-         /// The allocator ferroc itself uses (applications allocate as under ferroc).\n\
-         #[global_allocator]\n\
-         static GLOBAL: ferroc_host::mimalloc::MiMalloc = ferroc_host::mimalloc::MiMalloc;\n\n\
-         fn main() -> std::process::ExitCode {{\n    let mut registry = ferroc_host::run::registry();\n"
-    );
-    for (i, c) in crates.iter().enumerate() {
-        main.push_str(&format!(
-            "    // The library `{}`.\n    library_{i}::register(&mut registry);\n",
-            comment(&c.library)
-        ));
-    }
-    main.push_str("    ferroc_host::main(registry)\n}\n");
+    let toml = cargo_toml(name, kind, host, crates);
+    let main = main_rs(kind, crates);
     replace_if_changed(&dir.join("Cargo.toml"), toml.as_bytes())?;
     replace_if_changed(&dir.join("src/main.rs"), main.as_bytes())?;
     let lock = dir.join("Cargo.lock");
@@ -240,9 +264,43 @@ fn write_package(
     Ok(())
 }
 
-/// The runner's Cargo.toml: ferroc's host crate by path, each library's crate by path
-/// or, for `rust-crate="PACKAGE@VERSION"`, by version from the registry.
-fn cargo_toml(name: &str, host: &Path, crates: &[LibraryCrate]) -> String {
+/// The runner's main.rs: the registry of the standard library's types and the
+/// libraries', handed to the kind's `main`.
+fn main_rs(kind: Kind, crates: &[LibraryCrate]) -> String {
+    let version = env!("CARGO_PKG_VERSION");
+    let (what, krate, registry) = match kind {
+        Kind::Plain => (
+            "runs the plans `ferroc run` hands it and describes its module types",
+            "ferroc_runner",
+            "ferroc_runner::registry()",
+        ),
+        Kind::Inspect => (
+            "runs `ferroc run --inspect`",
+            "ferroc_host",
+            "ferroc_host::run::registry()",
+        ),
+    };
+    let mut main = format!(
+        "//! Generated by ferroc {version}: {what}, with the module\n\
+         //! types of the standard library and of the libraries linked here.\n\n\
+         /// The allocator ferroc itself uses (applications allocate as under ferroc).\n\
+         #[global_allocator]\n\
+         static GLOBAL: {krate}::mimalloc::MiMalloc = {krate}::mimalloc::MiMalloc;\n\n\
+         fn main() -> std::process::ExitCode {{\n    let mut registry = {registry};\n"
+    );
+    for (i, c) in crates.iter().enumerate() {
+        main.push_str(&format!(
+            "    // The library `{}`.\n    library_{i}::register(&mut registry);\n",
+            comment(&c.library)
+        ));
+    }
+    main.push_str(&format!("    {krate}::main(registry)\n}}\n"));
+    main
+}
+
+/// The runner's Cargo.toml: the kind's ferroc crate by path, each library's crate by
+/// path or, for `rust-crate="PACKAGE@VERSION"`, by version from the registry.
+fn cargo_toml(name: &str, kind: Kind, host: &Path, crates: &[LibraryCrate]) -> String {
     let libraries: Vec<String> = crates
         .iter()
         .map(|c| format!("{} ({})", comment(&c.library), comment(&c.package)))
@@ -251,9 +309,10 @@ fn cargo_toml(name: &str, host: &Path, crates: &[LibraryCrate]) -> String {
         "# Generated by ferroc {}: the runner of the libraries {}.\n\
          # ferroc rewrites this file; build output goes to the libraries' target folder.\n\
          [package]\nname = \"{name}\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
-         [dependencies]\nferroc-host = {{ path = {} }}\n",
+         [dependencies]\n{} = {{ path = {} }}\n",
         env!("CARGO_PKG_VERSION"),
         libraries.join(", "),
+        kind.host_crate().1,
         toml_str(&host.to_string_lossy())
     );
     for (i, c) in crates.iter().enumerate() {
@@ -303,6 +362,7 @@ fn is_fresh(exe: &Path, dir: &Path, crates: &[LibraryCrate]) -> bool {
     inputs.push(dir.join("Cargo.toml"));
     inputs.push(dir.join("Cargo.lock"));
     inputs.push(source_dir().join("host/Cargo.toml"));
+    inputs.push(source_dir().join("runner/Cargo.toml"));
     // (A registry crate's sources are in cargo's cache, listed in the dep-info.)
     inputs
         .extend((crates.iter().filter(|c| c.version.is_none())).map(|c| c.dir.join("Cargo.toml")));
@@ -382,6 +442,7 @@ mod tests {
         };
         let toml = cargo_toml(
             "ferroc-runner-k",
+            Kind::Inspect,
             Path::new("/ferroc/host"),
             &[
                 lib("beep", "beep-lib", None),

@@ -5,9 +5,15 @@
 //! characters as visible escapes. The compiler's diagnostics and the runtime's console
 //! both print through it; it depends on nothing, so the runtime can use it without the
 //! compiler.
+//!
+//! [`engine_error`] (`engine.rs`) does the same for the errors of the libraries ferroc
+//! runs on: a dependency's source paths and `Debug` dumps never reach a user.
 
 #![forbid(unsafe_code)]
 
+mod engine;
+
+pub use engine::engine_error;
 use std::borrow::Cow;
 
 /// Whether `c` is written as an escape: a control character other than newline and

@@ -5,6 +5,7 @@
 //! silent), and the parts linked to it are told.
 
 use crate::keys::Keys;
+use ferroc_terminal::engine_error;
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -102,12 +103,22 @@ impl Watch {
                 on_change(&change, back_after);
             })
             .wait()
-            .map_err(|e| format!("cannot watch the other parts' liveliness: {e}"))?;
+            .map_err(|e| {
+                format!(
+                    "cannot watch the other parts' liveliness: {}",
+                    engine_error(&e)
+                )
+            })?;
         let token = session
             .liveliness()
             .declare_token(keys.alive(part)?)
             .wait()
-            .map_err(|e| format!("cannot declare the liveliness token of `{part}`: {e}"))?;
+            .map_err(|e| {
+                format!(
+                    "cannot declare the liveliness token of `{part}`: {}",
+                    engine_error(&e)
+                )
+            })?;
         Ok(Watch {
             parts,
             _subscriber: subscriber,

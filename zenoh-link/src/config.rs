@@ -12,6 +12,7 @@
 //! (`scouting: { multicast: { enabled: true } }`) keeps it.
 
 use ferroc_runtime::link::transport::Addresses;
+use ferroc_terminal::engine_error;
 use std::path::Path;
 use zenoh::Config;
 
@@ -38,8 +39,9 @@ pub fn config(addresses: &Addresses, file: Option<&Path>) -> Result<Config, Stri
         Some(path) => {
             let bad = |e: &dyn std::fmt::Display| {
                 format!(
-                    "--zenoh-config {}: not a Zenoh configuration: {e}",
-                    path.display()
+                    "--zenoh-config {}: not a Zenoh configuration: {}",
+                    path.display(),
+                    engine_error(e)
                 )
             };
             let keys = keys_in(path).map_err(|e| bad(&e))?;
@@ -99,9 +101,12 @@ fn sets(given: &serde_json::Value, key: &str) -> bool {
 }
 
 fn set(config: &mut Config, key: &str, value: &str) -> Result<(), String> {
-    config
-        .insert_json5(key, value)
-        .map_err(|e| format!("the Zenoh setting {key} = {value} was refused: {e}"))
+    config.insert_json5(key, value).map_err(|e| {
+        format!(
+            "the Zenoh setting {key} = {value} was refused: {}",
+            engine_error(&e)
+        )
+    })
 }
 
 /// `tcp/HOST:PORT` for `HOST:PORT`; an address already written as an endpoint
@@ -120,7 +125,12 @@ fn endpoint(address: &str, option: &str) -> Result<String, String> {
     };
     text.parse::<zenoh::config::EndPoint>()
         .map(|e| e.to_string())
-        .map_err(|e| format!("`{address}` is not an address ({option}): {e}"))
+        .map_err(|e| {
+            format!(
+                "`{address}` is not an address ({option}): {}",
+                engine_error(&e)
+            )
+        })
 }
 
 #[cfg(test)]

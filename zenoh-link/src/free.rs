@@ -16,6 +16,7 @@ use ferroc_runtime::link::transport::{
     call_number, Connection, Delivery, LinkKind, PartLinks, Sending,
 };
 use ferroc_runtime::link::Frame;
+use ferroc_terminal::engine_error;
 use std::collections::{BTreeMap, HashMap};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -98,7 +99,7 @@ fn publishers(
             .congestion_control(qos.congestion)
             .express(qos.express)
             .wait()
-            .map_err(|e| format!("cannot publish the link {id}: {e}"))?;
+            .map_err(|e| format!("cannot publish the link {id}: {}", engine_error(&e)))?;
         data.insert(*id, (publisher, ZBytes::from(id.to_le_bytes().to_vec())));
     }
     Ok(data)
@@ -135,7 +136,12 @@ fn subscribers(
                 }
             })
             .wait()
-            .map_err(|e| format!("cannot receive from the part `{writer_part}`: {e}"))?;
+            .map_err(|e| {
+                format!(
+                    "cannot receive from the part `{writer_part}`: {}",
+                    engine_error(&e)
+                )
+            })?;
         subscribers.push(subscriber);
     }
     Ok(subscribers)
@@ -163,7 +169,7 @@ fn queryables(
             .declare_queryable(key.clone())
             .callback(move |query| serve(query, &ids, &waiting, &delivery))
             .wait()
-            .map_err(|e| format!("cannot serve `{key}`: {e}"))?;
+            .map_err(|e| format!("cannot serve `{key}`: {}", engine_error(&e)))?;
         queryables.push(queryable);
     }
     Ok(queryables)
@@ -317,7 +323,7 @@ impl Free {
             })
             .wait();
         if let Err(e) = sent {
-            self.failed(&format!("a call could not be sent: {e}"));
+            self.failed(&format!("a call could not be sent: {}", engine_error(&e)));
         }
     }
 
@@ -330,7 +336,10 @@ impl Free {
         };
         let key = query.key_expr().clone();
         if let Err(e) = query.reply(key, frame.bytes).wait() {
-            self.failed(&format!("an answer could not be sent: {e}"));
+            self.failed(&format!(
+                "an answer could not be sent: {}",
+                engine_error(&e)
+            ));
         }
     }
 
@@ -353,7 +362,10 @@ impl Connection for Free {
                         .attachment(attachment.clone())
                         .wait();
                     if let Err(e) = put {
-                        self.failed(&format!("a value of link {id} could not be sent: {e}"));
+                        self.failed(&format!(
+                            "a value of link {id} could not be sent: {}",
+                            engine_error(&e)
+                        ));
                     }
                 }
             }

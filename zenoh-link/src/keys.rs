@@ -12,6 +12,7 @@
 //! part put in front, so every data and service key names its part right after the
 //! kind.
 
+use ferroc_terminal::engine_error;
 use zenoh::key_expr::OwnedKeyExpr;
 
 /// The keys of one application.
@@ -69,8 +70,12 @@ impl Keys {
 
     fn key(&self, chunks: &[&str]) -> Result<OwnedKeyExpr, String> {
         let text = format!("ferroc/{}/{}", self.app, chunks.join("/"));
-        OwnedKeyExpr::try_from(text.clone())
-            .map_err(|e| format!("`{text}` cannot be a Zenoh key expression: {e}"))
+        OwnedKeyExpr::try_from(text.clone()).map_err(|e| {
+            format!(
+                "`{text}` cannot be a Zenoh key expression: {}",
+                engine_error(&e)
+            )
+        })
     }
 }
 

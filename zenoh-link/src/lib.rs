@@ -11,6 +11,8 @@
 //!   makes ([`free`]);
 //! - in lockstep, one message per instant for every part it sends to, carrying the
 //!   frames of that instant ([`lockstep`]);
+//! - for a part that is a ROS 2 node, the node's and its topics' liveliness tokens and
+//!   samples on rmw_zenoh's keys, in CDR ([`ros2`], docs/ros2.md);
 //! - always, a liveliness token, and a liveliness subscriber that notices parts that
 //!   come and go ([`alive`]).
 //!
@@ -24,6 +26,7 @@ pub mod config;
 pub mod free;
 pub mod keys;
 pub mod lockstep;
+pub mod ros2;
 
 use ferroc_runtime::link::transport::{Addresses, Connection, Delivery, Network, PartLinks};
 use std::path::Path;
@@ -68,15 +71,17 @@ impl Zenoh {
         zenoh::open(self.config.clone()).wait().map_err(|e| {
             let part = &self.addresses.part;
             let listen = &self.addresses.listen;
-            let text = e.to_string();
-            if text.contains("in use") || text.contains("Can not create a new") {
-                format!(
-                    "the part `{part}` cannot listen on {listen} ({text}); choose another \
+            let text = engine_error(&e);
+            match text.strip_prefix("cannot listen on ") {
+                Some(endpoint_and_reason) => format!(
+                    "the part `{part}` cannot listen on {listen}: {}; choose another \
                      address with --listen ADDR and tell the other parts with \
-                     --peer {part}=HOST:PORT"
-                )
-            } else {
-                format!("the part `{part}` cannot open its Zenoh session: {text}")
+                     --peer {part}=HOST:PORT",
+                    endpoint_and_reason
+                        .split_once(": ")
+                        .map_or(endpoint_and_reason, |(_, reason)| reason)
+                ),
+                None => format!("the part `{part}` cannot open its Zenoh session: {text}"),
             }
         })
     }

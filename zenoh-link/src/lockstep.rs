@@ -19,6 +19,7 @@ use crate::keys::Keys;
 use ferroc_runtime::console;
 use ferroc_runtime::link::transport::{Connection, PartLinks};
 use ferroc_runtime::link::Frame;
+use ferroc_terminal::engine_error;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -93,7 +94,12 @@ pub(crate) fn open(
                 let _ = lock(&tx).send(event);
             })
             .wait()
-            .map_err(|e| format!("cannot receive the instants of `{sender}`: {e}"))?;
+            .map_err(|e| {
+                format!(
+                    "cannot receive the instants of `{sender}`: {}",
+                    engine_error(&e)
+                )
+            })?;
         subscribers.push(subscriber);
     }
     let mut to = BTreeMap::new();
@@ -102,7 +108,7 @@ pub(crate) fn open(
             .declare_publisher(keys.lockstep(part, receiver)?)
             .congestion_control(CongestionControl::Block)
             .wait()
-            .map_err(|e| format!("cannot send instants to `{receiver}`: {e}"))?;
+            .map_err(|e| format!("cannot send instants to `{receiver}`: {}", engine_error(&e)))?;
         to.insert(receiver.to_owned(), publisher);
     }
     let gone = Mutex::new(tx);
@@ -196,10 +202,9 @@ impl Connection for Lockstep {
                 frames: by_part.remove(part.as_str()).unwrap_or_default(),
             };
             let bytes = postcard::to_stdvec(&instant).map_err(|e| e.to_string())?;
-            publisher
-                .put(bytes)
-                .wait()
-                .map_err(|e| format!("cannot send the instant to `{part}`: {e}"))?;
+            publisher.put(bytes).wait().map_err(|e| {
+                format!("cannot send the instant to `{part}`: {}", engine_error(&e))
+            })?;
         }
         Ok(())
     }

@@ -30,6 +30,7 @@ pub mod deadlocks;
 pub mod deployment;
 pub mod model;
 pub mod parameters;
+pub mod ros2;
 pub mod scheduling;
 
 /// What a pass over the IR sees. Passes never mutate the IR.
@@ -140,6 +141,13 @@ passes![
     deployment::x104_pointless_connection_settings,
     deployment::x105_bundle_output_collision,
     deployment::x106_nondeterministic_in_lockstep,
+    ros2::r101_invalid_ros2_end,
+    ros2::r102_ros2_type_mismatch,
+    ros2::r103_ros2_unit_convention,
+    ros2::r104_invalid_ros2_name,
+    ros2::r105_topic_type_conflict,
+    ros2::r106_ros2_qos_incompatible,
+    ros2::r107_ros2_topic_without_publisher,
 ];
 
 /// Runs every pass.

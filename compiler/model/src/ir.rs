@@ -12,8 +12,10 @@ use petgraph::graph::{DiGraph, NodeIndex};
 
 mod extras;
 mod query;
+mod ros2;
 mod tables;
 pub use extras::{LinkSettings, ModuleExtras};
+pub use ros2::{Ros2, Ros2Node, Ros2Service, Ros2Topic, ServiceRole, Spanned, TopicDirection};
 pub use tables::{Children, NodeTable};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -259,6 +261,8 @@ pub struct Application {
     /// Ends of `<connect>`s whose other end did not resolve (reported there): checks that
     /// a port is connected count these as connected, one root cause being one finding.
     pub cut_off: HashSet<Endpoint>,
+    /// `<ros2>` nodes of parts and `<ros2-external>` nodes (docs/ros2.md).
+    pub ros2: Ros2,
 }
 
 /// Timing attributes of the model, keyed by element (most models declare few of them).

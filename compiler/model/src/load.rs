@@ -9,7 +9,9 @@ use ferroc_syntax::xml::{self, Element};
 use ferroc_syntax::AllowRegion;
 use std::path::{Path, PathBuf};
 
+mod cache;
 mod read;
+pub use cache::ParseCache;
 use read::{io_reason, over_limit};
 pub use read::{is_stdin, read_bounded, read_stdin, read_text, root_element, root_element_of};
 
@@ -62,6 +64,10 @@ pub struct Options {
     /// buffers (`ferroc lsp`), so a model is checked with the fragments and manifests
     /// as they are being typed. Empty for the command line.
     pub overlay: Overlay,
+    /// The trees of the files earlier checks parsed, so that a check after a small
+    /// edit parses only what changed (`ferroc lsp`; see [`ParseCache`]). `None` for
+    /// the command line.
+    pub cache: Option<std::sync::Arc<ParseCache>>,
 }
 
 /// Unsaved texts by canonical path, shared between check runs without copying.
@@ -166,8 +172,13 @@ impl<'a> Loader<'a> {
 
     /// Parses a file already added, reporting malformed XML (M101) and too deep nesting (M116).
     fn parse_tree(&mut self, file: FileId) -> Option<Element> {
-        let text = &self.sources.get(file).text;
-        match xml::parse(file, text, self.options.limits.max_depth) {
+        let source = self.sources.get(file);
+        let depth = self.options.limits.max_depth;
+        let parsed = match &self.options.cache {
+            Some(cache) => cache.parse(&source.path, file, &source.text, depth),
+            None => xml::parse(file, &source.text, depth),
+        };
+        match parsed {
             Ok(root) => Some(root),
             Err(e) => {
                 let check = if e.too_deep {

@@ -4,6 +4,9 @@
 
 mod manifest;
 mod model;
+mod ros2;
+
+pub use ros2::{DURABILITY, RELIABILITY};
 
 /// What an attribute's value must look like, as far as the vocabulary can tell.
 /// Values with richer syntax (types, durations, paths) are checked by the resolver.
@@ -114,6 +117,14 @@ pub static ELEMENTS: &[ElementSpec] = &[
     model::FLOW,
     model::ALLOW,
     model::FRAGMENT,
+    ros2::ROS2,
+    ros2::ROS2_PUBLISH,
+    ros2::ROS2_SUBSCRIBE,
+    ros2::ROS2_SERVICE,
+    ros2::ROS2_CLIENT,
+    ros2::ROS2_EXTERNAL,
+    ros2::ROS2_EXTERNAL_PUBLISH,
+    ros2::ROS2_EXTERNAL_SUBSCRIBE,
     // ----- library manifests -----
     manifest::LIBRARY,
     manifest::DEPENDS,

@@ -530,5 +530,8 @@ fn describe(err: &quick_xml::Error) -> String {
     }
 }
 
+mod incremental;
+pub use incremental::reparse;
+
 #[cfg(test)]
 mod tests;

@@ -13,11 +13,13 @@ mod controller;
 mod noise;
 pub mod plan;
 mod simulation;
+mod twist;
 mod visualization;
 
 pub use controller::Controller;
 pub use noise::AddNoise;
 pub use simulation::MainSimulation;
+pub use twist::{Twist, TwistOut, Vector3};
 pub use visualization::Visualization;
 
 use ferroc_runtime::builder::Registry;
@@ -45,7 +47,10 @@ pub fn register(registry: &mut Registry) {
         .register::<AddNoise>()
         .register::<Visualization>()
         .register::<Controller>()
+        .register::<TwistOut>()
         // Its value type, for flexible ports (`ferroc_std.Dump`, `Logger`, `Player`, …)
         // and `--record`: with its serde form, so a recording holds the pose.
-        .register_serde::<Pose2D>();
+        .register_serde::<Pose2D>()
+        .register_serde::<Vector3>()
+        .register_serde::<Twist>();
 }

@@ -8,9 +8,9 @@
 mod manifest_xml;
 
 use crate::interface::differences;
+use crate::run::Interfaces;
 use ferroc_compiler::diagnostic::Severity;
 use ferroc_compiler::report::{self, ModelReport};
-use ferroc_runtime::builder::Registry;
 use ferroc_runtime::module::Interface;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -28,6 +28,14 @@ impl TypesArgs {
         match &self.command {
             TypesCommand::List(a) => &a.library,
             TypesCommand::Export(a) => &a.library,
+        }
+    }
+
+    /// Asks for these libraries, as `--library` does.
+    pub fn set_libraries(&mut self, names: Vec<String>) {
+        match &mut self.command {
+            TypesCommand::List(a) => a.library = names,
+            TypesCommand::Export(a) => a.library = names,
         }
     }
 
@@ -91,7 +99,7 @@ struct ExportArgs {
     lib_path: Vec<PathBuf>,
 }
 
-pub fn run(args: TypesArgs, registry: &Registry) -> ExitCode {
+pub fn run(args: TypesArgs, registry: &Interfaces) -> ExitCode {
     match args.command {
         TypesCommand::List(args) => list(args, registry),
         TypesCommand::Export(args) => export(args, registry),
@@ -99,21 +107,17 @@ pub fn run(args: TypesArgs, registry: &Registry) -> ExitCode {
 }
 
 /// Built-in interfaces grouped by library, in name order.
-fn by_library(registry: &Registry) -> BTreeMap<String, Vec<Interface>> {
-    let mut names: Vec<&str> = registry.names().collect();
-    names.sort_unstable();
+fn by_library(registry: &Interfaces) -> BTreeMap<String, Vec<Interface>> {
     let mut out: BTreeMap<String, Vec<Interface>> = BTreeMap::new();
-    for name in names {
-        if let Some(i) = registry.interface(name) {
-            out.entry(manifest_xml::library_of(name).to_string())
-                .or_default()
-                .push(i);
-        }
+    for (name, i) in registry {
+        out.entry(manifest_xml::library_of(name).to_string())
+            .or_default()
+            .push(i.clone());
     }
     out
 }
 
-fn list(args: ListArgs, registry: &Registry) -> ExitCode {
+fn list(args: ListArgs, registry: &Interfaces) -> ExitCode {
     let mut out = String::new();
     for (name, types) in by_library(registry) {
         if !args.library.is_empty() && !args.library.contains(&name) {
@@ -138,7 +142,7 @@ fn count(n: usize, noun: &str) -> String {
     format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
 }
 
-fn export(args: ExportArgs, registry: &Registry) -> ExitCode {
+fn export(args: ExportArgs, registry: &Interfaces) -> ExitCode {
     let libraries = match selected_libraries(&args, registry) {
         Ok(l) => l,
         Err(code) => return code,
@@ -212,7 +216,7 @@ fn export(args: ExportArgs, registry: &Registry) -> ExitCode {
 /// libraries to print.
 fn selected_libraries(
     args: &ExportArgs,
-    registry: &Registry,
+    registry: &Interfaces,
 ) -> Result<BTreeMap<String, Vec<Interface>>, ExitCode> {
     let mut libraries = by_library(registry);
     for wanted in &args.library {

@@ -2,10 +2,14 @@
 //!
 //! Recorded while the type's `create` runs (so the declaration and the ports the module
 //! really owns cannot drift apart), compared against the library manifest a model was
-//! checked with, and written out by `ferroc types export`.
+//! checked with, and written out by `ferroc types export`. Serde: a runner describes
+//! its registered types to the `ferroc` CLI as JSON (`ferroc_runner::describe`), which
+//! compares them with the manifests.
+
+use serde::{Deserialize, Serialize};
 
 /// How the thread container runs a module.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Kind {
     /// One `update` step per cycle.
     Plain,
@@ -36,7 +40,7 @@ impl Kind {
 }
 
 /// Data direction of a port.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Direction {
     /// Data flows into the module.
     In,
@@ -45,7 +49,7 @@ pub enum Direction {
 }
 
 /// Which half of a sense-control module a port belongs to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Role {
     /// A port of a plain module.
     Plain,
@@ -101,7 +105,7 @@ impl Role {
 }
 
 /// One declared port.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PortInfo {
     /// Port name (unique per module).
     pub name: String,
@@ -120,7 +124,7 @@ pub struct PortInfo {
 }
 
 /// One declared parameter.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ParamInfo {
     /// Parameter name (unique per module).
     pub name: String,
@@ -142,7 +146,7 @@ pub struct ParamInfo {
 
 /// A flexible port group (`<flexible port dir same-type min-count max-count>`): the
 /// instance declares its ports in the model.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct FlexibleInfo {
     /// The group's name (`in`): ports `in/0`, `in/1`, … or just `in`.
     pub group: String,
@@ -157,7 +161,7 @@ pub struct FlexibleInfo {
 }
 
 /// Everything a manifest says about a module type, as the Rust code declares it.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Interface {
     /// Qualified model name (`crash_course.AddNoise`).
     pub name: String,
@@ -178,7 +182,7 @@ pub struct Interface {
 }
 
 /// One declared `<service>` (answered by the module) or `<client>` (calls one).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ServiceInfo {
     /// Name, unique among the module's ports and services.
     pub name: String,
@@ -189,6 +193,7 @@ pub struct ServiceInfo {
     /// Model type of the responses.
     pub response: String,
     /// Who executes a service's requests (`Server` for clients).
+    #[serde(with = "executes")]
     pub executes: ferroc_ports::service::Executes,
     /// How long a client's blocking call waits (`None`: until answered).
     pub timeout: Option<std::time::Duration>,
@@ -210,5 +215,29 @@ impl Interface {
     /// The parameter called `name`.
     pub fn param(&self, name: &str) -> Option<&ParamInfo> {
         self.params.iter().find(|p| p.name == name)
+    }
+}
+
+/// `Executes` as `"server"` / `"caller"` (it lives in `ferroc-ports`, which has no serde).
+mod executes {
+    use ferroc_ports::service::Executes;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(e: &Executes, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(match e {
+            Executes::Server => "server",
+            Executes::Caller => "caller",
+        })
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Executes, D::Error> {
+        match String::deserialize(d)?.as_str() {
+            "server" => Ok(Executes::Server),
+            "caller" => Ok(Executes::Caller),
+            other => Err(serde::de::Error::unknown_variant(
+                other,
+                &["server", "caller"],
+            )),
+        }
     }
 }

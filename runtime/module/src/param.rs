@@ -11,7 +11,8 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 /// A parameter value as models give it (after unit conversion into the declared unit).
-#[derive(Clone, Debug, PartialEq)]
+/// Serde: a run plan carries parameter values (`ferroc_runner::plan`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Value {
     /// `true` / `false`.
     Bool(bool),

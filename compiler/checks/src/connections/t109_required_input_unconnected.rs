@@ -43,7 +43,7 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                 element: id,
                 port: k,
             };
-            if ctx.app.cut_off.contains(&ep) {
+            if ctx.app.cut_off.contains(&ep) || ctx.app.ros2.binds(ep) {
                 continue;
             }
             let connected = ctx.app.node(ep).is_some() && ctx.app.incoming(ep).next().is_some();

@@ -37,6 +37,7 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                     && p.role != PortRole::Meta
                     && !ctx.app.has_outgoing(ep)
                     && !ctx.app.cut_off.contains(&ep)
+                    && !ctx.app.ros2.binds(ep)
             })
             .map(|(_, p)| p.name.as_str())
             .collect();

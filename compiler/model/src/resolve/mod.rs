@@ -17,6 +17,7 @@ use petgraph::graph::DiGraph;
 mod connect;
 mod group;
 mod module;
+mod ros2;
 mod timing;
 mod tree;
 
@@ -91,6 +92,7 @@ pub fn resolve(
     r.reserve_for_walk(&files);
     r.walk(ElementId(0), root, used, None, 0);
     r.application_timing(root);
+    r.external_ros2(root);
     r.resolve_pending();
     r.app
 }
@@ -125,6 +127,7 @@ fn empty_application(loader: &Loader<'_>, root: &Element) -> Application {
             }),
         timing: Timing::default(),
         cut_off: HashSet::new(),
+        ros2: Ros2::default(),
         ib2c_violations: root.value("ib2c-violations").map(str::to_string),
         seed: root.value("seed").and_then(|s| s.parse().ok()),
     }

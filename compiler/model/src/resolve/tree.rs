@@ -68,6 +68,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                     {
                         self.part_timing(id, child);
                         self.walk(id, child, visible, inst, depth);
+                        self.part_ros2(id, child);
                     }
                 }
                 "thread" => {

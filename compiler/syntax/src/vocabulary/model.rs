@@ -23,6 +23,7 @@ pub(super) const APPLICATION: ElementSpec = ElementSpec {
         "connect",
         "flow",
         "allow",
+        "ros2-external",
     ],
     text: false,
 };
@@ -51,7 +52,7 @@ pub(super) const PART: ElementSpec = ElementSpec {
     key: "part",
     tag: "part",
     attrs: &[req("name", Ident), opt("host", Text), opt("cores", Count)],
-    children: &["thread", "group", "module", "connect", "allow"],
+    children: &["thread", "group", "module", "connect", "allow", "ros2"],
     text: false,
 };
 

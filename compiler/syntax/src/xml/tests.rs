@@ -136,3 +136,80 @@ fn depth_is_limited() {
     assert!(parse(FileId(0), &text, 50).unwrap_err().too_deep);
     assert!(parse(FileId(0), &text, 200).is_ok());
 }
+
+/// `reparse` builds the tree a full parse builds, for edits inside an element, across
+/// element boundaries, that break the XML, and that change the file id; and it says
+/// the full parse's error when the new text is not XML.
+#[test]
+fn reparse_equals_a_full_parse() {
+    let old = "<?xml version=\"1.0\"?>\n<application name=\"a\">\n  <!-- c -->\n  <part name=\"p\">\n    <thread name=\"t\" period=\"10ms\">\n      <module name=\"m\" type=\"x.Y\"><param name=\"k\">1.5</param></module>\n    </thread>\n  </part>\n  <connect from=\"p/t/m/out\" to=\"p/t/m/in\"/>\n</application>\n";
+    let edits: &[(&str, &str)] = &[
+        ("name=\"m\"", "name=\"mm\""),
+        ("name=\"m\"", "name=\"\""),
+        ("1.5", "2.75 m"),
+        ("period=\"10ms\"", "period=\"10ms\" cpu=\"1\""),
+        ("<module", "<module x=\"&amp;\""),
+        (
+            "</module>",
+            "</module>\n      <module name=\"n\" type=\"x.Y\"/>",
+        ),
+        ("<part name=\"p\">", "<part name=\"q\">"),
+        ("name=\"a\"", "name=\"ab\""),
+        ("<!-- c -->", "<!-- cc -->"),
+        ("p/t/m/in", "p/t/m/i"),
+        ("</thread>", "</thread><thread name=\"u\"/>"),
+        ("<param name=\"k\">1.5</param>", ""),
+        ("</module>", "</modul>"),
+        ("1.5", "1 < 2"),
+        ("<thread", "<thread <"),
+        ("\"x.Y\">", "\"x.Y\"/>"),
+        ("<application name=\"a\"", "<application name=\"a>b\" v='1'"),
+        ("<application name", "<applicatio name"),
+        ("<part name=\"p\"", "<part name=\"p\"/"),
+        ("<part name=\"p\"", "<part name=\"p\">x</part><part"),
+        ("<part name=\"p\"", "<part name=\"p"),
+        ("<module name=\"m\"", "<module name=\"m&lt;\""),
+        ("<module name=\"m\"", "<module name=\"m&nope;\""),
+        ("<thread name=\"t\"", "<thread name=\"t\" a=\"1\" a=\"2\""),
+    ];
+    for (from, to) in edits {
+        let new = old.replacen(from, to, 1);
+        let mut tree = parse(FileId(3), old, 64).unwrap();
+        let got = reparse(&mut tree, old, &new, FileId(5), 64).map(|()| tree);
+        let want = parse(FileId(5), &new, 64);
+        match (got, want) {
+            (Ok(g), Ok(w)) => assert_eq!(format!("{g:?}"), format!("{w:?}"), "{from} → {to}"),
+            (Err(g), Err(w)) => assert_eq!((g.span, g.message), (w.span, w.message)),
+            (g, w) => panic!("{from} → {to}: {:?} vs {:?}", g.is_ok(), w.is_ok()),
+        }
+    }
+    // Depth is counted from the document's root, not from the element parsed again.
+    let deep = "<a><b><c></c></b></a>";
+    let deeper = "<a><b><c><d/></c></b></a>";
+    let mut tree = parse(FileId(0), deep, 4).unwrap();
+    assert!(reparse(&mut tree, deep, deeper, FileId(0), 3).is_err_and(|e| e.too_deep));
+}
+
+proptest::proptest! {
+    /// Random edits of a model (a range replaced by random XML-ish text): `reparse`
+    /// of the old tree and a full parse of the new text agree, tree or error.
+    #[test]
+    fn reparse_agrees_with_parse_on_random_edits(
+        at in 0usize..400,
+        len in 0usize..12,
+        with in "[<>/=\"' a-z&;]{0,12}",
+    ) {
+        let old = "<application name=\"a\" version=\"1\">\n  <part name=\"p\">\n    <thread name=\"t\" period=\"10ms\">\n      <module name=\"m\" type=\"x.Y\"><param name=\"k\">1.5</param></module>\n      <module name=\"n\" type=\"x.Y\"/>\n    </thread>\n  </part>\n  <connect from=\"p/t/m/out\" to=\"p/t/n/in\" on-full=\"block\"/>\n</application>\n";
+        let at = at.min(old.len());
+        let end = (at + len).min(old.len());
+        let new = format!("{}{}{}", &old[..at], with, &old[end..]);
+        let mut tree = parse(FileId(1), old, 8).unwrap();
+        let got = reparse(&mut tree, old, &new, FileId(2), 8).map(|()| tree);
+        let want = parse(FileId(2), &new, 8);
+        match (got, want) {
+            (Ok(g), Ok(w)) => proptest::prop_assert_eq!(format!("{g:?}"), format!("{w:?}")),
+            (Err(g), Err(w)) => proptest::prop_assert_eq!((g.span, g.message), (w.span, w.message)),
+            (g, w) => proptest::prop_assert!(false, "{} vs {}", g.is_ok(), w.is_ok()),
+        }
+    }
+}

@@ -10,6 +10,7 @@
 //! `--quiet`, `--help`), parsed without a dependency.
 
 mod args;
+mod summary;
 
 use crate::builder::RunningApp;
 pub use args::{parse_duration, parse_seed, run_seed, Args};
@@ -18,6 +19,7 @@ use std::io::Write;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
+pub use summary::{ContainerFigures, Summary, Violations};
 
 /// How [`supervise`] runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -33,7 +35,17 @@ pub struct Options {
 /// happen and a summary at the end. Exit code 1 if a module panicked or a container
 /// did not stop within a few seconds of being asked (it is left behind), else 3
 /// ([`DATA_LOST`]) if a module reported data lost (a recording cut short), else 0.
-pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Options) -> ExitCode {
+pub fn supervise(app: RunningApp, interrupted: &AtomicBool, options: &Options) -> ExitCode {
+    supervise_summarised(app, interrupted, options).0
+}
+
+/// [`supervise`], also giving the summary it printed as data (`ferroc run --format
+/// json`).
+pub fn supervise_summarised(
+    mut app: RunningApp,
+    interrupted: &AtomicBool,
+    options: &Options,
+) -> (ExitCode, Summary) {
     for w in app.warnings() {
         eprintln!("warning: {}", escape(w));
     }
@@ -48,15 +60,17 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
         eprint!("\r\x1b[K");
     }
     let panicked = report_the_end(&app, &stuck, reported);
-    print_summary(&app, reason, started);
-    let lost = report_losses();
-    if panicked || !stuck.is_empty() || app.failure().is_some() {
-        ExitCode::from(1)
-    } else if lost {
-        ExitCode::from(DATA_LOST)
+    let mut summary = Summary::of(&app, reason, started.elapsed().as_secs_f64(), &stuck);
+    print_summary(&summary);
+    report_losses(&summary.data_lost);
+    summary.exit_code = if panicked || !stuck.is_empty() || app.failure().is_some() {
+        1
+    } else if !summary.data_lost.is_empty() {
+        DATA_LOST
     } else {
-        ExitCode::SUCCESS
-    }
+        0
+    };
+    (ExitCode::from(summary.exit_code), summary)
 }
 
 /// The exit code of a run that ended without errors but lost data it was meant to
@@ -64,16 +78,14 @@ pub fn supervise(mut app: RunningApp, interrupted: &AtomicBool, options: &Option
 pub const DATA_LOST: u8 = 3;
 
 /// The end of the summary: the data modules reported lost
-/// ([`ferroc_module::report_data_loss`]). Gives whether there was any.
-fn report_losses() -> bool {
-    let lost = ferroc_module::data_losses();
+/// ([`ferroc_module::report_data_loss`]).
+fn report_losses(lost: &[String]) {
     if !lost.is_empty() {
         eprintln!("data lost (exit code {DATA_LOST}):");
-        for l in &lost {
+        for l in lost {
             eprintln!("  {}", escape(l));
         }
     }
-    !lost.is_empty()
 }
 
 /// How many panics and lock reports the user has seen while the application ran.
@@ -156,12 +168,12 @@ fn report_the_end(app: &RunningApp, stuck: &[String], reported: Reported) -> boo
 
 /// The summary: why and when the run stopped, each container's figures, the iB2C
 /// violations counted.
-fn print_summary(app: &RunningApp, reason: &str, started: Instant) {
+fn print_summary(summary: &Summary) {
     eprintln!(
-        "stopped ({reason}) after {:.1} s",
-        started.elapsed().as_secs_f64()
+        "stopped ({}) after {:.1} s",
+        summary.reason, summary.seconds
     );
-    for s in app.status() {
+    for s in &summary.containers {
         eprintln!(
             "  {}: {} cycles, {} overruns, load {:.1} %",
             s.path,
@@ -170,19 +182,15 @@ fn print_summary(app: &RunningApp, reason: &str, started: Instant) {
             s.load * 100.0
         );
     }
-    let violations = app.violation_counts();
-    if !violations.is_empty() {
+    if !summary.violations.is_empty() {
         eprintln!("iB2C principle violations:");
-        for v in &violations {
+        for v in &summary.violations {
             eprintln!(
                 "  {}: {} × {} (policy {})",
-                v.path,
-                v.count,
-                v.rule.name(),
-                v.policy.as_str()
+                v.path, v.count, v.rule, v.policy
             );
         }
-        let dropped = app.violation_reports_dropped();
+        let dropped = summary.violation_reports_dropped;
         if dropped > 0 {
             eprintln!("  ({dropped} reports were dropped unread)");
         }

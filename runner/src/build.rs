@@ -1,10 +1,8 @@
 //! A plan made into the runtime's `Builder` calls: every module, lock, connection,
 //! call and thread container declared (the bundle writes the same calls as source).
 
-use crate::from_plan::{
-    conversion, link_spec, params_of, ports_of, queues_of, step_kind, thread_options,
-};
-use ferroc_compiler::plan::Plan;
+use crate::from_plan::{conversion, link_spec, ports_of, queues_of, step_kind, thread_options};
+use crate::plan::RunPlan as Plan;
 use ferroc_runtime::behaviour::ViolationPolicy;
 use ferroc_runtime::builder::{
     BuildError, Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StartOptions,
@@ -47,11 +45,11 @@ pub fn builder<'r>(
 
 fn add_modules(builder: &mut Builder<'_>, plan: &Plan) -> Result<(), BuildError> {
     for m in &plan.modules {
-        let (params, queues, ports) = (params_of(m), queues_of(m), ports_of(m));
+        let (queues, ports) = (queues_of(m), ports_of(m));
         builder.add_module(ModuleSpec {
             path: &m.path,
             type_name: &m.type_name,
-            params: &params,
+            params: &m.params,
             queues: &queues,
             ports: &ports,
             violations: ViolationPolicy::parse(&m.ib2c_violations).unwrap_or_default(),
@@ -163,7 +161,7 @@ fn add_threads(builder: &mut Builder<'_>, plan: &Plan) -> Result<(), BuildError>
             steps: t
                 .steps
                 .iter()
-                .map(|(path, kind)| (path.clone(), step_kind(kind)))
+                .map(|(path, kind)| (path.clone(), step_kind(*kind)))
                 .collect(),
         })?;
     }

@@ -1,0 +1,107 @@
+//! What the model says about ROS 2 (`<ros2>` in a part, `<ros2-external>`; docs/ros2.md):
+//! the nodes, their topic and service ends with the ports behind them, as written. The
+//! checks of area R (`checks/src/ros2/`) judge them; names are validated and expanded
+//! there with `ferroc_ros2::names`, so a bad name is one finding, not a missing node.
+
+use super::{ElementId, Endpoint};
+use ferroc_diagnostics::source::Span;
+use hashbrown::HashSet;
+
+/// Every ROS 2 node of the model and every external one it declares.
+#[derive(Debug, Default)]
+pub struct Ros2 {
+    pub nodes: Vec<Ros2Node>,
+    /// The ports a `<publish>`, `<subscribe>`, `<service>` or `<client>` names: they are
+    /// connected to ROS 2, so "not connected" findings (T109, T110) pass them over.
+    pub ports: HashSet<Endpoint>,
+}
+
+impl Ros2 {
+    /// Whether a port is published, subscribed, offered or called as a ROS 2 end.
+    pub fn binds(&self, ep: Endpoint) -> bool {
+        self.ports.contains(&ep)
+    }
+}
+
+/// A text attribute with the span of its value.
+pub type Spanned<T> = (T, Span);
+
+/// A `<ros2>` (a part as a node) or a `<ros2-external>`.
+#[derive(Debug)]
+pub struct Ros2Node {
+    /// The part; `None` for an external node.
+    pub part: Option<ElementId>,
+    /// The element's tag.
+    pub span: Span,
+    pub name: Spanned<String>,
+    pub namespace: Option<Spanned<String>>,
+    /// `domain=`, default 0.
+    pub domain: u32,
+    pub topics: Vec<Ros2Topic>,
+    pub services: Vec<Ros2Service>,
+}
+
+impl Ros2Node {
+    /// The namespace in force: the one written, else `/`.
+    pub fn namespace(&self) -> &str {
+        self.namespace.as_ref().map_or("/", |(n, _)| n)
+    }
+
+    /// Whether this is a node outside the model.
+    pub fn is_external(&self) -> bool {
+        self.part.is_none()
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TopicDirection {
+    Publish,
+    Subscribe,
+}
+
+/// A `<publish>` or `<subscribe>`.
+#[derive(Debug)]
+pub struct Ros2Topic {
+    pub direction: TopicDirection,
+    /// The element's tag.
+    pub span: Span,
+    /// The port behind it (model nodes only; `None` when the path did not resolve or
+    /// the node is external).
+    pub port: Option<Spanned<Endpoint>>,
+    pub topic: Spanned<String>,
+    /// The message type as written (`geometry_msgs/msg/Twist`).
+    pub ty: Spanned<String>,
+    /// `field="linear.x"`: the port carries this field of the message.
+    pub field: Option<Spanned<String>>,
+    /// `reliability=` written: `true` for `best-effort` (ROS 2's default is reliable).
+    pub best_effort: Option<Spanned<bool>>,
+    /// `durability=` written: `true` for `transient-local` (the default is volatile).
+    pub transient_local: Option<Spanned<bool>>,
+    pub depth: Option<Spanned<u32>>,
+}
+
+impl Ros2Topic {
+    pub fn is_best_effort(&self) -> bool {
+        self.best_effort.as_ref().is_some_and(|(b, _)| *b)
+    }
+
+    pub fn is_transient_local(&self) -> bool {
+        self.transient_local.as_ref().is_some_and(|(t, _)| *t)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ServiceRole {
+    Server,
+    Client,
+}
+
+/// A `<service>` or `<client>` of a `<ros2>`.
+#[derive(Debug)]
+pub struct Ros2Service {
+    pub role: ServiceRole,
+    pub span: Span,
+    pub port: Option<Spanned<Endpoint>>,
+    pub name: Spanned<String>,
+    pub ty: Spanned<String>,
+}

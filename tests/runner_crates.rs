@@ -1,0 +1,124 @@
+//! What a runner and a bundle's part program link (issue 26): no compiler crate, no
+//! Zenoh, no HTTP stack unless the run or the bundle asks for inspection. Read from the
+//! generated packages with `cargo tree --offline` (nothing is built: the runner's build
+//! is left to a `cargo` that refuses, after the package is written). That a built
+//! runner refuses a plan of another version: tests/runner.rs.
+
+mod common;
+
+use common::{ferroc, tempdir};
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Crates no plain runner and no bundle part without inspection may link.
+const NEVER: &[&str] = &[
+    "ferroc-compiler",
+    "ferroc-model",
+    "ferroc-checks",
+    "ferroc-syntax",
+    "ferroc-host",
+    "zenoh",
+    "axum",
+    "hyper",
+];
+
+/// The crates `manifest` links (normal dependencies, every package of its workspace).
+fn crates_of(manifest: &Path) -> BTreeSet<String> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let out = Command::new(cargo)
+        .args(["tree", "--offline", "-e", "normal", "--prefix", "none"])
+        .args(["--workspace", "--format", "{p}", "--manifest-path"])
+        .arg(manifest)
+        .output()
+        .expect("cargo runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "cargo tree failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    text.lines()
+        .filter_map(|l| l.split_whitespace().next())
+        .map(str::to_string)
+        .collect()
+}
+
+/// `ferroc ARGS` with runners written into `target` and a `cargo` that builds nothing:
+/// the runner's package is written, its build fails.
+fn write_runner(target: &Path, args: &[&str]) {
+    let out = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("CARGO_TARGET_DIR", target)
+        .env("CARGO", "false")
+        .output()
+        .expect("ferroc runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_ne!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("building the runner"), "{err}");
+}
+
+/// The Cargo.toml of the one runner package under `target` that depends on `krate`.
+fn runner_package(target: &Path, krate: &str) -> PathBuf {
+    let found: Vec<PathBuf> = std::fs::read_dir(target.join("ferroc-runner"))
+        .unwrap()
+        .map(|e| e.unwrap().path().join("Cargo.toml"))
+        .filter(|t| {
+            std::fs::read_to_string(t)
+                .unwrap_or_default()
+                .contains(&format!("\n{krate} = {{ path = "))
+        })
+        .collect();
+    assert_eq!(found.len(), 1, "{found:?}");
+    found[0].clone()
+}
+
+fn assert_lean(crates: &BTreeSet<String>, what: &str) {
+    for never in NEVER {
+        assert!(!crates.contains(*never), "{what} links {never}: {crates:?}");
+    }
+    assert!(crates.contains("ferroc-runtime"), "{what}: {crates:?}");
+}
+
+#[test]
+fn a_plain_runner_links_no_compiler_and_no_zenoh_and_the_inspecting_one_does() {
+    let target = tempdir("runner_crates");
+    let model = "models/crash_course.xml";
+    write_runner(&target, &["run", model, "--cycles", "1", "-q"]);
+    let plain = crates_of(&runner_package(&target, "ferroc-runner"));
+    assert_lean(&plain, "the plain runner");
+    assert!(plain.contains("crash-course"), "{plain:?}");
+
+    write_runner(&target, &["run", model, "--inspect", "--cycles", "1", "-q"]);
+    let inspect = crates_of(&runner_package(&target, "ferroc-host"));
+    assert!(inspect.contains("zenoh"), "{inspect:?}");
+    assert!(inspect.contains("ferroc-compiler"), "{inspect:?}");
+    // The web page is the CLI's: an inspecting runner serves Zenoh only.
+    assert!(!inspect.contains("axum"), "{inspect:?}");
+}
+
+#[test]
+fn a_bundle_part_links_no_compiler_and_no_http_stack() {
+    let out = tempdir("runner_crates_bundle");
+    let (code, _, err) = ferroc(&[
+        "bundle",
+        "models/rescue_robot.xml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let crates = crates_of(&out.join("Cargo.toml"));
+    for never in [
+        "ferroc-compiler",
+        "ferroc-model",
+        "ferroc-checks",
+        "axum",
+        "hyper",
+    ] {
+        assert!(
+            !crates.contains(never),
+            "the bundle links {never}: {crates:?}"
+        );
+    }
+}
