@@ -328,7 +328,8 @@ fn a_continuous_batch_grows_while_short_shrinks_while_long_and_stays_bounded() {
 fn a_step_reads_the_period_of_its_container() {
     use ferroc_module::cycle;
     let seen = Arc::new(Mutex::new(Vec::new()));
-    let reader = |seen: &Arc<Mutex<Vec<(Option<Duration>, bool)>>>| {
+    type Seen = Arc<Mutex<Vec<(Option<Duration>, bool)>>>;
+    let reader = |seen: &Seen| {
         let seen = Arc::clone(seen);
         Step::new("read", move || {
             seen.lock()
