@@ -1,7 +1,7 @@
 //! `ferroc log info FILE` and `ferroc log cat FILE --channel TOPIC`: what an MCAP
 //! recording holds (ferroc's, or any other), also one cut off by a crash.
 
-use ferroc_std::recording::{ChannelSummary, Checksums, Message, Recording};
+use ferroc_std::recording::{ChannelSummary, Checksums, Message, Recording, Run};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -14,16 +14,19 @@ pub struct LogArgs {
 
 #[derive(clap::Subcommand)]
 enum LogCommand {
-    /// The channels of a recording: topic, encoding, type, part, messages, time span
+    /// The channels of a recording: topic, encoding, type, unit, part, messages, time span
     Info {
         /// The MCAP file
         file: PathBuf,
         /// Read a file whose checksums do not match anyway, and say where
         #[arg(long)]
         ignore_checksums: bool,
+        #[command(flatten)]
+        time: TimeArgs,
     },
-    /// The messages of one topic, one line each: log time in seconds, then the value
-    /// (the JSON form; --exact: the exact channel's bytes in hex)
+    /// The messages of one topic, one line each: the time in seconds from the run's
+    /// start (model time in lockstep), then the value (the JSON form; --exact: the
+    /// exact channel's bytes in hex)
     Cat {
         /// The MCAP file
         file: PathBuf,
@@ -36,7 +39,17 @@ enum LogCommand {
         /// Print the messages of chunks whose checksums do not match too
         #[arg(long)]
         ignore_checksums: bool,
+        #[command(flatten)]
+        time: TimeArgs,
     },
+}
+
+#[derive(clap::Args, Clone, Copy)]
+struct TimeArgs {
+    /// Print log times as recorded (seconds since 1970; in lockstep model time counts
+    /// from 2000-01-01) instead of from the run's start
+    #[arg(long)]
+    absolute_time: bool,
 }
 
 pub fn run(args: LogArgs) -> ExitCode {
@@ -45,19 +58,22 @@ pub fn run(args: LogArgs) -> ExitCode {
         LogCommand::Info {
             file,
             ignore_checksums,
+            time,
         } => Recording::read_with(file, checksums(*ignore_checksums), &mut |_, _| false)
-            .map(|rec| info(&mut out, file, &rec)),
+            .map(|rec| info(&mut out, file, &rec, *time)),
         LogCommand::Cat {
             file,
             channel,
             exact,
             ignore_checksums,
+            time,
         } => cat(
             &mut out,
             file,
             channel,
             *exact,
             checksums(*ignore_checksums),
+            *time,
         ),
     };
     let written = match result {
@@ -95,7 +111,58 @@ fn seconds(nanos: u64) -> String {
     format!("{}.{:09}", nanos / 1_000_000_000, nanos % 1_000_000_000)
 }
 
-fn info(out: &mut impl Write, file: &std::path::Path, rec: &Recording) -> std::io::Result<()> {
+/// How log times are shown: from the run's start (the recording's `ferroc.run`
+/// metadata says where it lies), or as recorded.
+#[derive(Clone, Copy)]
+struct Times {
+    start: Option<u64>,
+}
+
+impl Times {
+    fn of(run: &Run, args: TimeArgs) -> Self {
+        Times {
+            start: run.start.filter(|_| !args.absolute_time),
+        }
+    }
+
+    /// `log_time` in seconds as shown (a time before the start with a `-`).
+    fn show(self, log_time: u64) -> String {
+        match self.start {
+            Some(start) if log_time < start => format!("-{}", seconds(start - log_time)),
+            Some(start) => seconds(log_time - start),
+            None => seconds(log_time),
+        }
+    }
+
+    /// What the times of `rec` are, for `log info`.
+    fn describe(self, run: &Run) -> String {
+        let clock = run.clock.as_deref().unwrap_or("");
+        match (self.start, clock) {
+            (Some(_), "lockstep") => {
+                "time: model time (lockstep) from the run's start; --absolute-time for log times"
+                    .into()
+            }
+            (Some(start), _) => format!(
+                "time: seconds from the start of the recording ({}); --absolute-time for log times",
+                ferroc_runtime::module::Timestamp {
+                    nanos: i64::try_from(start).unwrap_or(i64::MAX)
+                }
+            ),
+            (None, "lockstep") => {
+                "time: log time, seconds since 1970 (model time counts from 2000-01-01)".into()
+            }
+            (None, _) => "time: log time, seconds since 1970".into(),
+        }
+    }
+}
+
+fn info(
+    out: &mut impl Write,
+    file: &std::path::Path,
+    rec: &Recording,
+    time: TimeArgs,
+) -> std::io::Result<()> {
+    let times = Times::of(&rec.run, time);
     let state = match (&rec.damaged, rec.finished) {
         _ if !rec.corrupt.is_empty() => format!(
             "corrupted: {}; read anyway (--ignore-checksums)",
@@ -111,7 +178,7 @@ fn info(out: &mut impl Write, file: &std::path::Path, rec: &Recording) -> std::i
         shown(&file.display().to_string()),
         shown(&state)
     )?;
-    if let Some(seed) = rec.seed {
+    if let Some(seed) = rec.run.seed {
         writeln!(out, "run seed {seed} (repeat the run with --seed {seed})")?;
     }
     writeln!(
@@ -122,12 +189,13 @@ fn info(out: &mut impl Write, file: &std::path::Path, rec: &Recording) -> std::i
     )?;
     let first = rec.channels.values().filter_map(|c| c.first).min();
     let last = rec.channels.values().filter_map(|c| c.last).max();
+    writeln!(out, "{}", times.describe(&rec.run))?;
     if let (Some(a), Some(b)) = (first, last) {
         writeln!(
             out,
-            "log time {} .. {} s ({} s)",
-            seconds(a),
-            seconds(b),
+            "messages from {} to {} s ({} s)",
+            times.show(a),
+            times.show(b),
             seconds(b - a)
         )?;
     }
@@ -138,18 +206,18 @@ fn info(out: &mut impl Write, file: &std::path::Path, rec: &Recording) -> std::i
 }
 
 fn channel_line(c: &ChannelSummary) -> String {
-    let part = c.metadata.get("ferroc.part").map_or("", String::as_str);
+    let labelled = |key: &str, label: &str| match c.metadata.get(key) {
+        Some(v) if !v.is_empty() => format!("  {label} {}", shown(v)),
+        _ => String::new(),
+    };
     format!(
-        "  {:>3}  {}  [{}]  type {}{}  {} message(s)",
+        "  {:>3}  {}  [{}]  type {}{}{}  {} message(s)",
         c.id,
         shown(&c.topic),
         shown(&c.message_encoding),
         shown(c.model_type()),
-        if part.is_empty() {
-            String::new()
-        } else {
-            format!("  part {}", shown(part))
-        },
+        labelled(ferroc_std::recording::META_UNIT, "unit"),
+        labelled(ferroc_std::recording::META_PART, "part"),
         c.count
     )
 }
@@ -163,6 +231,7 @@ fn cat(
     topic: &str,
     exact: bool,
     checksums: Checksums,
+    time: TimeArgs,
 ) -> Result<std::io::Result<()>, String> {
     let pick = |c: &ChannelSummary| {
         c.topic == topic
@@ -174,10 +243,12 @@ fn cat(
     };
     let mut picked = None;
     let mut written = Ok(());
-    let rec = Recording::read_with(file, checksums, &mut |c, m| {
+    // `ferroc.run` comes before the first chunk (where the writer puts it): the start
+    // is known when the first message is printed.
+    let rec = Recording::read_with_run(file, checksums, &mut |run, c, m| {
         if written.is_ok() && pick(c) && picked.is_none_or(|id| id == c.id) {
             picked = Some(c.id);
-            written = message_line(out, m, exact);
+            written = message_line(out, m, exact, Times::of(run, time));
         }
         false
     })?;
@@ -194,8 +265,13 @@ fn cat(
     Ok(written)
 }
 
-fn message_line(out: &mut impl Write, m: &Message, exact: bool) -> std::io::Result<()> {
-    write!(out, "{} ", seconds(m.log_time))?;
+fn message_line(
+    out: &mut impl Write,
+    m: &Message,
+    exact: bool,
+    times: Times,
+) -> std::io::Result<()> {
+    write!(out, "{} ", times.show(m.log_time))?;
     if exact {
         for b in &m.data {
             write!(out, "{b:02x}")?;

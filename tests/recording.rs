@@ -81,17 +81,28 @@ fn record_writes_every_connection_and_log_shows_it() {
     let (code, out, err) = ferroc(&["log", "info", file.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains(": finished"), "{out}");
+    // Lockstep: model time from the run's start, not seconds since 1970.
     assert!(
-        out.contains("log time 946684800.000000000 .. 946684802.000000000 s"),
+        out.contains("time: model time (lockstep) from the run's start"),
+        "{out}"
+    );
+    assert!(
+        out.contains("messages from 0.000000000 to 2.000000000 s (2.000000000 s)"),
         "{out}"
     );
     let line = out
         .lines()
         .find(|l| l.contains("control/controller/velocity  [postcard]"))
         .unwrap_or_else(|| panic!("{out}"));
+    // The unit of the recorded port (the manifest's `m/s`), per channel.
     assert!(
-        line.contains("type f64  part fragile_bot  51 message(s)"),
+        line.contains("type f64  unit m/s  part fragile_bot  51 message(s)"),
         "{line}"
+    );
+    let (_, absolute, _) = ferroc(&["log", "info", file.to_str().unwrap(), "--absolute-time"]);
+    assert!(
+        absolute.contains("messages from 946684800.000000000 to 946684802.000000000 s"),
+        "{absolute}"
     );
     let pose = out
         .lines()
@@ -126,7 +137,24 @@ fn record_writes_every_connection_and_log_shows_it() {
     ]);
     assert_eq!(code, 0);
     assert_eq!(out.lines().count(), 51);
+    // Model time from the start, 40 ms apart; the recorded time on request.
+    let times: Vec<&str> = out.lines().filter_map(|l| l.split(' ').next()).collect();
+    assert_eq!(
+        (times[0], times[1], times[50]),
+        ("0.000000000", "0.040000000", "2.000000000"),
+        "{out}"
+    );
+    let (code, out, _) = ferroc(&[
+        "log",
+        "cat",
+        some.to_str().unwrap(),
+        "--channel",
+        "fragile_bot/main/control/controller/velocity",
+        "--absolute-time",
+    ]);
+    assert_eq!(code, 0);
     assert!(out.starts_with("946684800.000000000 "), "{out}");
+    assert!(out.contains("\n946684800.040000000 "), "{out}");
     // Not a recording, an unknown channel: exit 2 with a message.
     let (code, _, err) = ferroc(&["log", "info", "Cargo.toml"]);
     assert_eq!(code, 2);
@@ -179,7 +207,9 @@ with open(sys.argv[1], "rb") as f:
         s = summary.schemas[c.schema_id]
         out["channels"].append([c.topic, c.message_encoding, s.name, s.encoding,
                                 summary.statistics.channel_message_counts[c.id],
-                                c.metadata["ferroc.part"]])
+                                c.metadata["ferroc.part"], c.metadata["ferroc.unit"],
+                                c.metadata["ferroc.type"]])
+    out["run"] = [m.metadata for m in reader.iter_metadata() if m.name == "ferroc.run"]
     for schema, channel, message in reader.iter_messages():
         out["times"].setdefault(channel.topic, []).append(message.log_time)
         if channel.message_encoding == "json":
@@ -194,7 +224,7 @@ print(json.dumps(out))
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     let v: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
-    let channel = |topic: &str, enc: &str, ty: &str| {
+    let channel = |topic: &str, enc: &str, ty: &str, unit: &str| {
         serde_json::json!([
             format!("fragile_bot/main/{topic}"),
             enc,
@@ -205,24 +235,33 @@ print(json.dumps(out))
                 "ferroc-type"
             },
             51,
-            "fragile_bot"
+            "fragile_bot",
+            unit,
+            ty
         ])
     };
+    // Each channel's unit: what the logger's input receives, the unit of the output
+    // feeding it (noise module `m`, controller `m/s` and `rad/s`); a pose has none.
     let mut expected = Vec::new();
-    for (topic, ty) in [
-        ("sensor_log/in/0", "f64"),
-        ("sensor_log/in/1", "f64"),
-        ("velocity_log/in/0", "f64"),
-        ("turn_log/in/0", "f64"),
-        ("pose_log/in/0", "crash_course.Pose2D"),
+    for (topic, ty, unit) in [
+        ("sensor_log/in/0", "f64", "m"),
+        ("sensor_log/in/1", "f64", "m"),
+        ("velocity_log/in/0", "f64", "m/s"),
+        ("turn_log/in/0", "f64", "rad/s"),
+        ("pose_log/in/0", "crash_course.Pose2D", ""),
     ] {
-        expected.push(channel(topic, "postcard", ty));
-        expected.push(channel(topic, "json", ty));
+        expected.push(channel(topic, "postcard", ty, unit));
+        expected.push(channel(topic, "json", ty, unit));
     }
     let mut got = v["channels"].as_array().unwrap().clone();
     got.sort_by_key(|c| c.to_string());
     expected.sort_by_key(|c| c.to_string());
     assert_eq!(got, expected);
+    // The run's clock and start: model time, counted from the lockstep epoch.
+    assert_eq!(
+        v["run"],
+        serde_json::json!([{"clock": "lockstep", "start": EPOCH.to_string(), "seed": "1"}])
+    );
     // Log times: every 40 ms of model time from the lockstep epoch, for every topic.
     let want: Vec<u64> = (0..51).map(|k| EPOCH + k * 40_000_000).collect();
     for (topic, times) in v["times"].as_object().unwrap() {
@@ -336,7 +375,8 @@ fn log_info_escapes_control_characters_of_topics() {
         "{out}"
     );
     assert!(out.contains("part p\\u{1b}]0;title\\u{7}"), "{out}");
-    assert_eq!(out.lines().count(), 4, "{out}");
+    // State, count, what the times are, their span, the one channel.
+    assert_eq!(out.lines().count(), 5, "{out}");
 }
 
 /// A logger whose input receives nothing still leaves its file: created at the first

@@ -49,6 +49,7 @@ pub fn run_plan(plan: &Plan, app: &Application) -> run::RunPlan {
         binds: plan.locks.binds.clone(),
         orders: plan.locks.orders.clone(),
     };
+    out.units = plan.units.clone();
     out
 }
 

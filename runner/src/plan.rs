@@ -50,6 +50,10 @@ pub struct RunPlan {
     pub param_links: Vec<ParamLink>,
     pub threads: Vec<Thread>,
     pub locks: Locks,
+    /// The unit of each connected port (`module/port` → `m/s`), for the channel
+    /// metadata of recordings (`Plan::units`); absent in older plans: no units.
+    #[serde(default)]
+    pub units: Vec<(String, String)>,
 }
 
 impl RunPlan {
@@ -68,6 +72,7 @@ impl RunPlan {
             param_links: Vec::new(),
             threads: Vec::new(),
             locks: Locks::default(),
+            units: Vec::new(),
         }
     }
 }

@@ -8,7 +8,7 @@ use ferroc_runtime::module::{Direction, Value};
 use std::path::Path;
 
 /// Sets the log folder, whether files that are not recordings may be replaced
-/// (`--force`) and the parts of the plan's modules.
+/// (`--force`), the parts of the plan's modules and the units of their ports.
 pub fn configure(plan: &RunPlan) {
     ferroc_std::recording::set_log_dir(plan.run.log_dir.clone());
     ferroc_std::recording::set_overwrite(plan.run.force);
@@ -17,6 +17,7 @@ pub fn configure(plan: &RunPlan) {
             .filter_map(|m| Some((m.path.clone(), m.part.clone()?)))
             .collect(),
     );
+    ferroc_std::recording::set_units(&plan.units);
 }
 
 /// `--record FILE` (none: nothing to do): a `ferroc_std.Recorder` at the end of every

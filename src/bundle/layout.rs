@@ -51,6 +51,8 @@ pub struct Part<'p> {
     pub fields: Vec<super::fields::FieldAccessor>,
     /// The outputs `--record` records (`layout/recordable.rs`).
     pub recordable: Vec<recordable::RecordedOutput>,
+    /// The unit of each port its modules connect, for recordings' channel metadata.
+    pub units: Vec<(String, String)>,
 }
 
 impl Part<'_> {
@@ -136,6 +138,7 @@ pub fn layout<'p>(
     }
     for part in &mut split.parts {
         part.recordable = recordable::outputs(app, libs, part);
+        part.units = recordable::units(&plan.units, part);
     }
     let libraries = split.libraries();
     let Split {

@@ -452,10 +452,17 @@ fn registrations(part: &Part<'_>) -> Vec<String> {
     // the flexible ports' library types declared with serde="true" (as their crates
     // register them for `ferroc run`): the recording and replaying modules (Logger,
     // Player, Const) encode their values.
+    // So do the recorded outputs' library types declared serde="true", as the
+    // libraries' `register` does for `ferroc run --record`.
     let encodable = (part.modules.iter())
         .flat_map(|m| &m.ports)
         .filter(|g| g.serde)
-        .filter_map(|g| g.rust.as_deref());
+        .filter_map(|g| g.rust.as_deref())
+        .chain(
+            part.recordable
+                .iter()
+                .filter_map(|o| o.serde_rust.as_deref()),
+        );
     let crossing: BTreeSet<&str> = (part.links_out.iter())
         .chain(&part.links_in)
         .filter_map(|c| c.link.as_ref()?.rust.as_deref())

@@ -161,7 +161,7 @@ pub fn is_inhibition(name: &str) -> bool {
     name.starts_with("inhibition/")
 }
 
-/// A behaviour's stimulation mode (model-language.md §4, FINROC's `Stimulation Mode`).
+/// A behaviour's stimulation mode (docs/model-language.md §4, FINROC's `Stimulation Mode`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
     Auto,

@@ -1,5 +1,5 @@
 //! Checks of area scheduling and timing (S), and what the timing checks share: the load
-//! of each thread container from declared budgets (`model-language.md` §7,
+//! of each thread container from declared budgets (`docs/model-language.md`: `budget`, `<flow>`;
 //! `reference/deadlocks.md` §1(f)).
 
 use ferroc_diagnostics::source::Span;

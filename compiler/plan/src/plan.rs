@@ -148,6 +148,11 @@ pub struct Plan {
     pub param_links: Vec<PlannedParamLink>,
     pub threads: Vec<PlannedThread>,
     pub locks: PlannedLocks,
+    /// The unit of the values at each connected module port (`robot/log/in/0` →
+    /// `m/s`), as the model writes it, sorted by port: an output's declared unit, an
+    /// input's own unit else the unit of what feeds it (a selected field's). Ports
+    /// without a unit are left out. Recordings name the unit of every channel with it.
+    pub units: Vec<(String, String)>,
 }
 
 /// Application resources, the model's lock-slot bindings, and the nesting orders the
@@ -331,6 +336,17 @@ impl Planner<'_> {
         (self.paths[module.0 as usize].clone(), port.name.to_string())
     }
 
+    /// Notes the unit of the port `(module, port)` in [`Plan::units`].
+    fn note_unit(&mut self, (module, port): &(String, String), unit: Option<&Unit>) {
+        let Some(unit) = unit.filter(|u| !u.text.is_empty()) else {
+            return;
+        };
+        let path = format!("{module}/{port}");
+        if let Err(at) = self.plan.units.binary_search_by(|(p, _)| p.cmp(&path)) {
+            self.plan.units.insert(at, (path, unit.text.clone()));
+        }
+    }
+
     /// A client calling a service, with its link when the call crosses parts.
     fn plan_call(
         &mut self,
@@ -420,9 +436,15 @@ impl Planner<'_> {
             .iter()
             .filter(|c| c.link.is_some())
             .count() as u32;
+        let (from_end, to_end) = (
+            self.end(edge.from_module, from),
+            self.end(edge.to_module, to),
+        );
+        self.note_unit(&from_end, from.unit);
+        self.note_unit(&to_end, to.unit.or(from_unit));
         self.plan.connections.push(PlannedConnection {
-            from: self.end(edge.from_module, from),
-            to: self.end(edge.to_module, to),
+            from: from_end,
+            to: to_end,
             select,
             scale,
             offset,

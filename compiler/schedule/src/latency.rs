@@ -1,4 +1,4 @@
-//! End-to-end latency bounds along data edges (`model-language.md` §7,
+//! End-to-end latency bounds along data edges (`docs/model-language.md`: `<flow>`;
 //! `reference/deadlocks.md` §1(f)), for `<flow>` requirements (checks S105, S106).
 //!
 //! Time is measured from the start of the flow's first module to the completion of its

@@ -1,5 +1,5 @@
 //! Data types of ports and parameters, and the connection compatibility rules of
-//! model-language.md §3.
+//! docs/model-language.md §3.
 
 use std::fmt;
 
@@ -202,7 +202,7 @@ fn bits_of(t: &Type) -> Option<(bool, bool, u8)> {
     }
 }
 
-/// The rules of model-language.md §3 (1, 2 and 5; units are judged separately).
+/// The rules of docs/model-language.md §3 (1, 2 and 5; units are judged separately).
 pub fn compat(from: &Type, to: &Type) -> Compat {
     if from == to {
         return Compat::Identical;

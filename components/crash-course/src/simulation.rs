@@ -3,10 +3,17 @@
 use crate::Pose2D;
 use ferroc_runtime::module::{In, Kind, Module, ModuleType, Out, Parameter, Setup};
 
-/// Simulated time per control step. The crash course runs at 25 Hz; the simulation
-/// advances by this fixed step rather than by wall-clock time, so a run is
+/// Simulated time per control step when the module runs outside a periodic thread
+/// container (a test calling its steps). In a model it advances by its container's
+/// period ([`step_seconds`]), a fixed step rather than wall-clock time, so a run is
 /// reproducible cycle for cycle.
 pub const STEP_SECONDS: f64 = 0.04;
+
+/// Simulated time per control step: the period of the thread container running the
+/// step (the crash course's `main`, 40 ms), else [`STEP_SECONDS`].
+pub fn step_seconds() -> f64 {
+    ferroc_runtime::module::cycle::period().map_or(STEP_SECONDS, |p| p.as_secs_f64())
+}
 /// Distance from the robot's centre to its bumper.
 const RADIUS: f64 = 0.15;
 
@@ -119,10 +126,11 @@ impl Module for MainSimulation {
             .get()
             .to_radians()
             .clamp(-max_turn, max_turn);
-        self.pose.yaw = (self.pose.yaw + turn * STEP_SECONDS).rem_euclid(std::f64::consts::TAU);
+        let dt = step_seconds();
+        self.pose.yaw = (self.pose.yaw + turn * dt).rem_euclid(std::f64::consts::TAU);
         let half = self.arena_size.get() / 2.0 - RADIUS;
-        let x = self.pose.x + speed * self.pose.yaw.cos() * STEP_SECONDS;
-        let y = self.pose.y + speed * self.pose.yaw.sin() * STEP_SECONDS;
+        let x = self.pose.x + speed * self.pose.yaw.cos() * dt;
+        let y = self.pose.y + speed * self.pose.yaw.sin() * dt;
         if x.abs() <= half && y.abs() <= half {
             self.pose.x = x;
             self.pose.y = y;

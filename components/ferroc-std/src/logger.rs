@@ -165,6 +165,7 @@ pub(crate) fn recorded_inputs(m: &mut Setup<'_>, inputs: Vec<DynIn>) -> Vec<Reco
         let info = ChannelInfo {
             topic: port.clone(),
             part: part.clone(),
+            unit: recording::unit_of(&port),
             port,
             model_type,
             rust: vt.rust().to_owned(),

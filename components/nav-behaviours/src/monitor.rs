@@ -1,6 +1,6 @@
 //! `nav_behaviours.NavMonitor`: what the user watches, as text at a human rate.
 
-use crate::simulation::STEP_SECONDS;
+use crate::simulation::step_seconds;
 use crate::Pose2D;
 use ferroc_runtime::console;
 use ferroc_runtime::module::{In, MetaType, Module, ModuleType, Parameter, Setup};
@@ -51,7 +51,7 @@ impl ModuleType for NavMonitor {
 impl Module for NavMonitor {
     fn update(&mut self) {
         self.cycle += 1;
-        let t = self.cycle as f64 * STEP_SECONDS;
+        let t = self.cycle as f64 * step_seconds();
         let p = self.pose.get();
         if !self.has_arrived && self.arrived.get() > 0.5 {
             self.has_arrived = true;

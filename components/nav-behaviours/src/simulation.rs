@@ -5,9 +5,16 @@ use crate::{Pose2D, RangeScan};
 use ferroc_runtime::console;
 use ferroc_runtime::module::{In, Kind, Module, ModuleType, Out, Parameter, Setup};
 
-/// Simulated time per control step, as in the crash course (25 Hz): a run is
-/// reproducible cycle for cycle whatever the wall-clock timing.
+/// Simulated time per control step outside a periodic thread container (a test
+/// calling the steps), as in the crash course (25 Hz).
 pub const STEP_SECONDS: f64 = 0.04;
+
+/// Simulated time per control step: the period of the thread container running the
+/// step (`control`, 40 ms), else [`STEP_SECONDS`]; a fixed step, so a run is
+/// reproducible cycle for cycle whatever the wall-clock timing.
+pub fn step_seconds() -> f64 {
+    ferroc_runtime::module::cycle::period().map_or(STEP_SECONDS, |p| p.as_secs_f64())
+}
 /// Distance from the robot's centre to its bumper.
 pub const RADIUS: f64 = 0.15;
 
@@ -171,9 +178,10 @@ impl Module for ArenaSimulation {
             if v.is_finite() { v } else { 0.0 },
             if w.is_finite() { w } else { 0.0 },
         );
-        let theta = crate::wrap(self.pose.theta + w * STEP_SECONDS);
-        let x = self.pose.x + v * theta.cos() * STEP_SECONDS;
-        let y = self.pose.y + v * theta.sin() * STEP_SECONDS;
+        let dt = step_seconds();
+        let theta = crate::wrap(self.pose.theta + w * dt);
+        let x = self.pose.x + v * theta.cos() * dt;
+        let y = self.pose.y + v * theta.sin() * dt;
         self.pose.theta = theta;
         if arena.free(x, y) {
             self.pose.x = x;

@@ -224,10 +224,22 @@ impl ThreadContainer {
     /// Runs every live step once, in order, timing each.
     pub fn run_cycle(&mut self) {
         let _session = Home::enter(&self.home);
+        // Several containers may take turns on this thread (the lockstep driver).
+        ferroc_module::cycle::set_period(self.period());
         let started = self.clock.now();
         self.execute_steps::<true>();
         let took = self.clock.now().saturating_sub(started);
         self.stats.record_cycle(took, false);
+        ferroc_module::cycle::leave_cycle();
+    }
+
+    /// The period of a periodic container, which its steps may read
+    /// (`ferroc_module::cycle::period`).
+    fn period(&self) -> Option<Duration> {
+        match &self.trigger {
+            Trigger::Periodic(p) => Some(*p),
+            Trigger::Data(_) | Trigger::Continuous => None,
+        }
     }
 
     /// Runs every live step once; `TIMED` records each step's execution time.
@@ -272,7 +284,9 @@ impl ThreadContainer {
     /// Runs cycles on the current thread until `stop` is set or `limit` cycles ran.
     pub fn run(&mut self, stop: &AtomicBool, limit: Option<u64>) {
         let session = Home::enter(&self.home);
+        ferroc_module::cycle::set_period(self.period());
         self.run_in(&session, stop, limit);
+        ferroc_module::cycle::leave_cycle();
     }
 
     fn run_in(&mut self, session: &Session, stop: &AtomicBool, limit: Option<u64>) {

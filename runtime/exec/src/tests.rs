@@ -320,3 +320,43 @@ fn a_continuous_batch_grows_while_short_shrinks_while_long_and_stays_bounded() {
     }
     assert_eq!(size, 1);
 }
+
+/// A step reads its container's period (`ferroc_module::cycle::period`): a periodic
+/// container's, run freely or cycle by cycle (as the lockstep driver does), none for a
+/// data-triggered or continuous one, and none outside a cycle.
+#[test]
+fn a_step_reads_the_period_of_its_container() {
+    use ferroc_module::cycle;
+    let seen = Arc::new(Mutex::new(Vec::new()));
+    type Seen = Arc<Mutex<Vec<(Option<Duration>, bool)>>>;
+    let reader = |seen: &Seen| {
+        let seen = Arc::clone(seen);
+        Step::new("read", move || {
+            seen.lock()
+                .unwrap()
+                .push((cycle::period(), cycle::in_cycle()));
+        })
+    };
+    let ms = Duration::from_millis(1);
+    let clock = ManualClock::new();
+    let mut periodic = ThreadContainer::new("p", Trigger::Periodic(40 * ms), vec![reader(&seen)])
+        .with_clock(Arc::new(clock.clone()));
+    periodic.run(&AtomicBool::new(false), Some(2));
+    periodic.run_cycle();
+    let mut continuous = ThreadContainer::new("c", Trigger::Continuous, vec![reader(&seen)]);
+    continuous.run(&AtomicBool::new(false), Some(1));
+    let mut data = ThreadContainer::new("d", Trigger::Data(Wakeup::new()), vec![reader(&seen)]);
+    data.run_cycle();
+    assert_eq!(
+        *seen.lock().unwrap(),
+        [
+            (Some(40 * ms), true),
+            (Some(40 * ms), true),
+            (Some(40 * ms), true),
+            (None, true),
+            (None, true)
+        ]
+    );
+    assert!(!cycle::in_cycle(), "after the cycles");
+    assert_eq!(cycle::period(), None);
+}

@@ -9,7 +9,8 @@
 //!
 //! Besides the module API this crate holds what modules are built from and with:
 //! [`behaviour`] (the iB2C behaviour base), [`resource`] (the model's locks),
-//! [`violations`] (the log of broken iB2C principles), each module's [`Random`] source
+//! [`violations`] (the log of broken iB2C principles), [`cycle`] (what a step can ask
+//! about its cycle: the container's period), each module's [`Random`] source
 //! and what the run knows of its reproducibility ([`Determinism`]), the [`ValueTable`] (every value
 //! type, how it is shown, encoded and connected) and the [`Codec`] (postcard).
 //! It depends on `ferroc-ports` only.
@@ -27,6 +28,7 @@ macro_rules! eprintln {
 }
 
 pub mod behaviour;
+pub mod cycle;
 pub mod resource;
 pub mod violations;
 

@@ -44,6 +44,16 @@ impl Timestamp {
         }
     }
 
+    /// Model time since the start when this thread runs the application in lockstep
+    /// (what [`Self::now`] returns minus [`Self::LOCKSTEP_EPOCH`]); `None` when it
+    /// runs on the wall clock. Recordings note which of the two their times are.
+    #[inline]
+    pub fn model_time() -> Option<Duration> {
+        MODEL_TIME
+            .with(Cell::get)
+            .map(|n| Duration::from_nanos(n.max(0).unsigned_abs()))
+    }
+
     /// Where model time starts in a lockstep run: 2000-01-01T00:00:00Z.
     pub const LOCKSTEP_EPOCH: Timestamp = Timestamp {
         nanos: 946_684_800_000_000_000,
@@ -151,5 +161,18 @@ mod tests {
         assert_eq!(Timestamp::from_system_time(t.to_system_time()), t);
         let before = Timestamp { nanos: -5 };
         assert_eq!(Timestamp::from_system_time(before.to_system_time()), before);
+    }
+
+    #[test]
+    fn model_time_is_told_only_on_a_lockstep_thread() {
+        assert_eq!(Timestamp::model_time(), None);
+        set_model_time(Some(Duration::from_millis(4440)));
+        assert_eq!(Timestamp::model_time(), Some(Duration::from_millis(4440)));
+        assert_eq!(
+            Timestamp::now().nanos,
+            Timestamp::LOCKSTEP_EPOCH.nanos + 4_440_000_000
+        );
+        set_model_time(None);
+        assert_eq!(Timestamp::model_time(), None);
     }
 }

@@ -4,15 +4,17 @@
 //! `RECORDABLE` that `ferroc_std::Recorders` reads when the program is started with
 //! `--record`.
 //!
-//! The program registers no value type for recording: it records what its registry can
-//! encode (built-in types, library types crossing to other parts or on flexible ports
-//! declared serde), like `ferroc run`, whose libraries' `register` decide. Registering
-//! every recorded library type declared `serde="true"` would break the build of a
-//! bundle whose crate does not implement serde for it, for an internal connection.
+//! A recorded library type declared `serde="true"` in its manifest (the crash course's
+//! `Pose2D`) is registered with its serde form (`serde_rust`, `rust.rs`'s
+//! `registrations`), as the library's own `register` does for `ferroc run`: both
+//! record the same channels. Types without `serde="true"` are left out, named on
+//! stderr, by both. The unit of every port the part's modules connect is in `units`
+//! (from the plan), written as the table `UNITS` for the channel metadata.
 
 use super::Part;
 use ferroc_compiler::ir::{Application, Endpoint};
 use ferroc_compiler::library::{LibrarySet, PortDir};
+use ferroc_compiler::types::Type;
 
 /// An output of one of the part's modules that feeds a connection.
 pub struct RecordedOutput {
@@ -22,6 +24,8 @@ pub struct RecordedOutput {
     pub model_type: String,
     /// The thread container running the module.
     pub thread: String,
+    /// The Rust path of a library type declared `serde="true"`: registered with serde.
+    pub serde_rust: Option<String>,
 }
 
 /// The outputs `part` records with `--record`: the sources of its connections and of
@@ -51,12 +55,34 @@ pub fn outputs(app: &Application, libs: &LibrarySet, part: &Part<'_>) -> Vec<Rec
         let Some(view) = endpoint.and_then(|e| app.view(libs, e)) else {
             continue;
         };
+        let serde_rust = match view.ty {
+            Type::Named(id, _) if libs.named_type(*id).serde => {
+                Some(libs.named_type(*id).rust.clone())
+            }
+            _ => None,
+        };
         out.push(RecordedOutput {
             module: module.clone(),
             port: port.clone(),
             model_type: view.ty.to_string(),
             thread: thread.path.clone(),
+            serde_rust,
         });
     }
     out
+}
+
+/// The units of the ports `part`'s modules connect (`(port path, unit)`, from
+/// [`Plan::units`](ferroc_compiler::plan::Plan::units)), sorted by port.
+pub fn units(plan_units: &[(String, String)], part: &Part<'_>) -> Vec<(String, String)> {
+    let ends: std::collections::BTreeSet<String> = (part.connections.iter())
+        .flat_map(|c| [&c.from, &c.to])
+        .chain(part.links_out.iter().map(|c| &c.from))
+        .chain(part.links_in.iter().map(|c| &c.to))
+        .map(|(module, port)| format!("{module}/{port}"))
+        .collect();
+    (plan_units.iter())
+        .filter(|(port, _)| ends.contains(port))
+        .cloned()
+        .collect()
 }

@@ -1,6 +1,7 @@
 //! The table `RECORDABLE` of a generated `main.rs`: the outputs `--record` may record
 //! (found by `layout/recordable.rs`), which `ferroc_std::Recorders` reads when the
-//! program is started with `--record`.
+//! program is started with `--record`; and the table `UNITS`, the unit of each port,
+//! which the program tells the recording modules for their channel metadata.
 
 use super::super::code::Code;
 use super::super::layout::Part;
@@ -24,5 +25,13 @@ pub fn table(part: &Part<'_>, name_of: &dyn Fn(&str) -> String) -> String {
         .collect();
     let mut code = Code::default();
     code.list(0, "const RECORDABLE: &[Recordable] = &[", &items, "];");
+    let units: Vec<String> = (part.units.iter())
+        .map(|(port, unit)| format!("({}, {})", rust_str(port), rust_str(unit)))
+        .collect();
+    code.line(
+        0,
+        "/// The unit of each port the modules connect (for recordings).",
+    );
+    code.list(0, "const UNITS: &[(&str, &str)] = &[", &units, "];");
     code.text.trim_end_matches('\n').to_string()
 }

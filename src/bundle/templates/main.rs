@@ -68,6 +68,7 @@ fn main() -> ExitCode {
     // random source is derived from it and the module's path; recordings note it.
     let seed = supervise::run_seed(args.seed.or(SEED));
     ferroc_std::recording::set_run_seed(seed);
+    ferroc_std::recording::set_units(UNITS);
     let mut registry = registry();
     let record = match Recorders::from_args(&args, &mut registry, PART, RECORDABLE) {
         Ok(record) => record,

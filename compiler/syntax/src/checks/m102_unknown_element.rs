@@ -15,6 +15,6 @@ drop a connection without a word. The message suggests the closest known element
 Bad:
     <conect from=\"robot/main/a/out\" to=\"robot/main/b/in\"/>
 
-Fix: use an element of the language (`<connect>`); see model-language.md or `schemas/`.",
+Fix: use an element of the language (`<connect>`); see docs/model-language.md or `schemas/`.",
     fixtures: "compiler/syntax/src/checks/m102_unknown_element",
 };

@@ -48,6 +48,7 @@ impl ModuleType for Recorder {
             port.info.topic = port.input.name().to_owned();
             port.info.port = port.info.topic.clone();
             port.info.part = recording::part_of(&port.info.topic);
+            port.info.unit = recording::unit_of(&port.info.topic);
         }
         Recorder {
             ports,

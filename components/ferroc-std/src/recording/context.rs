@@ -1,6 +1,6 @@
 //! What the program running the application tells the recording modules: where
-//! relative log paths go, which part each module belongs to (for channel metadata),
-//! and the run seed (for the file's metadata). Process-wide, set once before the application is built.
+//! relative log paths go, which part each module belongs to and the unit of each port
+//! (for channel metadata), and the run seed (for the file's metadata). Process-wide, set once before the application is built.
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -11,6 +11,8 @@ static LOG_DIR: Mutex<Option<PathBuf>> = Mutex::new(None);
 static RUN_SEED: Mutex<Option<u64>> = Mutex::new(None);
 /// (module path prefix, part name), longest prefix first.
 static PARTS: Mutex<Vec<(String, String)>> = Mutex::new(Vec::new());
+/// (port path, unit), sorted by path.
+static UNITS: Mutex<Vec<(String, String)>> = Mutex::new(Vec::new());
 
 /// Relative log paths resolve against `dir` from now on (`ferroc run --log-dir`).
 pub fn set_log_dir(dir: Option<PathBuf>) {
@@ -181,5 +183,28 @@ pub fn part_of(path: &str) -> String {
                     .is_some_and(|rest| rest.starts_with('/'))
         })
         .map(|(_, part)| part.clone())
+        .unwrap_or_default()
+}
+
+/// Tells the recording modules the unit of the values at each port: `(port path,
+/// unit)` as the run plan has them (an input's own unit, else the unit of what feeds
+/// it). Ports not named have no unit.
+pub fn set_units<S: AsRef<str>>(units: &[(S, S)]) {
+    let mut units: Vec<(String, String)> = units
+        .iter()
+        .map(|(p, u)| (p.as_ref().to_owned(), u.as_ref().to_owned()))
+        .collect();
+    units.sort();
+    units.dedup_by(|a, b| a.0 == b.0);
+    *UNITS.lock().unwrap_or_else(PoisonError::into_inner) = units;
+}
+
+/// The unit of the values at the port `path` (`robot/log/in/0`); empty if none was
+/// told.
+pub fn unit_of(path: &str) -> String {
+    let units = UNITS.lock().unwrap_or_else(PoisonError::into_inner);
+    units
+        .binary_search_by(|(p, _)| p.as_str().cmp(path))
+        .map(|k| units[k].1.clone())
         .unwrap_or_default()
 }

@@ -3,7 +3,9 @@
 //! thread container): they take turns through a mutex, each message one lock.
 
 use super::TYPE_SCHEMA_ENCODING;
-use super::{json_schema, EXACT_ENCODING, META_FORM, META_PART, META_PORT, META_RUN, META_TYPE};
+use super::{
+    json_schema, EXACT_ENCODING, META_FORM, META_PART, META_PORT, META_RUN, META_TYPE, META_UNIT,
+};
 use mcap::records::MessageHeader;
 use mcap::{WriteOptions, Writer};
 use std::collections::{BTreeMap, HashMap};
@@ -35,6 +37,8 @@ pub struct ChannelInfo {
     pub model_type: String,
     /// The Rust type behind it.
     pub rust: String,
+    /// The unit of the values (`m/s`), as the model writes it; empty without one.
+    pub unit: String,
 }
 
 /// The two channels of one recorded port and its message counter.
@@ -154,15 +158,9 @@ impl LogFile {
         let mut writer = options
             .create(BufWriter::new(file))
             .map_err(|e| mcap_error(path, e))?;
-        if let Some(seed) = super::run_seed() {
-            let run = mcap::records::Metadata {
-                name: META_RUN.to_owned(),
-                metadata: BTreeMap::from([("seed".to_owned(), seed.to_string())]),
-            };
-            writer
-                .write_metadata(&run)
-                .map_err(|e| mcap_error(path, e))?;
-        }
+        writer
+            .write_metadata(&run_metadata())
+            .map_err(|e| mcap_error(path, e))?;
         // The header on disk at once: the file is an MCAP file from the start.
         writer.flush().map_err(|e| mcap_error(path, e))?;
         Ok(LogFile {
@@ -340,6 +338,29 @@ fn metadata(info: &ChannelInfo, form: &str) -> BTreeMap<String, String> {
         (META_PART.to_owned(), info.part.clone()),
         (META_PORT.to_owned(), info.port.clone()),
         (META_TYPE.to_owned(), info.model_type.clone()),
+        (META_UNIT.to_owned(), info.unit.clone()),
         (META_FORM.to_owned(), form.to_owned()),
     ])
+}
+
+/// The record `ferroc.run` (see the [module docs](super)): which clock the log times
+/// come from and where the run started on it, the run seed if told. A recording is
+/// created in a module's step, so this thread's clock is the run's.
+fn run_metadata() -> mcap::records::Metadata {
+    use ferroc_runtime::module::Timestamp;
+    let (clock, start) = match Timestamp::model_time() {
+        Some(_) => ("lockstep", Timestamp::LOCKSTEP_EPOCH),
+        None => ("wall", Timestamp::now()),
+    };
+    let mut metadata = BTreeMap::from([
+        ("clock".to_owned(), clock.to_owned()),
+        ("start".to_owned(), start.nanos.to_string()),
+    ]);
+    if let Some(seed) = super::run_seed() {
+        metadata.insert("seed".to_owned(), seed.to_string());
+    }
+    mcap::records::Metadata {
+        name: META_RUN.to_owned(),
+        metadata,
+    }
 }

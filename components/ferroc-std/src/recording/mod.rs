@@ -11,10 +11,16 @@
 //!   `null`, so the schema allows `null` wherever a float may be; the exact channel
 //!   keeps the real value.
 //!
-//! Channel metadata names the part, the port path, the model type and which of the two
-//! forms the channel holds. A metadata record `ferroc.run` holds the run seed (`seed`),
-//! with which the run can be repeated (`--seed`). Log time and publish time are `Timestamp::now()`: model
-//! time in lockstep, so a lockstep recording is the same file every run.
+//! Channel metadata names the part, the port path, the model type, the unit of the
+//! values (`ferroc.unit`, as the model writes it: `m/s`; empty when the port has none)
+//! and which of the two forms the channel holds. A metadata record `ferroc.run` holds
+//! the clock the log times come from (`clock`: `lockstep`, model time, or `wall`), the
+//! log time of the run's start (`start`, nanoseconds since 1970: in lockstep
+//! 2000-01-01, where model time 0 lies; on the wall clock when the recording was
+//! created) and the run seed (`seed`), with which the run can be repeated (`--seed`).
+//! Log time and publish time are `Timestamp::now()`: model time in lockstep, so a
+//! lockstep recording is the same file every run; `ferroc log` shows times from
+//! `start`.
 //!
 //! The file stays readable while it is written: messages go into chunks that are
 //! written out and flushed at least once per `flush` interval of (model) time, so a
@@ -38,11 +44,12 @@ mod schema;
 
 pub use context::{
     check_in_log_dir, check_overwrite, is_ferroc_recording, log_dir, part_of, resolve_log_path,
-    run_seed, set_log_dir, set_overwrite, set_parts, set_run_seed, LIBRARY,
+    run_seed, set_log_dir, set_overwrite, set_parts, set_run_seed, set_units, unit_of, LIBRARY,
 };
 pub use file::{ChannelId, ChannelInfo, LogFile, SharedLog};
 pub use read::{
-    ChannelSummary, Checksums, Keep, Message, Recording, MAX_KEPT_BYTES, MAX_RECORD_BYTES,
+    ChannelSummary, Checksums, Keep, KeepRun, Message, Recording, Run, MAX_KEPT_BYTES,
+    MAX_RECORD_BYTES,
 };
 pub use schema::json_schema;
 
@@ -55,6 +62,7 @@ pub const META_PART: &str = "ferroc.part";
 pub const META_PORT: &str = "ferroc.port";
 pub const META_TYPE: &str = "ferroc.type";
 pub const META_FORM: &str = "ferroc.form";
-/// The name of the file's metadata record about the run (`seed`: the run seed, when
-/// the program told it with [`set_run_seed`]).
+pub const META_UNIT: &str = "ferroc.unit";
+/// The name of the file's metadata record about the run (`clock`, `start`, and `seed`:
+/// the run seed, when the program told it with [`set_run_seed`]).
 pub const META_RUN: &str = "ferroc.run";

@@ -91,13 +91,29 @@ pub struct Recording {
     pub finished: bool,
     /// What did not match its checksum (read with [`Checksums::Ignore`]).
     pub corrupt: Vec<String>,
-    /// The run seed the recording's metadata record `ferroc.run` names (`--seed`).
+    /// What the recording's metadata record `ferroc.run` says of the run.
+    pub run: Run,
+}
+
+/// The metadata record `ferroc.run` of a recording (see the [module docs](super)).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Run {
+    /// The run seed (`--seed`).
     pub seed: Option<u64>,
+    /// The clock of the log times: `lockstep` (model time) or `wall`.
+    pub clock: Option<String>,
+    /// The log time of the run's start (nanoseconds since 1970): times from the
+    /// start are log times minus this.
+    pub start: Option<u64>,
 }
 
 /// What a reader is asked to keep of each message: `true` keeps it in
 /// [`Recording::messages`].
 pub type Keep<'a> = dyn FnMut(&ChannelSummary, &Message) -> bool + 'a;
+
+/// [`Keep`] that is also told the run's metadata read so far (the writer puts it
+/// before the first message).
+pub type KeepRun<'a> = dyn FnMut(&Run, &ChannelSummary, &Message) -> bool + 'a;
 
 impl Recording {
     /// Reads the recording at `path` with every message, checksums verified; an
@@ -129,6 +145,15 @@ impl Recording {
         checksums: Checksums,
         keep: &mut Keep<'_>,
     ) -> Result<Recording, String> {
+        Self::read_with_run(path, checksums, &mut |_, c, m| keep(c, m))
+    }
+
+    /// [`Self::read_with`] telling `keep` the run's metadata too.
+    pub fn read_with_run(
+        path: &Path,
+        checksums: Checksums,
+        keep: &mut KeepRun<'_>,
+    ) -> Result<Recording, String> {
         let shown = path.display();
         let cannot = |e: std::io::Error| format!("cannot read `{shown}`: {e}");
         let meta = std::fs::metadata(path).map_err(cannot)?;
@@ -145,7 +170,7 @@ impl Recording {
     pub fn parse(bytes: &[u8]) -> Result<Recording, String> {
         let complete = bytes.len() >= 2 * mcap::MAGIC.len() && bytes.ends_with(mcap::MAGIC);
         let mut src = bytes;
-        scan(&mut src, complete, Checksums::Verify, &mut |_, _| true)
+        scan(&mut src, complete, Checksums::Verify, &mut |_, _, _| true)
     }
 
     /// The exact channel of `topic`.
@@ -177,7 +202,7 @@ struct Scan<'k, 'a> {
     rec: Recording,
     schemas: HashMap<u16, (String, String, Vec<u8>)>,
     verify: bool,
-    keep: &'k mut Keep<'a>,
+    keep: &'k mut KeepRun<'a>,
     /// Chunks met so far (the one being read is number `chunks`).
     chunks: u64,
 }
@@ -186,7 +211,7 @@ fn scan(
     src: &mut dyn Read,
     complete: bool,
     checksums: Checksums,
-    keep: &mut Keep<'_>,
+    keep: &mut KeepRun<'_>,
 ) -> Result<Recording, String> {
     let mut head = [0u8; 8];
     let got = read_full(src, &mut head).map_err(|e| format!("cannot be read: {e}"))?;
@@ -353,7 +378,11 @@ impl Scan<'_, '_> {
                 self.schemas.insert(header.id, schema);
             }
             Record::Metadata(m) if m.name == super::META_RUN => {
-                self.rec.seed = m.metadata.get("seed").and_then(|s| s.parse().ok());
+                self.rec.run = Run {
+                    seed: m.metadata.get("seed").and_then(|s| s.parse().ok()),
+                    clock: m.metadata.get("clock").cloned(),
+                    start: m.metadata.get("start").and_then(|s| s.parse().ok()),
+                };
             }
             Record::Channel(ch) if !self.rec.channels.contains_key(&ch.id) => {
                 let summary = self.summary_of(ch);
@@ -376,7 +405,7 @@ impl Scan<'_, '_> {
                     log_time: header.log_time,
                     data: data.into_owned(),
                 };
-                if (self.keep)(channel, &message) {
+                if (self.keep)(&self.rec.run, channel, &message) {
                     self.rec.messages.push(message);
                 }
             }

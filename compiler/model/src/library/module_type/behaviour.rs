@@ -3,7 +3,7 @@
 use super::{ModuleKind, ModuleType, ParamDecl, PortDecl, PortDir, PortRole, PortType};
 use ferroc_values::types::{Meta, Type};
 
-/// The iB2C interface every behaviour has (model-language.md §4). Instance-sized ports
+/// The iB2C interface every behaviour has (docs/model-language.md §4, `kind`). Instance-sized ports
 /// (`inhibition/k`, fusion channels) are added per instance by the resolver.
 pub(super) fn add_behaviour_interface(mt: &mut ModuleType) {
     let span = mt.span;
