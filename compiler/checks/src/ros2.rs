@@ -14,7 +14,7 @@ pub mod r107_ros2_topic_without_publisher;
 
 use crate::PassContext;
 use ferroc_diagnostics::source::Span;
-use ferroc_model::ir::{Ros2Node, Ros2Topic, TopicDirection};
+use ferroc_model::ir::{PortView, Ros2Node, Ros2Topic, TopicDirection};
 use ferroc_model::library::LibrarySet;
 use ferroc_ros2::def::{Arity, BaseType, FieldType, Message, Primitive, TypeName};
 use ferroc_ros2::Registry;
@@ -115,6 +115,42 @@ pub(crate) fn target<'r>(
         }
     }
     unreachable!("split yields at least one segment")
+}
+
+/// A topic of one of the model's own nodes whose port is bound and whose message type is
+/// known, with the port's type laid over the message: what R102 (types) and R103
+/// (units) each judge.
+pub(crate) struct Walked<'a> {
+    pub topic: &'a Ros2Topic,
+    /// The port's place in the `<publish>`/`<subscribe>` element.
+    pub span: Span,
+    pub port: PortView<'a>,
+    pub found: Vec<Found>,
+}
+
+/// Every bound topic of the model's own nodes, walked.
+pub(crate) fn walked_topics<'a>(ctx: &PassContext<'a>) -> Vec<Walked<'a>> {
+    let reg = registry();
+    let mut out = Vec::new();
+    for node in ctx.app.ros2.nodes.iter().filter(|n| !n.is_external()) {
+        for topic in &node.topics {
+            let (Some((ep, span)), Ok(target)) = (&topic.port, target(reg, topic)) else {
+                continue;
+            };
+            let Some(port) = ctx.app.view(ctx.libraries, *ep) else {
+                continue;
+            };
+            let mut walk = Walk::new(ctx, topic.direction);
+            walk.target(port.ty, port.unit, &target);
+            out.push(Walked {
+                topic,
+                span: *span,
+                port,
+                found: walk.found,
+            });
+        }
+    }
+    out
 }
 
 /// What the walk over a port's type and a message type finds.

@@ -1,7 +1,7 @@
 //! R102 `ros2-type-mismatch`: A port's type does not match the ROS 2 message type (or
 //! field) it is published or subscribed as.
 
-use super::{Found, Walk};
+use super::Found;
 use crate::CheckInfo;
 use crate::PassContext;
 use ferroc_diagnostics::diagnostic::{Diagnostic, Diagnostics, Severity};
@@ -26,45 +26,35 @@ Fix: `field=\"linear.x\"`, or a library type with the fields `linear` and `angul
 };
 
 pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    let reg = super::registry();
-    for node in ctx.app.ros2.nodes.iter().filter(|n| !n.is_external()) {
-        for t in &node.topics {
-            let (Some((ep, span)), Ok(target)) = (&t.port, super::target(reg, t)) else {
-                continue;
-            };
-            let Some(view) = ctx.app.view(ctx.libraries, *ep) else {
-                continue;
-            };
-            let mut walk = Walk::new(ctx, t.direction);
-            walk.target(view.ty, view.unit, &target);
-            let first = walk.found.into_iter().find_map(|f| match f {
-                Found::Mismatch { path, why } => Some((path, why)),
-                Found::Leaf { .. } => None,
-            });
-            let Some((path, why)) = first else {
-                continue;
-            };
-            let at = if path.is_empty() {
-                String::new()
-            } else {
-                format!(" at `{path}`")
-            };
-            let what = match &t.field {
-                Some((f, _)) => format!("`{}.{f}`", t.ty.0),
-                None => format!("`{}`", t.ty.0),
-            };
-            out.push(
-                Diagnostic::new(
-                    &CHECK,
-                    *span,
-                    format!(
-                        "port `{}` (`{}`) does not match {what}{at}: {why}",
-                        view.name, view.ty
-                    ),
-                )
-                .label("type differs from the message")
-                .help("carry one field with field=\"…\" (e.g. `linear.x`), or give the port a library type whose fields match the message's in names, order and widths"),
-            );
-        }
+    for walked in super::walked_topics(ctx) {
+        let (t, span, view) = (walked.topic, walked.span, &walked.port);
+        let first = walked.found.into_iter().find_map(|f| match f {
+            Found::Mismatch { path, why } => Some((path, why)),
+            Found::Leaf { .. } => None,
+        });
+        let Some((path, why)) = first else {
+            continue;
+        };
+        let at = if path.is_empty() {
+            String::new()
+        } else {
+            format!(" at `{path}`")
+        };
+        let what = match &t.field {
+            Some((f, _)) => format!("`{}.{f}`", t.ty.0),
+            None => format!("`{}`", t.ty.0),
+        };
+        out.push(
+            Diagnostic::new(
+                &CHECK,
+                span,
+                format!(
+                    "port `{}` (`{}`) does not match {what}{at}: {why}",
+                    view.name, view.ty
+                ),
+            )
+            .label("type differs from the message")
+            .help("carry one field with field=\"…\" (e.g. `linear.x`), or give the port a library type whose fields match the message's in names, order and widths"),
+        );
     }
 }

@@ -1,7 +1,7 @@
 //! R103 `ros2-unit-convention`: A port's unit differs from the unit ROS 2 reads the
 //! message field in (REP-103).
 
-use super::{Found, Walk};
+use super::Found;
 use crate::CheckInfo;
 use crate::PassContext;
 use ferroc_diagnostics::diagnostic::{Diagnostic, Diagnostics, Severity};
@@ -26,63 +26,53 @@ port in m/s and publish that one.",
 };
 
 pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    let reg = super::registry();
-    for node in ctx.app.ros2.nodes.iter().filter(|n| !n.is_external()) {
-        for t in &node.topics {
-            let (Some((ep, span)), Ok(target)) = (&t.port, super::target(reg, t)) else {
+    for walked in super::walked_topics(ctx) {
+        let (t, span, view) = (walked.topic, walked.span, &walked.port);
+        for f in walked.found {
+            let Found::Leaf {
+                path,
+                unit: Some(unit),
+                expected: Some(expected),
+            } = f
+            else {
                 continue;
             };
-            let Some(view) = ctx.app.view(ctx.libraries, *ep) else {
+            let Ok(want) = parse_unit(expected) else {
                 continue;
             };
-            let mut walk = Walk::new(ctx, t.direction);
-            walk.target(view.ty, view.unit, &target);
-            for f in walk.found {
-                let Found::Leaf {
-                    path,
-                    unit: Some(unit),
-                    expected: Some(expected),
-                } = f
-                else {
-                    continue;
-                };
-                let Ok(want) = parse_unit(expected) else {
-                    continue;
-                };
-                let field = match (&t.field, path.is_empty()) {
-                    (Some((f, _)), _) => format!("{}.{f}", short(&t.ty.0)),
-                    (None, true) => short(&t.ty.0).to_string(),
-                    (None, false) => format!("{}.{path}", short(&t.ty.0)),
-                };
-                let (msg, help) = match relate(&unit, &want) {
-                    UnitRelation::Same => continue,
-                    UnitRelation::Scaled(k) => (
-                        format!(
-                            "`{}` in `{unit}` is sent as `{field}`, which ROS 2 reads in `{want}` (REP-103)",
-                            view.name
-                        ),
-                        format!(
-                            "give the port the unit `{want}`, or connect it through <convert scale=\"{}\"/> to a port in `{want}` and publish that one",
-                            describe_factor(k)
-                        ),
+            let field = match (&t.field, path.is_empty()) {
+                (Some((f, _)), _) => format!("{}.{f}", short(&t.ty.0)),
+                (None, true) => short(&t.ty.0).to_string(),
+                (None, false) => format!("{}.{path}", short(&t.ty.0)),
+            };
+            let (msg, help) = match relate(&unit, &want) {
+                UnitRelation::Same => continue,
+                UnitRelation::Scaled(k) => (
+                    format!(
+                        "`{}` in `{unit}` is sent as `{field}`, which ROS 2 reads in `{want}` (REP-103)",
+                        view.name
                     ),
-                    UnitRelation::DifferentDimension => (
-                        format!(
-                            "`{}` carries {} (`{unit}`), but `{field}` is {} (`{want}`, REP-103)",
-                            view.name,
-                            describe_dimension(&unit.dimension),
-                            describe_dimension(&want.dimension)
-                        ),
-                        "publish the port that carries this quantity, or choose the message field that means what the port carries".to_string(),
+                    format!(
+                        "give the port the unit `{want}`, or connect it through <convert scale=\"{}\"/> to a port in `{want}` and publish that one",
+                        describe_factor(k)
                     ),
-                };
-                out.push(
-                    Diagnostic::new(&CHECK, *span, msg)
-                        .label(format!("`{unit}`, ROS 2 expects `{want}`"))
-                        .help(help),
-                );
-                break; // one finding per end: the first field in the wrong unit
-            }
+                ),
+                UnitRelation::DifferentDimension => (
+                    format!(
+                        "`{}` carries {} (`{unit}`), but `{field}` is {} (`{want}`, REP-103)",
+                        view.name,
+                        describe_dimension(&unit.dimension),
+                        describe_dimension(&want.dimension)
+                    ),
+                    "publish the port that carries this quantity, or choose the message field that means what the port carries".to_string(),
+                ),
+            };
+            out.push(
+                Diagnostic::new(&CHECK, span, msg)
+                    .label(format!("`{unit}`, ROS 2 expects `{want}`"))
+                    .help(help),
+            );
+            break; // one finding per end: the first field in the wrong unit
         }
     }
 }
