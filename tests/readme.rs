@@ -55,3 +55,33 @@ fn the_readme_test_command_is_what_ci_runs() {
         "the script runs the suite"
     );
 }
+
+/// The first-use times the README states are those bench/README.md's table measured
+/// with bench/first_use.sh: a new measurement changes both, or this fails.
+#[test]
+fn the_readme_states_the_measured_first_use_times() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let readme = std::fs::read_to_string(format!("{root}/README.md")).unwrap();
+    let bench = std::fs::read_to_string(format!("{root}/bench/README.md")).unwrap();
+    for step in ["install", "crash_course", "new_library", "edit"] {
+        let row = bench
+            .lines()
+            .find(|l| l.starts_with(&format!("| `{step}` |")))
+            .unwrap_or_else(|| panic!("bench/README.md has no row for `{step}`"));
+        let measured = row
+            .trim_end()
+            .trim_end_matches('|')
+            .rsplit('|')
+            .next()
+            .unwrap();
+        let figure = measured.split(',').next().unwrap().trim();
+        assert!(
+            !figure.is_empty() && figure != "—",
+            "bench/README.md: `{step}` not measured"
+        );
+        assert!(
+            readme.contains(&format!(" {figure}")),
+            "the README does not state the measured `{step}` time {figure}"
+        );
+    }
+}
