@@ -85,8 +85,16 @@ fn the_demo_runs_and_prints_activities_and_the_fused_command() {
 
 #[test]
 fn the_robot_follows_the_pillar_and_reaches_the_goal() {
-    let model = copy("models/nav_behaviours.xml", "nav_fast", &[FAST]);
-    let (code, out, err) = ferroc(&["run", model.to_str().unwrap(), "--cycles", "800"]);
+    // In lockstep: the simulation steps by its container's period, so 800 cycles of
+    // 40 ms are 32 s of model time however fast the machine runs them.
+    let model = copy("models/nav_behaviours.xml", "nav_lockstep", &[]);
+    let (code, out, err) = ferroc(&[
+        "run",
+        model.to_str().unwrap(),
+        "--lockstep",
+        "--cycles",
+        "800",
+    ]);
     assert_eq!(code, 0, "{err}");
     let all: Vec<(f64, f64, f64)> = out.lines().filter_map(activities).collect();
     assert_eq!(all.len(), 32, "{out}");

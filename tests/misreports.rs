@@ -54,8 +54,11 @@ fn a_bad_param_value_is_blamed_on_the_argument() {
     let args = ["run", "models/crash_course.xml", "--cycles", "1", "-q"];
     let (code, _, err) = ferroc(&[&args[..], &["--param", "front-noise=NaN"]].concat());
     assert_eq!(code, 1, "{err}");
+    // (After the line saying that the runner is built, when it is.)
     assert!(
-        err.starts_with("models/crash_course.xml:57:95: error: --param front-noise=NaN: "),
+        err.lines()
+            .any(|l| l
+                .starts_with("models/crash_course.xml:57:95: error: --param front-noise=NaN: ")),
         "at the cmdline= that takes it: {err}"
     );
     assert!(err.contains("`NaN` is not a number of type `f64`"), "{err}");

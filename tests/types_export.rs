@@ -93,7 +93,7 @@ fn a_drifted_manifest_fails_the_check_and_export_repairs_only_that_type() {
     assert_eq!(code, 1, "{err}");
     assert!(
         err.contains(
-            "crash_course.lib.xml:62:22: error: the manifest of `crash_course.AddNoise` differs"
+            "crash_course.lib.xml:82:22: error: the manifest of `crash_course.AddNoise` differs"
         ),
         "{err}"
     );

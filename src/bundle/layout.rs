@@ -138,6 +138,14 @@ pub fn layout<'p>(
     }
     for part in &mut split.parts {
         part.recordable = recordable::outputs(app, libs, part);
+        // A recorded value of another library's type is registered with its serde form:
+        // the part links that library's crate.
+        let declaring: Vec<String> = (part.recordable.iter())
+            .filter_map(|r| r.serde_library.clone())
+            .collect();
+        for name in &declaring {
+            part.use_library(name);
+        }
         part.units = recordable::units(&plan.units, part);
     }
     let libraries = split.libraries();

@@ -23,7 +23,9 @@ pub use simulation::{ArenaSimulation, GoalServer};
 use ferroc_runtime::builder::Registry;
 
 /// A planar pose in the map frame: metres, and radians counter-clockwise from x.
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::NoUninit)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, bytemuck::NoUninit, serde::Serialize, serde::Deserialize,
+)]
 #[repr(C)]
 pub struct Pose2D {
     /// Metres.
@@ -38,7 +40,7 @@ ferroc_runtime::port_value!(Pose2D, "nav_behaviours.Pose2D", copy);
 
 /// One sweep of a planar range sensor: `ranges[i]` is the distance along the direction
 /// `angle_min + i · angle_increment` relative to the robot's heading.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RangeScan {
     /// Distances in metres (`max_range` where nothing is in range).
     pub ranges: Vec<f64>,
@@ -84,9 +86,10 @@ pub fn register(registry: &mut Registry) {
         .register::<GoalServer>()
         .register::<ArenaSimulation>()
         .register::<NavMonitor>()
-        // Its value types, for flexible ports (`ferroc_std.Dump`, `Logger`, …).
-        .register_value::<Pose2D>()
-        .register_value::<RangeScan>();
+        // Its value types with their serde form, as the manifest declares (serde="true"):
+        // flexible ports (`ferroc_std.Dump`, `Logger`, …), recorders and bundles encode them.
+        .register_serde::<Pose2D>()
+        .register_serde::<RangeScan>();
 }
 
 #[cfg(test)]

@@ -26,6 +26,8 @@ pub struct RecordedOutput {
     pub thread: String,
     /// The Rust path of a library type declared `serde="true"`: registered with serde.
     pub serde_rust: Option<String>,
+    /// The library that declares that type: the part depends on its crate.
+    pub serde_library: Option<String>,
 }
 
 /// The outputs `part` records with `--record`: the sources of its connections and of
@@ -55,11 +57,15 @@ pub fn outputs(app: &Application, libs: &LibrarySet, part: &Part<'_>) -> Vec<Rec
         let Some(view) = endpoint.and_then(|e| app.view(libs, e)) else {
             continue;
         };
-        let serde_rust = match view.ty {
+        let (serde_rust, serde_library) = match view.ty {
             Type::Named(id, _) if libs.named_type(*id).serde => {
-                Some(libs.named_type(*id).rust.clone())
+                let named = libs.named_type(*id);
+                (
+                    Some(named.rust.clone()),
+                    Some(libs.get(named.library).name.clone()),
+                )
             }
-            _ => None,
+            _ => (None, None),
         };
         out.push(RecordedOutput {
             module: module.clone(),
@@ -67,6 +73,7 @@ pub fn outputs(app: &Application, libs: &LibrarySet, part: &Part<'_>) -> Vec<Rec
             model_type: view.ty.to_string(),
             thread: thread.path.clone(),
             serde_rust,
+            serde_library,
         });
     }
     out
