@@ -77,17 +77,7 @@ fn model(step: &str) -> String {
 
 /// A crate of its own in `dir`: Cargo.toml (the runtime by path), manifest, code, model.
 fn write_library(dir: &Path, package: &str, lib: &str) {
-    let runtime = Path::new(env!("CARGO_MANIFEST_DIR")).join("runtime");
-    std::fs::create_dir_all(dir.join("src")).unwrap();
-    std::fs::write(
-        dir.join("Cargo.toml"),
-        format!(
-            "[package]\nname = \"{package}\"\nversion = \"0.1.0\"\nedition = \"2021\"\n\n\
-             [lib]\nname = \"beep\"\n\n[dependencies]\nferroc-runtime = {{ path = {:?} }}\n\n[workspace]\n",
-            runtime.to_str().unwrap()
-        ),
-    )
-    .unwrap();
+    common::write_library_toml(dir, package, "beep");
     std::fs::write(
         dir.join("beep.lib.xml"),
         MANIFEST.replace("beep-lib", package),

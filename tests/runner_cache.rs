@@ -41,17 +41,7 @@ fn output(mut command: Command) -> (i32, String, String) {
 
 /// A library `lib` (crate `package`) in `dir` whose one module prints `word N`.
 fn write_library(dir: &Path, lib: &str, package: &str, word: &str) {
-    let runtime = Path::new(env!("CARGO_MANIFEST_DIR")).join("runtime");
-    std::fs::create_dir_all(dir.join("src")).unwrap();
-    std::fs::write(
-        dir.join("Cargo.toml"),
-        format!(
-            "[package]\nname = \"{package}\"\nversion = \"0.1.0\"\nedition = \"2021\"\n\n\
-             [lib]\nname = \"{lib}\"\n\n[dependencies]\nferroc-runtime = {{ path = {:?} }}\n\n[workspace]\n",
-            runtime.to_str().unwrap()
-        ),
-    )
-    .unwrap();
+    common::write_library_toml(dir, package, lib);
     std::fs::write(
         dir.join(format!("{lib}.lib.xml")),
         format!(

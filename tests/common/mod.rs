@@ -107,3 +107,19 @@ impl Drop for SmallDisk {
         let _ = Command::new("umount").arg(&self.0).status();
     }
 }
+
+/// The Cargo.toml of a library crate outside ferroc's workspace: package `package`,
+/// library `lib`, the runtime of this checkout by path, a workspace of its own.
+pub fn write_library_toml(dir: &Path, package: &str, lib: &str) {
+    let runtime = Path::new(env!("CARGO_MANIFEST_DIR")).join("runtime");
+    std::fs::create_dir_all(dir.join("src")).unwrap();
+    std::fs::write(
+        dir.join("Cargo.toml"),
+        format!(
+            "[package]\nname = \"{package}\"\nversion = \"0.1.0\"\nedition = \"2021\"\n\n\
+             [lib]\nname = \"{lib}\"\n\n[dependencies]\nferroc-runtime = {{ path = {:?} }}\n\n[workspace]\n",
+            runtime.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+}
