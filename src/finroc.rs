@@ -170,7 +170,8 @@ pub fn import(format: ImportFormat) -> ExitCode {
         Err(code) => return code,
     };
     let root = Checkout::root_of(&args.input, args.finroc_root.as_deref());
-    let checkout = Checkout::discover(&root, &args.input, &Limits::default(), None, &mut sources);
+    let options = ferroc_compiler::load::Options::default();
+    let checkout = Checkout::discover(&root, &args.input, &options, None, &mut sources);
     // `-o model.xml` names no folder: the model goes into the current one.
     let out_dir = match args.output.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),

@@ -1,17 +1,22 @@
 //! Completion from the text before the cursor: element names a parent may hold and
 //! attribute names an element takes (the vocabulary table the validator and the XSDs
-//! use), enumerated attribute values, units in `unit=` (ferroc-values' table), module types of the libraries in scope in
+//! use), enumerated attribute values, units in `unit=` (ferroc-values' table) and
+//! after the number of a `<param>` value (those of the parameter's dimension), module types of the libraries in scope in
 //! `type=`, and port paths in `from=`/`to=` (outputs first in `from=`, inputs first in
 //! `to=`, ports of the other end's type and unit before the rest).
 
 use crate::request::{self, Reply};
 use crate::server::Server;
-use ferroc_compiler::ir::{Application, ElementKind, Endpoint};
-use ferroc_compiler::library::{LibrarySet, PortDir};
+use ferroc_compiler::ir::{Application, ElementId, ElementKind, Endpoint};
+use ferroc_compiler::library::{LibrarySet, ParamDecl, PortDir};
 use ferroc_compiler::syntax::vocabulary::{self, AttrKind, ElementSpec};
+use ferroc_compiler::types::Type;
 use ferroc_compiler::CheckResult;
 use lsp_server::Request;
-use lsp_types::{CompletionItem, CompletionItemKind, CompletionList, CompletionParams};
+use lsp_types::{
+    CompletionItem, CompletionItemKind, CompletionList, CompletionParams, CompletionTextEdit,
+    TextEdit,
+};
 
 /// At most this many items are sent (a 10,000-module model has ~50,000 ports); the
 /// list says it is incomplete, so the client asks again as the user types.
@@ -44,6 +49,27 @@ pub fn completion(server: &Server, req: &Request) -> Reply {
             other.as_deref(),
             latest.as_deref(),
         ),
+        Some(Place::ParamValue {
+            parents,
+            param,
+            typed,
+        }) => {
+            let decl = latest
+                .as_deref()
+                .and_then(|r| param_decl(r, &parents, &param));
+            let (_, partial) = value_unit(&typed).unwrap_or_default();
+            let range =
+                doc.lines
+                    .range(&doc.text, at.offset - partial.len(), at.offset, server.enc);
+            let mut items = value_units(&typed, decl);
+            for it in &mut items {
+                it.text_edit = Some(CompletionTextEdit::Edit(TextEdit::new(
+                    range,
+                    it.label.clone(),
+                )));
+            }
+            items
+        }
         None => Vec::new(),
     };
     let incomplete = items.len() > MAX_ITEMS;
@@ -67,6 +93,12 @@ enum Place {
         parents: Vec<(String, Option<String>)>,
         tag: String,
     },
+    /// In the text of `<param name="param">`, `typed` so far.
+    ParamValue {
+        parents: Vec<(String, Option<String>)>,
+        param: String,
+        typed: String,
+    },
     /// Inside an attribute's value (`typed` so far); `other`: for `from=`/`to=`, the
     /// other end's value when written before.
     Value {
@@ -80,8 +112,8 @@ enum Place {
 
 fn context(before: &str) -> Option<Place> {
     let lt = before.rfind('<')?;
-    if before[lt..].contains('>') {
-        return None;
+    if let Some(gt) = before[lt..].find('>') {
+        return param_value(before, lt, lt + gt);
     }
     let parents = open_elements(&before[..lt]);
     let inside = &before[lt + 1..];
@@ -121,6 +153,22 @@ fn context(before: &str) -> Option<Place> {
         });
     }
     Some(Place::Attr { parents, tag })
+}
+
+/// The cursor in the text of a `<param>` whose start tag is `before[lt..=gt]`.
+fn param_value(before: &str, lt: usize, gt: usize) -> Option<Place> {
+    let tag = &before[lt + 1..gt];
+    let is_param = tag
+        .strip_prefix("param")
+        .is_some_and(|r| r.starts_with(char::is_whitespace));
+    if !is_param || tag.ends_with('/') {
+        return None;
+    }
+    Some(Place::ParamValue {
+        parents: open_elements(&before[..lt]),
+        param: attr_value(tag, "name")?,
+        typed: before[gt + 1..].to_string(),
+    })
 }
 
 /// `name="value"` in a start tag's text.
@@ -302,6 +350,64 @@ fn units(typed: &str) -> Vec<CompletionItem> {
         .collect()
 }
 
+/// A parameter value being typed as a number and then a unit: the unit typed so far
+/// (`1.5 km` → `("1.5", "km")`); `None` before a number is complete.
+fn value_unit(typed: &str) -> Option<(&str, &str)> {
+    let (number, _) = ferroc_compiler::values::split_number(typed);
+    if number.is_empty() || number.parse::<f64>().is_err() {
+        return None;
+    }
+    let rest = typed.trim_start()[number.len()..].trim_start();
+    (!rest.contains(char::is_whitespace)).then_some((number, rest))
+}
+
+/// Units after the number of a parameter value: those of the parameter's dimension
+/// (seconds and the like for a duration); none for a parameter without a unit; every
+/// unit when the parameter is not known (no check yet).
+fn value_units(typed: &str, decl: Option<&ParamDecl>) -> Vec<CompletionItem> {
+    let Some((_, partial)) = value_unit(typed) else {
+        return Vec::new();
+    };
+    let dimension = match decl {
+        None => None,
+        Some(d) => match (&d.unit, &d.ty) {
+            (Some(u), _) => Some(u.dimension),
+            (None, Type::Duration) => ferroc_compiler::units::parse_unit("s")
+                .ok()
+                .map(|u| u.dimension),
+            (None, _) => return Vec::new(),
+        },
+    };
+    let mut items = units(partial);
+    items.retain(|it| {
+        let unit = ferroc_compiler::units::parse_unit(&it.label);
+        dimension.is_none_or(|want| unit.is_ok_and(|u| u.dimension == want))
+    });
+    items
+}
+
+/// The declaration of parameter `param` of the module the open elements `parents`
+/// end in, as the last check resolved it.
+fn param_decl<'r>(
+    result: &'r CheckResult,
+    parents: &[(String, Option<String>)],
+    param: &str,
+) -> Option<&'r ParamDecl> {
+    let app = result.app.as_ref()?;
+    let (last, _) = parents.last()?;
+    if last != "module" {
+        return None;
+    }
+    // Element 0 is the application; parts are its children.
+    let mut here = ElementId(0);
+    for (tag, name) in parents.iter().skip(1) {
+        if matches!(tag.as_str(), "part" | "thread" | "group" | "module") {
+            here = app.child(here, name.as_deref()?)?;
+        }
+    }
+    app.module_type(&result.libraries, here)?.param(param)
+}
+
 fn module_types(result: &CheckResult) -> Vec<CompletionItem> {
     let mut out = Vec::new();
     for lib in &result.libraries.libraries {
@@ -464,6 +570,30 @@ mod tests {
         .map(|i| i.label)
         .collect();
         assert!(kinds.contains(&"drop-oldest".to_string()), "{kinds:?}");
+        // After the number of a `<param>` value: the unit typed so far.
+        let text =
+            "<application>\n<part name=\"p\">\n<module name=\"m\">\n<param name=\"speed\">1.5 km";
+        match context(text) {
+            Some(Place::ParamValue {
+                param,
+                typed,
+                parents,
+            }) => {
+                assert_eq!((param.as_str(), typed.as_str()), ("speed", "1.5 km"));
+                assert_eq!(parents.last().map(|p| p.0.as_str()), Some("module"));
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(value_unit("1.5 km"), Some(("1.5", "km")));
+        assert_eq!(value_unit("-2e3"), Some(("-2e3", "")));
+        assert_eq!(value_unit("fast"), None, "no number");
+        assert_eq!(value_unit("1 2"), Some(("1", "2")), "a unit is one word");
+        assert_eq!(value_unit("1 m s"), None);
+        assert!(
+            context("<param name=\"x\"/>1").is_none(),
+            "no text in an empty element"
+        );
+        assert!(value_units("1 ", None).iter().any(|i| i.label == "km/h"));
         let names: Vec<String> = tags(&[("application".into(), None)], "pa")
             .into_iter()
             .map(|i| i.label)

@@ -1,5 +1,6 @@
 //! Hover: a connection end's port (type, unit, direction, writer and readers); a
-//! parameter (type, unit, range, default, choices and the value the model resolves);
+//! parameter (type, unit, range, default, choices, the value the model resolves and
+//! the quantity it reads: `3.6 km/h` = `1 m/s`);
 //! a module type; the explanation of a finding's check.
 
 use crate::navigate::covers;
@@ -7,8 +8,9 @@ use crate::request::{self, Reply};
 use crate::server::Server;
 use ferroc_compiler::diagnostic::Diagnostic;
 use ferroc_compiler::ir::{Application, ElementId, ElementKind, Endpoint, ParamSource};
-use ferroc_compiler::library::{LibrarySet, PortDir};
+use ferroc_compiler::library::{LibrarySet, ParamDecl, PortDir};
 use ferroc_compiler::source::Span;
+use ferroc_compiler::types::Type;
 use ferroc_compiler::CheckResult;
 use lsp_server::Request;
 use lsp_types::{Hover, HoverContents, HoverParams, MarkupContent, MarkupKind};
@@ -133,6 +135,14 @@ fn param_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<String
                 ParamSource::Cmdline => "given on the command line (`--param`)".to_string(),
             };
             text.push_str(&format!("\n\nvalue: `{}` ({source})", value.text));
+            let written = match &value.source {
+                ParamSource::Config(Ok((t, _))) => Some(t.as_str()),
+                ParamSource::Inline => Some(value.text.as_str()),
+                _ => None,
+            };
+            if let Some(q) = written.and_then(|w| quantity(decl, w)) {
+                text.push_str(&format!("\n\n{q}"));
+            }
             if let Some((name, _)) = &value.cmdline {
                 text.push_str(&format!(
                     "; `--param {name}=VALUE` at start-up overrides it"
@@ -142,6 +152,51 @@ fn param_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<String
         }
     }
     None
+}
+
+/// A numeric value as the compiler reads it: its number and unit, and what that is in
+/// the parameter's unit (`3.6 km/h` → `1 m/s`); why it cannot be read, when it cannot.
+fn quantity(decl: &ParamDecl, written: &str) -> Option<String> {
+    use ferroc_compiler::values::{parse_value, split_number, Value};
+    let (number, unit) = split_number(written);
+    if number.is_empty() {
+        return None;
+    }
+    let declared = match (&decl.unit, &decl.ty) {
+        (Some(u), _) => u.to_string(),
+        (None, Type::Duration) => "s".to_string(),
+        (None, _) => String::new(),
+    };
+    let n = match parse_value(written, &decl.ty, decl.unit.as_ref()) {
+        Ok(Value::Int(i)) => i as f64,
+        Ok(Value::Float(f) | Value::Duration(f)) => f,
+        Ok(_) => return None,
+        Err(e) => return Some(format!("quantity: cannot be read: {}", value_error(&e))),
+    };
+    let read = format!("{} {declared}", short(n));
+    let read = read.trim_end();
+    Some(match (unit.is_empty(), declared.is_empty()) {
+        (true, false) => format!("quantity: `{number}` has no unit: read as `{read}`"),
+        (true, true) => format!("quantity: `{number}` (the parameter has no unit)"),
+        (false, _) => format!("quantity: `{number}` `{unit}` = `{read}` in the parameter's unit"),
+    })
+}
+
+fn value_error(e: &ferroc_compiler::values::ValueError) -> &str {
+    match e {
+        ferroc_compiler::values::ValueError::Syntax(m)
+        | ferroc_compiler::values::ValueError::WrongDimension(m) => m,
+    }
+}
+
+/// A number with at most six decimals and no trailing zeros.
+fn short(n: f64) -> String {
+    let s = format!("{n:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    match s {
+        "-0" => "0".to_string(),
+        s => s.to_string(),
+    }
 }
 
 fn module_type_text(app: &Application, libs: &LibrarySet, here: Span) -> Option<String> {

@@ -17,6 +17,7 @@ mod complete;
 mod convert;
 mod discover;
 mod documents;
+mod fixes;
 mod hover;
 mod navigate;
 pub mod position;

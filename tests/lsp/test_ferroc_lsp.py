@@ -238,3 +238,92 @@ async def test_incremental_change_breaks_and_repairs(client: LanguageClient):
     )
     await settle(client, model)
     assert summary(client.diagnostics[model.as_uri()]) == clean
+
+
+# Quick fixes beyond "did you mean": (fixture, code, whether the fixed file checks
+# clean, the fixture's text changed first). T109's fixture gains a speedometer (the one
+# output of the motor's type and unit) and a compass (the same type in radians, which
+# must not be offered; its output stays unused, T110). T101's fixture swapped gives a duplicate of its other connection
+# (T107) and S106's has two more flows no swap mends: there the fixed finding must go.
+T109_SOURCES = (
+    '<module name="motor" type="fx.Motor"/>',
+    '<module name="compass" type="fx.Compass"/>\n      <module name="speedo" type="fx.Speedometer"/>\n'
+    '      <module name="motor" type="fx.Motor"/>',
+)
+FIXES = [
+    ("scheduling/s101_data_flow_loop/fires.xml", "S101", True, None),
+    ("deadlocks/d107_full_queue_ring/fires.xml", "D107", True, None),
+    ("deadlocks/d115_trigger_cycle_never_runs/fires.xml", "D115", True, None),
+    ("connections/t109_required_input_unconnected/fires.xml", "T109", False, T109_SOURCES),
+    ("connections/t112_double_scaling/fires.xml", "T112", True, None),
+    ("connections/t101_wrong_direction/fires.xml", "T101", False, None),
+    ("scheduling/s106_flow_not_connected/fires.xml", "S106", False, None),
+]
+
+
+def fixture_copy(rel: str, code: str, change) -> pathlib.Path:
+    """The check fixture `rel` in the scratch folder, its manifest named absolutely."""
+    source = ROOT / "compiler" / "checks" / "src" / rel
+    text = source.read_text()
+    if change:
+        assert change[0] in text
+        text = text.replace(change[0], change[1])
+    start = text.index('manifest="') + len('manifest="') if 'manifest="' in text else -1
+    if start >= 0:
+        end = text.index('"', start)
+        text = text[:start] + str((source.parent / text[start:end]).resolve()) + text[end:]
+    folder = SCRATCH / "fixes"
+    folder.mkdir(exist_ok=True)
+    path = folder / f"{code.lower()}.xml"
+    path.write_text(text)
+    return path
+
+
+def offset_of(text: str, pos: types.Position) -> int:
+    lines = text.split("\n")
+    return sum(len(l) + 1 for l in lines[: pos.line]) + pos.character
+
+
+def apply_edits(text: str, edits) -> str:
+    """The client's side of a WorkspaceEdit: the edits applied from the last to the first."""
+    for e in sorted(edits, key=lambda e: (e.range.start.line, e.range.start.character), reverse=True):
+        text = text[: offset_of(text, e.range.start)] + e.new_text + text[offset_of(text, e.range.end) :]
+    return text
+
+
+@pytest.mark.parametrize("rel,code,clean,change", FIXES)
+async def test_quick_fix_applied_by_the_client_mends_the_finding(client: LanguageClient, rel, code, clean, change):
+    path = fixture_copy(rel, code, change)
+    text = path.read_text()
+    await open_and_settle(client, path, text)
+    found = [d for d in client.diagnostics[path.as_uri()] if d.code == code]
+    assert found, f"the fixture reports {code}"
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri=path.as_uri()),
+            range=found[0].range,
+            context=types.CodeActionContext(diagnostics=found[:1]),
+        )
+    )
+    mine = [a for a in actions or [] if a.title.startswith(code + ":")]
+    assert mine, f"a quick fix for {code}: {[a.title for a in actions or []]}"
+    if code == "T109":
+        assert [a.title for a in mine] == ["T109: connect `robot/main/speedo/speed` → `robot/main/motor/velocity`"]
+        assert mine[0].is_preferred
+    fixed = apply_edits(text, mine[0].edit.changes[path.as_uri()])
+    assert fixed != text
+    comments = lambda t: [l.strip() for l in t.split("\n") if l.strip().startswith("<!--")]
+    assert comments(fixed) == comments(text), "comments kept"
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=path.as_uri(), version=2),
+            content_changes=[types.TextDocumentContentChangeWholeDocument(text=fixed)],
+        )
+    )
+    await settle(client, path)
+    after = client.diagnostics[path.as_uri()]
+    assert len([d for d in after if d.code == code]) == len(found) - 1, (mine[0].title, summary(after))
+    path.write_text(fixed)
+    assert summary(after) == cli_summary(path)
+    if clean:
+        assert not [d for d in after if d.severity.value <= 2], (mine[0].title, summary(after))

@@ -7,10 +7,10 @@
 
 use super::config::{self, ConfigFile};
 use super::finstructable::Finstructable;
-use super::{kind_of, read, Kind};
+use super::{kind_of, kind_of_root, read, Kind};
 use ferroc_diagnostics::diagnostic::Diagnostics;
 use ferroc_diagnostics::source::SourceMap;
-use ferroc_model::load::{read_text, Limits};
+use ferroc_model::load::{root_element_of, Options};
 use ferroc_syntax::xml;
 use std::path::{Path, PathBuf};
 
@@ -60,12 +60,13 @@ impl Checkout {
     }
 
     /// Reads the config, group and make files below `root` (other than `except`) into
-    /// `sources`.
+    /// `sources`, each as `options` reads it: an editor's unsaved text of a file stands
+    /// in for it (`ferroc lsp`), as for a model's fragments and manifests.
     /// `prefix` is the target prefix given for the checkout's make.xml files, if any.
     pub fn discover(
         root: &Path,
         except: &Path,
-        limits: &Limits,
+        options: &Options,
         prefix: Option<String>,
         sources: &mut SourceMap,
     ) -> Checkout {
@@ -84,19 +85,24 @@ impl Checkout {
         checkout.prefixes.extend(prefix.clone());
         let mut quiet = Diagnostics::default();
         for path in found {
-            if path.canonicalize().is_ok_and(|c| c == except) {
+            let canonical = path.canonicalize().unwrap_or_else(|_| path.clone());
+            if canonical == except {
                 continue;
             }
-            let kind = kind_of(&path);
+            // An open file's kind is that of the text on screen.
+            let kind = match options.overlay.get(&canonical) {
+                Some(text) => kind_of_root(root_element_of(text.as_bytes()).as_deref(), &path),
+                None => kind_of(&path),
+            };
             if !matches!(kind, Some(Kind::Structure | Kind::Config | Kind::Make)) {
                 continue;
             }
-            let Ok(text) = read_text(&path, limits) else {
+            let Ok(text) = options.read(&canonical) else {
                 continue;
             };
-            let canonical = path.canonicalize().unwrap_or_else(|_| path.clone());
             let file = sources.add(path.display().to_string(), canonical, text);
-            let Ok(tree) = xml::parse(file, &sources.get(file).text, limits.max_depth) else {
+            let max_depth = options.limits.max_depth;
+            let Ok(tree) = xml::parse(file, &sources.get(file).text, max_depth) else {
                 continue;
             };
             match kind {

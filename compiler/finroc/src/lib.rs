@@ -122,7 +122,7 @@ pub fn check_file(loader: &mut Loader<'_>, path: &Path, kind: Kind) -> Result<Ve
             let checkout = checkout::Checkout::discover(
                 &root_dir,
                 path,
-                &loader.options.limits,
+                loader.options,
                 loader.options.finroc_prefix.clone(),
                 loader.sources,
             );

@@ -6,8 +6,10 @@
 //! inspector's tree shows them (`robot/main/filter`, ports `robot/main/filter/in/0`).
 //! [`apply`] edits the text one operation after the other (`text.rs` knows where an
 //! element starts and ends); [`diff`] compares the running plan with the edited one.
-//! Edits touch only the model's own file: elements defined in an included fragment or
-//! inside a group type are refused with a message saying so.
+//! Operations touch only the model's own file: elements defined in an included
+//! fragment or inside a group type are refused with a message saying so.
+//! [`set_attribute`] and [`swap_attributes`] edit one element of any model text, found
+//! by a byte offset in it (`ferroc lsp`'s quick fixes know where a finding points).
 
 pub mod diff;
 mod relocate;
@@ -17,6 +19,7 @@ mod text;
 pub use relocate::relocate;
 use serde::Deserialize;
 use std::collections::BTreeMap;
+pub use text::{set_attribute, swap_attributes};
 
 /// One structural change (`{"op": "add", …}`).
 #[derive(Clone, Debug, PartialEq, Deserialize)]

@@ -140,7 +140,7 @@ pub fn check_value(
             diags.push(with_context(
                 Diagnostic::new(
                     &p105_wrong_unit_dimension::CHECK,
-                    span,
+                    unit_span(text, span),
                     format!("wrong unit for `{}`: {msg}", decl.name),
                 )
                 .label("unit of another dimension")
@@ -152,6 +152,24 @@ pub fn check_value(
             ));
             None
         }
+    }
+}
+
+/// The span of the unit in the value `text` written at `span` (`s` of `0.3 s`): the
+/// part a wrong-unit finding is about. When `span` is not the text itself (a value
+/// from a config file, entities in it) it stays as it is.
+fn unit_span(text: &str, span: Span) -> Span {
+    let (_, unit) = ferroc_values::values::split_number(text);
+    let written = (span.end - span.start) as usize;
+    if unit.is_empty() || written != text.len() {
+        return span;
+    }
+    // The unit ends the trimmed text.
+    let start = span.start + (text.trim_end().len() - unit.len()) as u32;
+    Span {
+        file: span.file,
+        start,
+        end: start + unit.len() as u32,
     }
 }
 
