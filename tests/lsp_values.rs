@@ -161,7 +161,7 @@ fn a_wrong_unit_is_reported_on_the_units_text_and_hover_says_why() {
     let line = s["line"].as_u64().unwrap() + 1;
     let col = s["character"].as_u64().unwrap() + 1;
     assert!(
-        out.contains(&format!("values.xml:{line}:{col}: error[P105]")),
+        out.contains("error[P105]") && out.contains(&format!("values.xml:{line}:{col}]")),
         "{out}"
     );
     c.shutdown();

@@ -10,7 +10,10 @@
 //!   same thread container, then the same part);
 //! - T112: the `scale` the units make redundant goes (its `<convert>` too when that
 //!   was all it said, `edit::set_attribute`);
-//! - T101, S106: `from` and `to` swapped.
+//! - T101, S106: `from` and `to` swapped;
+//! - P110, X103: the value the help writes (`0.4 m`, the host's first spelling);
+//! - B103, B108: the parameter the help offers to set (`stimulation_mode` `enabled`,
+//!   the number of channels), by the edit code's `set` operation.
 
 use crate::navigate::covers;
 use ferroc_compiler::diagnostic::Diagnostic;
@@ -67,6 +70,8 @@ pub fn fixes(d: &Diagnostic, result: &CheckResult, text: &str) -> Vec<Fix> {
         }
         _ => {}
     }
+    out.extend(rewrite(d, text));
+    out.extend(set_param(d, result, text));
     if let [one] = out.as_mut_slice() {
         one.preferred = true;
     }
@@ -94,6 +99,70 @@ fn setting_fits(d: &Diagnostic, result: &CheckResult, name: &str) -> bool {
     app.connections.iter().any(|c| {
         (covers(c.span, here) || covers(c.from_span, here) || covers(c.to_span, here))
             && c.queue.is_some()
+    })
+}
+
+/// "write the unit: `0.4 m`" (P110), "write `robot-pc` here too" (X103): the text the
+/// finding points at, without the blanks around it, becomes the one the help writes.
+fn rewrite(d: &Diagnostic, text: &str) -> Option<Fix> {
+    let help = d.help.as_deref()?;
+    let new = match help.strip_prefix("write the unit: `") {
+        Some(rest) => &rest[..rest.find('`')?],
+        None => {
+            let rest = help.strip_prefix("write `")?;
+            let end = rest.find('`')?;
+            rest[end..]
+                .starts_with("` here too")
+                .then(|| &rest[..end])?
+        }
+    };
+    let s = d.primary.span;
+    let written = text.get(s.start as usize..s.end as usize)?;
+    let inner = written.trim();
+    if inner.is_empty() || inner == new {
+        return None;
+    }
+    let start = s.start as usize + (written.len() - written.trim_start().len());
+    let mut edited = text.to_owned();
+    edited.replace_range(start..start + inner.len(), new);
+    Some(Fix {
+        title: format!("{}: write `{new}`", d.code()),
+        text: edited,
+        preferred: false,
+    })
+}
+
+/// "…, or set <param name="N">V</param> if …" (B103, B108): the parameter set on the
+/// module the finding is about, by the `set` operation of `ferroc inspect --edit`.
+/// Not where setting it is only half the fix ("set … and connect …", B105).
+fn set_param(d: &Diagnostic, result: &CheckResult, text: &str) -> Option<Fix> {
+    const SET: &str = "or set <param name=\"";
+    let help = d.help.as_deref()?;
+    let rest = &help[help.find(SET)? + SET.len()..];
+    let (name, rest) = rest.split_once("\">")?;
+    let (value, _) = rest.split_once("</param>")?;
+    let app = result.app.as_ref()?;
+    let here = d.primary.span;
+    if here.file != app.span.file {
+        return None;
+    }
+    let (id, _) = app.modules().find(|(id, m)| {
+        app.element(*id).name_span == here
+            || (m.params.iter()).any(|p| covers(p.span, here) || covers(p.name_span, here))
+    })?;
+    let module = app.path(id);
+    let ops = [Op::Set {
+        param: format!("{module}/{name}"),
+        value: value.to_string(),
+    }];
+    let edited = edit::apply(text, &ops).ok()?;
+    Some(Fix {
+        title: format!(
+            "{}: set <param name=\"{name}\">{value}</param> on `{module}`",
+            d.code()
+        ),
+        text: edited.text,
+        preferred: false,
     })
 }
 
@@ -184,4 +253,53 @@ fn sources(app: &Application, libs: &LibrarySet, id: ElementId, input: Endpoint)
         .take(MAX_SOURCES)
         .map(|(_, p)| p)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rewrite;
+    use ferroc_compiler::diagnostic::Diagnostic;
+    use ferroc_compiler::source::{FileId, Span};
+
+    fn finding(code: &str, text: &str, at: &str, help: &str) -> Diagnostic {
+        let start = text.find(at).unwrap();
+        let span = Span::new(FileId(0), start, start + at.len());
+        let check = ferroc_compiler::checks::find(code).unwrap();
+        Diagnostic::new(check, span, "m").help(help)
+    }
+
+    #[test]
+    fn the_written_value_takes_the_helps_text_and_keeps_its_blanks() {
+        let text = "<param name=\"d\"> 0.4 </param> <!-- as measured -->";
+        let d = finding(
+            "P110",
+            text,
+            " 0.4 ",
+            "write the unit: `0.4 m` (or the unit meant)",
+        );
+        let fix = rewrite(&d, text).unwrap();
+        assert_eq!(fix.text, text.replace(" 0.4 ", " 0.4 m "));
+        assert_eq!(fix.title, "P110: write `0.4 m`");
+        let text = "<part name=\"b\" host=\"robot-pc\">";
+        let d = finding(
+            "X103",
+            text,
+            "robot-pc",
+            "write `Robot-PC` here too (host names …)",
+        );
+        assert_eq!(
+            rewrite(&d, text).unwrap().text,
+            text.replace("robot-pc", "Robot-PC")
+        );
+    }
+
+    #[test]
+    fn a_help_that_writes_no_value_for_the_finding_is_not_a_rewrite() {
+        // P108's `write `* 1000`` is a step to add, not the text the finding points at.
+        let text = "<param name=\"pins\">in/0 -> out[1]</param>";
+        let d = finding("P108", text, "in/0 -> out[1]", "write `* 1000`");
+        assert!(rewrite(&d, text).is_none());
+        let d = finding("X103", "host=\"a\"", "a", "write `a` here too");
+        assert!(rewrite(&d, "host=\"a\"").is_none(), "nothing to change");
+    }
 }
