@@ -35,7 +35,7 @@ fn pytest_lsp_end_to_end() {
     );
     println!("{text}");
     assert!(out.status.success(), "pytest-lsp failed:\n{text}");
-    assert!(text.contains("14 passed"), "{text}");
+    assert!(text.contains("15 passed"), "{text}");
 }
 
 /// `CODE LINE:COL SEVERITY` of `ferroc check --format json`'s findings in the model.

@@ -11,6 +11,7 @@
 //! - T112: the `scale` the units make redundant goes (its `<convert>` too when that
 //!   was all it said, `edit::set_attribute`);
 //! - T101, S106: `from` and `to` swapped;
+//! - L104: the `<use library manifest>` the file lacks, after its other `<use>`s;
 //! - P110, X103: the value the help writes (`0.4 m`, the host's first spelling);
 //! - B103, B108: the parameter the help offers to set (`stimulation_mode` `enabled`,
 //!   the number of channels), by the edit code's `set` operation.
@@ -22,6 +23,7 @@ use ferroc_compiler::ir::{Application, ElementId, Endpoint};
 use ferroc_compiler::library::{LibrarySet, PortDir};
 use ferroc_compiler::units::{relate, UnitRelation};
 use ferroc_compiler::CheckResult;
+use std::path::{Path, PathBuf};
 
 /// One fix: what it does, and the whole text after it.
 pub struct Fix {
@@ -68,6 +70,7 @@ pub fn fixes(d: &Diagnostic, result: &CheckResult, text: &str) -> Vec<Fix> {
             let edited = edit::swap_attributes(text, tag, at, "from", "to");
             push(&mut out, d, "swap `from` and `to`".into(), edited);
         }
+        "L104" => out.extend(use_library(d, result, text)),
         _ => {}
     }
     out.extend(rewrite(d, text));
@@ -100,6 +103,39 @@ fn setting_fits(d: &Diagnostic, result: &CheckResult, name: &str) -> bool {
         (covers(c.span, here) || covers(c.from_span, here) || covers(c.to_span, here))
             && c.queue.is_some()
     })
+}
+
+/// L104 "add <use library="lib"/>": into the file the finding is in, after its other
+/// `<use>`s, naming the manifest the library was loaded from (relative to the file's
+/// folder) so that the `<use>` finds the same one.
+fn use_library(d: &Diagnostic, result: &CheckResult, text: &str) -> Option<Fix> {
+    let help = d.help.as_deref()?;
+    let rest = help.strip_prefix("add <use library=\"")?;
+    let name = &rest[..rest.find('"')?];
+    let lib = result.libraries.get(*result.libraries.by_name.get(name)?);
+    let file = &result.sources.get(d.primary.span.file).path;
+    let snippet = match (lib.path.is_absolute(), file.parent()) {
+        (true, Some(dir)) => format!(
+            "<use library=\"{name}\" manifest=\"{}\"/>",
+            relative(&lib.path, dir).display()
+        ),
+        _ => format!("<use library=\"{name}\"/>"),
+    };
+    let edited = edit::add_to_root(text, &snippet, "use").ok()?;
+    Some(Fix {
+        title: format!("{}: add {snippet}", d.code()),
+        text: edited,
+        preferred: false,
+    })
+}
+
+/// `path` as seen from the folder `dir` (`../lib/x.lib.xml`).
+fn relative(path: &Path, dir: &Path) -> PathBuf {
+    let (a, b): (Vec<_>, Vec<_>) = (path.components().collect(), dir.components().collect());
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut out: PathBuf = b[common..].iter().map(|_| "..").collect();
+    out.extend(&a[common..]);
+    out
 }
 
 /// "write the unit: `0.4 m`" (P110), "write `robot-pc` here too" (X103): the text the
@@ -257,7 +293,7 @@ fn sources(app: &Application, libs: &LibrarySet, id: ElementId, input: Endpoint)
 
 #[cfg(test)]
 mod tests {
-    use super::rewrite;
+    use super::{relative, rewrite};
     use ferroc_compiler::diagnostic::Diagnostic;
     use ferroc_compiler::source::{FileId, Span};
 
@@ -290,6 +326,19 @@ mod tests {
         assert_eq!(
             rewrite(&d, text).unwrap().text,
             text.replace("robot-pc", "Robot-PC")
+        );
+    }
+
+    #[test]
+    fn a_manifest_is_named_from_the_files_folder() {
+        let p = |s: &str| std::path::PathBuf::from(s);
+        assert_eq!(
+            relative(&p("/w/m/nav.lib.xml"), &p("/w/m")),
+            p("nav.lib.xml")
+        );
+        assert_eq!(
+            relative(&p("/w/lib/g.lib.xml"), &p("/w/m/x")),
+            p("../../lib/g.lib.xml")
         );
     }
 

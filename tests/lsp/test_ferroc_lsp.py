@@ -264,12 +264,14 @@ FIXES = [
     ("deployment/x103_host_label_conflict/fires.xml", "X103", True, None),
     ("behaviour/b103_never_stimulated/fires.xml", "B103", False, None),
     ("behaviour/b108_incomplete_fusion_channel/fires.xml", "B108", False, None),
+    ("../../model/src/checks/l104_library_not_used/fires.xml", "L104", True, None),
 ]
 
 
 def fixture_copy(rel: str, code: str, change) -> pathlib.Path:
-    """The check fixture `rel` in the scratch folder, its manifest named absolutely."""
-    source = ROOT / "compiler" / "checks" / "src" / rel
+    """The check fixture `rel` (below compiler/checks/src, or compiler/… when it starts
+    with `../`) in the scratch folder, its manifest named absolutely."""
+    source = (ROOT / "compiler" / "checks" / "src" / rel).resolve()
     text = source.read_text()
     if change:
         assert change[0] in text

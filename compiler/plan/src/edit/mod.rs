@@ -9,7 +9,8 @@
 //! Operations touch only the model's own file: elements defined in an included
 //! fragment or inside a group type are refused with a message saying so.
 //! [`set_attribute`] and [`swap_attributes`] edit one element of any model text, found
-//! by a byte offset in it (`ferroc lsp`'s quick fixes know where a finding points).
+//! by a byte offset in it, and [`add_to_root`] adds a child to its root element
+//! (`ferroc lsp`'s quick fixes know where a finding points).
 
 pub mod diff;
 mod relocate;
@@ -19,7 +20,7 @@ mod text;
 pub use relocate::relocate;
 use serde::Deserialize;
 use std::collections::BTreeMap;
-pub use text::{set_attribute, swap_attributes};
+pub use text::{add_to_root, set_attribute, swap_attributes};
 
 /// One structural change (`{"op": "add", …}`).
 #[derive(Clone, Debug, PartialEq, Deserialize)]

@@ -468,6 +468,14 @@ pub fn set_attribute(
     Ok(new)
 }
 
+/// Inserts `snippet` (one element) as a child of the document's root element: after
+/// its last `<after>` child, else after its last child, indented as its children are
+/// (the `<use library>` a file lacks).
+pub fn add_to_root(text: &str, snippet: &str, after: &str) -> Result<String, String> {
+    let root = parse(text)?;
+    insert_child(text, &root, snippet, after)
+}
+
 /// Swaps the values of attributes `a` and `b` of the innermost `<tag>` element around
 /// the byte `at` (`from` and `to` of a connection written the wrong way round).
 pub fn swap_attributes(
@@ -587,6 +595,17 @@ mod tests {
         // Outside any <connect> (the comment): nothing to edit.
         let err = set_attribute(MODEL, "connect", at("the loop"), "delay", Some("1"));
         assert!(err.unwrap_err().contains("no <connect>"));
+    }
+
+    #[test]
+    fn a_root_child_goes_after_its_kind_with_their_indentation() {
+        let text = "<application name=\"a\">\n    <use library=\"nav\"/>\n    <!-- n -->\n    <part name=\"p\"/>\n</application>\n";
+        let new = add_to_root(text, "<use library=\"geometry\"/>", "use").unwrap();
+        let want = text.replace(
+            "<use library=\"nav\"/>\n",
+            "<use library=\"nav\"/>\n    <use library=\"geometry\"/>\n",
+        );
+        assert_eq!(new, want);
     }
 
     #[test]
