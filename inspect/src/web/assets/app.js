@@ -2,7 +2,7 @@
 // element tree, then polls figures and values at a bounded rate (one request at a
 // time, a pause after each) and retries while the program cannot be reached.
 
-import { draw } from './graph.js';
+import { draw, fit } from './graph.js';
 import * as P from './panels.js';
 
 const POLL_MS = 500, RETRY_MS = 2000, TREE_EVERY_MS = 5000, HISTORY = 240, CHUNK = 200;
@@ -84,7 +84,7 @@ async function poll() {
   P.containers($('containers'), cs);
   P.links($('links'), ls);
   P.activities($('activities'), as);
-  showActivities(new Map(as.map((a) => [a.module, a.activity])));
+  showActivities(new Map(as.map((a) => [a.module, a])));
   for (const [path, v] of Object.entries(values)) {
     if (v && typeof v.value === 'number') {
       const h = history.get(path) || [];
@@ -166,4 +166,11 @@ async function loop() {
 }
 
 $('edit-send').addEventListener('click', sendEdit);
+window.addEventListener('resize', () => fit($('graph')));
+$('graph-zoom').addEventListener('click', () => {
+  const svg = $('graph'), actual = svg.dataset.zoom !== 'actual';
+  svg.dataset.zoom = actual ? 'actual' : 'fit';
+  $('graph-zoom').textContent = actual ? 'fit to window' : 'actual size';
+  fit(svg);
+});
 loop();
