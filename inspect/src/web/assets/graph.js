@@ -64,7 +64,7 @@ function drawBehaviour(g, b) {
     list.forEach((s, i) => {
       const x = b.x + (b.w - list.length * SLOT) / 2 + i * SLOT;
       el('title', {}, el('rect', { class: 'slot', x, y: yy, width: SLOT, height: ROW }, g)).textContent = SLOT_NAMES[s[0]] ? `${SLOT_NAMES[s[0]]} ${s}` : s;
-      el('text', { x: x + SLOT / 2, y: yy + 12, 'text-anchor': 'middle' }, g).textContent = s.length > 4 ? s.slice(0, 4) : s;
+      el('text', { x: x + SLOT / 2, y: yy + 12, 'text-anchor': 'middle', class: 'slot-name' }, g).textContent = s.length > 4 ? s.slice(0, 4) : s;
     });
   }
   const meters = el('g', { class: 'meters' }, g);

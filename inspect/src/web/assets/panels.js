@@ -127,8 +127,13 @@ export function shortJson(value) {
     if (v && typeof v === 'object') return Object.fromEntries(Object.entries(v).map(([k, x]) => [k, walk(x)]));
     return v;
   };
-  return JSON.stringify(walk(value));
+  return spaced(walk(value));
 }
+
+/** JSON with a space after each comma and colon, as people write it. */
+const spaced = (v) => (Array.isArray(v) ? `[${v.map(spaced).join(', ')}]`
+  : v && typeof v === 'object' ? `{${Object.entries(v).map(([k, x]) => `${JSON.stringify(k)}: ${spaced(x)}`).join(', ')}}`
+    : JSON.stringify(v));
 
 /** Shows a value in a cell: numbers short (the exact number in data-number for
  * scripts and in the tooltip), others as short JSON. A value nothing has published yet
