@@ -196,7 +196,12 @@ function proper(modules, es, measure) {
       if (!links.has(key)) links.set(key, { u, v, eu, ev });
     }
   }
-  return { items, layers: layers.map((l) => l || []), links: [...links.values()], partNames: [...partRank.keys()] };
+  const all = [...links.values()], linksAt = layers.map(() => []);
+  for (const k of all) {
+    const ls = new Set([items.get(k.u).layer, items.get(k.v).layer]);
+    for (const l of ls) linksAt[l].push(k);
+  }
+  return { items, layers: layers.map((l) => l || []), links: all, linksAt, partNames: [...partRank.keys()] };
 }
 
 function range(from, to, step) {
@@ -219,12 +224,11 @@ function positions(g) {
 }
 
 /** Crossings between adjacent layers of the current order, plus the items between a
- * box and a lane of its own layer. */
-export function crossings(g) {
-  const pos = positions(g);
+ * box and a lane of its own layer (`near`: only those at that layer). */
+export function crossings(g, near, pos = positions(g)) {
   const byLayer = new Map();
   let flat = 0;
-  for (const k of g.links) {
+  for (const k of near === undefined ? g.links : g.linksAt[near]) {
     const [a, b] = [g.items.get(k.u).layer, g.items.get(k.v).layer];
     // A lane kept apart from its box in the box's layer: every item between them counts.
     if (a === b) { flat += 2 * Math.max(0, Math.abs(pos.get(k.u) - pos.get(k.v)) - 1); continue; }
@@ -311,17 +315,23 @@ function attachLanes(g) {
 /** Swaps neighbours of a layer (of one part) while that removes crossings; the
  * crossings after. Quadratic in the links, so only for graphs of a few hundred. */
 function transpose(g) {
-  let n = crossings(g);
+  const pos = positions(g);
+  const swap = (layer, i) => {
+    [layer[i], layer[i + 1]] = [layer[i + 1], layer[i]];
+    pos.set(layer[i], i); pos.set(layer[i + 1], i + 1);
+  };
+  let n = crossings(g, undefined, pos);
   for (let better = true; better;) {
     better = false;
-    for (const layer of g.layers) {
+    g.layers.forEach((layer, l) => {
       for (let i = 0; i + 1 < layer.length; i++) {
         if (g.items.get(layer[i]).part !== g.items.get(layer[i + 1]).part) continue;
-        [layer[i], layer[i + 1]] = [layer[i + 1], layer[i]];
-        const m = crossings(g);
-        if (m < n) { n = m; better = true; } else [layer[i], layer[i + 1]] = [layer[i + 1], layer[i]];
+        const before = crossings(g, l, pos);
+        swap(layer, i);
+        const after = crossings(g, l, pos);
+        if (after < before) { n -= before - after; better = true; } else swap(layer, i);
       }
-    }
+    });
   }
   return n;
 }
