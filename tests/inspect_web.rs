@@ -417,37 +417,64 @@ fn the_page_shows_nav_behaviours_live_in_a_real_browser_and_sets_a_parameter() {
     }
 }
 
-/// Issue 28, item 16: the page's graph layout (inspect/src/web/assets/layout.js) in
-/// Node, without a browser (tests/web/layout.mjs): on nav_behaviours' graph, cycles, two
-/// parts and a generated graph of 60 modules, no boxes overlap, no edge label overlaps a
-/// box or another label, every data port has its label, no edge passes through a box
-/// it does not connect, and parts stay apart. Before the fix, "linear" and "angular"
-/// were drawn at the same place and data edges ended on a behaviour's inhibition slot.
-#[test]
-fn the_graph_layout_keeps_boxes_labels_and_edges_apart() {
+/// Runs `node tests/web/SCRIPT`, which must succeed and print `ok: STEP` for each step;
+/// `false` after a visible skip when there is no `node`.
+fn node_script(script: &str, steps: &[&str]) -> bool {
     let Some(node) = ferroc_testkit::command("node") else {
-        return;
+        return false;
     };
-    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/web/layout.mjs");
-    let out = Command::new(node).arg(&script).output().expect("node runs");
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/web")
+        .join(script);
+    let out = Command::new(node).arg(&path).output().expect("node runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
     println!("{stdout}");
     assert!(
         out.status.success(),
-        "the layout test failed:\n{stdout}\n{}",
+        "{script} failed:\n{stdout}\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    for graph in [
-        "nav_behaviours:",
-        "mutual inhibition and a self-loop:",
-        "two parts:",
-        "60 generated modules:",
-    ] {
-        assert!(
-            stdout.contains(&format!("ok: {graph}")),
-            "{graph} missing in:\n{stdout}"
-        );
+    for step in steps {
+        let line = format!("ok: {step}");
+        assert!(stdout.contains(&line), "`{line}` missing in:\n{stdout}");
     }
+    true
+}
+
+/// Issue 28, item 16: the page's graph layout (inspect/src/web/assets/layout.js) in
+/// Node, without a browser (tests/web/layout.mjs): on nav_behaviours' graph, cycles, two
+/// linked parts and a generated graph of 60 modules, no boxes overlap, no edge label
+/// overlaps a box or another label, every data port has its label, no edge passes
+/// through a box it does not connect, and parts stay apart; and the same checks find
+/// the old drawing's faults put back into a layout. Before the fix, "linear" and
+/// "angular" were drawn at the same place and data edges ended on a behaviour's
+/// inhibition slot.
+#[test]
+fn the_graph_layout_keeps_boxes_labels_and_edges_apart() {
+    node_script(
+        "layout.mjs",
+        &[
+            "the checks find labels drawn over each other",
+            "nav_behaviours:",
+            "mutual inhibition and a self-loop:",
+            "two parts linked both ways:",
+            "60 generated modules:",
+        ],
+    );
+}
+
+/// Issue 28, item 16: values are shown as short JSON (tests/web/values.mjs): fractions
+/// to 4 significant digits in shortest form (a pose's `0.7000000000000001` is `0.7`),
+/// integers and short numbers as they are, long arrays cut with a count, still JSON.
+#[test]
+fn values_are_shown_as_short_json() {
+    node_script(
+        "values.mjs",
+        &[
+            "numbers shortened to 4 significant digits, integers and short numbers kept",
+            "short JSON: {\"x\": -2.988, \"y\": 0.7, \"theta\": 0.7}",
+        ],
+    );
 }
 
 /// Whether the server closes `s` (reading returns its end) within `limit`; what it

@@ -66,39 +66,71 @@ export const NAV = tree(['sim', 'goal', 'operator', 'go_to_goal:behaviour', 'fol
   fusion/linear monitor/linear
   fusion/angular monitor/angular`);
 
-/** Every property the page promises of a drawing; a short summary. */
-export function check(name, modules) {
-  const L = layout(modules);
-  const boxes = L.boxes;
-  for (let i = 0; i < boxes.length; i++) {
-    for (let j = i + 1; j < boxes.length; j++) {
-      if (overlaps(boxes[i], boxes[j], 4)) fail(`${name}: ${boxes[i].path} and ${boxes[j].path} overlap`);
-    }
-  }
+/** What is wrong with drawing `L`: boxes overlapping, labels overlapping a box or each
+ * other or missing, edges not joining their boxes or passing through another, parts
+ * overlapping. */
+export function problems(L) {
+  const found = [], boxes = L.boxes;
+  boxes.forEach((a, i) => {
+    for (const b of boxes.slice(i + 1)) if (overlaps(a, b, 4)) found.push(`${a.path} and ${b.path} overlap`);
+  });
   L.labels.forEach((l, i) => {
-    for (const b of boxes) if (overlaps(l, b)) fail(`${name}: label ${l.text} (${l.edge}) overlaps ${b.path}`);
-    for (const k of L.labels.slice(i + 1)) if (overlaps(l, k)) fail(`${name}: labels ${l.text} and ${k.text} overlap`);
+    for (const b of boxes) if (overlaps(l, b)) found.push(`label ${l.text} (${l.edge}) overlaps ${b.path}`);
+    for (const k of L.labels.slice(i + 1)) if (overlaps(l, k)) found.push(`labels ${l.text} and ${k.text} overlap`);
   });
   const unlabelled = L.edges.filter((e) => e.label && e.unlabelled);
-  if (unlabelled.length) fail(`${name}: no room for the labels of ${unlabelled.map((e) => e.port)}`);
+  if (unlabelled.length) found.push(`no room for the labels of ${unlabelled.map((e) => e.port)}`);
   const byPath = new Map(boxes.map((b) => [b.path, b]));
   const inside = (p, b) => p.x > b.x + 1 && p.x < b.x + b.w - 1 && p.y > b.y + 1 && p.y < b.y + b.h - 1;
   const on = (p, b) => p.x >= b.x - 0.5 && p.x <= b.x + b.w + 0.5 && p.y >= b.y - 0.5 && p.y <= b.y + b.h + 0.5;
   for (const e of L.edges) {
     const first = e.segs[0][0], last = e.segs[e.segs.length - 1][3];
-    if (!on(first, byPath.get(e.from)) || !on(last, byPath.get(e.to))) fail(`${name}: ${e.from}/${e.port} → ${e.to} does not join its boxes`);
-    for (const p of samples(e.segs, 3)) {
-      for (const b of boxes) {
-        if (b.path !== e.from && b.path !== e.to && inside(p, b)) fail(`${name}: ${e.from}/${e.port} → ${e.to}/${e.input} passes through ${b.path}`);
-      }
-    }
+    if (!on(first, byPath.get(e.from)) || !on(last, byPath.get(e.to))) found.push(`${e.from}/${e.port} → ${e.to} does not join its boxes`);
+    const through = boxes.find((b) => b.path !== e.from && b.path !== e.to && samples(e.segs, 3).some((p) => inside(p, b)));
+    if (through) found.push(`${e.from}/${e.port} → ${e.to}/${e.input} passes through ${through.path}`);
   }
-  for (let i = 0; i < L.clusters.length; i++) {
-    for (const c of L.clusters.slice(i + 1)) if (overlaps(L.clusters[i], c)) fail(`${name}: parts ${L.clusters[i].part} and ${c.part} overlap`);
-  }
-  const line = `${name}: ${boxes.length} boxes, ${L.edges.length} edges, ${L.labels.length} labels, ${L.crossings} crossings, ${Math.round(L.view.w)}×${Math.round(L.view.h)}`;
-  console.log('ok: ' + line);
+  L.clusters.forEach((a, i) => {
+    for (const c of L.clusters.slice(i + 1)) if (overlaps(a, c)) found.push(`parts ${a.part} and ${c.part} overlap`);
+  });
+  return found;
+}
+
+/** Lays out `modules` and fails on any problem; a summary line. */
+export function check(name, modules) {
+  const L = layout(modules);
+  const found = problems(L);
+  if (found.length) fail(`${name}: ${found.join('; ')}`);
+  console.log(`ok: ${name}: ${L.boxes.length} boxes, ${L.edges.length} edges, ${L.labels.length} labels, ${L.crossings} crossings, ${Math.round(L.view.w)}×${Math.round(L.view.h)}`);
   return L;
+}
+
+/** The checks fire: the old drawing's faults, put back into a good layout, are found
+ * (labels of parallel edges at one place, an edge through a box, overlapping boxes). */
+function checksFire() {
+  const L = layout(NAV);
+  const linear = L.labels.find((l) => l.text === 'linear'), angular = L.labels.find((l) => l.text === 'angular');
+  const fusion = L.boxes.find((b) => b.path.endsWith('/fusion')), monitor = L.boxes.find((b) => b.path.endsWith('/monitor'));
+  const scan = L.edges.find((e) => e.port === 'scan');
+  const mid = samples(scan.segs)[Math.floor(samples(scan.segs).length / 2)];
+  const intruder = { path: 'robot/main/intruder', x: mid.x - 10, y: mid.y - 10, w: 20, h: 20 };
+  const broken = { ...L, labels: L.labels.map((l) => (l === angular ? { ...l, x: linear.x + 4, y: linear.y } : l)),
+    boxes: [...L.boxes.map((b) => (b === monitor ? { ...b, y: fusion.y + 10 } : b)), intruder] };
+  const found = problems(broken).join('\n');
+  for (const want of ['labels linear and angular overlap', 'fusion and robot/main/monitor overlap', '/scan passes through robot/main/intruder']) {
+    if (!found.includes(want)) fail(`the check misses "${want}" in:\n${found}`);
+  }
+  console.log('ok: the checks find labels drawn over each other, overlapping boxes and an edge through a box');
+}
+
+/** Two parts, each reading an output of the other (links between programs). */
+function twoParts() {
+  const arm = tree(['source', 'filter:behaviour', 'ctl'], 'source/value filter/input\nfilter/output ctl/x\nctl/cmd source/feedback', 'arm');
+  const base = tree(['sensor', 'log', 'fuse'], 'sensor/value log/input\nsensor/value fuse/a\nfuse/out log/fused', 'base');
+  const input = (mods, name, writer) => mods.find((m) => m.path.endsWith('/' + name)).ports
+    .push({ name: 'remote', dir: 'in', type: 'f64', meta: false, from: [writer] });
+  input(base, 'log', 'arm/main/filter/output');
+  input(arm, 'ctl', 'base/main/fuse/out');
+  return [...arm, ...base];
 }
 
 /** A generated graph: `n` modules in a rough pipeline with feedback, seeded. */
@@ -119,14 +151,14 @@ export function generated(n, seed) {
 
 /** Every graph above, checked. */
 function main() {
+  checksFire();
   check('nav_behaviours', NAV);
   check('mutual inhibition and a self-loop', tree(['a:behaviour', 'b:behaviour', 'c'], `
     a/activity b/inhibition/0
     b/activity a/inhibition/0
     c/out c/in
     a/value c/in2`));
-  check('two parts', [...tree(['source', 'filter'], 'source/value filter/input\nfilter/output source/feedback', 'arm'),
-    ...tree(['sensor', 'log'], 'sensor/value log/input', 'base')]);
+  check('two parts linked both ways', twoParts());
   const started = Date.now();
   check('60 generated modules', generated(60, 7));
   console.log(`ok: 60 modules laid out in ${Date.now() - started} ms`);
