@@ -103,7 +103,10 @@ async function run() {
   // A structural change goes to the program, which answers (the answer is shown).
   await page.click('#edit-send');
   await page.waitForFunction(() => { const t = document.getElementById('edit-answer').textContent; return t && t !== 'checking…'; }, null, { timeout: WAIT });
-  pass('edit answered: ' + (await page.textContent('#edit-answer')).slice(0, 200));
+  // The page's own example (setting a parameter to the value it has) is applied.
+  const answer = (await page.textContent('#edit-answer')).replace(/\s+/g, ' ').slice(0, 200);
+  if (await page.getAttribute('#edit-answer', 'class') !== 'answer') throw new Error(`the example edit ${await page.inputValue('#edit-text')} was refused: ${answer}`);
+  pass('edit answered: ' + answer);
 
 
   // The program goes away: the page says so and keeps retrying.

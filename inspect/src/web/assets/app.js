@@ -48,6 +48,19 @@ function render() {
     }
   }
   $('edit-part').replaceChildren(...parts.map((p) => P.h('option', { value: JSON.stringify([p.app, p.part]) }, `${p.app} / ${p.part}`)));
+  example(modules);
+}
+
+/** Puts an edit that works as written into the edit box (until the user changes it):
+ * setting the first parameter to the value it has (docs/inspect.md, "Structural edits"). */
+function example(modules) {
+  const text = $('edit-text');
+  if (text.dataset.example !== undefined && text.dataset.example !== '' && text.value !== text.dataset.example) return;
+  const m = modules.find((x) => x.params.length);
+  if (!m) return;
+  const q = m.params[0];
+  const ops = [{ op: 'set', param: `${m.path}/${q.name}`, value: q.value + (q.unit ? ' ' + q.unit : '') }];
+  text.value = text.dataset.example = JSON.stringify({ ops }, null, 1).replace(/\n\s*/g, ' ');
 }
 
 function updateParams() {
