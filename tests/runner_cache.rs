@@ -516,10 +516,16 @@ fn a_build_stopped_by_ctrl_c_leaves_nothing_that_breaks_the_next_run() {
         }
     }
     assert!(seen.contains("building the runner"), "{seen}");
-    Command::new("kill")
-        .args(["-INT", &format!("-{}", child.id())])
+    // The shell's own `kill`: procps-ng 4.0.2's /usr/bin/kill turns `-INT -12345` into
+    // kill(-1, SIGINT) (strace shows only the first digit kept), which signals every
+    // process the user may signal; it stopped whole sessions here. The builtin with `--`
+    // signals the group meant.
+    let sent = Command::new("sh")
+        .args(["-c", "kill -s INT -- \"-$1\"", "sh"])
+        .arg(child.id().to_string())
         .status()
         .unwrap();
+    assert!(sent.success(), "no process group {}", child.id());
     let _ = child.wait();
     // What a crash mid-write would leave besides: a temporary file, a cut main.rs.
     let package = package_of(&target(), &dir);
