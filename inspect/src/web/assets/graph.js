@@ -7,7 +7,7 @@
 // an edge feeding an earlier layer (closing a cycle) is dotted. Parts are dashed
 // clusters. The drawing is scaled to fit the window (the button shows it actual size).
 
-import { layout, SLOT, ROW } from './layout.js';
+import { layout, slotRects, ROW } from './layout.js';
 
 const NS = 'http://www.w3.org/2000/svg';
 const FONT = 'Helvetica, Arial, sans-serif';
@@ -60,12 +60,12 @@ function drawEdges(svg, L) {
 
 /** A behaviour's slots and its two bars; returns the bars' parts to update. */
 function drawBehaviour(g, b) {
-  for (const [list, yy] of [[b.slots.top, b.y], [b.slots.bottom, b.y + b.h - ROW]]) {
-    list.forEach((s, i) => {
-      const x = b.x + (b.w - list.length * SLOT) / 2 + i * SLOT;
-      el('title', {}, el('rect', { class: 'slot', x, y: yy, width: SLOT, height: ROW }, g)).textContent = SLOT_NAMES[s[0]] ? `${SLOT_NAMES[s[0]]} ${s}` : s;
-      el('text', { x: x + SLOT / 2, y: yy + 12, 'text-anchor': 'middle', class: 'slot-name' }, g).textContent = s.length > 4 ? s.slice(0, 4) : s;
-    });
+  for (const [side, yy] of [['top', b.y], ['bottom', b.y + b.h - ROW]]) {
+    for (const { name: s, x: dx, w } of slotRects(b, side)) {
+      const x = b.x + dx;
+      el('title', {}, el('rect', { class: 'slot', x, y: yy, width: w, height: ROW }, g)).textContent = SLOT_NAMES[s[0]] ? `${SLOT_NAMES[s[0]]} ${s}` : s;
+      el('text', { x: x + w / 2, y: yy + 12, 'text-anchor': 'middle', class: 'slot-name' }, g).textContent = s;
+    }
   }
   const meters = el('g', { class: 'meters' }, g);
   const tip = el('title', {}, meters);

@@ -12,6 +12,8 @@
 // the label overlaps neither a box nor another label.
 
 export const SLOT = 26, ROW = 16, METER = 22;
+/** Font size (px) of a slot's name. */
+export const SLOT_PX = 10;
 const LAYER_GAP = 56, MARGIN = 12, ROUNDS = 6;
 const GAP = { node: 26, mixed: 12, lane: 8, part: 44 };
 const LABEL_PX = 9;
@@ -138,13 +140,28 @@ function boxOf(m, es, measure) {
     const s = slots(m);
     const left = [...new Set(es.filter((e) => e.to === m.path && e.entry.side === 'left').map((e) => e.entry.key))];
     const right = [...new Set(es.filter((e) => e.from === m.path && e.exit.side === 'right').map((e) => e.exit.key))];
-    const w = Math.max(text, Math.max(s.top.length, s.bottom.length) * SLOT + 12, 112);
+    const widths = (list) => list.map((t) => Math.max(SLOT, measure(t, SLOT_PX) + 8));
+    s.widths = { top: widths(s.top), bottom: widths(s.bottom) };
+    const row = (side) => s.widths[side].reduce((a, b) => a + b, 0) + 12;
+    const w = Math.max(text, row('top'), row('bottom'), 112);
     return { name, w, h: 2 * ROW + 30 + METER, slots: s, order: { left, right } };
   }
   const top = [...new Set(es.filter((e) => e.to === m.path).map((e) => e.entry.key))];
   const bottom = [...new Set(es.filter((e) => e.from === m.path).map((e) => e.exit.key))];
   const w = Math.max(text, 14 * (Math.max(top.length, bottom.length) + 1), 60);
   return { name, w, h: 36, slots: null, order: { top, bottom } };
+}
+
+/** The slots of a behaviour's box on `side` ('top' or 'bottom'): name, x from the
+ * box's left edge, width; centred, each as wide as its name needs. */
+export function slotRects(box, side) {
+  const names = box.slots[side], widths = box.slots.widths[side];
+  let x = (box.w - widths.reduce((a, b) => a + b, 0)) / 2;
+  return names.map((name, i) => {
+    const r = { name, x, w: widths[i] };
+    x += widths[i];
+    return r;
+  });
 }
 
 /** An anchor's offset from its box's top left corner and its outward direction. */
@@ -154,12 +171,12 @@ export function anchor(box, side, key) {
     const i = Math.max(0, list.indexOf(key));
     return ((i + 1) * length) / (list.length + 1);
   };
-  const slotX = (list) => {
-    const i = list.indexOf(key);
-    return i < 0 ? box.w / 2 : (box.w - list.length * SLOT) / 2 + i * SLOT + SLOT / 2;
+  const slotX = (which) => {
+    const r = slotRects(box, which).find((x) => x.name === key);
+    return r ? r.x + r.w / 2 : box.w / 2;
   };
-  if (side === 'top') return { x: box.slots ? slotX(box.slots.top) : spread(box.order.top, box.w), y: 0, dx: 0, dy: -1 };
-  if (side === 'bottom') return { x: box.slots ? slotX(box.slots.bottom) : spread(box.order.bottom, box.w), y: box.h, dx: 0, dy: 1 };
+  if (side === 'top') return { x: box.slots ? slotX('top') : spread(box.order.top, box.w), y: 0, dx: 0, dy: -1 };
+  if (side === 'bottom') return { x: box.slots ? slotX('bottom') : spread(box.order.bottom, box.w), y: box.h, dx: 0, dy: 1 };
   const y = ROW + spread(box.order[side], box.h - 2 * ROW);
   return side === 'left' ? { x: 0, y, dx: -1, dy: 0 } : { x: box.w, y, dx: 1, dy: 0 };
 }
