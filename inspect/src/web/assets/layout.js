@@ -14,7 +14,7 @@
 export const SLOT = 26, ROW = 16, METER = 22;
 /** Font size (px) of a slot's name. */
 export const SLOT_PX = 10;
-const LAYER_GAP = 56, MARGIN = 12, ROUNDS = 6;
+const LAYER_GAP = 46, MARGIN = 12, ROUNDS = 6;
 const GAP = { node: 26, mixed: 12, lane: 8, part: 44 };
 const LABEL_PX = 9;
 
