@@ -48,14 +48,15 @@ function render() {
     }
   }
   $('edit-part').replaceChildren(...parts.map((p) => P.h('option', { value: JSON.stringify([p.app, p.part]) }, `${p.app} / ${p.part}`)));
-  example(modules);
+  example(parts[0].tree.modules);
 }
 
 /** Puts an edit that works as written into the edit box (until the user changes it):
- * setting the first parameter to the value it has (docs/inspect.md, "Structural edits"). */
+ * setting the first parameter of the first part (the one selected) to the value it has
+ * (docs/inspect.md, "Structural edits"). */
 function example(modules) {
   const text = $('edit-text');
-  if (text.dataset.example !== undefined && text.dataset.example !== '' && text.value !== text.dataset.example) return;
+  if (text.dataset.example && text.value !== text.dataset.example) return;
   const m = modules.find((x) => x.params.length);
   if (!m) return;
   const q = m.params[0];
