@@ -170,6 +170,7 @@ fn a_second_library_compiles_only_its_own_crate_and_a_small_main() {
     write_library(&second, "tock", "tock-lib", "tock");
     let mut run = RUN.to_vec();
     run.push("-v");
+    let started = std::time::SystemTime::now();
     let (code, out, err) = output(ferroc(&second, &run, &[]));
     assert_eq!(code, 0, "{err}");
     assert_eq!(out, "tock 1\ntock 2\n");
@@ -192,9 +193,16 @@ fn a_second_library_compiles_only_its_own_crate_and_a_small_main() {
         err.contains("built the runner of `tock` in ") && err.contains(" compiled)"),
         "{err}"
     );
-    let record = std::fs::read_to_string(package_of(&target(), &second).join("last-build.txt"));
-    if let Ok(record) = record {
-        // (absent only when this build waited for another test's: not its own time)
+    // The record is written only by a build that did not wait for another's lock (its
+    // time is its own); one left by an earlier run of these tests in this cache is not
+    // this build's.
+    let record = package_of(&target(), &second).join("last-build.txt");
+    let written_now = std::fs::metadata(&record)
+        .and_then(|m| m.modified())
+        // (a second's margin: file times come from a coarser clock than SystemTime)
+        .is_ok_and(|t| t + std::time::Duration::from_secs(1) >= started);
+    if written_now {
+        let record = std::fs::read_to_string(&record).unwrap();
         // (a rebuild where this test ran before in the same cache)
         let first = err.contains(": first use");
         let kind = if first { "new" } else { "rebuild" };
