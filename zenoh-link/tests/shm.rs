@@ -92,9 +92,11 @@ impl Module for Viewer {
             img.data.len(),
             if intact { "ok" } else { "bad" }
         );
-        match self.tag.get() {
-            t if t == 0.0 => println!("{line}"),
-            t => note(t, format!("{line} at {} ms", support::model_ms())),
+        let tag = self.tag.get();
+        if tag == 0.0 {
+            println!("{line}");
+        } else {
+            note(tag, format!("{line} at {} ms", support::model_ms()));
         }
     }
 }
