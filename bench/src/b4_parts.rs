@@ -64,7 +64,7 @@ unsafe impl NoUninit for Msg {}
 ferroc_runtime::port_value!(Msg, "bench.Msg", copy);
 
 /// `CLOCK_MONOTONIC` in nanoseconds: one clock for every process of the machine.
-fn mono_ns() -> u64 {
+pub(crate) fn mono_ns() -> u64 {
     let mut t = libc::timespec {
         tv_sec: 0,
         tv_nsec: 0,
@@ -155,7 +155,7 @@ fn registry() -> Registry {
     r
 }
 
-fn addresses(part: &str, writer: &str, reader: &str) -> Addresses {
+pub(crate) fn addresses(part: &str, writer: &str, reader: &str) -> Addresses {
     Addresses {
         part: part.into(),
         listen: if part == "writer" { writer } else { reader }.into(),
@@ -214,9 +214,15 @@ fn part(
     b.start_with(options).map_err(|e| e.to_string())
 }
 
-/// A bare Zenoh session of `part` (peer mode, explicit endpoints, no scouting).
-fn session(part: &str, writer: &str, reader: &str) -> Result<zenoh::Session, String> {
-    let config = ferroc_zenoh::config::config(&addresses(part, writer, reader), None)?;
+/// A bare Zenoh session of `part` (peer mode, explicit endpoints, no scouting), with
+/// ferroc's settings merged under the `--zenoh-config` file `config` if given.
+pub(crate) fn session(
+    part: &str,
+    writer: &str,
+    reader: &str,
+    config: Option<&std::path::Path>,
+) -> Result<zenoh::Session, String> {
+    let config = ferroc_zenoh::config::config(&addresses(part, writer, reader), config)?;
     zenoh::open(config).wait().map_err(|e| e.to_string())
 }
 
@@ -242,7 +248,7 @@ pub fn child(args: &[String]) -> u8 {
         "ferroc" => {
             part(&registry, "reader", writer, reader, wait).map(|app| keep.push(Box::new(app)))
         }
-        _ => session("reader", writer, reader).and_then(|s| {
+        _ => session("reader", writer, reader, None).and_then(|s| {
             let sub = s
                 .declare_subscriber(KEY)
                 .callback(|sample| {
@@ -283,7 +289,7 @@ pub fn child(args: &[String]) -> u8 {
     0
 }
 
-fn free_address() -> Result<String, String> {
+pub(crate) fn free_address() -> Result<String, String> {
     let l = std::net::TcpListener::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     Ok(l.local_addr().map_err(|e| e.to_string())?.to_string())
 }
@@ -345,7 +351,7 @@ fn bare_writer(
     writer: &str,
     reader: &str,
 ) -> Result<(zenoh::Session, zenoh::pubsub::Publisher<'static>), String> {
-    let s = session("writer", writer, reader)?;
+    let s = session("writer", writer, reader, None)?;
     let qos = Qos::of(&Sending {
         to_part: LINK.to_part.into(),
         topic: "writer/source/out".into(),
@@ -399,7 +405,7 @@ fn write_until_read(
 }
 
 /// p50, p99, max (nearest rank) in microseconds.
-fn percentiles(mut v: Vec<u64>) -> (f64, f64, f64) {
+pub(crate) fn percentiles(mut v: Vec<u64>) -> (f64, f64, f64) {
     v.sort_unstable();
     let rank = |p: f64| v[((p * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1];
     let us = |ns: u64| ns as f64 / 1000.0;

@@ -8,6 +8,7 @@ mod b1;
 mod b2;
 mod b3;
 mod b4;
+mod b4_large;
 mod b4_parts;
 mod b5;
 mod cdr;
@@ -57,6 +58,12 @@ IDs:
           --messages N    recorded values per variant (default 100000)
           --gap-us G      one value every G µs (default 100)
           --rounds R      rounds the values are split into (default 4)
+  b4-large  latency of large values between two part programs: 64 B, 64 KB, 1 MB
+        and 6.2 MB ferroc_std.Image values through a ferroc link with and without
+        shared memory, next to a bare Zenoh pair with and without shared memory, in
+        the same run (reader in a child process), p50/p99/max, rounds alternate
+          --messages N    recorded values per size and variant (default 300)
+          --rounds R      rounds the values are split into (default 2)
   b5    bundle: `ferroc bundle models/control_loop.xml` (the B2 ring) built as a
         release program, against `ferroc run` of the same model; running time
         from their summaries, rounds alternate
@@ -99,6 +106,8 @@ fn main() -> ExitCode {
         "b4" => ExitCode::from(b4::run(&args[1..])),
         "b4-parts" => ExitCode::from(b4_parts::run(&args[1..])),
         b4_parts::CHILD_ARG => ExitCode::from(b4_parts::child(&args[1..])),
+        "b4-large" => ExitCode::from(b4_large::run(&args[1..])),
+        b4_large::CHILD_ARG => ExitCode::from(b4_large::child(&args[1..])),
         "b5" => ExitCode::from(b5::run(&args[1..])),
         "cdr" => ExitCode::from(cdr::run(&args[1..])),
         "all" => no_options("all", &args[1..]).unwrap_or_else(all),

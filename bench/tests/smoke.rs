@@ -130,3 +130,16 @@ fn b2_short_run_prints_the_keys_of_benchmarks_md() {
         .expect("cycles_per_s is a number");
     assert!(rate > 0.0, "cycles_per_s {rate}");
 }
+
+#[test]
+fn b4_large_short_run_prints_every_size_and_variant() {
+    let out = bench(&["b4-large", "--messages", "3", "--rounds", "1"]);
+    let kv = result_line(&out, "b4-large");
+    for size in ["64", "65536", "1048576", "6220800"] {
+        for variant in ["ferroc_shm", "ferroc_net", "zenoh_shm", "zenoh_net"] {
+            has_keys(&kv, &[&format!("s{size}_{variant}_p50_us")]);
+        }
+    }
+    let bad = bench(&["b4-large", "--rounds", "0"]);
+    assert_eq!(bad.status.code(), Some(2));
+}

@@ -30,6 +30,16 @@ pub const DEFAULTS: &[(&str, &str)] = &[
     ),
     ("transport/link/tx/lease", "500"),
     ("transport/link/tx/keep_alive", "4"),
+    // Shared memory between parts on one computer (shm.rs): on, from 4 KB, 64 MiB.
+    ("transport/shared_memory/enabled", "true"),
+    (
+        "transport/shared_memory/transport_optimization/message_size_threshold",
+        "4096",
+    ),
+    (
+        "transport/shared_memory/transport_optimization/pool_size",
+        "67108864",
+    ),
 ];
 
 /// The configuration of the part `addresses.part`: ferroc's defaults and the model's

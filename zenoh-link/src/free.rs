@@ -2,7 +2,8 @@
 //!
 //! - A link this part sends has a publisher on its key (`ferroc/APP/data/…`); the link
 //!   number travels as the sample's attachment (4 bytes, little-endian), since several
-//!   links may leave one output.
+//!   links may leave one output. A value of at least the shared-memory threshold goes
+//!   out in a buffer of the part's pool ([`crate::shm`]).
 //! - For every part it receives from, one subscriber on `ferroc/APP/data/PART/**`
 //!   hands the samples of the links it receives to the runtime.
 //! - A service called across parts is a queryable on `ferroc/APP/service/…`; a call is
@@ -11,6 +12,7 @@
 
 use crate::alive::{Change, Watch};
 use crate::keys::{encoding, Keys};
+use crate::shm::{Payload, Pool};
 use ferroc_runtime::console;
 use ferroc_runtime::link::transport::{
     call_number, Connection, Delivery, LinkKind, PartLinks, Sending,
@@ -36,8 +38,10 @@ pub const CALL_TIMEOUT: Duration = Duration::from_secs(10);
 pub(crate) struct Free {
     session: Session,
     delivery: Delivery,
-    /// Per link: its publisher and its attachment (the link number), made once.
-    data: BTreeMap<u32, (Publisher<'static>, ZBytes)>,
+    /// Per link this part sends: its publisher and what goes with each value.
+    data: BTreeMap<u32, Out>,
+    /// The shared-memory pool of large values (none if nothing is sent).
+    pool: Option<Arc<Pool>>,
     calls_out: BTreeMap<u32, OwnedKeyExpr>,
     /// Queries waiting for the service's answer, by call and request number.
     waiting: Arc<Mutex<HashMap<(u32, u64), Query>>>,
@@ -58,9 +62,10 @@ pub(crate) fn open(
     part: &str,
     links: &PartLinks,
     delivery: Delivery,
+    shm: Shm,
 ) -> Result<Free, String> {
     let data = publishers(session, keys, part, links)?;
-    let subscribers = subscribers(session, keys, links, &delivery)?;
+    let subscribers = subscribers(session, keys, links, &delivery, &shm.received)?;
     let waiting: Arc<Mutex<HashMap<(u32, u64), Query>>> = Arc::default();
     let queryables = queryables(session, keys, part, links, &delivery, &waiting)?;
     let mut calls_out = BTreeMap::new();
@@ -72,6 +77,7 @@ pub(crate) fn open(
         session: session.clone(),
         delivery,
         data,
+        pool: shm.pool,
         calls_out,
         waiting,
         _subscribers: subscribers,
@@ -83,13 +89,32 @@ pub(crate) fn open(
     })
 }
 
+/// The shared memory of a connection running freely.
+pub(crate) struct Shm {
+    /// The pool of the values it sends (none if it sends none).
+    pub pool: Option<Arc<Pool>>,
+    /// Counts the values that arrive in shared memory.
+    pub received: Arc<AtomicU64>,
+}
+
+/// One link this part sends.
+struct Out {
+    publisher: Publisher<'static>,
+    /// The link number, the sample's attachment.
+    attachment: ZBytes,
+    /// Whether a full pool makes it wait (`true`) or drop the value.
+    reliable: bool,
+    /// `link robot → station (robot/x/out)`, for warnings.
+    name: String,
+}
+
 /// A publisher per link this part sends, with its attachment (the link number).
 fn publishers(
     session: &Session,
     keys: &Keys,
     part: &str,
     links: &PartLinks,
-) -> Result<BTreeMap<u32, (Publisher<'static>, ZBytes)>, String> {
+) -> Result<BTreeMap<u32, Out>, String> {
     let mut data = BTreeMap::new();
     for (id, s) in &links.sending {
         let qos = Qos::of(s);
@@ -100,7 +125,13 @@ fn publishers(
             .express(qos.express)
             .wait()
             .map_err(|e| format!("cannot publish the link {id}: {}", engine_error(&e)))?;
-        data.insert(*id, (publisher, ZBytes::from(id.to_le_bytes().to_vec())));
+        let out = Out {
+            publisher,
+            attachment: ZBytes::from(id.to_le_bytes().to_vec()),
+            reliable: s.reliable,
+            name: format!("link {part} → {} ({})", s.to_part, s.topic),
+        };
+        data.insert(*id, out);
     }
     Ok(data)
 }
@@ -112,6 +143,7 @@ fn subscribers(
     keys: &Keys,
     links: &PartLinks,
     delivery: &Delivery,
+    received_shared: &Arc<AtomicU64>,
 ) -> Result<Vec<Subscriber<()>>, String> {
     let mut subscribers = Vec::new();
     let mut from: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
@@ -120,6 +152,7 @@ fn subscribers(
     }
     for (writer, ids) in from {
         let (delivery, writer_part) = (delivery.clone(), writer.to_owned());
+        let received_shared = Arc::clone(received_shared);
         let subscriber = session
             .declare_subscriber(keys.data_of(writer)?)
             .callback(move |sample| {
@@ -130,8 +163,12 @@ fn subscribers(
                 });
                 // Links of this writer that go to other parts share its keys: not ours.
                 if let Some(link) = link.filter(|l| ids.contains(l)) {
+                    if sample.payload().as_shm().is_some() {
+                        received_shared.fetch_add(1, Ordering::Relaxed);
+                    }
                     // Borrowed from Zenoh's buffer when it is in one piece (a value
-                    // that fits one batch): decoded straight into the port.
+                    // that fits one batch, or a buffer in shared memory): decoded
+                    // straight from it into the port.
                     delivery.deliver_bytes(link, &sample.payload().to_bytes());
                 }
             })
@@ -356,10 +393,16 @@ impl Connection for Free {
     fn send(&self, _to_part: &str, frame: Frame) {
         match LinkKind::of(frame.link) {
             LinkKind::Data(id) => {
-                if let Some((publisher, attachment)) = self.data.get(&id) {
-                    let put = publisher
-                        .put(frame.bytes)
-                        .attachment(attachment.clone())
+                if let Some(out) = self.data.get(&id) {
+                    let payload = match &self.pool {
+                        Some(pool) => pool.payload(frame.bytes, out.reliable, &out.name),
+                        None => Payload::Network(frame.bytes.into()),
+                    };
+                    let (Payload::Shared(bytes) | Payload::Network(bytes)) = payload else {
+                        return; // dropped: the pool is full (warned)
+                    };
+                    let put = (out.publisher.put(bytes))
+                        .attachment(out.attachment.clone())
                         .wait();
                     if let Err(e) = put {
                         self.failed(&format!(

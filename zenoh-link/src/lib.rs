@@ -13,6 +13,8 @@
 //!   frames of that instant ([`lockstep`]);
 //! - for a part that is a ROS 2 node, the node's and its topics' liveliness tokens and
 //!   samples on rmw_zenoh's keys, in CDR ([`ros2`], docs/ros2.md);
+//! - values of at least 4 KB, in a bounded pool of shared memory that Zenoh hands to
+//!   readers on the same computer without copying them through a socket ([`shm`]);
 //! - always, a liveliness token, and a liveliness subscriber that notices parts that
 //!   come and go ([`alive`]).
 //!
@@ -27,10 +29,13 @@ pub mod free;
 pub mod keys;
 pub mod lockstep;
 pub mod ros2;
+pub mod shm;
 
 use ferroc_runtime::link::transport::{Addresses, Connection, Delivery, Network, PartLinks};
 use ferroc_terminal::engine_error;
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 use zenoh::Wait;
 
 pub use keys::Keys;
@@ -40,6 +45,11 @@ pub struct Zenoh {
     keys: Keys,
     addresses: Addresses,
     config: zenoh::Config,
+    /// The shared-memory pool of the values this part sends, made when a connection
+    /// that sends first opens and kept across reopenings (a restarted part).
+    pool: Mutex<Option<Arc<shm::Pool>>>,
+    /// How many values arrived in shared memory.
+    received_shared: Arc<AtomicU64>,
 }
 
 impl Zenoh {
@@ -58,12 +68,41 @@ impl Zenoh {
             keys,
             addresses,
             config,
+            pool: Mutex::default(),
+            received_shared: Arc::default(),
         })
     }
 
     /// The keys of the application.
     pub fn keys(&self) -> &Keys {
         &self.keys
+    }
+
+    /// The shared-memory settings of this part ([`shm::Settings`]).
+    pub fn shm_settings(&self) -> shm::Settings {
+        shm::Settings::of(&self.config)
+    }
+
+    /// What this part's shared memory did so far: its pool (not active before a
+    /// connection that sends values opened) and the values received in shared memory.
+    pub fn shm_use(&self) -> shm::Use {
+        let pool = self.pool.lock().unwrap_or_else(|e| e.into_inner());
+        let mut used = pool.as_ref().map(|p| p.usage()).unwrap_or_default();
+        used.received_shared = self.received_shared.load(Ordering::Relaxed);
+        used
+    }
+
+    /// How many buffers of `size` bytes this part's pool holds now
+    /// ([`shm::Pool::room_for`]); `None` without a pool.
+    pub fn shm_room_for(&self, size: usize) -> Option<usize> {
+        let pool = self.pool.lock().unwrap_or_else(|e| e.into_inner());
+        pool.as_ref().and_then(|p| p.room_for(size))
+    }
+
+    /// This part's pool, opened the first time it is asked for.
+    fn shm_pool(&self) -> Arc<shm::Pool> {
+        let mut pool = self.pool.lock().unwrap_or_else(|e| e.into_inner());
+        Arc::clone(pool.get_or_insert_with(|| Arc::new(shm::Pool::open(self.shm_settings()))))
     }
 
     /// Opens this part's session: a listening address in use is an error that names
@@ -104,7 +143,12 @@ impl Network for Zenoh {
             lockstep::open(&session, &self.keys, &part, links)
                 .map(|l| Box::new(l) as Box<dyn Connection>)
         } else {
-            free::open(&session, &self.keys, &part, links, delivery)
+            let pool = (!links.sending.is_empty()).then(|| self.shm_pool());
+            let shm = free::Shm {
+                pool,
+                received: Arc::clone(&self.received_shared),
+            };
+            free::open(&session, &self.keys, &part, links, delivery, shm)
                 .map(|l| Box::new(l) as Box<dyn Connection>)
         };
         if opened.is_err() {

@@ -265,19 +265,7 @@ impl Connection for Lockstep {
                 }
             }
         }
-        let mut frames = Vec::new();
-        for queue in queues.values_mut() {
-            while let Some(instant) = queue.front() {
-                if instant.nanos > nanos {
-                    break;
-                }
-                let instant = queue.pop_front().expect("front exists");
-                frames.extend(
-                    (instant.frames.into_iter()).map(|(link, bytes)| Frame { link, bytes }),
-                );
-            }
-        }
-        Ok(frames)
+        take(&mut queues, nanos)
     }
 
     fn close(&self) {
@@ -289,6 +277,38 @@ impl Connection for Lockstep {
     }
 }
 
+/// The frames of the instant `nanos` (and any before it) of every part, taken from
+/// `queues`. Every part steps through the same instants (the application's timeline)
+/// and sends one message for each, so the instant `nanos` itself must be there: if a
+/// later one came instead, messages were lost on the way (the session between the two
+/// programs dropped and came back within the grace period), and going on would give a
+/// different result than one process does. That is an error, never silence.
+fn take(
+    queues: &mut BTreeMap<String, VecDeque<Instant>>,
+    nanos: u64,
+) -> Result<Vec<Frame>, String> {
+    let mut frames = Vec::new();
+    for (part, queue) in queues.iter_mut() {
+        let mut found = false;
+        while queue.front().is_some_and(|i| i.nanos <= nanos) {
+            let instant = queue.pop_front().expect("front exists");
+            found |= instant.nanos == nanos;
+            frames.extend((instant.frames.into_iter()).map(|(link, bytes)| Frame { link, bytes }));
+        }
+        if !found {
+            return Err(format!(
+                "the instant {:.3} s of the part `{part}` was lost on the way (its Zenoh \
+                 session to this part dropped and came back); the run cannot stay in \
+                 lockstep. help: give the parts a longer lease, e.g. \
+                 `{{ transport: {{ link: {{ tx: {{ lease: 5000 }} }} }} }}` in --zenoh-config, \
+                 on a loaded machine",
+                nanos as f64 / 1e9
+            ));
+        }
+    }
+    Ok(frames)
+}
+
 fn names<'a>(parts: impl Iterator<Item = &'a str>) -> String {
     parts
         .map(|p| format!("`{p}`"))
@@ -298,4 +318,43 @@ fn names<'a>(parts: impl Iterator<Item = &'a str>) -> String {
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn queues(parts: &[(&str, &[u64])]) -> BTreeMap<String, VecDeque<Instant>> {
+        (parts.iter())
+            .map(|(part, instants)| {
+                let queue = (instants.iter())
+                    .map(|&nanos| Instant {
+                        nanos,
+                        frames: vec![(0, nanos.to_le_bytes().to_vec())],
+                    })
+                    .collect();
+                (part.to_string(), queue)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_instant_and_those_before_it_are_taken_in_order() {
+        let mut q = queues(&[("a", &[10, 20, 30]), ("b", &[20])]);
+        let frames = take(&mut q, 20).unwrap();
+        let stamps: Vec<u8> = frames.iter().map(|f| f.bytes[0]).collect();
+        assert_eq!(stamps, [10, 20, 20]);
+        assert_eq!(q["a"].len(), 1, "30 stays for later");
+    }
+
+    #[test]
+    fn a_lost_instant_is_an_error_naming_the_part_and_the_lease() {
+        // `a` sent 20, 30 and 40, but 30 never arrived.
+        let mut q = queues(&[("a", &[40])]);
+        let err = take(&mut q, 30).unwrap_err();
+        assert!(
+            err.contains("`a`") && err.contains("0.000 s") && err.contains("lease"),
+            "{err}"
+        );
+    }
 }

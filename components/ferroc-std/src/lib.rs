@@ -13,6 +13,7 @@
 //! ([`recording`], docs/recording-and-utilities.md); `Clock` publishes `timestamp`s and
 //! a tick count.
 //! `ScaleService` and `Ask` are the smallest service and client (`services.rs`).
+//! [`Image`] and [`PointCloud`] carry large data (`large.rs`).
 
 #![forbid(unsafe_code)]
 
@@ -29,6 +30,7 @@ mod constant;
 mod filter;
 mod flexible;
 pub mod fusion;
+pub mod large;
 mod logger;
 mod player;
 pub mod recorder;
@@ -40,6 +42,7 @@ pub use constant::Const;
 pub use filter::Filter;
 pub use flexible::{Add, Clock, Dump, FlexiSelect, Sum};
 pub use fusion::Fusion;
+pub use large::{Image, PointCloud, PointField};
 pub use logger::{check_log_path, Logger};
 pub use player::Player;
 pub use recorder::{Recordable, Recorder, Recorders};
@@ -67,5 +70,8 @@ pub fn register(registry: &mut Registry) {
         .register::<Ask>()
         // `Ask` may call a `ScaleService` in another part.
         .register_call::<f64, f64>()
+        // Large data, across parts and in recordings.
+        .register_serde::<Image>()
+        .register_serde::<PointCloud>()
         .register_behaviour::<Fusion>();
 }

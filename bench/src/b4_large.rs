@@ -1,0 +1,444 @@
+//! B4 across parts, large values: p50/p99 latency of 64 B, 64 KB, 1 MB and 6.2 MB
+//! (1080p RGB) values between two programs on 127.0.0.1, four variants in the same run:
+//!
+//! * `ferroc-shm`: a `ferroc_std.Image` link between two part programs, shared memory
+//!   on (ferroc's defaults: values of 4 KB and more go through the writer's pool);
+//! * `ferroc-net`: the same with `transport/shared_memory/enabled: false` in both
+//!   programs' `--zenoh-config`: every byte through the socket;
+//! * `zenoh-shm`: a bare Zenoh publisher that allocates each value in its own
+//!   `ShmProvider` (64 MiB, POSIX), fills it and puts it; a bare subscriber reads the
+//!   stamp in its callback;
+//! * `zenoh-net`: the bare pair with shared memory off, the value a fresh `Vec`.
+//!
+//! Every writer fills the value (the frame number in every byte), stamps its first 8
+//! bytes with `CLOCK_MONOTONIC` as the last thing before publishing, and the reader
+//! takes `now - stamp`: in ferroc's reader module after it read the value from its input
+//! (a data-triggered container), in the bare subscriber's callback. The reader is a
+//! child process (`ferroc-bench b4-large-child`); variants alternate per round.
+
+use crate::b3::load_note;
+use crate::b4_parts::{addresses, free_address, mono_ns, percentiles, session};
+use crate::options::Options;
+use ferroc_runtime::builder::{
+    Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StartOptions, StepKind,
+    ThreadSpec,
+};
+use ferroc_runtime::container::ThreadOptions;
+use ferroc_runtime::link::{LinkSpec, Sharing};
+use ferroc_runtime::module::{In, Module, ModuleType, Out, Setup};
+use ferroc_runtime::port::ConnectOptions;
+use ferroc_std::Image;
+use ferroc_zenoh::Zenoh;
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+use zenoh::shm::{BlockOn, GarbageCollect, ShmProviderBuilder};
+use zenoh::Wait;
+
+/// The argument that makes `ferroc-bench` the reader.
+pub const CHILD_ARG: &str = "b4-large-child";
+const APP: &str = "b4large";
+const KEY: &str = "bench/b4large/bare";
+const SIZES: [usize; 4] = [64, 64 * 1024, 1 << 20, 1920 * 1080 * 3];
+const VARIANTS: [&str; 4] = ["ferroc-shm", "ferroc-net", "zenoh-shm", "zenoh-net"];
+const WARM_UP: usize = 20;
+const DEFAULT_MESSAGES: u64 = 300;
+const DEFAULT_ROUNDS: u64 = 2;
+
+/// One value every: 50 per second for a 1080p frame (B3's rate), faster for smaller.
+fn gap(size: usize) -> Duration {
+    Duration::from_millis(match size {
+        0..=65536 => 2,
+        65537..=1048576 => 10,
+        _ => 20,
+    })
+}
+
+/// The size the writer module makes (one writer per process).
+static SIZE: AtomicUsize = AtomicUsize::new(64);
+/// The latencies the reader saw (ns).
+static SEEN: Mutex<Vec<u64>> = Mutex::new(Vec::new());
+
+/// Fills `data` with frame `seq` and stamps it last.
+fn fill(data: &mut [u8], seq: u64) {
+    data.fill(seq as u8);
+    data[..8].copy_from_slice(&mono_ns().to_le_bytes());
+}
+
+fn stamp_of(data: &[u8]) -> Option<u64> {
+    data.first_chunk::<8>().map(|b| u64::from_le_bytes(*b))
+}
+
+fn seen(latency: u64) {
+    SEEN.lock().unwrap_or_else(|e| e.into_inner()).push(latency);
+}
+
+/// Publishes an image of `SIZE` bytes every cycle.
+struct Camera {
+    out: Out<Image>,
+    seq: u64,
+}
+impl Module for Camera {
+    fn update(&mut self) {
+        self.seq += 1;
+        let (seq, size) = (self.seq, SIZE.load(Ordering::Relaxed));
+        self.out.publish_with(|img| {
+            img.width = size as u32;
+            img.height = 1;
+            img.step = size as u32;
+            "mono8".clone_into(&mut img.encoding);
+            img.data.resize(size, 0);
+            fill(&mut img.data, seq);
+        });
+    }
+}
+impl ModuleType for Camera {
+    const NAME: &'static str = "bench.Camera";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Camera {
+            out: m.output("out").build(),
+            seq: 0,
+        }
+    }
+}
+
+/// Notes `now - stamp` of every image it reads.
+struct Viewer {
+    input: In<Image>,
+}
+impl Module for Viewer {
+    fn update(&mut self) {
+        if self.input.changed() {
+            if let Some(stamp) = stamp_of(&self.input.get().data) {
+                seen(mono_ns().saturating_sub(stamp));
+            }
+        }
+    }
+}
+impl ModuleType for Viewer {
+    const NAME: &'static str = "bench.Viewer";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Viewer {
+            input: m.input("in").build(),
+        }
+    }
+}
+
+const LINK: LinkSpec<'static> = LinkSpec {
+    id: 0,
+    from_part: "writer",
+    to_part: "reader",
+    model_type: "ferroc_std.Image",
+    sharing: Sharing::OnChange {
+        min_interval: Duration::ZERO,
+    },
+    reliable: true,
+    deadline: None,
+};
+
+fn registry() -> Registry {
+    let mut r = Registry::new();
+    r.register::<Camera>().register::<Viewer>();
+    ferroc_std::register(&mut r);
+    r
+}
+
+/// The `--zenoh-config` of a variant: shared memory off for `…-net`.
+fn config_of(variant: &str) -> Result<Option<PathBuf>, String> {
+    if !variant.ends_with("-net") {
+        return Ok(None);
+    }
+    let path = std::env::temp_dir().join(format!("ferroc-b4-large-{}.json5", std::process::id()));
+    std::fs::write(
+        &path,
+        "{ transport: { shared_memory: { enabled: false } } }",
+    )
+    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    Ok(Some(path))
+}
+
+/// One part of a ferroc variant: the camera every `gap`, or the viewer woken by data.
+fn part(
+    registry: &Registry,
+    part: &str,
+    (writer, reader): (&str, &str),
+    config: Option<&PathBuf>,
+    gap: Duration,
+) -> Result<RunningApp, String> {
+    let mut b = Builder::new(registry);
+    let (path, type_name, schedule) = match part {
+        "writer" => ("writer/camera", "bench.Camera", Schedule::Periodic(gap)),
+        _ => ("reader/viewer", "bench.Viewer", Schedule::Data),
+    };
+    let spec = ModuleSpec {
+        path,
+        type_name,
+        params: &[],
+        queues: &[],
+        ports: &[],
+        violations: Default::default(),
+    };
+    b.add_module(spec).map_err(|e| e.to_string())?;
+    b.add_thread(ThreadSpec {
+        path: part.into(),
+        schedule,
+        options: ThreadOptions::default(),
+        steps: vec![(path.into(), StepKind::Update)],
+    })
+    .map_err(|e| e.to_string())?;
+    if part == "writer" {
+        b.link_out(&LINK, (path, "out"), Conversion::default())
+    } else {
+        b.link_in(&LINK, (path, "in"), ConnectOptions::default())
+    }
+    .map_err(|e| e.to_string())?;
+    let addresses = addresses(part, writer, reader);
+    let network = Zenoh::new(APP, addresses, config.map(PathBuf::as_path))?;
+    let options = StartOptions {
+        network: Some(Arc::new(network)),
+        ..StartOptions::default()
+    };
+    b.start_with(options).map_err(|e| e.to_string())
+}
+
+/// The reader: `b4-large-child VARIANT WRITER READER N` prints N latencies (ns) after
+/// the warm-up, one a line.
+pub fn child(args: &[String]) -> u8 {
+    let [variant, writer, reader, n] = args else {
+        eprintln!("usage: {CHILD_ARG} VARIANT WRITER READER N");
+        return 2;
+    };
+    let Ok(n) = n.parse::<usize>() else {
+        eprintln!("{CHILD_ARG}: N must be a number");
+        return 2;
+    };
+    let registry = registry();
+    let mut keep: Vec<Box<dyn std::any::Any>> = Vec::new();
+    let started = config_of(variant).and_then(|config| {
+        if variant.starts_with("ferroc") {
+            let app = part(
+                &registry,
+                "reader",
+                (writer, reader),
+                config.as_ref(),
+                gap(0),
+            )?;
+            keep.push(Box::new(app));
+            return Ok(());
+        }
+        let s = session("reader", writer, reader, config.as_deref())?;
+        let sub = s
+            .declare_subscriber(KEY)
+            .callback(|sample| {
+                let first = sample.payload().slices().next().and_then(stamp_of);
+                if let Some(stamp) = first {
+                    seen(mono_ns().saturating_sub(stamp));
+                }
+            })
+            .wait()
+            .map_err(|e| e.to_string())?;
+        keep.push(Box::new(sub));
+        keep.push(Box::new(s));
+        Ok(())
+    });
+    if let Err(e) = started {
+        eprintln!("{CHILD_ARG}: {e}");
+        return 1;
+    }
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while SEEN.lock().unwrap_or_else(|e| e.into_inner()).len() < WARM_UP + n {
+        if Instant::now() > deadline {
+            eprintln!("{CHILD_ARG}: too few values arrived");
+            return 1;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let seen = std::mem::take(&mut *SEEN.lock().unwrap_or_else(|e| e.into_inner()));
+    let out: String = seen[WARM_UP..WARM_UP + n]
+        .iter()
+        .map(|l| format!("{l}\n"))
+        .collect();
+    print!("{out}");
+    drop(keep);
+    0
+}
+
+/// A bare writer: puts a filled, stamped value of `size` bytes every `gap` until
+/// `done`, in shared memory of its own provider (`zenoh-shm`) or as a `Vec`.
+fn bare_writer(
+    variant: &str,
+    (writer, reader): (&str, &str),
+    size: usize,
+    done: &mut dyn FnMut() -> Result<bool, String>,
+) -> Result<(), String> {
+    let config = config_of(variant)?;
+    let s = session("writer", writer, reader, config.as_deref())?;
+    let publisher = s
+        .declare_publisher(KEY)
+        .congestion_control(zenoh::qos::CongestionControl::Block)
+        .wait()
+        .map_err(|e| e.to_string())?;
+    let provider = match variant {
+        "zenoh-shm" => Some(
+            ShmProviderBuilder::default_backend(ferroc_zenoh::shm::POOL_SIZE)
+                .wait()
+                .map_err(|e| e.to_string())?,
+        ),
+        _ => None,
+    };
+    let mut next = Instant::now();
+    let mut seq = 0u64;
+    while !done()? {
+        while Instant::now() < next {
+            std::thread::sleep(Duration::from_micros(200));
+        }
+        next += gap(size);
+        seq += 1;
+        let put = match &provider {
+            Some(p) => {
+                let mut buf = p
+                    .alloc(size)
+                    .with_policy::<BlockOn<GarbageCollect>>()
+                    .wait()
+                    .map_err(|e| e.to_string())?;
+                fill(&mut buf[..], seq);
+                publisher.put(buf).wait()
+            }
+            None => {
+                let mut v = vec![0u8; size];
+                fill(&mut v, seq);
+                publisher.put(v).wait()
+            }
+        };
+        put.map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// One variant and size once: the reader as a child, the writer here until the child
+/// is done. The latencies in ns.
+fn once(variant: &str, size: usize, n: u64) -> Result<Vec<u64>, String> {
+    let (writer, reader) = (free_address()?, free_address()?);
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let mut child = Command::new(exe)
+        .args([CHILD_ARG, variant, &writer, &reader, &n.to_string()])
+        .stdout(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("cannot start the reader: {e}"))?;
+    let stdout = child.stdout.take().ok_or("no output of the reader")?;
+    let reading = std::thread::spawn(move || {
+        (BufReader::new(stdout).lines().map_while(Result::ok))
+            .filter_map(|l| l.trim().parse::<u64>().ok())
+            .collect::<Vec<u64>>()
+    });
+    let deadline = Instant::now() + Duration::from_secs(300);
+    let mut done = || -> Result<bool, String> {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            return Err("the reader did not finish".into());
+        }
+        Ok(child.try_wait().map_err(|e| e.to_string())?.is_some())
+    };
+    SIZE.store(size, Ordering::Relaxed);
+    if variant.starts_with("ferroc") {
+        let config = config_of(variant)?;
+        let registry = registry();
+        let app = part(
+            &registry,
+            "writer",
+            (&writer, &reader),
+            config.as_ref(),
+            gap(size),
+        )?;
+        while !done()? {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        drop(app);
+    } else {
+        bare_writer(variant, (&writer, &reader), size, &mut done)?;
+    }
+    let status = child.wait().map_err(|e| e.to_string())?;
+    let samples = reading.join().map_err(|_| "reading the reader failed")?;
+    if !status.success() || samples.len() as u64 != n {
+        return Err(format!(
+            "the reader failed ({status}, {} values)",
+            samples.len()
+        ));
+    }
+    Ok(samples)
+}
+
+/// Runs B4 across parts with large values and prints its lines; the exit code.
+pub fn run(args: &[String]) -> u8 {
+    let parsed = Options::parse("b4-large", args, &["messages", "rounds"], &[]).and_then(|o| {
+        Ok((
+            o.number("messages", DEFAULT_MESSAGES, 1, 1_000_000)?,
+            o.number("rounds", DEFAULT_ROUNDS, 1, 100)?,
+        ))
+    });
+    let (messages, rounds) = match parsed {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("{e}");
+            return 2;
+        }
+    };
+    if cfg!(debug_assertions) {
+        println!("b4-large: warning: not a release build; figures are meaningless");
+    }
+    let per_round = messages.div_ceil(rounds.min(messages));
+    println!(
+        "b4-large: {} values per size and variant between two programs on 127.0.0.1 \
+         ({rounds} rounds, +{WARM_UP} warm-up each; 64 B and 64 KB every 2 ms, 1 MB every \
+         10 ms, 6.2 MB every 20 ms); {}",
+        per_round * rounds,
+        load_note()
+    );
+    let mut result = Vec::new();
+    for size in SIZES {
+        let mut samples: [Vec<u64>; 4] = Default::default();
+        for round in 0..rounds as usize {
+            for k in 0..VARIANTS.len() {
+                let i = (round + k) % VARIANTS.len();
+                match once(VARIANTS[i], size, per_round) {
+                    Ok(mut s) => samples[i].append(&mut s),
+                    Err(e) => {
+                        eprintln!("b4-large: {} {size} B: {e}", VARIANTS[i]);
+                        return 1;
+                    }
+                }
+            }
+        }
+        let p50s = report(size, samples);
+        result.push(format!(
+            "s{size}_ferroc_shm_p50_us={:.1} s{size}_ferroc_net_p50_us={:.1} \
+             s{size}_zenoh_shm_p50_us={:.1} s{size}_zenoh_net_p50_us={:.1}",
+            p50s[0], p50s[1], p50s[2], p50s[3]
+        ));
+    }
+    println!("RESULT b4-large {}", result.join(" "));
+    0
+}
+
+/// Prints one size's lines; the p50 of each variant (µs).
+fn report(size: usize, samples: [Vec<u64>; 4]) -> [f64; 4] {
+    let mut p50s = [0.0; 4];
+    for (i, s) in samples.into_iter().enumerate() {
+        let n = s.len();
+        let (p50, p99, max) = percentiles(s);
+        p50s[i] = p50;
+        println!(
+            "b4-large {size:>8} B  {:<10}  p50 {p50:9.1}  p99 {p99:9.1}  max {max:9.1} µs  n={n}",
+            VARIANTS[i]
+        );
+    }
+    println!(
+        "b4-large {size:>8} B  ferroc-shm / zenoh-shm p50 {:.2}, ferroc-net / ferroc-shm p50 {:.2}",
+        p50s[0] / p50s[2],
+        p50s[1] / p50s[0]
+    );
+    p50s
+}

@@ -1,0 +1,333 @@
+//! Shared memory for links between parts on one computer.
+//!
+//! A part that sends values across parts owns one bounded pool of POSIX shared memory
+//! (Zenoh's `ShmProvider` on its POSIX backend). A value whose encoding is at least
+//! the threshold goes into a buffer of that pool; Zenoh then sends only the buffer's
+//! descriptor to a reader on the same computer, which maps the buffer and decodes the
+//! value straight from it. A reader on another computer (or one whose session has
+//! shared memory off) gets the bytes over the network: Zenoh decides per peer, the
+//! model does not change. Smaller values take the network path as before.
+//!
+//! Both numbers are Zenoh's own settings (docs/zenoh.md), so `--zenoh-config` changes
+//! them: `transport/shared_memory/transport_optimization/message_size_threshold`
+//! (ferroc's default 4096 bytes) and `…/pool_size` (ferroc's default 64 MiB, ten 1080p
+//! RGB frames); `transport/shared_memory/enabled: false` turns shared memory off.
+//!
+//! A buffer is never written while a reader can still see it: a buffer handed to Zenoh
+//! is immutable (`ZShmMut` becomes `ZBytes`), and the pool only reuses a buffer whose
+//! reference count, kept in shared memory by every process that maps it and by Zenoh for
+//! buffers still on their way to a peer, is zero (the *safe* garbage collection).
+//!
+//! A full pool follows the link's `on-full` policy: a link that may drop values drops
+//! the value (a throttled warning); a reliable link waits for buffers to come back,
+//! collecting and defragmenting, and after [`BLOCK_LIMIT`] sends that value over the
+//! network instead, so it is never lost and the writer never hangs on a reader that
+//! stopped reading. A computer without usable shared memory (no `/dev/shm`, a
+//! container without it) runs on the network path after one warning.
+
+use ferroc_runtime::console;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+use zenoh::bytes::ZBytes;
+use zenoh::shm::{
+    Defragment, GarbageCollect, JustAlloc, PosixShmProviderBackend, ShmProvider, ShmProviderBuilder,
+};
+use zenoh::Wait;
+
+/// ferroc's default threshold: values of at least this many encoded bytes travel in
+/// shared memory (dora's choice; below it a copy costs less than the bookkeeping).
+pub const THRESHOLD: usize = 4096;
+
+/// ferroc's default pool: 64 MiB, room for ten 1080p RGB frames (6.2 MB) on their way.
+pub const POOL_SIZE: usize = 64 * 1024 * 1024;
+
+/// How long a reliable link waits for room in a full pool before it sends the value
+/// over the network instead.
+pub const BLOCK_LIMIT: Duration = Duration::from_millis(500);
+
+const ENABLED_KEY: &str = "transport/shared_memory/enabled";
+const THRESHOLD_KEY: &str = "transport/shared_memory/transport_optimization/message_size_threshold";
+const POOL_KEY: &str = "transport/shared_memory/transport_optimization/pool_size";
+
+/// The shared-memory settings of a part, read from its Zenoh configuration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Settings {
+    /// `transport/shared_memory/enabled`.
+    pub enabled: bool,
+    /// Values of at least this many encoded bytes go into the pool.
+    pub threshold: usize,
+    /// The pool's size in bytes.
+    pub pool_size: usize,
+}
+
+impl Settings {
+    /// The settings `config` holds (ferroc's defaults unless a file set them).
+    pub fn of(config: &zenoh::Config) -> Settings {
+        let number = |key: &str, default: usize| {
+            config
+                .get_json(key)
+                .ok()
+                .and_then(|v| v.trim().parse::<usize>().ok())
+                .unwrap_or(default)
+        };
+        Settings {
+            enabled: config
+                .get_json(ENABLED_KEY)
+                .is_ok_and(|v| v.trim() == "true"),
+            threshold: number(THRESHOLD_KEY, THRESHOLD),
+            pool_size: number(POOL_KEY, POOL_SIZE),
+        }
+    }
+}
+
+/// How a value went out.
+#[derive(Debug)]
+pub enum Payload {
+    /// In a buffer of the pool.
+    Shared(ZBytes),
+    /// As plain bytes (small, no pool, or a reliable link that waited too long).
+    Network(ZBytes),
+    /// Not at all: the pool is full and the link drops values.
+    Dropped,
+}
+
+/// What the pool did so far, for `ferroc inspect`, the tests and the benchmarks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Use {
+    /// Whether the pool exists (shared memory enabled and usable).
+    pub active: bool,
+    /// Its size in bytes.
+    pub pool_size: usize,
+    /// Values sent in shared memory.
+    pub shared: u64,
+    /// Values at or above the threshold sent over the network (a full pool on a
+    /// reliable link, or a value larger than the pool).
+    pub network: u64,
+    /// Values dropped because the pool was full.
+    pub dropped: u64,
+    /// Values this part received in shared memory (from any writer).
+    pub received_shared: u64,
+}
+
+/// The shared-memory pool of one part (see the module documentation).
+pub struct Pool {
+    provider: Option<ShmProvider<PosixShmProviderBackend>>,
+    settings: Settings,
+    shared: AtomicU64,
+    network: AtomicU64,
+    dropped: AtomicU64,
+}
+
+/// Collects buffers no reader holds, then defragments, before giving up on a size.
+type Reclaim = Defragment<GarbageCollect<JustAlloc, JustAlloc>>;
+
+impl Pool {
+    /// The pool `settings` ask for; without usable shared memory, none, after one
+    /// warning naming the cause.
+    pub fn open(settings: Settings) -> Pool {
+        let provider = if settings.enabled {
+            match ShmProviderBuilder::default_backend(settings.pool_size).wait() {
+                Ok(provider) => Some(provider),
+                Err(e) => {
+                    console::note(&format!(
+                        "warning: shared memory is not usable here ({}); links between \
+                         parts on this computer travel over the network. help: check that \
+                         /dev/shm is mounted and has {} MiB free, or set \
+                         transport/shared_memory/enabled to false in --zenoh-config to \
+                         silence this",
+                        ferroc_terminal::engine_error(&e),
+                        settings.pool_size.div_ceil(1 << 20)
+                    ));
+                    None
+                }
+            }
+        } else {
+            None
+        };
+        Pool {
+            provider,
+            settings,
+            shared: AtomicU64::new(0),
+            network: AtomicU64::new(0),
+            dropped: AtomicU64::new(0),
+        }
+    }
+
+    /// The payload for `bytes` on a link that must not drop values (`reliable`) or
+    /// may.
+    pub fn payload(&self, bytes: Vec<u8>, reliable: bool, link: &str) -> Payload {
+        let Some(provider) = self.provider.as_ref() else {
+            return Payload::Network(bytes.into());
+        };
+        if bytes.len() < self.settings.threshold.max(1) {
+            return Payload::Network(bytes.into());
+        }
+        if bytes.len() > self.settings.pool_size {
+            self.network.fetch_add(1, Ordering::Relaxed);
+            console::note_repeated(&format!(
+                "warning: {link}: a value of {} bytes is larger than the shared-memory pool \
+                 ({} bytes); it travels over the network. help: raise \
+                 transport/shared_memory/transport_optimization/pool_size in --zenoh-config",
+                bytes.len(),
+                self.settings.pool_size
+            ));
+            return Payload::Network(bytes.into());
+        }
+        let started = Instant::now();
+        loop {
+            match provider.alloc(bytes.len()).with_policy::<Reclaim>().wait() {
+                Ok(mut buffer) => {
+                    buffer.copy_from_slice(&bytes);
+                    self.shared.fetch_add(1, Ordering::Relaxed);
+                    return Payload::Shared(buffer.into());
+                }
+                Err(_) if !reliable => {
+                    self.dropped.fetch_add(1, Ordering::Relaxed);
+                    console::note_repeated(&format!(
+                        "warning: {link}: the shared-memory pool is full (readers hold its \
+                         buffers); values are dropped (on-full=\"drop\"). help: raise \
+                         transport/shared_memory/transport_optimization/pool_size in \
+                         --zenoh-config, or make the readers keep up"
+                    ));
+                    return Payload::Dropped;
+                }
+                Err(_) if started.elapsed() >= BLOCK_LIMIT => {
+                    self.network.fetch_add(1, Ordering::Relaxed);
+                    console::note_repeated(&format!(
+                        "warning: {link}: the shared-memory pool stayed full for {} ms; the \
+                         value travels over the network. help: raise \
+                         transport/shared_memory/transport_optimization/pool_size in \
+                         --zenoh-config, or make the readers keep up",
+                        BLOCK_LIMIT.as_millis()
+                    ));
+                    return Payload::Network(bytes.into());
+                }
+                Err(_) => std::thread::sleep(Duration::from_millis(1)),
+            }
+        }
+    }
+
+    /// What the pool did so far.
+    pub fn usage(&self) -> Use {
+        Use {
+            active: self.provider.is_some(),
+            pool_size: self.settings.pool_size,
+            shared: self.shared.load(Ordering::Relaxed),
+            network: self.network.load(Ordering::Relaxed),
+            dropped: self.dropped.load(Ordering::Relaxed),
+            received_shared: 0,
+        }
+    }
+}
+
+impl Pool {
+    /// How many buffers of `size` bytes the pool holds now, after collecting the
+    /// buffers no reader holds: a measure of what came back, for checks while nothing
+    /// is sent (the probe takes them all for a moment). `None` without a pool.
+    pub fn room_for(&self, size: usize) -> Option<usize> {
+        let provider = self.provider.as_ref()?;
+        let mut held = Vec::new();
+        while let Ok(buffer) = provider.alloc(size.max(1)).with_policy::<Reclaim>().wait() {
+            held.push(buffer);
+        }
+        Some(held.len())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn settings(pool_size: usize) -> Settings {
+        Settings {
+            enabled: true,
+            threshold: 4096,
+            pool_size,
+        }
+    }
+
+    #[test]
+    fn large_values_go_into_the_pool_and_small_ones_do_not() {
+        let pool = Pool::open(settings(1 << 20));
+        assert!(pool.usage().active, "this machine has /dev/shm");
+        assert_eq!(pool.room_for(200_000), Some(5), "1 MiB holds five");
+        let big = vec![7u8; 10_000];
+        match pool.payload(big.clone(), true, "link") {
+            Payload::Shared(z) => {
+                assert!(z.as_shm().is_some());
+                assert_eq!(z.to_bytes().as_ref(), big.as_slice());
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(matches!(
+            pool.payload(vec![1; 4095], true, "link"),
+            Payload::Network(_)
+        ));
+        assert_eq!(pool.usage().shared, 1);
+    }
+
+    #[test]
+    fn a_buffer_comes_back_only_when_nobody_holds_it() {
+        let pool = Pool::open(settings(64 * 1024));
+        let held = pool.payload(vec![1; 40_000], false, "link");
+        assert!(matches!(held, Payload::Shared(_)));
+        // The pool cannot hold a second one while the first is held: drop policy drops.
+        assert!(matches!(
+            pool.payload(vec![2; 40_000], false, "link"),
+            Payload::Dropped
+        ));
+        assert_eq!(pool.usage().dropped, 1);
+        assert_eq!(pool.room_for(40_000), Some(0));
+        drop(held);
+        assert_eq!(pool.room_for(40_000), Some(1));
+        assert!(matches!(
+            pool.payload(vec![3; 40_000], false, "link"),
+            Payload::Shared(_)
+        ));
+    }
+
+    #[test]
+    fn a_reliable_link_on_a_full_pool_waits_then_takes_the_network() {
+        let pool = Pool::open(settings(64 * 1024));
+        let _held = pool.payload(vec![1; 40_000], true, "link");
+        let sent = pool.payload(vec![2; 40_000], true, "link");
+        match sent {
+            Payload::Network(z) => assert_eq!(z.len(), 40_000),
+            other => panic!("{other:?}"),
+        }
+        let used = pool.usage();
+        assert_eq!((used.shared, used.network, used.dropped), (1, 1, 0));
+    }
+
+    #[test]
+    fn without_shared_memory_everything_takes_the_network() {
+        let off = Pool::open(Settings {
+            enabled: false,
+            ..settings(1 << 20)
+        });
+        assert!(!off.usage().active);
+        assert!(matches!(
+            off.payload(vec![1; 100_000], true, "link"),
+            Payload::Network(_)
+        ));
+        // A pool the system cannot provide (larger than any /dev/shm): one warning, then
+        // the network path.
+        let impossible = Pool::open(settings(1 << 62));
+        assert!(!impossible.usage().active);
+        assert!(matches!(
+            impossible.payload(vec![1; 100_000], true, "link"),
+            Payload::Network(_)
+        ));
+    }
+
+    #[test]
+    fn the_settings_are_read_from_the_configuration() {
+        let mut c = zenoh::Config::default();
+        c.insert_json5(THRESHOLD_KEY, "10000").unwrap();
+        let s = Settings::of(&c);
+        assert_eq!(s.threshold, 10000);
+        assert!(s.enabled, "Zenoh's default");
+        c.insert_json5(ENABLED_KEY, "false").unwrap();
+        assert!(!Settings::of(&c).enabled);
+    }
+}
