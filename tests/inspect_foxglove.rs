@@ -237,14 +237,22 @@ fn a_foxglove_client_sees_channels_and_values_and_sets_a_parameter() {
         json!(["number", "null"]),
         "{schema}"
     );
-    // Pose2D is registered without serde: its text form, a string.
+    // Pose2D is registered with its serde form: an object schema with its fields.
     let pose: Value = serde_json::from_str(
         advertised["/robot/control/sim/pose"]["schema"]
             .as_str()
             .unwrap(),
     )
     .unwrap();
-    assert_eq!(pose["properties"]["value"]["type"], "string", "{pose}");
+    let value = &pose["properties"]["value"];
+    assert_eq!(value["type"], "object", "{pose}");
+    for field in ["x", "y", "theta"] {
+        assert_eq!(
+            value["properties"][field]["type"],
+            json!(["number", "null"]),
+            "{pose}"
+        );
+    }
 
     // Subscribed channels deliver JSON values that change; others deliver nothing.
     fox.send(
@@ -257,7 +265,8 @@ fn a_foxglove_client_sees_channels_and_values_and_sets_a_parameter() {
         match m["topic"].as_str().unwrap() {
             "/robot/control/sim/pose" => {
                 assert_eq!(m["data"]["port"], "robot/control/sim/pose", "{m}");
-                poses.insert(m["data"]["value"].as_str().unwrap().to_owned());
+                assert!(m["data"]["value"]["x"].is_f64(), "{m}");
+                poses.insert(m["data"]["value"].to_string());
             }
             "/robot/containers" => {
                 let c = &m["data"]["containers"][0];

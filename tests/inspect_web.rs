@@ -2,8 +2,11 @@
 //! (`ferroc run --inspect` on loopback). The API is asked with plain HTTP requests
 //! written here; the page is loaded in a real browser — Debian's headless Chromium
 //! driven by playwright-core from npm (tests/web/inspect_page.mjs) — which sees live
-//! values change, sets a parameter with the token and sees its effect, and sees a
-//! change with a wrong token refused. Its screenshot is printed.
+//! values change, checks the graph's geometry (it fits a 1400×900 window, no edge
+//! labels intersect, a legend, labelled bars) and that values are short JSON, sets a
+//! parameter with the token and sees its effect, and sees a change with a wrong token
+//! refused. Its screenshots are printed. The graph's layout alone is checked in Node
+//! (tests/web/layout.mjs).
 //!
 //! The browser test needs `node`, Debian's `chromium` and playwright-core in
 //! FERROC_NODE_MODULES (default target/ci-node/node_modules); `scripts/test` installs
@@ -368,6 +371,7 @@ fn the_page_shows_nav_behaviours_live_in_a_real_browser_and_sets_a_parameter() {
     std::fs::create_dir_all(&shots).unwrap();
     let screenshot = shots.join("nav_behaviours.png");
     let _ = std::fs::remove_file(&screenshot);
+    let _ = std::fs::remove_file(shots.join("nav_behaviours-graph.png"));
     let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/web/inspect_page.mjs");
     let out = Command::new("node")
         .arg(&script)
@@ -387,14 +391,23 @@ fn the_page_shows_nav_behaviours_live_in_a_real_browser_and_sets_a_parameter() {
         out.status.success(),
         "the page test failed:\n{stdout}\n{stderr}"
     );
-    let png = std::fs::read(&screenshot).expect("the screenshot was written");
-    assert!(
-        png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 10_000,
-        "not a screenshot"
-    );
+    for shot in [screenshot.clone(), shots.join("nav_behaviours-graph.png")] {
+        let png = std::fs::read(&shot).expect("the screenshot was written");
+        assert!(
+            png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 10_000,
+            "{} is not a screenshot",
+            shot.display()
+        );
+    }
     // Every check of the script reported itself.
     for step in [
         "graph: 8 modules",
+        "graph fits the window",
+        "edge labels apart",
+        "legend: stimulation, inhibition, meta, data, back, part, behaviour",
+        "behaviour bars labelled",
+        "zoom: actual size and back to fitted",
+        "values as short JSON",
         "a numeric port changed",
         "wrong token refused: not authorised",
         "operator/activity became 0.25",
@@ -402,6 +415,66 @@ fn the_page_shows_nav_behaviours_live_in_a_real_browser_and_sets_a_parameter() {
     ] {
         assert!(stdout.contains(step), "missing `{step}` in:\n{stdout}");
     }
+}
+
+/// Runs `node tests/web/SCRIPT`, which must succeed and print `ok: STEP` for each step;
+/// `false` after a visible skip when there is no `node`.
+fn node_script(script: &str, steps: &[&str]) -> bool {
+    let Some(node) = ferroc_testkit::command("node") else {
+        return false;
+    };
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/web")
+        .join(script);
+    let out = Command::new(node).arg(&path).output().expect("node runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    println!("{stdout}");
+    assert!(
+        out.status.success(),
+        "{script} failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for step in steps {
+        let line = format!("ok: {step}");
+        assert!(stdout.contains(&line), "`{line}` missing in:\n{stdout}");
+    }
+    true
+}
+
+/// Issue 28, item 16: the page's graph layout (inspect/src/web/assets/layout.js) in
+/// Node, without a browser (tests/web/layout.mjs): on nav_behaviours' graph, cycles, two
+/// linked parts and a generated graph of 60 modules, no boxes overlap, no edge label
+/// overlaps a box or another label, every data port has its label, no edge passes
+/// through a box it does not connect, and parts stay apart; and the same checks find
+/// the old drawing's faults put back into a layout. Before the fix, "linear" and
+/// "angular" were drawn at the same place and data edges ended on a behaviour's
+/// inhibition slot.
+#[test]
+fn the_graph_layout_keeps_boxes_labels_and_edges_apart() {
+    node_script(
+        "layout.mjs",
+        &[
+            "the checks find labels drawn over each other",
+            "nav_behaviours:",
+            "mutual inhibition and a self-loop:",
+            "two parts linked both ways:",
+            "60 generated modules:",
+        ],
+    );
+}
+
+/// Issue 28, item 16: values are shown as short JSON (tests/web/values.mjs): fractions
+/// to 4 significant digits in shortest form (a pose's `0.7000000000000001` is `0.7`),
+/// integers and short numbers as they are, long arrays cut with a count, still JSON.
+#[test]
+fn values_are_shown_as_short_json() {
+    node_script(
+        "values.mjs",
+        &[
+            "numbers shortened to 4 significant digits, integers and short numbers kept",
+            "short JSON: {\"x\": -2.988, \"y\": 0.7, \"theta\": 0.7}",
+        ],
+    );
 }
 
 /// Whether the server closes `s` (reading returns its end) within `limit`; what it

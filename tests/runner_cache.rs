@@ -170,6 +170,7 @@ fn a_second_library_compiles_only_its_own_crate_and_a_small_main() {
     write_library(&second, "tock", "tock-lib", "tock");
     let mut run = RUN.to_vec();
     run.push("-v");
+    let started = std::time::SystemTime::now();
     let (code, out, err) = output(ferroc(&second, &run, &[]));
     assert_eq!(code, 0, "{err}");
     assert_eq!(out, "tock 1\ntock 2\n");
@@ -192,9 +193,16 @@ fn a_second_library_compiles_only_its_own_crate_and_a_small_main() {
         err.contains("built the runner of `tock` in ") && err.contains(" compiled)"),
         "{err}"
     );
-    let record = std::fs::read_to_string(package_of(&target(), &second).join("last-build.txt"));
-    if let Ok(record) = record {
-        // (absent only when this build waited for another test's: not its own time)
+    // The record is written only by a build that did not wait for another's lock (its
+    // time is its own); one left by an earlier run of these tests in this cache is not
+    // this build's.
+    let record = package_of(&target(), &second).join("last-build.txt");
+    let written_now = std::fs::metadata(&record)
+        .and_then(|m| m.modified())
+        // (a second's margin: file times come from a coarser clock than SystemTime)
+        .is_ok_and(|t| t + std::time::Duration::from_secs(1) >= started);
+    if written_now {
+        let record = std::fs::read_to_string(&record).unwrap();
         // (a rebuild where this test ran before in the same cache)
         let first = err.contains(": first use");
         let kind = if first { "new" } else { "rebuild" };
@@ -516,10 +524,16 @@ fn a_build_stopped_by_ctrl_c_leaves_nothing_that_breaks_the_next_run() {
         }
     }
     assert!(seen.contains("building the runner"), "{seen}");
-    Command::new("kill")
-        .args(["-INT", &format!("-{}", child.id())])
+    // The shell's own `kill`: procps-ng 4.0.2's /usr/bin/kill turns `-INT -12345` into
+    // kill(-1, SIGINT) (strace shows only the first digit kept), which signals every
+    // process the user may signal; it stopped whole sessions here. The builtin with `--`
+    // signals the group meant.
+    let sent = Command::new("sh")
+        .args(["-c", "kill -s INT -- \"-$1\"", "sh"])
+        .arg(child.id().to_string())
         .status()
         .unwrap();
+    assert!(sent.success(), "no process group {}", child.id());
     let _ = child.wait();
     // What a crash mid-write would leave besides: a temporary file, a cut main.rs.
     let package = package_of(&target(), &dir);

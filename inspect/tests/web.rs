@@ -49,7 +49,13 @@ fn the_server_serves_its_page_reports_an_unreachable_program_and_stops_cleanly()
     let (status, page) = http(&address, "GET / HTTP/1.1", "", "");
     assert_eq!(status, 200);
     assert!(page.contains("<title>ferroc inspect</title>"), "{page}");
-    for file in ["/app.js", "/graph.js", "/panels.js", "/style.css"] {
+    for file in [
+        "/app.js",
+        "/graph.js",
+        "/layout.js",
+        "/panels.js",
+        "/style.css",
+    ] {
         let (status, text) = http(&address, &format!("GET {file} HTTP/1.1"), "", "");
         assert!(status == 200 && !text.is_empty(), "{file}: {status}");
     }

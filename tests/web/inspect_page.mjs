@@ -16,6 +16,7 @@ const require = createRequire(join(env('FERROC_NODE_MODULES'), 'resolve.js'));
 const { chromium } = require('playwright-core');
 
 const url = env('FERROC_PAGE_URL'), token = env('FERROC_TOKEN'), shot = env('FERROC_SCREENSHOT');
+const graphShot = shot.replace(/\.png$/, '') + '-graph.png';
 const WAIT = 60_000;
 const control = 'robot/control';
 const modules = ['sim', 'goal', 'operator', 'go_to_goal', 'follow_wall', 'avoid', 'fusion', 'monitor'].map((m) => `${control}/${m}`);
@@ -27,7 +28,8 @@ const args = ['--disable-gpu', '--disable-dev-shm-usage', '--disable-quic', '--n
   '--disable-background-networking', '--disable-component-update', '--disable-sync'];
 if (process.getuid && process.getuid() === 0) args.push('--no-sandbox');
 const browser = await chromium.launch({ executablePath: env('FERROC_CHROMIUM'), headless: true, args });
-const page = await browser.newPage({ viewport: { width: 1600, height: 1000 } });
+// The size the issue was seen at: the graph must fit it without scrolling.
+const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
 const problems = [];
 page.on('pageerror', (e) => problems.push('page error: ' + e.message));
 
@@ -64,6 +66,12 @@ async function run() {
   if (!(Number(cycles) > 0)) throw new Error('no cycles shown: ' + cycles);
   pass('container robot/control: ' + cycles + ' cycles');
 
+  await checkDrawing();
+  await checkValues();
+  await page.screenshot({ path: shot });
+  await page.locator('#graph-box').screenshot({ path: graphShot });
+  pass(`screenshots ${shot} (the window at 1400×900) and ${graphShot}`);
+
   // The operator's constant activity: 1 until its value parameter changes.
   const activity = `td[data-port="${control}/operator/activity"]`;
   await page.waitForFunction((sel) => document.querySelector(sel)?.dataset.number === '1', activity, { timeout: WAIT });
@@ -95,16 +103,102 @@ async function run() {
   // A structural change goes to the program, which answers (the answer is shown).
   await page.click('#edit-send');
   await page.waitForFunction(() => { const t = document.getElementById('edit-answer').textContent; return t && t !== 'checking…'; }, null, { timeout: WAIT });
-  pass('edit answered: ' + (await page.textContent('#edit-answer')).slice(0, 200));
+  // The page's own example (setting a parameter to the value it has) is applied.
+  const answer = (await page.textContent('#edit-answer')).replace(/\s+/g, ' ').slice(0, 200);
+  if (await page.getAttribute('#edit-answer', 'class') !== 'answer') throw new Error(`the example edit ${await page.inputValue('#edit-text')} was refused: ${answer}`);
+  pass('edit answered: ' + answer);
 
-  await page.screenshot({ path: shot, fullPage: true });
-  pass('screenshot ' + shot);
 
   // The program goes away: the page says so and keeps retrying.
   process.kill(Number(env('FERROC_PROGRAM_PID')), 'SIGKILL');
   await page.waitForFunction(() => document.getElementById('status').textContent.includes('cannot reach'), null, { timeout: WAIT });
   pass('unreachable shown: ' + await page.textContent('#status'));
   if (problems.length) throw new Error(problems.join('\n'));
+}
+
+/** Rectangles intersect (touching is not intersecting). */
+const meet = (a, b) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
+
+/** The drawing's geometry as the browser lays it out: it fits the window, no two edge
+ * labels (nor a label and a box) intersect, every data port has its label, the
+ * legend says what each mark means, and each behaviour's bars say what they show. */
+async function checkDrawing() {
+  await page.evaluate(() => window.scrollTo(0, 0));
+  // Activities arrive with the first status: then the bars' values are drawn.
+  await page.waitForFunction(() => [...document.querySelectorAll('#graph g.behaviour .meters title')]
+    .every((t) => /activity a = \d/.test(t.textContent) && /target rating r = \d/.test(t.textContent)), null, { timeout: WAIT });
+  const g = await page.evaluate(() => {
+    const rect = (e) => { const b = e.getBoundingClientRect(); return { x: b.x, y: b.y, w: b.width, h: b.height }; };
+    const svg = document.getElementById('graph');
+    return {
+      svg: rect(svg), width: window.innerWidth, height: window.innerHeight, scale: svg.dataset.scale,
+      labels: [...svg.querySelectorAll('.edge-label')].map((t) => ({ ...rect(t), text: t.textContent, edge: t.dataset.edge })),
+      boxes: [...svg.querySelectorAll('g.module rect.box')].map((r) => ({ ...rect(r), path: r.parentNode.dataset.path })),
+      ports: [...new Set([...svg.querySelectorAll('.edge.data')].map((p) => p.dataset.edge))],
+      legend: [...document.querySelectorAll('#legend .key[data-key]')].filter((k) => k.querySelector('svg')).map((k) => k.dataset.key),
+      bars: [...svg.querySelectorAll('g.behaviour')].map((b) => [b.dataset.path, b.querySelectorAll('.bar.activity').length,
+        b.querySelectorAll('.bar.rating').length, [...b.querySelectorAll('.meter-name')].map((t) => t.textContent).join('')]),
+    };
+  });
+  const s = g.svg;
+  if (s.x < 0 || s.y < 0 || s.x + s.w > g.width || s.y + s.h > g.height) {
+    throw new Error(`the graph (${JSON.stringify(s)}) does not fit the ${g.width}×${g.height} window`);
+  }
+  pass(`graph fits the window: ${Math.round(s.w)}×${Math.round(s.h)} at (${Math.round(s.x)}, ${Math.round(s.y)}), scale ${g.scale}`);
+  g.labels.forEach((a, i) => {
+    for (const b of g.labels.slice(i + 1)) if (meet(a, b)) throw new Error(`edge labels ${a.text} (${a.edge}) and ${b.text} (${b.edge}) intersect`);
+    for (const b of g.boxes) if (meet(a, b)) throw new Error(`edge label ${a.text} (${a.edge}) covers ${b.path}`);
+  });
+  const labelled = new Set(g.labels.map((l) => l.edge));
+  const bare = g.ports.filter((p) => !labelled.has(p));
+  if (bare.length || g.labels.length < 10) throw new Error(`data ports without a label: ${bare}; ${g.labels.length} labels`);
+  for (const word of ['linear', 'angular']) {
+    if (g.labels.filter((l) => l.text === word).length < 4) throw new Error(`fewer than 4 "${word}" labels: ${g.labels.map((l) => l.text)}`);
+  }
+  pass(`edge labels apart: ${g.labels.length} labels, none intersecting another or a box`);
+  const keys = ['stimulation', 'inhibition', 'meta', 'data', 'back', 'part', 'behaviour'];
+  const missing = keys.filter((k) => !g.legend.includes(k));
+  if (missing.length) throw new Error('the legend lacks ' + missing.join(', '));
+  const legend = await page.textContent('#legend');
+  if (!/activity a/.test(legend) || !/target rating r/.test(legend)) throw new Error('the legend does not say what the bars show: ' + legend);
+  pass('legend: ' + g.legend.join(', '));
+  for (const [path, a, r, names] of g.bars) {
+    if (a !== 1 || r !== 1 || names !== 'ar') throw new Error(`${path}: bars ${a} activity, ${r} rating, named ${names}`);
+  }
+  pass(`behaviour bars labelled a (activity) and r (target rating) in ${g.bars.length} behaviours`);
+  // Actual size is the drawing's own size; fitted again, it fits.
+  await page.click('#graph-zoom');
+  const actual = await page.$eval('#graph', (svg) => [parseFloat(svg.style.width), Number(svg.dataset.width)]);
+  if (Math.abs(actual[0] - actual[1]) > 1) throw new Error('actual size is not the drawing\'s size: ' + actual);
+  await page.click('#graph-zoom');
+  const again = await page.$eval('#graph', (svg) => svg.getBoundingClientRect().bottom);
+  if (again > g.height) throw new Error('fitted again, the graph ends at ' + again);
+  pass('zoom: actual size and back to fitted');
+}
+
+/** The fractions in `text` with more than 4 significant digits (more only where the
+ * integer part has them). */
+const longNumbers = (text) => (text.match(/-?\d+\.\d+(?:e[-+]?\d+)?/gi) || []).filter((t) => {
+  const x = Number(t), whole = Math.floor(Math.log10(Math.abs(x))) + 1;
+  return Number(x.toPrecision(Math.max(4, whole))) !== x;
+});
+
+/** Every shown value is short JSON (a number with its unit, or JSON text with at most
+ * 4 significant digits in a fraction); the pose is an object of numbers. */
+async function checkValues() {
+  const pose = `td[data-port="${control}/sim/pose"]`;
+  await page.waitForFunction((sel) => document.querySelector(sel)?.textContent.startsWith('{'), pose, { timeout: WAIT });
+  const cells = await page.$$eval('td.value[data-shows]', (cs) => cs.filter((c) => c.textContent !== '…' && !c.classList.contains('msg-bad'))
+    .map((c) => ({ port: c.dataset.port, text: c.textContent, number: c.dataset.number ?? null })));
+  for (const c of cells) {
+    const json = c.number === null ? c.text : c.text.split(' ')[0];
+    try { JSON.parse(json); } catch { throw new Error(`${c.port} shows ${c.text}, not JSON`); }
+    if (longNumbers(json).length) throw new Error(`${c.port} shows long numbers: ${c.text}`);
+  }
+  const shown = JSON.parse(await page.textContent(pose));
+  const numbers = Object.values(shown).filter((x) => typeof x === 'number');
+  if (!numbers.length) throw new Error('the pose is not an object of numbers: ' + JSON.stringify(shown));
+  pass(`values as short JSON: ${cells.length} cells; pose ${JSON.stringify(shown)}`);
 }
 
 try {

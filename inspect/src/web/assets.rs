@@ -29,6 +29,11 @@ const FILES: &[(&str, &str, &str)] = &[
         include_str!("assets/graph.js"),
     ),
     (
+        "/layout.js",
+        "text/javascript; charset=utf-8",
+        include_str!("assets/layout.js"),
+    ),
+    (
         "/panels.js",
         "text/javascript; charset=utf-8",
         include_str!("assets/panels.js"),

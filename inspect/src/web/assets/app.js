@@ -2,7 +2,7 @@
 // element tree, then polls figures and values at a bounded rate (one request at a
 // time, a pause after each) and retries while the program cannot be reached.
 
-import { draw } from './graph.js';
+import { draw, fit } from './graph.js';
 import * as P from './panels.js';
 
 const POLL_MS = 500, RETRY_MS = 2000, TREE_EVERY_MS = 5000, HISTORY = 240, CHUNK = 200;
@@ -48,6 +48,20 @@ function render() {
     }
   }
   $('edit-part').replaceChildren(...parts.map((p) => P.h('option', { value: JSON.stringify([p.app, p.part]) }, `${p.app} / ${p.part}`)));
+  example(parts[0].tree.modules);
+}
+
+/** Puts an edit that works as written into the edit box (until the user changes it):
+ * setting the first parameter of the first part (the one selected) to the value it has
+ * (docs/inspect.md, "Structural edits"). */
+function example(modules) {
+  const text = $('edit-text');
+  if (text.dataset.example && text.value !== text.dataset.example) return;
+  const m = modules.find((x) => x.params.length);
+  if (!m) return;
+  const q = m.params[0];
+  const ops = [{ op: 'set', param: `${m.path}/${q.name}`, value: q.value + (q.unit ? ' ' + q.unit : '') }];
+  text.value = text.dataset.example = JSON.stringify({ ops }, null, 1).replace(/\n\s*/g, ' ');
 }
 
 function updateParams() {
@@ -84,7 +98,7 @@ async function poll() {
   P.containers($('containers'), cs);
   P.links($('links'), ls);
   P.activities($('activities'), as);
-  showActivities(new Map(as.map((a) => [a.module, a.activity])));
+  showActivities(new Map(as.map((a) => [a.module, a])));
   for (const [path, v] of Object.entries(values)) {
     if (v && typeof v.value === 'number') {
       const h = history.get(path) || [];
@@ -166,4 +180,11 @@ async function loop() {
 }
 
 $('edit-send').addEventListener('click', sendEdit);
+window.addEventListener('resize', () => fit($('graph')));
+$('graph-zoom').addEventListener('click', () => {
+  const svg = $('graph'), actual = svg.dataset.zoom !== 'actual';
+  svg.dataset.zoom = actual ? 'actual' : 'fit';
+  $('graph-zoom').textContent = actual ? 'fit to window' : 'actual size';
+  fit(svg);
+});
 loop();

@@ -98,23 +98,64 @@ export function moduleSection(m, onSet) {
     ports, params);
 }
 
-/** Shows a value in a cell: numbers as numbers (data-number for scripts), others as JSON. */
+/** A number as people read it: integers exact, others to 4 significant digits (more
+ * where the integer part needs them), in shortest round-trip form (0.7, not
+ * 0.7000000000000001). */
+export function shortNumber(x) {
+  if (!Number.isFinite(x) || Number.isInteger(x)) return x;
+  const digits = Math.min(15, Math.max(4, Math.floor(Math.log10(Math.abs(x))) + 1));
+  return Number(x.toPrecision(digits));
+}
+
+/** Elements of an array shown before the count of the rest. */
+const ITEMS = 8;
+/** Decimals long enough to shorten in a text (a value whose library gave no serde
+ * form arrives as its Rust text: `Pose2D { x: 1.2345678901234567, … }`). */
+const LONG_DECIMAL = /-?\d+\.\d{5,}(?:e[+-]?\d+)?/gi;
+
+/** A value as short JSON: numbers shortened, a long array cut to its first elements and
+ * a count of the rest (still JSON); text of a type without serde with its long decimals
+ * shortened. The exact value is the cell's tooltip. */
+export function shortJson(value) {
+  const walk = (v) => {
+    if (typeof v === 'number') return shortNumber(v);
+    if (typeof v === 'string') return v.replace(LONG_DECIMAL, (n) => String(shortNumber(Number(n))));
+    if (Array.isArray(v)) {
+      const head = v.slice(0, ITEMS).map(walk);
+      return v.length > ITEMS ? [...head, `… ${v.length - ITEMS} more`] : head;
+    }
+    if (v && typeof v === 'object') return Object.fromEntries(Object.entries(v).map(([k, x]) => [k, walk(x)]));
+    return v;
+  };
+  return spaced(walk(value));
+}
+
+/** JSON with a space after each comma and colon, as people write it. */
+const spaced = (v) => (Array.isArray(v) ? `[${v.map(spaced).join(', ')}]`
+  : v && typeof v === 'object' ? `{${Object.entries(v).map(([k, x]) => `${JSON.stringify(k)}: ${spaced(x)}`).join(', ')}}`
+    : JSON.stringify(v));
+
+/** Shows a value in a cell: numbers short (the exact number in data-number for
+ * scripts and in the tooltip), others as short JSON. A value nothing has published yet
+ * is greyed (class `unpublished`), its text still the value's JSON. */
 export function showValue(cell, v) {
   if (v && v.error) {
     cell.textContent = v.error; cell.className = 'value msg-bad'; delete cell.dataset.number; return;
   }
-  cell.className = 'value';
+  cell.className = 'value' + (v.published ? '' : ' unpublished');
   const value = v.value;
   if (typeof value === 'number') {
-    cell.textContent = String(value) + (v.unit ? ' ' + v.unit : '');
+    cell.textContent = JSON.stringify(shortNumber(value)) + (v.unit ? ' ' + v.unit : '');
     cell.dataset.number = String(value);
+    cell.title = String(value) + (v.unit ? ' ' + v.unit : '');
   } else {
-    const text = JSON.stringify(value);
-    cell.textContent = text.length > 200 ? text.slice(0, 200) + '…' : text;
-    cell.title = text.length > 200 ? text.slice(0, 4000) : '';
+    const text = typeof value === 'string' && /^(String|str|string)$/.test(v.type || '') ? JSON.stringify(value) : shortJson(value);
+    cell.textContent = text;
+    const exact = JSON.stringify(value);
+    cell.title = exact.length > 4000 ? exact.slice(0, 4000) + '…' : exact;
     delete cell.dataset.number;
   }
-  if (!v.published) cell.textContent += ' (nothing published yet)';
+  if (!v.published) cell.title = 'nothing published yet (the initial value): ' + cell.title;
 }
 
 /** A line of the latest numbers, scaled to their range. */
