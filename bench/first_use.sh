@@ -10,7 +10,8 @@
 #
 # Each step prints one line:  RESULT step wall_s cpu_s crates disk_mb
 # (cpu_s: user + system time of every process of the step; crates: cargo's `Compiling`
-# lines; disk_mb: what the step added on disk, in the folders it builds in). Run it on an
+# lines; disk_mb: what the step added on disk, in the folders it builds in), and every
+# step but the install a `# STEP compiled: ...` line naming those crates. Run it on an
 # idle machine: it is not part of the test suite and takes a quarter of an hour or more.
 #
 # Options:
@@ -90,6 +91,10 @@ measure() {
     after="$(disk_mb "${dirs[@]}")"
     printf 'RESULT %s %s %s %s %s\n' "$step" "$wall" "$(awk "BEGIN { printf \"%.1f\", $user + $sys }")" \
         "$crates" "$((after - before))"
+    # Which crates, in cargo's order (the install's list is long: not shown).
+    if [ "$step" != install ] && [ "$crates" != 0 ]; then
+        echo "# $step compiled: $(sed -nE 's/^\s*Compiling ([^ ]+) .*/\1/p' "$log" | tr '\n' ' ')"
+    fi
 }
 
 cd "$clone"

@@ -4,8 +4,10 @@
 //! is left to a `cargo` that refuses, after the package is written). That a built
 //! runner refuses a plan of another version: tests/runner.rs.
 
+mod cargo_features;
 mod common;
 
+use cargo_features::{differences, parse, resolve, Side};
 use common::{ferroc, tempdir};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -121,4 +123,112 @@ fn a_bundle_part_links_no_compiler_and_no_http_stack() {
             "the bundle links {never}: {crates:?}"
         );
     }
+}
+
+/// The first `ferroc run` after `cargo install --locked --path .` compiles only the
+/// workspace's crates and the runner (issue 26): every registry crate of a runner (plain
+/// and inspecting) is resolved with the features the install compiled it with, on the
+/// same side (program, or build scripts and proc-macros), so cargo finds it compiled.
+/// Where ferroc's other crates switch on more features than a runner's tree asks for,
+/// the manifest of the crate the runner links (runner/ or host/Cargo.toml) asks for
+/// them too; this fails when they drift (a dependency added or updated) and prints the
+/// lines to write there.
+#[test]
+fn runners_compile_their_registry_crates_as_the_install_did() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let install = resolve(&root.join("Cargo.toml"), Some("ferroc"));
+    let target = tempdir("runner_crates_features");
+    let model = "models/crash_course.xml";
+    let mut problems = Vec::new();
+    for (inspect, krate, pins) in [
+        (false, "ferroc-runner", "runner/Cargo.toml"),
+        (true, "ferroc-host", "host/Cargo.toml"),
+    ] {
+        let mut args = vec!["run", model, "--cycles", "1", "-q"];
+        args.extend(inspect.then_some("--inspect"));
+        write_runner(&target, &args);
+        let runner = resolve(&runner_package(&target, krate), None);
+        assert!(
+            runner
+                .keys()
+                .any(|(side, name, _)| *side == Side::Host && name == "syn"),
+            "the proc-macros of the runner linking {krate} were not read: {runner:?}"
+        );
+        problems.extend(differences(&install, &runner, pins));
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// The comparison sees each side apart: a crate the install compiles with other
+/// features for its proc-macros than for the program matches a runner with the same
+/// two sets (silent), and a crate listed after a build-dependency is on the program
+/// side again; one feature less on either side is found.
+#[test]
+fn features_are_compared_per_side() {
+    let install = parse(
+        "ferroc v0.1.0 (/src/ferroc)\n\
+         |-- serde v1.0.1 default,derive,std\n\
+         |   `-- serde_derive v1.0.1 (proc-macro)\n\
+         |       `-- syn v2.0.1 default,full,visit\n\
+         |           `-- memchr v2.7.0 alloc\n\
+         |-- ferroc-std v0.1.0 (/src/ferroc/std) mcap\n\
+         |-- regex v1.1.0 default\n\
+         |   |-- memchr v2.7.0 alloc,default,std\n\
+         |   [build-dependencies]\n\
+         |   `-- cc v1.0.0\n\
+         |       `-- syn v2.0.1 default,full,visit (*)\n\
+         `-- itoa v1.0.0\n",
+    );
+    let memchr = |side| install.get(&(side, "memchr".into(), "v2.7.0".into()));
+    assert_eq!(memchr(Side::Host).unwrap().iter().next().unwrap(), "alloc");
+    assert_eq!(
+        memchr(Side::Target).unwrap().iter().next().unwrap(),
+        "alloc,default,std"
+    );
+    assert!(install.contains_key(&(Side::Host, "cc".into(), "v1.0.0".into())));
+    assert!(install.contains_key(&(Side::Target, "itoa".into(), "v1.0.0".into())));
+    assert!(
+        !install.keys().any(|(_, name, _)| name == "ferroc-std"),
+        "path crates are left out"
+    );
+
+    let same = parse(
+        "ferroc-runner-k v0.0.0 (/cache/k)\n\
+         |-- memchr v2.7.0 alloc,default,std\n\
+         `-- serde v1.0.1 default,derive,std\n\
+         \x20   `-- serde_derive v1.0.1 (proc-macro)\n\
+         \x20       `-- syn v2.0.1 default,full,visit\n\
+         \x20           `-- memchr v2.7.0 alloc\n",
+    );
+    assert_eq!(differences(&install, &same, "m"), Vec::<String>::new());
+
+    let fewer = parse(
+        "ferroc-runner-k v0.0.0 (/cache/k)\n\
+         |-- memchr v2.7.0 alloc,std\n\
+         `-- serde_derive v1.0.1 (proc-macro)\n\
+         \x20   `-- syn v2.0.1 default,full\n\
+         \x20       `-- unicode-ident v1.0.0\n",
+    );
+    let found = differences(&install, &fewer, "runner/Cargo.toml");
+    assert_eq!(found.len(), 3, "{found:#?}");
+    assert!(
+        found[0].contains("`memchr v2.7.0` (in the program)"),
+        "{}",
+        found[0]
+    );
+    assert!(
+        found[0].ends_with(
+            "[dependencies]: memchr = { version = \"2\", features = [\"alloc\", \"std\"] }"
+        ),
+        "{}",
+        found[0]
+    );
+    assert!(
+        found[1].ends_with(
+            "[build-dependencies]: syn = { version = \"2\", features = [\"full\", \"visit\"] }"
+        ),
+        "{}",
+        found[1]
+    );
+    assert!(found[2].contains("`unicode-ident v1.0.0` (for build scripts and proc-macros) is compiled for the runner but the install does not"), "{}", found[2]);
 }

@@ -5,7 +5,8 @@
 //! of ferroc's checkout (the sources a runner is built from). `cargo install --locked
 //! --path .` builds in that same `target/` (cargo's rule for `--path`), and a runner
 //! takes the checkout's Cargo.lock and `[profile.*]`, so what the install compiled is
-//! reused where the features agree. A user cache folder (`$XDG_CACHE_HOME/ferroc`,
+//! reused where the features agree (runner/Cargo.toml asks for the install's features of
+//! the crates a runner shares with it). A user cache folder (`$XDG_CACHE_HOME/ferroc`,
 //! `~/.cache/ferroc`) could not reuse it, and would outlive nothing useful: without the
 //! checkout no runner can be built anyway. It is the fallback when the checkout's
 //! `target/` cannot be written (a checkout owned by someone else).
