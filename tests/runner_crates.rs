@@ -101,6 +101,22 @@ fn a_plain_runner_links_no_compiler_and_no_zenoh_and_the_inspecting_one_does() {
 }
 
 #[test]
+fn the_runner_of_a_model_with_ros2_nodes_links_zenoh_but_no_compiler() {
+    let target = tempdir("runner_crates_ros2");
+    let model = "models/ros2_crash_course.xml";
+    write_runner(&target, &["run", model, "--cycles", "1", "-q"]);
+    let ros2 = crates_of(&runner_package(&target, "ferroc-zenoh"));
+    assert!(ros2.contains("zenoh"), "{ros2:?}");
+    assert!(ros2.contains("crash-course"), "{ros2:?}");
+    for never in NEVER.iter().filter(|c| **c != "zenoh") {
+        assert!(
+            !ros2.contains(*never),
+            "the ROS 2 runner links {never}: {ros2:?}"
+        );
+    }
+}
+
+#[test]
 fn a_bundle_part_links_no_compiler_and_no_http_stack() {
     let out = tempdir("runner_crates_bundle");
     let (code, _, err) = ferroc(&[

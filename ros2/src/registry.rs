@@ -42,6 +42,13 @@ impl Registry {
         registry
     }
 
+    /// [`shipped`](Self::shipped), parsed once per process and shared (the checks and
+    /// the plan read it only when a model names ROS 2).
+    pub fn shipped_shared() -> &'static Registry {
+        static SHIPPED_ONCE: std::sync::OnceLock<Registry> = std::sync::OnceLock::new();
+        SHIPPED_ONCE.get_or_init(Registry::shipped)
+    }
+
     /// The file names of the shipped definitions (`std_msgs/msg/Header.msg`, …).
     pub fn shipped_files() -> impl Iterator<Item = &'static str> {
         SHIPPED.iter().map(|(path, _)| *path)

@@ -81,12 +81,31 @@ pub fn main(registry: Registry) -> ExitCode {
 /// [`main`] with these arguments (without the program's name): `describe`, or
 /// `run --plan FILE`. Anything else is refused: runners are started by `ferroc`.
 pub fn main_from(registry: Registry, args: Vec<OsString>) -> ExitCode {
+    main_with(registry, args, None)
+}
+
+/// The `main` of the runner of a model whose parts are ROS 2 nodes: [`main`] with
+/// `network` opening the nodes (`ferroc_zenoh::ros2::network`).
+pub fn main_ros2(registry: Registry, network: run::Ros2Network) -> ExitCode {
+    main_with(
+        registry,
+        std::env::args_os().skip(1).collect(),
+        Some(network),
+    )
+}
+
+/// [`main_from`] with the ROS 2 network, if this runner has one.
+pub fn main_with(
+    registry: Registry,
+    args: Vec<OsString>,
+    ros2: Option<run::Ros2Network>,
+) -> ExitCode {
     let args: Vec<&std::ffi::OsStr> = args.iter().map(OsString::as_os_str).collect();
     match args.as_slice() {
         [command] if *command == "describe" => describe(&registry),
         [command, flag, file] if *command == "run" && *flag == "--plan" => {
             match plan::read(Path::new(file)) {
-                Ok(plan) => run::run(plan, &registry),
+                Ok(plan) => run::run_with(plan, &registry, ros2),
                 Err(e) => {
                     eprintln!("error: {e}");
                     ExitCode::from(2)

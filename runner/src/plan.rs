@@ -54,6 +54,10 @@ pub struct RunPlan {
     /// metadata of recordings (`Plan::units`); absent in older plans: no units.
     #[serde(default)]
     pub units: Vec<(String, String)>,
+    /// The parts that are ROS 2 nodes (`<ros2>`, docs/ros2.md); absent in older
+    /// plans: none.
+    #[serde(default)]
+    pub ros2: Vec<Ros2Node>,
 }
 
 impl RunPlan {
@@ -73,6 +77,7 @@ impl RunPlan {
             threads: Vec::new(),
             locks: Locks::default(),
             units: Vec::new(),
+            ros2: Vec::new(),
         }
     }
 }
@@ -241,6 +246,38 @@ pub struct Locks {
     pub binds: Vec<(String, String, String)>,
     /// First, second, who declares it.
     pub orders: Vec<(String, String, String)>,
+}
+
+/// A part as a ROS 2 node.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Ros2Node {
+    pub part: String,
+    pub domain: u32,
+    /// Absolute.
+    pub namespace: String,
+    pub name: String,
+    pub topics: Vec<Ros2Topic>,
+}
+
+/// A `<publish>` or `<subscribe>` of a node.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Ros2Topic {
+    /// Its number among the model's topic ends.
+    pub id: u32,
+    /// Published, else subscribed.
+    pub publish: bool,
+    /// Module path and port name.
+    pub port: (String, String),
+    /// The port's model type.
+    pub ty: String,
+    /// Fully qualified.
+    pub topic: String,
+    /// `package/msg/Name`.
+    pub message: String,
+    pub field: Option<String>,
+    pub reliable: bool,
+    pub transient_local: bool,
+    pub depth: u32,
 }
 
 /// The header alone: read before the body, so that another layout is named, not

@@ -3,6 +3,7 @@
 
 use crate::plan::{RunOptions, RunPlan};
 use ferroc_runtime::builder::{Lockstep, Registry, StartOptions};
+use ferroc_runtime::link::transport::Network;
 use ferroc_runtime::supervise;
 use std::io::IsTerminal;
 use std::process::ExitCode;
@@ -10,14 +11,34 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 /// Runs `plan` with the module types of `registry`: the whole of a plain runner's run.
-pub fn run(mut plan: RunPlan, registry: &Registry) -> ExitCode {
+pub fn run(plan: RunPlan, registry: &Registry) -> ExitCode {
+    run_with(plan, registry, None)
+}
+
+/// Makes the network a part's ROS 2 node speaks on: `ferroc_zenoh::ros2::network` in
+/// the runner of a model with `<ros2>` (this crate links no Zenoh).
+pub type Ros2Network = fn() -> Result<Arc<dyn Network>, String>;
+
+/// [`run`], with `ros2` opening the network of the plan's ROS 2 nodes (without it, a
+/// plan with a node is refused when it starts).
+pub fn run_with(mut plan: RunPlan, registry: &Registry, ros2: Option<Ros2Network>) -> ExitCode {
     let registry = match prepare(&mut plan, registry) {
         Ok(r) => r,
         Err(code) => return code,
     };
     let seed = seed(&plan);
     let interrupted = interrupt_flag();
-    let started = crate::build::build(&plan, &registry, seed, start_options(&plan.run));
+    let mut start = start_options(&plan.run);
+    if let (false, Some(network)) = (plan.ros2.is_empty(), ros2) {
+        match network() {
+            Ok(n) => start.network = Some(n),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let started = crate::build::build(&plan, &registry, seed, start);
     let running = match started {
         Ok(running) => running,
         Err(e) => {

@@ -162,7 +162,16 @@ fn plan_built_in(
     cmdline: &[(String, String)],
     names: &Names<'_>,
 ) -> Result<plan::Plan, ExitCode> {
-    let (plan, unsupported) = plan::plan(app, &result.libraries, cmdline);
+    let (plan, mut unsupported) = plan::plan(app, &result.libraries, cmdline);
+    // The part programs do not open ROS 2 nodes yet (docs/ros2.md, Status).
+    unsupported.extend(plan.ros2.iter().map(|node| plan::Unsupported {
+        what: format!(
+            "the part `{}` is a ROS 2 node, which a bundle's programs do not open yet\n  \
+             help: run the model with `ferroc run`, which does (docs/ros2.md)",
+            node.part
+        ),
+        span: node.span,
+    }));
     for p in &unsupported {
         eprintln!("{}: error: {}", names.at(p.span), p.what);
     }

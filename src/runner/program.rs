@@ -40,14 +40,26 @@ pub enum Kind {
     /// `ferroc run --inspect`: `ferroc-host`, with the inspection server on Zenoh and
     /// the compiler that checks structural edits.
     Inspect,
+    /// `ferroc run` of a model whose parts are ROS 2 nodes: `ferroc-runner` and
+    /// `ferroc-zenoh`, which opens the nodes (docs/ros2.md); still no compiler.
+    Ros2,
 }
 
 impl Kind {
     /// The workspace crate the runner depends on: its folder and package name.
     fn host_crate(self) -> (&'static str, &'static str) {
         match self {
-            Kind::Plain => ("runner", "ferroc-runner"),
+            Kind::Plain | Kind::Ros2 => ("runner", "ferroc-runner"),
             Kind::Inspect => ("host", "ferroc-host"),
+        }
+    }
+
+    /// Workspace crates the runner depends on besides the host crate: folder and
+    /// package name.
+    fn more_crates(self) -> &'static [(&'static str, &'static str)] {
+        match self {
+            Kind::Ros2 => &[("zenoh-link", "ferroc-zenoh")],
+            Kind::Plain | Kind::Inspect => &[],
         }
     }
 
@@ -56,6 +68,7 @@ impl Kind {
         match self {
             Kind::Plain => "plain",
             Kind::Inspect => "inspect",
+            Kind::Ros2 => "ros2",
         }
     }
 }
@@ -88,7 +101,7 @@ pub fn ensure(crates: &[LibraryCrate], kind: Kind, verbose: bool) -> Result<Path
         eprintln!("{message}");
         return Err(ExitCode::from(2));
     }
-    let changed = match stale_input(&exe, &dir, crates) {
+    let changed = match stale_input(&exe, &dir, crates, kind) {
         Ok(()) => return Ok(exe),
         Err(changed) => changed,
     };
@@ -215,16 +228,24 @@ fn write_package(
 /// libraries', handed to the kind's `main`.
 fn main_rs(kind: Kind, crates: &[LibraryCrate]) -> String {
     let version = env!("CARGO_PKG_VERSION");
-    let (what, krate, registry) = match kind {
+    let (what, krate, registry, call) = match kind {
         Kind::Plain => (
             "runs the plans `ferroc run` hands it and describes its module types",
             "ferroc_runner",
             "ferroc_runner::registry()",
+            "ferroc_runner::main(registry)",
         ),
         Kind::Inspect => (
             "runs `ferroc run --inspect`",
             "ferroc_host",
             "ferroc_host::run::registry()",
+            "ferroc_host::main(registry)",
+        ),
+        Kind::Ros2 => (
+            "runs the plans of models with ROS 2 nodes and describes its module types",
+            "ferroc_runner",
+            "ferroc_runner::registry()",
+            "ferroc_runner::main_ros2(registry, ferroc_zenoh::ros2::network::network)",
         ),
     };
     let mut main = format!(
@@ -241,7 +262,7 @@ fn main_rs(kind: Kind, crates: &[LibraryCrate]) -> String {
             comment(&c.library)
         ));
     }
-    main.push_str(&format!("    {krate}::main(registry)\n}}\n"));
+    main.push_str(&format!("    {call}\n}}\n"));
     main
 }
 
@@ -262,6 +283,14 @@ fn cargo_toml(name: &str, kind: Kind, host: &Path, crates: &[LibraryCrate]) -> S
         kind.host_crate().1,
         toml_str(&host.to_string_lossy())
     );
+    let workspace = host.parent().unwrap_or(host);
+    for (folder, package) in kind.more_crates() {
+        let path = workspace.join(folder);
+        toml.push_str(&format!(
+            "{package} = {{ path = {} }}\n",
+            toml_str(&path.to_string_lossy())
+        ));
+    }
     for (i, c) in crates.iter().enumerate() {
         let source = match &c.version {
             Some(version) => format!("version = {}", toml_str(version)),
@@ -293,7 +322,12 @@ fn replace_if_changed(path: &Path, text: &[u8]) -> std::io::Result<()> {
 /// the runner, of ferroc's host crate and of every library crate, and the lock file.
 /// Else the first input found newer (`None`: no executable or dep-info), and the
 /// decision is cargo's.
-fn stale_input(exe: &Path, dir: &Path, crates: &[LibraryCrate]) -> Result<(), Option<PathBuf>> {
+fn stale_input(
+    exe: &Path,
+    dir: &Path,
+    crates: &[LibraryCrate],
+    kind: Kind,
+) -> Result<(), Option<PathBuf>> {
     let built = modified(exe).ok_or(None)?;
     let dep_info = std::fs::read_to_string(exe.with_extension("d")).map_err(|_| None)?;
     let (_, deps) = dep_info.split_once(": ").ok_or(None)?;
@@ -305,6 +339,9 @@ fn stale_input(exe: &Path, dir: &Path, crates: &[LibraryCrate]) -> Result<(), Op
     inputs.push(dir.join("Cargo.lock"));
     inputs.push(source_dir().join("host/Cargo.toml"));
     inputs.push(source_dir().join("runner/Cargo.toml"));
+    for (folder, _) in kind.more_crates() {
+        inputs.push(source_dir().join(folder).join("Cargo.toml"));
+    }
     // (A registry crate's sources are in cargo's cache, listed in the dep-info.)
     inputs
         .extend((crates.iter().filter(|c| c.version.is_none())).map(|c| c.dir.join("Cargo.toml")));

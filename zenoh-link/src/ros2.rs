@@ -21,6 +21,8 @@ use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::qos::CongestionControl;
 use zenoh::{Session, Wait};
 
+pub mod network;
+
 /// A ROS 2 node: its name, namespace and domain.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct NodeSpec {
@@ -76,6 +78,11 @@ impl Ros2Node {
             next_id: AtomicU64::new(node_id + 1),
             _token: token,
         })
+    }
+
+    /// The id the next node of the session takes (after this node's entities).
+    pub fn next_id(&self) -> u64 {
+        self.next_id.load(Ordering::Relaxed)
     }
 
     /// The topic's key and its entity's liveliness key.

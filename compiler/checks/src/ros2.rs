@@ -20,12 +20,10 @@ use ferroc_ros2::def::{Arity, BaseType, FieldType, Message, Primitive, TypeName}
 use ferroc_ros2::Registry;
 use ferroc_values::types::Type;
 use ferroc_values::units::Unit;
-use std::sync::OnceLock;
 
 /// The shipped ROS 2 packages, parsed once per process (only when a model names ROS 2).
 pub(crate) fn registry() -> &'static Registry {
-    static REGISTRY: OnceLock<Registry> = OnceLock::new();
-    REGISTRY.get_or_init(Registry::shipped)
+    Registry::shipped_shared()
 }
 
 /// A topic end whose name ROS 2 accepts, with its fully qualified name.

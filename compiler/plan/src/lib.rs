@@ -4,7 +4,7 @@
 //! difference a running application applies.
 //!
 //! Depends on `ferroc-diagnostics`, `ferroc-values`, `ferroc-syntax`, `ferroc-model`
-//! and `ferroc-schedule`.
+//! and `ferroc-schedule`; on `ferroc-ros2` for ROS 2's topic names (`plan/ros2.rs`).
 
 #![forbid(unsafe_code)]
 

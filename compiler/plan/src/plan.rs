@@ -9,9 +9,11 @@
 mod links;
 mod local;
 mod ports;
+mod ros2;
 
 pub use ferroc_model::ir::Wait;
 pub use links::{LinkSharing, PlannedCallLink, PlannedLink};
+pub use ros2::{PlannedRos2Node, PlannedRos2Topic};
 
 use ferroc_diagnostics::source::Span;
 use ferroc_model::ir::{
@@ -153,6 +155,8 @@ pub struct Plan {
     /// input's own unit else the unit of what feeds it (a selected field's). Ports
     /// without a unit are left out. Recordings name the unit of every channel with it.
     pub units: Vec<(String, String)>,
+    /// The parts that are ROS 2 nodes, with their topics (`<ros2>`, docs/ros2.md).
+    pub ros2: Vec<PlannedRos2Node>,
 }
 
 /// Application resources, the model's lock-slot bindings, and the nesting orders the
@@ -203,6 +207,7 @@ pub fn plan(
     plan.threads = plan_threads(app, libs, &paths);
     local::mark_local(&mut plan);
     plan.locks = plan_locks(app, libs, &paths);
+    plan.ros2 = ros2::plan_ros2(app, libs, &mut problems);
     (plan, problems)
 }
 

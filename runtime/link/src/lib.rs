@@ -29,6 +29,7 @@ macro_rules! eprintln {
 
 #[doc(hidden)]
 pub mod calls;
+pub mod ros2;
 pub mod transport;
 
 use ferroc_module::{Codec, DynOut, Timestamp};
@@ -234,7 +235,7 @@ impl Inbox {
             if let Err(why) = end.receive(bytes) {
                 if self.direct_failures.fetch_add(1, Ordering::Relaxed) == 0 {
                     ferroc_ports::console::line(&format!(
-                        "warning: a call or parameter between parts went wrong: {why}"
+                        "warning: a call, a parameter or a ROS 2 value between parts went wrong: {why}"
                     ));
                 }
             }

@@ -65,6 +65,9 @@ pub struct PartLinks {
     pub calls_out: BTreeMap<u32, RemoteCall>,
     /// Calls from other parts' clients to this part's services, by call number.
     pub calls_in: BTreeMap<u32, RemoteCall>,
+    /// The ROS 2 nodes of the parts built here, with their topics
+    /// ([`ros2`](super::ros2)): a network that speaks ROS 2 declares them.
+    pub ros2: Vec<super::ros2::Ros2Node>,
 }
 
 impl PartLinks {
@@ -74,6 +77,15 @@ impl PartLinks {
             && self.receiving.is_empty()
             && self.calls_out.is_empty()
             && self.calls_in.is_empty()
+            && self.ros2.is_empty()
+    }
+
+    /// Whether anything crosses to or from another part (ROS 2 nodes aside).
+    pub fn has_parts(&self) -> bool {
+        !(self.sending.is_empty()
+            && self.receiving.is_empty()
+            && self.calls_out.is_empty()
+            && self.calls_in.is_empty())
     }
 
     /// The parts this one sends frames to (data, requests, answers).

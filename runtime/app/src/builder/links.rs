@@ -116,7 +116,7 @@ impl Builder<'_> {
     }
 
     /// A port-only instance standing for one end of a link (no module, no thread).
-    fn link_end(
+    pub(super) fn link_end(
         &mut self,
         path: String,
         inputs: Vec<(String, InputHandle)>,

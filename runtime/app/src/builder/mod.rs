@@ -17,6 +17,7 @@ mod lockstep;
 mod params_from_ports;
 mod reconfigure;
 mod registry;
+mod ros2;
 mod running;
 mod services;
 mod start;

@@ -156,6 +156,15 @@ impl Links {
             return Ok(None);
         }
         let network = self.network.as_ref().ok_or_else(|| {
+            if !self.remote.has_parts() {
+                let nodes: Vec<&str> = (self.remote.ros2.iter()).map(|n| n.part.as_str()).collect();
+                return format!(
+                    "the part {} is a ROS 2 node, but this program has no network to \
+                     ROS 2 (help: run the model with `ferroc run`, which starts it in a \
+                     runner that speaks ROS 2)",
+                    nodes.join(", ")
+                );
+            }
             let mut parts = self.remote.sends_to();
             parts.extend(self.remote.receives_from());
             let parts: Vec<&str> = parts.into_iter().collect();

@@ -1,0 +1,116 @@
+//! The run plan carries each part's ROS 2 node (issue 29, docs/ros2.md): the ports
+//! behind its topics, the topic names expanded as ROS 2 expands them against the node's
+//! namespace, the QoS, and one number per topic end. What the runtime cannot open yet
+//! (services, ends on group ports) is a problem at the element, not a silent omission.
+
+use ferroc_compiler::load::{BuiltinLibrary, Options};
+use ferroc_compiler::plan::{self, PlannedRos2Topic};
+use ferroc_compiler::{check_model_text, Policy};
+use std::path::Path;
+
+/// The plan of the ROS 2 crash course with `edit` applied to its text, and the texts
+/// of the problems found.
+fn plan_of(edit: impl Fn(String) -> String) -> (plan::Plan, Vec<String>) {
+    let options = Options {
+        builtins: vec![BuiltinLibrary {
+            name: "ferroc_std".into(),
+            text: include_str!("../../components/ferroc_std.lib.xml").into(),
+        }],
+        ..Options::default()
+    };
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/ros2_crash_course.xml");
+    let text = edit(std::fs::read_to_string(&path).unwrap());
+    let result = check_model_text(
+        &path,
+        "ros2_crash_course.xml",
+        &text,
+        &options,
+        &Policy::default(),
+    )
+    .unwrap();
+    let app = result.app.as_ref().expect("the model resolves");
+    let (plan, problems) = plan::plan(app, &result.libraries, &[]);
+    (plan, problems.into_iter().map(|p| p.what).collect())
+}
+
+fn topic<'p>(plan: &'p plan::Plan, name: &str) -> &'p PlannedRos2Topic {
+    let node = &plan.ros2[0];
+    (node.topics.iter())
+        .find(|t| t.topic == name)
+        .unwrap_or_else(|| panic!("no topic {name} in {:?}", node.topics))
+}
+
+#[test]
+fn the_demo_s_node_is_planned_with_its_ports_names_and_qos() {
+    let (plan, problems) = plan_of(|t| t);
+    assert!(problems.is_empty(), "{problems:?}");
+    assert_eq!(plan.ros2.len(), 1, "the external teleop node is not run");
+    let node = &plan.ros2[0];
+    assert_eq!(
+        (
+            node.part.as_str(),
+            node.name.as_str(),
+            node.namespace.as_str(),
+            node.domain
+        ),
+        ("fragile_bot", "fragile_bot", "/", 0)
+    );
+    let cmd_vel = topic(&plan, "/cmd_vel");
+    assert_eq!(cmd_vel.id, 0);
+    assert!(cmd_vel.publish && cmd_vel.reliable && !cmd_vel.transient_local);
+    assert_eq!(
+        cmd_vel.port,
+        ("fragile_bot/main/control/twist_out".into(), "twist".into())
+    );
+    assert_eq!(cmd_vel.ty, "crash_course.Twist");
+    assert_eq!(cmd_vel.message, "geometry_msgs/msg/Twist");
+    assert_eq!(cmd_vel.depth, 10);
+    assert_eq!(cmd_vel.field, None, "the whole Twist");
+    // A single value fills the one field of a wrapper message.
+    let ir = topic(&plan, "/ir_front");
+    assert_eq!((ir.id, ir.ty.as_str(), ir.reliable), (1, "f64", false));
+    assert_eq!(ir.field.as_deref(), Some("data"));
+    let enable = topic(&plan, "/enable");
+    assert_eq!((enable.id, enable.publish), (2, false));
+    assert_eq!(enable.field.as_deref(), Some("data"));
+    assert_eq!(
+        enable.port,
+        (
+            "fragile_bot/main/control/controller".into(),
+            "enable".into()
+        )
+    );
+}
+
+#[test]
+fn relative_and_private_names_expand_against_the_node_s_namespace() {
+    let (plan, problems) = plan_of(|t| {
+        t.replace(
+            r#"<ros2 node="fragile_bot" domain="0">"#,
+            r#"<ros2 node="fragile_bot" namespace="/robot1" domain="7">"#,
+        )
+        .replace(r#"topic="ir_front""#, r#"topic="~/ir" depth="3""#)
+    });
+    assert!(problems.is_empty(), "{problems:?}");
+    assert_eq!(plan.ros2[0].domain, 7);
+    assert_eq!(topic(&plan, "/robot1/cmd_vel").id, 0);
+    assert_eq!(topic(&plan, "/robot1/fragile_bot/ir").depth, 3);
+    // Absolute names stay.
+    assert_eq!(topic(&plan, "/enable").id, 2);
+}
+
+#[test]
+fn a_ros2_service_is_a_problem_named_at_its_element_not_left_out() {
+    let (plan, problems) = plan_of(|t| {
+        t.replace(
+            r#"<subscribe port="main/control/controller/enable""#,
+            r#"<service port="main/control/controller/reset" name="~/reset" type="std_srvs/srv/Trigger"/>
+      <subscribe port="main/control/controller/enable""#,
+        )
+    });
+    assert!(
+        problems.iter().any(|p| p.contains("as a ROS 2 service")),
+        "{problems:?}"
+    );
+    assert_eq!(plan.ros2[0].topics.len(), 3, "the topics are planned still");
+}

@@ -1,0 +1,130 @@
+//! A part's ROS 2 node (issue 29, docs/ros2.md): each published port gets a sending
+//! end, each subscribed port a receiving end, both on the topic's link number
+//! ([`ferroc_link::ros2`]). Values cross as their serde JSON, which the network
+//! (`ferroc_zenoh::ros2`) turns into the message's CDR and back, so the runtime needs
+//! no knowledge of ROS 2's formats.
+
+use super::{BuildError, Builder, Conversion};
+use ferroc_exec::Step;
+use ferroc_link::ros2::{Ros2Node, Ros2Topic};
+use ferroc_link::{Frame, Receive};
+use ferroc_module::{Codec, DynOut, ValueType};
+use ferroc_ports::port::ConnectOptions;
+use std::sync::Arc;
+
+impl Builder<'_> {
+    /// Declares the ROS 2 node `node`: a sending end after the writer of every
+    /// published port, a receiving end before the reader of every subscribed one. The
+    /// network given at start declares the node and its topics.
+    pub fn ros2_node(&mut self, node: Ros2Node) -> Result<(), BuildError> {
+        for topic in &node.topics {
+            let port = (topic.port.0.as_str(), topic.port.1.as_str());
+            if topic.publish {
+                self.ros2_publish(topic, port)?;
+            } else {
+                self.ros2_subscribe(topic, port)?;
+            }
+        }
+        self.remote.ros2.push(node);
+        Ok(())
+    }
+
+    /// The end publishing every new value of `from` (module path, output) on the topic.
+    fn ros2_publish(&mut self, topic: &Ros2Topic, from: (&str, &str)) -> Result<(), BuildError> {
+        let describe = format!("`{}/{}` → ROS 2 topic `{}`", from.0, from.1, topic.topic);
+        let (value_type, codec) = self.ros2_type(topic, &describe)?;
+        let writer = self.module(from.0)?;
+        let name = format!("ros2 {} out", topic.link);
+        let (input, handle) = value_type.input(&name, None);
+        let end = self.link_end(name, vec![("in".into(), handle)], vec![]);
+        self.connect(
+            from,
+            (&end, "in"),
+            Conversion::default(),
+            ConnectOptions::default(),
+        )?;
+        let hub = Arc::clone(&self.hub);
+        let (link, to) = (topic.link, Arc::<str>::from("ROS 2"));
+        let mut failed = false;
+        let step = Step::new(describe.clone(), move || {
+            if !input.changed() {
+                return;
+            }
+            let mut bytes = Vec::new();
+            match codec.json(&input, &mut bytes) {
+                Ok(()) => hub.send(&to, Frame { link, bytes }),
+                Err(why) if !std::mem::replace(&mut failed, true) => {
+                    ferroc_ports::console::line(&format!("warning: {describe}: not sent: {why}"))
+                }
+                Err(_) => {}
+            }
+        });
+        self.modules[writer].converters.push(step);
+        Ok(())
+    }
+
+    /// The end publishing what arrives from the topic into `to` (module path, input).
+    fn ros2_subscribe(&mut self, topic: &Ros2Topic, to: (&str, &str)) -> Result<(), BuildError> {
+        let describe = format!("ROS 2 topic `{}` → `{}/{}`", topic.topic, to.0, to.1);
+        let (value_type, codec) = self.ros2_type(topic, &describe)?;
+        let name = format!("ros2 {} in", topic.link);
+        let (out, handle) = value_type.output(&name);
+        let end = self.link_end(name, vec![], vec![("out".into(), handle)]);
+        self.connect(
+            (&end, "out"),
+            to,
+            Conversion::default(),
+            ConnectOptions::default(),
+        )?;
+        let end = Arc::new(JsonEnd {
+            out,
+            codec,
+            describe: describe.clone(),
+        });
+        self.direct_end(topic.link, end, &describe)
+    }
+
+    /// The value-table entry of a ROS 2 end's port type, which must have a serde form.
+    fn ros2_type(
+        &self,
+        topic: &Ros2Topic,
+        describe: &str,
+    ) -> Result<(ValueType, Codec), BuildError> {
+        let value_type = self
+            .registry
+            .values()
+            .get(&topic.model_type)
+            .ok_or_else(|| {
+                BuildError::Connect(format!(
+                    "{describe}: the type `{}` is not registered in this binary (its crate's \
+                 register function should call `register_serde` for it)",
+                    topic.model_type
+                ))
+            })?;
+        let codec = *value_type.codec().ok_or_else(|| {
+            BuildError::Connect(format!(
+                "{describe}: values of `{}` have no serde form, which a ROS 2 message is \
+                 made from: register it with `register_serde` (and mark it serde=\"true\" \
+                 in its library manifest)",
+                topic.model_type
+            ))
+        })?;
+        Ok((*value_type, codec))
+    }
+}
+
+/// The receiving end of a subscribed topic: a value's JSON (the message or the field
+/// the port carries) published into the port.
+struct JsonEnd {
+    out: DynOut,
+    codec: Codec,
+    describe: String,
+}
+
+impl Receive for JsonEnd {
+    fn receive(&self, bytes: &[u8]) -> Result<(), String> {
+        self.codec
+            .from_json(Some(&self.out), bytes)
+            .map_err(|why| format!("{}: {why}", self.describe))
+    }
+}

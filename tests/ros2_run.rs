@@ -1,0 +1,315 @@
+//! `ferroc run` opens a part's ROS 2 node (issue 29, docs/ros2.md): the crash course as
+//! the node /fragile_bot, seen by a ROS 2 peer made of clients we did not write
+//! (`tests/ros2/run_peer.py`: Python `eclipse-zenoh` and `rosbags`). The peer must see
+//! the node's and its topics' liveliness tokens, decode our /cmd_vel samples (rmw_zenoh's
+//! key with its own hash, rmw_zenoh's attachment) to the commands the run recorded,
+//! and stop the robot by publishing `/enable` `false`.
+//!
+//! Loopback only: the peer listens on 127.0.0.1, the run connects to it through
+//! `ZENOH_SESSION_CONFIG_URI` as a ROS 2 node would to the router; multicast scouting
+//! stays off. Without a Python that has `zenoh` and `rosbags` the test skips visibly.
+
+mod common;
+
+use common::{ferroc, tempdir, test_log_dir};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+const MODEL: &str = "models/ros2_crash_course.xml";
+
+fn free_port() -> u16 {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    listener.local_addr().unwrap().port()
+}
+
+/// A Zenoh configuration connecting to `endpoints`, listening on loopback.
+fn zenoh_config(dir: &Path, endpoints: &[&str]) -> PathBuf {
+    let file = dir.join("zenoh-connect.json5");
+    let text = format!(
+        "{{ connect: {{ endpoints: {} }},\n  listen: {{ endpoints: [\"tcp/127.0.0.1:0\"] }} }}\n",
+        serde_json::json!(endpoints)
+    );
+    std::fs::write(&file, text).unwrap();
+    file
+}
+
+/// A Zenoh configuration listening on loopback's `port`, connecting nowhere.
+fn listening_config(dir: &Path, port: u16) -> PathBuf {
+    let file = dir.join("zenoh-listen.json5");
+    let text = format!(
+        "{{ connect: {{ endpoints: [] }},\n  listen: {{ endpoints: [\"tcp/127.0.0.1:{port}\"] }} }}\n"
+    );
+    std::fs::write(&file, text).unwrap();
+    file
+}
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `ferroc run` of the model with this Zenoh configuration.
+fn run_command(config: &Path, args: &[&str]) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_ferroc"));
+    command
+        .args(["run", MODEL, "-q"])
+        .args(args)
+        .env("FERROC_LOG_DIR", test_log_dir())
+        .env("ZENOH_SESSION_CONFIG_URI", config)
+        .current_dir(env!("CARGO_MANIFEST_DIR"));
+    command
+}
+
+/// The recorded values of a channel, in order.
+fn recorded(file: &Path, channel: &str) -> Vec<f64> {
+    let (code, out, err) = ferroc(&["log", "cat", file.to_str().unwrap(), "--channel", channel]);
+    assert_eq!(code, 0, "{err}");
+    out.lines()
+        .filter_map(|l| l.split_once(' ')?.1.parse().ok())
+        .collect()
+}
+
+/// The runner is built first (outside the timed part) by a run of one cycle with
+/// nobody to connect to: a node without its router runs all the same.
+fn build_runner(dir: &Path) {
+    let nobody = zenoh_config(dir, &[&format!("tcp/127.0.0.1:{}", free_port())]);
+    let first = run_command(&nobody, &["--lockstep", "--cycles", "1"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&first.stderr);
+    assert!(first.status.success(), "{err}");
+}
+
+/// Runs the model for at most 30 s beside `peer`, recording into `record`; the JSON
+/// object the peer prints, and its text.
+fn run_beside(mut peer: Command, config: &Path, record: &Path) -> (serde_json::Value, String) {
+    let peer = peer
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let run = run_command(config, &["--for", "30s", "--record"])
+        .arg(record)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let peer = peer.wait_with_output().unwrap();
+    let run = run.wait_with_output().unwrap();
+    let run_err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{run_err}");
+    // Nothing was dropped on the way in or out.
+    for dropped in ["went wrong", "was not published", "was dropped"] {
+        assert!(!run_err.contains(dropped), "{run_err}");
+    }
+    let peer_err = String::from_utf8_lossy(&peer.stderr);
+    assert!(peer.status.success(), "{peer_err}");
+    let text = String::from_utf8_lossy(&peer.stdout).into_owned();
+    let report = serde_json::from_str(text.trim()).expect("one JSON object");
+    (report, text)
+}
+
+#[test]
+fn a_ros2_peer_sees_the_node_receives_cmd_vel_and_stops_the_robot_with_enable() {
+    let Some(python) = ferroc_testkit::python(&["zenoh", "rosbags"]) else {
+        return;
+    };
+    let dir = tempdir("ros2_run");
+    build_runner(&dir);
+    // The peer listens; the run connects to it as a node connects to rmw_zenohd.
+    let port = free_port();
+    let config = zenoh_config(&dir, &[&format!("tcp/127.0.0.1:{port}")]);
+    let mut peer = Command::new(&python);
+    peer.arg(root().join("tests/ros2/run_peer.py"))
+        .args([format!("tcp/127.0.0.1:{port}").as_str(), "25"]);
+    let record = dir.join("run.mcap");
+    let (report, text) = run_beside(peer, &config, &record);
+
+    check_tokens(&report);
+    let samples = report["samples"].as_array().unwrap();
+    check_samples(&report, samples);
+    check_values(samples, &record);
+    check_enable(samples, &text);
+    // A single value published into the one field of std_msgs/msg/Float64.
+    let ir = report["ir_front"].as_array().unwrap();
+    assert!(!ir.is_empty(), "no /ir_front sample: {text}");
+    let noisy = recorded(
+        &record,
+        "fragile_bot/main/simulation/add_noise_front/output",
+    );
+    let float = &report["hashes"]["std_msgs/msg/Float64"];
+    for s in ir {
+        assert_eq!(
+            s["key"],
+            format!(
+                "0/ir_front/std_msgs::msg::dds_::Float64_/{}",
+                float.as_str().unwrap()
+            )
+        );
+        let data = s["data"].as_f64().unwrap();
+        assert!(
+            noisy.contains(&data),
+            "/ir_front {data} was never recorded: {s}"
+        );
+    }
+}
+
+#[test]
+fn zenoh_ros2_sdk_lists_our_topics_receives_cmd_vel_and_stops_the_robot() {
+    let Some(python) = ferroc_testkit::python(&["zenoh_ros2_sdk"]) else {
+        return;
+    };
+    let dir = tempdir("ros2_sdk");
+    build_runner(&dir);
+    // The run listens; the SDK's node connects to it as to its router.
+    let port = free_port();
+    let config = listening_config(&dir, port);
+    let mut peer = Command::new(&python);
+    peer.arg(root().join("tests/ros2/sdk_peer.py"))
+        .arg(port.to_string())
+        .arg(root().join("ros2/interfaces"))
+        .arg("25")
+        .env(
+            "ZENOH_CONFIG_OVERRIDE",
+            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
+        );
+    let record = dir.join("run.mcap");
+    let (report, text) = run_beside(peer, &config, &record);
+
+    let topics = report["topics"].as_array().unwrap();
+    for (topic, ty) in [
+        ("/cmd_vel", "geometry_msgs/msg/Twist"),
+        ("/enable", "std_msgs/msg/Bool"),
+        ("/ir_front", "std_msgs/msg/Float64"),
+    ] {
+        let listed = serde_json::json!([topic, [ty]]);
+        assert!(topics.contains(&listed), "{listed} not in {text}");
+    }
+    let samples = report["samples"].as_array().unwrap();
+    assert!(samples.len() >= 10, "{text}");
+    check_values(samples, &record);
+    check_enable(samples, &text);
+}
+
+/// `ros2 node list` and `ros2 topic list -t` read these tokens.
+fn check_tokens(report: &serde_json::Value) {
+    let tokens: Vec<&str> = (report["tokens"].as_array().unwrap().iter())
+        .map(|t| t.as_str().unwrap())
+        .collect();
+    let hash = |t: &str| report["hashes"][t].as_str().unwrap().to_string();
+    let twist = format!(
+        "/%cmd_vel/geometry_msgs::msg::dds_::Twist_/{}/::,10:,:,:,,",
+        hash("geometry_msgs/msg/Twist")
+    );
+    let float = format!(
+        "/%ir_front/std_msgs::msg::dds_::Float64_/{}/2::,10:,:,:,,",
+        hash("std_msgs/msg/Float64")
+    );
+    let enable = format!(
+        "/%enable/std_msgs::msg::dds_::Bool_/{}/::,10:,:,:,,",
+        hash("std_msgs/msg/Bool")
+    );
+    let ends = [
+        ("/NN/%/%/fragile_bot", String::new()),
+        ("/MP/%/%/fragile_bot", twist),
+        ("/MP/%/%/fragile_bot", float),
+        ("/MS/%/%/fragile_bot", enable),
+    ];
+    for (entity, topic) in &ends {
+        let tail = format!("{entity}{topic}");
+        assert!(
+            tokens
+                .iter()
+                .any(|t| t.starts_with("@ros2_lv/0/") && t.ends_with(&tail)),
+            "no token ending in {tail} among {tokens:#?}"
+        );
+    }
+}
+
+/// Every sample on rmw_zenoh's key with rosbags' own hash, with the 33-byte attachment,
+/// sequence numbers counting up.
+fn check_samples(report: &serde_json::Value, samples: &[serde_json::Value]) {
+    let hash = report["hashes"]["geometry_msgs/msg/Twist"]
+        .as_str()
+        .unwrap();
+    assert!(samples.len() >= 10, "{samples:?}");
+    let key = format!("0/cmd_vel/geometry_msgs::msg::dds_::Twist_/{hash}");
+    let mut last = 0;
+    for s in samples {
+        assert_eq!(s["key"], key.as_str(), "{s}");
+        let attachment = s["attachment"].as_str().unwrap();
+        assert_eq!(attachment.len(), 66, "33 bytes: {s}");
+        let mut sequence = [0u8; 8];
+        for (i, b) in sequence.iter_mut().enumerate() {
+            *b = u8::from_str_radix(&attachment[2 * i..2 * i + 2], 16).unwrap();
+        }
+        let sequence = i64::from_le_bytes(sequence);
+        assert!(sequence > last, "sequence numbers count up: {s}");
+        last = sequence;
+        assert_eq!(&attachment[32..34], "10", "the GID's length: {s}");
+    }
+}
+
+/// The decoded commands are the controller's, as the run recorded them.
+fn check_values(samples: &[serde_json::Value], record: &Path) {
+    let velocity = recorded(record, "fragile_bot/main/control/controller/velocity");
+    let turn = recorded(
+        record,
+        "fragile_bot/main/control/controller/angular_velocity",
+    );
+    assert!(!velocity.is_empty() && !turn.is_empty());
+    for s in samples {
+        let linear = s["linear"].as_array().unwrap();
+        let angular = s["angular"].as_array().unwrap();
+        let (x, z) = (linear[0].as_f64().unwrap(), angular[2].as_f64().unwrap());
+        assert!(
+            velocity.contains(&x),
+            "linear.x {x} was never recorded: {s}"
+        );
+        assert!(turn.contains(&z), "angular.z {z} was never recorded: {s}");
+        for unused in [&linear[1], &linear[2], &angular[0], &angular[1]] {
+            assert_eq!(unused.as_f64(), Some(0.0), "{s}");
+        }
+    }
+}
+
+/// The robot moved, and after the peer's `/enable` `false` it stands still.
+fn check_enable(samples: &[serde_json::Value], text: &str) {
+    let moving = |s: &serde_json::Value| {
+        (s["linear"].as_array().unwrap().iter())
+            .chain(s["angular"].as_array().unwrap())
+            .any(|v| v.as_f64() != Some(0.0))
+    };
+    assert!(samples.iter().any(moving), "the robot never moved: {text}");
+    let after: Vec<&serde_json::Value> = (samples.iter())
+        .filter(|s| s["after_disable"] == true)
+        .collect();
+    assert!(after.len() >= 10, "too few samples after /enable: {text}");
+    assert!(
+        after[after.len() - 5..].iter().all(|s| !moving(s)),
+        "the robot still moves after /enable false: {text}"
+    );
+}
+
+/// What does not open ROS 2 nodes yet says so, at the model's `<ros2>`, instead of
+/// running without them.
+#[test]
+fn a_bundle_and_an_inspected_run_refuse_ros2_nodes_for_now() {
+    let out = tempdir("ros2_bundle");
+    let (code, _, err) = ferroc(&["bundle", MODEL, "-o", out.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("help: run the model with `ferroc run`"),
+        "{err}"
+    );
+    assert!(
+        err.contains("ros2_crash_course.xml:25:6: error: the part `fragile_bot` is a ROS 2 node"),
+        "{err}"
+    );
+    let (code, _, err) = ferroc(&["run", MODEL, "--inspect", "--cycles", "1"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("does not open the model's ROS 2 nodes yet"),
+        "{err}"
+    );
+    assert!(err.contains("help: run it without --inspect"), "{err}");
+}

@@ -1,0 +1,378 @@
+//! The ROS 2 nodes of a running part on the network (docs/ros2.md): the runtime's ROS 2
+//! ends (`ferroc_runtime::link::ros2`) made into rmw_zenoh nodes, publishers and
+//! subscriptions.
+//!
+//! A published port's frames (its values as JSON) become samples of the topic; a
+//! subscription's samples become frames for the port's receiving end: delivered at
+//! once when running freely, in lockstep kept until the next instant (at most the
+//! topic's history depth of them, the newest, so a flood from a foreign node cannot
+//! grow memory) and delivered with the frames of the other parts.
+//!
+//! [`network`] is what `ferroc run` gives a model whose parts are ROS 2 nodes: a
+//! session configured as rmw_zenoh configures its nodes (peer, the router at
+//! `tcp/localhost:7447`, multicast scouting off), with `ZENOH_SESSION_CONFIG_URI`'s file
+//! merged over it as rmw_zenoh reads it.
+
+use super::{NodeSpec, Ros2Node, Ros2Publisher, Ros2Subscriber, TopicSpec};
+use ferroc_ros2::def::TypeName;
+use ferroc_ros2::rmw_zenoh::{Durability, History, Qos, Reliability};
+use ferroc_ros2::Registry;
+use ferroc_runtime::console;
+use ferroc_runtime::link::ros2::{self as ends, Ros2Qos};
+use ferroc_runtime::link::transport::{Addresses, Connection, Delivery, Network, PartLinks};
+use ferroc_runtime::link::Frame;
+use ferroc_terminal::engine_error;
+use std::collections::{BTreeMap, VecDeque};
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex, RwLock};
+use zenoh::{Session, Wait};
+
+/// Where rmw_zenoh's nodes find the router (`rmw_zenohd`) by default.
+pub const ROUTER: &str = "tcp/localhost:7447";
+
+/// The environment variable naming a Zenoh configuration file, as rmw_zenoh reads it.
+pub const CONFIG_ENV: &str = "ZENOH_SESSION_CONFIG_URI";
+
+/// The open ROS 2 nodes of a part (see the module documentation).
+pub struct Ros2Ends {
+    publishers: BTreeMap<u32, Ros2Publisher>,
+    _subscribers: Vec<Ros2Subscriber>,
+    _nodes: Vec<Ros2Node>,
+    /// In lockstep: what arrived since the last instant.
+    arrived: Option<Arc<Arrived>>,
+}
+
+impl Ros2Ends {
+    /// Declares `nodes` with their topics on `session`; what subscriptions receive goes
+    /// to `delivery` (at once), or in lockstep waits for [`Self::take_arrived`].
+    pub fn open(
+        session: &Session,
+        nodes: &[ends::Ros2Node],
+        delivery: Delivery,
+        lockstep: bool,
+    ) -> Result<Ros2Ends, String> {
+        let registry = Arc::new(Registry::shipped());
+        let arrived = lockstep.then(Arc::<Arrived>::default);
+        let mut open = Ros2Ends {
+            publishers: BTreeMap::new(),
+            _subscribers: Vec::new(),
+            _nodes: Vec::new(),
+            arrived,
+        };
+        let mut next_id = 0;
+        for n in nodes {
+            let spec = NodeSpec {
+                domain: n.domain,
+                namespace: n.namespace.clone(),
+                name: n.name.clone(),
+            };
+            let node = Ros2Node::declare(session, Arc::clone(&registry), &spec, next_id)?;
+            for t in &n.topics {
+                open.add_topic(&node, t, &delivery)?;
+            }
+            next_id = node.next_id();
+            open._nodes.push(node);
+        }
+        Ok(open)
+    }
+
+    fn add_topic(
+        &mut self,
+        node: &Ros2Node,
+        t: &ends::Ros2Topic,
+        delivery: &Delivery,
+    ) -> Result<(), String> {
+        let ty = TypeName::parse(&t.message).ok_or_else(|| {
+            format!(
+                "`{}` is not a ROS 2 message type (package/msg/Name) of the topic `{}`",
+                t.message, t.topic
+            )
+        })?;
+        let spec = TopicSpec {
+            topic: t.topic.clone(),
+            ty,
+            qos: qos(t.qos),
+            field: t.field.clone(),
+        };
+        if t.publish {
+            self.publishers.insert(t.link, node.publisher(spec)?);
+            return Ok(());
+        }
+        let (link, depth) = (t.link, t.qos.depth.max(1) as usize);
+        let arrived = self.arrived.clone();
+        let delivery = delivery.clone();
+        let subscriber = node.subscriber(spec, move |value| {
+            let bytes = value.to_string().into_bytes();
+            match &arrived {
+                Some(queue) => queue.push(link, bytes, depth),
+                None => delivery.deliver_bytes(link, &bytes),
+            }
+        })?;
+        self._subscribers.push(subscriber);
+        Ok(())
+    }
+
+    /// Whether `link` is a published topic of these nodes.
+    pub fn publishes(&self, link: u32) -> bool {
+        self.publishers.contains_key(&link)
+    }
+
+    /// Publishes a frame of a published port (its value as JSON); `false` when the
+    /// frame is not for a ROS 2 topic. A value that does not fit the message is
+    /// reported (throttled, naming the topic) and not sent.
+    pub fn publish(&self, frame: &Frame) -> bool {
+        let Some(publisher) = self.publishers.get(&frame.link) else {
+            return false;
+        };
+        let sent = serde_json::from_slice(&frame.bytes)
+            .map_err(|e| e.to_string())
+            .and_then(|value| publisher.publish_json(&value));
+        if let Err(why) = sent {
+            console::report(&format!(
+                "warning: a value was not published on the ROS 2 topic `{}`: {why}",
+                publisher.spec().topic
+            ));
+        }
+        true
+    }
+
+    /// In lockstep: the samples that arrived since the last call, as frames in the
+    /// order they arrived per topic.
+    pub fn take_arrived(&self) -> Vec<Frame> {
+        self.arrived.as_ref().map_or_else(Vec::new, |a| a.take())
+    }
+}
+
+/// The QoS of a topic end on the wire.
+fn qos(q: Ros2Qos) -> Qos {
+    Qos {
+        reliability: if q.reliable {
+            Reliability::Reliable
+        } else {
+            Reliability::BestEffort
+        },
+        durability: if q.transient_local {
+            Durability::TransientLocal
+        } else {
+            Durability::Volatile
+        },
+        history: History::KeepLast(q.depth),
+    }
+}
+
+/// Samples kept for the next lockstep instant, per link at most its history depth.
+#[derive(Default)]
+struct Arrived {
+    queues: Mutex<BTreeMap<u32, VecDeque<Vec<u8>>>>,
+}
+
+impl Arrived {
+    fn push(&self, link: u32, bytes: Vec<u8>, depth: usize) {
+        let mut queues = self.queues.lock().unwrap_or_else(|e| e.into_inner());
+        let queue = queues.entry(link).or_default();
+        if queue.len() >= depth {
+            queue.pop_front();
+        }
+        queue.push_back(bytes);
+    }
+
+    fn take(&self) -> Vec<Frame> {
+        let mut queues = self.queues.lock().unwrap_or_else(|e| e.into_inner());
+        let mut frames = Vec::new();
+        for (&link, queue) in queues.iter_mut() {
+            frames.extend(queue.drain(..).map(|bytes| Frame { link, bytes }));
+        }
+        frames
+    }
+}
+
+/// A part's connection with its ROS 2 nodes: ROS 2 frames go to the nodes, the rest
+/// to the connection to the other parts (if the part has one).
+pub struct WithRos2 {
+    inner: Option<Box<dyn Connection>>,
+    ends: RwLock<Option<Ros2Ends>>,
+    /// The session the nodes were opened on when it is this connection's own.
+    session: Option<Session>,
+}
+
+impl WithRos2 {
+    /// `ends` beside `inner`; `session` is closed with the connection when given.
+    pub fn new(
+        inner: Option<Box<dyn Connection>>,
+        ends: Ros2Ends,
+        session: Option<Session>,
+    ) -> Self {
+        WithRos2 {
+            inner,
+            ends: RwLock::new(Some(ends)),
+            session,
+        }
+    }
+
+    /// Publishes `frame` if it is a ROS 2 topic's; `false` if it is not.
+    fn publish(&self, frame: &Frame) -> bool {
+        let ends = self.ends.read().unwrap_or_else(|e| e.into_inner());
+        ends.as_ref().is_some_and(|e| e.publish(frame))
+    }
+}
+
+impl Connection for WithRos2 {
+    fn send(&self, to_part: &str, frame: Frame) {
+        if self.publish(&frame) {
+            return;
+        }
+        if let Some(inner) = &self.inner {
+            inner.send(to_part, frame);
+        }
+    }
+
+    fn end_instant(
+        &self,
+        nanos: u64,
+        frames: Vec<(Arc<str>, Frame)>,
+        stop: &AtomicBool,
+    ) -> Result<(), String> {
+        let others: Vec<(Arc<str>, Frame)> = frames
+            .into_iter()
+            .filter(|(_, frame)| !self.publish(frame))
+            .collect();
+        match &self.inner {
+            Some(inner) => inner.end_instant(nanos, others, stop),
+            None => Ok(()),
+        }
+    }
+
+    fn wait_instant(&self, nanos: u64, stop: &AtomicBool) -> Result<Vec<Frame>, String> {
+        let mut frames = match &self.inner {
+            Some(inner) => inner.wait_instant(nanos, stop)?,
+            None => Vec::new(),
+        };
+        let ends = self.ends.read().unwrap_or_else(|e| e.into_inner());
+        if let Some(ends) = ends.as_ref() {
+            frames.extend(ends.take_arrived());
+        }
+        Ok(frames)
+    }
+
+    fn close(&self) {
+        if let Some(inner) = &self.inner {
+            inner.close();
+        }
+        // The nodes' tokens go before the session does: ROS 2 sees them leave.
+        drop(self.ends.write().unwrap_or_else(|e| e.into_inner()).take());
+        if let Some(session) = &self.session {
+            let _ = session.close().wait();
+        }
+    }
+
+    fn status(&self) -> Vec<String> {
+        self.inner.as_ref().map_or_else(Vec::new, |i| i.status())
+    }
+}
+
+/// The network of `ferroc run` for a model whose parts are ROS 2 nodes (every part
+/// runs in one process, so only the nodes go on the network).
+pub struct Ros2Network {
+    config: zenoh::Config,
+}
+
+impl Ros2Network {
+    /// Configured as rmw_zenoh configures a node, with the JSON5 file `file` merged
+    /// over it (what the file sets wins).
+    pub fn new(file: Option<&Path>) -> Result<Ros2Network, String> {
+        let addresses = Addresses {
+            part: "ros2".into(),
+            listen: "tcp/localhost:0".into(),
+            peers: [("rmw_zenohd".to_string(), ROUTER.to_string())].into(),
+        };
+        let config = crate::config::config(&addresses, file)
+            .map_err(|e| e.replacen("--zenoh-config ", &format!("{CONFIG_ENV}="), 1))?;
+        Ok(Ros2Network { config })
+    }
+}
+
+/// [`Ros2Network`] with the file `ZENOH_SESSION_CONFIG_URI` names, if set: what a ROS 2
+/// runner gives the run (`ferroc_runner::main_ros2`).
+pub fn network() -> Result<Arc<dyn Network>, String> {
+    let file = std::env::var_os(CONFIG_ENV).filter(|f| !f.is_empty());
+    let network = Ros2Network::new(file.as_deref().map(Path::new))?;
+    Ok(Arc::new(network))
+}
+
+impl Network for Ros2Network {
+    fn open(
+        &self,
+        links: &PartLinks,
+        delivery: Delivery,
+        lockstep: bool,
+    ) -> Result<Box<dyn Connection>, String> {
+        if links.has_parts() {
+            return Err(
+                "links to other programs need the part's own network; this one carries only \
+                 the ROS 2 nodes of `ferroc run` (help: run the parts as a bundle, \
+                 `ferroc bundle`)"
+                    .into(),
+            );
+        }
+        let session = zenoh::open(self.config.clone()).wait().map_err(|e| {
+            format!(
+                "the ROS 2 nodes cannot open their Zenoh session: {}",
+                engine_error(&e)
+            )
+        })?;
+        match Ros2Ends::open(&session, &links.ros2, delivery, lockstep) {
+            Ok(ends) => Ok(Box::new(WithRos2::new(None, ends, Some(session)))),
+            Err(why) => {
+                let _ = session.close().wait();
+                Err(why)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_flood_in_lockstep_keeps_only_the_newest_depth_samples_of_each_topic() {
+        let arrived = Arrived::default();
+        for i in 0..100_000u32 {
+            arrived.push(7, i.to_string().into_bytes(), 10);
+        }
+        arrived.push(3, b"true".to_vec(), 10);
+        let frames = arrived.take();
+        assert_eq!(frames.len(), 11);
+        assert_eq!(
+            (frames[0].link, frames[0].bytes.as_slice()),
+            (3, &b"true"[..])
+        );
+        assert_eq!(frames[1].bytes, b"99990");
+        assert_eq!(frames[10].bytes, b"99999");
+        assert!(arrived.take().is_empty(), "taken once");
+    }
+
+    #[test]
+    fn the_model_s_qos_is_rmw_zenoh_s() {
+        let best_effort = Ros2Qos {
+            reliable: false,
+            transient_local: false,
+            depth: 5,
+        };
+        assert_eq!(qos(best_effort).keyexpr(), "2::,5:,:,:,,");
+        assert_eq!(qos(Ros2Qos::default()), Qos::default());
+    }
+
+    #[test]
+    fn a_bad_configuration_file_names_the_environment_variable() {
+        let dir = std::env::temp_dir().join(format!("ferroc-ros2-cfg-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("bad.json5");
+        std::fs::write(&file, "{ mode: ").unwrap();
+        let err = Ros2Network::new(Some(&file)).err().unwrap();
+        assert!(err.starts_with("ZENOH_SESSION_CONFIG_URI="), "{err}");
+        assert!(Ros2Network::new(None).is_ok());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
