@@ -3,7 +3,8 @@
 // after breaking cycles; an edge spanning several layers runs through one waypoint per
 // layer it crosses, and the edges leaving one port share those waypoints (one bundle per
 // port instead of a line per edge); the layers are ordered by barycentre sweeps down and
-// up, keeping the order with the fewest crossings; x positions pull every box and
+// up and swaps of neighbours, keeping the order with the fewest crossings, with the lane
+// of a side port kept beside its box; x positions pull every box and
 // waypoint towards its neighbours (least squares under the minimum gaps). Ports sit
 // where iB2C draws them: a behaviour's stimulation, inhibitions and fusion channels on
 // top, activities and target rating below, its data inputs left and data outputs
