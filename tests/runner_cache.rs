@@ -126,12 +126,13 @@ fn progress_line<'a>(err: &'a str, library: &str, why: &str) -> &'a str {
         .find(|l| l.starts_with("building the runner of "))
         .unwrap_or_else(|| panic!("no progress line: {err}"));
     // "first use" in a fresh cache; where the test ran before, the cache has the runner
-    // of the library's folder, whose crate the test has just written again.
+    // of the library's folder, whose crate the test has just written again, or which an
+    // older checkout built.
     let rebuilt = format!("the crate of `{library}` changed");
-    let why = if why == "first use" && line.contains(&rebuilt) {
-        rebuilt.as_str()
-    } else {
-        why
+    let again = [rebuilt.as_str(), "ferroc's sources changed"];
+    let why = match again.iter().find(|r| line.contains(&format!(": {r}"))) {
+        Some(reason) if why == "first use" => reason,
+        _ => why,
     };
     let head = format!(
         "building the runner of `{library}` (debug) in {}: {why}",
