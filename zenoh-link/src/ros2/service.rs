@@ -1,0 +1,221 @@
+//! A module's service offered as a ROS 2 service on rmw_zenoh's wire (docs/ros2.md):
+//! the liveliness token `SS` and a queryable on the service's key
+//! (`<domain>/<name>/<pkg>::srv::dds_::<Name>_/<RIHS01 of the service type>`), as
+//! rmw_zenoh's `ServiceData` declares them (rmw_service_data.cpp).
+//!
+//! A query is a request: its payload the `Name_Request` message in CDR, its attachment
+//! the client's (sequence number, time, GID). The request goes to the module's service
+//! as JSON (the stand-in client of `ferroc_link::calls`); the answer comes back as JSON
+//! and is replied in CDR (`Name_Response`) on the service's key with the attachment
+//! rmw_zenoh's server writes: the request's sequence number, the reply's time and the
+//! client's GID, by which the client matches it. A request that does not decode is
+//! reported (throttled, naming the service) and answered with an error reply; at most
+//! [`MAX_WAITING`] requests wait for their answers at once (more are refused), so a
+//! flood of requests cannot grow the part's memory.
+
+use super::{token, Ros2Node, TopicSpec};
+use ferroc_ros2::def::TypeName;
+use ferroc_ros2::rmw_zenoh::{Attachment, EntityKind, Qos};
+use ferroc_ros2::{cdr, json, Registry};
+use ferroc_runtime::console;
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{SystemTime, UNIX_EPOCH};
+use zenoh::liveliness::LivelinessToken;
+use zenoh::query::{Query, Queryable};
+use zenoh::Wait;
+
+/// Requests waiting for the module's answer at once, at most.
+pub const MAX_WAITING: usize = 64;
+
+/// A service end: the fully qualified service name, the service type and the one field
+/// of the request and of the response a single value fills (`None`: all of it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ServiceSpec {
+    pub name: String,
+    pub ty: TypeName,
+    pub request_field: Option<String>,
+    pub response_field: Option<String>,
+}
+
+impl ServiceSpec {
+    /// `pkg/srv/Name_Request` or `pkg/srv/Name_Response`.
+    fn message(&self, suffix: &str) -> TypeName {
+        let name = format!("{}_{suffix}", self.ty.name);
+        TypeName::new(&self.ty.package, &self.ty.kind, &name)
+    }
+}
+
+/// A ROS 2 service server; dropping it ends it.
+pub struct Ros2Server {
+    shared: Arc<Shared>,
+    _queryable: Queryable<()>,
+    _token: LivelinessToken,
+}
+
+/// What the queryable's callback and the answers share.
+struct Shared {
+    registry: Arc<Registry>,
+    spec: ServiceSpec,
+    key: String,
+    next: AtomicU64,
+    waiting: Mutex<HashMap<u64, (Query, Attachment)>>,
+}
+
+impl Ros2Node {
+    /// A server of `spec` (its token `SS` and a queryable on the service key) handing
+    /// each request, as the call number followed by the JSON of the request (or of the
+    /// field the service's request fills), to `deliver`.
+    pub fn service_server(
+        &self,
+        spec: ServiceSpec,
+        deliver: impl Fn(Vec<u8>) + Send + Sync + 'static,
+    ) -> Result<Ros2Server, String> {
+        // rmw_zenoh's services announce rclcpp's default service QoS: reliable,
+        // volatile, keep last 10, which is a topic's default too.
+        let as_topic = TopicSpec {
+            topic: spec.name.clone(),
+            ty: spec.ty.clone(),
+            qos: Qos::default(),
+            field: None,
+        };
+        let (key, live, _) = self.keys(&as_topic, EntityKind::ServiceServer)?;
+        let token = token(&self.session, &live, &spec.name)?;
+        let shared = Arc::new(Shared {
+            registry: Arc::clone(&self.registry),
+            spec,
+            key: key.clone(),
+            next: AtomicU64::new(0),
+            waiting: Mutex::default(),
+        });
+        let on_query = Arc::clone(&shared);
+        let queryable = self
+            .session
+            .declare_queryable(key)
+            .complete(true)
+            .callback(move |query| on_query.request(query, &deliver))
+            .wait()
+            .map_err(|e| format!("cannot offer the ROS 2 service `{}`: {e}", shared.spec.name))?;
+        Ok(Ros2Server {
+            shared,
+            _queryable: queryable,
+            _token: token,
+        })
+    }
+}
+
+impl Ros2Server {
+    /// Replies to the request an answer frame names (call number, kind, the response's
+    /// JSON). An answer nobody waits for, or one that does not fit the response
+    /// message, is an error naming the service.
+    pub fn answer(&self, bytes: &[u8]) -> Result<(), String> {
+        self.shared.answer(bytes)
+    }
+
+    /// The service.
+    pub fn spec(&self) -> &ServiceSpec {
+        &self.shared.spec
+    }
+}
+
+impl Shared {
+    /// A request arrived: kept for its answer and handed to the module, or refused.
+    fn request(&self, query: Query, deliver: &dyn Fn(Vec<u8>)) {
+        let decoded = self.decode(&query);
+        let mut waiting = lock(&self.waiting);
+        let refused = match decoded {
+            Err(why) => why,
+            Ok(_) if waiting.len() >= MAX_WAITING => {
+                format!("{MAX_WAITING} requests already wait for the service's answers")
+            }
+            Ok((attachment, request)) => {
+                let id = self.next.fetch_add(1, Ordering::Relaxed);
+                waiting.insert(id, (query, attachment));
+                drop(waiting);
+                let mut bytes = id.to_le_bytes().to_vec();
+                bytes.extend(request.to_string().into_bytes());
+                deliver(bytes);
+                return;
+            }
+        };
+        drop(waiting);
+        console::report(&format!(
+            "warning: a request to the ROS 2 service `{}` was refused: {refused}",
+            self.spec.name
+        ));
+        let _ = query.reply_err(refused).wait();
+    }
+
+    /// The request's attachment and its JSON.
+    fn decode(&self, query: &Query) -> Result<(Attachment, serde_json::Value), String> {
+        let attachment = (query.attachment())
+            .ok_or("it has no attachment (rmw_zenoh's clients send one with each)")?;
+        let attachment = Attachment::decode(&attachment.to_bytes()).map_err(|e| e.0)?;
+        let payload = query.payload().ok_or("it has no request message")?;
+        let ty = self.spec.message("Request");
+        let value =
+            cdr::decode(&self.registry, &ty, &payload.to_bytes()).map_err(|e| e.to_string())?;
+        let field = self.spec.request_field.as_deref();
+        let request = json::to_json(&self.registry, &ty, field, &value)?;
+        Ok((attachment, request))
+    }
+
+    fn answer(&self, bytes: &[u8]) -> Result<(), String> {
+        let name = &self.spec.name;
+        let (id, rest) = bytes
+            .split_first_chunk::<8>()
+            .ok_or_else(|| format!("an answer of `{name}` shorter than its number"))?;
+        let id = u64::from_le_bytes(*id);
+        let (&kind, body) = rest
+            .split_first()
+            .ok_or_else(|| format!("an answer of `{name}` without its kind"))?;
+        let Some((query, asked)) = lock(&self.waiting).remove(&id) else {
+            return Err(format!(
+                "an answer of `{name}` to a request nobody waits for"
+            ));
+        };
+        if kind != 0 {
+            let why = format!("the service `{name}` failed to answer (error {kind})");
+            let _ = query.reply_err(why.clone()).wait();
+            return Err(why);
+        }
+        let response = match self.encode(body) {
+            Ok(response) => response,
+            Err(why) => {
+                let _ = query.reply_err(why.clone()).wait();
+                return Err(format!("the answer of `{name}` was not sent: {why}"));
+            }
+        };
+        let attachment = Attachment {
+            sequence_number: asked.sequence_number,
+            source_timestamp: now_ns(),
+            gid: asked.gid,
+        };
+        query
+            .reply(self.key.clone(), response)
+            .attachment(attachment.encode().to_vec())
+            .wait()
+            .map_err(|e| format!("the answer of `{name}` was not sent: {e}"))
+    }
+
+    /// The response message's CDR from the answer's JSON.
+    fn encode(&self, json_text: &[u8]) -> Result<Vec<u8>, String> {
+        let value: serde_json::Value =
+            serde_json::from_slice(json_text).map_err(|e| e.to_string())?;
+        let ty = self.spec.message("Response");
+        let field = self.spec.response_field.as_deref();
+        let message = json::from_json(&self.registry, &ty, field, &value)?;
+        cdr::encode(&self.registry, &ty, &message).map_err(|e| e.to_string())
+    }
+}
+
+fn now_ns() -> i64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as i64)
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
