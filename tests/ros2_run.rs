@@ -20,6 +20,8 @@ use std::process::{Command, Stdio};
 const MODEL: &str = "models/ros2_crash_course.xml";
 /// A module's service offered as a ROS 2 service.
 const SWITCH: &str = "tests/ros2/switch.xml";
+/// A module's client calling a ROS 2 service.
+const ASKER: &str = "tests/ros2/asker.xml";
 
 fn free_port() -> u16 {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
@@ -150,6 +152,7 @@ fn a_bundle_s_program_is_the_node_the_ros2_peer_sees_receives_and_stops() {
     };
     let dir = tempdir("ros2_bundle");
     bundle_ok(&root().join(MODEL), &dir.join("bundle"));
+    assert_rustfmt_clean(&dir.join("bundle/parts/fragile_bot/src/main.rs"));
     let program = build_bundle(&dir.join("bundle"))
         .join("debug")
         .join("ros2_crash_course-fragile_bot");
@@ -162,6 +165,44 @@ fn a_bundle_s_program_is_the_node_the_ros2_peer_sees_receives_and_stops() {
             .env("ZENOH_SESSION_CONFIG_URI", config);
         run
     });
+}
+
+/// The generated programs of a service and a client (not built here): the node with
+/// its service or client, their calls registered to cross as JSON, in rustfmt's layout.
+#[test]
+fn a_bundle_writes_the_node_s_services_and_clients_in_rustfmt_s_layout() {
+    let dir = tempdir("ros2_bundle_services");
+    for (model, part, end) in [
+        (SWITCH, "switch", "services: vec!["),
+        (ASKER, "asker", "clients: vec!["),
+    ] {
+        let out = dir.join(part);
+        bundle_ok(&root().join(model), &out);
+        let main = out.join(format!("parts/{part}/src/main.rs"));
+        let text = std::fs::read_to_string(&main).unwrap();
+        assert!(text.contains(end), "{text}");
+        assert!(
+            text.contains("registry.register_call::<bool, crash_course::Ack>();"),
+            "{text}"
+        );
+        assert!(
+            text.contains("network_from(args.zenoh_config.as_deref())"),
+            "{text}"
+        );
+        assert_rustfmt_clean(&main);
+    }
+}
+
+/// `rustfmt --check` passes on `file` (where rustfmt is installed).
+fn assert_rustfmt_clean(file: &Path) {
+    if let Ok(out) = Command::new("rustfmt")
+        .args(["--edition", "2021", "--check"])
+        .arg(file)
+        .output()
+    {
+        let diff = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{diff}");
+    }
 }
 
 /// `tests/ros2/run_peer.py` listening on loopback and the node `run(config)` makes
@@ -297,6 +338,48 @@ fn zenoh_ros2_sdk_calls_a_module_s_service_as_a_ros2_service() {
         "10000102030405060708090a0b0c0d0e0f",
         "{text}"
     );
+}
+
+/// A module's client calling a ROS 2 service (`tests/ros2/asker.xml`): zenoh-ros2-sdk's
+/// server (its own service hash and key, and a strict reading of our request's
+/// attachment) gets both requests of `crash_course.EnableAsk` and answers them; the
+/// module publishes each answer's message, which the SDK's subscriber receives.
+#[test]
+fn a_module_s_client_calls_a_zenoh_ros2_sdk_service() {
+    let Some(python) = ferroc_testkit::python(&["zenoh_ros2_sdk"]) else {
+        return;
+    };
+    let dir = tempdir("ros2_client");
+    build_runner_of(ASKER, &dir);
+    let port = free_port();
+    let config = listening_config(&dir, port);
+    let mut peer = Command::new(&python);
+    peer.arg(root().join("tests/ros2/sdk_server_peer.py"))
+        .arg(port.to_string())
+        .arg(root().join("ros2/interfaces"))
+        .arg("25")
+        .env(
+            "ZENOH_CONFIG_OVERRIDE",
+            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
+        );
+    let run = run_model(ASKER, &config, &["--for", "30s"]);
+    let (report, text) = run_beside(peer, run);
+
+    let requests: Vec<bool> = (report["requests"].as_array().unwrap().iter())
+        .map(|v| v.as_bool().unwrap())
+        .collect();
+    assert_eq!(
+        requests.first(),
+        Some(&false),
+        "the first call asks false: {text}"
+    );
+    assert!(requests.contains(&true), "{text}");
+    let answers: Vec<&str> = (report["answers"].as_array().unwrap().iter())
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    for expected in ["python saw False", "python saw True"] {
+        assert!(answers.contains(&expected), "{expected} not in {text}");
+    }
 }
 
 /// `ros2 node list` and `ros2 topic list -t` read these tokens.

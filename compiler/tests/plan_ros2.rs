@@ -1,8 +1,8 @@
 //! The run plan carries each part's ROS 2 node (issue 29, docs/ros2.md): the ports
 //! behind its topics, the topic names expanded as ROS 2 expands them against the node's
-//! namespace, the QoS, one number per topic end, and the modules' services it offers.
-//! What the runtime cannot open yet (clients, ends on group ports) is a problem at the
-//! element, not a silent omission.
+//! namespace, the QoS, one number per topic end, the modules' services it offers
+//! and the ROS 2 services its clients call. What the runtime cannot open (ends on group
+//! ports, ports that do not resolve) is a problem at the element, not a silent omission.
 
 use ferroc_compiler::load::{BuiltinLibrary, Options};
 use ferroc_compiler::plan::{self, Ros2Topic};
@@ -131,7 +131,36 @@ fn a_module_s_service_is_planned_as_a_ros2_service_with_its_expanded_name() {
 }
 
 #[test]
-fn a_ros2_client_is_a_problem_named_at_its_element_not_left_out() {
+fn a_module_s_client_is_planned_as_a_ros2_client_numbered_with_the_services() {
+    let (plan, problems) = plan_of(|t| {
+        t.replace(
+            r#"<subscribe port="main/control/controller/enable""#,
+            r#"<service port="main/scaler/scale" name="~/scale" type="std_srvs/srv/SetBool"/>
+      <client port="main/asker/ask" name="/other/scale" type="std_srvs/srv/SetBool"/>
+      <subscribe port="main/control/controller/enable""#,
+        )
+        .replace(
+            r#"<thread name="main" period="40ms" priority="50" warn-overrun="true">"#,
+            r#"<thread name="main" period="40ms" priority="50" warn-overrun="true">
+      <module name="scaler" type="ferroc_std.ScaleService"/>
+      <module name="asker" type="ferroc_std.Ask"/>"#,
+        )
+    });
+    assert!(problems.is_empty(), "{problems:?}");
+    let node = &plan.ros2[0];
+    assert_eq!(node.services.len(), 1, "{node:?}");
+    let c = &node.clients[0];
+    assert_eq!(
+        c.id, 1,
+        "one numbering for services and clients, in model order"
+    );
+    assert_eq!(c.port, ("fragile_bot/main/asker".into(), "ask".into()));
+    assert_eq!(c.name, "/other/scale");
+    assert_eq!(c.request_field.as_deref(), Some("data"));
+}
+
+#[test]
+fn a_ros2_end_whose_port_does_not_resolve_is_a_problem_not_left_out() {
     let (plan, problems) = plan_of(|t| {
         t.replace(
             r#"<subscribe port="main/control/controller/enable""#,
@@ -140,9 +169,7 @@ fn a_ros2_client_is_a_problem_named_at_its_element_not_left_out() {
         )
     });
     assert!(
-        problems
-            .iter()
-            .any(|p| p.contains("from a module's `<client>`")),
+        problems.iter().any(|p| p.contains("does not resolve")),
         "{problems:?}"
     );
     assert_eq!(plan.ros2[0].topics.len(), 3, "the topics are planned still");

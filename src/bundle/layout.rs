@@ -56,6 +56,9 @@ pub struct Part<'p> {
     pub units: Vec<(String, String)>,
     /// The part's ROS 2 node (`<ros2>`), which its program opens.
     pub ros2: Option<&'p Ros2Node>,
+    /// Rust types of the library types its ROS 2 topics carry: their values reach a
+    /// message through their serde form, so they register with it.
+    pub ros2_serde: Vec<String>,
 }
 
 impl Part<'_> {
@@ -488,7 +491,17 @@ impl<'p> Split<'_, 'p> {
                 continue;
             };
             self.parts[p].ros2 = Some(node);
-            for s in &node.services {
+            for t in &node.topics {
+                let Some((rust, library)) = self.topic_type(modules, &t.port) else {
+                    continue; // a built-in type, registered with its serde form already
+                };
+                let part = &mut self.parts[p];
+                part.use_library(&library);
+                if !part.ros2_serde.contains(&rust) {
+                    part.ros2_serde.push(rust);
+                }
+            }
+            for s in node.services.iter().chain(&node.clients) {
                 let Some(module) = modules.iter().find(|m| m.path == s.port.0) else {
                     continue; // the plan reported it
                 };
@@ -500,8 +513,8 @@ impl<'p> Split<'_, 'p> {
                     None => self.problem(
                         module.span,
                         format!(
-                            "the service `{}` of `{}` is offered as a ROS 2 service, but the \
-                             generated code cannot name its request and response types: \
+                            "the service or client `{}` of `{}` is a ROS 2 service end, but \
+                             the generated code cannot name its request and response types: \
                              declare both in its manifest as Rust-named types",
                             s.port.1, s.port.0
                         ),
@@ -511,15 +524,35 @@ impl<'p> Split<'_, 'p> {
         }
     }
 
-    /// The Rust request and response types of the service `name` of `module`.
+    /// The Rust type and library of the library type of a ROS 2 topic's port (module
+    /// path, port name); `None` for a built-in type.
+    fn topic_type(
+        &self,
+        modules: &[PlannedModule],
+        port: &(String, String),
+    ) -> Option<(String, String)> {
+        let module = modules.iter().find(|m| m.path == port.0)?;
+        let (_, ty) = self.libs.module_type(&module.type_name)?;
+        let decl = ty.ports.iter().find(|d| d.name == port.1)?;
+        let PortType::Fixed(t @ Type::Named(id, _)) = &decl.ty else {
+            return None;
+        };
+        let (rust, _) = super::fields::rust_type(self.libs, t)?;
+        let library = &self.libs.get(self.libs.named_type(*id).library).name;
+        text::is_rust_type(&rust).then(|| (rust, library.clone()))
+    }
+
+    /// The Rust request and response types of the service or client `name` of `module`.
     fn service_types(&self, module: &PlannedModule, name: &str) -> Option<(String, String)> {
         let (_, ty) = self.libs.module_type(&module.type_name)?;
-        let decl = ty.services.iter().find(|d| d.name == name)?;
-        let PortType::Fixed(request) = &ty.ports.get(decl.port)?.ty else {
+        let services = ty.services.iter().map(|d| (&d.name, d.port, &d.response));
+        let clients = ty.clients.iter().map(|d| (&d.name, d.port, &d.response));
+        let (_, port, response) = services.chain(clients).find(|(n, _, _)| *n == name)?;
+        let PortType::Fixed(request) = &ty.ports.get(port)?.ty else {
             return None;
         };
         let rust = |t: &Type| super::fields::rust_type(self.libs, t).map(|(r, _)| r);
-        let pair = (rust(request)?, rust(decl.response.as_ref()?)?);
+        let pair = (rust(request)?, rust(response.as_ref()?)?);
         [&pair.0, &pair.1]
             .iter()
             .all(|t| text::is_rust_type(t))

@@ -38,12 +38,14 @@ pub(super) fn node_block(node: Option<&Ros2Node>) -> String {
         node.topics.iter().for_each(|t| topic(&mut code, t));
         code.line(2, "],");
     }
-    if node.services.is_empty() {
-        code.line(2, "services: vec![],");
-    } else {
-        code.line(2, "services: vec![");
-        node.services.iter().for_each(|s| service(&mut code, s));
-        code.line(2, "],");
+    for (list, ends) in [("services", &node.services), ("clients", &node.clients)] {
+        if ends.is_empty() {
+            code.line(2, &format!("{list}: vec![],"));
+        } else {
+            code.line(2, &format!("{list}: vec!["));
+            ends.iter().for_each(|s| service(&mut code, s));
+            code.line(2, "],");
+        }
     }
     code.line(1, "})?;");
     code.text.trim_end_matches('\n').to_string()
@@ -58,7 +60,7 @@ pub(super) fn type_names(node: Option<&Ros2Node>) -> Vec<&'static str> {
     if !node.topics.is_empty() {
         names.extend(["Ros2Qos", "Ros2Topic"]);
     }
-    if !node.services.is_empty() {
+    if !(node.services.is_empty() && node.clients.is_empty()) {
         names.push("Ros2Service");
     }
     // In rustfmt's order.

@@ -475,6 +475,8 @@ fn registrations(part: &Part<'_>) -> Vec<String> {
         .chain(&part.links_in)
         .filter_map(|c| c.link.as_ref()?.rust.as_deref())
         .chain(encodable)
+        // A ROS 2 topic's library type reaches its message through its serde form.
+        .chain(part.ros2_serde.iter().map(String::as_str))
         .collect();
     for rust in values.iter().filter(|r| !crossing.contains(*r)) {
         out.push(format!("registry.register_value::<{rust}>();"));

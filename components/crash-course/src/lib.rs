@@ -18,7 +18,7 @@ mod twist;
 mod visualization;
 
 pub use controller::Controller;
-pub use enable::{Ack, EnableSwitch};
+pub use enable::{Ack, EnableAsk, EnableSwitch};
 pub use noise::AddNoise;
 pub use simulation::MainSimulation;
 pub use twist::{Twist, TwistOut, Vector3};
@@ -51,12 +51,14 @@ pub fn register(registry: &mut Registry) {
         .register::<Controller>()
         .register::<TwistOut>()
         .register::<EnableSwitch>()
+        .register::<EnableAsk>()
         // Its value type, for flexible ports (`ferroc_std.Dump`, `Logger`, `Player`, …)
         // and `--record`: with its serde form, so a recording holds the pose.
         .register_serde::<Pose2D>()
         .register_serde::<Vector3>()
         .register_serde::<Twist>()
         .register_serde::<Ack>()
-        // `EnableSwitch` answers a ROS 2 service, whose calls cross as JSON.
+        // `EnableSwitch` answers a ROS 2 service and `EnableAsk` calls one: their calls
+        // cross as JSON.
         .register_call::<bool, Ack>();
 }

@@ -33,6 +33,9 @@ pub struct Ros2Node {
     /// Its `<service>` ends (absent in plans written before services ran: none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub services: Vec<Ros2Service>,
+    /// Its `<client>` ends: modules' clients calling ROS 2 services (absent: none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub clients: Vec<Ros2Service>,
 }
 
 /// One `<publish>` or `<subscribe>` of a node.
@@ -59,12 +62,13 @@ pub struct Ros2Topic {
     pub qos: Ros2Qos,
 }
 
-/// One `<service>`: a module's service offered as a ROS 2 service.
+/// One `<service>` (a module's service offered as a ROS 2 service) or `<client>` (a
+/// module's client calling a ROS 2 service).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Ros2Service {
-    /// Its number among every service end of the model, in model order.
+    /// Its number among every service and client end of the model, in model order.
     pub id: u32,
-    /// The module's service: module path and service name.
+    /// The module's service or client: module path and its name.
     pub port: (String, String),
     /// The fully qualified service name (`/fragile_bot/set_enabled`).
     pub name: String,
@@ -127,6 +131,7 @@ mod tests {
                 qos: Ros2Qos::default(),
             }],
             services: Vec::new(),
+            clients: Vec::new(),
         }
     }
 

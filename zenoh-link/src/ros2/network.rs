@@ -13,7 +13,7 @@
 //! `tcp/localhost:7447`, multicast scouting off), with `ZENOH_SESSION_CONFIG_URI`'s file
 //! merged over it as rmw_zenoh reads it.
 
-use super::service::{Ros2Server, ServiceSpec};
+use super::service::{Ros2Caller, Ros2Server, ServiceSpec};
 use super::{NodeSpec, Ros2Node, Ros2Publisher, Ros2Subscriber, TopicSpec};
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::{Durability, History, Qos, Reliability};
@@ -41,6 +41,8 @@ pub struct Ros2Ends {
     _subscribers: Vec<Ros2Subscriber>,
     /// Service servers by the link number of their answers.
     servers: BTreeMap<u32, Ros2Server>,
+    /// Service clients by the link number of their requests.
+    callers: BTreeMap<u32, Ros2Caller>,
     _nodes: Vec<Ros2Node>,
     /// In lockstep: what arrived since the last instant.
     arrived: Option<Arc<Arrived>>,
@@ -61,6 +63,7 @@ impl Ros2Ends {
             publishers: BTreeMap::new(),
             _subscribers: Vec::new(),
             servers: BTreeMap::new(),
+            callers: BTreeMap::new(),
             _nodes: Vec::new(),
             arrived,
         };
@@ -77,6 +80,9 @@ impl Ros2Ends {
             }
             for service in &n.services {
                 open.add_server(&node, service, &delivery)?;
+            }
+            for client in &n.clients {
+                open.add_caller(&node, client, &delivery)?;
             }
             next_id = node.next_id();
             open._nodes.push(node);
@@ -130,20 +136,7 @@ impl Ros2Ends {
         s: &ends::Ros2Service,
         delivery: &Delivery,
     ) -> Result<(), String> {
-        let ty = TypeName::parse(&s.service)
-            .filter(|t| t.kind == "srv")
-            .ok_or_else(|| {
-                format!(
-                    "`{}` is not a ROS 2 service type (package/srv/Name) of the service `{}`",
-                    s.service, s.name
-                )
-            })?;
-        let spec = ServiceSpec {
-            name: s.name.clone(),
-            ty,
-            request_field: s.request_field.clone(),
-            response_field: s.response_field.clone(),
-        };
+        let spec = service_spec(s)?;
         let link = ends::request_link(s.id);
         let (arrived, delivery) = (self.arrived.clone(), delivery.clone());
         let server = node.service_server(spec, move |bytes| match &arrived {
@@ -151,6 +144,25 @@ impl Ros2Ends {
             None => delivery.deliver_bytes(link, &bytes),
         })?;
         self.servers.insert(ends::answer_link(s.id), server);
+        Ok(())
+    }
+
+    /// A client of the ROS 2 service `c` for a module's client: its answers go to the
+    /// stand-in service on the answer link (in lockstep at the next instant).
+    fn add_caller(
+        &mut self,
+        node: &Ros2Node,
+        c: &ends::Ros2Service,
+        delivery: &Delivery,
+    ) -> Result<(), String> {
+        let spec = service_spec(c)?;
+        let link = ends::answer_link(c.id);
+        let (arrived, delivery) = (self.arrived.clone(), delivery.clone());
+        let caller = node.service_client(spec, move |bytes| match &arrived {
+            Some(queue) => queue.push(link, bytes, 10),
+            None => delivery.deliver_bytes(link, &bytes),
+        })?;
+        self.callers.insert(ends::request_link(c.id), caller);
         Ok(())
     }
 
@@ -163,6 +175,15 @@ impl Ros2Ends {
     /// frame is not for a ROS 2 topic. A value that does not fit the message is
     /// reported (throttled, naming the topic) and not sent.
     pub fn publish(&self, frame: &Frame) -> bool {
+        if let Some(caller) = self.callers.get(&frame.link) {
+            if let Err(why) = caller.call(&frame.bytes) {
+                console::report(&format!(
+                    "warning: ROS 2 service `{}`: {why}",
+                    caller.spec().name
+                ));
+            }
+            return true;
+        }
         if let Some(server) = self.servers.get(&frame.link) {
             if let Err(why) = server.answer(&frame.bytes) {
                 console::report(&format!(
@@ -192,6 +213,24 @@ impl Ros2Ends {
     pub fn take_arrived(&self) -> Vec<Frame> {
         self.arrived.as_ref().map_or_else(Vec::new, |a| a.take())
     }
+}
+
+/// What the wire needs of a service or client end.
+fn service_spec(s: &ends::Ros2Service) -> Result<ServiceSpec, String> {
+    let ty = TypeName::parse(&s.service)
+        .filter(|t| t.kind == "srv")
+        .ok_or_else(|| {
+            format!(
+                "`{}` is not a ROS 2 service type (package/srv/Name) of the service `{}`",
+                s.service, s.name
+            )
+        })?;
+    Ok(ServiceSpec {
+        name: s.name.clone(),
+        ty,
+        request_field: s.request_field.clone(),
+        response_field: s.response_field.clone(),
+    })
 }
 
 /// The QoS of a topic end on the wire.

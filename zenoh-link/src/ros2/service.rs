@@ -1,4 +1,5 @@
-//! A module's service offered as a ROS 2 service on rmw_zenoh's wire (docs/ros2.md):
+//! A module's service offered as a ROS 2 service, and a module's client calling one, on
+//! rmw_zenoh's wire (docs/ros2.md). A service:
 //! the liveliness token `SS` and a queryable on the service's key
 //! (`<domain>/<name>/<pkg>::srv::dds_::<Name>_/<RIHS01 of the service type>`), as
 //! rmw_zenoh's `ServiceData` declares them (rmw_service_data.cpp).
@@ -12,19 +13,25 @@
 //! reported (throttled, naming the service) and answered with an error reply; at most
 //! [`MAX_WAITING`] requests wait for their answers at once (more are refused), so a
 //! flood of requests cannot grow the part's memory.
+//!
+//! A client (`SC` token, rmw_zenoh's `ClientData`, rmw_client_data.cpp) sends each call
+//! of the module's client as a query on the service's key with the request's CDR and
+//! the client's attachment (its sequence number from 1, the time, its GID); the first
+//! reply's CDR is the answer. A reply that does not decode, an error reply, or none
+//! within 10 s answers the call as failed or timed out.
 
 use super::{token, Ros2Node, TopicSpec};
 use ferroc_ros2::def::TypeName;
-use ferroc_ros2::rmw_zenoh::{Attachment, EntityKind, Qos};
+use ferroc_ros2::rmw_zenoh::{self, Attachment, EntityKind, Qos};
 use ferroc_ros2::{cdr, json, Registry};
 use ferroc_runtime::console;
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use zenoh::liveliness::LivelinessToken;
 use zenoh::query::{Query, Queryable};
-use zenoh::Wait;
+use zenoh::{Session, Wait};
 
 /// Requests waiting for the module's answer at once, at most.
 pub const MAX_WAITING: usize = 64;
@@ -218,4 +225,175 @@ fn now_ns() -> i64 {
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// A ROS 2 service client for a module's client; dropping it ends it.
+pub struct Ros2Caller {
+    shared: Arc<CallerShared>,
+    _token: LivelinessToken,
+}
+
+/// What the calls in flight share.
+struct CallerShared {
+    registry: Arc<Registry>,
+    spec: ServiceSpec,
+    session: Session,
+    key: String,
+    /// The client's GID, which the server echoes in its reply.
+    gid: [u8; 16],
+    sequence: AtomicI64,
+    deliver: Box<dyn Fn(Vec<u8>) + Send + Sync>,
+}
+
+impl Ros2Node {
+    /// A client of `spec` (its token `SC`): each call ([`Ros2Caller::call`]) is a query
+    /// on the service's key; its answer (call number, kind, the response's JSON, as
+    /// `ferroc_link::calls` reads answers) goes to `deliver`.
+    pub fn service_client(
+        &self,
+        spec: ServiceSpec,
+        deliver: impl Fn(Vec<u8>) + Send + Sync + 'static,
+    ) -> Result<Ros2Caller, String> {
+        let as_topic = TopicSpec {
+            topic: spec.name.clone(),
+            ty: spec.ty.clone(),
+            qos: Qos::default(),
+            field: None,
+        };
+        let (key, live, _) = self.keys(&as_topic, EntityKind::ServiceClient)?;
+        let token = token(&self.session, &live, &spec.name)?;
+        Ok(Ros2Caller {
+            shared: Arc::new(CallerShared {
+                registry: Arc::clone(&self.registry),
+                spec,
+                session: self.session.clone(),
+                key,
+                gid: rmw_zenoh::gid_of(&live),
+                sequence: AtomicI64::new(0),
+                deliver: Box::new(deliver),
+            }),
+            _token: token,
+        })
+    }
+}
+
+/// How long a call waits for the server's reply.
+const CALL_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// The kinds of an answer, as `ferroc_link::calls` reads them.
+const ANSWERED: u8 = 0;
+const TIMED_OUT: u8 = 2;
+const FAILED: u8 = 3;
+
+impl Ros2Caller {
+    /// Sends a request frame of the module's client (call number, the request's JSON)
+    /// as a query with rmw_zenoh's attachment. A request that does not fit the request
+    /// message is answered at once as failed, and an error naming the service.
+    pub fn call(&self, bytes: &[u8]) -> Result<(), String> {
+        let shared = &self.shared;
+        let (id, body) = bytes
+            .split_first_chunk::<8>()
+            .ok_or("a request shorter than its number")?;
+        let id = u64::from_le_bytes(*id);
+        let request = match shared.encode(body) {
+            Ok(request) => request,
+            Err(why) => {
+                shared.answer(id, FAILED, &[]);
+                return Err(format!("a request was not sent: {why}"));
+            }
+        };
+        let attachment = Attachment {
+            sequence_number: shared.sequence.fetch_add(1, Ordering::Relaxed) + 1,
+            source_timestamp: now_ns(),
+            gid: shared.gid,
+        };
+        let pending = Pending {
+            shared: Arc::clone(shared),
+            id,
+            answered: AtomicBool::new(false),
+        };
+        shared
+            .session
+            .get(shared.key.clone())
+            .payload(request)
+            .attachment(attachment.encode().to_vec())
+            .timeout(CALL_TIMEOUT)
+            .callback(move |reply| pending.reply(reply))
+            .wait()
+            .map_err(|e| format!("a request was not sent: {e}"))
+    }
+
+    /// The service.
+    pub fn spec(&self) -> &ServiceSpec {
+        &self.shared.spec
+    }
+}
+
+impl CallerShared {
+    /// The request message's CDR from the request's JSON.
+    fn encode(&self, json_text: &[u8]) -> Result<Vec<u8>, String> {
+        let value: serde_json::Value =
+            serde_json::from_slice(json_text).map_err(|e| e.to_string())?;
+        let ty = self.spec.message("Request");
+        let field = self.spec.request_field.as_deref();
+        let message = json::from_json(&self.registry, &ty, field, &value)?;
+        cdr::encode(&self.registry, &ty, &message).map_err(|e| e.to_string())
+    }
+
+    /// The response's JSON from a reply's CDR.
+    fn decode(&self, payload: &[u8]) -> Result<serde_json::Value, String> {
+        let ty = self.spec.message("Response");
+        let value = cdr::decode(&self.registry, &ty, payload).map_err(|e| e.to_string())?;
+        let field = self.spec.response_field.as_deref();
+        json::to_json(&self.registry, &ty, field, &value)
+    }
+
+    fn answer(&self, id: u64, kind: u8, body: &[u8]) {
+        let mut bytes = id.to_le_bytes().to_vec();
+        bytes.push(kind);
+        bytes.extend_from_slice(body);
+        (self.deliver)(bytes);
+    }
+}
+
+/// A call in flight: answered by its first reply, else, when the query ends without
+/// one (no server, or none in time), as timed out.
+struct Pending {
+    shared: Arc<CallerShared>,
+    id: u64,
+    answered: AtomicBool,
+}
+
+impl Pending {
+    fn reply(&self, reply: zenoh::query::Reply) {
+        if self.answered.swap(true, Ordering::Relaxed) {
+            return;
+        }
+        let shared = &self.shared;
+        let decoded = match reply.result() {
+            Ok(sample) => shared.decode(&sample.payload().to_bytes()),
+            Err(e) => Err(format!(
+                "the server refused the request: {}",
+                String::from_utf8_lossy(&e.payload().to_bytes())
+            )),
+        };
+        match decoded {
+            Ok(response) => shared.answer(self.id, ANSWERED, response.to_string().as_bytes()),
+            Err(why) => {
+                shared.answer(self.id, FAILED, &[]);
+                console::report(&format!(
+                    "warning: a reply of the ROS 2 service `{}` was dropped: {why}",
+                    shared.spec.name
+                ));
+            }
+        }
+    }
+}
+
+impl Drop for Pending {
+    fn drop(&mut self) {
+        if !self.answered.swap(true, Ordering::Relaxed) {
+            self.shared.answer(self.id, TIMED_OUT, &[]);
+        }
+    }
 }

@@ -23,9 +23,10 @@ pub(super) fn plan_ros2(
     let mut nodes = Vec::new();
     for node in app.ros2.nodes.iter().filter(|n| !n.is_external()) {
         let Some(part) = node.part else { continue };
-        let mut services = Vec::new();
+        let (mut services, mut clients) = (Vec::new(), Vec::new());
         for s in &node.services {
             match service(app, libs, node, s, next_service) {
+                Ok(planned) if s.role == ServiceRole::Client => clients.push(planned),
                 Ok(planned) => services.push(planned),
                 Err(what) => problems.push(Unsupported { what, span: s.span }),
             }
@@ -46,6 +47,7 @@ pub(super) fn plan_ros2(
             name: node.name.0.clone(),
             topics,
             services,
+            clients,
         });
     }
     nodes
@@ -65,9 +67,9 @@ fn only_field(message: &str, port: &Type) -> Option<String> {
     }
 }
 
-/// One `<service>` of `node`, numbered `id`: the module's service, the service name
-/// expanded as ROS 2 expands it, and the field a single-value request or response
-/// fills. A `<client>` is checked but not run yet.
+/// One `<service>` or `<client>` of `node`, numbered `id`: the module's service or
+/// client, the service name expanded as ROS 2 expands it, and the field a single-value
+/// request or response fills.
 fn service(
     app: &Application,
     libs: &LibrarySet,
@@ -75,13 +77,6 @@ fn service(
     s: &ir::Ros2Service,
     id: u32,
 ) -> Result<Ros2Service, String> {
-    if s.role == ServiceRole::Client {
-        return Err(
-            "calling a ROS 2 service from a module's `<client>` is checked but not \
-                    run yet\n  help: remove the `<client>` from `<ros2>` to run the model"
-                .into(),
-        );
-    }
     let Some((endpoint, _)) = s.port else {
         return Err("the service of this ROS 2 end does not resolve".into());
     };
@@ -93,9 +88,14 @@ fn service(
         .ok_or("the service of this ROS 2 end does not resolve")?;
     let name = expand_topic_name(&s.name.0, &node.name.0, node.namespace())
         .map_err(|why| format!("ROS 2 refuses the service name `{}`: {why}", s.name.0))?;
-    let response = (app.module_type(libs, element))
-        .and_then(|mt| mt.services.iter().find(|d| d.name == view.name))
-        .and_then(|d| d.response.as_ref());
+    let response = app.module_type(libs, element).and_then(|mt| match s.role {
+        ServiceRole::Server => (mt.services.iter())
+            .find(|d| d.name == view.name)
+            .and_then(|d| d.response.as_ref()),
+        ServiceRole::Client => (mt.clients.iter())
+            .find(|d| d.name == view.name)
+            .and_then(|d| d.response.as_ref()),
+    });
     Ok(Ros2Service {
         id,
         port: (app.path(element), view.name.to_string()),

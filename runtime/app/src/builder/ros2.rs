@@ -28,6 +28,9 @@ impl Builder<'_> {
         for service in &node.services {
             self.ros2_serve(service)?;
         }
+        for client in &node.clients {
+            self.ros2_call(client)?;
+        }
         self.remote.ros2.push(node);
         Ok(())
     }
@@ -103,6 +106,24 @@ impl Builder<'_> {
             .connect(handle)
             .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
         self.direct_end(ros2::request_link(service.id), end, &describe)
+    }
+
+    /// The stand-in service the module's client calls: each call goes to the network as
+    /// a request of the ROS 2 service (JSON), the answer comes back on the answer link.
+    fn ros2_call(&mut self, client: &Ros2Service) -> Result<(), BuildError> {
+        let at = (client.port.0.as_str(), client.port.1.as_str());
+        let describe = format!("`{}/{}` → ROS 2 service `{}`", at.0, at.1, client.name);
+        let m = self.module(at.0)?;
+        let handle = super::find(&self.modules[m].clients, at, "client")?;
+        let ends = self.call_ends(handle.types(), &describe)?;
+        let mut route = self.route(ros2::request_link(client.id), "ROS 2");
+        route.json = true;
+        let (service, end) = ends.remote_service(format!("{} (ROS 2)", client.name), route);
+        let handle = super::find(&self.modules[m].clients, at, "client")?;
+        handle
+            .connect(&service)
+            .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
+        self.direct_end(ros2::answer_link(client.id), end, &describe)
     }
 
     /// The value-table entry of a ROS 2 end's port type, which must have a serde form.
