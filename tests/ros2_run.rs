@@ -342,7 +342,7 @@ fn zenoh_ros2_sdk_calls_a_module_s_service_as_a_ros2_service() {
 
 /// A module's client calling a ROS 2 service (`tests/ros2/asker.xml`): zenoh-ros2-sdk's
 /// server (its own service hash and key, and a strict reading of our request's
-/// attachment) gets both requests of `crash_course.EnableAsk` and answers them; the
+/// attachment) gets both kinds of request of `crash_course.EnableAsk` and answers them; the
 /// module publishes each answer's message, which the SDK's subscriber receives.
 #[test]
 fn a_module_s_client_calls_a_zenoh_ros2_sdk_service() {
@@ -368,12 +368,12 @@ fn a_module_s_client_calls_a_zenoh_ros2_sdk_service() {
     let requests: Vec<bool> = (report["requests"].as_array().unwrap().iter())
         .map(|v| v.as_bool().unwrap())
         .collect();
-    assert_eq!(
-        requests.first(),
-        Some(&false),
-        "the first call asks false: {text}"
+    // Calls made before the SDK's server was there time out; the module goes on
+    // alternating, so the server sees both values.
+    assert!(
+        requests.contains(&false) && requests.contains(&true),
+        "{text}"
     );
-    assert!(requests.contains(&true), "{text}");
     let answers: Vec<&str> = (report["answers"].as_array().unwrap().iter())
         .map(|v| v.as_str().unwrap())
         .collect();
