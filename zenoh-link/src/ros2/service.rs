@@ -156,16 +156,14 @@ impl Shared {
 
     /// The request's attachment and its JSON.
     fn decode(&self, query: &Query) -> Result<(Attachment, serde_json::Value), String> {
-        let attachment = (query.attachment())
-            .ok_or("it has no attachment (rmw_zenoh's clients send one with each)")?;
-        let attachment = Attachment::decode(&attachment.to_bytes()).map_err(|e| e.0)?;
-        let payload = query.payload().ok_or("it has no request message")?;
-        let ty = self.spec.message("Request");
-        let value =
-            cdr::decode(&self.registry, &ty, &payload.to_bytes()).map_err(|e| e.to_string())?;
-        let field = self.spec.request_field.as_deref();
-        let request = json::to_json(&self.registry, &ty, field, &value)?;
-        Ok((attachment, request))
+        let attachment = query.attachment().map(|a| a.to_bytes());
+        let payload = query.payload().map(|p| p.to_bytes());
+        read_request(
+            &self.registry,
+            &self.spec,
+            attachment.as_deref(),
+            payload.as_deref(),
+        )
     }
 
     fn answer(&self, bytes: &[u8]) -> Result<(), String> {
@@ -208,13 +206,55 @@ impl Shared {
 
     /// The response message's CDR from the answer's JSON.
     fn encode(&self, json_text: &[u8]) -> Result<Vec<u8>, String> {
-        let value: serde_json::Value =
-            serde_json::from_slice(json_text).map_err(|e| e.to_string())?;
-        let ty = self.spec.message("Response");
         let field = self.spec.response_field.as_deref();
-        let message = json::from_json(&self.registry, &ty, field, &value)?;
-        cdr::encode(&self.registry, &ty, &message).map_err(|e| e.to_string())
+        to_cdr(&self.registry, &self.spec, "Response", field, json_text)
     }
+}
+
+/// A request as the module's service reads it: the client's attachment checked, the
+/// request message decoded, the JSON of the request (or of the field it fills).
+fn read_request(
+    registry: &Registry,
+    spec: &ServiceSpec,
+    attachment: Option<&[u8]>,
+    payload: Option<&[u8]>,
+) -> Result<(Attachment, serde_json::Value), String> {
+    let attachment =
+        attachment.ok_or("it has no attachment (rmw_zenoh's clients send one with each)")?;
+    let attachment = Attachment::decode(attachment).map_err(|e| e.0)?;
+    let payload = payload.ok_or("it has no request message")?;
+    let field = spec.request_field.as_deref();
+    let request = from_cdr(registry, spec, "Request", field, payload)?;
+    Ok((attachment, request))
+}
+
+/// The CDR of the service's `Request` or `Response` message (`which`) from the JSON text
+/// of a request or answer (of the one field `field` when given).
+fn to_cdr(
+    registry: &Registry,
+    spec: &ServiceSpec,
+    which: &str,
+    field: Option<&str>,
+    json_text: &[u8],
+) -> Result<Vec<u8>, String> {
+    let value: serde_json::Value = serde_json::from_slice(json_text).map_err(|e| e.to_string())?;
+    let ty = spec.message(which);
+    let message = json::from_json(registry, &ty, field, &value)?;
+    cdr::encode(registry, &ty, &message).map_err(|e| e.to_string())
+}
+
+/// The JSON of a request or answer (of the one field `field` when given) from the CDR
+/// of the service's `Request` or `Response` message (`which`).
+fn from_cdr(
+    registry: &Registry,
+    spec: &ServiceSpec,
+    which: &str,
+    field: Option<&str>,
+    bytes: &[u8],
+) -> Result<serde_json::Value, String> {
+    let ty = spec.message(which);
+    let value = cdr::decode(registry, &ty, bytes).map_err(|e| e.to_string())?;
+    json::to_json(registry, &ty, field, &value)
 }
 
 fn now_ns() -> i64 {
@@ -332,20 +372,14 @@ impl Ros2Caller {
 impl CallerShared {
     /// The request message's CDR from the request's JSON.
     fn encode(&self, json_text: &[u8]) -> Result<Vec<u8>, String> {
-        let value: serde_json::Value =
-            serde_json::from_slice(json_text).map_err(|e| e.to_string())?;
-        let ty = self.spec.message("Request");
         let field = self.spec.request_field.as_deref();
-        let message = json::from_json(&self.registry, &ty, field, &value)?;
-        cdr::encode(&self.registry, &ty, &message).map_err(|e| e.to_string())
+        to_cdr(&self.registry, &self.spec, "Request", field, json_text)
     }
 
     /// The response's JSON from a reply's CDR.
     fn decode(&self, payload: &[u8]) -> Result<serde_json::Value, String> {
-        let ty = self.spec.message("Response");
-        let value = cdr::decode(&self.registry, &ty, payload).map_err(|e| e.to_string())?;
         let field = self.spec.response_field.as_deref();
-        json::to_json(&self.registry, &ty, field, &value)
+        from_cdr(&self.registry, &self.spec, "Response", field, payload)
     }
 
     fn answer(&self, id: u64, kind: u8, body: &[u8]) {
@@ -395,5 +429,64 @@ impl Drop for Pending {
         if !self.answered.swap(true, Ordering::Relaxed) {
             self.shared.answer(self.id, TIMED_OUT, &[]);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn set_bool() -> ServiceSpec {
+        ServiceSpec {
+            name: "/switch_bot/set_enabled".into(),
+            ty: TypeName::parse("std_srvs/srv/SetBool").unwrap(),
+            request_field: Some("data".into()),
+            response_field: None,
+        }
+    }
+
+    #[test]
+    fn a_bad_request_is_an_error_naming_what_is_wrong_never_a_panic() {
+        let reg = Registry::shipped();
+        let spec = set_bool();
+        let asked = Attachment {
+            sequence_number: 7,
+            source_timestamp: 0,
+            gid: [9; 16],
+        }
+        .encode();
+        // SetBool_Request { data: true }: the encapsulation header, then one byte.
+        let request = to_cdr(&reg, &spec, "Request", Some("data"), b"true").unwrap();
+        assert_eq!(request, [&cdr::HEADER[..], &[1]].concat());
+        let (attachment, json) = read_request(&reg, &spec, Some(&asked), Some(&request)).unwrap();
+        assert_eq!(
+            (attachment.sequence_number, json),
+            (7, serde_json::json!(true))
+        );
+        let short = read_request(&reg, &spec, Some(&asked[..20]), Some(&request)).unwrap_err();
+        assert!(short.contains("attachment has 20 bytes"), "{short}");
+        let none = read_request(&reg, &spec, None, Some(&request)).unwrap_err();
+        assert!(none.contains("no attachment"), "{none}");
+        let empty = read_request(&reg, &spec, Some(&asked), None).unwrap_err();
+        assert!(empty.contains("no request"), "{empty}");
+        for n in 0..request.len() {
+            assert!(read_request(&reg, &spec, Some(&asked), Some(&request[..n])).is_err());
+        }
+    }
+
+    #[test]
+    fn an_answer_crosses_as_the_response_message_and_a_wrong_one_is_refused() {
+        let reg = Registry::shipped();
+        let spec = set_bool();
+        let answer = br#"{"success":true,"message":"disabled"}"#;
+        let bytes = to_cdr(&reg, &spec, "Response", None, answer).unwrap();
+        let back = from_cdr(&reg, &spec, "Response", None, &bytes).unwrap();
+        assert_eq!(
+            back,
+            serde_json::json!({"success": true, "message": "disabled"})
+        );
+        assert!(to_cdr(&reg, &spec, "Response", None, br#"{"success":"yes"}"#).is_err());
+        assert!(to_cdr(&reg, &spec, "Response", None, b"not json").is_err());
+        assert!(from_cdr(&reg, &spec, "Response", None, &bytes[..5]).is_err());
     }
 }
