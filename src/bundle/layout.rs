@@ -10,7 +10,6 @@ use ferroc_compiler::plan::{
 use ferroc_compiler::source::Span;
 use ferroc_compiler::types::Type;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 
 use super::text;
 
@@ -67,6 +66,13 @@ impl Part<'_> {
             && self.calls_in.is_empty())
     }
 
+    /// Whether its program serves inspection (`PROGRAM --inspect`, on Zenoh): always
+    /// where it links Zenoh anyway, else only when bundled with `--inspect`
+    /// (`inspect_all`), so that a part talking to no other links no Zenoh.
+    pub fn is_inspected(&self, inspect_all: bool) -> bool {
+        inspect_all || self.is_linked()
+    }
+
     /// Adds the library `name` to those the part depends on, once.
     fn use_library(&mut self, name: &str) {
         if !self.libraries.iter().any(|l| l == name) {
@@ -87,8 +93,6 @@ pub struct Library {
     /// `rust-crate="PACKAGE@VERSION"`: the crate comes from the registry in this
     /// version, whatever `--deps` says.
     pub registry: Option<String>,
-    /// The manifest file (None for libraries built into ferroc).
-    pub manifest: Option<PathBuf>,
 }
 
 /// What gets bundled.
@@ -566,7 +570,6 @@ impl<'p> Split<'_, 'p> {
             package,
             version: lib.version.clone().filter(|v| text::is_version(v)),
             registry,
-            manifest: (!lib.path.as_os_str().is_empty()).then(|| lib.path.clone()),
         })
     }
 }

@@ -33,6 +33,8 @@ pub struct Context<'a> {
     pub parts: &'a [(String, String)],
     /// The periods of every periodic container of the application.
     pub periods: &'a [Duration],
+    /// `ferroc bundle --inspect`: every part serves inspection (`Part::is_inspected`).
+    pub inspect_all: bool,
     /// `file:line:col` of a span, relative to the model's folder.
     pub at: &'a dyn Fn(Span) -> String,
 }
@@ -51,8 +53,13 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     let name_of = |path: &str| consts.get(path).cloned().unwrap_or_else(|| rust_str(path));
     let (modules, uses) = module_blocks(part, cx, &name_of);
     let link_calls = lines(|code| super::links::calls(code, part, cx.at, &name_of));
+    let inspected = part.is_inspected(cx.inspect_all);
     MainRs {
-        inspection: inspection_tables(part, cx, &name_of),
+        inspection: if inspected {
+            inspection_tables(part, cx, &name_of)
+        } else {
+            String::new()
+        },
         package: &part.package,
         part: &part.name,
         application: cx.application,
@@ -88,6 +95,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         uses_param: uses.param,
         uses_queue: uses.queue,
         linked: part.is_linked(),
+        inspected,
     }
     .to_string()
 }
@@ -332,6 +340,8 @@ struct MainRs<'a> {
     uses_queue: bool,
     /// Whether the part talks to others (over Zenoh, `ferroc-zenoh`).
     linked: bool,
+    /// Whether the program serves inspection (`ferroc-inspect`).
+    inspected: bool,
 }
 
 /// One `builder.add_module` of `build()`.

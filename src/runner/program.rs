@@ -108,7 +108,11 @@ pub fn ensure(crates: &[LibraryCrate], kind: Kind, verbose: bool) -> Result<Path
     // Before cargo: a crate linking another ferroc-runtime would fail with cargo's
     // lockfile collision, which does not say what to do.
     let runtime = source.join("runtime");
-    let conflicts = super::checkout::conflicts(crates, &runtime.canonicalize().unwrap_or(runtime));
+    let conflicts = super::checkout::conflicts(
+        crates,
+        &runtime.canonicalize().unwrap_or(runtime),
+        super::checkout::Linker::Runner,
+    );
     if !conflicts.is_empty() {
         for c in &conflicts {
             eprintln!("{c}");
