@@ -185,6 +185,51 @@ fn a_bundle_part_talking_to_no_other_links_zenoh_only_when_bundled_with_inspect(
     );
 }
 
+/// ferroc's profile tables for single crates (`[profile.release.package.NAME]`) are
+/// for crates of Zenoh's graph: runners copy them whole (cargo's warning about one a
+/// runner does not link is hidden), and a bundle keeps them only when a program links
+/// Zenoh (src/bundle/files.rs), so that building a bundle warns about nothing.
+#[test]
+fn profile_tables_of_single_crates_are_zenoh_s_and_bundles_keep_them_only_with_zenoh() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).unwrap();
+    let tables: Vec<&str> = (manifest.lines())
+        .filter_map(|l| l.strip_prefix("[profile.release.package."))
+        .map(|rest| rest.trim_end_matches(']').trim_matches('"'))
+        .filter(|name| *name != "*")
+        .collect();
+    assert!(!tables.is_empty(), "no table read from Cargo.toml");
+    let zenoh = resolve(&root.join("Cargo.toml"), Some("ferroc-inspect"));
+    for name in &tables {
+        assert!(
+            zenoh.keys().any(|(_, n, _)| n == name),
+            "[profile.release.package.{name}] names no crate of Zenoh's graph: bundles without Zenoh would get it (src/bundle/files.rs, bundle_profiles)"
+        );
+    }
+    let dir = tempdir("runner_crates_profiles");
+    for (model, with_zenoh) in [
+        ("models/crash_course.xml", false),
+        ("models/rescue_robot.xml", true),
+    ] {
+        let out = dir.join(if with_zenoh { "rescue" } else { "alone" });
+        let (code, _, err) = ferroc(&["bundle", model, "-o", out.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        let bundle = std::fs::read_to_string(out.join("Cargo.toml")).unwrap();
+        assert!(
+            bundle.contains("[profile.release]\ndebug = false\n"),
+            "{bundle}"
+        );
+        for name in &tables {
+            let table = format!("[profile.release.package.{name}]");
+            assert_eq!(
+                bundle.contains(&table),
+                with_zenoh,
+                "{model}: {table}\n{bundle}"
+            );
+        }
+    }
+}
+
 /// The install compiles no ICU4X (about 25 crates, ~20 s of CPU in release): the
 /// language server's `url` takes IDNA from unicode-rs (`idna_adapter` 1.1, chosen in
 /// Cargo.lock as that crate documents) and miette's `textwrap` breaks lines with
