@@ -11,7 +11,8 @@
 # Each step prints one line:  RESULT step wall_s cpu_s crates disk_mb
 # (cpu_s: user + system time of every process of the step; crates: cargo's `Compiling`
 # lines; disk_mb: what the step added on disk, in the folders it builds in), and every
-# step but the install a `# STEP compiled: ...` line naming those crates. Run it on an
+# step but the install a `# STEP compiled: ...` line naming those crates, and every step
+# a `# STEP load: ...` line (the load average at its end). Run it on an
 # idle machine: it is not part of the test suite and takes a quarter of an hour or more.
 #
 # Options:
@@ -91,6 +92,8 @@ measure() {
     after="$(disk_mb "${dirs[@]}")"
     printf 'RESULT %s %s %s %s %s\n' "$step" "$wall" "$(awk "BEGIN { printf \"%.1f\", $user + $sys }")" \
         "$crates" "$((after - before))"
+    # The machine's load at the step's end: wall times are comparable only when idle.
+    echo "# $step load: $(cut -d' ' -f1-3 /proc/loadavg)"
     # Which crates, in cargo's order (the install's list is long: not shown).
     if [ "$step" != install ] && [ "$crates" != 0 ]; then
         echo "# $step compiled: $(sed -nE 's/^\s*Compiling ([^ ]+) .*/\1/p' "$log" | tr '\n' ' ')"

@@ -1,11 +1,13 @@
 //! A bundle's part program serves inspection (`--inspect ADDR`): `ferroc inspect` reads
 //! a live value from it and changes a parameter with the token it printed; a change
 //! without the token, or in a unit the program cannot convert, is refused. The model
-//! is `tests/fixtures/inspect.xml` (a constant, scaled by the parameter `factor`).
+//! is `tests/fixtures/inspect.xml` (a constant, scaled by the parameter `factor`), one
+//! part talking to no other: bundled with `--inspect`, without which its program links
+//! no Zenoh and refuses `--inspect` with the help to bundle again.
 
 mod common;
 
-use common::{build_bundle, bundle_ok, ferroc, tempdir};
+use common::{build_bundle, ferroc, tempdir};
 use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
@@ -55,10 +57,16 @@ fn eventually(address: &str, path: &str, want: f64) {
 fn a_bundled_part_program_is_inspected_and_changed_with_its_token() {
     let dir = tempdir("bundle_inspect");
     let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/inspect.xml");
-    bundle_ok(&model, &dir.join("bundle"));
-    let bin = build_bundle(&dir.join("bundle"))
-        .join("debug")
-        .join("inspected-robot");
+    let out = dir.join("bundle");
+    let (code, _, err) = ferroc(&[
+        "bundle",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--inspect",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let bin = build_bundle(&out).join("debug").join("inspected-robot");
 
     // A non-local address needs --inspect-public: refused before anything runs.
     let refused = Command::new(&bin)
@@ -147,4 +155,40 @@ fn a_bundled_part_program_is_inspected_and_changed_with_its_token() {
         "{err}"
     );
     eventually(&address, "robot/main/scaled/output", 20.0);
+}
+
+#[test]
+fn a_part_bundled_without_inspection_refuses_inspect_with_the_way_to_get_it() {
+    let dir = tempdir("bundle_uninspected");
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/inspect.xml");
+    let out = dir.join("bundle");
+    let (code, _, err) = ferroc(&[
+        "bundle",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let bin = build_bundle(&out).join("debug").join("inspected-robot");
+    let refused = Command::new(&bin)
+        .args(["--inspect", "--cycles", "1"])
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        err.contains("error: --inspect: inspected-robot was bundled without inspection")
+            && err.contains("help: bundle the model again with `ferroc bundle --inspect`"),
+        "{err}"
+    );
+    // Without --inspect it runs as before.
+    let ran = Command::new(&bin)
+        .args(["--cycles", "2", "-q"])
+        .output()
+        .unwrap();
+    assert!(
+        ran.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
 }

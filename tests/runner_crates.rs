@@ -141,6 +141,126 @@ fn a_bundle_part_links_no_compiler_and_no_http_stack() {
     }
 }
 
+/// A part that talks to no other links no Zenoh (its program's crates are then about
+/// 60, not about 260): inspection, served on Zenoh, is compiled into it only with
+/// `ferroc bundle --inspect`. A linked part serves inspection anyway (Zenoh is there).
+#[test]
+fn a_bundle_part_talking_to_no_other_links_zenoh_only_when_bundled_with_inspect() {
+    let dir = tempdir("runner_crates_bundle_alone");
+    let bundle = |out: &str, extra: &[&str]| {
+        let out = dir.join(out);
+        let mut args = vec![
+            "bundle",
+            "models/crash_course.xml",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let (code, _, err) = ferroc(&args);
+        assert_eq!(code, 0, "{err}");
+        crates_of(&out.join("Cargo.toml"))
+    };
+    let alone = bundle("plain", &[]);
+    assert_lean(&alone, "the part of the crash course");
+    assert!(!alone.contains("ferroc-inspect"), "{alone:?}");
+    assert!(alone.len() < 100, "{} crates: {alone:?}", alone.len());
+
+    let inspected = bundle("inspected", &["--inspect"]);
+    assert!(inspected.contains("ferroc-inspect"), "{inspected:?}");
+    assert!(inspected.contains("zenoh"), "{inspected:?}");
+    assert!(!inspected.contains("axum"), "{inspected:?}");
+
+    let out = dir.join("rescue");
+    let (code, _, err) = ferroc(&[
+        "bundle",
+        "models/rescue_robot.xml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let manifest = std::fs::read_to_string(out.join("parts/robot/Cargo.toml")).unwrap();
+    assert!(
+        manifest.contains("ferroc-inspect.workspace = true"),
+        "{manifest}"
+    );
+}
+
+/// ferroc's profile tables for single crates (`[profile.release.package.NAME]`) are
+/// for crates of Zenoh's graph: runners copy them whole (cargo's warning about one a
+/// runner does not link is hidden), and a bundle keeps them only when a program links
+/// Zenoh (src/bundle/files.rs), so that building a bundle warns about nothing.
+#[test]
+fn profile_tables_of_single_crates_are_zenoh_s_and_bundles_keep_them_only_with_zenoh() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).unwrap();
+    let tables: Vec<&str> = (manifest.lines())
+        .filter_map(|l| l.strip_prefix("[profile.release.package."))
+        .map(|rest| rest.trim_end_matches(']').trim_matches('"'))
+        .filter(|name| *name != "*")
+        .collect();
+    assert!(!tables.is_empty(), "no table read from Cargo.toml");
+    let zenoh = resolve(&root.join("Cargo.toml"), Some("ferroc-inspect"));
+    for name in &tables {
+        assert!(
+            zenoh.keys().any(|(_, n, _)| n == name),
+            "[profile.release.package.{name}] names no crate of Zenoh's graph: bundles without Zenoh would get it (src/bundle/files.rs, bundle_profiles)"
+        );
+    }
+    let dir = tempdir("runner_crates_profiles");
+    for (model, with_zenoh) in [
+        ("models/crash_course.xml", false),
+        ("models/rescue_robot.xml", true),
+    ] {
+        let out = dir.join(if with_zenoh { "rescue" } else { "alone" });
+        let (code, _, err) = ferroc(&["bundle", model, "-o", out.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        let bundle = std::fs::read_to_string(out.join("Cargo.toml")).unwrap();
+        assert!(
+            bundle.contains("[profile.release]\ndebug = false\n"),
+            "{bundle}"
+        );
+        for name in &tables {
+            let table = format!("[profile.release.package.{name}]");
+            assert_eq!(
+                bundle.contains(&table),
+                with_zenoh,
+                "{model}: {table}\n{bundle}"
+            );
+        }
+    }
+}
+
+/// The install compiles no ICU4X (about 25 crates, ~20 s of CPU in release): the
+/// language server's `url` takes IDNA from unicode-rs (`idna_adapter` 1.1, chosen in
+/// Cargo.lock as that crate documents) and miette's `textwrap` breaks lines with
+/// `unicode-linebreak` (0.16.2; 0.16.3 and later use ICU4X). A `cargo update` that
+/// brings them back fails here with the command that pins them again.
+#[test]
+fn the_install_compiles_no_icu4x() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let install = resolve(&root.join("Cargo.toml"), Some("ferroc"));
+    let icu: BTreeSet<&str> = (install.keys())
+        .filter(|(_, name, _)| name.starts_with("icu_") || name.starts_with("zerovec"))
+        .map(|(_, name, _)| name.as_str())
+        .collect();
+    assert!(
+        icu.is_empty(),
+        "the install compiles ICU4X again: {icu:?}\n  help: cargo update -p idna_adapter --precise 1.1.0 && cargo update -p textwrap --precise 0.16.2 (or find which crate asks for it: cargo tree -p ferroc -i icu_provider)"
+    );
+    for (name, version) in [("idna_adapter", "1.1.0"), ("textwrap", "0.16.2")] {
+        assert!(
+            install
+                .keys()
+                .any(|(_, n, v)| n == name && *v == format!("v{version}")),
+            "{name} is not {version} (Cargo.lock): {:?}",
+            install
+                .keys()
+                .filter(|(_, n, _)| n == name)
+                .collect::<Vec<_>>()
+        );
+    }
+}
+
 /// The first `ferroc run` after `cargo install --locked --path .` compiles only the
 /// workspace's crates and the runner (issue 26): every registry crate of a runner (plain
 /// and inspecting) is resolved with the features the install compiled it with, on the

@@ -1,7 +1,8 @@
 //! Where the runner takes a library's crate and the runtime from: a crate named by
 //! version (`rust-crate="PACKAGE@VERSION"`, fetched by cargo; offline here, so the
 //! fetch fails and must be reported at the manifest), and a crate depending on another
-//! copy of `ferroc-runtime` (refused before cargo, naming both places and the fixes).
+//! copy of `ferroc-runtime` (refused before cargo, naming both places and the fixes;
+//! by `ferroc run` and by `ferroc bundle`).
 
 mod common;
 
@@ -135,13 +136,14 @@ fn a_crate_named_by_version_is_fetched_by_cargo_and_a_failed_fetch_points_at_the
     );
 }
 
-#[test]
-fn a_crate_on_another_runtime_is_refused_before_cargo_with_both_places_and_the_fixes() {
-    let dir = tempdir("runner_other_runtime");
-    // Another "checkout": a runtime and a host crate of its own.
+/// Another "checkout" in `dir/other`: a runtime and a host crate of its own, and the
+/// folders a bundle depends on by path (their crates are not built here).
+fn other_checkout(dir: &Path) -> PathBuf {
     let other = dir.join("other");
     std::fs::create_dir_all(other.join("runtime/src")).unwrap();
-    std::fs::create_dir_all(other.join("host")).unwrap();
+    for folder in ["host", "inspect", "components/ferroc-std"] {
+        std::fs::create_dir_all(other.join(folder)).unwrap();
+    }
     std::fs::write(
         other.join("runtime/Cargo.toml"),
         "[package]\nname = \"ferroc-runtime\"\nversion = \"0.1.0\"\nedition = \"2021\"\n",
@@ -153,6 +155,92 @@ fn a_crate_on_another_runtime_is_refused_before_cargo_with_both_places_and_the_f
         "[package]\nname = \"ferroc-host\"\n",
     )
     .unwrap();
+    other
+}
+
+/// `ferroc bundle beeper.xml -o bundle` in `dir` (an earlier bundle removed first),
+/// with FERROC_SOURCE set to `source` if given.
+fn bundle_in(dir: &Path, source: Option<&Path>) -> (i32, String) {
+    let _ = std::fs::remove_dir_all(dir.join("bundle"));
+    let mut ferroc = Command::new(env!("CARGO_BIN_EXE_ferroc"));
+    ferroc
+        .args(["bundle", "beeper.xml", "-o", "bundle"])
+        .current_dir(dir)
+        .env_remove("FERROC_SOURCE");
+    if let Some(source) = source {
+        ferroc.env("FERROC_SOURCE", source);
+    }
+    let out = ferroc.output().expect("ferroc runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_bundle_of_a_crate_on_another_runtime_is_refused_before_anything_is_written() {
+    let dir = tempdir("bundle_other_runtime");
+    let other = other_checkout(&dir);
+    // As `ferroc new library` of another checkout writes it: the crate next to its
+    // manifest, on that checkout's runtime. Cargo would stop building the bundle with
+    // "package collision in the lockfile" (two ferroc-runtime by path).
+    let lib = dir.join("lib");
+    write_crate(&lib, "{ path = \"../other/runtime\" }");
+    let (code, err) = bundle_in(&lib, None);
+    assert_eq!(code, 1, "{err}");
+    let ours = Path::new(env!("CARGO_MANIFEST_DIR")).join("runtime");
+    let ours = ours.canonicalize().unwrap();
+    let theirs = other.join("runtime").canonicalize().unwrap();
+    assert!(
+        err.contains(&format!(
+            "beep.lib.xml:1:16: error: the crate `beep-lib` of library `beep` depends on the ferroc-runtime at {}, but the bundle's programs link the ferroc-runtime of this ferroc's sources, {}",
+            theirs.display(),
+            ours.display()
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "ferroc-runtime = {{ path = \"{}\" }}",
+            ours.display()
+        )),
+        "{err}"
+    );
+    let other = other.canonicalize().unwrap();
+    assert!(
+        err.contains(&format!(
+            "or bundle with the ferroc of that checkout (`cargo install --path {0}`), or make the bundle depend on its sources: FERROC_SOURCE={0} ferroc bundle",
+            other.display()
+        )),
+        "{err}"
+    );
+    assert!(!lib.join("bundle").exists(), "nothing written");
+
+    // What the help says: with FERROC_SOURCE at that checkout, the bundle depends on
+    // its runtime, and the crate is bundled.
+    let (code, err) = bundle_in(&lib, Some(&other));
+    assert_eq!(code, 0, "{err}");
+    let workspace = std::fs::read_to_string(lib.join("bundle/Cargo.toml")).unwrap();
+    assert!(
+        workspace.contains("ferroc-runtime = { path = \"../../other/runtime\" }"),
+        "{workspace}"
+    );
+
+    // The silent case: a crate on this ferroc's runtime, next to its manifest, is bundled.
+    write_crate(&lib, &format!("{{ path = {:?} }}", ours.to_str().unwrap()));
+    let (code, err) = bundle_in(&lib, None);
+    assert_eq!(code, 0, "{err}");
+    let workspace = std::fs::read_to_string(lib.join("bundle/Cargo.toml")).unwrap();
+    assert!(
+        workspace.contains("beep-lib = { path = \"..\" }"),
+        "{workspace}"
+    );
+}
+
+#[test]
+fn a_crate_on_another_runtime_is_refused_before_cargo_with_both_places_and_the_fixes() {
+    let dir = tempdir("runner_other_runtime");
+    let other = other_checkout(&dir);
     let lib = dir.join("lib");
     write_crate(&lib, "{ path = \"../other/runtime\" }");
     let (code, err) = run_in(&lib);

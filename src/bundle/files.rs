@@ -31,6 +31,8 @@ struct WorkspaceToml<'a> {
     application: &'a str,
     parts: Vec<&'a str>,
     deps: &'a [Dependency],
+    /// ferroc's `[profile.*]` tables (`runner::program::profiles_for`).
+    profiles: String,
 }
 
 /// The `Cargo.toml` of one part's package (template `part.toml`).
@@ -51,8 +53,21 @@ pub fn workspace_toml(layout: &Layout<'_>, deps: &[Dependency], tool_version: &s
         application: &layout.application,
         parts: layout.parts.iter().map(|p| p.name.as_str()).collect(),
         deps,
+        profiles: bundle_profiles(deps),
     }
     .to_string()
+}
+
+/// ferroc's own `[profile.*]` tables, so that a bundle compiles every crate as the
+/// install and the runners do. The tables of single crates are Zenoh's (held by
+/// tests/runner_crates.rs): kept only when a program links Zenoh (`ferroc-zenoh` or
+/// `ferroc-inspect`), else cargo would warn that they match nothing.
+fn bundle_profiles(deps: &[Dependency]) -> String {
+    let zenoh = (deps.iter()).any(|d| d.package == "ferroc-zenoh" || d.package == "ferroc-inspect");
+    let manifest = crate::runner::program::workspace_manifest();
+    crate::runner::program::profiles_for(&manifest, zenoh)
+        .trim()
+        .to_string()
 }
 
 /// The `Cargo.toml` of one part's package.

@@ -11,7 +11,6 @@ use ferroc_compiler::plan::{
 use ferroc_compiler::source::Span;
 use ferroc_compiler::types::Type;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 
 use super::text;
 
@@ -78,6 +77,13 @@ impl Part<'_> {
         self.is_linked() || self.ros2.is_some()
     }
 
+    /// Whether its program serves inspection (`PROGRAM --inspect`, on Zenoh): always
+    /// where it links Zenoh anyway (linked, or a ROS 2 node), else only when bundled
+    /// with `--inspect` (`inspect_all`), so that a part talking to nobody links no Zenoh.
+    pub fn is_inspected(&self, inspect_all: bool) -> bool {
+        inspect_all || self.uses_zenoh()
+    }
+
     /// Adds the library `name` to those the part depends on, once.
     fn use_library(&mut self, name: &str) {
         if !self.libraries.iter().any(|l| l == name) {
@@ -98,8 +104,6 @@ pub struct Library {
     /// `rust-crate="PACKAGE@VERSION"`: the crate comes from the registry in this
     /// version, whatever `--deps` says.
     pub registry: Option<String>,
-    /// The manifest file (None for libraries built into ferroc).
-    pub manifest: Option<PathBuf>,
 }
 
 /// What gets bundled.
@@ -655,7 +659,6 @@ impl<'p> Split<'_, 'p> {
             package,
             version: lib.version.clone().filter(|v| text::is_version(v)),
             registry,
-            manifest: (!lib.path.as_os_str().is_empty()).then(|| lib.path.clone()),
         })
     }
 }

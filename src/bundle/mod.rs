@@ -25,6 +25,8 @@ mod rust;
 pub(crate) mod sha256;
 pub(crate) mod text;
 
+use crate::runner::checkout;
+use crate::runner::crates::{self, LibraryCrate};
 use ferroc_compiler::plan;
 use ferroc_compiler::source::{SourceMap, Span};
 use files::{Dependency, Source};
@@ -32,8 +34,6 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 const TOOL_VERSION: &str = env!("CARGO_PKG_VERSION");
-/// The checkout this ferroc was built from: the runtime and component crates live here.
-const CHECKOUT: &str = env!("CARGO_MANIFEST_DIR");
 
 #[derive(clap::Args)]
 pub struct BundleArgs {
@@ -54,6 +54,10 @@ pub struct BundleArgs {
     /// Where the systemd units expect the installed binaries: PREFIX/bin [default: /opt/APPLICATION]
     #[arg(long, value_name = "PREFIX")]
     prefix: Option<String>,
+    /// Serve inspection (`PROGRAM --inspect`) in every part's program; parts linked to
+    /// others serve it anyway (it runs on their Zenoh), the others link no Zenoh without it
+    #[arg(long)]
+    inspect: bool,
     /// Extra folders searched for `NAME.lib.xml` manifests (also FERROC_LIB_PATH)
     #[arg(long, value_name = "DIR")]
     lib_path: Vec<PathBuf>,
@@ -65,6 +69,12 @@ enum Deps {
     Path,
     /// By version, from a registry (the library manifests' `rust-crate` and `version`)
     Version,
+}
+
+/// Each message on its own line(s); exit code 1.
+fn report(messages: &[String]) -> ExitCode {
+    messages.iter().for_each(|m| eprintln!("{m}"));
+    ExitCode::from(1)
 }
 
 fn usage_error(message: &str) -> ExitCode {
@@ -102,11 +112,21 @@ pub fn run(args: BundleArgs) -> ExitCode {
         .prefix
         .clone()
         .unwrap_or_else(|| format!("/opt/{}", layout.application));
+    // Before anything is written: a bundle cargo cannot build is not made.
+    let found = match path_crates(&layout, &result, args.deps) {
+        Ok(found) => found,
+        Err(problems) => return report(&problems),
+    };
+    let conflicts = one_runtime(&found);
+    if !conflicts.is_empty() {
+        return report(&conflicts);
+    }
     let root = match out::prepare_dir(&args.output, args.force) {
         Ok(r) => r,
         Err(e) => return usage_error(&e),
     };
-    let deps = match dependencies(&layout, args.deps, &root).and_then(|d| no_clash(&layout, d)) {
+    let deps = dependencies(&layout, &args, &root, &found);
+    let deps = match deps.and_then(|d| no_clash(&layout, d)) {
         Ok(d) => d,
         Err(e) => {
             eprintln!("error: {e}");
@@ -299,10 +319,12 @@ const STD_PACKAGE: &str = "ferroc-std";
 /// The runtime and the component crates the parts use, by path or by version.
 fn dependencies(
     layout: &layout::Layout<'_>,
-    deps: Deps,
+    args: &BundleArgs,
     root: &Path,
+    found: &PathCrates,
 ) -> Result<Vec<Dependency>, String> {
-    let checkout = Path::new(CHECKOUT);
+    let deps = args.deps;
+    let checkout = sources();
     let ours = |package: &str, folder: &str, what: &str| -> Result<Dependency, String> {
         Ok(Dependency {
             package: package.into(),
@@ -313,8 +335,10 @@ fn dependencies(
         })
     };
     let mut out = vec![ours("ferroc-runtime", "runtime", "the runtime")?];
-    // Every program serves inspection on request (`--inspect`, docs/inspect.md).
-    out.push(ours("ferroc-inspect", "inspect", "the inspection server")?);
+    // Programs that serve inspection on request (`--inspect`, docs/inspect.md).
+    if layout.parts.iter().any(|p| p.is_inspected(args.inspect)) {
+        out.push(ours("ferroc-inspect", "inspect", "the inspection server")?);
+    }
     // Programs of linked parts and of ROS 2 nodes talk over Zenoh (only when some
     // part needs it).
     if layout.parts.iter().any(|p| p.uses_zenoh()) {
@@ -323,7 +347,7 @@ fn dependencies(
     for lib in layout.libraries.values() {
         out.push(Dependency {
             package: lib.package.clone(),
-            source: library_source(lib, deps, root)?,
+            source: library_source(lib, deps, root, found)?,
         });
     }
     // Every program can record (`--record`) with the standard library's recorders.
@@ -349,9 +373,13 @@ fn by_path(root: &Path, dir: PathBuf, what: &str) -> Result<Source, String> {
 }
 
 /// Where a library's crate comes from: the registry for `rust-crate="PACKAGE@VERSION"`
-/// whatever `--deps` says; else by its version, or by path next to its manifest or
-/// among the checkout's components.
-fn library_source(lib: &layout::Library, deps: Deps, root: &Path) -> Result<Source, String> {
+/// whatever `--deps` says; else by its version, or by path where `found` has it.
+fn library_source(
+    lib: &layout::Library,
+    deps: Deps,
+    root: &Path,
+    found: &PathCrates,
+) -> Result<Source, String> {
     if let Some(version) = &lib.registry {
         return Ok(Source::Version(version.clone()));
     }
@@ -360,23 +388,63 @@ fn library_source(lib: &layout::Library, deps: Deps, root: &Path) -> Result<Sour
             format!("the library `{}` declares no version: --deps version needs <library version=\"x.y.z\">", lib.name)
         })?)),
         Deps::Path => {
-            let mut candidates: Vec<PathBuf> = Vec::new();
-            if let Some(dir) = lib.manifest.as_ref().and_then(|m| m.parent()) {
-                candidates.push(dir.join(&lib.package));
-            }
-            candidates.push(Path::new(CHECKOUT).join("components").join(&lib.package));
-            let found = candidates.iter().find(|c| c.join("Cargo.toml").is_file());
-            match found {
-                Some(dir) => by_path(root, dir.clone(), &lib.name),
-                None => Err(format!(
-                    "the crate `{}` of library `{}` was not found (looked in {}); build it there, or use --deps version",
-                    lib.package,
-                    lib.name,
-                    candidates.iter().map(|c| c.display().to_string()).collect::<Vec<_>>().join(", ")
-                )),
-            }
+            let c = found.get(&lib.name).ok_or_else(|| {
+                format!("the crate of library `{}` was not looked for", lib.name)
+            })?;
+            by_path(root, c.dir.clone(), &lib.name)
         }
     }
+}
+
+/// The crates of the libraries taken by path, by library name.
+type PathCrates = std::collections::BTreeMap<String, LibraryCrate>;
+
+/// With `--deps path`, the crates of the parts' libraries not named by version, found
+/// as `ferroc run` finds them (`runner::crates`: the manifest's folder, a folder named
+/// after the package next to it, or ferroc's components); one message per library
+/// whose crate is not found.
+fn path_crates(
+    layout: &layout::Layout<'_>,
+    result: &ferroc_compiler::CheckResult,
+    deps: Deps,
+) -> Result<PathCrates, Vec<String>> {
+    let libs = &result.libraries;
+    let mut found = PathCrates::new();
+    let mut problems = Vec::new();
+    let by_path = layout.libraries.values().filter(|l| l.registry.is_none());
+    for lib in by_path.filter(|_| deps == Deps::Path) {
+        let Some(&id) = libs.by_name.get(&lib.name) else {
+            continue;
+        };
+        match crates::find(libs.get(id), &result.sources) {
+            Ok(c) => {
+                found.insert(lib.name.clone(), c);
+            }
+            Err(e) => problems.push(e),
+        }
+    }
+    if problems.is_empty() {
+        Ok(found)
+    } else {
+        Err(problems)
+    }
+}
+
+/// ferroc's sources, whose runtime and components a bundle depends on by path: as for
+/// `ferroc run`, `FERROC_SOURCE` if set, else the checkout this ferroc was built from.
+fn sources() -> PathBuf {
+    crate::runner::source_dir()
+}
+
+/// One message per crate of `found` that depends on another `ferroc-runtime` than the
+/// bundle's (another checkout's, or the registry's): cargo would stop with "package
+/// collision in the lockfile", which says neither what is wrong nor what to do
+/// (`runner::checkout`, shared with `ferroc run`).
+fn one_runtime(found: &PathCrates) -> Vec<String> {
+    let crates: Vec<LibraryCrate> = found.values().cloned().collect();
+    let runtime = sources().join("runtime");
+    let runtime = runtime.canonicalize().unwrap_or(runtime);
+    checkout::conflicts(&crates, &runtime, checkout::Linker::Bundle)
 }
 
 /// Every file of the bundle, in memory.
@@ -402,11 +470,11 @@ fn generate(
     )?;
     if args.deps == Deps::Path {
         // The versions this checkout is built and tested with.
-        if let Ok(lock) = std::fs::read(Path::new(CHECKOUT).join("Cargo.lock")) {
+        if let Ok(lock) = std::fs::read(sources().join("Cargo.lock")) {
             files.add("Cargo.lock", lock)?;
         }
     }
-    add_parts(&mut files, layout, deps, names, prefix)?;
+    add_parts(&mut files, layout, deps, names, prefix, args.inspect)?;
     let mut hosts: Vec<&str> = layout.parts.iter().map(|p| p.host.as_str()).collect();
     hosts.sort();
     hosts.dedup();
@@ -446,6 +514,7 @@ fn add_parts(
     deps: &[Dependency],
     names: &Names<'_>,
     prefix: &str,
+    inspect_all: bool,
 ) -> Result<(), String> {
     let at = |span: Span| names.at(span);
     let addresses: Vec<(String, String)> = (layout.parts.iter())
@@ -458,13 +527,14 @@ fn add_parts(
         periods: &layout.periods,
         model_file: &names.model_file,
         tool_version: TOOL_VERSION,
+        inspect_all,
         at: &at,
     };
     for (i, part) in layout.parts.iter().enumerate() {
         let zenoh = deps.iter().find(|d| d.package == "ferroc-zenoh");
         let inspect = deps.iter().find(|d| d.package == "ferroc-inspect");
         let mut part_deps: Vec<&Dependency> = std::iter::once(&deps[0])
-            .chain(inspect)
+            .chain(inspect.filter(|_| part.is_inspected(inspect_all)))
             .chain(zenoh.filter(|_| part.uses_zenoh()))
             .chain(part.libraries.iter().filter_map(|l| {
                 let package = &layout.libraries.get(l)?.package;

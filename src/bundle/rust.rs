@@ -33,6 +33,8 @@ pub struct Context<'a> {
     pub parts: &'a [(String, String)],
     /// The periods of every periodic container of the application.
     pub periods: &'a [Duration],
+    /// `ferroc bundle --inspect`: every part serves inspection (`Part::is_inspected`).
+    pub inspect_all: bool,
     /// `file:line:col` of a span, relative to the model's folder.
     pub at: &'a dyn Fn(Span) -> String,
 }
@@ -51,8 +53,13 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
     let name_of = |path: &str| consts.get(path).cloned().unwrap_or_else(|| rust_str(path));
     let (modules, uses) = module_blocks(part, cx, &name_of);
     let link_calls = lines(|code| super::links::calls(code, part, cx.at, &name_of));
+    let inspected = part.is_inspected(cx.inspect_all);
     MainRs {
-        inspection: inspection_tables(part, cx, &name_of),
+        inspection: if inspected {
+            inspection_tables(part, cx, &name_of)
+        } else {
+            String::new()
+        },
         package: &part.package,
         part: &part.name,
         application: cx.application,
@@ -90,6 +97,7 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         linked: part.is_linked(),
         ros2_node: super::ros2::node_block(part.ros2),
         ros2_only: part.ros2.is_some() && !part.is_linked(),
+        inspected,
     }
     .to_string()
 }
@@ -340,6 +348,8 @@ struct MainRs<'a> {
     ros2_node: String,
     /// A ROS 2 node without links to other parts: its network is the node's alone.
     ros2_only: bool,
+    /// Whether the program serves inspection (`ferroc-inspect`).
+    inspected: bool,
 }
 
 /// One `builder.add_module` of `build()`.

@@ -260,7 +260,17 @@ fn status_word(plain: &str) -> Option<&str> {
 }
 
 fn is_status(text: &str) -> bool {
-    status_word(&strip_ansi(text)).is_some()
+    let plain = strip_ansi(text);
+    status_word(&plain).is_some() || is_unmatched_profile(&plain)
+}
+
+/// cargo's warning about a `[profile.*.package.NAME]` table for a crate the runner does
+/// not link: the runner copies ferroc's profile tables whole (`program::profiles`), and
+/// those for crates only other runner kinds link (Zenoh's, for the plain runner) are
+/// expected to match nothing; not the user's to act on (shown with `-v`).
+fn is_unmatched_profile(plain: &str) -> bool {
+    plain.starts_with("warning: profile package spec `")
+        && plain.contains("did not match any packages")
 }
 
 /// Writes the record of a successful build next to the runner's package.
@@ -366,7 +376,16 @@ mod tests {
             "error: could not compile `beep` (lib) due to 1 previous error",
         ] {
             assert_eq!(status_word(other), None, "{other}");
+            assert!(!is_status(other), "{other}");
         }
+        // Profile tables of crates this runner does not link: hidden (shown with -v);
+        // a warning about the user's code is not.
+        assert!(is_status(
+            "\x1b[1m\x1b[33mwarning\x1b[0m: profile package spec `zenoh-config` in profile `release` did not match any packages"
+        ));
+        assert!(!is_status(
+            "warning: profile package spec is what `beep` calls its spec"
+        ));
     }
 
     #[test]

@@ -1,9 +1,11 @@
-//! One `ferroc-runtime` per runner: the runner links the host crate of ferroc's
-//! sources, and with it their `ferroc-runtime`. A library crate depending on another
-//! copy (a path into another checkout, or a version from a registry) cannot be linked
-//! with it: cargo would stop with a lockfile collision or with type errors between
-//! the two copies. Found before building, from `cargo metadata --no-deps` of each
-//! library crate, and reported at the manifest with both places and the fixes.
+//! One `ferroc-runtime` per program: a runner links the host crate of ferroc's sources,
+//! and with it their `ferroc-runtime`; a bundle's parts depend on that same runtime
+//! (`ferroc bundle --deps path`). A library crate depending on another copy (a path
+//! into another checkout, or a version from a registry) cannot be linked with it: cargo
+//! would stop with a lockfile collision ("package collision in the lockfile") or with
+//! type errors between the two copies. Found before building, from `cargo metadata
+//! --no-deps` of each library crate, and reported at the manifest with both places and
+//! the fixes.
 
 use super::crates::LibraryCrate;
 use std::path::{Path, PathBuf};
@@ -18,16 +20,26 @@ pub enum Other {
     Registry(String),
 }
 
+/// What links the library crates with ferroc's runtime: named in the message, with
+/// its own way of using the other checkout instead.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Linker {
+    /// `ferroc run`'s runner.
+    Runner,
+    /// The programs of `ferroc bundle`.
+    Bundle,
+}
+
 /// One message per library crate whose `ferroc-runtime` is not `runtime` (the folder
 /// of ferroc's own, canonical). Crates cargo cannot describe are left to the build.
-pub fn conflicts(crates: &[LibraryCrate], runtime: &Path) -> Vec<String> {
+pub fn conflicts(crates: &[LibraryCrate], runtime: &Path, linker: Linker) -> Vec<String> {
     let mut out = Vec::new();
     for c in crates.iter().filter(|c| c.version.is_none()) {
         let Some(metadata) = metadata(&c.dir) else {
             continue;
         };
         if let Some(other) = other_runtime(&metadata, &c.package, runtime) {
-            out.push(message(c, &other, runtime));
+            out.push(message(c, &other, runtime, linker));
         }
     }
     out
@@ -76,7 +88,7 @@ pub fn other_runtime(metadata: &serde_json::Value, package: &str, runtime: &Path
     Some(Other::Registry(req.to_owned()))
 }
 
-fn message(c: &LibraryCrate, other: &Other, runtime: &Path) -> String {
+fn message(c: &LibraryCrate, other: &Other, runtime: &Path, linker: Linker) -> String {
     let theirs = match other {
         Other::Path(path) => format!("the ferroc-runtime at {}", path.display()),
         Other::Registry(req) => format!("ferroc-runtime {req} from the registry"),
@@ -87,8 +99,12 @@ fn message(c: &LibraryCrate, other: &Other, runtime: &Path) -> String {
             .filter(|p| p.join("host/Cargo.toml").is_file()),
         Other::Registry(_) => None,
     };
+    let who = match linker {
+        Linker::Runner => "the runner links",
+        Linker::Bundle => "the bundle's programs link",
+    };
     let mut text = format!(
-        "{}: error: the crate `{}` of library `{}` depends on {theirs}, but the runner links the ferroc-runtime of this ferroc's sources, {}: one program cannot link both\n  \
+        "{}: error: the crate `{}` of library `{}` depends on {theirs}, but {who} the ferroc-runtime of this ferroc's sources, {}: one program cannot link both\n  \
          = crate: {}\n  \
          help: in {}, depend on ferroc's: ferroc-runtime = {{ path = \"{}\" }}",
         c.manifest_at,
@@ -100,10 +116,12 @@ fn message(c: &LibraryCrate, other: &Other, runtime: &Path) -> String {
         runtime.display()
     );
     if let Some(checkout) = checkout {
-        text.push_str(&format!(
-            "\n  help: or run the ferroc of that checkout (`cargo install --path {0}`), or build the runner from its sources: FERROC_SOURCE={0}",
-            checkout.display()
-        ));
+        let help = match linker {
+            Linker::Runner => "or run the ferroc of that checkout (`cargo install --path {0}`), or build the runner from its sources: FERROC_SOURCE={0}",
+            Linker::Bundle => "or bundle with the ferroc of that checkout (`cargo install --path {0}`), or make the bundle depend on its sources: FERROC_SOURCE={0} ferroc bundle …",
+        };
+        text.push_str("\n  help: ");
+        text.push_str(&help.replace("{0}", &checkout.display().to_string()));
     }
     text
 }

@@ -108,7 +108,11 @@ pub fn ensure(crates: &[LibraryCrate], kind: Kind, verbose: bool) -> Result<Path
     // Before cargo: a crate linking another ferroc-runtime would fail with cargo's
     // lockfile collision, which does not say what to do.
     let runtime = source.join("runtime");
-    let conflicts = super::checkout::conflicts(crates, &runtime.canonicalize().unwrap_or(runtime));
+    let conflicts = super::checkout::conflicts(
+        crates,
+        &runtime.canonicalize().unwrap_or(runtime),
+        super::checkout::Linker::Runner,
+    );
     if !conflicts.is_empty() {
         for c in &conflicts {
             eprintln!("{c}");
@@ -356,7 +360,7 @@ fn stale_input(
 
 /// ferroc's workspace manifest: the checkout's at run time (what `cargo install` there
 /// uses), else the one ferroc was built from.
-fn workspace_manifest() -> String {
+pub fn workspace_manifest() -> String {
     std::fs::read_to_string(source_dir().join("Cargo.toml"))
         .unwrap_or_else(|_| include_str!("../../Cargo.toml").to_string())
 }
@@ -365,12 +369,20 @@ fn workspace_manifest() -> String {
 /// lines, a blank line before each table): the runner takes the workspace's
 /// so that both compile every shared crate alike and one reuses the other's output.
 pub fn profiles(manifest: &str) -> String {
+    profiles_for(manifest, true)
+}
+
+/// [`profiles`], without the tables of single crates (`[profile.*.package.NAME]`, not
+/// `"*"`) unless `packages`: a build that does not link such a crate gets cargo's
+/// warning that the table matches nothing.
+pub fn profiles_for(manifest: &str, packages: bool) -> String {
     let mut out = String::new();
     let mut inside = false;
     for line in manifest.lines() {
         let trimmed = line.trim_start();
         if trimmed.starts_with('[') {
-            inside = trimmed.starts_with("[profile.");
+            let one_crate = trimmed.contains(".package.") && !trimmed.contains(".package.\"*\"]");
+            inside = trimmed.starts_with("[profile.") && (packages || !one_crate);
             if inside {
                 out.push('\n');
             }

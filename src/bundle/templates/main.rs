@@ -11,8 +11,10 @@
 const PART: &str = {{ part|rust_str }};
 const PROGRAM: &str = {{ package|rust_str }};
 const ABOUT: &str = {{ about|rust_str }};
+{%- if inspected %}
 /// The application: the first chunk of its Zenoh keys after `ferroc/`.
 const APPLICATION: &str = {{ application|rust_str }};
+{%- endif %}
 /// The model's run seed (`<application seed>`), taken when `--seed` gives none.
 const SEED: Option<u64> = {{ seed|safe }};
 {{ links|safe -}}
@@ -28,20 +30,33 @@ const {{ name }}: &str = {{ path|rust_str }};
 /// connection (module, port, model type, thread container).
 {{ recordable|safe }}
 
+{%- if inspected %}
+
 /// For `--inspect`: the connections inside this part (writer, output, reader, input),
 /// so an input answers its writer's value, and where the model declares each module.
 {{ inspection|safe }}
+{%- endif %}
 
 fn main() -> ExitCode {
     let args = match Args::from_env(PROGRAM, ABOUT) {
         Ok(args) => args,
         Err(code) => return code,
     };
+{%- if inspected %}
     // `--inspect ADDR`: a non-local address needs `--inspect-public` (before anything starts).
     if let Err(e) = ferroc_inspect::program::check(&args) {
         ferroc_runtime::console::stderr_line(format_args!("error: {e}"));
         return ExitCode::from(2);
     }
+{%- else %}
+    // Bundled without inspection: it is served on Zenoh, which this part does not link.
+    if args.inspect.is_some() {
+        ferroc_runtime::console::stderr_line(format_args!(
+            "error: --inspect: {PROGRAM} was bundled without inspection (its part talks to no other part, so it links no Zenoh, on which inspection is served)\n  help: bundle the model again with `ferroc bundle --inspect`"
+        ));
+        return ExitCode::from(2);
+    }
+{%- endif %}
     // Ctrl-C and SIGTERM stop every thread container after its current cycle.
     let interrupted = Arc::new(AtomicBool::new(false));
     let flag = interrupted.clone();
@@ -94,6 +109,7 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
     };
+{%- if inspected %}
     // `--inspect`: served until the program ends (dropping the server stops it).
     let served = catalogue.map(|c| {
         let model = (CONNECTIONS, SOURCES);
@@ -106,6 +122,9 @@ fn main() -> ExitCode {
         }
         served => served,
     };
+{%- else %}
+    debug_assert!(catalogue.is_none(), "--inspect was refused above");
+{%- endif %}
     supervise::supervise(app, &interrupted, &args.options())
 }
 
