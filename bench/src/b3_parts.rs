@@ -177,10 +177,12 @@ struct Reports {
     missed: u64,
     latencies: Vec<u64>,
     done: usize,
+    /// The consumers that reported.
+    from: Vec<usize>,
 }
 
 impl Reports {
-    fn read(&mut self, line: &str) -> Result<(), String> {
+    fn read(&mut self, consumer: usize, line: &str) -> Result<(), String> {
         if let Some(seen) = line.strip_prefix("SEEN ") {
             let value = |key: &str| {
                 seen.split_whitespace()
@@ -194,6 +196,7 @@ impl Reports {
             self.latencies
                 .extend(lat.split_whitespace().filter_map(|n| n.parse::<u64>().ok()));
             self.done += 1;
+            self.from.push(consumer);
         }
         Ok(())
     }
@@ -248,8 +251,10 @@ fn measure(
             (0, l) if l == "START" => start = Some(sample(&pids)),
             (0, l) if l == "END" => end = Some(sample(&pids)),
             (0, l) if l == "EXIT" => return Err("the producer ended early".into()),
-            (_, l) if l == "EXIT" => return Err("a consumer ended without its report".into()),
-            (_, l) => reports.read(&l)?,
+            (i, l) if l == "EXIT" && !reports.from.contains(&i) => {
+                return Err(format!("consumer c{i} ended without its report"))
+            }
+            (i, l) => reports.read(i, &l)?,
         }
     }
     let (Some(start), Some(end)) = (start, end) else {

@@ -18,6 +18,7 @@ mod connect;
 mod group;
 mod module;
 mod ros2;
+mod shm;
 mod timing;
 mod tree;
 
@@ -128,6 +129,7 @@ fn empty_application(loader: &Loader<'_>, root: &Element) -> Application {
         timing: Timing::default(),
         cut_off: HashSet::new(),
         ros2: Ros2::default(),
+        shared_memory: HashMap::new(),
         ib2c_violations: root.value("ib2c-violations").map(str::to_string),
         seed: root.value("seed").and_then(|s| s.parse().ok()),
     }
