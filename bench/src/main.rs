@@ -50,7 +50,7 @@ IDs:
         as many subscriber programs, in the same run: fps of each consumer, CPU % of
         all programs, RSS of each (and growth over the window), p50/p99 latency from
         publish to the consumer's step; one RESULT line per configuration
-          --frames N      measured frames per configuration (default 500, +100
+          --frames N      measured frames per configuration (default 500, +50
                           warm-up; 10000 to see memory stay flat)
           --consumers L   consumer counts (default 1,7,15)
           --variants L    of ferroc-shm, ferroc-net, zenoh-shm (default all three)
