@@ -21,7 +21,8 @@
 //! process reads every program's CPU time (`utime + stime` of `/proc/PID/stat`) and
 //! resident memory (`VmRSS` of `/proc/PID/status`): CPU % of all programs together
 //! (100 % = one core), each program's RSS at the window's end and how much it grew
-//! over the window (`--frames 10000` for "memory flat").
+//! over the window, in all and in private pages (`RssAnon`; `--frames 10000` for
+//! "memory flat").
 
 mod roles;
 
@@ -56,16 +57,21 @@ struct Figures {
     cpu_pct: f64,
     /// MiB at the window's end: producer, then each consumer.
     rss: Vec<f64>,
-    /// MiB grown over the window, same order.
+    /// MiB grown over the window, same order: all resident pages, and the private
+    /// ones (`RssAnon`: a leak grows these; shared memory a program touches for the
+    /// first time grows only the first).
     growth: Vec<f64>,
+    anon_growth: Vec<f64>,
     latencies: Vec<u64>,
 }
 
-/// One reading of every program: CPU ticks in total, each one's RSS in KiB.
+/// One reading of every program: CPU ticks in total, each one's `VmRSS` and
+/// `RssAnon` in KiB.
 struct Sample {
     at: Instant,
     ticks: u64,
     rss_kib: Vec<u64>,
+    anon_kib: Vec<u64>,
 }
 
 fn sample(pids: &[u32]) -> Sample {
@@ -77,18 +83,19 @@ fn sample(pids: &[u32]) -> Sample {
         let field = |i: usize| fields.get(i).and_then(|f| f.parse::<u64>().ok());
         field(11).unwrap_or(0) + field(12).unwrap_or(0)
     };
-    let rss = |status: String| -> u64 {
-        let line = status.lines().find(|l| l.starts_with("VmRSS:"));
+    let kib = |status: &str, key: &str| -> u64 {
+        let line = status.lines().find(|l| l.starts_with(key));
         let kib = line.and_then(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok());
         kib.unwrap_or(0)
     };
+    let status: Vec<String> = (pids.iter())
+        .map(|&p| read(p, "status").unwrap_or_default())
+        .collect();
     Sample {
         at: Instant::now(),
         ticks: pids.iter().map(|&p| read(p, "stat").map_or(0, ticks)).sum(),
-        rss_kib: pids
-            .iter()
-            .map(|&p| read(p, "status").map_or(0, rss))
-            .collect(),
+        rss_kib: status.iter().map(|s| kib(s, "VmRSS:")).collect(),
+        anon_kib: status.iter().map(|s| kib(s, "RssAnon:")).collect(),
     }
 }
 
@@ -272,9 +279,9 @@ fn measure(
     let end = end.unwrap_or_else(|| sample(&pids));
     let wall = end.at.duration_since(start.at).as_secs_f64().max(1e-9);
     let mib = |kib: u64| kib as f64 / 1024.0;
-    let growth = (start.rss_kib.iter().zip(&end.rss_kib))
-        .map(|(a, b)| mib(*b) - mib(*a))
-        .collect();
+    let grown = |a: &[u64], b: &[u64]| -> Vec<f64> {
+        a.iter().zip(b).map(|(a, b)| mib(*b) - mib(*a)).collect()
+    };
     Ok(Figures {
         variant,
         consumers,
@@ -283,7 +290,8 @@ fn measure(
         producer_fps: published as f64 / wall,
         cpu_pct: (end.ticks - start.ticks) as f64 / clock_ticks() / wall * 100.0,
         rss: end.rss_kib.iter().map(|k| mib(*k)).collect(),
-        growth,
+        growth: grown(&start.rss_kib, &end.rss_kib),
+        anon_growth: grown(&start.anon_kib, &end.anon_kib),
         latencies: reports.latencies,
     })
 }
@@ -294,7 +302,9 @@ fn report(f: Figures) -> (f64, f64) {
     let fps_mean = f.fps.iter().sum::<f64>() / n;
     let fps_min = f.fps.iter().copied().fold(f64::INFINITY, f64::min);
     let rss_consumer = f.rss[1..].iter().copied().fold(0.0, f64::max);
-    let growth_max = f.growth.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // Consumers only (the producer's figures are its own).
+    let max = |v: &[f64]| v[1..].iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let (growth_max, anon_max) = (max(&f.growth), max(&f.anon_growth));
     let samples = f.latencies.len();
     let (p50, p99, _) = if samples == 0 {
         (f64::NAN, f64::NAN, f64::NAN)
@@ -305,20 +315,22 @@ fn report(f: Figures) -> (f64, f64) {
     println!(
         "b3-parts {variant:<10} consumers={consumers:>2}  fps mean {fps_mean:5.2} min \
          {fps_min:5.2}  missed {}  producer {:5.2} fps  cpu {:6.1} %  RSS producer {:5.1} \
-         MiB, consumer max {rss_consumer:5.1} MiB, growth max {growth_max:+.1} MiB  latency \
-         p50 {p50:8.1} p99 {p99:8.1} µs (n={samples})",
+         MiB, consumer max {rss_consumer:5.1} MiB, consumer growth max {growth_max:+.1} MiB \
+         (private {anon_max:+.1})  latency p50 {p50:8.1} p99 {p99:8.1} µs (n={samples})",
         f.missed, f.producer_fps, f.cpu_pct, f.rss[0]
     );
     println!(
         "RESULT b3-parts variant={} consumers={consumers} fps_mean={fps_mean:.2} \
          fps_min={fps_min:.2} missed={} producer_fps={:.2} cpu_pct={:.1} \
          rss_producer_mib={:.1} rss_consumer_max_mib={rss_consumer:.1} \
-         rss_growth_max_mib={growth_max:.2} p50_us={p50:.1} p99_us={p99:.1}",
+         rss_growth_max_mib={growth_max:.2} anon_growth_max_mib={anon_max:.2} \
+         rss_growth_producer_mib={:.2} p50_us={p50:.1} p99_us={p99:.1}",
         variant.replace('-', "_"),
         f.missed,
         f.producer_fps,
         f.cpu_pct,
         f.rss[0],
+        f.growth[0],
     );
     let _ = std::io::stdout().flush();
     (f.cpu_pct, p50)

@@ -180,6 +180,7 @@ fn b3_parts_short_run_prints_a_result_line_per_configuration() {
                 "rss_producer_mib",
                 "rss_consumer_max_mib",
                 "rss_growth_max_mib",
+                "anon_growth_max_mib",
                 "p50_us",
                 "p99_us",
             ],
