@@ -238,3 +238,39 @@ fn a_parameter_set_from_another_program() {
         "scaled speed: in/0 = 10",
     );
 }
+
+/// `<part shared-memory…>` reaches the part's program: its `SHARED_MEMORY` constant,
+/// given to `Zenoh::with_model`; a part without the attributes keeps every default.
+#[test]
+fn a_parts_shared_memory_settings_reach_its_program() {
+    let dir = tempdir("bundle_links_shared_memory");
+    let model = copy_model("rescue_robot", &dir);
+    let text = std::fs::read_to_string(&model).unwrap().replace(
+        "<part name=\"robot\" host=\"robot-pc\">",
+        "<part name=\"robot\" host=\"robot-pc\" shared-memory-pool=\"128 MiB\" \
+         shared-memory-threshold=\"16 KiB\">",
+    );
+    std::fs::write(&model, text).unwrap();
+    bundle_ok(&model, &dir.join("b"));
+    let read = |part: &str| {
+        std::fs::read_to_string(dir.join(format!("b/parts/{part}/src/main.rs"))).unwrap()
+    };
+    let (robot, station) = (read("robot"), read("station"));
+    for text in [&robot, &station] {
+        let call = text.split("Zenoh::with_model(").nth(1).unwrap_or_default();
+        assert!(
+            call.split(')').take(2).any(|a| a.contains("SHARED_MEMORY")),
+            "the network is made with the model's settings:\n{text}"
+        );
+    }
+    for line in [
+        "enabled: None,",
+        "threshold: Some(16384),",
+        "pool: Some(134217728),",
+    ] {
+        assert!(robot.contains(line), "{line} missing in\n{robot}");
+    }
+    for line in ["enabled: None,", "threshold: None,", "pool: None,"] {
+        assert!(station.contains(line), "{line} missing in\n{station}");
+    }
+}

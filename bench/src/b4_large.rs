@@ -68,7 +68,7 @@ fn fill(data: &mut [u8], seq: u64) {
     data[..8].copy_from_slice(&mono_ns().to_le_bytes());
 }
 
-fn stamp_of(data: &[u8]) -> Option<u64> {
+pub(crate) fn stamp_of(data: &[u8]) -> Option<u64> {
     data.first_chunk::<8>().map(|b| u64::from_le_bytes(*b))
 }
 
@@ -147,7 +147,7 @@ fn registry() -> Registry {
 }
 
 /// The `--zenoh-config` of a variant: shared memory off for `…-net`.
-fn config_of(variant: &str) -> Result<Option<PathBuf>, String> {
+pub(crate) fn config_of(variant: &str) -> Result<Option<PathBuf>, String> {
     if !variant.ends_with("-net") {
         return Ok(None);
     }

@@ -7,6 +7,7 @@
 mod b1;
 mod b2;
 mod b3;
+mod b3_parts;
 mod b4;
 mod b4_large;
 mod b4_parts;
@@ -43,6 +44,16 @@ IDs:
           --seconds S     measured seconds per configuration (default 5)
           --rounds R      runs per configuration, interleaved (default 2; each
                           run adds 0.5 s warm-up; 6 configurations)
+  b3-parts  image fan-out between part programs: the b3 producer (1920x1080 RGB
+        ferroc_std.Image at 50 fps) in one program, 1 / 7 / 15 consumers each in its
+        own; ferroc with and without shared memory and a bare Zenoh SHM publisher with
+        as many subscriber programs, in the same run: fps of each consumer, CPU % of
+        all programs, RSS of each (and growth over the window), p50/p99 latency from
+        publish to the consumer's step; one RESULT line per configuration
+          --frames N      measured frames per configuration (default 500, +50
+                          warm-up; 10000 to see memory stay flat)
+          --consumers L   consumer counts (default 1,7,15)
+          --variants L    of ferroc-shm, ferroc-net, zenoh-shm (default all three)
   b4    latency in one process: 64-byte messages, publish -> a data-triggered
         container sees them; p50/p99/max against std::sync::mpsc, with the copy
         ports, the container without ports and plain threads (Wakeup wait with and
@@ -83,7 +94,8 @@ b1 runs the `ferroc` binary next to its own executable (target/release/ferroc) a
 builds it first when it is missing or older than the benchmark. Models and logs go to
 target/bench-models/. Always use --release: debug figures are meaningless.
 
-Each benchmark ends with one line `RESULT <id> key=value ...`.
+Each benchmark ends with one line `RESULT <id> key=value ...` (b3-parts: one per
+configuration).
 Exit codes: 0 done, 1 a benchmark failed, 2 usage error or not implemented.";
 
 /// Benchmarks that exist in the design but not here yet, with what they measure.
@@ -103,6 +115,8 @@ fn main() -> ExitCode {
         "b1" => no_options("b1", &args[1..]).unwrap_or_else(|| ExitCode::from(b1::run())),
         "b2" => ExitCode::from(b2::run(&args[1..])),
         "b3" => ExitCode::from(b3::run(&args[1..])),
+        "b3-parts" => ExitCode::from(b3_parts::run(&args[1..])),
+        b3_parts::CHILD_ARG => ExitCode::from(b3_parts::child(&args[1..])),
         "b4" => ExitCode::from(b4::run(&args[1..])),
         "b4-parts" => ExitCode::from(b4_parts::run(&args[1..])),
         b4_parts::CHILD_ARG => ExitCode::from(b4_parts::child(&args[1..])),

@@ -143,3 +143,59 @@ fn b4_large_short_run_prints_every_size_and_variant() {
     let bad = bench(&["b4-large", "--rounds", "0"]);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+#[test]
+fn b3_parts_short_run_prints_a_result_line_per_configuration() {
+    let out = bench(&["b3-parts", "--frames", "5", "--consumers", "1,2"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "exit {:?}\nstdout:\n{stdout}\nstderr:\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let results: Vec<&str> = (stdout.lines())
+        .filter(|l| l.starts_with("RESULT b3-parts "))
+        .collect();
+    assert_eq!(
+        results.len(),
+        6,
+        "2 consumer counts x 3 variants:\n{stdout}"
+    );
+    for (i, line) in results.iter().enumerate() {
+        let kv: Vec<(String, String)> = (line.split_whitespace().skip(2))
+            .map(|w| {
+                let (k, v) = w.split_once('=').expect("key=value");
+                (k.to_string(), v.to_string())
+            })
+            .collect();
+        has_keys(
+            &kv,
+            &[
+                "variant",
+                "consumers",
+                "fps_mean",
+                "fps_min",
+                "cpu_pct",
+                "rss_producer_mib",
+                "rss_consumer_max_mib",
+                "rss_growth_max_mib",
+                "anon_growth_max_mib",
+                "p50_us",
+                "p99_us",
+            ],
+        );
+        let consumers = if i < 3 { "1" } else { "2" };
+        assert!(
+            kv.contains(&("consumers".into(), consumers.into())),
+            "{line}"
+        );
+    }
+    for bad in [
+        &["b3-parts", "--consumers", "0"][..],
+        &["b3-parts", "--variants", "ferroc-udp"],
+        &["b3-parts", "--frames", "1"],
+    ] {
+        assert_eq!(bench(bad).status.code(), Some(2), "{bad:?}");
+    }
+}

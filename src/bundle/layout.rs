@@ -2,7 +2,7 @@
 //! every name validated before anything is generated from it.
 
 use ferroc_compiler::checks::deployment::x102_invalid_host_label::valid_host;
-use ferroc_compiler::ir::{Application, ElementKind};
+use ferroc_compiler::ir::{Application, ElementId, ElementKind, SharedMemory};
 use ferroc_compiler::library::module_type::PortType;
 use ferroc_compiler::library::LibrarySet;
 use ferroc_compiler::plan::{
@@ -34,6 +34,8 @@ pub struct Part<'p> {
     /// Where it listens for the parts that send to it: `host:port`, the port being
     /// [`BASE_PORT`] plus its position in the model.
     pub address: String,
+    /// `<part shared-memory…>`: what its links to parts on the same computer use.
+    pub shared_memory: SharedMemory,
     pub calls: Vec<&'p PlannedCall>,
     /// Calls to and from other parts: this part's client calls / service answers.
     pub calls_out: Vec<&'p PlannedCall>,
@@ -210,7 +212,7 @@ impl<'p> Split<'_, 'p> {
     /// and address.
     fn add_parts(&mut self) {
         let app = self.app;
-        for e in &app.elements {
+        for (id, e) in app.elements.iter().enumerate() {
             let ElementKind::Part { host } = &e.kind else {
                 continue;
             };
@@ -234,6 +236,9 @@ impl<'p> Split<'_, 'p> {
                 name: e.name.clone(),
                 address: format!("{host}:{port}"),
                 host,
+                shared_memory: (u32::try_from(id).ok())
+                    .and_then(|id| app.shared_memory.get(&ElementId(id)).copied())
+                    .unwrap_or_default(),
                 ..Part::default()
             });
         }

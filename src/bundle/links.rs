@@ -7,6 +7,7 @@ use super::code::{Code, LIST_WIDTH, MAX_WIDTH};
 use super::layout::Part;
 use super::literals::{call, duration, float};
 use super::text::{comment, rust_str};
+use ferroc_compiler::ir::SharedMemory;
 use ferroc_compiler::plan::{Part as ValuePart, PlannedCall, PlannedConnection, PlannedLink};
 use ferroc_runtime::link::Sharing;
 use std::time::Duration;
@@ -61,6 +62,27 @@ pub fn constants(out: &mut Code, parts: &[(String, String)], periods: &[Duration
     );
     let periods: Vec<String> = periods.iter().map(|p| duration(*p)).collect();
     out.list(0, "const PERIODS: &[Duration] = &[", &periods, "];");
+}
+
+/// `SHARED_MEMORY`: the part's `<part shared-memory…>` settings, which `main` gives
+/// its Zenoh network (a `--zenoh-config` file that sets the same key wins).
+pub fn shared_memory(out: &mut Code, settings: &SharedMemory) {
+    let option = |v: Option<String>| v.map_or_else(|| "None".to_string(), |v| format!("Some({v})"));
+    out.blank();
+    out.line(
+        0,
+        "/// `<part shared-memory…>` of the model (docs/zenoh.md); `--zenoh-config` wins.",
+    );
+    out.line(0, "const SHARED_MEMORY: ModelShm = ModelShm {");
+    let fields = [
+        ("enabled", settings.enabled.map(|b| b.to_string())),
+        ("threshold", settings.threshold.map(|b| b.to_string())),
+        ("pool", settings.pool.map(|b| b.to_string())),
+    ];
+    for (name, value) in fields {
+        out.line(1, &format!("{name}: {},", option(value)));
+    }
+    out.line(0, "};");
 }
 
 fn constant_name(link: &PlannedLink) -> String {

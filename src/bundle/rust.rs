@@ -273,6 +273,9 @@ fn part_uses(part: &Part<'_>, modules: &ModuleUses) -> Uses {
 /// `PARTS`, `PERIODS` and the `LinkSpec`/`CallSpec` constants of the part's links.
 fn link_constants(code: &mut Code, part: &Part<'_>, cx: &Context<'_>) {
     super::links::constants(code, cx.parts, cx.periods, part.is_linked());
+    if part.is_linked() {
+        super::links::shared_memory(code, &part.shared_memory);
+    }
     super::links::specs(code, part);
     super::links::call_specs(code, part);
 }
@@ -572,6 +575,7 @@ fn imports(out: &mut Code, uses: Uses) {
     out.line(0, "use ferroc_runtime::supervise::{self, Args};");
     out.line(0, "use ferroc_std::recorder::{Recordable, Recorders};");
     if uses.network {
+        out.line(0, "use ferroc_zenoh::config::ModelShm;");
         out.line(0, "use ferroc_zenoh::Zenoh;");
     }
     out.line(0, "use std::process::ExitCode;");

@@ -42,9 +42,52 @@ pub const DEFAULTS: &[(&str, &str)] = &[
     ),
 ];
 
+/// A part's shared-memory settings from its model (`<part shared-memory="off"
+/// shared-memory-threshold="16 KiB" shared-memory-pool="128 MiB">`, checked by the
+/// compiler); `None` keeps ferroc's default. They replace the defaults above and give
+/// way to a `--zenoh-config` file that sets the same key: the command line wins.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ModelShm {
+    pub enabled: Option<bool>,
+    pub threshold: Option<u64>,
+    pub pool: Option<u64>,
+}
+
+impl ModelShm {
+    /// The Zenoh keys and values the model sets.
+    fn entries(&self) -> Vec<(&'static str, String)> {
+        let mut entries = Vec::new();
+        if let Some(on) = self.enabled {
+            entries.push(("transport/shared_memory/enabled", on.to_string()));
+        }
+        if let Some(t) = self.threshold {
+            entries.push((MESSAGE_SIZE_THRESHOLD, t.to_string()));
+        }
+        if let Some(p) = self.pool {
+            entries.push((POOL_SIZE, p.to_string()));
+        }
+        entries
+    }
+}
+
+/// Zenoh's keys of the two numbers (also in [`DEFAULTS`] and `shm.rs`).
+const MESSAGE_SIZE_THRESHOLD: &str =
+    "transport/shared_memory/transport_optimization/message_size_threshold";
+const POOL_SIZE: &str = "transport/shared_memory/transport_optimization/pool_size";
+
 /// The configuration of the part `addresses.part`: ferroc's defaults and the model's
 /// endpoints, merged under `file` if one is given.
 pub fn config(addresses: &Addresses, file: Option<&Path>) -> Result<Config, String> {
+    config_with(addresses, file, ModelShm::default())
+}
+
+/// [`config`] with the model's shared-memory settings `model` over ferroc's defaults
+/// (and under `file`).
+pub fn config_with(
+    addresses: &Addresses,
+    file: Option<&Path>,
+    model: ModelShm,
+) -> Result<Config, String> {
     let (mut config, given) = match file {
         Some(path) => {
             let bad = |e: &dyn std::fmt::Display| {
@@ -62,6 +105,11 @@ pub fn config(addresses: &Addresses, file: Option<&Path>) -> Result<Config, Stri
     for (key, value) in DEFAULTS {
         if !sets(&given, key) {
             set(&mut config, key, value)?;
+        }
+    }
+    for (key, value) in model.entries() {
+        if !sets(&given, key) {
+            set(&mut config, key, &value)?;
         }
     }
     if !sets(&given, "listen/endpoints") {
@@ -258,5 +306,44 @@ mod tests {
             err.contains("--zenoh-config") && err.contains(".json5"),
             "{err}"
         );
+    }
+
+    #[test]
+    fn the_models_shared_memory_settings_replace_the_defaults_and_a_file_wins() {
+        use crate::shm::{Settings, POOL_SIZE as DEFAULT_POOL};
+        let model = ModelShm {
+            enabled: Some(true),
+            threshold: Some(16 << 10),
+            pool: Some(128 << 20),
+        };
+        let c = config_with(&addresses(), None, model).unwrap();
+        let s = Settings::of(&c);
+        assert_eq!(
+            (s.enabled, s.threshold, s.pool_size),
+            (true, 16 << 10, 128 << 20)
+        );
+        // Silent: a model that sets nothing keeps ferroc's defaults.
+        let plain = Settings::of(&config_with(&addresses(), None, ModelShm::default()).unwrap());
+        assert_eq!(plain, Settings::of(&config(&addresses(), None).unwrap()));
+        assert_eq!((plain.threshold, plain.pool_size), (4096, DEFAULT_POOL));
+        // A file that sets a key wins over the model; the keys it leaves keep the model's.
+        let dir = std::env::temp_dir().join(format!("ferroc-zenoh-shm-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("shm.json5");
+        std::fs::write(
+            &file,
+            "{ transport: { shared_memory: { enabled: false, transport_optimization: { pool_size: 8388608 } } } }",
+        )
+        .unwrap();
+        let s = Settings::of(&config_with(&addresses(), Some(&file), model).unwrap());
+        assert_eq!(
+            (s.enabled, s.threshold, s.pool_size),
+            (false, 16 << 10, 8 << 20)
+        );
+        let off = ModelShm {
+            enabled: Some(false),
+            ..ModelShm::default()
+        };
+        assert!(!Settings::of(&config_with(&addresses(), None, off).unwrap()).enabled);
     }
 }

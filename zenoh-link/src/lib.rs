@@ -61,9 +61,25 @@ impl Zenoh {
         addresses: Addresses,
         config_file: Option<&Path>,
     ) -> Result<Zenoh, String> {
+        Zenoh::with_model(
+            application,
+            addresses,
+            config_file,
+            config::ModelShm::default(),
+        )
+    }
+
+    /// [`Zenoh::new`] with the part's shared-memory settings from the model (`<part
+    /// shared-memory…>`), which `config_file` overrides key by key.
+    pub fn with_model(
+        application: &str,
+        addresses: Addresses,
+        config_file: Option<&Path>,
+        shm: config::ModelShm,
+    ) -> Result<Zenoh, String> {
         let keys = Keys::new(application)?;
         keys.alive(&addresses.part)?;
-        let config = config::config(&addresses, config_file)?;
+        let config = config::config_with(&addresses, config_file, shm)?;
         Ok(Zenoh {
             keys,
             addresses,

@@ -263,6 +263,35 @@ pub struct Application {
     pub cut_off: HashSet<Endpoint>,
     /// `<ros2>` nodes of parts and `<ros2-external>` nodes (docs/ros2.md).
     pub ros2: Ros2,
+    /// `<part shared-memory…>` settings of the parts that give any (docs/zenoh.md).
+    pub shared_memory: HashMap<ElementId, SharedMemory>,
+}
+
+/// A part's shared-memory settings for its links to parts on the same computer
+/// (`<part shared-memory="off" shared-memory-threshold="16 KiB"
+/// shared-memory-pool="128 MiB">`, docs/zenoh.md "Shared memory"). `None` keeps
+/// ferroc's default; a `--zenoh-config` file that sets the same Zenoh key wins.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SharedMemory {
+    /// `shared-memory="on|off"`.
+    pub enabled: Option<bool>,
+    /// `shared-memory-threshold`: values of at least this many encoded bytes go
+    /// through the pool.
+    pub threshold: Option<u64>,
+    /// `shared-memory-pool`: the pool's size in bytes.
+    pub pool: Option<u64>,
+}
+
+impl SharedMemory {
+    /// ferroc's threshold when the model gives none (`ferroc_zenoh::shm::THRESHOLD`).
+    pub const DEFAULT_THRESHOLD: u64 = 4096;
+    /// ferroc's pool when the model gives none (`ferroc_zenoh::shm::POOL_SIZE`).
+    pub const DEFAULT_POOL: u64 = 64 << 20;
+    /// The smallest pool the model accepts: smaller holds no value worth sharing.
+    pub const MIN_POOL: u64 = 64 << 10;
+    /// The largest pool the model accepts: more is a mistake of unit (`64 GiB` for
+    /// `64 MiB`), and more than `/dev/shm` of most computers holds.
+    pub const MAX_POOL: u64 = 4 << 30;
 }
 
 /// Timing attributes of the model, keyed by element (most models declare few of them).

@@ -67,7 +67,7 @@ fn main() -> ExitCode {
     // The other parts: over Zenoh, at the addresses of the model or the command line.
     let mut start = args.start_options(PERIODS);
     let network = args.addresses(PART, PARTS).and_then(|addresses| {
-        Zenoh::new(APPLICATION, addresses, args.zenoh_config.as_deref())
+        Zenoh::with_model(APPLICATION, addresses, args.zenoh_config.as_deref(), SHARED_MEMORY)
     });
     match network {
         Ok(network) => start.network = Some(Arc::new(network)),

@@ -19,6 +19,7 @@ mod group;
 mod module;
 mod ports;
 mod ros2;
+mod shm;
 mod timing;
 mod tree;
 
@@ -129,6 +130,7 @@ fn empty_application(loader: &Loader<'_>, root: &Element) -> Application {
         timing: Timing::default(),
         cut_off: HashSet::new(),
         ros2: Ros2::default(),
+        shared_memory: HashMap::new(),
         ib2c_violations: root.value("ib2c-violations").map(str::to_string),
         seed: root.value("seed").and_then(|s| s.parse().ok()),
     }

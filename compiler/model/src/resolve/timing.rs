@@ -118,7 +118,7 @@ impl Resolver<'_, '_, '_> {
         }
     }
 
-    fn invalid(&mut self, span: Span, msg: &str, help: &str) {
+    pub(super) fn invalid(&mut self, span: Span, msg: &str, help: &str) {
         self.loader.diags.push(
             Diagnostic::new(&m108_invalid_attribute_value::CHECK, span, msg.to_string())
                 .label("invalid value")

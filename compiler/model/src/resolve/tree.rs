@@ -67,6 +67,7 @@ impl<'r, 'l, 't> Resolver<'r, 'l, 't> {
                         self.add_element(scope, child, ElementKind::Part { host }, inst)
                     {
                         self.part_timing(id, child);
+                        self.part_shared_memory(id, child);
                         self.walk(id, child, visible, inst, depth);
                         self.part_ros2(id, child);
                     }

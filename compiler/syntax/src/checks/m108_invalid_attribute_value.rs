@@ -11,7 +11,9 @@ pub static CHECK: CheckInfo = CheckInfo {
     explanation:
         "Attributes with a fixed set of values (`on-full`, `dir`, `kind`, booleans, counts) and
 attributes with a syntax (`period`, `timeout`) are checked when read. A thread container
-needs exactly one of `period` (0 < period <= 60 s) or `trigger=\"data\"`.
+needs exactly one of `period` (0 < period <= 60 s) or `trigger=\"data\"`. A part's
+`shared-memory-pool` is a size from 64 KiB to 4 GiB (`64 MiB`), its
+`shared-memory-threshold` at least 1 byte and at most the pool (docs/zenoh.md).
 
 Bad:
     <thread name=\"main\" period=\"0ms\"/>

@@ -51,7 +51,14 @@ pub(super) const RESOURCE: ElementSpec = ElementSpec {
 pub(super) const PART: ElementSpec = ElementSpec {
     key: "part",
     tag: "part",
-    attrs: &[req("name", Ident), opt("host", Text), opt("cores", Count)],
+    attrs: &[
+        req("name", Ident),
+        opt("host", Text),
+        opt("cores", Count),
+        opt("shared-memory", Choice(&["on", "off"])),
+        opt("shared-memory-threshold", Text),
+        opt("shared-memory-pool", Text),
+    ],
     children: &["thread", "group", "module", "connect", "allow", "ros2"],
     text: false,
 };

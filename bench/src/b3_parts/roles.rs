@@ -1,0 +1,419 @@
+//! The programs of one B3-across-parts configuration, each a child process of the
+//! benchmark: the producer (part `camera`) and the consumers (parts `c1`…`cN`), in
+//! ferroc's two variants (a bundle's part program as the Builder makes it) and the
+//! bare Zenoh one.
+//!
+//! What they print on stdout is the protocol with the parent (`super::once`):
+//! a consumer prints `READY` once it listens, then, when its window ended,
+//! `SEEN frames=… fps=… missed=…` and `LAT ns ns …`; the producer prints `START`
+//! before it publishes the first measured frame and `END` after the last, and stops
+//! when its stdin closes.
+
+use super::{FRAME_BYTES, PERIOD, WARM_UP};
+use crate::b4_large::{config_of, stamp_of};
+use crate::b4_parts::mono_ns;
+use ferroc_runtime::builder::{
+    Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StartOptions, StepKind,
+    ThreadSpec,
+};
+use ferroc_runtime::container::ThreadOptions;
+use ferroc_runtime::link::transport::{Addresses, Sending};
+use ferroc_runtime::link::{LinkSpec, Sharing};
+use ferroc_runtime::module::{In, Module, ModuleType, Out, Setup};
+use ferroc_runtime::port::ConnectOptions;
+use ferroc_std::Image;
+use ferroc_zenoh::free::Qos;
+use ferroc_zenoh::Zenoh;
+use std::io::Write;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+use zenoh::shm::{BlockOn, GarbageCollect, ShmProviderBuilder};
+use zenoh::Wait;
+
+const APP: &str = "b3parts";
+const KEY: &str = "bench/b3parts/bare";
+/// A consumer that saw measured frames and then none for this long is done (the
+/// producer stopped, or the last frames were dropped).
+const QUIET: Duration = Duration::from_secs(3);
+
+/// Measured frames per configuration (set once in each child).
+static FRAMES: AtomicU64 = AtomicU64::new(0);
+
+/// What a consumer saw of the measured frames (sequence numbers after the warm-up).
+#[derive(Default)]
+struct Seen {
+    latencies: Vec<u64>,
+    first_ns: u64,
+    last_ns: u64,
+    last_seq: u64,
+    missed: u64,
+}
+static SEEN: Mutex<Seen> = Mutex::new(Seen {
+    latencies: Vec::new(),
+    first_ns: 0,
+    last_ns: 0,
+    last_seq: 0,
+    missed: 0,
+});
+
+fn seen() -> std::sync::MutexGuard<'static, Seen> {
+    SEEN.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Notes frame `data` (stamp in bytes 0..8, sequence number in 8..16).
+fn saw(data: &[u8]) {
+    let now = mono_ns();
+    let (Some(stamp), Some(seq)) = (stamp_of(data), data.get(8..).and_then(stamp_of)) else {
+        return;
+    };
+    if seq <= WARM_UP {
+        return;
+    }
+    let mut s = seen();
+    if s.latencies.is_empty() {
+        s.first_ns = now;
+    } else if seq > s.last_seq + 1 {
+        s.missed += seq - s.last_seq - 1;
+    }
+    s.latencies.push(now.saturating_sub(stamp));
+    s.last_ns = now;
+    s.last_seq = s.last_seq.max(seq);
+}
+
+/// The source frame the producer copies each cycle (as the in-process B3 does).
+fn source_frame() -> Vec<u8> {
+    (0..FRAME_BYTES).map(|i| (i % 251) as u8).collect()
+}
+
+/// Copies the source into `data`, then writes `seq` and, last, the stamp.
+fn frame_into(data: &mut [u8], source: &[u8], seq: u64) {
+    data.copy_from_slice(source);
+    data[8..16].copy_from_slice(&seq.to_le_bytes());
+    data[..8].copy_from_slice(&mono_ns().to_le_bytes());
+}
+
+/// Tells the parent where the measured window starts and ends (by sequence number).
+fn announce(seq: u64, after: bool) {
+    let frames = FRAMES.load(Ordering::Relaxed);
+    let line = match (after, seq) {
+        (false, s) if s == WARM_UP + 1 => "START",
+        (true, s) if s == WARM_UP + frames => "END",
+        _ => return,
+    };
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "{line}");
+    let _ = out.flush();
+}
+
+/// The camera of the ferroc variants: a 1080p RGB frame every cycle.
+struct Camera {
+    out: Out<Image>,
+    source: Vec<u8>,
+    seq: u64,
+}
+impl Module for Camera {
+    fn update(&mut self) {
+        self.seq += 1;
+        let seq = self.seq;
+        announce(seq, false);
+        let source = &self.source;
+        self.out.publish_with(|img| {
+            (img.width, img.height, img.step) = (1920, 1080, 1920 * 3);
+            "rgb8".clone_into(&mut img.encoding);
+            img.data.resize(FRAME_BYTES, 0);
+            frame_into(&mut img.data, source, seq);
+        });
+        announce(seq, true);
+    }
+}
+impl ModuleType for Camera {
+    const NAME: &'static str = "bench.B3Camera";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Camera {
+            out: m.output("out").build(),
+            source: source_frame(),
+            seq: 0,
+        }
+    }
+}
+
+/// A consumer of the ferroc variants: reads the frame in its step.
+struct Viewer {
+    input: In<Image>,
+}
+impl Module for Viewer {
+    fn update(&mut self) {
+        if self.input.changed() {
+            saw(&self.input.get().data);
+        }
+    }
+}
+impl ModuleType for Viewer {
+    const NAME: &'static str = "bench.B3Viewer";
+    fn create(m: &mut Setup<'_>) -> Self {
+        Viewer {
+            input: m.input("in").build(),
+        }
+    }
+}
+
+fn part_name(index: usize) -> String {
+    if index == 0 {
+        "camera".into()
+    } else {
+        format!("c{index}")
+    }
+}
+
+/// The link to consumer `index`: what a bundle makes of a latest-value input in
+/// another part (not reliable: a congested link keeps the newest frame).
+fn link(index: usize, to_part: &str) -> LinkSpec<'_> {
+    LinkSpec {
+        id: index as u32,
+        from_part: "camera",
+        to_part,
+        model_type: "ferroc_std.Image",
+        sharing: Sharing::OnChange {
+            min_interval: Duration::ZERO,
+        },
+        reliable: false,
+        deadline: None,
+    }
+}
+
+/// The addresses of part `index`: the producer knows every consumer, a consumer only
+/// the producer (no mesh of consumers).
+fn addresses(index: usize, all: &[String]) -> Addresses {
+    let part = part_name(index);
+    let peers = (all.iter().enumerate())
+        .filter(|(i, _)| index == 0 || *i == 0 || *i == index)
+        .map(|(i, a)| (part_name(i), a.clone()))
+        .collect();
+    Addresses {
+        part,
+        listen: all[index].clone(),
+        peers,
+    }
+}
+
+/// Part `index` of a ferroc variant, started.
+fn ferroc_part(variant: &str, index: usize, all: &[String]) -> Result<RunningApp, String> {
+    let mut registry = Registry::new();
+    registry.register::<Camera>().register::<Viewer>();
+    ferroc_std::register(&mut registry);
+    let part = part_name(index);
+    let path = format!("{part}/{}", if index == 0 { "camera" } else { "viewer" });
+    let mut b = Builder::new(&registry);
+    let spec = ModuleSpec {
+        path: &path,
+        type_name: if index == 0 {
+            Camera::NAME
+        } else {
+            Viewer::NAME
+        },
+        params: &[],
+        queues: &[],
+        ports: &[],
+        violations: Default::default(),
+    };
+    b.add_module(spec).map_err(|e| e.to_string())?;
+    let schedule = match index {
+        0 => Schedule::Periodic(PERIOD),
+        _ => Schedule::Data,
+    };
+    b.add_thread(ThreadSpec {
+        path: part.clone(),
+        schedule,
+        options: ThreadOptions::default(),
+        steps: vec![(path.clone(), StepKind::Update)],
+    })
+    .map_err(|e| e.to_string())?;
+    let names: Vec<String> = (0..all.len()).map(part_name).collect();
+    if index == 0 {
+        for (i, name) in names.iter().enumerate().skip(1) {
+            let out = (path.as_str(), "out");
+            (b.link_out(&link(i, name), out, Conversion::default())).map_err(|e| e.to_string())?;
+        }
+    } else {
+        let input = (path.as_str(), "in");
+        (b.link_in(
+            &link(index, &names[index]),
+            input,
+            ConnectOptions::default(),
+        ))
+        .map_err(|e| e.to_string())?;
+    }
+    let config = config_of(variant)?;
+    let network = Zenoh::new(APP, addresses(index, all), config.as_deref())?;
+    let options = StartOptions {
+        network: Some(Arc::new(network)),
+        ..StartOptions::default()
+    };
+    b.start_with(options).map_err(|e| e.to_string())
+}
+
+/// A bare Zenoh session of part `index` (ferroc's settings, as `b4-large` uses).
+fn bare_session(variant: &str, index: usize, all: &[String]) -> Result<zenoh::Session, String> {
+    let config = config_of(variant)?;
+    let config = ferroc_zenoh::config::config(&addresses(index, all), config.as_deref())?;
+    zenoh::open(config).wait().map_err(|e| e.to_string())
+}
+
+/// The bare producer: a frame every period in a buffer of its own `ShmProvider`, one
+/// put for every subscriber (Zenoh fans it out), with the QoS ferroc gives the link,
+/// until `stop`.
+fn bare_producer(all: &[String], stop: &AtomicBool) -> Result<(), String> {
+    let s = bare_session("zenoh-shm", 0, all)?;
+    let qos = Qos::of(&Sending {
+        to_part: part_name(1),
+        topic: "camera/camera/out".into(),
+        model_type: "ferroc_std.Image".into(),
+        sharing: link(1, "c1").sharing,
+        reliable: false,
+    });
+    let publisher = (s.declare_publisher(KEY))
+        .congestion_control(qos.congestion)
+        .express(qos.express)
+        .wait()
+        .map_err(|e| e.to_string())?;
+    let provider = ShmProviderBuilder::default_backend(ferroc_zenoh::shm::POOL_SIZE)
+        .wait()
+        .map_err(|e| e.to_string())?;
+    let source = source_frame();
+    let (mut next, mut seq) = (Instant::now(), 0u64);
+    while !stop.load(Ordering::Relaxed) {
+        while Instant::now() < next {
+            std::thread::sleep(Duration::from_micros(200));
+        }
+        next += PERIOD;
+        seq += 1;
+        announce(seq, false);
+        let mut buf = (provider.alloc(FRAME_BYTES))
+            .with_policy::<BlockOn<GarbageCollect>>()
+            .wait()
+            .map_err(|e| e.to_string())?;
+        frame_into(&mut buf[..], &source, seq);
+        publisher.put(buf).wait().map_err(|e| e.to_string())?;
+        announce(seq, true);
+    }
+    Ok(())
+}
+
+/// `b3-parts-child VARIANT INDEX FRAMES ADDR0 ADDR1 …`: part `INDEX` (0 the producer)
+/// of a configuration whose parts listen on `ADDR0…`.
+pub fn child(args: &[String]) -> u8 {
+    let parsed = match args {
+        [variant, index, frames, all @ ..] if all.len() >= 2 => {
+            (index.parse::<usize>().ok().filter(|i| *i < all.len()))
+                .zip(frames.parse::<u64>().ok())
+                .map(|(i, f)| (variant.as_str(), i, f, all))
+        }
+        _ => None,
+    };
+    let Some((variant, index, frames, all)) = parsed else {
+        eprintln!("usage (internal to b3-parts): VARIANT INDEX FRAMES ADDR0 ADDR1 …");
+        return 2;
+    };
+    FRAMES.store(frames, Ordering::Relaxed);
+    let done = if index == 0 {
+        producer(variant, all)
+    } else {
+        consumer(variant, index, all)
+    };
+    match done {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("b3-parts {} ({variant}): {e}", part_name(index));
+            1
+        }
+    }
+}
+
+/// Runs the producer until its stdin closes.
+fn producer(variant: &str, all: &[String]) -> Result<(), String> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    std::thread::spawn(move || {
+        let _ = std::io::copy(&mut std::io::stdin().lock(), &mut std::io::sink());
+        flag.store(true, Ordering::Relaxed);
+    });
+    if variant.starts_with("ferroc") {
+        let app = ferroc_part(variant, 0, all)?;
+        while !stop.load(Ordering::Relaxed) {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        drop(app);
+        return Ok(());
+    }
+    bare_producer(all, &stop)
+}
+
+/// Runs consumer `index` until it saw the last measured frame (or none came for
+/// [`QUIET`]), then prints what it saw.
+fn consumer(variant: &str, index: usize, all: &[String]) -> Result<(), String> {
+    let mut keep: Vec<Box<dyn std::any::Any>> = Vec::new();
+    if variant.starts_with("ferroc") {
+        keep.push(Box::new(ferroc_part(variant, index, all)?));
+    } else {
+        let s = bare_session(variant, index, all)?;
+        let sub = (s.declare_subscriber(KEY))
+            .callback(|sample| {
+                // The frame in place: one piece in shared memory.
+                if let Some(first) = sample.payload().slices().next() {
+                    saw(first);
+                }
+            })
+            .wait()
+            .map_err(|e| e.to_string())?;
+        keep.push(Box::new(sub));
+        keep.push(Box::new(s));
+    }
+    println!("READY");
+    let _ = std::io::stdout().flush();
+    wait_for_window_end()?;
+    let s = std::mem::take(&mut *seen());
+    let span = s.last_ns.saturating_sub(s.first_ns) as f64 / 1e9;
+    let fps = (s.latencies.len().saturating_sub(1)) as f64 / span.max(1e-9);
+    let lat: Vec<String> = s.latencies.iter().map(u64::to_string).collect();
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(
+        out,
+        "SEEN frames={} fps={fps:.3} missed={} last={}\nLAT {}",
+        s.latencies.len(),
+        s.missed,
+        s.last_seq,
+        lat.join(" ")
+    );
+    let _ = out.flush();
+    drop(keep);
+    Ok(())
+}
+
+/// Waits until the last measured frame arrived, measured frames stopped coming, or
+/// the window lasted twice its time at 50 fps (a producer that cannot keep the rate:
+/// the figures then cover fewer frames, and the fps say so).
+fn wait_for_window_end() -> Result<(), String> {
+    let frames = FRAMES.load(Ordering::Relaxed);
+    let window = (PERIOD * (2 * frames) as u32).as_nanos() as u64;
+    // The warm-up at a few frames per second, plus start-up on a loaded machine.
+    let limit = PERIOD * (25 * WARM_UP) as u32 + Duration::from_secs(60);
+    let deadline = Instant::now() + limit;
+    loop {
+        std::thread::sleep(Duration::from_millis(10));
+        let s = seen();
+        let now = mono_ns();
+        let measuring = !s.latencies.is_empty();
+        let quiet = now.saturating_sub(s.last_ns) > QUIET.as_nanos() as u64;
+        let long = now.saturating_sub(s.first_ns) > window;
+        if s.last_seq >= WARM_UP + frames || (measuring && (quiet || long)) {
+            return Ok(());
+        }
+        if !measuring && Instant::now() > deadline {
+            return Err(format!(
+                "no measured frame arrived in {} s",
+                limit.as_secs()
+            ));
+        }
+    }
+}
