@@ -88,8 +88,7 @@ impl CuSinkTask for Last {
 }
 
 /// `--cycles N --rounds R` (defaults: 2,000,000 and 3).
-pub fn parse_args(default_cycles: u64) -> Result<(u64, u64), String> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+pub fn parse_args(args: &[String], default_cycles: u64) -> Result<(u64, u64), String> {
     let (mut cycles, mut rounds) = (default_cycles, 3);
     let mut it = args.iter();
     while let Some(flag) = it.next() {
@@ -129,8 +128,9 @@ pub fn timed_round(
 }
 
 /// Prints the per-round lines and the `RESULT` line: best round (the least disturbed
-/// by other load) and the median, as ferroc's b2 reports.
-pub fn report(variant: &str, cycles: u64, rounds: &[Duration]) {
+/// by other load) and the median, as ferroc's b2 reports. `extra`: more `key=value`
+/// words for the `RESULT` line (may be empty).
+pub fn report(variant: &str, extra: &str, cycles: u64, rounds: &[Duration]) {
     let mut ns: Vec<f64> = rounds
         .iter()
         .map(|t| t.as_nanos() as f64 / cycles as f64)
@@ -143,7 +143,7 @@ pub fn report(variant: &str, cycles: u64, rounds: &[Duration]) {
         ns.len()
     );
     println!(
-        "RESULT copper-b2 variant={variant} cycles_per_s={:.0} ns_per_cycle={best:.1} median_ns={median:.1} cycles={cycles} rounds={}",
+        "RESULT copper-b2 variant={variant} cycles_per_s={:.0} ns_per_cycle={best:.1} median_ns={median:.1} cycles={cycles} rounds={}{extra}",
         1e9 / best,
         ns.len()
     );

@@ -8,10 +8,11 @@ use cu29::prelude::*;
 struct QuietRing {}
 
 fn main() {
-    let (cycles, rounds) = parse_args(2_000_000).unwrap_or_else(|e| {
-        eprintln!("copper_ring_quiet: {e}\nhelp: copper_ring_quiet [--cycles N] [--rounds R]");
-        std::process::exit(2)
-    });
+    let (cycles, rounds) = parse_args(&std::env::args().skip(1).collect::<Vec<_>>(), 2_000_000)
+        .unwrap_or_else(|e| {
+            eprintln!("copper_ring_quiet: {e}\nhelp: copper_ring_quiet [--cycles N] [--rounds R]");
+            std::process::exit(2)
+        });
     let app = QuietRing::builder()
         .build()
         .unwrap_or_else(|e| fail(&e.to_string()));
@@ -26,7 +27,7 @@ fn main() {
     if let Err(e) = running.stop() {
         fail(&e.to_string());
     }
-    report("logging-off", cycles, &times);
+    report("logging-off", "", cycles, &times);
 }
 
 fn fail(message: &str) -> ! {
