@@ -8,8 +8,9 @@
 #   RESULT peers-b4-6.2MB  6.2 MB frame across processes: ferroc (SHM / no SHM), bare
 #                          Zenoh SHM, dora
 #
-# Usage: bench/peers/run.sh [--rounds N] [--quick] [--no-build] [--out DIR]
+# Usage: bench/peers/run.sh [--rounds N] [--quick] [--only LIST] [--no-build] [--out DIR]
 #   --rounds N   alternating rounds (default 3); each figure is the median over rounds
+#   --only LIST  comma-separated subset of b2,b4-64B,b4-6.2MB (default: all three)
 #   --quick      fewer cycles/messages (a smoke run, minutes instead of ~10 min)
 #   --no-build   use the binaries already built
 #   --out DIR    keep every run's output there (default: a temporary folder)
@@ -23,27 +24,32 @@ set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-rounds=3 quick=0 build=1 out=""
+rounds=3 quick=0 build=1 out="" only="b2,b4-64B,b4-6.2MB"
 while [ $# -gt 0 ]; do
     case "$1" in
         --rounds) rounds=${2:-}; shift 2 || true ;;
         --quick) quick=1; shift ;;
         --no-build) build=0; shift ;;
+        --only) only=${2:-}; shift 2 || true ;;
         --out) out=${2:-}; shift 2 || true ;;
         -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) echo "run.sh: unknown option $1" >&2
-           echo "help: bench/peers/run.sh [--rounds N] [--quick] [--no-build] [--out DIR]" >&2
+           echo "help: bench/peers/run.sh [--rounds N] [--quick] [--only LIST] [--no-build] [--out DIR]" >&2
            exit 2 ;;
     esac
 done
 case "$rounds" in ''|*[!0-9]*|0) echo "run.sh: --rounds needs a whole number >= 1" >&2; exit 2 ;; esac
+want() { case ",$only," in *",$1,"*) return 0 ;; *) return 1 ;; esac; }
+for c in ${only//,/ }; do
+    case "$c" in b2|b4-64B|b4-6.2MB) ;; *) echo "run.sh: --only: unknown comparison $c (b2, b4-64B, b4-6.2MB)" >&2; exit 2 ;; esac
+done
 [ -n "$out" ] || out=$(mktemp -d /tmp/ferroc-peers.XXXXXX)
 mkdir -p "$out"
 
 if [ "$quick" = 1 ]; then
-    b2_cycles=2000000 copper_cycles=200000 b4_messages=2000 large_messages=60
+    b2_cycles=2000000 copper_cycles=200000 copper_log_cycles=20000 b4_messages=2000 large_messages=60
 else
-    b2_cycles=10000000 copper_cycles=1000000 b4_messages=10000 large_messages=300
+    b2_cycles=10000000 copper_cycles=1000000 copper_log_cycles=100000 b4_messages=10000 large_messages=300
 fi
 DORA_VERSION=1.1.0
 peers_target="$here/target"
@@ -75,18 +81,29 @@ install_dora() {
         dora-cli --version "=$DORA_VERSION" >&2
 }
 
+need_dora=0
+if want b4-64B || want b4-6.2MB; then need_dora=1; fi
+peer_crates="-p copper-b2"
+if [ "$need_dora" = 1 ]; then peer_crates="$peer_crates -p dora-b4"; fi
 if [ "$build" = 1 ]; then
     note "building the peers (release, nice -n 10, -j 2) in $here"
-    (cd "$here" && nice -n 10 cargo build --release -j 2 >&2) || die "the peers' build failed"
+    # shellcheck disable=SC2086 # two words on purpose
+    (cd "$here" && nice -n 10 cargo build --release -j 2 $peer_crates >&2) ||
+        die "the peers' build failed"
     note "building ferroc-bench (release, nice -n 10, -j 2)"
     (cd "$root" && nice -n 10 cargo build --release -j 2 -p ferroc-bench >&2) ||
         die "ferroc-bench's build failed"
-    install_dora || die "the dora CLI $DORA_VERSION could not be installed"
+    if [ "$need_dora" = 1 ]; then
+        install_dora || die "the dora CLI $DORA_VERSION could not be installed"
+    fi
 fi
-dora=$(find_dora) || die "no dora CLI $DORA_VERSION (run without --no-build to install it)"
-for bin in "$ferroc_bench" "$peers_target/release/copper_ring_default" \
-           "$peers_target/release/copper_ring_quiet" "$peers_target/release/dora_sender" \
-           "$peers_target/release/dora_receiver"; do
+bins="$ferroc_bench $peers_target/release/copper_ring_default $peers_target/release/copper_ring_quiet"
+dora=""
+if [ "$need_dora" = 1 ]; then
+    dora=$(find_dora) || die "no dora CLI $DORA_VERSION (run without --no-build to install it)"
+    bins="$bins $peers_target/release/dora_sender $peers_target/release/dora_receiver"
+fi
+for bin in $bins; do
     [ -x "$bin" ] || die "$bin is missing (run without --no-build)"
 done
 
@@ -103,10 +120,17 @@ ferroc_b2() {
     keep hand-b2 cps "$(kv "$log" baseline_cycles_per_s)"
 }
 
-copper_b2() { # $1 round, $2 default|quiet
-    local log="$out/copper-$2.$1.log"
-    "$peers_target/release/copper_ring_$2" --cycles "$copper_cycles" --rounds 1 > "$log" 2>&1 ||
-        die "copper $2 failed: $log"
+# Copper: logging off, or its default logging with the log file on this machine's
+# disk (the run's output folder) or on /dev/shm (RAM: Copper's own cost of logging).
+copper_b2() { # $1 round, $2 quiet|disk|shm
+    local log="$out/copper-$2.$1.log" bin=copper_ring_default cycles=$copper_log_cycles dir
+    case "$2" in
+        quiet) bin=copper_ring_quiet; cycles=$copper_cycles ;;
+        disk) dir="$out" ;;
+        shm) dir=/dev/shm ;;
+    esac
+    "$peers_target/release/$bin" --cycles "$cycles" --rounds 1 ${dir:+--log-dir "$dir"} \
+        > "$log" 2>&1 || die "copper $2 failed: $log"
     keep "copper-$2" cps "$(kv "$log" cycles_per_s)"
 }
 
@@ -172,13 +196,13 @@ for r in $(seq 1 "$rounds"); do
     note "round $r of $rounds"
     # Alternate who goes first, so a busy moment of the machine hits each side alike.
     if [ $((r % 2)) = 1 ]; then
-        ferroc_b2 "$r"; copper_b2 "$r" quiet; copper_b2 "$r" default
-        ferroc_b4_64 "$r"; dora_b4 "$r" 64 64 "$b4_messages" 100 500
-        ferroc_b4_large "$r"; dora_b4 "$r" large 6220800 "$large_messages" 20000 20
+        if want b2; then ferroc_b2 "$r"; copper_b2 "$r" quiet; copper_b2 "$r" shm; copper_b2 "$r" disk; fi
+        if want b4-64B; then ferroc_b4_64 "$r"; dora_b4 "$r" 64 64 "$b4_messages" 100 500; fi
+        if want b4-6.2MB; then ferroc_b4_large "$r"; dora_b4 "$r" large 6220800 "$large_messages" 20000 20; fi
     else
-        copper_b2 "$r" default; copper_b2 "$r" quiet; ferroc_b2 "$r"
-        dora_b4 "$r" 64 64 "$b4_messages" 100 500; ferroc_b4_64 "$r"
-        dora_b4 "$r" large 6220800 "$large_messages" 20000 20; ferroc_b4_large "$r"
+        if want b2; then copper_b2 "$r" disk; copper_b2 "$r" shm; copper_b2 "$r" quiet; ferroc_b2 "$r"; fi
+        if want b4-64B; then dora_b4 "$r" 64 64 "$b4_messages" 100 500; ferroc_b4_64 "$r"; fi
+        if want b4-6.2MB; then dora_b4 "$r" large 6220800 "$large_messages" 20000 20; ferroc_b4_large "$r"; fi
     fi
 done
 load_end=$(cut -d' ' -f1-3 /proc/loadavg)
@@ -188,18 +212,24 @@ median() { sort -g "$out/$1.$2" | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", a / b }'; }
 sum() { awk '{ s += $1 } END { print s }' "$out/$1.$2"; }
 
+if want b2; then
 f=$(median ferroc-b2 cps) h=$(median hand-b2 cps)
-cd_=$(median copper-default cps) cq=$(median copper-quiet cps)
-echo "RESULT peers-b2 ferroc_cycles_per_s=$f hand_loop_cycles_per_s=$h copper_default_cycles_per_s=$cd_ copper_logging_off_cycles_per_s=$cq ferroc_vs_copper_default=$(ratio "$f" "$cd_") ferroc_vs_copper_logging_off=$(ratio "$f" "$cq") hand_vs_ferroc=$(ratio "$h" "$f") ferroc_cycles=$b2_cycles copper_cycles=$copper_cycles rounds=$rounds"
+cdisk=$(median copper-disk cps) cshm=$(median copper-shm cps) cq=$(median copper-quiet cps)
+echo "RESULT peers-b2 ferroc_cycles_per_s=$f hand_loop_cycles_per_s=$h copper_logging_off_cycles_per_s=$cq copper_default_log_shm_cycles_per_s=$cshm copper_default_log_disk_cycles_per_s=$cdisk ferroc_vs_copper_logging_off=$(ratio "$f" "$cq") ferroc_vs_copper_default_shm=$(ratio "$f" "$cshm") ferroc_vs_copper_default_disk=$(ratio "$f" "$cdisk") hand_vs_ferroc=$(ratio "$h" "$f") ferroc_cycles=$b2_cycles copper_cycles=$copper_cycles copper_logged_cycles=$copper_log_cycles rounds=$rounds"
+fi
 
+if want b4-64B; then
 fp=$(median ferroc-64 p50) f9=$(median ferroc-64 p99) zp=$(median zenoh-64 p50) z9=$(median zenoh-64 p99)
 dp=$(median dora-64 p50) d9=$(median dora-64 p99)
 echo "RESULT peers-b4-64B ferroc_p50_us=$fp ferroc_p99_us=$f9 zenoh_p50_us=$zp zenoh_p99_us=$z9 dora_p50_us=$dp dora_p99_us=$d9 dora_vs_ferroc_p50=$(ratio "$dp" "$fp") dora_vs_ferroc_p99=$(ratio "$d9" "$f9") ferroc_vs_zenoh_p50=$(ratio "$fp" "$zp") messages_per_round=$b4_messages dora_received=$(sum dora-64 n) dora_lost=$(sum dora-64 lost) gap_us=100 rounds=$rounds"
+fi
 
+if want b4-6.2MB; then
 sp=$(median ferroc-shm-large p50) s9=$(median ferroc-shm-large p99)
 np=$(median ferroc-net-large p50) n9=$(median ferroc-net-large p99)
 zsp=$(median zenoh-shm-large p50) zs9=$(median zenoh-shm-large p99)
 dp=$(median dora-large p50) d9=$(median dora-large p99)
 echo "RESULT peers-b4-6.2MB ferroc_shm_p50_us=$sp ferroc_shm_p99_us=$s9 ferroc_net_p50_us=$np ferroc_net_p99_us=$n9 zenoh_shm_p50_us=$zsp zenoh_shm_p99_us=$zs9 dora_p50_us=$dp dora_p99_us=$d9 dora_vs_ferroc_shm_p50=$(ratio "$dp" "$sp") dora_vs_ferroc_shm_p99=$(ratio "$d9" "$s9") messages_per_round=$large_messages dora_received=$(sum dora-large n) dora_lost=$(sum dora-large lost) gap_us=20000 rounds=$rounds"
+fi
 
 echo "peers-machine: cpus=$(nproc) load_start=\"$load_start\" load_end=\"$load_end\" rustc=\"$(rustc --version | cut -d' ' -f2)\" copper=cu29-1.3.1 dora=$DORA_VERSION out=$out"
