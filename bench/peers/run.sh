@@ -156,7 +156,10 @@ ferroc_b4_large() {
 # dora: one dataflow of two nodes (sender → receiver), run by `dora run` (the daemon
 # in the CLI's process, no coordinator). The sender's shared-memory pool is raised
 # to 64 MB (`shared_memory_pool_size`), as dora's node API says to do for large
-# outputs (its 8 MB default holds one 6.2 MB frame and falls back to copies).
+# outputs (its 8 MB default holds one 6.2 MB frame and falls back to copies). The
+# receiver's input queue holds 1000 values (`queue_size`, as dora's own benchmark
+# sets it): with the default of 10 a reader descheduled for a millisecond on a busy
+# machine loses values, where ferroc's reliable link makes the writer wait.
 dora_b4() { # $1 round, $2 label, $3 size, $4 count, $5 gap_us, $6 warm-up
     local dir="$out/dora-$2.$1" log="$out/dora-$2.$1.log"
     mkdir -p "$dir"
@@ -175,7 +178,9 @@ nodes:
   - id: receiver
     path: $peers_target/release/dora_receiver
     inputs:
-      value: sender/value
+      value:
+        source: sender/value
+        queue_size: 1000
     env:
       DORA_B4_COUNT: "$4"
       DORA_B4_WARM_UP: "$6"
