@@ -14,6 +14,7 @@
 #   --quick      fewer cycles/messages (a smoke run, minutes instead of ~10 min)
 #   --no-build   use the binaries already built
 #   --out DIR    keep every run's output there (default: a temporary folder)
+#   --report DIR print the RESULT lines of a finished run's folder again (no run)
 # Exit codes: 0 done, 1 a build or a run failed, 2 usage error.
 #
 # Peers, pinned: Copper cu29 =1.3.1 (bench/peers/copper-b2), dora-node-api =1.1.0 and
@@ -24,13 +25,14 @@ set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-rounds=3 quick=0 build=1 out="" only="b2,b4-64B,b4-6.2MB"
+rounds=3 quick=0 build=1 out="" only="b2,b4-64B,b4-6.2MB" report=""
 while [ $# -gt 0 ]; do
     case "$1" in
         --rounds) rounds=${2:-}; shift 2 || true ;;
         --quick) quick=1; shift ;;
         --no-build) build=0; shift ;;
         --only) only=${2:-}; shift 2 || true ;;
+        --report) report=${2:-}; shift 2 || true ;;
         --out) out=${2:-}; shift 2 || true ;;
         -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) echo "run.sh: unknown option $1" >&2
@@ -43,6 +45,10 @@ want() { case ",$only," in *",$1,"*) return 0 ;; *) return 1 ;; esac; }
 for c in ${only//,/ }; do
     case "$c" in b2|b4-64B|b4-6.2MB) ;; *) echo "run.sh: --only: unknown comparison $c (b2, b4-64B, b4-6.2MB)" >&2; exit 2 ;; esac
 done
+if [ -n "$report" ]; then
+    [ -d "$report" ] || { echo "run.sh: --report $report: no such folder" >&2; exit 2; }
+    out=$report build=0
+fi
 [ -n "$out" ] || out=$(mktemp -d /tmp/ferroc-peers.XXXXXX)
 mkdir -p "$out"
 
@@ -81,6 +87,7 @@ install_dora() {
         dora-cli --version "=$DORA_VERSION" >&2
 }
 
+if [ -z "$report" ]; then
 need_dora=0
 if want b4-64B || want b4-6.2MB; then need_dora=1; fi
 peer_crates="-p copper-b2"
@@ -148,8 +155,9 @@ ferroc_b4_large() {
         die "ferroc b4-large failed: $log"
     for v in ferroc-shm ferroc-net zenoh-shm zenoh-net; do
         # "b4-large  6220800 B  ferroc-shm  p50 X  p99 Y  max Z µs  n=N"
-        keep "$v-large" p50 "$(awk -v v="$v" '$2 == 6220800 && $4 == v { print $6 }' "$log")"
-        keep "$v-large" p99 "$(awk -v v="$v" '$2 == 6220800 && $4 == v { print $8 }' "$log")"
+        # ($5 == "p50": not the ratio line "... ferroc-shm / zenoh-shm p50 ...")
+        keep "$v-large" p50 "$(awk -v v="$v" '$2 == 6220800 && $4 == v && $5 == "p50" { print $6 }' "$log")"
+        keep "$v-large" p99 "$(awk -v v="$v" '$2 == 6220800 && $4 == v && $5 == "p50" { print $8 }' "$log")"
     done
 }
 
@@ -211,6 +219,14 @@ for r in $(seq 1 "$rounds"); do
     fi
 done
 load_end=$(cut -d' ' -f1-3 /proc/loadavg)
+echo "$load_start" > "$out/load_start"; echo "$load_end" > "$out/load_end"
+else
+# --report: the figures of a finished run; its rounds are the lines of any figure file.
+load_start=$(cat "$out/load_start" 2>/dev/null || echo unknown)
+load_end=$(cat "$out/load_end" 2>/dev/null || echo unknown)
+rounds=$(wc -l < "$(ls "$out"/*.p50 "$out"/*.cps 2>/dev/null | head -1)")
+fi
+
 
 # ---------------------------------------------------------------- results
 median() { sort -g "$out/$1.$2" | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
