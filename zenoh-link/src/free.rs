@@ -18,6 +18,8 @@ use ferroc_runtime::link::transport::{
     call_number, Connection, Delivery, LinkKind, PartLinks, Sending,
 };
 use ferroc_runtime::link::Frame;
+use ferroc_runtime::module::bytes::Holder;
+use ferroc_runtime::module::Encoder;
 use ferroc_terminal::engine_error;
 use std::collections::{BTreeMap, HashMap};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -163,13 +165,18 @@ fn subscribers(
                 });
                 // Links of this writer that go to other parts share its keys: not ours.
                 if let Some(link) = link.filter(|l| ids.contains(l)) {
-                    if sample.payload().as_shm().is_some() {
+                    if let Some(shm) = sample.payload().as_shm() {
+                        // Decoded from the writer's buffer; its byte blocks (an image's
+                        // pixels) stay there, read in place, the buffer held while the
+                        // value lives.
                         received_shared.fetch_add(1, Ordering::Relaxed);
+                        let holder: Arc<dyn Holder> = Arc::new(shm.to_owned());
+                        delivery.deliver_held(link, &holder);
+                    } else {
+                        // Borrowed from Zenoh's buffer when it is in one piece (a value
+                        // that fits one batch): decoded straight from it into the port.
+                        delivery.deliver_bytes(link, &sample.payload().to_bytes());
                     }
-                    // Borrowed from Zenoh's buffer when it is in one piece (a value
-                    // that fits one batch, or a buffer in shared memory): decoded
-                    // straight from it into the port.
-                    delivery.deliver_bytes(link, &sample.payload().to_bytes());
                 }
             })
             .wait()
@@ -380,6 +387,22 @@ impl Free {
         }
     }
 
+    /// Puts a value of the data link `id` (nothing if the full pool dropped it).
+    fn put(&self, id: u32, out: &Out, payload: Payload) {
+        let (Payload::Shared(bytes) | Payload::Network(bytes)) = payload else {
+            return; // dropped: the pool is full (warned)
+        };
+        let put = (out.publisher.put(bytes))
+            .attachment(out.attachment.clone())
+            .wait();
+        if let Err(e) = put {
+            self.failed(&format!(
+                "a value of link {id} could not be sent: {}",
+                engine_error(&e)
+            ));
+        }
+    }
+
     fn failed(&self, what: &str) {
         if self.failures.fetch_add(1, Ordering::Relaxed) == 0
             && !self.closed.load(Ordering::Relaxed)
@@ -398,23 +421,26 @@ impl Connection for Free {
                         Some(pool) => pool.payload(frame.bytes, out.reliable, &out.name),
                         None => Payload::Network(frame.bytes.into()),
                     };
-                    let (Payload::Shared(bytes) | Payload::Network(bytes)) = payload else {
-                        return; // dropped: the pool is full (warned)
-                    };
-                    let put = (out.publisher.put(bytes))
-                        .attachment(out.attachment.clone())
-                        .wait();
-                    if let Err(e) = put {
-                        self.failed(&format!(
-                            "a value of link {id} could not be sent: {}",
-                            engine_error(&e)
-                        ));
-                    }
+                    self.put(id, out, payload);
                 }
             }
             LinkKind::Request(call) => self.call(call, frame),
             LinkKind::Answer(call) => self.answer(call, frame),
         }
+    }
+
+    fn send_encoded(&self, to_part: &str, link: u32, encoder: &Encoder<'_>) -> Result<(), String> {
+        let Some(out) = self.data.get(&link) else {
+            let bytes = encoder.to_vec()?;
+            self.send(to_part, Frame { link, bytes });
+            return Ok(());
+        };
+        let payload = match &self.pool {
+            Some(pool) => pool.payload_encoded(encoder, out.reliable, &out.name)?,
+            None => Payload::Network(encoder.to_vec()?.into()),
+        };
+        self.put(link, out, payload);
+        Ok(())
     }
 
     fn end_instant(

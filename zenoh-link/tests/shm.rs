@@ -51,9 +51,9 @@ impl Module for Camera {
             img.height = 1;
             img.encoding = "mono8".into();
             img.step = size as u32;
-            img.data.resize(size, 0);
-            img.data.fill(seq as u8);
-            img.data[..8].copy_from_slice(&seq.to_le_bytes());
+            img.data.to_mut().resize(size, 0);
+            img.data.to_mut().fill(seq as u8);
+            img.data.to_mut()[..8].copy_from_slice(&seq.to_le_bytes());
         });
     }
 }
@@ -94,7 +94,13 @@ impl Module for Viewer {
         );
         let tag = self.tag.get();
         if tag == 0.0 {
-            println!("{line}");
+            // Where its pixels are: still in the buffer they arrived in, or copied.
+            let place = if img.data.is_shared() {
+                "in-place"
+            } else {
+                "owned"
+            };
+            println!("{line} {place}");
         } else {
             note(tag, format!("{line} at {} ms", support::model_ms()));
         }
@@ -251,6 +257,24 @@ impl Reader {
             .collect()
     }
 
+    /// The sizes of the frames seen read in place (their pixels in the buffer they
+    /// arrived in) and of those seen copied.
+    fn places(&self) -> (Vec<usize>, Vec<usize>) {
+        let lines = self.lines.lock().unwrap();
+        let mut places = (Vec::new(), Vec::new());
+        for l in lines.iter().filter_map(|l| l.strip_prefix("seen ")) {
+            let w: Vec<&str> = l.split(' ').collect();
+            let Some(size) = w.get(1).and_then(|s| s.parse().ok()) else {
+                continue;
+            };
+            match w.get(3) {
+                Some(&"in-place") => places.0.push(size),
+                _ => places.1.push(size),
+            }
+        }
+        places
+    }
+
     /// The latest count of values that arrived in shared memory.
     fn received_shared(&self) -> u64 {
         let lines = self.lines.lock().unwrap();
@@ -332,6 +356,17 @@ fn values_of_every_size_arrive_intact_across_two_programs() {
     let used = cam.shm_use();
     assert!(used.active && used.shared > 0, "{used:?}");
     assert_eq!(used.dropped, 0, "{used:?}");
+    // Large frames are read where they arrived, in the writer's shared memory; small
+    // ones (under the 4 KB threshold) are not in shared memory and own their bytes.
+    let (in_place, owned) = reader.places();
+    for size in &SIZES[1..] {
+        assert!(
+            in_place.contains(size),
+            "{size} B never read in place: {seen:?}"
+        );
+    }
+    assert!(!in_place.contains(&SIZES[0]), "64 B read in place");
+    assert!(owned.contains(&SIZES[0]), "{owned:?}");
 }
 
 #[test]

@@ -6,7 +6,7 @@
 use super::{BuildError, Builder, Conversion, Instance};
 use ferroc_exec::Step;
 use ferroc_link::transport::{RemoteCall, Sending};
-use ferroc_link::{calls, CallSpec, Frame, LinkSpec, Pace, Receiving};
+use ferroc_link::{calls, CallSpec, LinkSpec, Pace, Receiving};
 use ferroc_module::{Interface, Kind, Timestamp, ValueType};
 use ferroc_ports::port::{ConnectOptions, InputHandle, OutputHandle};
 use std::sync::Arc;
@@ -40,9 +40,14 @@ impl Builder<'_> {
             if !pace.send(input.changed(), Timestamp::now()) {
                 return;
             }
-            let mut bytes = Vec::new();
-            match codec.encode(&input, &mut bytes) {
-                Ok(()) => hub.send(&to_part, Frame { link, bytes }),
+            // Encoded once, into the buffer it travels in (shared memory for a large
+            // value to another part on this computer).
+            let mut sent = Ok(());
+            let encoded = codec.encode_with(&input, &mut |encoder| {
+                sent = hub.send_encoded(&to_part, link, encoder);
+            });
+            match encoded.and(sent) {
+                Ok(()) => {}
                 Err(why) if !std::mem::replace(&mut failed, true) => {
                     ferroc_ports::console::line(&format!("warning: {describe}: not sent: {why}"))
                 }
