@@ -90,8 +90,8 @@ impl Module for Camera {
             img.height = 1;
             img.step = size as u32;
             "mono8".clone_into(&mut img.encoding);
-            img.data.to_mut().resize(size, 0);
-            fill(img.data.to_mut(), seq);
+            img.data.resize(size, 0);
+            fill(&mut img.data, seq);
         });
     }
 }

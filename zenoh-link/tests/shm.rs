@@ -369,8 +369,17 @@ fn values_of_every_size_arrive_intact_across_two_programs() {
     assert!(owned.contains(&SIZES[0]), "{owned:?}");
 }
 
+/// How many buffers a reader's link keeps at most when nothing new arrives: the value
+/// its input holds and the one its port keeps for reuse (decoded in place, each holds the
+/// buffer it arrived in).
+const HELD_BY_A_READER: usize = 3;
+
+/// A reader killed while frames flow: the camera goes on in shared memory and a new
+/// reader receives. What the killed reader held stays counted (Zenoh's safe collection
+/// cannot tell a dead holder from a live one; docs/zenoh.md): at most its last values,
+/// never more; a reader that stops normally gives every buffer back.
 #[test]
-fn a_reader_killed_while_holding_buffers_leaks_nothing_and_a_new_one_receives() {
+fn a_reader_killed_while_holding_buffers_keeps_only_its_last_values_and_a_new_one_receives() {
     let registry = registry();
     let peers = peers();
     let cam = zenoh("shm_kill", "cam", &peers, None);
@@ -389,17 +398,19 @@ fn a_reader_killed_while_holding_buffers_leaks_nothing_and_a_new_one_receives() 
     );
     app.stop();
     drop(app);
-    drop(second);
-    // Every buffer comes back once no reader holds it: the pool holds as many frames
-    // as a fresh one.
     let fresh = Pool::open(cam.shm_settings()).room_for(SIZES[3]).unwrap();
-    let whole = eventually(Duration::from_secs(20), || {
-        cam.shm_room_for(SIZES[3]) == Some(fresh)
+    let room = || cam.shm_room_for(SIZES[3]).unwrap_or(0);
+    let with_second = room();
+    drop(second);
+    // The second reader ended normally: its buffers come back. Every other buffer but
+    // the killed reader's last values has come back too.
+    let back = eventually(Duration::from_secs(20), || {
+        room() > with_second && room() + HELD_BY_A_READER >= fresh
     });
     assert!(
-        whole,
-        "the pool leaked: room for {:?} frames of {fresh}",
-        cam.shm_room_for(SIZES[3])
+        back,
+        "the pool lost more than the killed reader held: room for {} of {fresh}",
+        room()
     );
 }
 

@@ -23,7 +23,7 @@ use serde::de::{Error, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::cell::RefCell;
 use std::fmt;
-use std::ops::{Deref, Range};
+use std::ops::{Deref, DerefMut, Range};
 use std::sync::Arc;
 
 /// Whatever holds received bytes: a shared-memory buffer, a network buffer, a `Vec`.
@@ -67,6 +67,11 @@ impl Bytes {
             Repr::Owned(v) => v,
             Repr::Shared { .. } => unreachable!("made owned above"),
         }
+    }
+
+    /// Makes it `len` bytes long, new bytes `value` (as `Vec::resize`; owned first).
+    pub fn resize(&mut self, len: usize, value: u8) {
+        self.to_mut().resize(len, value);
     }
 
     /// Whether the bytes are read where they arrived (a range of a received buffer)
@@ -137,6 +142,13 @@ impl Deref for Bytes {
             Repr::Owned(v) => v,
             Repr::Shared { holder, range } => &(**holder).as_ref()[range.clone()],
         }
+    }
+}
+
+/// Writing copies a received buffer into an owned one first ([`Bytes::to_mut`]).
+impl DerefMut for Bytes {
+    fn deref_mut(&mut self) -> &mut [u8] {
+        self.to_mut()
     }
 }
 
@@ -275,7 +287,8 @@ mod tests {
     fn writing_copies_a_received_buffer_first() {
         let holder: Arc<dyn Holder> = Arc::new(vec![5u8; 8]);
         let mut bytes = Bytes::from_holder(Arc::clone(&holder));
-        bytes.to_mut()[0] = 9;
+        assert!(bytes.is_shared());
+        bytes[0] = 9;
         assert!(!bytes.is_shared());
         assert_eq!(&bytes[..2], &[9, 5]);
         assert_eq!(
