@@ -21,6 +21,7 @@ use ferroc_runtime::link::Frame;
 use ferroc_runtime::module::bytes::Holder;
 use ferroc_runtime::module::Encoder;
 use ferroc_terminal::engine_error;
+use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -173,9 +174,17 @@ fn subscribers(
                         let holder: Arc<dyn Holder> = Arc::new(shm.to_owned());
                         delivery.deliver_held(link, &holder);
                     } else {
-                        // Borrowed from Zenoh's buffer when it is in one piece (a value
-                        // that fits one batch): decoded straight from it into the port.
-                        delivery.deliver_bytes(link, &sample.payload().to_bytes());
+                        match sample.payload().to_bytes() {
+                            // A large value that came in pieces was joined into a new
+                            // `Vec`: the value's byte blocks keep ranges of it.
+                            Cow::Owned(joined) => {
+                                let holder: Arc<dyn Holder> = Arc::new(joined);
+                                delivery.deliver_held(link, &holder);
+                            }
+                            // Borrowed from Zenoh's buffer (a value that fits one
+                            // batch): decoded straight from it into the port.
+                            Cow::Borrowed(bytes) => delivery.deliver_bytes(link, bytes),
+                        }
                     }
                 }
             })

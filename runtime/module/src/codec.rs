@@ -17,11 +17,14 @@ use serde::Serialize;
 use std::borrow::Borrow;
 use std::sync::Arc;
 
+/// [`Codec::encode_with`] for one type.
+type EncodeWith = fn(&DynIn, &mut dyn FnMut(&Encoder<'_>)) -> Result<(), String>;
+
 /// Encoding and decoding of one value type (an entry of the value table).
 #[derive(Clone, Copy)]
 pub struct Codec {
     encode: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
-    encode_with: fn(&DynIn, &mut dyn FnMut(&Encoder<'_>)) -> Result<(), String>,
+    encode_with: EncodeWith,
     decode: fn(&DynOut, &[u8]) -> Result<(), String>,
     json: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     from_json: fn(Option<&DynOut>, &[u8]) -> Result<(), String>,
