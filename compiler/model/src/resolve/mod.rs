@@ -17,6 +17,7 @@ use petgraph::graph::DiGraph;
 mod connect;
 mod group;
 mod module;
+mod ports;
 mod ros2;
 mod timing;
 mod tree;

@@ -12,15 +12,16 @@
 //! by a byte offset in it, and [`add_to_root`] adds a child to its root element
 //! (`ferroc lsp`'s quick fixes know where a finding points).
 
+mod attribute;
 pub mod diff;
 mod relocate;
 mod splice;
 mod text;
 
+pub use attribute::{add_to_root, set_attribute, swap_attributes};
 pub use relocate::relocate;
 use serde::Deserialize;
 use std::collections::BTreeMap;
-pub use text::{add_to_root, set_attribute, swap_attributes};
 
 /// One structural change (`{"op": "add", …}`).
 #[derive(Clone, Debug, PartialEq, Deserialize)]
