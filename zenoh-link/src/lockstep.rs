@@ -55,6 +55,10 @@ const PATIENCE: Duration = Duration::from_secs(5);
 /// long too, so that two programs told to stop at about the same time both end cleanly.
 const GRACE: Duration = Duration::from_secs(2);
 
+/// How long a part that ends keeps its session open for the parts it sends to, to
+/// take its last instants and end too (a little more than they wait for them).
+const LINGER: Duration = Duration::from_secs(3);
+
 /// The open network of a part in lockstep.
 pub(crate) struct Lockstep {
     session: Session,
@@ -272,7 +276,19 @@ impl Connection for Lockstep {
         if self.closed.swap(true, Ordering::Relaxed) {
             return;
         }
-        // Closing the session withdraws the token after the queued instants went out.
+        // Closing the session drops a large instant still on its way in pieces (a
+        // fragmented message; the small ones after it do arrive): the reader then
+        // misses instants in the middle of its last ones. So the token goes first (the
+        // parts this one sends to take what is still on its way for GRACE, as they do
+        // when a part ends), and the session stays open until each of them has ended
+        // too (at most LINGER).
+        self.watch.withdraw();
+        let until = std::time::Instant::now() + LINGER;
+        while (self.to.keys()).any(|p| self.watch.parts.gone_since(p).is_none())
+            && std::time::Instant::now() < until
+        {
+            std::thread::sleep(Duration::from_millis(5));
+        }
         let _ = self.session.close().wait();
     }
 }
