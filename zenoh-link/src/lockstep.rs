@@ -43,7 +43,8 @@ pub struct Instant {
 enum Event {
     Instant(String, Instant),
     Garbled(String, String),
-    Gone(String),
+    /// A part went (the watch knows which and since when): wakes the wait.
+    Gone,
 }
 
 /// How long to wait in silence before saying what is awaited.
@@ -117,8 +118,8 @@ pub(crate) fn open(
     }
     let gone = Mutex::new(tx);
     let watch = Watch::start(session, keys, part, move |change, _| {
-        if let Change::Went(p) = change {
-            let _ = lock(&gone).send(Event::Gone(p.clone()));
+        if let Change::Went(_) = change {
+            let _ = lock(&gone).send(Event::Gone);
         }
     })?;
     Ok(Lockstep {
@@ -218,7 +219,6 @@ impl Connection for Lockstep {
         let mut queues = lock(&self.queues);
         let started = std::time::Instant::now();
         let mut told = false;
-        let mut gone: BTreeMap<String, std::time::Instant> = BTreeMap::new();
         loop {
             let missing: Vec<&String> = (self.from.iter())
                 .filter(|p| {
@@ -230,7 +230,12 @@ impl Connection for Lockstep {
             if missing.is_empty() {
                 break;
             }
-            let lost = |p: &&&String| gone.get(**p).is_some_and(|t| t.elapsed() >= GRACE);
+            // Since when a part is gone is the watch's (not this call's): the news may
+            // have come while an earlier call waited for an instant that still arrived.
+            let lost = |p: &&&String| {
+                let since = self.watch.parts.gone_since(p);
+                since.is_some_and(|t| t.elapsed() >= GRACE)
+            };
             if let Some(part) = missing.iter().find(lost) {
                 let since = self.watch.parts.gone_since(part);
                 let ago = since.map_or(0.0, |t| t.elapsed().as_secs_f64());
@@ -260,9 +265,8 @@ impl Connection for Lockstep {
                          both programs built from the same model and ferroc?"
                     ))
                 }
-                Ok(Event::Gone(part)) => {
-                    gone.entry(part).or_insert_with(std::time::Instant::now);
-                }
+                // Only a wakeup: `lost` above reads the watch.
+                Ok(Event::Gone) => {}
                 Err(RecvTimeoutError::Timeout) => {}
                 Err(RecvTimeoutError::Disconnected) => {
                     return Err("the network of this part was closed".into())
