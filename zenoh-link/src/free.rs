@@ -159,33 +159,17 @@ fn subscribers(
         let subscriber = session
             .declare_subscriber(keys.data_of(writer)?)
             .callback(move |sample| {
-                let link = sample.attachment().and_then(|a| {
-                    a.to_bytes()
-                        .first_chunk::<4>()
-                        .map(|b| u32::from_le_bytes(*b))
-                });
-                // Links of this writer that go to other parts share its keys: not ours.
-                if let Some(link) = link.filter(|l| ids.contains(l)) {
-                    if let Some(shm) = sample.payload().as_shm() {
-                        // Decoded from the writer's buffer; its byte blocks (an image's
-                        // pixels) stay there, read in place, the buffer held while the
-                        // value lives.
-                        received_shared.fetch_add(1, Ordering::Relaxed);
-                        let holder: Arc<dyn Holder> = Arc::new(shm.to_owned());
-                        delivery.deliver_held(link, &holder);
-                    } else {
-                        match sample.payload().to_bytes() {
-                            // A large value that came in pieces was joined into a new
-                            // `Vec`: the value's byte blocks keep ranges of it.
-                            Cow::Owned(joined) => {
-                                let holder: Arc<dyn Holder> = Arc::new(joined);
-                                delivery.deliver_held(link, &holder);
-                            }
-                            // Borrowed from Zenoh's buffer (a value that fits one
-                            // batch): decoded straight from it into the port.
-                            Cow::Borrowed(bytes) => delivery.deliver_bytes(link, bytes),
-                        }
-                    }
+                // The links the value is for (4 bytes each); those of this writer
+                // that go to other parts share its keys: not ours.
+                let Some(attachment) = sample.attachment() else {
+                    return;
+                };
+                let links = attachment.to_bytes();
+                let links = (links.chunks_exact(4))
+                    .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                    .filter(|l| ids.contains(l));
+                for link in links {
+                    deliver(&delivery, &received_shared, link, sample.payload());
                 }
             })
             .wait()
@@ -198,6 +182,29 @@ fn subscribers(
         subscribers.push(subscriber);
     }
     Ok(subscribers)
+}
+
+/// Hands the value `payload` of the link `link` to its receiving end.
+fn deliver(delivery: &Delivery, received_shared: &AtomicU64, link: u32, payload: &ZBytes) {
+    if let Some(shm) = payload.as_shm() {
+        // Decoded from the writer's buffer; its byte blocks (an image's pixels) stay
+        // there, read in place, the buffer held while the value lives.
+        received_shared.fetch_add(1, Ordering::Relaxed);
+        let holder: Arc<dyn Holder> = Arc::new(shm.to_owned());
+        delivery.deliver_held(link, &holder);
+        return;
+    }
+    match payload.to_bytes() {
+        // A large value that came in pieces was joined into a new `Vec`: the value's
+        // byte blocks keep ranges of it.
+        Cow::Owned(joined) => {
+            let holder: Arc<dyn Holder> = Arc::new(joined);
+            delivery.deliver_held(link, &holder);
+        }
+        // Borrowed from Zenoh's buffer (a value that fits one batch): decoded straight
+        // from it into the port.
+        Cow::Borrowed(bytes) => delivery.deliver_bytes(link, bytes),
+    }
 }
 
 /// A queryable per service of this part called from others; its queries wait in
@@ -398,12 +405,15 @@ impl Free {
 
     /// Puts a value of the data link `id` (nothing if the full pool dropped it).
     fn put(&self, id: u32, out: &Out, payload: Payload) {
+        self.put_with(id, out, payload, out.attachment.clone());
+    }
+
+    /// [`put`](Self::put) with the attachment `links` (the link numbers it is for).
+    fn put_with(&self, id: u32, out: &Out, payload: Payload, links: ZBytes) {
         let (Payload::Shared(bytes) | Payload::Network(bytes)) = payload else {
             return; // dropped: the pool is full (warned)
         };
-        let put = (out.publisher.put(bytes))
-            .attachment(out.attachment.clone())
-            .wait();
+        let put = (out.publisher.put(bytes)).attachment(links).wait();
         if let Err(e) = put {
             self.failed(&format!(
                 "a value of link {id} could not be sent: {}",
@@ -438,17 +448,37 @@ impl Connection for Free {
         }
     }
 
-    fn send_encoded(&self, to_part: &str, link: u32, encoder: &Encoder<'_>) -> Result<(), String> {
-        let Some(out) = self.data.get(&link) else {
+    fn send_encoded(
+        &self,
+        targets: &[(u32, Arc<str>)],
+        encoder: &Encoder<'_>,
+    ) -> Result<(), String> {
+        // The links of one output share its key: one message for all of them, its
+        // attachment naming each link (4 bytes each).
+        let first = targets.first().and_then(|(link, _)| self.data.get(link));
+        let all_data = targets.iter().all(|(link, _)| self.data.contains_key(link));
+        let Some(out) = first.filter(|_| all_data) else {
             let bytes = encoder.to_vec()?;
-            self.send(to_part, Frame { link, bytes });
+            for (link, to_part) in targets {
+                let bytes = bytes.clone();
+                self.send(to_part, Frame { link: *link, bytes });
+            }
             return Ok(());
         };
         let payload = match &self.pool {
             Some(pool) => pool.payload_encoded(encoder, out.reliable, &out.name)?,
             None => Payload::Network(encoder.to_vec()?.into()),
         };
-        self.put(link, out, payload);
+        let attachment = match targets {
+            [_] => out.attachment.clone(),
+            _ => ZBytes::from(
+                targets
+                    .iter()
+                    .flat_map(|(l, _)| l.to_le_bytes())
+                    .collect::<Vec<u8>>(),
+            ),
+        };
+        self.put_with(targets[0].0, out, payload, attachment);
         Ok(())
     }
 

@@ -514,3 +514,90 @@ fn lockstep_output_is_the_same_with_and_without_shared_memory() {
     );
     assert_eq!(with, without);
 }
+
+/// One camera output linked to two reading parts: each value goes out once (one pool
+/// buffer, one message naming both links), and each reader takes its own link's
+/// frames, intact.
+#[test]
+fn one_output_to_two_parts_is_sent_once_and_both_receive_it_intact() {
+    let registry = registry();
+    let peers: BTreeMap<String, String> = ["cam", "view", "view2"]
+        .iter()
+        .map(|p| (p.to_string(), free_port()))
+        .collect();
+    let to = |id, to_part| LinkSpec {
+        id,
+        to_part,
+        ..link(true)
+    };
+    let viewer = |name: &'static str, id: u32, tag: f64| {
+        let mut b = Builder::new(&registry);
+        let path = format!("{name}/viewer");
+        let params = [("tag".to_string(), Value::Float(tag))];
+        b.add_module(ModuleSpec {
+            path: &path,
+            type_name: "test.Viewer",
+            params: &params,
+            queues: &[],
+            ports: &[],
+            violations: Default::default(),
+        })
+        .unwrap();
+        b.add_thread(ThreadSpec {
+            path: name.into(),
+            schedule: Schedule::Periodic(Duration::from_millis(5)),
+            options: ThreadOptions::default(),
+            steps: vec![(path.clone(), StepKind::Update)],
+        })
+        .unwrap();
+        b.link_in(&to(id, name), (&path, "in"), ConnectOptions::default())
+            .unwrap();
+        let options = StartOptions {
+            network: Some(zenoh("shm_fanout", name, &peers, None) as _),
+            ..StartOptions::default()
+        };
+        b.start_with(options).unwrap()
+    };
+    let views = [viewer("view", 0, 51.0), viewer("view2", 1, 52.0)];
+    let mut b = Builder::new(&registry);
+    let params = [("size".to_string(), Value::Float(SIZES[2] as f64))];
+    b.add_module(ModuleSpec {
+        path: "cam/camera",
+        type_name: "test.Camera",
+        params: &params,
+        queues: &[],
+        ports: &[],
+        violations: Default::default(),
+    })
+    .unwrap();
+    b.add_thread(ThreadSpec {
+        path: "cam".into(),
+        schedule: Schedule::Periodic(Duration::from_millis(20)),
+        options: ThreadOptions::default(),
+        steps: vec![("cam/camera".into(), StepKind::Update)],
+    })
+    .unwrap();
+    for spec in [to(0, "view"), to(1, "view2")] {
+        b.link_out(&spec, ("cam/camera", "out"), Default::default())
+            .unwrap();
+    }
+    let cam = zenoh("shm_fanout", "cam", &peers, None);
+    let options = StartOptions {
+        network: Some(Arc::clone(&cam) as _),
+        ..StartOptions::default()
+    };
+    let app = b.start_with(options).unwrap();
+    let both = eventually(Duration::from_secs(60), || {
+        lines_of(51, "seen").len() >= 5 && lines_of(52, "seen").len() >= 5
+    });
+    app.stop();
+    for view in views {
+        view.stop();
+    }
+    assert!(both, "{:?} {:?}", lines_of(51, ""), lines_of(52, ""));
+    for tag in [51, 52] {
+        assert!(lines_of(tag, "seen").iter().all(|l| l.contains(" ok")));
+    }
+    let used = cam.shm_use();
+    assert!(used.shared > 0 && used.dropped == 0, "{used:?}");
+}

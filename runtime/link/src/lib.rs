@@ -340,14 +340,13 @@ impl Hub {
         }
     }
 
-    /// Sends the value `encoder` holds on `link` towards the part `to_part`: encoded
-    /// straight into a buffer the network picks when it leaves this process
-    /// ([`transport::Connection::send_encoded`]), into a `Vec` otherwise.
+    /// Sends the value `encoder` holds on each link of `targets` (link number, reading
+    /// part): encoded once, straight into a buffer the network picks when they all leave
+    /// this process ([`transport::Connection::send_encoded`]), into a `Vec` otherwise.
     #[doc(hidden)]
     pub fn send_encoded(
         &self,
-        to_part: &Arc<str>,
-        link: u32,
+        targets: &[(u32, Arc<str>)],
         encoder: &Encoder<'_>,
     ) -> Result<(), String> {
         if let Some(Route::Direct {
@@ -355,12 +354,15 @@ impl Hub {
             network: Some(network),
         }) = self.route.get()
         {
-            if !inbox.has(link) {
-                return network.send_encoded(to_part, link, encoder);
+            if targets.iter().all(|(link, _)| !inbox.has(*link)) {
+                return network.send_encoded(targets, encoder);
             }
         }
         let bytes = encoder.to_vec()?;
-        self.send(to_part, Frame { link, bytes });
+        for (link, to_part) in targets {
+            let bytes = bytes.clone();
+            self.send(to_part, Frame { link: *link, bytes });
+        }
         Ok(())
     }
 

@@ -163,13 +163,20 @@ pub trait Connection: Send + Sync {
     /// is gone or far behind).
     fn send(&self, to_part: &str, frame: Frame);
 
-    /// Running freely: sends the value `encoder` holds on the data link `link` to
-    /// `to_part` now, like [`send`](Self::send). A network with buffers of its own
-    /// (shared memory) encodes a large value straight into one; by default it goes
-    /// into a `Vec` of its exact size.
-    fn send_encoded(&self, to_part: &str, link: u32, encoder: &Encoder<'_>) -> Result<(), String> {
+    /// Running freely: sends the value `encoder` holds on each data link of `targets`
+    /// (link number, reading part) now, like [`send`](Self::send). A network with
+    /// buffers of its own (shared memory) encodes a large value straight into one, once
+    /// for all the links; by default it goes into a `Vec` of its exact size.
+    fn send_encoded(
+        &self,
+        targets: &[(u32, Arc<str>)],
+        encoder: &Encoder<'_>,
+    ) -> Result<(), String> {
         let bytes = encoder.to_vec()?;
-        self.send(to_part, Frame { link, bytes });
+        for (link, to_part) in targets {
+            let bytes = bytes.clone();
+            self.send(to_part, Frame { link: *link, bytes });
+        }
         Ok(())
     }
 
