@@ -5,17 +5,23 @@
 //! key with its own hash, rmw_zenoh's attachment) to the commands the run recorded,
 //! and stop the robot by publishing `/enable` `false`.
 //!
+//! A bundle's program of the same model is the same node: the same peer code checks it.
+//!
 //! Loopback only: the peer listens on 127.0.0.1, the run connects to it through
 //! `ZENOH_SESSION_CONFIG_URI` as a ROS 2 node would to the router; multicast scouting
 //! stays off. Without a Python that has `zenoh` and `rosbags` the test skips visibly.
 
 mod common;
 
-use common::{ferroc, tempdir, test_log_dir};
+use common::{build_bundle, bundle_ok, ferroc, tempdir, test_log_dir};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 const MODEL: &str = "models/ros2_crash_course.xml";
+/// A module's service offered as a ROS 2 service.
+const SWITCH: &str = "tests/ros2/switch.xml";
+/// A module's client calling a ROS 2 service.
+const ASKER: &str = "tests/ros2/asker.xml";
 
 fn free_port() -> u16 {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
@@ -49,9 +55,14 @@ fn root() -> PathBuf {
 
 /// `ferroc run` of the model with this Zenoh configuration.
 fn run_command(config: &Path, args: &[&str]) -> Command {
+    run_model(MODEL, config, args)
+}
+
+/// `ferroc run` of `model` with this Zenoh configuration.
+fn run_model(model: &str, config: &Path, args: &[&str]) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_ferroc"));
     command
-        .args(["run", MODEL, "-q"])
+        .args(["run", model, "-q"])
         .args(args)
         .env("FERROC_LOG_DIR", test_log_dir())
         .env("ZENOH_SESSION_CONFIG_URI", config)
@@ -71,24 +82,35 @@ fn recorded(file: &Path, channel: &str) -> Vec<f64> {
 /// The runner is built first (outside the timed part) by a run of one cycle with
 /// nobody to connect to: a node without its router runs all the same.
 fn build_runner(dir: &Path) {
+    build_runner_of(MODEL, dir);
+}
+
+/// [`build_runner`] for `model`.
+fn build_runner_of(model: &str, dir: &Path) {
     let nobody = zenoh_config(dir, &[&format!("tcp/127.0.0.1:{}", free_port())]);
-    let first = run_command(&nobody, &["--lockstep", "--cycles", "1"])
+    let first = run_model(model, &nobody, &["--lockstep", "--cycles", "1"])
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&first.stderr);
     assert!(first.status.success(), "{err}");
 }
 
-/// Runs the model for at most 30 s beside `peer`, recording into `record`; the JSON
-/// object the peer prints, and its text.
-fn run_beside(mut peer: Command, config: &Path, record: &Path) -> (serde_json::Value, String) {
+/// `ferroc run` of the model for at most 30 s, recording into `record`.
+fn run_for_30s(config: &Path, record: &Path) -> Command {
+    let mut run = run_command(config, &["--for", "30s", "--record"]);
+    run.arg(record);
+    run
+}
+
+/// Runs `run` (the model's node) beside `peer`; the JSON object the peer prints, and
+/// its text.
+fn run_beside(mut peer: Command, mut run: Command) -> (serde_json::Value, String) {
     let peer = peer
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let run = run_command(config, &["--for", "30s", "--record"])
-        .arg(record)
+    let run = run
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -115,27 +137,95 @@ fn a_ros2_peer_sees_the_node_receives_cmd_vel_and_stops_the_robot_with_enable() 
     };
     let dir = tempdir("ros2_run");
     build_runner(&dir);
-    // The peer listens; the run connects to it as a node connects to rmw_zenohd.
+    let record = dir.join("run.mcap");
+    beside_run_peer(&python, &dir, &record, |config| {
+        run_for_30s(config, &record)
+    });
+}
+
+/// A bundle's program of the model is the same node: the ROS 2 peer sees it, receives
+/// its /cmd_vel and /ir_front and stops it through /enable, as with `ferroc run`.
+#[test]
+fn a_bundle_s_program_is_the_node_the_ros2_peer_sees_receives_and_stops() {
+    let Some(python) = ferroc_testkit::python(&["zenoh", "rosbags"]) else {
+        return;
+    };
+    let dir = tempdir("ros2_bundle");
+    bundle_ok(&root().join(MODEL), &dir.join("bundle"));
+    assert_rustfmt_clean(&dir.join("bundle/parts/fragile_bot/src/main.rs"));
+    let program = build_bundle(&dir.join("bundle"))
+        .join("debug")
+        .join("ros2_crash_course-fragile_bot");
+    let record = dir.join("bundle.mcap");
+    beside_run_peer(&python, &dir, &record, |config| {
+        let mut run = Command::new(&program);
+        run.args(["-q", "--for", "30s", "--record"])
+            .arg(&record)
+            .env("FERROC_LOG_DIR", test_log_dir())
+            .env("ZENOH_SESSION_CONFIG_URI", config);
+        run
+    });
+}
+
+/// The generated programs of a service and a client (not built here): the node with
+/// its service or client, their calls registered to cross as JSON, in rustfmt's layout.
+#[test]
+fn a_bundle_writes_the_node_s_services_and_clients_in_rustfmt_s_layout() {
+    let dir = tempdir("ros2_bundle_services");
+    for (model, part, end) in [
+        (SWITCH, "switch", "services: vec!["),
+        (ASKER, "asker", "clients: vec!["),
+    ] {
+        let out = dir.join(part);
+        bundle_ok(&root().join(model), &out);
+        let main = out.join(format!("parts/{part}/src/main.rs"));
+        let text = std::fs::read_to_string(&main).unwrap();
+        assert!(text.contains(end), "{text}");
+        assert!(
+            text.contains("registry.register_call::<bool, crash_course::Ack>();"),
+            "{text}"
+        );
+        assert!(
+            text.contains("network_from(args.zenoh_config.as_deref())"),
+            "{text}"
+        );
+        assert_rustfmt_clean(&main);
+    }
+}
+
+/// `rustfmt --check` passes on `file` (where rustfmt is installed).
+fn assert_rustfmt_clean(file: &Path) {
+    if let Ok(out) = Command::new("rustfmt")
+        .args(["--edition", "2021", "--check"])
+        .arg(file)
+        .output()
+    {
+        let diff = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{diff}");
+    }
+}
+
+/// `tests/ros2/run_peer.py` listening on loopback and the node `run(config)` makes
+/// connecting to it (as a node connects to rmw_zenohd), recording into `record`: the
+/// peer sees the tokens, decodes the samples to the recorded values, and /enable stops
+/// the robot.
+fn beside_run_peer(python: &Path, dir: &Path, record: &Path, run: impl FnOnce(&Path) -> Command) {
     let port = free_port();
-    let config = zenoh_config(&dir, &[&format!("tcp/127.0.0.1:{port}")]);
-    let mut peer = Command::new(&python);
+    let config = zenoh_config(dir, &[&format!("tcp/127.0.0.1:{port}")]);
+    let mut peer = Command::new(python);
     peer.arg(root().join("tests/ros2/run_peer.py"))
         .args([format!("tcp/127.0.0.1:{port}").as_str(), "25"]);
-    let record = dir.join("run.mcap");
-    let (report, text) = run_beside(peer, &config, &record);
+    let (report, text) = run_beside(peer, run(&config));
 
     check_tokens(&report);
     let samples = report["samples"].as_array().unwrap();
     check_samples(&report, samples);
-    check_values(samples, &record);
+    check_values(samples, record);
     check_enable(samples, &text);
     // A single value published into the one field of std_msgs/msg/Float64.
     let ir = report["ir_front"].as_array().unwrap();
     assert!(!ir.is_empty(), "no /ir_front sample: {text}");
-    let noisy = recorded(
-        &record,
-        "fragile_bot/main/simulation/add_noise_front/output",
-    );
+    let noisy = recorded(record, "fragile_bot/main/simulation/add_noise_front/output");
     let float = &report["hashes"]["std_msgs/msg/Float64"];
     for s in ir {
         assert_eq!(
@@ -173,7 +263,7 @@ fn zenoh_ros2_sdk_lists_our_topics_receives_cmd_vel_and_stops_the_robot() {
             "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
         );
     let record = dir.join("run.mcap");
-    let (report, text) = run_beside(peer, &config, &record);
+    let (report, text) = run_beside(peer, run_for_30s(&config, &record));
 
     let topics = report["topics"].as_array().unwrap();
     for (topic, ty) in [
@@ -188,6 +278,108 @@ fn zenoh_ros2_sdk_lists_our_topics_receives_cmd_vel_and_stops_the_robot() {
     assert!(samples.len() >= 10, "{text}");
     check_values(samples, &record);
     check_enable(samples, &text);
+}
+
+/// A module's service offered as a ROS 2 service (`tests/ros2/switch.xml`): the SDK
+/// lists it with its type, its client (its own service type hash and key) calls it and
+/// gets the module's answers, which switch what the node publishes; a raw request
+/// gets rmw_zenoh's reply attachment (the request's sequence number and the client's
+/// GID).
+#[test]
+fn zenoh_ros2_sdk_calls_a_module_s_service_as_a_ros2_service() {
+    let Some(python) = ferroc_testkit::python(&["zenoh_ros2_sdk"]) else {
+        return;
+    };
+    let dir = tempdir("ros2_service");
+    build_runner_of(SWITCH, &dir);
+    let port = free_port();
+    let config = listening_config(&dir, port);
+    let mut peer = Command::new(&python);
+    peer.arg(root().join("tests/ros2/sdk_service_peer.py"))
+        .arg(port.to_string())
+        .arg(root().join("ros2/interfaces"))
+        .arg("25")
+        .env(
+            "ZENOH_CONFIG_OVERRIDE",
+            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
+        );
+    let run = run_model(SWITCH, &config, &["--for", "30s"]);
+    let (report, text) = run_beside(peer, run);
+
+    let listed = serde_json::json!(["/switch_bot/set_enabled", ["std_srvs/srv/SetBool"]]);
+    assert!(
+        report["services"].as_array().unwrap().contains(&listed),
+        "{listed} not in {text}"
+    );
+    let answer =
+        |success: bool, message: &str| serde_json::json!({"success": success, "message": message});
+    assert_eq!(
+        report["responses"],
+        serde_json::json!([answer(true, "disabled"), answer(true, "enabled")]),
+        "{text}"
+    );
+    // /enabled was true, then false after the first call, then true again.
+    let enabled: Vec<bool> = (report["enabled"].as_array().unwrap().iter())
+        .map(|v| v.as_bool().unwrap())
+        .collect();
+    let mut changes = enabled.clone();
+    changes.dedup();
+    assert_eq!(changes.last(), Some(&true), "{text}");
+    assert!(changes.ends_with(&[false, true]), "{text}");
+    // The raw reply: on the service key, with the request's sequence number (41) and the
+    // client's GID (0, 1, …, 15) echoed, as rmw_zenoh's server writes them.
+    let raw = &report["raw"];
+    assert_eq!(raw["key"], report["key"], "{text}");
+    let attachment = raw["attachment"].as_str().unwrap();
+    assert_eq!(attachment.len(), 66, "{text}");
+    assert_eq!(&attachment[..16], "2900000000000000", "{text}");
+    assert_eq!(
+        &attachment[32..],
+        "10000102030405060708090a0b0c0d0e0f",
+        "{text}"
+    );
+}
+
+/// A module's client calling a ROS 2 service (`tests/ros2/asker.xml`): zenoh-ros2-sdk's
+/// server (its own service hash and key, and a strict reading of our request's
+/// attachment) gets both kinds of request of `crash_course.EnableAsk` and answers them; the
+/// module publishes each answer's message, which the SDK's subscriber receives.
+#[test]
+fn a_module_s_client_calls_a_zenoh_ros2_sdk_service() {
+    let Some(python) = ferroc_testkit::python(&["zenoh_ros2_sdk"]) else {
+        return;
+    };
+    let dir = tempdir("ros2_client");
+    build_runner_of(ASKER, &dir);
+    let port = free_port();
+    let config = listening_config(&dir, port);
+    let mut peer = Command::new(&python);
+    peer.arg(root().join("tests/ros2/sdk_server_peer.py"))
+        .arg(port.to_string())
+        .arg(root().join("ros2/interfaces"))
+        .arg("25")
+        .env(
+            "ZENOH_CONFIG_OVERRIDE",
+            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
+        );
+    let run = run_model(ASKER, &config, &["--for", "30s"]);
+    let (report, text) = run_beside(peer, run);
+
+    let requests: Vec<bool> = (report["requests"].as_array().unwrap().iter())
+        .map(|v| v.as_bool().unwrap())
+        .collect();
+    // Calls made before the SDK's server was there time out; the module goes on
+    // alternating, so the server sees both values.
+    assert!(
+        requests.contains(&false) && requests.contains(&true),
+        "{text}"
+    );
+    let answers: Vec<&str> = (report["answers"].as_array().unwrap().iter())
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    for expected in ["python saw False", "python saw True"] {
+        assert!(answers.contains(&expected), "{expected} not in {text}");
+    }
 }
 
 /// `ros2 node list` and `ros2 topic list -t` read these tokens.
@@ -290,21 +482,10 @@ fn check_enable(samples: &[serde_json::Value], text: &str) {
     );
 }
 
-/// What does not open ROS 2 nodes yet says so, at the model's `<ros2>`, instead of
+/// `ferroc run --inspect` does not open ROS 2 nodes yet and says so, instead of
 /// running without them.
 #[test]
-fn a_bundle_and_an_inspected_run_refuse_ros2_nodes_for_now() {
-    let out = tempdir("ros2_bundle");
-    let (code, _, err) = ferroc(&["bundle", MODEL, "-o", out.to_str().unwrap()]);
-    assert_eq!(code, 1, "{err}");
-    assert!(
-        err.contains("help: run the model with `ferroc run`"),
-        "{err}"
-    );
-    assert!(
-        err.contains("ros2_crash_course.xml:25:6: error: the part `fragile_bot` is a ROS 2 node"),
-        "{err}"
-    );
+fn an_inspected_run_refuses_ros2_nodes_for_now() {
     let (code, _, err) = ferroc(&["run", MODEL, "--inspect", "--cycles", "1"]);
     assert_eq!(code, 2, "{err}");
     assert!(

@@ -1,10 +1,11 @@
 //! The run plan carries each part's ROS 2 node (issue 29, docs/ros2.md): the ports
 //! behind its topics, the topic names expanded as ROS 2 expands them against the node's
-//! namespace, the QoS, and one number per topic end. What the runtime cannot open yet
-//! (services, ends on group ports) is a problem at the element, not a silent omission.
+//! namespace, the QoS, one number per topic end, the modules' services it offers
+//! and the ROS 2 services its clients call. What the runtime cannot open (ends on group
+//! ports, ports that do not resolve) is a problem at the element, not a silent omission.
 
 use ferroc_compiler::load::{BuiltinLibrary, Options};
-use ferroc_compiler::plan::{self, PlannedRos2Topic};
+use ferroc_compiler::plan::{self, Ros2Topic};
 use ferroc_compiler::{check_model_text, Policy};
 use std::path::Path;
 
@@ -33,7 +34,7 @@ fn plan_of(edit: impl Fn(String) -> String) -> (plan::Plan, Vec<String>) {
     (plan, problems.into_iter().map(|p| p.what).collect())
 }
 
-fn topic<'p>(plan: &'p plan::Plan, name: &str) -> &'p PlannedRos2Topic {
+fn topic<'p>(plan: &'p plan::Plan, name: &str) -> &'p Ros2Topic {
     let node = &plan.ros2[0];
     (node.topics.iter())
         .find(|t| t.topic == name)
@@ -57,18 +58,21 @@ fn the_demo_s_node_is_planned_with_its_ports_names_and_qos() {
     );
     let cmd_vel = topic(&plan, "/cmd_vel");
     assert_eq!(cmd_vel.id, 0);
-    assert!(cmd_vel.publish && cmd_vel.reliable && !cmd_vel.transient_local);
+    assert!(cmd_vel.publish && cmd_vel.qos.reliable && !cmd_vel.qos.transient_local);
     assert_eq!(
         cmd_vel.port,
         ("fragile_bot/main/control/twist_out".into(), "twist".into())
     );
-    assert_eq!(cmd_vel.ty, "crash_course.Twist");
+    assert_eq!(cmd_vel.model_type, "crash_course.Twist");
     assert_eq!(cmd_vel.message, "geometry_msgs/msg/Twist");
-    assert_eq!(cmd_vel.depth, 10);
+    assert_eq!(cmd_vel.qos.depth, 10);
     assert_eq!(cmd_vel.field, None, "the whole Twist");
     // A single value fills the one field of a wrapper message.
     let ir = topic(&plan, "/ir_front");
-    assert_eq!((ir.id, ir.ty.as_str(), ir.reliable), (1, "f64", false));
+    assert_eq!(
+        (ir.id, ir.model_type.as_str(), ir.qos.reliable),
+        (1, "f64", false)
+    );
     assert_eq!(ir.field.as_deref(), Some("data"));
     let enable = topic(&plan, "/enable");
     assert_eq!((enable.id, enable.publish), (2, false));
@@ -94,22 +98,78 @@ fn relative_and_private_names_expand_against_the_node_s_namespace() {
     assert!(problems.is_empty(), "{problems:?}");
     assert_eq!(plan.ros2[0].domain, 7);
     assert_eq!(topic(&plan, "/robot1/cmd_vel").id, 0);
-    assert_eq!(topic(&plan, "/robot1/fragile_bot/ir").depth, 3);
+    assert_eq!(topic(&plan, "/robot1/fragile_bot/ir").qos.depth, 3);
     // Absolute names stay.
     assert_eq!(topic(&plan, "/enable").id, 2);
 }
 
 #[test]
-fn a_ros2_service_is_a_problem_named_at_its_element_not_left_out() {
+fn a_module_s_service_is_planned_as_a_ros2_service_with_its_expanded_name() {
     let (plan, problems) = plan_of(|t| {
         t.replace(
             r#"<subscribe port="main/control/controller/enable""#,
-            r#"<service port="main/control/controller/reset" name="~/reset" type="std_srvs/srv/Trigger"/>
+            r#"<service port="main/scaler/scale" name="~/scale" type="std_srvs/srv/SetBool"/>
+      <subscribe port="main/control/controller/enable""#,
+        )
+        .replace(
+            r#"<thread name="main" period="40ms" priority="50" warn-overrun="true">"#,
+            r#"<thread name="main" period="40ms" priority="50" warn-overrun="true">
+      <module name="scaler" type="ferroc_std.ScaleService"/>"#,
+        )
+    });
+    assert!(problems.is_empty(), "{problems:?}");
+    let services = &plan.ros2[0].services;
+    assert_eq!(services.len(), 1, "{services:?}");
+    let s = &services[0];
+    assert_eq!(s.id, 0);
+    assert_eq!(s.port, ("fragile_bot/main/scaler".into(), "scale".into()));
+    assert_eq!(s.name, "/fragile_bot/scale");
+    assert_eq!(s.service, "std_srvs/srv/SetBool");
+    // A single value fills SetBool's one request field; the response has two.
+    assert_eq!(s.request_field.as_deref(), Some("data"));
+    assert_eq!(s.response_field, None);
+}
+
+#[test]
+fn a_module_s_client_is_planned_as_a_ros2_client_numbered_with_the_services() {
+    let (plan, problems) = plan_of(|t| {
+        t.replace(
+            r#"<subscribe port="main/control/controller/enable""#,
+            r#"<service port="main/scaler/scale" name="~/scale" type="std_srvs/srv/SetBool"/>
+      <client port="main/asker/ask" name="/other/scale" type="std_srvs/srv/SetBool"/>
+      <subscribe port="main/control/controller/enable""#,
+        )
+        .replace(
+            r#"<thread name="main" period="40ms" priority="50" warn-overrun="true">"#,
+            r#"<thread name="main" period="40ms" priority="50" warn-overrun="true">
+      <module name="scaler" type="ferroc_std.ScaleService"/>
+      <module name="asker" type="ferroc_std.Ask"/>"#,
+        )
+    });
+    assert!(problems.is_empty(), "{problems:?}");
+    let node = &plan.ros2[0];
+    assert_eq!(node.services.len(), 1, "{node:?}");
+    let c = &node.clients[0];
+    assert_eq!(
+        c.id, 1,
+        "one numbering for services and clients, in model order"
+    );
+    assert_eq!(c.port, ("fragile_bot/main/asker".into(), "ask".into()));
+    assert_eq!(c.name, "/other/scale");
+    assert_eq!(c.request_field.as_deref(), Some("data"));
+}
+
+#[test]
+fn a_ros2_end_whose_port_does_not_resolve_is_a_problem_not_left_out() {
+    let (plan, problems) = plan_of(|t| {
+        t.replace(
+            r#"<subscribe port="main/control/controller/enable""#,
+            r#"<client port="main/control/controller/reset" name="~/reset" type="std_srvs/srv/Trigger"/>
       <subscribe port="main/control/controller/enable""#,
         )
     });
     assert!(
-        problems.iter().any(|p| p.contains("as a ROS 2 service")),
+        problems.iter().any(|p| p.contains("does not resolve")),
         "{problems:?}"
     );
     assert_eq!(plan.ros2[0].topics.len(), 3, "the topics are planned still");

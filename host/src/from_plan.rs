@@ -50,32 +50,8 @@ pub fn run_plan(plan: &Plan, app: &Application) -> run::RunPlan {
         orders: plan.locks.orders.clone(),
     };
     out.units = plan.units.clone();
-    out.ros2 = plan.ros2.iter().map(ros2_node).collect();
+    out.ros2 = plan.ros2.clone();
     out
-}
-
-/// A planned ROS 2 node.
-pub fn ros2_node(n: &plan::PlannedRos2Node) -> run::Ros2Node {
-    run::Ros2Node {
-        part: n.part.clone(),
-        domain: n.domain,
-        namespace: n.namespace.clone(),
-        name: n.name.clone(),
-        topics: (n.topics.iter())
-            .map(|t| run::Ros2Topic {
-                id: t.id,
-                publish: t.publish,
-                port: t.port.clone(),
-                ty: t.ty.clone(),
-                topic: t.topic.clone(),
-                message: t.message.clone(),
-                field: t.field.clone(),
-                reliable: t.reliable,
-                transient_local: t.transient_local,
-                depth: t.depth,
-            })
-            .collect(),
-    }
 }
 
 /// A planned module, in the part `part`.

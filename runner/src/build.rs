@@ -1,9 +1,7 @@
 //! A plan made into the runtime's `Builder` calls: every module, lock, connection,
 //! call and thread container declared (the bundle writes the same calls as source).
 
-use crate::from_plan::{
-    conversion, link_spec, ports_of, queues_of, ros2_node, step_kind, thread_options,
-};
+use crate::from_plan::{conversion, link_spec, ports_of, queues_of, step_kind, thread_options};
 use crate::plan::RunPlan as Plan;
 use ferroc_runtime::behaviour::ViolationPolicy;
 use ferroc_runtime::builder::{
@@ -42,7 +40,7 @@ pub fn builder<'r>(
     connect_params(&mut builder, plan)?;
     connect_calls(&mut builder, plan)?;
     for node in &plan.ros2 {
-        builder.ros2_node(ros2_node(node))?;
+        builder.ros2_node(node.clone())?;
     }
     add_threads(&mut builder, plan)?;
     Ok(builder)

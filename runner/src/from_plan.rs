@@ -6,7 +6,6 @@
 use crate::plan;
 use ferroc_runtime::builder::{Conversion, StepKind};
 use ferroc_runtime::container::ThreadOptions;
-use ferroc_runtime::link::ros2::{self, Ros2Qos};
 use ferroc_runtime::link::{LinkSpec, Sharing};
 use ferroc_runtime::module::PortGroup;
 use ferroc_runtime::port::{OnFull, QueueConfig, WaitMode};
@@ -83,31 +82,5 @@ pub fn step_kind(kind: plan::Step) -> StepKind {
         plan::Step::Update => StepKind::Update,
         plan::Step::Sense => StepKind::Sense,
         plan::Step::Control => StepKind::Control,
-    }
-}
-
-/// The runtime's description of a planned ROS 2 node.
-pub fn ros2_node(node: &plan::Ros2Node) -> ros2::Ros2Node {
-    ros2::Ros2Node {
-        part: node.part.clone(),
-        domain: node.domain,
-        namespace: node.namespace.clone(),
-        name: node.name.clone(),
-        topics: (node.topics.iter())
-            .map(|t| ros2::Ros2Topic {
-                link: ros2::link(t.id),
-                publish: t.publish,
-                port: t.port.clone(),
-                model_type: t.ty.clone(),
-                topic: t.topic.clone(),
-                message: t.message.clone(),
-                field: t.field.clone(),
-                qos: Ros2Qos {
-                    reliable: t.reliable,
-                    transient_local: t.transient_local,
-                    depth: t.depth,
-                },
-            })
-            .collect(),
     }
 }

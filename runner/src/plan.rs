@@ -15,6 +15,7 @@
 //! another ferroc with a message that says what to do ([`read`]); only then is the
 //! body read.
 
+use ferroc_runtime::link::ros2::Ros2Node;
 use ferroc_runtime::module::{Direction, Value};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -54,8 +55,9 @@ pub struct RunPlan {
     /// metadata of recordings (`Plan::units`); absent in older plans: no units.
     #[serde(default)]
     pub units: Vec<(String, String)>,
-    /// The parts that are ROS 2 nodes (`<ros2>`, docs/ros2.md); absent in older
-    /// plans: none.
+    /// The parts that are ROS 2 nodes (`<ros2>`, docs/ros2.md), as the compiler's
+    /// plan, the runtime and bundles describe them (one type); absent in older plans:
+    /// none.
     #[serde(default)]
     pub ros2: Vec<Ros2Node>,
 }
@@ -246,38 +248,6 @@ pub struct Locks {
     pub binds: Vec<(String, String, String)>,
     /// First, second, who declares it.
     pub orders: Vec<(String, String, String)>,
-}
-
-/// A part as a ROS 2 node.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Ros2Node {
-    pub part: String,
-    pub domain: u32,
-    /// Absolute.
-    pub namespace: String,
-    pub name: String,
-    pub topics: Vec<Ros2Topic>,
-}
-
-/// A `<publish>` or `<subscribe>` of a node.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Ros2Topic {
-    /// Its number among the model's topic ends.
-    pub id: u32,
-    /// Published, else subscribed.
-    pub publish: bool,
-    /// Module path and port name.
-    pub port: (String, String),
-    /// The port's model type.
-    pub ty: String,
-    /// Fully qualified.
-    pub topic: String,
-    /// `package/msg/Name`.
-    pub message: String,
-    pub field: Option<String>,
-    pub reliable: bool,
-    pub transient_local: bool,
-    pub depth: u32,
 }
 
 /// The header alone: read before the body, so that another layout is named, not

@@ -20,6 +20,7 @@ mod links;
 mod literals;
 mod out;
 mod resolved;
+mod ros2;
 mod rust;
 pub(crate) mod sha256;
 pub(crate) mod text;
@@ -162,16 +163,7 @@ fn plan_built_in(
     cmdline: &[(String, String)],
     names: &Names<'_>,
 ) -> Result<plan::Plan, ExitCode> {
-    let (plan, mut unsupported) = plan::plan(app, &result.libraries, cmdline);
-    // The part programs do not open ROS 2 nodes yet (docs/ros2.md, Status).
-    unsupported.extend(plan.ros2.iter().map(|node| plan::Unsupported {
-        what: format!(
-            "the part `{}` is a ROS 2 node, which a bundle's programs do not open yet\n  \
-             help: run the model with `ferroc run`, which does (docs/ros2.md)",
-            node.part
-        ),
-        span: node.span,
-    }));
+    let (plan, unsupported) = plan::plan(app, &result.libraries, cmdline);
     for p in &unsupported {
         eprintln!("{}: error: {}", names.at(p.span), p.what);
     }
@@ -323,8 +315,9 @@ fn dependencies(
     let mut out = vec![ours("ferroc-runtime", "runtime", "the runtime")?];
     // Every program serves inspection on request (`--inspect`, docs/inspect.md).
     out.push(ours("ferroc-inspect", "inspect", "the inspection server")?);
-    // Programs of linked parts talk over Zenoh (only when some part is linked).
-    if layout.parts.iter().any(|p| p.is_linked()) {
+    // Programs of linked parts and of ROS 2 nodes talk over Zenoh (only when some
+    // part needs it).
+    if layout.parts.iter().any(|p| p.uses_zenoh()) {
         out.push(ours("ferroc-zenoh", "zenoh-link", "the Zenoh transport")?);
     }
     for lib in layout.libraries.values() {
@@ -472,7 +465,7 @@ fn add_parts(
         let inspect = deps.iter().find(|d| d.package == "ferroc-inspect");
         let mut part_deps: Vec<&Dependency> = std::iter::once(&deps[0])
             .chain(inspect)
-            .chain(zenoh.filter(|_| part.is_linked()))
+            .chain(zenoh.filter(|_| part.uses_zenoh()))
             .chain(part.libraries.iter().filter_map(|l| {
                 let package = &layout.libraries.get(l)?.package;
                 deps.iter().find(|d| d.package == *package)

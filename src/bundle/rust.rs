@@ -88,6 +88,8 @@ pub fn main_rs(part: &Part<'_>, cx: &Context<'_>) -> String {
         uses_param: uses.param,
         uses_queue: uses.queue,
         linked: part.is_linked(),
+        ros2_node: super::ros2::node_block(part.ros2),
+        ros2_only: part.ros2.is_some() && !part.is_linked(),
     }
     .to_string()
 }
@@ -256,6 +258,7 @@ fn part_uses(part: &Part<'_>, modules: &ModuleUses) -> Uses {
         value: modules.param || modules.queue,
         ports: modules.ports,
         network: part.is_linked(),
+        ros2: super::ros2::type_names(part.ros2),
     }
 }
 
@@ -332,6 +335,11 @@ struct MainRs<'a> {
     uses_queue: bool,
     /// Whether the part talks to others (over Zenoh, `ferroc-zenoh`).
     linked: bool,
+    /// The `builder.ros2_node` block of the part's ROS 2 node (`ros2.rs`), after a
+    /// line break; empty without one.
+    ros2_node: String,
+    /// A ROS 2 node without links to other parts: its network is the node's alone.
+    ros2_only: bool,
 }
 
 /// One `builder.add_module` of `build()`.
@@ -467,6 +475,8 @@ fn registrations(part: &Part<'_>) -> Vec<String> {
         .chain(&part.links_in)
         .filter_map(|c| c.link.as_ref()?.rust.as_deref())
         .chain(encodable)
+        // A ROS 2 topic's library type reaches its message through its serde form.
+        .chain(part.ros2_serde.iter().map(String::as_str))
         .collect();
     for rust in values.iter().filter(|r| !crossing.contains(*r)) {
         out.push(format!("registry.register_value::<{rust}>();"));
@@ -496,6 +506,8 @@ struct Uses {
     value: bool,
     ports: bool,
     network: bool,
+    /// The ROS 2 node's types the code names (none without a node).
+    ros2: Vec<&'static str>,
 }
 
 fn imports(out: &mut Code, uses: Uses) {
@@ -525,6 +537,9 @@ fn imports(out: &mut Code, uses: Uses) {
         (false, true) => out.line(0, "use ferroc_runtime::link::{LinkSpec, Sharing};"),
         (true, false) => out.line(0, "use ferroc_runtime::link::CallSpec;"),
         (false, false) => {}
+    }
+    if !uses.ros2.is_empty() {
+        out.fill("use ferroc_runtime::link::ros2::{", &uses.ros2, "};");
     }
     match (uses.ports, uses.value) {
         (true, true) => out.line(

@@ -139,6 +139,7 @@ impl Network for Zenoh {
         let mut links = links.clone();
         links.part = part.clone();
         let links = &links;
+        let for_ros2 = delivery.clone();
         let opened = if lockstep {
             lockstep::open(&session, &self.keys, &part, links)
                 .map(|l| Box::new(l) as Box<dyn Connection>)
@@ -151,6 +152,19 @@ impl Network for Zenoh {
             free::open(&session, &self.keys, &part, links, delivery, shm)
                 .map(|l| Box::new(l) as Box<dyn Connection>)
         };
+        // A part that is a ROS 2 node (a bundle's program) opens it on the same
+        // session: its frames go to the node, the others to the parts (docs/ros2.md).
+        let opened = opened.and_then(|conn| match links.ros2.is_empty() {
+            true => Ok(conn),
+            false => match ros2::network::Ros2Ends::open(&session, &links.ros2, for_ros2, lockstep)
+            {
+                Ok(ends) => Ok(Box::new(ros2::network::WithRos2::new(Some(conn), ends, None)) as _),
+                Err(why) => {
+                    conn.close();
+                    Err(why)
+                }
+            },
+        });
         if opened.is_err() {
             let _ = session.close().wait();
         }

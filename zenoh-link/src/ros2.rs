@@ -22,6 +22,7 @@ use zenoh::qos::CongestionControl;
 use zenoh::{Session, Wait};
 
 pub mod network;
+pub mod service;
 
 /// A ROS 2 node: its name, namespace and domain.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -148,6 +148,7 @@ passes![
     ros2::r105_topic_type_conflict,
     ros2::r106_ros2_qos_incompatible,
     ros2::r107_ros2_topic_without_publisher,
+    ros2::r108_ros2_service_mismatch,
 ];
 
 /// Runs every pass.

@@ -11,6 +11,7 @@ pub mod r104_invalid_ros2_name;
 pub mod r105_topic_type_conflict;
 pub mod r106_ros2_qos_incompatible;
 pub mod r107_ros2_topic_without_publisher;
+pub mod r108_ros2_service_mismatch;
 
 use crate::PassContext;
 use ferroc_diagnostics::source::Span;
@@ -243,12 +244,13 @@ impl Walk<'_> {
             self.field(port, unit, &only.ty, conv, &join(&only.name));
         } else {
             let names: Vec<&str> = m.fields.iter().map(|f| f.name.as_str()).collect();
+            let fields = match names.is_empty() {
+                true => "no fields".to_string(),
+                false => format!("fields {}", names.join(", ")),
+            };
             self.mismatch(
                 path,
-                format!(
-                    "a port of type `{port}` cannot carry the message `{full}` (fields {})",
-                    names.join(", ")
-                ),
+                format!("a port of type `{port}` cannot carry the message `{full}` ({fields})"),
             );
         }
     }

@@ -12,8 +12,8 @@ mod ports;
 mod ros2;
 
 pub use ferroc_model::ir::Wait;
+pub use ferroc_ros2_node::{Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};
 pub use links::{LinkSharing, PlannedCallLink, PlannedLink};
-pub use ros2::{PlannedRos2Node, PlannedRos2Topic};
 
 use ferroc_diagnostics::source::Span;
 use ferroc_model::ir::{
@@ -156,7 +156,7 @@ pub struct Plan {
     /// without a unit are left out. Recordings name the unit of every channel with it.
     pub units: Vec<(String, String)>,
     /// The parts that are ROS 2 nodes, with their topics (`<ros2>`, docs/ros2.md).
-    pub ros2: Vec<PlannedRos2Node>,
+    pub ros2: Vec<Ros2Node>,
 }
 
 /// Application resources, the model's lock-slot bindings, and the nesting orders the

@@ -10,6 +10,7 @@
 #![forbid(unsafe_code)]
 
 mod controller;
+mod enable;
 mod noise;
 pub mod plan;
 mod simulation;
@@ -17,6 +18,7 @@ mod twist;
 mod visualization;
 
 pub use controller::Controller;
+pub use enable::{Ack, EnableAsk, EnableSwitch};
 pub use noise::AddNoise;
 pub use simulation::MainSimulation;
 pub use twist::{Twist, TwistOut, Vector3};
@@ -48,9 +50,15 @@ pub fn register(registry: &mut Registry) {
         .register::<Visualization>()
         .register::<Controller>()
         .register::<TwistOut>()
+        .register::<EnableSwitch>()
+        .register::<EnableAsk>()
         // Its value type, for flexible ports (`ferroc_std.Dump`, `Logger`, `Player`, …)
         // and `--record`: with its serde form, so a recording holds the pose.
         .register_serde::<Pose2D>()
         .register_serde::<Vector3>()
-        .register_serde::<Twist>();
+        .register_serde::<Twist>()
+        .register_serde::<Ack>()
+        // `EnableSwitch` answers a ROS 2 service and `EnableAsk` calls one: their calls
+        // cross as JSON.
+        .register_call::<bool, Ack>();
 }

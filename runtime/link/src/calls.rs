@@ -8,7 +8,9 @@
 //! link numbers above every data link: one for requests, one for answers.
 //!
 //! Request and response types cross encoded like values (postcard); they are
-//! registered in pairs with `Registry::register_call` (`ferroc_app::builder`).
+//! registered in pairs with `Registry::register_call` (`ferroc_app::builder`). A
+//! service offered as a ROS 2 service has the same stand-in client, with requests and
+//! answers as JSON (`Route::json`), which the network turns into CDR (docs/ros2.md).
 
 use super::{Frame, Hub, Receive};
 use ferroc_ports::port::{Notifier, Notify};
@@ -42,6 +44,8 @@ pub struct Route {
     pub hub: Arc<Hub>,
     pub link: u32,
     pub to_part: Arc<str>,
+    /// Requests and answers as serde JSON (a ROS 2 service's), else postcard.
+    pub json: bool,
 }
 
 impl Route {
@@ -101,6 +105,22 @@ impl<T: Notify> Notify for WeakNotify<T> {
         if let Some(target) = self.0.upgrade() {
             target.notify();
         }
+    }
+}
+
+/// `value` as the route carries it.
+fn encode<T: Serialize>(route: &Route, value: &T) -> Result<Vec<u8>, String> {
+    match route.json {
+        true => serde_json::to_vec(value).map_err(|e| e.to_string()),
+        false => postcard::to_stdvec(value).map_err(|e| e.to_string()),
+    }
+}
+
+/// A value as the route carries it.
+fn decode<T: DeserializeOwned>(route: &Route, bytes: &[u8]) -> Result<T, String> {
+    match route.json {
+        true => serde_json::from_slice(bytes).map_err(|e| e.to_string()),
+        false => postcard::from_bytes(bytes).map_err(|e| e.to_string()),
     }
 }
 
@@ -165,7 +185,7 @@ where
     fn notify(&self) {
         while let Some(request) = self.port.take_request() {
             let (request, responder) = request.into_parts();
-            let Ok(body) = postcard::to_stdvec(&request) else {
+            let Ok(body) = encode(&self.route, &request) else {
                 responder.fail(CallError::Disconnected);
                 continue;
             };
@@ -191,7 +211,7 @@ where
             responder.fail(error_of(head));
             return Ok(());
         }
-        match postcard::from_bytes::<Resp>(body) {
+        match decode::<Resp>(&self.route, body) {
             Ok(response) => {
                 responder.respond(response);
                 Ok(())
@@ -238,7 +258,7 @@ impl<Req, Resp: Serialize> RemoteClient<Req, Resp> {
         drop(calls);
         for (id, pending) in ready {
             match pending.try_take() {
-                Ok(Ok(response)) => match postcard::to_stdvec(&response) {
+                Ok(Ok(response)) => match encode(&self.route, &response) {
                     Ok(body) => self.route.send(id, Some(ANSWERED), &body),
                     Err(_) => self
                         .route
@@ -268,7 +288,7 @@ where
 {
     fn receive(&self, bytes: &[u8]) -> Result<(), String> {
         let (id, body) = split_id(bytes)?;
-        let request = match postcard::from_bytes::<Req>(body) {
+        let request = match decode::<Req>(&self.route, body) {
             Ok(r) => r,
             Err(e) => {
                 self.route

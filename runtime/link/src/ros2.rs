@@ -6,6 +6,10 @@
 //! publishes what arrives (JSON again) into the input. The network
 //! (`ferroc_zenoh::ros2`) turns these frames into rmw_zenoh samples and back; the
 //! runtime knows nothing of CDR, keys or Zenoh, only which numbers are ROS 2 ends.
+//!
+//! A module's service offered as a ROS 2 service has a stand-in client, as for a call
+//! from another part (`calls`), whose requests and answers travel as JSON on the
+//! service's two link numbers ([`request_link`], [`answer_link`]).
 
 /// Link numbers of data links stay below this; ROS 2 end `k` travels on
 /// `ROS2_LINKS + k`; calls between parts start at `calls::CALL_LINKS`, above.
@@ -17,60 +21,21 @@ pub fn link(id: u32) -> u32 {
     ROS2_LINKS.saturating_add(id)
 }
 
-/// A part as a ROS 2 node, with its topics.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Ros2Node {
-    /// The part (the program holding the node).
-    pub part: String,
-    /// `ROS_DOMAIN_ID`.
-    pub domain: u32,
-    /// Absolute, `/` when none.
-    pub namespace: String,
-    /// The node's name.
-    pub name: String,
-    /// Its `<publish>` and `<subscribe>` ends.
-    pub topics: Vec<Ros2Topic>,
+/// ROS 2 service ends travel above the topic ends: service `k`'s requests on
+/// `ROS2_SERVICES + 2k`, its answers on the number after.
+pub const ROS2_SERVICES: u32 = ROS2_LINKS + (1 << 29);
+
+/// The link number of the requests of ROS 2 service end `id` (the plan's numbering of
+/// every `<service>` of the model).
+pub fn request_link(id: u32) -> u32 {
+    ROS2_SERVICES.saturating_add(id.saturating_mul(2))
 }
 
-/// One `<publish>` or `<subscribe>` of a node.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Ros2Topic {
-    /// The link number its frames travel on ([`link`]).
-    pub link: u32,
-    /// `true`: the port is published as the topic; `false`: subscribed from it.
-    pub publish: bool,
-    /// The port: module path and port name.
-    pub port: (String, String),
-    /// The port's model type (its value-table key).
-    pub model_type: String,
-    /// The fully qualified topic (`/robot1/cmd_vel`).
-    pub topic: String,
-    /// The message type, `package/msg/Name`.
-    pub message: String,
-    /// The one field of the message the port carries (`linear.x`), if not all of it.
-    pub field: Option<String>,
-    /// Reliability, durability and depth.
-    pub qos: Ros2Qos,
+/// The link number of the answers of ROS 2 service end `id`.
+pub fn answer_link(id: u32) -> u32 {
+    request_link(id).saturating_add(1)
 }
 
-/// A topic end's QoS, as the model says it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Ros2Qos {
-    /// Reliable (ROS 2's default), else best effort.
-    pub reliable: bool,
-    /// Transient local, else volatile (the default).
-    pub transient_local: bool,
-    /// History depth (keep last).
-    pub depth: u32,
-}
-
-impl Default for Ros2Qos {
-    /// rclcpp's default profile: reliable, volatile, keep last 10.
-    fn default() -> Self {
-        Ros2Qos {
-            reliable: true,
-            transient_local: false,
-            depth: 10,
-        }
-    }
-}
+/// The node's description, shared with the plan, the run plan and bundles
+/// (`ferroc-ros2-node`): one type in every layer.
+pub use ferroc_ros2_node::{Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};

@@ -61,6 +61,16 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     }
+{%- else if ros2_only %}
+    // The part's ROS 2 node: a session as rmw_zenoh configures one (docs/ros2.md).
+    let mut start = args.start_options(PERIODS);
+    match ferroc_zenoh::ros2::network::network_from(args.zenoh_config.as_deref()) {
+        Ok(network) => start.network = Some(network),
+        Err(e) => {
+            ferroc_runtime::console::stderr_line(format_args!("error: {e}"));
+            return ExitCode::from(2);
+        }
+    }
 {%- else %}
     let start = args.start_options(PERIODS);
 {%- endif %}
@@ -155,6 +165,7 @@ fn build(
 {{ l.ends|safe }}
     )?;
 {%- endfor %}
+{{- ros2_node|safe }}
 
     // `--record`: a recorder at the end of every thread container it records from.
     record.add_to(&mut builder)?;

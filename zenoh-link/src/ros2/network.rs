@@ -13,6 +13,7 @@
 //! `tcp/localhost:7447`, multicast scouting off), with `ZENOH_SESSION_CONFIG_URI`'s file
 //! merged over it as rmw_zenoh reads it.
 
+use super::service::{Ros2Caller, Ros2Server, ServiceSpec};
 use super::{NodeSpec, Ros2Node, Ros2Publisher, Ros2Subscriber, TopicSpec};
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::{Durability, History, Qos, Reliability};
@@ -38,6 +39,10 @@ pub const CONFIG_ENV: &str = "ZENOH_SESSION_CONFIG_URI";
 pub struct Ros2Ends {
     publishers: BTreeMap<u32, Ros2Publisher>,
     _subscribers: Vec<Ros2Subscriber>,
+    /// Service servers by the link number of their answers.
+    servers: BTreeMap<u32, Ros2Server>,
+    /// Service clients by the link number of their requests.
+    callers: BTreeMap<u32, Ros2Caller>,
     _nodes: Vec<Ros2Node>,
     /// In lockstep: what arrived since the last instant.
     arrived: Option<Arc<Arrived>>,
@@ -57,6 +62,8 @@ impl Ros2Ends {
         let mut open = Ros2Ends {
             publishers: BTreeMap::new(),
             _subscribers: Vec::new(),
+            servers: BTreeMap::new(),
+            callers: BTreeMap::new(),
             _nodes: Vec::new(),
             arrived,
         };
@@ -70,6 +77,12 @@ impl Ros2Ends {
             let node = Ros2Node::declare(session, Arc::clone(&registry), &spec, next_id)?;
             for t in &n.topics {
                 open.add_topic(&node, t, &delivery)?;
+            }
+            for service in &n.services {
+                open.add_server(&node, service, &delivery)?;
+            }
+            for client in &n.clients {
+                open.add_caller(&node, client, &delivery)?;
             }
             next_id = node.next_id();
             open._nodes.push(node);
@@ -96,10 +109,11 @@ impl Ros2Ends {
             field: t.field.clone(),
         };
         if t.publish {
-            self.publishers.insert(t.link, node.publisher(spec)?);
+            self.publishers
+                .insert(ends::link(t.id), node.publisher(spec)?);
             return Ok(());
         }
-        let (link, depth) = (t.link, t.qos.depth.max(1) as usize);
+        let (link, depth) = (ends::link(t.id), t.qos.depth.max(1) as usize);
         let arrived = self.arrived.clone();
         let delivery = delivery.clone();
         let subscriber = node.subscriber(spec, move |value| {
@@ -113,6 +127,45 @@ impl Ros2Ends {
         Ok(())
     }
 
+    /// A server of the module's service `s`: its requests go to the stand-in client on
+    /// the service's request link (in lockstep at the next instant, at most 10 per
+    /// service kept, as rmw_zenoh's default service QoS keeps).
+    fn add_server(
+        &mut self,
+        node: &Ros2Node,
+        s: &ends::Ros2Service,
+        delivery: &Delivery,
+    ) -> Result<(), String> {
+        let spec = service_spec(s)?;
+        let link = ends::request_link(s.id);
+        let (arrived, delivery) = (self.arrived.clone(), delivery.clone());
+        let server = node.service_server(spec, move |bytes| match &arrived {
+            Some(queue) => queue.push(link, bytes, 10),
+            None => delivery.deliver_bytes(link, &bytes),
+        })?;
+        self.servers.insert(ends::answer_link(s.id), server);
+        Ok(())
+    }
+
+    /// A client of the ROS 2 service `c` for a module's client: its answers go to the
+    /// stand-in service on the answer link (in lockstep at the next instant).
+    fn add_caller(
+        &mut self,
+        node: &Ros2Node,
+        c: &ends::Ros2Service,
+        delivery: &Delivery,
+    ) -> Result<(), String> {
+        let spec = service_spec(c)?;
+        let link = ends::answer_link(c.id);
+        let (arrived, delivery) = (self.arrived.clone(), delivery.clone());
+        let caller = node.service_client(spec, move |bytes| match &arrived {
+            Some(queue) => queue.push(link, bytes, 10),
+            None => delivery.deliver_bytes(link, &bytes),
+        })?;
+        self.callers.insert(ends::request_link(c.id), caller);
+        Ok(())
+    }
+
     /// Whether `link` is a published topic of these nodes.
     pub fn publishes(&self, link: u32) -> bool {
         self.publishers.contains_key(&link)
@@ -122,6 +175,24 @@ impl Ros2Ends {
     /// frame is not for a ROS 2 topic. A value that does not fit the message is
     /// reported (throttled, naming the topic) and not sent.
     pub fn publish(&self, frame: &Frame) -> bool {
+        if let Some(caller) = self.callers.get(&frame.link) {
+            if let Err(why) = caller.call(&frame.bytes) {
+                console::report(&format!(
+                    "warning: ROS 2 service `{}`: {why}",
+                    caller.spec().name
+                ));
+            }
+            return true;
+        }
+        if let Some(server) = self.servers.get(&frame.link) {
+            if let Err(why) = server.answer(&frame.bytes) {
+                console::report(&format!(
+                    "warning: ROS 2 service `{}`: {why}",
+                    server.spec().name
+                ));
+            }
+            return true;
+        }
         let Some(publisher) = self.publishers.get(&frame.link) else {
             return false;
         };
@@ -142,6 +213,24 @@ impl Ros2Ends {
     pub fn take_arrived(&self) -> Vec<Frame> {
         self.arrived.as_ref().map_or_else(Vec::new, |a| a.take())
     }
+}
+
+/// What the wire needs of a service or client end.
+fn service_spec(s: &ends::Ros2Service) -> Result<ServiceSpec, String> {
+    let ty = TypeName::parse(&s.service)
+        .filter(|t| t.kind == "srv")
+        .ok_or_else(|| {
+            format!(
+                "`{}` is not a ROS 2 service type (package/srv/Name) of the service `{}`",
+                s.service, s.name
+            )
+        })?;
+    Ok(ServiceSpec {
+        name: s.name.clone(),
+        ty,
+        request_field: s.request_field.clone(),
+        response_field: s.response_field.clone(),
+    })
 }
 
 /// The QoS of a topic end on the wire.
@@ -281,13 +370,19 @@ impl Ros2Network {
     /// Configured as rmw_zenoh configures a node, with the JSON5 file `file` merged
     /// over it (what the file sets wins).
     pub fn new(file: Option<&Path>) -> Result<Ros2Network, String> {
+        Self::configured(file, &format!("{CONFIG_ENV}="))
+    }
+
+    /// [`Self::new`], with errors about `file` naming it as `named` says
+    /// (`--zenoh-config ` or `ZENOH_SESSION_CONFIG_URI=`).
+    fn configured(file: Option<&Path>, named: &str) -> Result<Ros2Network, String> {
         let addresses = Addresses {
             part: "ros2".into(),
             listen: "tcp/localhost:0".into(),
             peers: [("rmw_zenohd".to_string(), ROUTER.to_string())].into(),
         };
         let config = crate::config::config(&addresses, file)
-            .map_err(|e| e.replacen("--zenoh-config ", &format!("{CONFIG_ENV}="), 1))?;
+            .map_err(|e| e.replacen("--zenoh-config ", named, 1))?;
         Ok(Ros2Network { config })
     }
 }
@@ -295,9 +390,21 @@ impl Ros2Network {
 /// [`Ros2Network`] with the file `ZENOH_SESSION_CONFIG_URI` names, if set: what a ROS 2
 /// runner gives the run (`ferroc_runner::main_ros2`).
 pub fn network() -> Result<Arc<dyn Network>, String> {
-    let file = std::env::var_os(CONFIG_ENV).filter(|f| !f.is_empty());
-    let network = Ros2Network::new(file.as_deref().map(Path::new))?;
-    Ok(Arc::new(network))
+    network_from(None)
+}
+
+/// [`Ros2Network`] with the file `file` (a bundle program's `--zenoh-config`), else
+/// the one `ZENOH_SESSION_CONFIG_URI` names, if set: what a bundle's program whose part
+/// is a ROS 2 node but has no links to other parts runs on.
+pub fn network_from(file: Option<&Path>) -> Result<Arc<dyn Network>, String> {
+    let network = match file {
+        Some(file) => Ros2Network::configured(Some(file), "--zenoh-config "),
+        None => {
+            let from_env = std::env::var_os(CONFIG_ENV).filter(|f| !f.is_empty());
+            Ros2Network::new(from_env.as_deref().map(Path::new))
+        }
+    };
+    Ok(Arc::new(network?))
 }
 
 impl Network for Ros2Network {

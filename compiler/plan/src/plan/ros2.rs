@@ -1,74 +1,36 @@
 //! The model's ROS 2 nodes as the runtime opens them (issue 29, docs/ros2.md): each
 //! part's `<ros2>` with its topics, the names expanded as ROS 2 expands them and each
 //! topic end numbered, so that `ferroc run` and a bundle give the same ends the same
-//! link numbers. External nodes (`<ros2-external>`) are only for the checks.
+//! link numbers. External nodes (`<ros2-external>`) are only for the checks. The nodes
+//! are `ferroc-ros2-node`'s type, which the run plan, the runtime and bundles share.
 
 use super::Unsupported;
-use ferroc_diagnostics::source::Span;
-use ferroc_model::ir::{Application, Endpoint, Ros2Node, Ros2Topic, ServiceRole, TopicDirection};
+use ferroc_model::ir::{self, Application, Endpoint, ServiceRole, TopicDirection};
 use ferroc_model::library::LibrarySet;
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::names::expand_topic_name;
 use ferroc_ros2::Registry;
+use ferroc_ros2_node::{Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};
 use ferroc_values::types::Type;
-
-/// A part as a ROS 2 node.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PlannedRos2Node {
-    /// The part's name.
-    pub part: String,
-    pub domain: u32,
-    /// Absolute (`/` when the model gives none).
-    pub namespace: String,
-    pub name: String,
-    pub topics: Vec<PlannedRos2Topic>,
-    pub span: Span,
-}
-
-/// One `<publish>` or `<subscribe>`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PlannedRos2Topic {
-    /// Its number among every topic end of the model, in model order.
-    pub id: u32,
-    /// Published (else subscribed).
-    pub publish: bool,
-    /// The port: module path and port name.
-    pub port: (String, String),
-    /// The port's model type.
-    pub ty: String,
-    /// Fully qualified (`/robot1/cmd_vel`).
-    pub topic: String,
-    /// `package/msg/Name`.
-    pub message: String,
-    pub field: Option<String>,
-    pub reliable: bool,
-    pub transient_local: bool,
-    pub depth: u32,
-    pub span: Span,
-}
 
 /// The nodes of the model's parts; what cannot run yet is added to `problems`.
 pub(super) fn plan_ros2(
     app: &Application,
     libs: &LibrarySet,
     problems: &mut Vec<Unsupported>,
-) -> Vec<PlannedRos2Node> {
-    let mut next_id = 0;
+) -> Vec<Ros2Node> {
+    let (mut next_id, mut next_service) = (0, 0);
     let mut nodes = Vec::new();
     for node in app.ros2.nodes.iter().filter(|n| !n.is_external()) {
         let Some(part) = node.part else { continue };
-        if let Some(s) = node.services.first() {
-            let what = match s.role {
-                ServiceRole::Server => "offering a service",
-                ServiceRole::Client => "calling a service",
-            };
-            problems.push(Unsupported {
-                what: format!(
-                    "{what} as a ROS 2 service is checked but not run yet\n  help: \
-                     remove the `<service>`/`<client>` from `<ros2>` to run the model"
-                ),
-                span: s.span,
-            });
+        let (mut services, mut clients) = (Vec::new(), Vec::new());
+        for s in &node.services {
+            match service(app, libs, node, s, next_service) {
+                Ok(planned) if s.role == ServiceRole::Client => clients.push(planned),
+                Ok(planned) => services.push(planned),
+                Err(what) => problems.push(Unsupported { what, span: s.span }),
+            }
+            next_service += 1;
         }
         let mut topics = Vec::new();
         for t in &node.topics {
@@ -78,13 +40,14 @@ pub(super) fn plan_ros2(
             }
             next_id += 1;
         }
-        nodes.push(PlannedRos2Node {
+        nodes.push(Ros2Node {
             part: app.element(part).name.clone(),
             domain: node.domain,
             namespace: node.namespace().to_string(),
             name: node.name.0.clone(),
             topics,
-            span: node.span,
+            services,
+            clients,
         });
     }
     nodes
@@ -104,14 +67,53 @@ fn only_field(message: &str, port: &Type) -> Option<String> {
     }
 }
 
+/// One `<service>` or `<client>` of `node`, numbered `id`: the module's service or
+/// client, the service name expanded as ROS 2 expands it, and the field a single-value
+/// request or response fills.
+fn service(
+    app: &Application,
+    libs: &LibrarySet,
+    node: &ir::Ros2Node,
+    s: &ir::Ros2Service,
+    id: u32,
+) -> Result<Ros2Service, String> {
+    let Some((endpoint, _)) = s.port else {
+        return Err("the service of this ROS 2 end does not resolve".into());
+    };
+    let Endpoint::Port { element, .. } = endpoint else {
+        return Err("the service of this ROS 2 end is not a module's".into());
+    };
+    let view = app
+        .view(libs, endpoint)
+        .ok_or("the service of this ROS 2 end does not resolve")?;
+    let name = expand_topic_name(&s.name.0, &node.name.0, node.namespace())
+        .map_err(|why| format!("ROS 2 refuses the service name `{}`: {why}", s.name.0))?;
+    let response = app.module_type(libs, element).and_then(|mt| match s.role {
+        ServiceRole::Server => (mt.services.iter())
+            .find(|d| d.name == view.name)
+            .and_then(|d| d.response.as_ref()),
+        ServiceRole::Client => (mt.clients.iter())
+            .find(|d| d.name == view.name)
+            .and_then(|d| d.response.as_ref()),
+    });
+    Ok(Ros2Service {
+        id,
+        port: (app.path(element), view.name.to_string()),
+        name,
+        service: s.ty.0.clone(),
+        request_field: only_field(&format!("{}_Request", s.ty.0), view.ty),
+        response_field: response.and_then(|r| only_field(&format!("{}_Response", s.ty.0), r)),
+    })
+}
+
 /// One topic end of `node`, numbered `id`.
 fn topic(
     app: &Application,
     libs: &LibrarySet,
-    node: &Ros2Node,
-    t: &Ros2Topic,
+    node: &ir::Ros2Node,
+    t: &ir::Ros2Topic,
     id: u32,
-) -> Result<PlannedRos2Topic, String> {
+) -> Result<Ros2Topic, String> {
     let Some((endpoint, _)) = t.port else {
         return Err("the port of this ROS 2 end does not resolve".into());
     };
@@ -127,17 +129,18 @@ fn topic(
         .ok_or("the port of this ROS 2 end does not resolve")?;
     let topic = expand_topic_name(&t.topic.0, &node.name.0, node.namespace())
         .map_err(|why| format!("ROS 2 refuses the topic name `{}`: {why}", t.topic.0))?;
-    Ok(PlannedRos2Topic {
+    Ok(Ros2Topic {
         id,
         publish: t.direction == TopicDirection::Publish,
         port: (app.path(element), view.name.to_string()),
-        ty: view.ty.to_string(),
+        model_type: view.ty.to_string(),
         topic,
         message: t.ty.0.clone(),
         field: (t.field.as_ref().map(|(f, _)| f.clone())).or_else(|| only_field(&t.ty.0, view.ty)),
-        reliable: !t.is_best_effort(),
-        transient_local: t.is_transient_local(),
-        depth: t.depth.as_ref().map_or(10, |(d, _)| *d),
-        span: t.span,
+        qos: Ros2Qos {
+            reliable: !t.is_best_effort(),
+            transient_local: t.is_transient_local(),
+            depth: t.depth.as_ref().map_or(10, |(d, _)| *d),
+        },
     })
 }

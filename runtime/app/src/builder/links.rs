@@ -223,7 +223,7 @@ impl Builder<'_> {
             .is_ok_and(|c| self.registry.call_ends(c.types()).is_some())
     }
 
-    fn call_ends(
+    pub(super) fn call_ends(
         &self,
         types: (&str, &str),
         describe: &str,
@@ -237,11 +237,12 @@ impl Builder<'_> {
         })
     }
 
-    fn route(&self, link: u32, to_part: &str) -> calls::Route {
+    pub(super) fn route(&self, link: u32, to_part: &str) -> calls::Route {
         calls::Route {
             hub: Arc::clone(&self.hub),
             link,
             to_part: Arc::from(to_part),
+            json: false,
         }
     }
 

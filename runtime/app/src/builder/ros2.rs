@@ -6,7 +6,7 @@
 
 use super::{BuildError, Builder, Conversion};
 use ferroc_exec::Step;
-use ferroc_link::ros2::{Ros2Node, Ros2Topic};
+use ferroc_link::ros2::{self, Ros2Node, Ros2Service, Ros2Topic};
 use ferroc_link::{Frame, Receive};
 use ferroc_module::{Codec, DynOut, ValueType};
 use ferroc_ports::port::ConnectOptions;
@@ -25,6 +25,12 @@ impl Builder<'_> {
                 self.ros2_subscribe(topic, port)?;
             }
         }
+        for service in &node.services {
+            self.ros2_serve(service)?;
+        }
+        for client in &node.clients {
+            self.ros2_call(client)?;
+        }
         self.remote.ros2.push(node);
         Ok(())
     }
@@ -34,7 +40,7 @@ impl Builder<'_> {
         let describe = format!("`{}/{}` → ROS 2 topic `{}`", from.0, from.1, topic.topic);
         let (value_type, codec) = self.ros2_type(topic, &describe)?;
         let writer = self.module(from.0)?;
-        let name = format!("ros2 {} out", topic.link);
+        let name = format!("ros2 {} out", ros2::link(topic.id));
         let (input, handle) = value_type.input(&name, None);
         let end = self.link_end(name, vec![("in".into(), handle)], vec![]);
         self.connect(
@@ -44,7 +50,7 @@ impl Builder<'_> {
             ConnectOptions::default(),
         )?;
         let hub = Arc::clone(&self.hub);
-        let (link, to) = (topic.link, Arc::<str>::from("ROS 2"));
+        let (link, to) = (ros2::link(topic.id), Arc::<str>::from("ROS 2"));
         let mut failed = false;
         let step = Step::new(describe.clone(), move || {
             if !input.changed() {
@@ -67,7 +73,7 @@ impl Builder<'_> {
     fn ros2_subscribe(&mut self, topic: &Ros2Topic, to: (&str, &str)) -> Result<(), BuildError> {
         let describe = format!("ROS 2 topic `{}` → `{}/{}`", topic.topic, to.0, to.1);
         let (value_type, codec) = self.ros2_type(topic, &describe)?;
-        let name = format!("ros2 {} in", topic.link);
+        let name = format!("ros2 {} in", ros2::link(topic.id));
         let (out, handle) = value_type.output(&name);
         let end = self.link_end(name, vec![], vec![("out".into(), handle)]);
         self.connect(
@@ -81,7 +87,43 @@ impl Builder<'_> {
             codec,
             describe: describe.clone(),
         });
-        self.direct_end(topic.link, end, &describe)
+        self.direct_end(ros2::link(topic.id), end, &describe)
+    }
+
+    /// The stand-in client calling the module's service for each request of the ROS 2
+    /// service (as a call from another part does, its requests and answers as JSON).
+    fn ros2_serve(&mut self, service: &Ros2Service) -> Result<(), BuildError> {
+        let at = (service.port.0.as_str(), service.port.1.as_str());
+        let describe = format!("ROS 2 service `{}` → `{}/{}`", service.name, at.0, at.1);
+        let m = self.module(at.0)?;
+        let handle = super::find(&self.modules[m].services, at, "service")?;
+        let ends = self.call_ends(handle.types(), &describe)?;
+        let mut route = self.route(ros2::answer_link(service.id), "ROS 2");
+        route.json = true;
+        let (client, end) = ends.remote_client(format!("{} (ROS 2)", at.1), route);
+        let handle = super::find(&self.modules[m].services, at, "service")?;
+        client
+            .connect(handle)
+            .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
+        self.direct_end(ros2::request_link(service.id), end, &describe)
+    }
+
+    /// The stand-in service the module's client calls: each call goes to the network as
+    /// a request of the ROS 2 service (JSON), the answer comes back on the answer link.
+    fn ros2_call(&mut self, client: &Ros2Service) -> Result<(), BuildError> {
+        let at = (client.port.0.as_str(), client.port.1.as_str());
+        let describe = format!("`{}/{}` → ROS 2 service `{}`", at.0, at.1, client.name);
+        let m = self.module(at.0)?;
+        let handle = super::find(&self.modules[m].clients, at, "client")?;
+        let ends = self.call_ends(handle.types(), &describe)?;
+        let mut route = self.route(ros2::request_link(client.id), "ROS 2");
+        route.json = true;
+        let (service, end) = ends.remote_service(format!("{} (ROS 2)", client.name), route);
+        let handle = super::find(&self.modules[m].clients, at, "client")?;
+        handle
+            .connect(&service)
+            .map_err(|e| BuildError::Connect(format!("{describe}: {e}")))?;
+        self.direct_end(ros2::answer_link(client.id), end, &describe)
     }
 
     /// The value-table entry of a ROS 2 end's port type, which must have a serde form.

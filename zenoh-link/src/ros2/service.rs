@@ -1,0 +1,492 @@
+//! A module's service offered as a ROS 2 service, and a module's client calling one, on
+//! rmw_zenoh's wire (docs/ros2.md). A service:
+//! the liveliness token `SS` and a queryable on the service's key
+//! (`<domain>/<name>/<pkg>::srv::dds_::<Name>_/<RIHS01 of the service type>`), as
+//! rmw_zenoh's `ServiceData` declares them (rmw_service_data.cpp).
+//!
+//! A query is a request: its payload the `Name_Request` message in CDR, its attachment
+//! the client's (sequence number, time, GID). The request goes to the module's service
+//! as JSON (the stand-in client of `ferroc_link::calls`); the answer comes back as JSON
+//! and is replied in CDR (`Name_Response`) on the service's key with the attachment
+//! rmw_zenoh's server writes: the request's sequence number, the reply's time and the
+//! client's GID, by which the client matches it. A request that does not decode is
+//! reported (throttled, naming the service) and answered with an error reply; at most
+//! [`MAX_WAITING`] requests wait for their answers at once (more are refused), so a
+//! flood of requests cannot grow the part's memory.
+//!
+//! A client (`SC` token, rmw_zenoh's `ClientData`, rmw_client_data.cpp) sends each call
+//! of the module's client as a query on the service's key with the request's CDR and
+//! the client's attachment (its sequence number from 1, the time, its GID); the first
+//! reply's CDR is the answer. A reply that does not decode, an error reply, or none
+//! within 10 s answers the call as failed or timed out.
+
+use super::{token, Ros2Node, TopicSpec};
+use ferroc_ros2::def::TypeName;
+use ferroc_ros2::rmw_zenoh::{self, Attachment, EntityKind, Qos};
+use ferroc_ros2::{cdr, json, Registry};
+use ferroc_runtime::console;
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use zenoh::liveliness::LivelinessToken;
+use zenoh::query::{Query, Queryable};
+use zenoh::{Session, Wait};
+
+/// Requests waiting for the module's answer at once, at most.
+pub const MAX_WAITING: usize = 64;
+
+/// A service end: the fully qualified service name, the service type and the one field
+/// of the request and of the response a single value fills (`None`: all of it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ServiceSpec {
+    pub name: String,
+    pub ty: TypeName,
+    pub request_field: Option<String>,
+    pub response_field: Option<String>,
+}
+
+impl ServiceSpec {
+    /// `pkg/srv/Name_Request` or `pkg/srv/Name_Response`.
+    fn message(&self, suffix: &str) -> TypeName {
+        let name = format!("{}_{suffix}", self.ty.name);
+        TypeName::new(&self.ty.package, &self.ty.kind, &name)
+    }
+}
+
+/// A ROS 2 service server; dropping it ends it.
+pub struct Ros2Server {
+    shared: Arc<Shared>,
+    _queryable: Queryable<()>,
+    _token: LivelinessToken,
+}
+
+/// What the queryable's callback and the answers share.
+struct Shared {
+    registry: Arc<Registry>,
+    spec: ServiceSpec,
+    key: String,
+    next: AtomicU64,
+    waiting: Mutex<HashMap<u64, (Query, Attachment)>>,
+}
+
+impl Ros2Node {
+    /// A server of `spec` (its token `SS` and a queryable on the service key) handing
+    /// each request, as the call number followed by the JSON of the request (or of the
+    /// field the service's request fills), to `deliver`.
+    pub fn service_server(
+        &self,
+        spec: ServiceSpec,
+        deliver: impl Fn(Vec<u8>) + Send + Sync + 'static,
+    ) -> Result<Ros2Server, String> {
+        // rmw_zenoh's services announce rclcpp's default service QoS: reliable,
+        // volatile, keep last 10, which is a topic's default too.
+        let as_topic = TopicSpec {
+            topic: spec.name.clone(),
+            ty: spec.ty.clone(),
+            qos: Qos::default(),
+            field: None,
+        };
+        let (key, live, _) = self.keys(&as_topic, EntityKind::ServiceServer)?;
+        let token = token(&self.session, &live, &spec.name)?;
+        let shared = Arc::new(Shared {
+            registry: Arc::clone(&self.registry),
+            spec,
+            key: key.clone(),
+            next: AtomicU64::new(0),
+            waiting: Mutex::default(),
+        });
+        let on_query = Arc::clone(&shared);
+        let queryable = self
+            .session
+            .declare_queryable(key)
+            .complete(true)
+            .callback(move |query| on_query.request(query, &deliver))
+            .wait()
+            .map_err(|e| format!("cannot offer the ROS 2 service `{}`: {e}", shared.spec.name))?;
+        Ok(Ros2Server {
+            shared,
+            _queryable: queryable,
+            _token: token,
+        })
+    }
+}
+
+impl Ros2Server {
+    /// Replies to the request an answer frame names (call number, kind, the response's
+    /// JSON). An answer nobody waits for, or one that does not fit the response
+    /// message, is an error naming the service.
+    pub fn answer(&self, bytes: &[u8]) -> Result<(), String> {
+        self.shared.answer(bytes)
+    }
+
+    /// The service.
+    pub fn spec(&self) -> &ServiceSpec {
+        &self.shared.spec
+    }
+}
+
+impl Shared {
+    /// A request arrived: kept for its answer and handed to the module, or refused.
+    fn request(&self, query: Query, deliver: &dyn Fn(Vec<u8>)) {
+        let decoded = self.decode(&query);
+        let mut waiting = lock(&self.waiting);
+        let refused = match decoded {
+            Err(why) => why,
+            Ok(_) if waiting.len() >= MAX_WAITING => {
+                format!("{MAX_WAITING} requests already wait for the service's answers")
+            }
+            Ok((attachment, request)) => {
+                let id = self.next.fetch_add(1, Ordering::Relaxed);
+                waiting.insert(id, (query, attachment));
+                drop(waiting);
+                let mut bytes = id.to_le_bytes().to_vec();
+                bytes.extend(request.to_string().into_bytes());
+                deliver(bytes);
+                return;
+            }
+        };
+        drop(waiting);
+        console::report(&format!(
+            "warning: a request to the ROS 2 service `{}` was refused: {refused}",
+            self.spec.name
+        ));
+        let _ = query.reply_err(refused).wait();
+    }
+
+    /// The request's attachment and its JSON.
+    fn decode(&self, query: &Query) -> Result<(Attachment, serde_json::Value), String> {
+        let attachment = query.attachment().map(|a| a.to_bytes());
+        let payload = query.payload().map(|p| p.to_bytes());
+        read_request(
+            &self.registry,
+            &self.spec,
+            attachment.as_deref(),
+            payload.as_deref(),
+        )
+    }
+
+    fn answer(&self, bytes: &[u8]) -> Result<(), String> {
+        let name = &self.spec.name;
+        let (id, rest) = bytes
+            .split_first_chunk::<8>()
+            .ok_or_else(|| format!("an answer of `{name}` shorter than its number"))?;
+        let id = u64::from_le_bytes(*id);
+        let (&kind, body) = rest
+            .split_first()
+            .ok_or_else(|| format!("an answer of `{name}` without its kind"))?;
+        let Some((query, asked)) = lock(&self.waiting).remove(&id) else {
+            return Err(format!(
+                "an answer of `{name}` to a request nobody waits for"
+            ));
+        };
+        if kind != 0 {
+            let why = format!("the service `{name}` failed to answer (error {kind})");
+            let _ = query.reply_err(why.clone()).wait();
+            return Err(why);
+        }
+        let response = match self.encode(body) {
+            Ok(response) => response,
+            Err(why) => {
+                let _ = query.reply_err(why.clone()).wait();
+                return Err(format!("the answer of `{name}` was not sent: {why}"));
+            }
+        };
+        let attachment = Attachment {
+            sequence_number: asked.sequence_number,
+            source_timestamp: now_ns(),
+            gid: asked.gid,
+        };
+        query
+            .reply(self.key.clone(), response)
+            .attachment(attachment.encode().to_vec())
+            .wait()
+            .map_err(|e| format!("the answer of `{name}` was not sent: {e}"))
+    }
+
+    /// The response message's CDR from the answer's JSON.
+    fn encode(&self, json_text: &[u8]) -> Result<Vec<u8>, String> {
+        let field = self.spec.response_field.as_deref();
+        to_cdr(&self.registry, &self.spec, "Response", field, json_text)
+    }
+}
+
+/// A request as the module's service reads it: the client's attachment checked, the
+/// request message decoded, the JSON of the request (or of the field it fills).
+fn read_request(
+    registry: &Registry,
+    spec: &ServiceSpec,
+    attachment: Option<&[u8]>,
+    payload: Option<&[u8]>,
+) -> Result<(Attachment, serde_json::Value), String> {
+    let attachment =
+        attachment.ok_or("it has no attachment (rmw_zenoh's clients send one with each)")?;
+    let attachment = Attachment::decode(attachment).map_err(|e| e.0)?;
+    let payload = payload.ok_or("it has no request message")?;
+    let field = spec.request_field.as_deref();
+    let request = from_cdr(registry, spec, "Request", field, payload)?;
+    Ok((attachment, request))
+}
+
+/// The CDR of the service's `Request` or `Response` message (`which`) from the JSON text
+/// of a request or answer (of the one field `field` when given).
+fn to_cdr(
+    registry: &Registry,
+    spec: &ServiceSpec,
+    which: &str,
+    field: Option<&str>,
+    json_text: &[u8],
+) -> Result<Vec<u8>, String> {
+    let value: serde_json::Value = serde_json::from_slice(json_text).map_err(|e| e.to_string())?;
+    let ty = spec.message(which);
+    let message = json::from_json(registry, &ty, field, &value)?;
+    cdr::encode(registry, &ty, &message).map_err(|e| e.to_string())
+}
+
+/// The JSON of a request or answer (of the one field `field` when given) from the CDR
+/// of the service's `Request` or `Response` message (`which`).
+fn from_cdr(
+    registry: &Registry,
+    spec: &ServiceSpec,
+    which: &str,
+    field: Option<&str>,
+    bytes: &[u8],
+) -> Result<serde_json::Value, String> {
+    let ty = spec.message(which);
+    let value = cdr::decode(registry, &ty, bytes).map_err(|e| e.to_string())?;
+    json::to_json(registry, &ty, field, &value)
+}
+
+fn now_ns() -> i64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as i64)
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// A ROS 2 service client for a module's client; dropping it ends it.
+pub struct Ros2Caller {
+    shared: Arc<CallerShared>,
+    _token: LivelinessToken,
+}
+
+/// What the calls in flight share.
+struct CallerShared {
+    registry: Arc<Registry>,
+    spec: ServiceSpec,
+    session: Session,
+    key: String,
+    /// The client's GID, which the server echoes in its reply.
+    gid: [u8; 16],
+    sequence: AtomicI64,
+    deliver: Box<dyn Fn(Vec<u8>) + Send + Sync>,
+}
+
+impl Ros2Node {
+    /// A client of `spec` (its token `SC`): each call ([`Ros2Caller::call`]) is a query
+    /// on the service's key; its answer (call number, kind, the response's JSON, as
+    /// `ferroc_link::calls` reads answers) goes to `deliver`.
+    pub fn service_client(
+        &self,
+        spec: ServiceSpec,
+        deliver: impl Fn(Vec<u8>) + Send + Sync + 'static,
+    ) -> Result<Ros2Caller, String> {
+        let as_topic = TopicSpec {
+            topic: spec.name.clone(),
+            ty: spec.ty.clone(),
+            qos: Qos::default(),
+            field: None,
+        };
+        let (key, live, _) = self.keys(&as_topic, EntityKind::ServiceClient)?;
+        let token = token(&self.session, &live, &spec.name)?;
+        Ok(Ros2Caller {
+            shared: Arc::new(CallerShared {
+                registry: Arc::clone(&self.registry),
+                spec,
+                session: self.session.clone(),
+                key,
+                gid: rmw_zenoh::gid_of(&live),
+                sequence: AtomicI64::new(0),
+                deliver: Box::new(deliver),
+            }),
+            _token: token,
+        })
+    }
+}
+
+/// How long a call waits for the server's reply.
+const CALL_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// The kinds of an answer, as `ferroc_link::calls` reads them.
+const ANSWERED: u8 = 0;
+const TIMED_OUT: u8 = 2;
+const FAILED: u8 = 3;
+
+impl Ros2Caller {
+    /// Sends a request frame of the module's client (call number, the request's JSON)
+    /// as a query with rmw_zenoh's attachment. A request that does not fit the request
+    /// message is answered at once as failed, and an error naming the service.
+    pub fn call(&self, bytes: &[u8]) -> Result<(), String> {
+        let shared = &self.shared;
+        let (id, body) = bytes
+            .split_first_chunk::<8>()
+            .ok_or("a request shorter than its number")?;
+        let id = u64::from_le_bytes(*id);
+        let request = match shared.encode(body) {
+            Ok(request) => request,
+            Err(why) => {
+                shared.answer(id, FAILED, &[]);
+                return Err(format!("a request was not sent: {why}"));
+            }
+        };
+        let attachment = Attachment {
+            sequence_number: shared.sequence.fetch_add(1, Ordering::Relaxed) + 1,
+            source_timestamp: now_ns(),
+            gid: shared.gid,
+        };
+        let pending = Pending {
+            shared: Arc::clone(shared),
+            id,
+            answered: AtomicBool::new(false),
+        };
+        shared
+            .session
+            .get(shared.key.clone())
+            .payload(request)
+            .attachment(attachment.encode().to_vec())
+            .timeout(CALL_TIMEOUT)
+            .callback(move |reply| pending.reply(reply))
+            .wait()
+            .map_err(|e| format!("a request was not sent: {e}"))
+    }
+
+    /// The service.
+    pub fn spec(&self) -> &ServiceSpec {
+        &self.shared.spec
+    }
+}
+
+impl CallerShared {
+    /// The request message's CDR from the request's JSON.
+    fn encode(&self, json_text: &[u8]) -> Result<Vec<u8>, String> {
+        let field = self.spec.request_field.as_deref();
+        to_cdr(&self.registry, &self.spec, "Request", field, json_text)
+    }
+
+    /// The response's JSON from a reply's CDR.
+    fn decode(&self, payload: &[u8]) -> Result<serde_json::Value, String> {
+        let field = self.spec.response_field.as_deref();
+        from_cdr(&self.registry, &self.spec, "Response", field, payload)
+    }
+
+    fn answer(&self, id: u64, kind: u8, body: &[u8]) {
+        let mut bytes = id.to_le_bytes().to_vec();
+        bytes.push(kind);
+        bytes.extend_from_slice(body);
+        (self.deliver)(bytes);
+    }
+}
+
+/// A call in flight: answered by its first reply, else, when the query ends without
+/// one (no server, or none in time), as timed out.
+struct Pending {
+    shared: Arc<CallerShared>,
+    id: u64,
+    answered: AtomicBool,
+}
+
+impl Pending {
+    fn reply(&self, reply: zenoh::query::Reply) {
+        if self.answered.swap(true, Ordering::Relaxed) {
+            return;
+        }
+        let shared = &self.shared;
+        let decoded = match reply.result() {
+            Ok(sample) => shared.decode(&sample.payload().to_bytes()),
+            Err(e) => Err(format!(
+                "the server refused the request: {}",
+                String::from_utf8_lossy(&e.payload().to_bytes())
+            )),
+        };
+        match decoded {
+            Ok(response) => shared.answer(self.id, ANSWERED, response.to_string().as_bytes()),
+            Err(why) => {
+                shared.answer(self.id, FAILED, &[]);
+                console::report(&format!(
+                    "warning: a reply of the ROS 2 service `{}` was dropped: {why}",
+                    shared.spec.name
+                ));
+            }
+        }
+    }
+}
+
+impl Drop for Pending {
+    fn drop(&mut self) {
+        if !self.answered.swap(true, Ordering::Relaxed) {
+            self.shared.answer(self.id, TIMED_OUT, &[]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn set_bool() -> ServiceSpec {
+        ServiceSpec {
+            name: "/switch_bot/set_enabled".into(),
+            ty: TypeName::parse("std_srvs/srv/SetBool").unwrap(),
+            request_field: Some("data".into()),
+            response_field: None,
+        }
+    }
+
+    #[test]
+    fn a_bad_request_is_an_error_naming_what_is_wrong_never_a_panic() {
+        let reg = Registry::shipped();
+        let spec = set_bool();
+        let asked = Attachment {
+            sequence_number: 7,
+            source_timestamp: 0,
+            gid: [9; 16],
+        }
+        .encode();
+        // SetBool_Request { data: true }: the encapsulation header, then one byte.
+        let request = to_cdr(&reg, &spec, "Request", Some("data"), b"true").unwrap();
+        assert_eq!(request, [&cdr::HEADER[..], &[1]].concat());
+        let (attachment, json) = read_request(&reg, &spec, Some(&asked), Some(&request)).unwrap();
+        assert_eq!(
+            (attachment.sequence_number, json),
+            (7, serde_json::json!(true))
+        );
+        let short = read_request(&reg, &spec, Some(&asked[..20]), Some(&request)).unwrap_err();
+        assert!(short.contains("attachment has 20 bytes"), "{short}");
+        let none = read_request(&reg, &spec, None, Some(&request)).unwrap_err();
+        assert!(none.contains("no attachment"), "{none}");
+        let empty = read_request(&reg, &spec, Some(&asked), None).unwrap_err();
+        assert!(empty.contains("no request"), "{empty}");
+        for n in 0..request.len() {
+            assert!(read_request(&reg, &spec, Some(&asked), Some(&request[..n])).is_err());
+        }
+    }
+
+    #[test]
+    fn an_answer_crosses_as_the_response_message_and_a_wrong_one_is_refused() {
+        let reg = Registry::shipped();
+        let spec = set_bool();
+        let answer = br#"{"success":true,"message":"disabled"}"#;
+        let bytes = to_cdr(&reg, &spec, "Response", None, answer).unwrap();
+        let back = from_cdr(&reg, &spec, "Response", None, &bytes).unwrap();
+        assert_eq!(
+            back,
+            serde_json::json!({"success": true, "message": "disabled"})
+        );
+        assert!(to_cdr(&reg, &spec, "Response", None, br#"{"success":"yes"}"#).is_err());
+        assert!(to_cdr(&reg, &spec, "Response", None, b"not json").is_err());
+        assert!(from_cdr(&reg, &spec, "Response", None, &bytes[..5]).is_err());
+    }
+}
