@@ -15,7 +15,7 @@ use crate::keys::{encoding, Keys};
 use crate::shm::{Payload, Pool};
 use ferroc_runtime::console;
 use ferroc_runtime::link::transport::{
-    call_number, Connection, Delivery, LinkKind, PartLinks, Sending,
+    call_number, send_each, Connection, Delivery, LinkKind, PartLinks, Sending,
 };
 use ferroc_runtime::link::Frame;
 use ferroc_runtime::module::bytes::Holder;
@@ -458,12 +458,7 @@ impl Connection for Free {
         let first = targets.first().and_then(|(link, _)| self.data.get(link));
         let all_data = targets.iter().all(|(link, _)| self.data.contains_key(link));
         let Some(out) = first.filter(|_| all_data) else {
-            let bytes = encoder.to_vec()?;
-            for (link, to_part) in targets {
-                let bytes = bytes.clone();
-                self.send(to_part, Frame { link: *link, bytes });
-            }
-            return Ok(());
+            return send_each(self, targets, encoder);
         };
         let payload = match &self.pool {
             Some(pool) => pool.payload_encoded(encoder, out.reliable, &out.name)?,

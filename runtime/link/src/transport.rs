@@ -172,12 +172,7 @@ pub trait Connection: Send + Sync {
         targets: &[(u32, Arc<str>)],
         encoder: &Encoder<'_>,
     ) -> Result<(), String> {
-        let bytes = encoder.to_vec()?;
-        for (link, to_part) in targets {
-            let bytes = bytes.clone();
-            self.send(to_part, Frame { link: *link, bytes });
-        }
-        Ok(())
+        send_each(self, targets, encoder)
     }
 
     /// Lockstep: this part finished the instant `nanos` (model time) and sent `frames`
@@ -204,6 +199,21 @@ pub trait Connection: Send + Sync {
     fn status(&self) -> Vec<String> {
         Vec::new()
     }
+}
+
+/// [`Connection::send_encoded`] without buffers of the network's own: the value in a
+/// `Vec` of its exact size, one [`Connection::send`] per link.
+pub fn send_each<C: Connection + ?Sized>(
+    connection: &C,
+    targets: &[(u32, Arc<str>)],
+    encoder: &Encoder<'_>,
+) -> Result<(), String> {
+    let bytes = encoder.to_vec()?;
+    for (link, to_part) in targets {
+        let bytes = bytes.clone();
+        connection.send(to_part, Frame { link: *link, bytes });
+    }
+    Ok(())
 }
 
 /// Where a network hands what arrives: the receiving ends of this part.
