@@ -15,10 +15,13 @@ use crate::keys::{encoding, Keys};
 use crate::shm::{Payload, Pool};
 use ferroc_runtime::console;
 use ferroc_runtime::link::transport::{
-    call_number, Connection, Delivery, LinkKind, PartLinks, Sending,
+    call_number, send_each, Connection, Delivery, LinkKind, PartLinks, Sending,
 };
 use ferroc_runtime::link::Frame;
+use ferroc_runtime::module::bytes::Holder;
+use ferroc_runtime::module::Encoder;
 use ferroc_terminal::engine_error;
+use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -156,20 +159,17 @@ fn subscribers(
         let subscriber = session
             .declare_subscriber(keys.data_of(writer)?)
             .callback(move |sample| {
-                let link = sample.attachment().and_then(|a| {
-                    a.to_bytes()
-                        .first_chunk::<4>()
-                        .map(|b| u32::from_le_bytes(*b))
-                });
-                // Links of this writer that go to other parts share its keys: not ours.
-                if let Some(link) = link.filter(|l| ids.contains(l)) {
-                    if sample.payload().as_shm().is_some() {
-                        received_shared.fetch_add(1, Ordering::Relaxed);
-                    }
-                    // Borrowed from Zenoh's buffer when it is in one piece (a value
-                    // that fits one batch, or a buffer in shared memory): decoded
-                    // straight from it into the port.
-                    delivery.deliver_bytes(link, &sample.payload().to_bytes());
+                // The links the value is for (4 bytes each); those of this writer
+                // that go to other parts share its keys: not ours.
+                let Some(attachment) = sample.attachment() else {
+                    return;
+                };
+                let links = attachment.to_bytes();
+                let links = (links.chunks_exact(4))
+                    .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                    .filter(|l| ids.contains(l));
+                for link in links {
+                    deliver(&delivery, &received_shared, link, sample.payload());
                 }
             })
             .wait()
@@ -182,6 +182,29 @@ fn subscribers(
         subscribers.push(subscriber);
     }
     Ok(subscribers)
+}
+
+/// Hands the value `payload` of the link `link` to its receiving end.
+fn deliver(delivery: &Delivery, received_shared: &AtomicU64, link: u32, payload: &ZBytes) {
+    if let Some(shm) = payload.as_shm() {
+        // Decoded from the writer's buffer; its byte blocks (an image's pixels) stay
+        // there, read in place, the buffer held while the value lives.
+        received_shared.fetch_add(1, Ordering::Relaxed);
+        let holder: Arc<dyn Holder> = Arc::new(shm.to_owned());
+        delivery.deliver_held(link, &holder);
+        return;
+    }
+    match payload.to_bytes() {
+        // A large value that came in pieces was joined into a new `Vec`: the value's
+        // byte blocks keep ranges of it.
+        Cow::Owned(joined) => {
+            let holder: Arc<dyn Holder> = Arc::new(joined);
+            delivery.deliver_held(link, &holder);
+        }
+        // Borrowed from Zenoh's buffer (a value that fits one batch): decoded straight
+        // from it into the port.
+        Cow::Borrowed(bytes) => delivery.deliver_bytes(link, bytes),
+    }
 }
 
 /// A queryable per service of this part called from others; its queries wait in
@@ -380,6 +403,25 @@ impl Free {
         }
     }
 
+    /// Puts a value of the data link `id` (nothing if the full pool dropped it).
+    fn put(&self, id: u32, out: &Out, payload: Payload) {
+        self.put_with(id, out, payload, out.attachment.clone());
+    }
+
+    /// [`put`](Self::put) with the attachment `links` (the link numbers it is for).
+    fn put_with(&self, id: u32, out: &Out, payload: Payload, links: ZBytes) {
+        let (Payload::Shared(bytes) | Payload::Network(bytes)) = payload else {
+            return; // dropped: the pool is full (warned)
+        };
+        let put = (out.publisher.put(bytes)).attachment(links).wait();
+        if let Err(e) = put {
+            self.failed(&format!(
+                "a value of link {id} could not be sent: {}",
+                engine_error(&e)
+            ));
+        }
+    }
+
     fn failed(&self, what: &str) {
         if self.failures.fetch_add(1, Ordering::Relaxed) == 0
             && !self.closed.load(Ordering::Relaxed)
@@ -398,23 +440,41 @@ impl Connection for Free {
                         Some(pool) => pool.payload(frame.bytes, out.reliable, &out.name),
                         None => Payload::Network(frame.bytes.into()),
                     };
-                    let (Payload::Shared(bytes) | Payload::Network(bytes)) = payload else {
-                        return; // dropped: the pool is full (warned)
-                    };
-                    let put = (out.publisher.put(bytes))
-                        .attachment(out.attachment.clone())
-                        .wait();
-                    if let Err(e) = put {
-                        self.failed(&format!(
-                            "a value of link {id} could not be sent: {}",
-                            engine_error(&e)
-                        ));
-                    }
+                    self.put(id, out, payload);
                 }
             }
             LinkKind::Request(call) => self.call(call, frame),
             LinkKind::Answer(call) => self.answer(call, frame),
         }
+    }
+
+    fn send_encoded(
+        &self,
+        targets: &[(u32, Arc<str>)],
+        encoder: &Encoder<'_>,
+    ) -> Result<(), String> {
+        // The links of one output share its key: one message for all of them, its
+        // attachment naming each link (4 bytes each).
+        let first = targets.first().and_then(|(link, _)| self.data.get(link));
+        let all_data = targets.iter().all(|(link, _)| self.data.contains_key(link));
+        let Some(out) = first.filter(|_| all_data) else {
+            return send_each(self, targets, encoder);
+        };
+        let payload = match &self.pool {
+            Some(pool) => pool.payload_encoded(encoder, out.reliable, &out.name)?,
+            None => Payload::Network(encoder.to_vec()?.into()),
+        };
+        let attachment = match targets {
+            [_] => out.attachment.clone(),
+            _ => ZBytes::from(
+                targets
+                    .iter()
+                    .flat_map(|(l, _)| l.to_le_bytes())
+                    .collect::<Vec<u8>>(),
+            ),
+        };
+        self.put_with(targets[0].0, out, payload, attachment);
+        Ok(())
     }
 
     fn end_instant(

@@ -43,7 +43,8 @@ pub struct Instant {
 enum Event {
     Instant(String, Instant),
     Garbled(String, String),
-    Gone(String),
+    /// A part went (the watch knows which and since when): wakes the wait.
+    Gone,
 }
 
 /// How long to wait in silence before saying what is awaited.
@@ -54,6 +55,10 @@ const PATIENCE: Duration = Duration::from_secs(5);
 /// last instants it sent. A part that only sends to a part that is gone goes on for as
 /// long too, so that two programs told to stop at about the same time both end cleanly.
 const GRACE: Duration = Duration::from_secs(2);
+
+/// How long a part that ends keeps its session open for the parts it sends to, to
+/// take its last instants and end too (a little more than they wait for them).
+const LINGER: Duration = Duration::from_secs(3);
 
 /// The open network of a part in lockstep.
 pub(crate) struct Lockstep {
@@ -113,8 +118,8 @@ pub(crate) fn open(
     }
     let gone = Mutex::new(tx);
     let watch = Watch::start(session, keys, part, move |change, _| {
-        if let Change::Went(p) = change {
-            let _ = lock(&gone).send(Event::Gone(p.clone()));
+        if let Change::Went(_) = change {
+            let _ = lock(&gone).send(Event::Gone);
         }
     })?;
     Ok(Lockstep {
@@ -214,7 +219,6 @@ impl Connection for Lockstep {
         let mut queues = lock(&self.queues);
         let started = std::time::Instant::now();
         let mut told = false;
-        let mut gone: BTreeMap<String, std::time::Instant> = BTreeMap::new();
         loop {
             let missing: Vec<&String> = (self.from.iter())
                 .filter(|p| {
@@ -226,7 +230,12 @@ impl Connection for Lockstep {
             if missing.is_empty() {
                 break;
             }
-            let lost = |p: &&&String| gone.get(**p).is_some_and(|t| t.elapsed() >= GRACE);
+            // Since when a part is gone is the watch's (not this call's): the news may
+            // have come while an earlier call waited for an instant that still arrived.
+            let lost = |p: &&&String| {
+                let since = self.watch.parts.gone_since(p);
+                since.is_some_and(|t| t.elapsed() >= GRACE)
+            };
             if let Some(part) = missing.iter().find(lost) {
                 let since = self.watch.parts.gone_since(part);
                 let ago = since.map_or(0.0, |t| t.elapsed().as_secs_f64());
@@ -256,9 +265,8 @@ impl Connection for Lockstep {
                          both programs built from the same model and ferroc?"
                     ))
                 }
-                Ok(Event::Gone(part)) => {
-                    gone.entry(part).or_insert_with(std::time::Instant::now);
-                }
+                // Only a wakeup: `lost` above reads the watch.
+                Ok(Event::Gone) => {}
                 Err(RecvTimeoutError::Timeout) => {}
                 Err(RecvTimeoutError::Disconnected) => {
                     return Err("the network of this part was closed".into())
@@ -272,7 +280,19 @@ impl Connection for Lockstep {
         if self.closed.swap(true, Ordering::Relaxed) {
             return;
         }
-        // Closing the session withdraws the token after the queued instants went out.
+        // Closing the session drops a large instant still on its way in pieces (a
+        // fragmented message; the small ones after it do arrive): the reader then
+        // misses instants in the middle of its last ones. So the token goes first (the
+        // parts this one sends to take what is still on its way for GRACE, as they do
+        // when a part ends), and the session stays open until each of them has ended
+        // too (at most LINGER).
+        self.watch.withdraw();
+        let until = std::time::Instant::now() + LINGER;
+        while (self.to.keys()).any(|p| self.watch.parts.gone_since(p).is_none())
+            && std::time::Instant::now() < until
+        {
+            std::thread::sleep(Duration::from_millis(5));
+        }
         let _ = self.session.close().wait();
     }
 }

@@ -26,11 +26,13 @@
 //! container without it) runs on the network path after one warning.
 
 use ferroc_runtime::console;
+use ferroc_runtime::module::Encoder;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 use zenoh::bytes::ZBytes;
 use zenoh::shm::{
-    Defragment, GarbageCollect, JustAlloc, PosixShmProviderBackend, ShmProvider, ShmProviderBuilder,
+    Defragment, GarbageCollect, JustAlloc, PosixShmProviderBackend, ShmProvider,
+    ShmProviderBuilder, ZShmMut,
 };
 use zenoh::Wait;
 
@@ -88,6 +90,13 @@ pub enum Payload {
     /// As plain bytes (small, no pool, or a reliable link that waited too long).
     Network(ZBytes),
     /// Not at all: the pool is full and the link drops values.
+    Dropped,
+}
+
+/// Where a value goes ([`Pool::room`]).
+enum Room {
+    Buffer(ZShmMut),
+    Network,
     Dropped,
 }
 
@@ -154,32 +163,63 @@ impl Pool {
     }
 
     /// The payload for `bytes` on a link that must not drop values (`reliable`) or
-    /// may.
+    /// may: a copy in a pool buffer when they are large enough.
     pub fn payload(&self, bytes: Vec<u8>, reliable: bool, link: &str) -> Payload {
-        let Some(provider) = self.provider.as_ref() else {
-            return Payload::Network(bytes.into());
-        };
-        if bytes.len() < self.settings.threshold.max(1) {
-            return Payload::Network(bytes.into());
+        match self.room(bytes.len(), reliable, link) {
+            Room::Buffer(mut buffer) => {
+                buffer.copy_from_slice(&bytes);
+                Payload::Shared(buffer.into())
+            }
+            Room::Network => Payload::Network(bytes.into()),
+            Room::Dropped => Payload::Dropped,
         }
-        if bytes.len() > self.settings.pool_size {
+    }
+
+    /// [`payload`](Self::payload) for a value not encoded yet: a large one is encoded
+    /// straight into its pool buffer (the only copy on the writer's side), a small one
+    /// into a `Vec` of its exact size.
+    pub fn payload_encoded(
+        &self,
+        encoder: &Encoder<'_>,
+        reliable: bool,
+        link: &str,
+    ) -> Result<Payload, String> {
+        Ok(match self.room(encoder.len(), reliable, link) {
+            Room::Buffer(mut buffer) => {
+                encoder.write(&mut buffer)?;
+                Payload::Shared(buffer.into())
+            }
+            Room::Network => Payload::Network(encoder.to_vec()?.into()),
+            Room::Dropped => Payload::Dropped,
+        })
+    }
+
+    /// Where a value of `len` encoded bytes goes: a buffer of the pool, the network
+    /// (small, no pool, larger than the pool, or a full pool on a reliable link after
+    /// [`BLOCK_LIMIT`]), or nowhere (a full pool on a link that drops values).
+    fn room(&self, len: usize, reliable: bool, link: &str) -> Room {
+        let Some(provider) = self.provider.as_ref() else {
+            return Room::Network;
+        };
+        if len < self.settings.threshold.max(1) {
+            return Room::Network;
+        }
+        if len > self.settings.pool_size {
             self.network.fetch_add(1, Ordering::Relaxed);
             console::note_repeated(&format!(
-                "warning: {link}: a value of {} bytes is larger than the shared-memory pool \
+                "warning: {link}: a value of {len} bytes is larger than the shared-memory pool \
                  ({} bytes); it travels over the network. help: raise \
                  transport/shared_memory/transport_optimization/pool_size in --zenoh-config",
-                bytes.len(),
                 self.settings.pool_size
             ));
-            return Payload::Network(bytes.into());
+            return Room::Network;
         }
         let started = Instant::now();
         loop {
-            match provider.alloc(bytes.len()).with_policy::<Reclaim>().wait() {
-                Ok(mut buffer) => {
-                    buffer.copy_from_slice(&bytes);
+            match provider.alloc(len).with_policy::<Reclaim>().wait() {
+                Ok(buffer) => {
                     self.shared.fetch_add(1, Ordering::Relaxed);
-                    return Payload::Shared(buffer.into());
+                    return Room::Buffer(buffer);
                 }
                 Err(_) if !reliable => {
                     self.dropped.fetch_add(1, Ordering::Relaxed);
@@ -189,7 +229,7 @@ impl Pool {
                          transport/shared_memory/transport_optimization/pool_size in \
                          --zenoh-config, or make the readers keep up"
                     ));
-                    return Payload::Dropped;
+                    return Room::Dropped;
                 }
                 Err(_) if started.elapsed() >= BLOCK_LIMIT => {
                     self.network.fetch_add(1, Ordering::Relaxed);
@@ -200,7 +240,7 @@ impl Pool {
                          --zenoh-config, or make the readers keep up",
                         BLOCK_LIMIT.as_millis()
                     ));
-                    return Payload::Network(bytes.into());
+                    return Room::Network;
                 }
                 Err(_) => std::thread::sleep(Duration::from_millis(1)),
             }
@@ -284,6 +324,41 @@ mod tests {
             pool.payload(vec![3; 40_000], false, "link"),
             Payload::Shared(_)
         ));
+    }
+
+    /// A value decoded in place from a pool buffer holds it: the pool cannot hand the
+    /// buffer out again (nobody writes it) until the value is dropped.
+    #[test]
+    fn a_buffer_a_decoded_value_reads_in_place_is_not_reused_while_it_lives() {
+        use ferroc_runtime::module::bytes::{decode_in_place, Holder};
+        use ferroc_runtime::module::{Bytes, Encoder};
+        use std::sync::Arc;
+        let pool = Pool::open(settings(64 * 1024));
+        let value: (u32, Bytes) = (7, vec![3; 40_000].into());
+        let len = postcard::experimental::serialized_size(&value).unwrap();
+        let write = |buf: &mut [u8]| {
+            (postcard::to_slice(&value, buf).map(|_| ())).map_err(|e| e.to_string())
+        };
+        let payload = pool.payload_encoded(&Encoder::new(len, &write), false, "link");
+        let Ok(Payload::Shared(zbytes)) = payload else {
+            panic!("{payload:?}");
+        };
+        let holder: Arc<dyn Holder> = Arc::new(zbytes.as_shm().unwrap().to_owned());
+        drop(zbytes);
+        let decoded: (u32, Bytes) = decode_in_place(&holder, |b| postcard::from_bytes(b)).unwrap();
+        drop(holder);
+        assert!(decoded.1.is_shared());
+        assert_eq!(decoded, value);
+        assert_eq!(pool.room_for(40_000), Some(0), "the value still reads it");
+        drop(decoded);
+        assert_eq!(
+            pool.room_for(40_000),
+            Some(1),
+            "back once the value is gone"
+        );
+        // A value the encoder says is larger than its buffer is an error, not a panic.
+        let short = Encoder::new(40_000, &write);
+        assert!(pool.payload_encoded(&short, false, "link").is_err());
     }
 
     #[test]

@@ -51,9 +51,9 @@ impl Module for Camera {
             img.height = 1;
             img.encoding = "mono8".into();
             img.step = size as u32;
-            img.data.resize(size, 0);
-            img.data.fill(seq as u8);
-            img.data[..8].copy_from_slice(&seq.to_le_bytes());
+            img.data.to_mut().resize(size, 0);
+            img.data.to_mut().fill(seq as u8);
+            img.data.to_mut()[..8].copy_from_slice(&seq.to_le_bytes());
         });
     }
 }
@@ -94,7 +94,13 @@ impl Module for Viewer {
         );
         let tag = self.tag.get();
         if tag == 0.0 {
-            println!("{line}");
+            // Where its pixels are: still in the buffer they arrived in, or copied.
+            let place = if img.data.is_shared() {
+                "in-place"
+            } else {
+                "owned"
+            };
+            println!("{line} {place}");
         } else {
             note(tag, format!("{line} at {} ms", support::model_ms()));
         }
@@ -251,6 +257,24 @@ impl Reader {
             .collect()
     }
 
+    /// The sizes of the frames seen read in place (their pixels in the buffer they
+    /// arrived in) and of those seen copied.
+    fn places(&self) -> (Vec<usize>, Vec<usize>) {
+        let lines = self.lines.lock().unwrap();
+        let mut places = (Vec::new(), Vec::new());
+        for l in lines.iter().filter_map(|l| l.strip_prefix("seen ")) {
+            let w: Vec<&str> = l.split(' ').collect();
+            let Some(size) = w.get(1).and_then(|s| s.parse().ok()) else {
+                continue;
+            };
+            match w.get(3) {
+                Some(&"in-place") => places.0.push(size),
+                _ => places.1.push(size),
+            }
+        }
+        places
+    }
+
     /// The latest count of values that arrived in shared memory.
     fn received_shared(&self) -> u64 {
         let lines = self.lines.lock().unwrap();
@@ -332,10 +356,31 @@ fn values_of_every_size_arrive_intact_across_two_programs() {
     let used = cam.shm_use();
     assert!(used.active && used.shared > 0, "{used:?}");
     assert_eq!(used.dropped, 0, "{used:?}");
+    // Large frames are read where they arrived, in the writer's shared memory; small
+    // ones (under the 4 KB threshold) are not in shared memory and own their bytes.
+    let (in_place, owned) = reader.places();
+    for size in &SIZES[1..] {
+        assert!(
+            in_place.contains(size),
+            "{size} B never read in place: {seen:?}"
+        );
+    }
+    assert!(!in_place.contains(&SIZES[0]), "64 B read in place");
+    assert!(owned.contains(&SIZES[0]), "{owned:?}");
 }
 
+/// How many buffers a reader killed while 6.2 MB frames flow leaves counted, at most:
+/// the values its link's port holds (2: the input's and the one kept for reuse) and
+/// frames on their way to it at the kill whose hand-off Zenoh did not release (2–4
+/// in all were measured over 8 runs on a loaded machine; one more for margin).
+const HELD_BY_A_READER: usize = 5;
+
+/// A reader killed while frames flow: the camera goes on in shared memory and a new
+/// reader receives. What the killed reader held stays counted (Zenoh's safe collection
+/// cannot tell a dead holder from a live one; docs/zenoh.md): at most its last values,
+/// never more; a reader that stops normally gives every buffer back.
 #[test]
-fn a_reader_killed_while_holding_buffers_leaks_nothing_and_a_new_one_receives() {
+fn a_reader_killed_while_holding_buffers_keeps_only_its_last_values_and_a_new_one_receives() {
     let registry = registry();
     let peers = peers();
     let cam = zenoh("shm_kill", "cam", &peers, None);
@@ -354,17 +399,20 @@ fn a_reader_killed_while_holding_buffers_leaks_nothing_and_a_new_one_receives() 
     );
     app.stop();
     drop(app);
-    drop(second);
-    // Every buffer comes back once no reader holds it: the pool holds as many frames
-    // as a fresh one.
     let fresh = Pool::open(cam.shm_settings()).room_for(SIZES[3]).unwrap();
-    let whole = eventually(Duration::from_secs(20), || {
-        cam.shm_room_for(SIZES[3]) == Some(fresh)
+    let room = || cam.shm_room_for(SIZES[3]).unwrap_or(0);
+    let with_second = room();
+    drop(second);
+    // The second reader ended normally: its buffers come back. Every other buffer but
+    // the killed reader's last values has come back too.
+    let back = eventually(Duration::from_secs(20), || {
+        room() > with_second && room() + HELD_BY_A_READER >= fresh
     });
     assert!(
-        whole,
-        "the pool leaked: room for {:?} frames of {fresh}",
-        cam.shm_room_for(SIZES[3])
+        back,
+        "the pool lost more than the killed reader held: room for {} of {fresh} \
+         ({with_second} while the second reader ran)",
+        room()
     );
 }
 
@@ -467,4 +515,91 @@ fn lockstep_output_is_the_same_with_and_without_shared_memory() {
         "{with:?}"
     );
     assert_eq!(with, without);
+}
+
+/// One camera output linked to two reading parts: each value goes out once (one pool
+/// buffer, one message naming both links), and each reader takes its own link's
+/// frames, intact.
+#[test]
+fn one_output_to_two_parts_is_sent_once_and_both_receive_it_intact() {
+    let registry = registry();
+    let peers: BTreeMap<String, String> = ["cam", "view", "view2"]
+        .iter()
+        .map(|p| (p.to_string(), free_port()))
+        .collect();
+    let to = |id, to_part| LinkSpec {
+        id,
+        to_part,
+        ..link(true)
+    };
+    let viewer = |name: &'static str, id: u32, tag: f64| {
+        let mut b = Builder::new(&registry);
+        let path = format!("{name}/viewer");
+        let params = [("tag".to_string(), Value::Float(tag))];
+        b.add_module(ModuleSpec {
+            path: &path,
+            type_name: "test.Viewer",
+            params: &params,
+            queues: &[],
+            ports: &[],
+            violations: Default::default(),
+        })
+        .unwrap();
+        b.add_thread(ThreadSpec {
+            path: name.into(),
+            schedule: Schedule::Periodic(Duration::from_millis(5)),
+            options: ThreadOptions::default(),
+            steps: vec![(path.clone(), StepKind::Update)],
+        })
+        .unwrap();
+        b.link_in(&to(id, name), (&path, "in"), ConnectOptions::default())
+            .unwrap();
+        let options = StartOptions {
+            network: Some(zenoh("shm_fanout", name, &peers, None) as _),
+            ..StartOptions::default()
+        };
+        b.start_with(options).unwrap()
+    };
+    let views = [viewer("view", 0, 51.0), viewer("view2", 1, 52.0)];
+    let mut b = Builder::new(&registry);
+    let params = [("size".to_string(), Value::Float(SIZES[2] as f64))];
+    b.add_module(ModuleSpec {
+        path: "cam/camera",
+        type_name: "test.Camera",
+        params: &params,
+        queues: &[],
+        ports: &[],
+        violations: Default::default(),
+    })
+    .unwrap();
+    b.add_thread(ThreadSpec {
+        path: "cam".into(),
+        schedule: Schedule::Periodic(Duration::from_millis(20)),
+        options: ThreadOptions::default(),
+        steps: vec![("cam/camera".into(), StepKind::Update)],
+    })
+    .unwrap();
+    for spec in [to(0, "view"), to(1, "view2")] {
+        b.link_out(&spec, ("cam/camera", "out"), Default::default())
+            .unwrap();
+    }
+    let cam = zenoh("shm_fanout", "cam", &peers, None);
+    let options = StartOptions {
+        network: Some(Arc::clone(&cam) as _),
+        ..StartOptions::default()
+    };
+    let app = b.start_with(options).unwrap();
+    let both = eventually(Duration::from_secs(60), || {
+        lines_of(51, "seen").len() >= 5 && lines_of(52, "seen").len() >= 5
+    });
+    app.stop();
+    for view in views {
+        view.stop();
+    }
+    assert!(both, "{:?} {:?}", lines_of(51, ""), lines_of(52, ""));
+    for tag in [51, 52] {
+        assert!(lines_of(tag, "seen").iter().all(|l| l.contains(" ok")));
+    }
+    let used = cam.shm_use();
+    assert!(used.shared > 0 && used.dropped == 0, "{used:?}");
 }

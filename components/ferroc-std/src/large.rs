@@ -5,11 +5,16 @@
 //!
 //! Inside one process a value travels through the ports without a copy (a pooled
 //! port hands out the same buffer to every reader). Across parts its bytes go as one
-//! block (`serialize_bytes`: a length and the bytes, one `memcpy` each way, not a
-//! per-byte loop), into shared memory when the parts share a computer (ferroc-zenoh's
-//! `shm`), and recordings store the same postcard form.
+//! block (a length and the bytes, the postcard form of a `Vec<u8>`): encoded straight
+//! into a shared-memory buffer when the parts share a computer (ferroc-zenoh's `shm`),
+//! where the reader's `data` then stays, read in place ([`Bytes`]: no copy on either
+//! side). Recordings store the same postcard form.
+//!
+//! A writer fills `data` through [`Bytes::to_mut`] (a `&mut Vec<u8>` that keeps its
+//! allocation from one pooled value to the next).
 
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
+pub use ferroc_runtime::module::Bytes;
+use serde::{Deserialize, Serialize};
 
 /// A camera image: `height` rows of `step` bytes each, pixels as `encoding` says.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -24,8 +29,7 @@ pub struct Image {
     /// Bytes per row (at least `width` × bytes per pixel; more when rows are padded).
     pub step: u32,
     /// The rows, one after the other.
-    #[serde(with = "block")]
-    pub data: Vec<u8>,
+    pub data: Bytes,
 }
 
 ferroc_runtime::port_value!(Image, "ferroc_std.Image", pooled);
@@ -58,7 +62,7 @@ impl Image {
             height,
             encoding: encoding.to_owned(),
             step,
-            data: vec![0; len],
+            data: vec![0; len].into(),
         })
     }
 
@@ -133,8 +137,7 @@ pub struct PointCloud {
     /// Bytes per point.
     pub point_step: u32,
     /// The points.
-    #[serde(with = "block")]
-    pub data: Vec<u8>,
+    pub data: Bytes,
 }
 
 ferroc_runtime::port_value!(PointCloud, "ferroc_std.PointCloud", pooled);
@@ -152,14 +155,14 @@ impl PointCloud {
                 count: 1,
             })
             .collect();
-        let data = points
+        let data: Vec<u8> = points
             .iter()
             .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
             .collect();
         PointCloud {
             fields,
             point_step: 12,
-            data,
+            data: data.into(),
         }
     }
 
@@ -197,49 +200,6 @@ impl PointCloud {
     }
 }
 
-/// A byte buffer as one block: `serialize_bytes` (postcard writes the length and the
-/// bytes, the very form it gives a `Vec<u8>` element by element, so values stay
-/// compatible), and read back with one copy from whatever the format hands over.
-mod block {
-    use super::{Deserializer, Serializer};
-    use serde::de::{Error, SeqAccess, Visitor};
-
-    pub fn serialize<S: Serializer>(bytes: &[u8], s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_bytes(bytes)
-    }
-
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<u8>, D::Error> {
-        d.deserialize_byte_buf(Bytes)
-    }
-
-    struct Bytes;
-
-    impl<'de> Visitor<'de> for Bytes {
-        type Value = Vec<u8>;
-
-        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            f.write_str("bytes")
-        }
-
-        fn visit_bytes<E: Error>(self, v: &[u8]) -> Result<Vec<u8>, E> {
-            Ok(v.to_vec())
-        }
-
-        fn visit_byte_buf<E: Error>(self, v: Vec<u8>) -> Result<Vec<u8>, E> {
-            Ok(v)
-        }
-
-        // JSON (recordings' display form) writes bytes as an array of numbers.
-        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<u8>, A::Error> {
-            let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1 << 20));
-            while let Some(b) = seq.next_element::<u8>()? {
-                out.push(b);
-            }
-            Ok(out)
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -248,7 +208,7 @@ mod tests {
     fn an_image_reads_rows_and_pixels_in_place() {
         let mut img = Image::new(4, 2, "rgb8").unwrap();
         assert_eq!((img.step, img.data.len()), (12, 24));
-        img.data[12 + 3..12 + 6].copy_from_slice(&[1, 2, 3]);
+        img.data.to_mut()[12 + 3..12 + 6].copy_from_slice(&[1, 2, 3]);
         assert_eq!(img.pixel(1, 1), Some(&[1u8, 2, 3][..]));
         assert_eq!(img.row(1).map(<[u8]>::len), Some(12));
         assert_eq!(img.pixel(4, 0), None, "past the row");
@@ -260,7 +220,7 @@ mod tests {
     #[test]
     fn an_image_whose_numbers_disagree_with_its_bytes_is_refused_in_words() {
         let mut img = Image::new(4, 2, "rgb8").unwrap();
-        img.data.truncate(20);
+        img.data.to_mut().truncate(20);
         let err = img.check().unwrap_err();
         assert!(err.contains("24 bytes") && err.contains("20"), "{err}");
         img.step = 8;
@@ -268,7 +228,7 @@ mod tests {
         // Padded rows are fine, and so is a row of an unknown encoding.
         let mut padded = Image::new(4, 2, "mono8").unwrap();
         padded.step = 8;
-        padded.data = vec![0; 16];
+        padded.data = vec![0; 16].into();
         assert!(padded.check().is_ok());
         assert_eq!(padded.pixel(3, 1), Some(&[0u8][..]));
     }
@@ -276,7 +236,7 @@ mod tests {
     #[test]
     fn the_wire_form_is_one_block_and_the_same_as_a_byte_vector() {
         let mut img = Image::new(3, 1, "mono8").unwrap();
-        img.data = vec![9, 8, 7];
+        img.data = vec![9, 8, 7].into();
         let bytes = postcard::to_stdvec(&img).unwrap();
         let plain = postcard::to_stdvec(&(3u32, 1u32, "mono8", 3u32, vec![9u8, 8, 7])).unwrap();
         assert_eq!(bytes, plain);

@@ -32,7 +32,8 @@ pub mod calls;
 pub mod ros2;
 pub mod transport;
 
-use ferroc_module::{Codec, DynOut, Timestamp};
+use ferroc_module::bytes::Holder;
+use ferroc_module::{Codec, DynOut, Encoder, Timestamp};
 use ferroc_ports::fresh;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -231,6 +232,28 @@ impl Inbox {
     /// [`deliver`](Self::deliver) for a value the network still holds in its own
     /// buffer: no copy into a [`Frame`] on the way.
     pub(crate) fn deliver_bytes(&self, link_number: u32, bytes: &[u8]) {
+        self.deliver_from(link_number, bytes, |link| {
+            link.codec.decode(&link.out, bytes)
+        });
+    }
+
+    /// [`deliver_bytes`](Self::deliver_bytes) from a buffer the value may keep: its
+    /// [`Bytes`](ferroc_module::Bytes) fields read `holder` in place.
+    pub(crate) fn deliver_held(&self, link_number: u32, holder: &Arc<dyn Holder>) {
+        let bytes = (**holder).as_ref();
+        self.deliver_from(link_number, bytes, |link| {
+            link.codec.decode_held(&link.out, holder)
+        });
+    }
+
+    /// Hands `bytes` to a direct end, or publishes the value `decode` makes of them
+    /// into the reader of `link_number`.
+    fn deliver_from(
+        &self,
+        link_number: u32,
+        bytes: &[u8],
+        decode: impl FnOnce(&Receiving) -> Result<(), String>,
+    ) {
         if let Some(end) = self.direct.get(&link_number) {
             if let Err(why) = end.receive(bytes) {
                 if self.direct_failures.fetch_add(1, Ordering::Relaxed) == 0 {
@@ -255,7 +278,7 @@ impl Inbox {
         // The arrival is noted before the value is published, so that a reader woken
         // by it sees its age and freshness, never those of the value before.
         let before = link.fresh.arriving(Timestamp::now());
-        match link.codec.decode(&link.out, bytes) {
+        match decode(link) {
             Ok(()) => {
                 if let Some(missed) = link.fresh.arrived_after(before) {
                     link.fresh.report_missed(&link.describe, missed);
@@ -315,6 +338,32 @@ impl Hub {
                 .push((Arc::clone(to_part), frame)),
             None => {}
         }
+    }
+
+    /// Sends the value `encoder` holds on each link of `targets` (link number, reading
+    /// part): encoded once, straight into a buffer the network picks when they all leave
+    /// this process ([`transport::Connection::send_encoded`]), into a `Vec` otherwise.
+    #[doc(hidden)]
+    pub fn send_encoded(
+        &self,
+        targets: &[(u32, Arc<str>)],
+        encoder: &Encoder<'_>,
+    ) -> Result<(), String> {
+        if let Some(Route::Direct {
+            inbox,
+            network: Some(network),
+        }) = self.route.get()
+        {
+            if targets.iter().all(|(link, _)| !inbox.has(*link)) {
+                return network.send_encoded(targets, encoder);
+            }
+        }
+        let bytes = encoder.to_vec()?;
+        for (link, to_part) in targets {
+            let bytes = bytes.clone();
+            self.send(to_part, Frame { link: *link, bytes });
+        }
+        Ok(())
     }
 
     /// What the network reports now ([`transport::Connection::status`]).

@@ -10,6 +10,8 @@
 
 use super::calls;
 use super::{Frame, Inbox, Sharing};
+use ferroc_module::bytes::Holder;
+use ferroc_module::Encoder;
 use std::collections::BTreeMap;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -161,6 +163,18 @@ pub trait Connection: Send + Sync {
     /// is gone or far behind).
     fn send(&self, to_part: &str, frame: Frame);
 
+    /// Running freely: sends the value `encoder` holds on each data link of `targets`
+    /// (link number, reading part) now, like [`send`](Self::send). A network with
+    /// buffers of its own (shared memory) encodes a large value straight into one, once
+    /// for all the links; by default it goes into a `Vec` of its exact size.
+    fn send_encoded(
+        &self,
+        targets: &[(u32, Arc<str>)],
+        encoder: &Encoder<'_>,
+    ) -> Result<(), String> {
+        send_each(self, targets, encoder)
+    }
+
     /// Lockstep: this part finished the instant `nanos` (model time) and sent `frames`
     /// in it; every part it sends to receives them, and the news that the instant is
     /// finished. An error if a part it sends to is gone or `stop` was set.
@@ -187,6 +201,21 @@ pub trait Connection: Send + Sync {
     }
 }
 
+/// [`Connection::send_encoded`] without buffers of the network's own: the value in a
+/// `Vec` of its exact size, one [`Connection::send`] per link.
+pub fn send_each<C: Connection + ?Sized>(
+    connection: &C,
+    targets: &[(u32, Arc<str>)],
+    encoder: &Encoder<'_>,
+) -> Result<(), String> {
+    let bytes = encoder.to_vec()?;
+    for (link, to_part) in targets {
+        let bytes = bytes.clone();
+        connection.send(to_part, Frame { link: *link, bytes });
+    }
+    Ok(())
+}
+
 /// Where a network hands what arrives: the receiving ends of this part.
 #[derive(Clone)]
 pub struct Delivery {
@@ -209,6 +238,13 @@ impl Delivery {
     /// copy into a [`Frame`]).
     pub fn deliver_bytes(&self, link: u32, bytes: &[u8]) {
         self.inbox.deliver_bytes(link, bytes);
+    }
+
+    /// [`deliver_bytes`](Self::deliver_bytes) for a value in a buffer it may keep:
+    /// its [`Bytes`](ferroc_module::Bytes) fields read `holder` in place, and the
+    /// buffer lives as long as they do.
+    pub fn deliver_held(&self, link: u32, holder: &Arc<dyn Holder>) {
+        self.inbox.deliver_held(link, holder);
     }
 
     /// Whether this part receives the link `link`.

@@ -9,16 +9,22 @@
 //! Like the rest of the value table these are plain function pointers, monomorphised
 //! when the type is registered, working on the type-erased [`DynIn`]/[`DynOut`].
 
+use super::bytes::{self, Holder};
 use super::value::PortValue;
 use super::value_table::{DynIn, DynOut};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::borrow::Borrow;
+use std::sync::Arc;
+
+/// [`Codec::encode_with`] for one type.
+type EncodeWith = fn(&DynIn, &mut dyn FnMut(&Encoder<'_>)) -> Result<(), String>;
 
 /// Encoding and decoding of one value type (an entry of the value table).
 #[derive(Clone, Copy)]
 pub struct Codec {
     encode: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
+    encode_with: EncodeWith,
     decode: fn(&DynOut, &[u8]) -> Result<(), String>,
     json: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     from_json: fn(Option<&DynOut>, &[u8]) -> Result<(), String>,
@@ -29,6 +35,7 @@ impl Codec {
     pub(crate) fn of<T: PortValue + Serialize + DeserializeOwned>() -> Self {
         Codec {
             encode: encode::<T>,
+            encode_with: encode_with::<T>,
             decode: decode::<T>,
             json: json::<T>,
             from_json: from_json::<T>,
@@ -38,6 +45,24 @@ impl Codec {
     /// Replaces `bytes` with the latest value of `from` (made by the same table entry).
     pub fn encode(&self, from: &DynIn, bytes: &mut Vec<u8>) -> Result<(), String> {
         (self.encode)(from, bytes)
+    }
+
+    /// Hands `then` the latest value of `from`, ready to be encoded into a buffer of
+    /// its exact encoded size ([`Encoder`]): the caller picks the buffer (a shared
+    /// memory buffer for a large value, a `Vec` otherwise), so the value is encoded
+    /// once, straight where it travels from.
+    pub fn encode_with(
+        &self,
+        from: &DynIn,
+        then: &mut dyn FnMut(&Encoder<'_>),
+    ) -> Result<(), String> {
+        (self.encode_with)(from, then)
+    }
+
+    /// [`decode`](Self::decode) from a buffer the caller holds: the value's
+    /// [`Bytes`](crate::Bytes) fields keep ranges of `holder` instead of copies.
+    pub fn decode_held(&self, to: &DynOut, holder: &Arc<dyn Holder>) -> Result<(), String> {
+        bytes::decode_in_place(holder, |b| self.decode(to, b))
     }
 
     /// Decodes `bytes` and publishes the value on `to`. A value that does not decode
@@ -69,6 +94,65 @@ fn encode<T: PortValue + Serialize>(from: &DynIn, bytes: &mut Vec<u8>) -> Result
     bytes.clear();
     let buffer = std::mem::take(bytes);
     *bytes = postcard::to_extend(value.borrow(), buffer).map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// A value ready to be encoded: its encoded size, and how it writes itself into a
+/// buffer of that size ([`Codec::encode_with`]).
+pub struct Encoder<'a> {
+    len: usize,
+    write: &'a dyn Fn(&mut [u8]) -> Result<(), String>,
+}
+
+impl<'a> Encoder<'a> {
+    /// An encoder of a value of `len` encoded bytes that `write` writes into a buffer
+    /// of that size (for networks' tests; [`Codec::encode_with`] makes the real ones).
+    pub fn new(len: usize, write: &'a dyn Fn(&mut [u8]) -> Result<(), String>) -> Self {
+        Encoder { len, write }
+    }
+
+    /// The encoded size in bytes.
+    #[allow(clippy::len_without_is_empty)] // an encoded value is never empty
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Encodes the value into `buffer`, which must be [`len`](Self::len) bytes long.
+    pub fn write(&self, buffer: &mut [u8]) -> Result<(), String> {
+        if buffer.len() != self.len {
+            return Err(format!(
+                "a value of {} bytes was to be encoded into a buffer of {}",
+                self.len,
+                buffer.len()
+            ));
+        }
+        (self.write)(buffer)
+    }
+
+    /// The value encoded into a new `Vec` of its exact size.
+    pub fn to_vec(&self) -> Result<Vec<u8>, String> {
+        let mut bytes = vec![0; self.len];
+        self.write(&mut bytes)?;
+        Ok(bytes)
+    }
+}
+
+fn encode_with<T: PortValue + Serialize>(
+    from: &DynIn,
+    then: &mut dyn FnMut(&Encoder<'_>),
+) -> Result<(), String> {
+    let port = from
+        .typed::<T>()
+        .ok_or_else(|| format!("`{}` does not carry {}", from.name(), T::model_type()))?;
+    let value = port.get();
+    let value: &T = value.borrow();
+    let len = postcard::experimental::serialized_size(value).map_err(|e| e.to_string())?;
+    let write = |buffer: &mut [u8]| {
+        postcard::to_slice(value, buffer)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
+    then(&Encoder { len, write: &write });
     Ok(())
 }
 

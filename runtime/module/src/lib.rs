@@ -28,6 +28,7 @@ macro_rules! eprintln {
 }
 
 pub mod behaviour;
+pub mod bytes;
 pub mod cycle;
 pub mod resource;
 pub mod violations;
@@ -45,7 +46,8 @@ pub mod setup;
 mod value;
 mod value_table;
 
-pub use codec::Codec;
+pub use bytes::Bytes;
+pub use codec::{Codec, Encoder};
 pub use data_loss::{data_losses, report_data_loss};
 pub use determinism::{Determinism, Nondeterminism, WallClock};
 pub use ferroc_ports::time::Timestamp;

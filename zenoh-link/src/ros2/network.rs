@@ -20,8 +20,11 @@ use ferroc_ros2::rmw_zenoh::{Durability, History, Qos, Reliability};
 use ferroc_ros2::Registry;
 use ferroc_runtime::console;
 use ferroc_runtime::link::ros2::{self as ends, Ros2Qos};
-use ferroc_runtime::link::transport::{Addresses, Connection, Delivery, Network, PartLinks};
+use ferroc_runtime::link::transport::{
+    send_each, Addresses, Connection, Delivery, Network, PartLinks,
+};
 use ferroc_runtime::link::Frame;
+use ferroc_runtime::module::Encoder;
 use ferroc_terminal::engine_error;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
@@ -313,6 +316,22 @@ impl Connection for WithRos2 {
         }
         if let Some(inner) = &self.inner {
             inner.send(to_part, frame);
+        }
+    }
+
+    /// Values for other parts only go to the parts' network as they are (encoded into
+    /// its shared memory, once for all links); a ROS 2 topic's frame goes by `send`.
+    fn send_encoded(
+        &self,
+        targets: &[(u32, Arc<str>)],
+        encoder: &Encoder<'_>,
+    ) -> Result<(), String> {
+        let ends = self.ends.read().unwrap_or_else(|e| e.into_inner());
+        let ros2 = (ends.as_ref()).is_some_and(|e| targets.iter().any(|(l, _)| e.publishes(*l)));
+        drop(ends);
+        match &self.inner {
+            Some(inner) if !ros2 => inner.send_encoded(targets, encoder),
+            _ => send_each(self, targets, encoder),
         }
     }
 

@@ -151,3 +151,102 @@ fn a_link_to_a_part_without_an_address_is_refused_at_start() {
         "{err}"
     );
 }
+
+/// A network that records which links each encoded value was sent on.
+#[derive(Default)]
+struct Recording(Arc<std::sync::Mutex<Vec<Vec<u32>>>>);
+
+impl ferroc_link::transport::Network for Recording {
+    fn open(
+        &self,
+        _links: &ferroc_link::transport::PartLinks,
+        _delivery: ferroc_link::transport::Delivery,
+        _lockstep: bool,
+    ) -> Result<Box<dyn ferroc_link::transport::Connection>, String> {
+        Ok(Box::new(Recording(Arc::clone(&self.0))))
+    }
+}
+
+impl ferroc_link::transport::Connection for Recording {
+    fn send(&self, _to_part: &str, frame: ferroc_link::Frame) {
+        self.0.lock().unwrap().push(vec![frame.link]);
+    }
+    fn send_encoded(
+        &self,
+        targets: &[(u32, Arc<str>)],
+        encoder: &ferroc_module::Encoder<'_>,
+    ) -> Result<(), String> {
+        encoder.to_vec()?;
+        let links = targets.iter().map(|(link, _)| *link).collect();
+        self.0.lock().unwrap().push(links);
+        Ok(())
+    }
+    fn end_instant(
+        &self,
+        _nanos: u64,
+        _frames: Vec<(Arc<str>, ferroc_link::Frame)>,
+        _stop: &std::sync::atomic::AtomicBool,
+    ) -> Result<(), String> {
+        Ok(())
+    }
+    fn wait_instant(
+        &self,
+        _nanos: u64,
+        _stop: &std::sync::atomic::AtomicBool,
+    ) -> Result<Vec<ferroc_link::Frame>, String> {
+        Ok(Vec::new())
+    }
+    fn close(&self) {}
+}
+
+/// Links that carry one output's values unchanged to several parts are encoded and
+/// sent once for all of them; a link that differs (here its sharing) goes on its own.
+#[test]
+fn links_of_one_output_to_several_parts_are_sent_once_for_all() {
+    let registry = registry();
+    let mut b = Builder::new(&registry);
+    add(&mut b, "a/echo", "test.Echo", &[]);
+    b.add_thread(ThreadSpec {
+        path: "a".into(),
+        schedule: Schedule::Periodic(Duration::from_millis(2)),
+        options: ThreadOptions::default(),
+        steps: vec![("a/echo".into(), StepKind::Update)],
+    })
+    .unwrap();
+    let to = |id, to_part| LinkSpec {
+        id,
+        to_part,
+        ..A_TO_B
+    };
+    let periodic = LinkSpec {
+        sharing: ferroc_link::Sharing::Periodic(Duration::from_millis(4)),
+        ..to(2, "d")
+    };
+    for spec in [to(0, "b"), to(1, "c"), periodic] {
+        b.link_out(&spec, ("a/echo", "out"), Conversion::default())
+            .unwrap();
+    }
+    let sent = Recording::default();
+    let log = Arc::clone(&sent.0);
+    let options = StartOptions {
+        network: Some(Arc::new(sent)),
+        ..StartOptions::default()
+    };
+    let app = b.start_with(options).unwrap();
+    let enough = || {
+        let log = log.lock().unwrap();
+        log.iter().filter(|l| l.len() == 2).count() >= 3 && log.contains(&vec![2])
+    };
+    let limit = std::time::Instant::now() + Duration::from_secs(30);
+    while !enough() && std::time::Instant::now() < limit {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let enough = enough();
+    app.stop();
+    let log = log.lock().unwrap();
+    assert!(enough, "{log:?}");
+    assert!(
+        log.iter().all(|l| *l == [0, 1] || *l == [2]),
+        "sent otherwise: {log:?}"
+    );
+}

@@ -6,10 +6,10 @@
 use super::{BuildError, Builder, Conversion, Instance};
 use ferroc_exec::Step;
 use ferroc_link::transport::{RemoteCall, Sending};
-use ferroc_link::{calls, CallSpec, Frame, LinkSpec, Pace, Receiving};
+use ferroc_link::{calls, CallSpec, LinkSpec, Pace, Receiving, Sharing};
 use ferroc_module::{Interface, Kind, Timestamp, ValueType};
 use ferroc_ports::port::{ConnectOptions, InputHandle, OutputHandle};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 impl Builder<'_> {
     /// The sending end of the link `spec.id`: values of `from` (module path, output),
@@ -25,24 +25,44 @@ impl Builder<'_> {
         let value_type = self.link_type(spec, &describe)?;
         let codec = *value_type.codec().expect("link_type checked it");
         let writer = self.module(from.0)?;
+        let target = (spec.id, Arc::<str>::from(spec.to_part));
+        let key = Fanout::key(spec, from);
+        if conversion == Conversion::default() {
+            if let Some(fanout) = self.fanouts.iter().find(|f| f.key == key) {
+                lock(&fanout.targets).push(target);
+                self.remote.sending.insert(spec.id, sending(spec, from));
+                return Ok(());
+            }
+        }
         let (input, handle) = value_type.input(&format!("link {} out", spec.id), None);
         let end = self.link_end(
             format!("link {} out", spec.id),
             vec![("in".into(), handle)],
             vec![],
         );
+        let unchanged = conversion == Conversion::default();
         self.connect(from, (&end, "in"), conversion, ConnectOptions::default())?;
+        let targets: Targets = Arc::new(Mutex::new(vec![target]));
+        if unchanged {
+            let targets = Arc::clone(&targets);
+            self.fanouts.push(Fanout { key, targets });
+        }
         let hub = Arc::clone(&self.hub);
-        let (link, to_part) = (spec.id, Arc::<str>::from(spec.to_part));
         let mut pace = Pace::new(spec.sharing);
         let mut failed = false;
         let step = Step::new(describe.clone(), move || {
             if !pace.send(input.changed(), Timestamp::now()) {
                 return;
             }
-            let mut bytes = Vec::new();
-            match codec.encode(&input, &mut bytes) {
-                Ok(()) => hub.send(&to_part, Frame { link, bytes }),
+            // Encoded once, into the buffer it travels in (shared memory for a large
+            // value to another part on this computer), for every link it goes on.
+            let targets = lock(&targets);
+            let mut sent = Ok(());
+            let encoded = codec.encode_with(&input, &mut |encoder| {
+                sent = hub.send_encoded(&targets, encoder);
+            });
+            match encoded.and(sent) {
+                Ok(()) => {}
                 Err(why) if !std::mem::replace(&mut failed, true) => {
                     ferroc_ports::console::line(&format!("warning: {describe}: not sent: {why}"))
                 }
@@ -50,14 +70,7 @@ impl Builder<'_> {
             }
         });
         self.modules[writer].converters.push(step);
-        let sending = Sending {
-            to_part: spec.to_part.to_owned(),
-            topic: format!("{}/{}", from.0, from.1),
-            model_type: spec.model_type.to_owned(),
-            sharing: spec.sharing,
-            reliable: spec.reliable,
-        };
-        self.remote.sending.insert(spec.id, sending);
+        self.remote.sending.insert(spec.id, sending(spec, from));
         Ok(())
     }
 
@@ -246,6 +259,53 @@ impl Builder<'_> {
             )));
         }
         Ok(())
+    }
+}
+
+/// The sending end of links that carry the values of one output, unchanged, to other
+/// parts: one step encodes each value once and sends it on all of them (one buffer of
+/// the pool and one message for 15 reading parts, not 15).
+pub(super) struct Fanout {
+    key: FanoutKey,
+    /// The links and their reading parts.
+    targets: Targets,
+}
+
+/// The links a sending step sends on (link number, reading part); more join while the
+/// application is built.
+type Targets = Arc<Mutex<Vec<(u32, Arc<str>)>>>;
+
+/// What links must share to be sent as one: the output, the type, when and how.
+#[derive(PartialEq)]
+struct FanoutKey {
+    from: (String, String),
+    model_type: String,
+    sharing: Sharing,
+    reliable: bool,
+}
+
+impl Fanout {
+    fn key(spec: &LinkSpec<'_>, from: (&str, &str)) -> FanoutKey {
+        FanoutKey {
+            from: (from.0.to_owned(), from.1.to_owned()),
+            model_type: spec.model_type.to_owned(),
+            sharing: spec.sharing,
+            reliable: spec.reliable,
+        }
+    }
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+fn sending(spec: &LinkSpec<'_>, from: (&str, &str)) -> Sending {
+    Sending {
+        to_part: spec.to_part.to_owned(),
+        topic: format!("{}/{}", from.0, from.1),
+        model_type: spec.model_type.to_owned(),
+        sharing: spec.sharing,
+        reliable: spec.reliable,
     }
 }
 

@@ -214,6 +214,9 @@ pub struct Builder<'r> {
     /// The ends of links and calls built here (those with both ends here are
     /// delivered in the process; the others cross the network).
     remote: ferroc_link::transport::PartLinks,
+    /// Sending ends of links that carry one output's values unchanged to other parts
+    /// ([`links::Fanout`]): a link like one of them joins it instead of encoding again.
+    fanouts: Vec<links::Fanout>,
     /// Outputs handed to an inspector (`inspection.rs`), shared with a reconfigurable
     /// application (`reconfigure.rs`), by module path.
     inspected: HashMap<String, Vec<(String, Arc<OutputHandle>)>>,
@@ -237,6 +240,7 @@ impl<'r> Builder<'r> {
             receiving: Default::default(),
             direct_ends: Default::default(),
             remote: Default::default(),
+            fanouts: Vec::new(),
             inspected: HashMap::new(),
         }
     }

@@ -1,0 +1,309 @@
+//! [`Bytes`]: the byte buffer of large values (images, point clouds) that a reader in
+//! another part reads where it arrived, without copying it out.
+//!
+//! A value that crosses between parts is decoded from the buffer the network received
+//! it in; for a large value on one computer that is a buffer of the writer's shared
+//! memory pool. Decoding copies every field out of it, which for a 6 MB image costs more
+//! than the whole trip. A `Bytes` field avoids that: while a link's receiving end
+//! decodes from a buffer it holds ([`Receiving::decode`]), a `Bytes` whose encoded bytes
+//! lie inside that buffer keeps a handle on the buffer and the range instead of a copy.
+//! The buffer lives as long as the value (and its clones) does and goes back to its pool
+//! when the last one is dropped; until then nobody writes it (the pool only reuses
+//! buffers no process holds).
+//!
+//! Everywhere else a `Bytes` is an ordinary owned `Vec<u8>`: made by a module, decoded
+//! from a recording or from a buffer not held this way. Writing to it
+//! ([`Bytes::to_mut`]) copies a shared buffer into an owned one first (copy on write), so
+//! a writer that fills a pooled port value in place keeps its allocation.
+//!
+//! No `unsafe`: the check that a borrowed slice lies in the held buffer compares
+//! addresses, and the value reads its bytes through the holder's own `AsRef<[u8]>`.
+
+use serde::de::{Error, SeqAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::cell::RefCell;
+use std::fmt;
+use std::ops::{Deref, DerefMut, Range};
+use std::sync::Arc;
+
+/// Whatever holds received bytes: a shared-memory buffer, a network buffer, a `Vec`.
+pub trait Holder: AsRef<[u8]> + Send + Sync + 'static {}
+impl<T: AsRef<[u8]> + Send + Sync + 'static> Holder for T {}
+
+/// A byte buffer that is either owned or a range of a received buffer (see the module
+/// documentation). Serialised as one block of bytes: the same postcard form as a
+/// `Vec<u8>`.
+#[derive(Clone)]
+pub struct Bytes(Repr);
+
+#[derive(Clone)]
+enum Repr {
+    Owned(Vec<u8>),
+    Shared {
+        holder: Arc<dyn Holder>,
+        range: Range<usize>,
+    },
+}
+
+impl Bytes {
+    /// An empty, owned buffer.
+    pub const fn new() -> Self {
+        Bytes(Repr::Owned(Vec::new()))
+    }
+
+    /// The whole of `holder`'s bytes, without a copy.
+    pub fn from_holder(holder: Arc<dyn Holder>) -> Self {
+        let range = 0..(*holder).as_ref().len();
+        Bytes(Repr::Shared { holder, range })
+    }
+
+    /// The bytes, to change in place. A buffer read where it arrived is first copied
+    /// into an owned one (the received buffer is never written).
+    pub fn to_mut(&mut self) -> &mut Vec<u8> {
+        if let Repr::Shared { .. } = self.0 {
+            self.0 = Repr::Owned(self.as_ref().to_vec());
+        }
+        match &mut self.0 {
+            Repr::Owned(v) => v,
+            Repr::Shared { .. } => unreachable!("made owned above"),
+        }
+    }
+
+    /// Makes it `len` bytes long, new bytes `value` (as `Vec::resize`; owned first).
+    pub fn resize(&mut self, len: usize, value: u8) {
+        self.to_mut().resize(len, value);
+    }
+
+    /// Whether the bytes are read where they arrived (a range of a received buffer)
+    /// rather than owned.
+    pub fn is_shared(&self) -> bool {
+        matches!(self.0, Repr::Shared { .. })
+    }
+
+    /// The bytes as an owned `Vec` (a copy unless they are owned already).
+    pub fn into_vec(self) -> Vec<u8> {
+        match self.0 {
+            Repr::Owned(v) => v,
+            Repr::Shared { holder, range } => (*holder).as_ref()[range].to_vec(),
+        }
+    }
+
+    /// `bytes` as a range of the buffer this thread decodes from, if they lie in it.
+    fn in_received(bytes: &[u8]) -> Option<Bytes> {
+        if bytes.is_empty() {
+            return None;
+        }
+        RECEIVED.with(|r| {
+            let r = r.borrow();
+            let holder = r.as_ref()?;
+            let whole = (**holder).as_ref();
+            let start = (bytes.as_ptr() as usize).checked_sub(whole.as_ptr() as usize)?;
+            let range = start..start.checked_add(bytes.len())?;
+            (range.end <= whole.len()).then(|| {
+                Bytes(Repr::Shared {
+                    holder: Arc::clone(holder),
+                    range,
+                })
+            })
+        })
+    }
+}
+
+thread_local! {
+    /// The buffer this thread decodes a received value from, while it does.
+    static RECEIVED: RefCell<Option<Arc<dyn Holder>>> = const { RefCell::new(None) };
+}
+
+/// Runs `decode` on `holder`'s bytes; a [`Bytes`] decoded meanwhile from inside them
+/// keeps a range of `holder` instead of a copy. Nested calls restore the outer buffer.
+pub fn decode_in_place<R>(holder: &Arc<dyn Holder>, decode: impl FnOnce(&[u8]) -> R) -> R {
+    struct Restore(Option<Arc<dyn Holder>>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            let outer = self.0.take();
+            RECEIVED.with(|r| *r.borrow_mut() = outer);
+        }
+    }
+    let outer = RECEIVED.with(|r| r.borrow_mut().replace(Arc::clone(holder)));
+    let _restore = Restore(outer);
+    decode((**holder).as_ref())
+}
+
+impl Default for Bytes {
+    fn default() -> Self {
+        Bytes::new()
+    }
+}
+
+impl Deref for Bytes {
+    type Target = [u8];
+    fn deref(&self) -> &[u8] {
+        match &self.0 {
+            Repr::Owned(v) => v,
+            Repr::Shared { holder, range } => &(**holder).as_ref()[range.clone()],
+        }
+    }
+}
+
+/// Writing copies a received buffer into an owned one first ([`Bytes::to_mut`]).
+impl DerefMut for Bytes {
+    fn deref_mut(&mut self) -> &mut [u8] {
+        self.to_mut()
+    }
+}
+
+impl AsRef<[u8]> for Bytes {
+    fn as_ref(&self) -> &[u8] {
+        self
+    }
+}
+
+impl From<Vec<u8>> for Bytes {
+    fn from(v: Vec<u8>) -> Self {
+        Bytes(Repr::Owned(v))
+    }
+}
+
+impl From<&[u8]> for Bytes {
+    fn from(v: &[u8]) -> Self {
+        Bytes(Repr::Owned(v.to_vec()))
+    }
+}
+
+impl PartialEq for Bytes {
+    fn eq(&self, other: &Self) -> bool {
+        **self == **other
+    }
+}
+impl Eq for Bytes {}
+
+impl PartialEq<[u8]> for Bytes {
+    fn eq(&self, other: &[u8]) -> bool {
+        **self == *other
+    }
+}
+
+impl PartialEq<Vec<u8>> for Bytes {
+    fn eq(&self, other: &Vec<u8>) -> bool {
+        **self == **other
+    }
+}
+
+impl fmt::Debug for Bytes {
+    /// The length and where the bytes are, not thousands of numbers.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let where_ = if self.is_shared() {
+            "received"
+        } else {
+            "owned"
+        };
+        write!(f, "Bytes({} bytes, {where_})", self.len())
+    }
+}
+
+impl Serialize for Bytes {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_bytes(self)
+    }
+}
+
+impl<'de> Deserialize<'de> for Bytes {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Bytes, D::Error> {
+        d.deserialize_bytes(BytesVisitor)
+    }
+}
+
+struct BytesVisitor;
+
+impl<'de> Visitor<'de> for BytesVisitor {
+    type Value = Bytes;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("bytes")
+    }
+
+    fn visit_bytes<E: Error>(self, v: &[u8]) -> Result<Bytes, E> {
+        Ok(Bytes::in_received(v).unwrap_or_else(|| v.into()))
+    }
+
+    fn visit_byte_buf<E: Error>(self, v: Vec<u8>) -> Result<Bytes, E> {
+        Ok(v.into())
+    }
+
+    // JSON (recordings' display form) writes bytes as an array of numbers.
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Bytes, A::Error> {
+        let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1 << 20));
+        while let Some(b) = seq.next_element::<u8>()? {
+            out.push(b);
+        }
+        Ok(out.into())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Serialize, Deserialize, PartialEq, Debug)]
+    struct Frame {
+        name: String,
+        data: Bytes,
+    }
+
+    fn encoded() -> Vec<u8> {
+        let frame = Frame {
+            name: "cam".into(),
+            data: vec![1, 2, 3, 4].into(),
+        };
+        postcard::to_stdvec(&frame).unwrap()
+    }
+
+    #[test]
+    fn decoded_inside_a_held_buffer_it_reads_in_place() {
+        let holder: Arc<dyn Holder> = Arc::new(encoded());
+        let frame: Frame = decode_in_place(&holder, |b| postcard::from_bytes(b)).unwrap();
+        assert!(frame.data.is_shared());
+        assert_eq!(frame.data, vec![1, 2, 3, 4]);
+        assert_eq!(Arc::strong_count(&holder), 2, "the value keeps the buffer");
+        drop(frame);
+        assert_eq!(Arc::strong_count(&holder), 1, "and lets it go when dropped");
+    }
+
+    #[test]
+    fn decoded_elsewhere_it_owns_a_copy() {
+        // Bytes outside the held buffer (another slice) are copied, as after the call.
+        let holder: Arc<dyn Holder> = Arc::new(vec![0u8; 64]);
+        let other = encoded();
+        let frame: Frame = decode_in_place(&holder, |_| postcard::from_bytes(&other)).unwrap();
+        assert!(!frame.data.is_shared());
+        let later: Frame = postcard::from_bytes(&other).unwrap();
+        assert!(!later.data.is_shared());
+        assert_eq!(frame, later);
+        let json = serde_json::to_string(&later).unwrap();
+        assert_eq!(serde_json::from_str::<Frame>(&json).unwrap(), later);
+    }
+
+    #[test]
+    fn writing_copies_a_received_buffer_first() {
+        let holder: Arc<dyn Holder> = Arc::new(vec![5u8; 8]);
+        let mut bytes = Bytes::from_holder(Arc::clone(&holder));
+        assert!(bytes.is_shared());
+        bytes[0] = 9;
+        assert!(!bytes.is_shared());
+        assert_eq!(&bytes[..2], &[9, 5]);
+        assert_eq!(
+            (*holder).as_ref()[0],
+            5,
+            "the received buffer is never written"
+        );
+        assert_eq!(Arc::strong_count(&holder), 1);
+        assert_eq!(format!("{bytes:?}"), "Bytes(8 bytes, owned)");
+    }
+
+    #[test]
+    fn the_wire_form_is_that_of_a_byte_vector() {
+        let plain = postcard::to_stdvec(&vec![7u8, 8, 9]).unwrap();
+        let ours = postcard::to_stdvec(&Bytes::from(vec![7u8, 8, 9])).unwrap();
+        assert_eq!(plain, ours);
+    }
+}
