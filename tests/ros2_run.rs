@@ -18,6 +18,27 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 const MODEL: &str = "models/ros2_crash_course.xml";
+/// Runs `model` for 30 s listening on a free port, beside the zenoh-ros2-sdk peer
+/// `tests/ros2/SCRIPT` (given our shipped interfaces, 25 s): its JSON report and the
+/// run's output.
+fn sdk_beside(python: &Path, name: &str, model: &str, script: &str) -> (serde_json::Value, String) {
+    let dir = tempdir(name);
+    build_runner_of(model, &dir);
+    let port = free_port();
+    let config = listening_config(&dir, port);
+    let mut peer = Command::new(python);
+    peer.arg(root().join("tests/ros2").join(script))
+        .arg(port.to_string())
+        .arg(root().join("ros2/interfaces"))
+        .arg("25")
+        .env(
+            "ZENOH_CONFIG_OVERRIDE",
+            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
+        );
+    let run = run_model(model, &config, &["--for", "30s"]);
+    run_beside(peer, run)
+}
+
 /// A module's service offered as a ROS 2 service.
 const SWITCH: &str = "tests/ros2/switch.xml";
 /// A module's client calling a ROS 2 service.
@@ -290,21 +311,7 @@ fn zenoh_ros2_sdk_calls_a_module_s_service_as_a_ros2_service() {
     let Some(python) = ferroc_testkit::python(&["zenoh_ros2_sdk"]) else {
         return;
     };
-    let dir = tempdir("ros2_service");
-    build_runner_of(SWITCH, &dir);
-    let port = free_port();
-    let config = listening_config(&dir, port);
-    let mut peer = Command::new(&python);
-    peer.arg(root().join("tests/ros2/sdk_service_peer.py"))
-        .arg(port.to_string())
-        .arg(root().join("ros2/interfaces"))
-        .arg("25")
-        .env(
-            "ZENOH_CONFIG_OVERRIDE",
-            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
-        );
-    let run = run_model(SWITCH, &config, &["--for", "30s"]);
-    let (report, text) = run_beside(peer, run);
+    let (report, text) = sdk_beside(&python, "ros2_service", SWITCH, "sdk_service_peer.py");
 
     let listed = serde_json::json!(["/switch_bot/set_enabled", ["std_srvs/srv/SetBool"]]);
     assert!(
@@ -349,21 +356,7 @@ fn a_module_s_client_calls_a_zenoh_ros2_sdk_service() {
     let Some(python) = ferroc_testkit::python(&["zenoh_ros2_sdk"]) else {
         return;
     };
-    let dir = tempdir("ros2_client");
-    build_runner_of(ASKER, &dir);
-    let port = free_port();
-    let config = listening_config(&dir, port);
-    let mut peer = Command::new(&python);
-    peer.arg(root().join("tests/ros2/sdk_server_peer.py"))
-        .arg(port.to_string())
-        .arg(root().join("ros2/interfaces"))
-        .arg("25")
-        .env(
-            "ZENOH_CONFIG_OVERRIDE",
-            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
-        );
-    let run = run_model(ASKER, &config, &["--for", "30s"]);
-    let (report, text) = run_beside(peer, run);
+    let (report, text) = sdk_beside(&python, "ros2_client", ASKER, "sdk_server_peer.py");
 
     let requests: Vec<bool> = (report["requests"].as_array().unwrap().iter())
         .map(|v| v.as_bool().unwrap())

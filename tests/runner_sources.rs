@@ -188,24 +188,7 @@ fn a_bundle_of_a_crate_on_another_runtime_is_refused_before_anything_is_written(
     write_crate(&lib, "{ path = \"../other/runtime\" }");
     let (code, err) = bundle_in(&lib, None);
     assert_eq!(code, 1, "{err}");
-    let ours = Path::new(env!("CARGO_MANIFEST_DIR")).join("runtime");
-    let ours = ours.canonicalize().unwrap();
-    let theirs = other.join("runtime").canonicalize().unwrap();
-    assert!(
-        err.contains(&format!(
-            "beep.lib.xml:1:16: error: the crate `beep-lib` of library `beep` depends on the ferroc-runtime at {}, but the bundle's programs link the ferroc-runtime of this ferroc's sources, {}",
-            theirs.display(),
-            ours.display()
-        )),
-        "{err}"
-    );
-    assert!(
-        err.contains(&format!(
-            "ferroc-runtime = {{ path = \"{}\" }}",
-            ours.display()
-        )),
-        "{err}"
-    );
+    assert_names_both_runtimes(&err, &other, "the bundle's programs");
     let other = other.canonicalize().unwrap();
     assert!(
         err.contains(&format!(
@@ -227,7 +210,7 @@ fn a_bundle_of_a_crate_on_another_runtime_is_refused_before_anything_is_written(
     );
 
     // The silent case: a crate on this ferroc's runtime, next to its manifest, is bundled.
-    write_crate(&lib, &format!("{{ path = {:?} }}", ours.to_str().unwrap()));
+    write_crate(&lib, &format!("{{ path = {:?} }}", our_runtime()));
     let (code, err) = bundle_in(&lib, None);
     assert_eq!(code, 0, "{err}");
     let workspace = std::fs::read_to_string(lib.join("bundle/Cargo.toml")).unwrap();
@@ -245,24 +228,7 @@ fn a_crate_on_another_runtime_is_refused_before_cargo_with_both_places_and_the_f
     write_crate(&lib, "{ path = \"../other/runtime\" }");
     let (code, err) = run_in(&lib);
     assert_eq!(code, 1, "{err}");
-    let ours = Path::new(env!("CARGO_MANIFEST_DIR")).join("runtime");
-    let ours = ours.canonicalize().unwrap();
-    let theirs = other.join("runtime").canonicalize().unwrap();
-    assert!(
-        err.contains(&format!(
-            "beep.lib.xml:1:16: error: the crate `beep-lib` of library `beep` depends on the ferroc-runtime at {}, but the runner links the ferroc-runtime of this ferroc's sources, {}",
-            theirs.display(),
-            ours.display()
-        )),
-        "{err}"
-    );
-    assert!(
-        err.contains(&format!(
-            "ferroc-runtime = {{ path = \"{}\" }}",
-            ours.display()
-        )),
-        "{err}"
-    );
+    assert_names_both_runtimes(&err, &other, "the runner");
     assert!(
         err.contains(&format!(
             "FERROC_SOURCE={}",
@@ -283,7 +249,30 @@ fn a_crate_on_another_runtime_is_refused_before_cargo_with_both_places_and_the_f
     assert!(!err.contains("FERROC_SOURCE"), "{err}");
 
     // The silent case: the crate on this ferroc's runtime is not refused (it builds).
-    write_crate(&lib, &format!("{{ path = {:?} }}", ours.to_str().unwrap()));
+    write_crate(&lib, &format!("{{ path = {:?} }}", our_runtime()));
     let (_, err) = run_in(&lib);
     assert!(!err.contains("depends on"), "{err}");
+}
+
+/// The refusal of a crate on the runtime of checkout `other`: at the manifest, naming
+/// both runtimes and what links ours (`linker`), and the manifest line that fixes it.
+fn assert_names_both_runtimes(err: &str, other: &Path, linker: &str) {
+    let ours = our_runtime();
+    let theirs = other.join("runtime").canonicalize().unwrap();
+    assert!(
+        err.contains(&format!(
+            "beep.lib.xml:1:16: error: the crate `beep-lib` of library `beep` depends on the ferroc-runtime at {}, but {linker} links the ferroc-runtime of this ferroc's sources, {}",
+            theirs.display(),
+            ours.display()
+        )),
+        "{err}"
+    );
+    let fix = format!("ferroc-runtime = {{ path = \"{}\" }}", ours.display());
+    assert!(err.contains(&fix), "{err}");
+}
+
+/// This checkout's `runtime/` folder, canonical (as the messages name it).
+fn our_runtime() -> PathBuf {
+    let ours = Path::new(env!("CARGO_MANIFEST_DIR")).join("runtime");
+    ours.canonicalize().unwrap()
 }

@@ -58,14 +58,7 @@ fn check(ctx: &PassContext<'_>, s: &Ros2Service, out: &mut Diagnostics) {
     let Some(mt) = ctx.app.module_type(ctx.libraries, element) else {
         return;
     };
-    let response = match s.role {
-        ServiceRole::Server => (mt.services.iter())
-            .find(|d| d.name == view.name)
-            .and_then(|d| d.response.as_ref()),
-        ServiceRole::Client => (mt.clients.iter())
-            .find(|d| d.name == view.name)
-            .and_then(|d| d.response.as_ref()),
-    };
+    let response = s.role.response(mt, view.name);
     // The server reads the request and writes the response; a client the reverse.
     let (request_dir, response_dir) = match s.role {
         ServiceRole::Server => (TopicDirection::Subscribe, TopicDirection::Publish),

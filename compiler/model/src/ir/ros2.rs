@@ -96,6 +96,25 @@ pub enum ServiceRole {
     Client,
 }
 
+impl ServiceRole {
+    /// The response type the module type declares for its service (server) or client
+    /// `name`; `None` where it declares none or it did not resolve (reported).
+    pub fn response<'m>(
+        self,
+        mt: &'m crate::library::ModuleType,
+        name: &str,
+    ) -> Option<&'m ferroc_values::types::Type> {
+        match self {
+            ServiceRole::Server => (mt.services.iter().find(|d| d.name == name))?
+                .response
+                .as_ref(),
+            ServiceRole::Client => (mt.clients.iter().find(|d| d.name == name))?
+                .response
+                .as_ref(),
+        }
+    }
+}
+
 /// A `<service>` or `<client>` of a `<ros2>`.
 #[derive(Debug)]
 pub struct Ros2Service {

@@ -88,14 +88,8 @@ fn service(
         .ok_or("the service of this ROS 2 end does not resolve")?;
     let name = expand_topic_name(&s.name.0, &node.name.0, node.namespace())
         .map_err(|why| format!("ROS 2 refuses the service name `{}`: {why}", s.name.0))?;
-    let response = app.module_type(libs, element).and_then(|mt| match s.role {
-        ServiceRole::Server => (mt.services.iter())
-            .find(|d| d.name == view.name)
-            .and_then(|d| d.response.as_ref()),
-        ServiceRole::Client => (mt.clients.iter())
-            .find(|d| d.name == view.name)
-            .and_then(|d| d.response.as_ref()),
-    });
+    let module_type = app.module_type(libs, element);
+    let response = module_type.and_then(|mt| s.role.response(mt, view.name));
     Ok(Ros2Service {
         id,
         port: (app.path(element), view.name.to_string()),
