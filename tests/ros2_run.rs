@@ -18,26 +18,6 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 const MODEL: &str = "models/ros2_crash_course.xml";
-/// Runs `model` for 30 s listening on a free port, beside the zenoh-ros2-sdk peer
-/// `tests/ros2/SCRIPT` (given our shipped interfaces, 25 s): its JSON report and the
-/// run's output.
-fn sdk_beside(python: &Path, name: &str, model: &str, script: &str) -> (serde_json::Value, String) {
-    let dir = tempdir(name);
-    build_runner_of(model, &dir);
-    let port = free_port();
-    let config = listening_config(&dir, port);
-    let mut peer = Command::new(python);
-    peer.arg(root().join("tests/ros2").join(script))
-        .arg(port.to_string())
-        .arg(root().join("ros2/interfaces"))
-        .arg("25")
-        .env(
-            "ZENOH_CONFIG_OVERRIDE",
-            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
-        );
-    let run = run_model(model, &config, &["--for", "30s"]);
-    run_beside(peer, run)
-}
 
 /// A module's service offered as a ROS 2 service.
 const SWITCH: &str = "tests/ros2/switch.xml";
@@ -121,6 +101,33 @@ fn run_for_30s(config: &Path, record: &Path) -> Command {
     let mut run = run_command(config, &["--for", "30s", "--record"]);
     run.arg(record);
     run
+}
+
+/// The zenoh-ros2-sdk peer `tests/ros2/SCRIPT`, connecting to a run listening on
+/// `port`, given our shipped interfaces (it computes its own hashes), for 25 s.
+fn sdk_peer(python: &Path, port: u16, script: &str) -> Command {
+    let mut peer = Command::new(python);
+    peer.arg(root().join("tests/ros2").join(script))
+        .arg(port.to_string())
+        .arg(root().join("ros2/interfaces"))
+        .arg("25")
+        .env(
+            "ZENOH_CONFIG_OVERRIDE",
+            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
+        );
+    peer
+}
+
+/// Runs `model` for 30 s listening on a free port beside the zenoh-ros2-sdk peer
+/// `script`: the peer's JSON report and the run's output.
+fn sdk_beside(python: &Path, name: &str, model: &str, script: &str) -> (serde_json::Value, String) {
+    let dir = tempdir(name);
+    build_runner_of(model, &dir);
+    let port = free_port();
+    let config = listening_config(&dir, port);
+    let peer = sdk_peer(python, port, script);
+    let run = run_model(model, &config, &["--for", "30s"]);
+    run_beside(peer, run)
 }
 
 /// Runs `run` (the model's node) beside `peer`; the JSON object the peer prints, and
@@ -274,15 +281,7 @@ fn zenoh_ros2_sdk_lists_our_topics_receives_cmd_vel_and_stops_the_robot() {
     // The run listens; the SDK's node connects to it as to its router.
     let port = free_port();
     let config = listening_config(&dir, port);
-    let mut peer = Command::new(&python);
-    peer.arg(root().join("tests/ros2/sdk_peer.py"))
-        .arg(port.to_string())
-        .arg(root().join("ros2/interfaces"))
-        .arg("25")
-        .env(
-            "ZENOH_CONFIG_OVERRIDE",
-            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
-        );
+    let peer = sdk_peer(&python, port, "sdk_peer.py");
     let record = dir.join("run.mcap");
     let (report, text) = run_beside(peer, run_for_30s(&config, &record));
 

@@ -188,7 +188,7 @@ fn a_bundle_of_a_crate_on_another_runtime_is_refused_before_anything_is_written(
     write_crate(&lib, "{ path = \"../other/runtime\" }");
     let (code, err) = bundle_in(&lib, None);
     assert_eq!(code, 1, "{err}");
-    assert_names_both_runtimes(&err, &other, "the bundle's programs");
+    assert_names_both_runtimes(&err, &other, "the bundle's programs link");
     let other = other.canonicalize().unwrap();
     assert!(
         err.contains(&format!(
@@ -228,7 +228,7 @@ fn a_crate_on_another_runtime_is_refused_before_cargo_with_both_places_and_the_f
     write_crate(&lib, "{ path = \"../other/runtime\" }");
     let (code, err) = run_in(&lib);
     assert_eq!(code, 1, "{err}");
-    assert_names_both_runtimes(&err, &other, "the runner");
+    assert_names_both_runtimes(&err, &other, "the runner links");
     assert!(
         err.contains(&format!(
             "FERROC_SOURCE={}",
@@ -255,13 +255,14 @@ fn a_crate_on_another_runtime_is_refused_before_cargo_with_both_places_and_the_f
 }
 
 /// The refusal of a crate on the runtime of checkout `other`: at the manifest, naming
-/// both runtimes and what links ours (`linker`), and the manifest line that fixes it.
+/// both runtimes and what links ours (`linker`: "the runner links"), and the manifest
+/// line that fixes it.
 fn assert_names_both_runtimes(err: &str, other: &Path, linker: &str) {
     let ours = our_runtime();
     let theirs = other.join("runtime").canonicalize().unwrap();
     assert!(
         err.contains(&format!(
-            "beep.lib.xml:1:16: error: the crate `beep-lib` of library `beep` depends on the ferroc-runtime at {}, but {linker} links the ferroc-runtime of this ferroc's sources, {}",
+            "beep.lib.xml:1:16: error: the crate `beep-lib` of library `beep` depends on the ferroc-runtime at {}, but {linker} the ferroc-runtime of this ferroc's sources, {}",
             theirs.display(),
             ours.display()
         )),
