@@ -27,7 +27,9 @@ impl Builder<'_> {
         let writer = self.module(from.0)?;
         let target = (spec.id, Arc::<str>::from(spec.to_part));
         let key = Fanout::key(spec, from);
-        if conversion == Conversion::default() {
+        // Only links that carry the output's values unchanged can share one encoding.
+        let unchanged = conversion == Conversion::default();
+        if unchanged {
             if let Some(fanout) = self.fanouts.iter().find(|f| f.key == key) {
                 lock(&fanout.targets).push(target);
                 self.remote.sending.insert(spec.id, sending(spec, from));
@@ -40,7 +42,6 @@ impl Builder<'_> {
             vec![("in".into(), handle)],
             vec![],
         );
-        let unchanged = conversion == Conversion::default();
         self.connect(from, (&end, "in"), conversion, ConnectOptions::default())?;
         let targets: Targets = Arc::new(Mutex::new(vec![target]));
         if unchanged {
