@@ -368,3 +368,71 @@ fn features_are_compared_per_side() {
     );
     assert!(found[2].contains("`unicode-ident v1.0.0` (for build scripts and proc-macros) is compiled for the runner but the install does not"), "{}", found[2]);
 }
+
+/// Zenoh's shared memory (ferroc-zenoh's feature `shared-memory`: zenoh-shm and 20
+/// more crates) is compiled into a bundle only where two parts speaking Zenoh share a
+/// host and not both turned it off: the rescue robot's parts run on `robot-pc` and
+/// `base-pc`, so its bundle goes without; on one host it has it, unless both parts say
+/// `shared-memory="off"`.
+#[test]
+fn a_bundle_compiles_shared_memory_in_only_where_two_linked_parts_share_a_host() {
+    let dir = tempdir("runner_crates_shm");
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("components/rescue.lib.xml");
+    let original = std::fs::read_to_string("models/rescue_robot.xml").unwrap();
+    let original = original.replace(
+        r#"manifest="../components/rescue.lib.xml""#,
+        &format!(r#"manifest="{}""#, manifest.display()),
+    );
+    let bundle = |name: &str, edits: &[(&str, &str)]| {
+        let mut model = original.clone();
+        for (from, to) in edits {
+            assert!(model.contains(from), "{from}");
+            model = model.replace(from, to);
+        }
+        let file = dir.join(format!("{name}.xml"));
+        std::fs::write(&file, model).unwrap();
+        let out = dir.join(name);
+        let (code, _, err) = ferroc(&[
+            "bundle",
+            file.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let workspace = std::fs::read_to_string(out.join("Cargo.toml")).unwrap();
+        (crates_of(&out.join("Cargo.toml")), workspace)
+    };
+    let (apart, workspace) = bundle("apart", &[]);
+    assert!(apart.contains("zenoh"), "{apart:?}");
+    assert!(!apart.contains("zenoh-shm"), "{apart:?}");
+    assert!(
+        workspace.contains("zenoh-link\", default-features = false }"),
+        "{workspace}"
+    );
+
+    let one_host = [(r#"host="base-pc""#, r#"host="robot-pc""#)];
+    let (together, workspace) = bundle("together", &one_host);
+    assert!(together.contains("zenoh-shm"), "{together:?}");
+    assert!(
+        workspace.contains("default-features = false, features = [\"shared-memory\"] }"),
+        "{workspace}"
+    );
+    // What shared memory brings, and nothing else changes.
+    let added: Vec<&String> = together.difference(&apart).collect();
+    assert!(added.len() > 10, "{added:?}");
+    assert!(apart.is_subset(&together), "{apart:?}");
+
+    let off = [
+        one_host[0],
+        (
+            r#"<part name="robot" host="robot-pc">"#,
+            r#"<part name="robot" host="robot-pc" shared-memory="off">"#,
+        ),
+        (
+            r#"<part name="station" host="robot-pc">"#,
+            r#"<part name="station" host="robot-pc" shared-memory="off">"#,
+        ),
+    ];
+    let (off, _) = bundle("off", &off);
+    assert!(!off.contains("zenoh-shm"), "{off:?}");
+}

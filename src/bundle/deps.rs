@@ -28,6 +28,7 @@ pub(super) fn dependencies(
                 Deps::Path => by_path(root, checkout.join(folder), what)?,
                 Deps::Version => Source::Version(TOOL_VERSION.into()),
             },
+            features: None,
         })
     };
     let mut out = vec![ours("ferroc-runtime", "runtime", "the runtime")?];
@@ -38,12 +39,19 @@ pub(super) fn dependencies(
     // Programs of linked parts and of ROS 2 nodes talk over Zenoh (only when some
     // part needs it).
     if layout.parts.iter().any(|p| p.uses_zenoh()) {
-        out.push(ours("ferroc-zenoh", "zenoh-link", "the Zenoh transport")?);
+        let mut zenoh = ours("ferroc-zenoh", "zenoh-link", "the Zenoh transport")?;
+        zenoh.features = Some(if shares_memory(layout) {
+            &["shared-memory"]
+        } else {
+            &[]
+        });
+        out.push(zenoh);
     }
     for lib in layout.libraries.values() {
         out.push(Dependency {
             package: lib.package.clone(),
             source: library_source(lib, deps, root, found)?,
+            features: None,
         });
     }
     // Every program can record (`--record`) with the standard library's recorders.
@@ -52,6 +60,23 @@ pub(super) fn dependencies(
         out.push(ours(STD_PACKAGE, &folder, "the standard library")?);
     }
     Ok(out)
+}
+
+/// Whether a program of the bundle may use shared memory (ferroc-zenoh's feature
+/// `shared-memory`, Zenoh's shared memory and 21 crates): where two parts speaking Zenoh
+/// run on the same host (`<part host>`, `localhost` when not given) and not both have
+/// `shared-memory="off"`, or a ROS 2 node's part has not turned it off (its peers on
+/// the same computer may offer it). Parts on different computers never share memory.
+pub(super) fn shares_memory(layout: &layout::Layout<'_>) -> bool {
+    let on = |p: &layout::Part<'_>| p.shared_memory.enabled != Some(false);
+    let speaking: Vec<&layout::Part<'_>> = layout.parts.iter().filter(|p| p.uses_zenoh()).collect();
+    let ros2 = speaking.iter().any(|p| p.ros2.is_some() && on(p));
+    let same_host = speaking.iter().enumerate().any(|(i, a)| {
+        speaking[i + 1..]
+            .iter()
+            .any(|b| a.host == b.host && (on(a) || on(b)))
+    });
+    ros2 || same_host
 }
 
 /// The crate in folder `dir` as a path relative to the bundle's `root` (absolute when

@@ -20,6 +20,28 @@ pub enum Source {
 pub struct Dependency {
     pub package: String,
     pub source: Source,
+    /// `None`: the crate's default features; `Some(list)`: only these
+    /// (`default-features = false`).
+    pub features: Option<&'static [&'static str]>,
+}
+
+impl Dependency {
+    /// What follows the source in the workspace's `[workspace.dependencies]` line:
+    /// nothing, or `, default-features = false` and the features asked for (names of
+    /// ours, never the model's).
+    pub fn toml_features(&self) -> String {
+        match self.features {
+            None => String::new(),
+            Some([]) => ", default-features = false".into(),
+            Some(list) => {
+                let list: Vec<String> = list.iter().map(|f| format!("\"{f}\"")).collect();
+                format!(
+                    ", default-features = false, features = [{}]",
+                    list.join(", ")
+                )
+            }
+        }
+    }
 }
 
 /// The workspace `Cargo.toml` (template `workspace.toml`; ctrlc stops the programs on

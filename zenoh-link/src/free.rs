@@ -185,7 +185,9 @@ fn subscribers(
 }
 
 /// Hands the value `payload` of the link `link` to its receiving end.
+#[cfg_attr(not(feature = "shared-memory"), allow(unused_variables))]
 fn deliver(delivery: &Delivery, received_shared: &AtomicU64, link: u32, payload: &ZBytes) {
+    #[cfg(feature = "shared-memory")]
     if let Some(shm) = payload.as_shm() {
         // Decoded from the writer's buffer; its byte blocks (an image's pixels) stay
         // there, read in place, the buffer held while the value lives.

@@ -24,16 +24,22 @@
 //! network instead, so it is never lost and the writer never hangs on a reader that
 //! stopped reading. A computer without usable shared memory (no `/dev/shm`, a
 //! container without it) runs on the network path after one warning.
+//!
+//! Without the crate's feature `shared-memory` (a bundle whose linked parts share no
+//! computer turns it off: Zenoh's shared memory is 21 crates), there is never a pool:
+//! every value takes the network path, with the same API and no warning.
 
 use ferroc_runtime::console;
 use ferroc_runtime::module::Encoder;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 use zenoh::bytes::ZBytes;
+#[cfg(feature = "shared-memory")]
 use zenoh::shm::{
     Defragment, GarbageCollect, JustAlloc, PosixShmProviderBackend, ShmProvider,
     ShmProviderBuilder, ZShmMut,
 };
+#[cfg(feature = "shared-memory")]
 use zenoh::Wait;
 
 /// ferroc's default threshold: values of at least this many encoded bytes travel in
@@ -93,8 +99,10 @@ pub enum Payload {
     Dropped,
 }
 
-/// Where a value goes ([`Pool::room`]).
+/// Where a value goes ([`Pool::room`]). (Without shared memory only `Network`.)
+#[cfg_attr(not(feature = "shared-memory"), allow(dead_code))]
 enum Room {
+    #[cfg(feature = "shared-memory")]
     Buffer(ZShmMut),
     Network,
     Dropped,
@@ -120,36 +128,58 @@ pub struct Use {
 
 /// The shared-memory pool of one part (see the module documentation).
 pub struct Pool {
-    provider: Option<ShmProvider<PosixShmProviderBackend>>,
+    provider: Option<Provider>,
     settings: Settings,
     shared: AtomicU64,
     network: AtomicU64,
     dropped: AtomicU64,
 }
 
+/// Zenoh's pool on POSIX shared memory.
+#[cfg(feature = "shared-memory")]
+type Provider = ShmProvider<PosixShmProviderBackend>;
+
+/// Built without the feature `shared-memory`: there is no pool to hold.
+#[cfg(not(feature = "shared-memory"))]
+enum Provider {}
+
 /// Collects buffers no reader holds, then defragments, before giving up on a size.
+#[cfg(feature = "shared-memory")]
 type Reclaim = Defragment<GarbageCollect<JustAlloc, JustAlloc>>;
+
+/// Zenoh's pool of `settings`, or `None` (after one warning) where the system cannot
+/// provide it.
+#[cfg(feature = "shared-memory")]
+fn provider(settings: Settings) -> Option<Provider> {
+    match ShmProviderBuilder::default_backend(settings.pool_size).wait() {
+        Ok(provider) => Some(provider),
+        Err(e) => {
+            console::note(&format!(
+                "warning: shared memory is not usable here ({}); links between \
+                 parts on this computer travel over the network. help: check that \
+                 /dev/shm is mounted and has {} MiB free, or set \
+                 transport/shared_memory/enabled to false in --zenoh-config to \
+                 silence this",
+                ferroc_terminal::engine_error(&e),
+                settings.pool_size.div_ceil(1 << 20)
+            ));
+            None
+        }
+    }
+}
+
+/// Built without shared memory: never a pool, silently (the bundle chose it).
+#[cfg(not(feature = "shared-memory"))]
+fn provider(_: Settings) -> Option<Provider> {
+    None
+}
 
 impl Pool {
     /// The pool `settings` ask for; without usable shared memory, none, after one
     /// warning naming the cause.
     pub fn open(settings: Settings) -> Pool {
         let provider = if settings.enabled {
-            match ShmProviderBuilder::default_backend(settings.pool_size).wait() {
-                Ok(provider) => Some(provider),
-                Err(e) => {
-                    console::note(&format!(
-                        "warning: shared memory is not usable here ({}); links between \
-                         parts on this computer travel over the network. help: check that \
-                         /dev/shm is mounted and has {} MiB free, or set \
-                         transport/shared_memory/enabled to false in --zenoh-config to \
-                         silence this",
-                        ferroc_terminal::engine_error(&e),
-                        settings.pool_size.div_ceil(1 << 20)
-                    ));
-                    None
-                }
-            }
+            provider(settings)
         } else {
             None
         };
@@ -166,6 +196,7 @@ impl Pool {
     /// may: a copy in a pool buffer when they are large enough.
     pub fn payload(&self, bytes: Vec<u8>, reliable: bool, link: &str) -> Payload {
         match self.room(bytes.len(), reliable, link) {
+            #[cfg(feature = "shared-memory")]
             Room::Buffer(mut buffer) => {
                 buffer.copy_from_slice(&bytes);
                 Payload::Shared(buffer.into())
@@ -185,6 +216,7 @@ impl Pool {
         link: &str,
     ) -> Result<Payload, String> {
         Ok(match self.room(encoder.len(), reliable, link) {
+            #[cfg(feature = "shared-memory")]
             Room::Buffer(mut buffer) => {
                 encoder.write(&mut buffer)?;
                 Payload::Shared(buffer.into())
@@ -214,7 +246,14 @@ impl Pool {
             ));
             return Room::Network;
         }
-        let started = Instant::now();
+        self.alloc(provider, len, reliable, link)
+    }
+
+    /// A buffer of `len` bytes from the pool, else the network or nowhere, as [`room`]
+    /// says.
+    #[cfg(feature = "shared-memory")]
+    fn alloc(&self, provider: &Provider, len: usize, reliable: bool, link: &str) -> Room {
+        let started = std::time::Instant::now();
         loop {
             match provider.alloc(len).with_policy::<Reclaim>().wait() {
                 Ok(buffer) => {
@@ -247,6 +286,11 @@ impl Pool {
         }
     }
 
+    #[cfg(not(feature = "shared-memory"))]
+    fn alloc(&self, provider: &Provider, _: usize, _: bool, _: &str) -> Room {
+        match *provider {}
+    }
+
     /// What the pool did so far.
     pub fn usage(&self) -> Use {
         Use {
@@ -265,16 +309,26 @@ impl Pool {
     /// buffers no reader holds: a measure of what came back, for checks while nothing
     /// is sent (the probe takes them all for a moment). `None` without a pool.
     pub fn room_for(&self, size: usize) -> Option<usize> {
-        let provider = self.provider.as_ref()?;
-        let mut held = Vec::new();
-        while let Ok(buffer) = provider.alloc(size.max(1)).with_policy::<Reclaim>().wait() {
-            held.push(buffer);
-        }
-        Some(held.len())
+        self.provider.as_ref().map(|p| buffers_of(p, size))
     }
 }
 
-#[cfg(test)]
+/// How many buffers of `size` bytes `provider` hands out, all held at once.
+#[cfg(feature = "shared-memory")]
+fn buffers_of(provider: &Provider, size: usize) -> usize {
+    let mut held = Vec::new();
+    while let Ok(buffer) = provider.alloc(size.max(1)).with_policy::<Reclaim>().wait() {
+        held.push(buffer);
+    }
+    held.len()
+}
+
+#[cfg(not(feature = "shared-memory"))]
+fn buffers_of(provider: &Provider, _: usize) -> usize {
+    match *provider {}
+}
+
+#[cfg(all(test, feature = "shared-memory"))]
 mod tests {
     use super::*;
 
