@@ -249,8 +249,8 @@ impl Pool {
         self.alloc(provider, len, reliable, link)
     }
 
-    /// A buffer of `len` bytes from the pool, else the network or nowhere, as [`room`]
-    /// says.
+    /// A buffer of `len` bytes from the pool, else the network or nowhere, as
+    /// [`Self::room`] says.
     #[cfg(feature = "shared-memory")]
     fn alloc(&self, provider: &Provider, len: usize, reliable: bool, link: &str) -> Room {
         let started = std::time::Instant::now();
