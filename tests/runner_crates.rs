@@ -435,4 +435,19 @@ fn a_bundle_compiles_shared_memory_in_only_where_two_linked_parts_share_a_host()
     ];
     let (off, _) = bundle("off", &off);
     assert!(!off.contains("zenoh-shm"), "{off:?}");
+
+    // A ROS 2 node's part keeps it: its peers on the same computer may share memory.
+    let out = dir.join("ros2");
+    let (code, _, err) = ferroc(&[
+        "bundle",
+        "models/ros2_crash_course.xml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let workspace = std::fs::read_to_string(out.join("Cargo.toml")).unwrap();
+    assert!(
+        workspace.contains("default-features = false, features = [\"shared-memory\"] }"),
+        "{workspace}"
+    );
 }
