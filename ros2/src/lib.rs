@@ -13,7 +13,7 @@
 //!   CDR's rules as `wire.rs` writes them once.
 //! - [`names`]: the node, namespace and topic names ROS 2 accepts, and how a relative
 //!   topic name expands against a node's namespace.
-//! - [`json`]: a port's value (its serde JSON) as a message of a type, and back.
+//! - [`json`]: a value's serde JSON as a message of a type, and back (tools, tests).
 //! - [`units`]: the units REP-103 fixes for fields of the shipped messages.
 //! - [`rmw_zenoh`]: the topic key expression, the attachment and the liveliness tokens
 //!   exactly as rmw_zenoh writes them.

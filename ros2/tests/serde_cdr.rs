@@ -518,3 +518,49 @@ fn malformed_and_short_samples_are_errors() {
     );
     let _ = Primitive::Bool;
 }
+
+/// A LaserScan with infinite and NaN ranges, read by rosbags (not ours) as sent, and
+/// one rosbags writes, read by us as written.
+#[test]
+fn rosbags_reads_our_non_finite_ranges_and_we_read_theirs() {
+    let Some(python) = ferroc_testkit::python(&["rosbags", "numpy"]) else {
+        return;
+    };
+    let reg = Registry::shipped();
+    let shape = Shape::new(&reg, &ty("sensor_msgs/msg/LaserScan"), None).unwrap();
+    let ours = serde_cdr::encode(&shape, &scan()).unwrap();
+    let hex: String = ours.iter().map(|b| format!("{b:02x}")).collect();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/rosbags_nonfinite.py");
+    let mut child = std::process::Command::new(python)
+        .arg(script)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("python starts");
+    let request = serde_json::json!({ "cdr": hex }).to_string();
+    std::io::Write::write_all(&mut child.stdin.take().unwrap(), request.as_bytes()).unwrap();
+    let out = child.wait_with_output().expect("python ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "rosbags_nonfinite.py failed:\n{stderr}");
+    let answer: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(
+        answer["ranges"],
+        serde_json::json!(["1.0", "inf", "-inf", "nan", "0.5"]),
+        "rosbags read our ranges"
+    );
+    assert_eq!(answer["frame_id"], "laser");
+    assert_eq!(answer["stamp"], serde_json::json!([1_700_000_000, 123_456_789]));
+
+    let text = answer["theirs"].as_str().unwrap();
+    let theirs: Vec<u8> = (0..text.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&text[i..i + 2], 16).unwrap())
+        .collect();
+    let scan: LaserScan = serde_cdr::from_cdr(&shape, &theirs).unwrap();
+    assert_eq!(scan.ranges[..2], [f32::INFINITY, f32::NEG_INFINITY]);
+    assert!(scan.ranges[2].is_nan());
+    assert_eq!(scan.ranges[3], 2.5);
+    assert_eq!(scan.header.stamp.nanos, 12_000_000_500);
+    assert_eq!(scan.header.frame_id, "their_laser");
+}
