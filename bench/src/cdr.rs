@@ -260,11 +260,7 @@ impl<'r, T: Serialize + serde::de::DeserializeOwned> Case<'r, T> {
             return Err(format!("{name}: the serde and the dynamic CDR differ"));
         }
         let postcard = postcard::to_stdvec(&value).map_err(|e| e.to_string())?;
-        println!(
-            "{name}: CDR {} B, postcard {} B",
-            cdr.len(),
-            postcard.len()
-        );
+        println!("{name}: CDR {} B, postcard {} B", cdr.len(), postcard.len());
         Ok(Case {
             name,
             ty,
@@ -300,7 +296,11 @@ impl<'r, T: Serialize + serde::de::DeserializeOwned> Case<'r, T> {
                 ))))
             }),
             time(n, || {
-                drop(black_box(cdr::encode(reg, &self.ty, black_box(&self.dynamic))))
+                drop(black_box(cdr::encode(
+                    reg,
+                    &self.ty,
+                    black_box(&self.dynamic),
+                )))
             }),
             time(n, || {
                 drop(black_box(cdr::decode(reg, &self.ty, black_box(&self.cdr))))
@@ -324,7 +324,10 @@ fn measure(n: u64, rounds: u64) -> Result<(), String> {
     }
     let mut result = String::from("RESULT cdr");
     for (name, b) in [scan.name, odom.name].into_iter().zip(best) {
-        for (op, (c, p, d)) in [("encode", (b[0], b[1], b[4])), ("decode", (b[2], b[3], b[5]))] {
+        for (op, (c, p, d)) in [
+            ("encode", (b[0], b[1], b[4])),
+            ("decode", (b[2], b[3], b[5])),
+        ] {
             println!(
                 "{name} {op}: CDR from the value {c:.0} ns, postcard {p:.0} ns, ratio {:.2}; \
                  CDR of a dynamic Value {d:.0} ns",

@@ -542,7 +542,10 @@ fn rosbags_reads_our_non_finite_ranges_and_we_read_theirs() {
     std::io::Write::write_all(&mut child.stdin.take().unwrap(), request.as_bytes()).unwrap();
     let out = child.wait_with_output().expect("python ends");
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "rosbags_nonfinite.py failed:\n{stderr}");
+    assert!(
+        out.status.success(),
+        "rosbags_nonfinite.py failed:\n{stderr}"
+    );
     let answer: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
     assert_eq!(
         answer["ranges"],
@@ -550,7 +553,10 @@ fn rosbags_reads_our_non_finite_ranges_and_we_read_theirs() {
         "rosbags read our ranges"
     );
     assert_eq!(answer["frame_id"], "laser");
-    assert_eq!(answer["stamp"], serde_json::json!([1_700_000_000, 123_456_789]));
+    assert_eq!(
+        answer["stamp"],
+        serde_json::json!([1_700_000_000, 123_456_789])
+    );
 
     let text = answer["theirs"].as_str().unwrap();
     let theirs: Vec<u8> = (0..text.len())

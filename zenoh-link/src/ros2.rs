@@ -171,7 +171,10 @@ fn receive(attachment: Option<&[u8]>, payload: &[u8]) -> Result<(), String> {
         [a, b, _, _, ..] => Err(format!(
             "its CDR header is {a:02x} {b:02x}; rmw_zenoh sends little-endian CDR (00 01)"
         )),
-        _ => Err(format!("it has {} bytes, not even a CDR header", payload.len())),
+        _ => Err(format!(
+            "it has {} bytes, not even a CDR header",
+            payload.len()
+        )),
     }
 }
 

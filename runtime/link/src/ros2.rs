@@ -72,7 +72,8 @@ impl ServiceMessages {
         let ty = TypeName::parse(&service.service)
             .filter(|t| t.kind == "srv")
             .ok_or_else(|| format!("`{}` is not a ROS 2 service type", service.service))?;
-        let message = |suffix: &str| TypeName::new(&ty.package, &ty.kind, &format!("{}_{suffix}", ty.name));
+        let message =
+            |suffix: &str| TypeName::new(&ty.package, &ty.kind, &format!("{}_{suffix}", ty.name));
         let reg = Registry::shipped_shared();
         Ok(ServiceMessages {
             request: Shape::new(reg, &message("Request"), service.request_field.as_deref())?,

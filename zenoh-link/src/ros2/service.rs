@@ -466,6 +466,9 @@ mod tests {
         let bytes = cdr::encode(&reg, &ty, &answer).unwrap();
         assert!(check(&reg, &spec, "Response", &bytes).is_ok());
         assert!(check(&reg, &spec, "Response", &bytes[..5]).is_err());
-        assert!(check(&reg, &spec, "Request", &bytes).is_err(), "another message");
+        assert!(
+            check(&reg, &spec, "Request", &bytes).is_err(),
+            "another message"
+        );
     }
 }

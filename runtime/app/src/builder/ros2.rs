@@ -8,10 +8,10 @@
 use super::{BuildError, Builder, Conversion};
 use ferroc_exec::Step;
 use ferroc_link::ros2::{self, Ros2Node, Ros2Service, Ros2Topic, ServiceMessages};
-use ferroc_ros2::serde_cdr::Shape;
 use ferroc_link::{Frame, Receive};
 use ferroc_module::{Codec, DynOut, ValueType};
 use ferroc_ports::port::ConnectOptions;
+use ferroc_ros2::serde_cdr::Shape;
 use std::sync::Arc;
 
 impl Builder<'_> {
