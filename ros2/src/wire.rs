@@ -28,9 +28,13 @@ impl Out {
         Out { buf }
     }
 
+    /// Pads to a multiple of `n` (1, 2, 4 or 8) counted from the end of the header.
+    #[inline]
     pub fn align(&mut self, n: usize) {
-        let pad = (n - (self.buf.len() - HEADER.len()) % n) % n;
-        self.buf.resize(self.buf.len() + pad, 0);
+        let pad = (self.buf.len() - HEADER.len()).wrapping_neg() & (n - 1);
+        if pad > 0 {
+            self.buf.resize(self.buf.len() + pad, 0);
+        }
     }
 
     /// A primitive of `N` bytes, aligned to `N`.
@@ -167,13 +171,10 @@ impl<'d> In<'d> {
         self.data.len() - self.pos
     }
 
+    #[inline]
     pub fn take(&mut self, n: usize) -> Result<&'d [u8], String> {
         if n > self.remaining() {
-            return Err(format!(
-                "the sample ends early: {n} more bytes needed at offset {}, {} left",
-                self.pos,
-                self.remaining()
-            ));
+            return Err(self.short(n));
         }
         let data: &'d [u8] = self.data;
         let s = &data[self.pos..self.pos + n];
@@ -181,9 +182,23 @@ impl<'d> In<'d> {
         Ok(s)
     }
 
+    #[cold]
+    fn short(&self, n: usize) -> String {
+        format!(
+            "the sample ends early: {n} more bytes needed at offset {}, {} left",
+            self.pos,
+            self.remaining()
+        )
+    }
+
+    /// Skips to a multiple of `n` (1, 2, 4 or 8) counted from the end of the header.
+    #[inline]
     pub fn align(&mut self, n: usize) -> Result<(), String> {
-        let pad = (n - (self.pos - HEADER.len()) % n) % n;
-        self.take(pad).map(|_| ())
+        let pad = (self.pos - HEADER.len()).wrapping_neg() & (n - 1);
+        if pad > 0 {
+            self.take(pad)?;
+        }
+        Ok(())
     }
 
     /// A primitive of `N` bytes, aligned to `N`.

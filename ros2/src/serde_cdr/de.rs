@@ -2,16 +2,15 @@
 //! documentation). Every length is checked against the bytes left before anything is
 //! allocated (`wire.rs`).
 
-use super::{builtin, Expect, Fail, UINT32};
+use super::{builtin, Expect, Fail, Look, UINT32};
 use crate::cdr::Reader;
 use crate::def::{Arity, BaseType, Field, FieldType, Message, Primitive};
 use crate::wire::{is_bytes, In};
-use crate::Registry;
 use serde::de::{self, DeserializeSeed, SeqAccess, Visitor};
 
 /// The sample being read and where in the message it is.
 pub(super) struct R<'r, 'd> {
-    pub reg: &'r Registry,
+    pub reg: Look<'r>,
     pub input: In<'d>,
     /// The field path, for errors.
     pub path: Vec<&'r str>,
@@ -21,7 +20,7 @@ impl<'r> R<'r, '_> {
     /// Reads past `field` (checking it as the dynamic codec does).
     pub fn skip(&mut self, field: &'r Field) -> Result<(), Fail> {
         let mut reader = Reader {
-            registry: self.reg,
+            registry: self.reg.reg,
             input: self.input.clone(),
             path: vec![field.name.clone()],
         };
@@ -68,7 +67,11 @@ impl<'a, 'r, 'd> De<'a, 'r, 'd> {
     }
 
     /// One value (a wrapper's field if the message is a wrapper).
+    #[inline]
     fn scalar<'de, V: Visitor<'de>>(self, v: V) -> Result<V::Value, Fail> {
+        if let Expect::Base(BaseType::Primitive(p)) = self.expect {
+            return self.primitive(*p, v);
+        }
         let expect = self.expect.unwrap(self.r.reg)?;
         match expect {
             Expect::TimeNanos => {

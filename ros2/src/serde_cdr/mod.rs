@@ -36,6 +36,46 @@ pub struct Shape<'r> {
     message: &'r Message,
     /// The field path: the index of each field in its message, with the message.
     path: Vec<(&'r Message, usize)>,
+    /// Every nested message field's type (by address) with its definition, found once
+    /// here instead of by name in the registry for every sample.
+    nested: Vec<(usize, &'r Message)>,
+}
+
+/// How the codecs find nested messages: the shape's table, else the registry.
+#[derive(Clone, Copy)]
+pub(crate) struct Look<'r> {
+    pub reg: &'r Registry,
+    nested: &'r [(usize, &'r Message)],
+}
+
+impl<'r> Look<'r> {
+    fn message(self, base: &'r BaseType, name: &TypeName) -> Result<&'r Message, Fail> {
+        let at = base as *const BaseType as usize;
+        match self.nested.iter().find(|(a, _)| *a == at) {
+            Some((_, m)) => Ok(m),
+            None => Ok(wire::message(self.reg, name)?),
+        }
+    }
+}
+
+/// The nested message fields under `m`, each once (by the address of its type).
+fn nested<'r>(
+    reg: &'r Registry,
+    m: &'r Message,
+    depth: usize,
+    out: &mut Vec<(usize, &'r Message)>,
+) -> Result<(), String> {
+    if depth > MAX_DEPTH {
+        return Err("messages are nested too deeply".into());
+    }
+    for f in &m.fields {
+        if let BaseType::Nested(n) = &f.ty.base {
+            let inner = wire::message(reg, n)?;
+            out.push((&f.ty.base as *const BaseType as usize, inner));
+            nested(reg, inner, depth + 1, out)?;
+        }
+    }
+    Ok(())
 }
 
 impl fmt::Debug for Shape<'_> {
@@ -69,7 +109,21 @@ impl<'r> Shape<'r> {
                 };
             }
         }
-        Ok(Shape { reg, message, path })
+        let mut table = Vec::new();
+        nested(reg, message, 0, &mut table)?;
+        Ok(Shape {
+            reg,
+            message,
+            path,
+            nested: table,
+        })
+    }
+
+    fn look(&self) -> Look<'_> {
+        Look {
+            reg: self.reg,
+            nested: &self.nested,
+        }
     }
 
     /// The message type.
@@ -96,8 +150,17 @@ pub fn to_cdr<T: Serialize + ?Sized>(
     value: &T,
     buf: &mut Vec<u8>,
 ) -> Result<(), CdrError> {
+    to_cdr_in(shape, value, buf)
+}
+
+/// [`to_cdr`] with the shape's borrow and its registry's as one lifetime.
+fn to_cdr_in<'s, T: Serialize + ?Sized>(
+    shape: &'s Shape<'s>,
+    value: &T,
+    buf: &mut Vec<u8>,
+) -> Result<(), CdrError> {
     let mut w = ser::W {
-        reg: shape.reg,
+        reg: shape.look(),
         out: Out::new(std::mem::take(buf)),
         path: Vec::new(),
     };
@@ -124,7 +187,7 @@ fn write<'r, T: Serialize + ?Sized>(
     };
     for (m, i) in &shape.path {
         for f in &m.fields[..*i] {
-            w.out.zero_field(w.reg, &f.ty, 0).map_err(Fail)?;
+            w.out.zero_field(w.reg.reg, &f.ty, 0).map_err(Fail)?;
         }
     }
     w.path = shape.names();
@@ -132,7 +195,7 @@ fn write<'r, T: Serialize + ?Sized>(
     w.path.clear();
     for (m, i) in shape.path.iter().rev() {
         for f in &m.fields[*i + 1..] {
-            w.out.zero_field(w.reg, &f.ty, 0).map_err(Fail)?;
+            w.out.zero_field(w.reg.reg, &f.ty, 0).map_err(Fail)?;
         }
     }
     Ok(())
@@ -140,9 +203,14 @@ fn write<'r, T: Serialize + ?Sized>(
 
 /// Reads a CDR sample of `shape` as a value of `T`.
 pub fn from_cdr<T: DeserializeOwned>(shape: &Shape<'_>, bytes: &[u8]) -> Result<T, CdrError> {
+    from_cdr_in(shape, bytes)
+}
+
+/// [`from_cdr`] with the shape's borrow and its registry's as one lifetime.
+fn from_cdr_in<'s, T: DeserializeOwned>(shape: &'s Shape<'s>, bytes: &[u8]) -> Result<T, CdrError> {
     let input = In::new(bytes).map_err(|e| cdr::error::<&str>(&[], e))?;
     let mut r = de::R {
-        reg: shape.reg,
+        reg: shape.look(),
         input,
         path: Vec::new(),
     };
@@ -190,13 +258,14 @@ static UINT32: BaseType = BaseType::Primitive(Primitive::UInt32);
 
 impl<'r> Expect<'r> {
     /// One value is a base type; a nested message is its definition.
-    fn resolve(self, reg: &'r Registry) -> Result<Expect<'r>, Fail> {
+    #[inline]
+    fn resolve(self, reg: Look<'r>) -> Result<Expect<'r>, Fail> {
         Ok(match self {
             Expect::Field(FieldType {
                 base,
                 arity: Arity::Single,
             }) => Expect::Base(base).resolve(reg)?,
-            Expect::Base(BaseType::Nested(n)) => Expect::Message(wire::message(reg, n)?),
+            Expect::Base(base @ BaseType::Nested(n)) => Expect::Message(reg.message(base, n)?),
             e => e,
         })
     }
@@ -204,7 +273,8 @@ impl<'r> Expect<'r> {
     /// [`Self::resolve`], and a message of one field (a wrapper such as
     /// `std_msgs/msg/Float64`) is that field: where a single value or a plain array is
     /// found.
-    fn unwrap(self, reg: &'r Registry) -> Result<Expect<'r>, Fail> {
+    #[inline]
+    fn unwrap(self, reg: Look<'r>) -> Result<Expect<'r>, Fail> {
         let mut e = self.resolve(reg)?;
         for _ in 0..MAX_DEPTH {
             match e {

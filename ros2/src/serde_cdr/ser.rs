@@ -1,14 +1,13 @@
 //! The serde `Serializer` writing a port's value as CDR (see the module documentation).
 
-use super::{builtin, same, Expect, Fail, UINT32};
+use super::{builtin, same, Expect, Fail, Look, UINT32};
 use crate::def::{Arity, BaseType, Message, Primitive};
 use crate::wire::{is_bytes, Out};
-use crate::Registry;
 use serde::ser::{self, Impossible, Serialize};
 
 /// The sample being written and where in the message it is.
 pub(super) struct W<'r> {
-    pub reg: &'r Registry,
+    pub reg: Look<'r>,
     pub out: Out,
     /// The field path, for errors.
     pub path: Vec<&'r str>,
@@ -34,7 +33,14 @@ impl<'a, 'r> Ser<'a, 'r> {
 
     /// A primitive of the port's type `ours`, written by `write` if the message has
     /// the same primitive here.
+    #[inline]
     fn primitive(self, ours: Primitive, write: impl FnOnce(&mut Out)) -> Result<(), Fail> {
+        if let Expect::Base(BaseType::Primitive(p)) = self.expect {
+            if same(ours, *p) {
+                write(&mut self.w.out);
+                return Ok(());
+            }
+        }
         match self.expect.unwrap(self.w.reg)? {
             Expect::Base(BaseType::Primitive(p)) if same(ours, *p) => {
                 write(&mut self.w.out);
