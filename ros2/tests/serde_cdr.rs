@@ -147,6 +147,9 @@ impl<'de> Visitor<'de> for AnyVisitor {
         visit_u16 u16 => U16, visit_i32 i32 => I32, visit_u32 u32 => U32, visit_i64 i64 => I64,
         visit_u64 u64 => U64, visit_f32 f32 => F32, visit_f64 f64 => F64,
         visit_string String => String);
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Any, E> {
+        Ok(Any::Leaf(Value::String(v.to_string())))
+    }
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Any, A::Error> {
         let mut items = Vec::new();
         while let Some(item) = seq.next_element()? {
@@ -159,7 +162,7 @@ impl<'de> Visitor<'de> for AnyVisitor {
 fn any_of(v: &Value) -> Any {
     match v {
         Value::Bytes(b) => Any::List(b.iter().map(|x| Any::Leaf(Value::U8(*x))).collect()),
-        Value::Array(items) | Value::Struct(items) if !items.is_empty() || true => {
+        Value::Array(items) | Value::Struct(items) => {
             Any::List(items.iter().map(any_of).collect())
         }
         v => Any::Leaf(v.clone()),
