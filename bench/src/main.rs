@@ -16,6 +16,7 @@ mod cdr;
 mod generate;
 mod measure;
 mod options;
+mod ros2_twist;
 
 use std::process::ExitCode;
 
@@ -80,11 +81,18 @@ IDs:
         from their summaries, rounds alternate
           --cycles N      cycles per run (default 20000000)
           --rounds R      runs of each program (default 3)
-  cdr   ROS 2's CDR (ferroc-ros2, a dynamic value) against postcard (the codec of
-        links between parts, serde structs): encoding and decoding a LaserScan of
-        720 ranges and an Odometry, ns per message, variants interleaved in rounds
+  cdr   ROS 2's CDR as a running part writes it (ferroc-ros2's serde_cdr, straight
+        from the serde value) against postcard of the same value (the codec of links
+        between parts), and the dynamic-value CDR for reference: encoding and decoding
+        a LaserScan of 720 ranges and an Odometry, ns per message, interleaved rounds
           --messages N    messages per variant and round (default 100000)
           --rounds R      rounds, best reported (default 5)
+  ros2-twist  latency of a geometry_msgs/msg/Twist between two part programs as a
+        ROS 2 topic (rmw_zenoh's wire, CDR from the value) against the same value
+        through a plain ferroc link, same sessions, interleaved rounds
+          --messages N    Twists per variant (default 40000)
+          --gap-us G      one every G µs (default 200)
+          --rounds R      rounds, alternating the variants (default 4)
   all   every benchmark (b1 to b5) with default options
   gen   write the B1 model with N modules to FILE and its manifest b1.lib.xml next to
         it (default: the model alone to standard output),
@@ -124,6 +132,8 @@ fn main() -> ExitCode {
         b4_large::CHILD_ARG => ExitCode::from(b4_large::child(&args[1..])),
         "b5" => ExitCode::from(b5::run(&args[1..])),
         "cdr" => ExitCode::from(cdr::run(&args[1..])),
+        "ros2-twist" => ExitCode::from(ros2_twist::run(&args[1..])),
+        ros2_twist::CHILD_ARG => ExitCode::from(ros2_twist::child(&args[1..])),
         "all" => no_options("all", &args[1..]).unwrap_or_else(all),
         "gen" => gen(&args[1..]),
         b3::CHILD_ARG => ExitCode::from(b3::child(&args[1..])),

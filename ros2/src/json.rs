@@ -1,7 +1,8 @@
-//! Between a port's value and a ROS 2 message: ferroc's values cross between parts in
-//! their serde form, and the JSON of that form names struct fields as a library type's
-//! fields are named, which the checks of area R matched against the message field by
-//! field (R102). So a value becomes a message by name: [`from_json`] fills a [`Value`]
+//! Between a value's JSON and a ROS 2 message, for tools and tests (a running part
+//! writes CDR straight from the port's value, [`serde_cdr`](crate::serde_cdr)). The
+//! JSON of a value's serde form names struct fields as a library type's fields are
+//! named, which the checks of area R matched against the message field by field
+//! (R102). So a value becomes a message by name: [`from_json`] fills a [`Value`]
 //! of a message type (missing fields zero, unknown ones refused), [`to_json`] gives the
 //! JSON a port's type reads back. With a field path (`field="linear.x"`, or `data` of a
 //! one-field wrapper) only that field is set or read.

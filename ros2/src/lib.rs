@@ -8,10 +8,12 @@
 //! - [`hash`]: RIHS01 type hashes computed from the type description (REP-2016), as
 //!   rosidl computes them.
 //! - [`cdr`]: XCDR1 little-endian encoding and decoding of a dynamic [`Value`] of any
-//!   registered type, bounded against hostile input.
+//!   registered type, bounded against hostile input; [`serde_cdr`]: the same straight
+//!   from a port's own (serde) value and back, what a running part sends. Both follow
+//!   CDR's rules as `wire.rs` writes them once.
 //! - [`names`]: the node, namespace and topic names ROS 2 accepts, and how a relative
 //!   topic name expands against a node's namespace.
-//! - [`json`]: a port's value (its serde JSON) as a message of a type, and back.
+//! - [`json`]: a value's serde JSON as a message of a type, and back (tools, tests).
 //! - [`units`]: the units REP-103 fixes for fields of the shipped messages.
 //! - [`rmw_zenoh`]: the topic key expression, the attachment and the liveliness tokens
 //!   exactly as rmw_zenoh writes them.
@@ -28,8 +30,10 @@ pub mod names;
 pub mod parse;
 mod registry;
 pub mod rmw_zenoh;
+pub mod serde_cdr;
 pub mod units;
 mod value;
+mod wire;
 
 pub use error::DefinitionError;
 pub use registry::Registry;

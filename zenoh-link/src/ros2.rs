@@ -1,17 +1,19 @@
 //! A part as a ROS 2 node on rmw_zenoh's wire (issue 29, docs/ros2.md): from the part's
 //! own Zenoh session, the liveliness tokens by which ROS 2 discovers a node and its
 //! publishers and subscriptions, samples on rmw_zenoh's topic keys with CDR payloads and
-//! rmw_zenoh's attachment, and subscriptions that decode what ROS 2 nodes publish. The
-//! formats are `ferroc_ros2::rmw_zenoh`'s and `ferroc_ros2::cdr`'s; values reach a
-//! message through their serde JSON (`ferroc_ros2::json`), as a port's codec writes it.
+//! rmw_zenoh's attachment, and subscriptions that hand on what ROS 2 nodes publish. The
+//! formats are `ferroc_ros2::rmw_zenoh`'s; the samples are CDR the runtime writes
+//! straight from a port's value and reads straight into it (`Codec::ros2_encode`,
+//! `ferroc_ros2::serde_cdr`), so here they are sent and received as they are.
 //!
-//! A malformed sample, one whose attachment is short, or a value that does not fit its
-//! message is reported (throttled, naming the topic) and dropped: the part keeps running
-//! and other topics keep flowing.
+//! A sample without rmw_zenoh's attachment, or with a short one, is reported here
+//! (throttled, naming the topic) and dropped; a malformed CDR sample is reported and
+//! dropped by the port's receiving end the same way: the part keeps running and other
+//! topics keep flowing.
 
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::{self, Attachment, EntityKind, NodeInfo, Qos, TopicInfo};
-use ferroc_ros2::{cdr, json, Registry};
+use ferroc_ros2::{cdr, Registry};
 use ferroc_runtime::console;
 use std::sync::atomic::{AtomicI64, AtomicU64, Ordering};
 use std::sync::Arc;
@@ -131,11 +133,10 @@ impl Ros2Node {
     pub fn subscriber(
         &self,
         spec: TopicSpec,
-        deliver: impl Fn(serde_json::Value) + Send + Sync + 'static,
+        deliver: impl Fn(Vec<u8>) + Send + Sync + 'static,
     ) -> Result<Ros2Subscriber, String> {
         let (key, live, _) = self.keys(&spec, EntityKind::Subscription)?;
         let token = token(&self.session, &live, &spec.topic)?;
-        let registry = Arc::clone(&self.registry);
         let topic = spec.topic.clone();
         let subscriber = self
             .session
@@ -143,8 +144,8 @@ impl Ros2Node {
             .callback(move |sample| {
                 let attachment = sample.attachment().map(|a| a.to_bytes().into_owned());
                 let payload = sample.payload().to_bytes();
-                match receive(&registry, &spec, attachment.as_deref(), &payload) {
-                    Ok(value) => deliver(value),
+                match receive(attachment.as_deref(), &payload) {
+                    Ok(()) => deliver(payload.into_owned()),
                     Err(why) => console::report(&format!(
                         "warning: a sample of the ROS 2 topic `{}` was dropped: {why}",
                         spec.topic
@@ -160,18 +161,21 @@ impl Ros2Node {
     }
 }
 
-/// A sample as the port reads it: the attachment checked, the CDR decoded, the part the
-/// port carries as JSON.
-fn receive(
-    registry: &Registry,
-    spec: &TopicSpec,
-    attachment: Option<&[u8]>,
-    payload: &[u8],
-) -> Result<serde_json::Value, String> {
+/// Whether a sample is one for the port: rmw_zenoh's attachment and the CDR header of
+/// little-endian samples (the port's end decodes the rest).
+fn receive(attachment: Option<&[u8]>, payload: &[u8]) -> Result<(), String> {
     let attachment = attachment.ok_or("it has no attachment (rmw_zenoh sends one with each)")?;
     Attachment::decode(attachment).map_err(|e| e.to_string())?;
-    let value = cdr::decode(registry, &spec.ty, payload).map_err(|e| e.to_string())?;
-    json::to_json(registry, &spec.ty, spec.field.as_deref(), &value)
+    match payload {
+        [0x00, 0x01, _, _, ..] => Ok(()),
+        [a, b, _, _, ..] => Err(format!(
+            "its CDR header is {a:02x} {b:02x}; rmw_zenoh sends little-endian CDR (00 01)"
+        )),
+        _ => Err(format!(
+            "it has {} bytes, not even a CDR header",
+            payload.len()
+        )),
+    }
 }
 
 fn token(session: &Session, key: &str, what: &str) -> Result<LivelinessToken, String> {
@@ -193,23 +197,18 @@ pub struct Ros2Publisher {
 }
 
 impl Ros2Publisher {
-    /// Publishes a port's value (its serde JSON): encoded as the message (or into its
-    /// field), with rmw_zenoh's attachment (sequence number from 1, the send time, the
-    /// publisher's GID).
-    pub fn publish_json(&self, value: &serde_json::Value) -> Result<(), String> {
-        let message = json::from_json(
-            &self.registry,
-            &self.spec.ty,
-            self.spec.field.as_deref(),
-            value,
-        )?;
-        self.publish(&message)
-    }
-
-    /// Publishes a message value.
+    /// Publishes a message value (tests and tools; a running part's values arrive as
+    /// CDR, [`Self::publish_cdr`]).
     pub fn publish(&self, message: &ferroc_ros2::Value) -> Result<(), String> {
         let bytes =
             cdr::encode(&self.registry, &self.spec.ty, message).map_err(|e| e.to_string())?;
+        self.publish_cdr(bytes)
+    }
+
+    /// Publishes a CDR sample of the topic's message (a port's value as its end wrote
+    /// it) with rmw_zenoh's attachment (sequence number from 1, the send time, the
+    /// publisher's GID).
+    pub fn publish_cdr(&self, bytes: impl Into<zenoh::bytes::ZBytes>) -> Result<(), String> {
         let attachment = Attachment {
             sequence_number: self.sequence.fetch_add(1, Ordering::Relaxed) + 1,
             source_timestamp: SystemTime::now()
@@ -240,40 +239,26 @@ pub struct Ros2Subscriber {
 mod tests {
     use super::*;
 
-    fn twist_spec(field: Option<&str>) -> TopicSpec {
-        TopicSpec {
-            topic: "/cmd_vel".into(),
-            ty: TypeName::parse("geometry_msgs/msg/Twist").unwrap(),
-            qos: Qos::default(),
-            field: field.map(str::to_string),
-        }
-    }
-
     #[test]
-    fn a_bad_sample_is_an_error_naming_what_is_wrong_never_a_panic() {
-        let reg = Registry::shipped();
+    fn a_sample_without_rmw_zenoh_s_attachment_or_header_is_an_error_never_a_panic() {
         let good = Attachment {
             sequence_number: 1,
             source_timestamp: 0,
             gid: [0; 16],
         }
         .encode();
-        let spec = twist_spec(Some("angular.z"));
         let mut sample = cdr::HEADER.to_vec();
         sample.extend(std::iter::repeat_n(0u8, 40));
         sample.extend(2.5f64.to_le_bytes());
-        assert_eq!(
-            receive(&reg, &spec, Some(&good), &sample).unwrap(),
-            serde_json::json!(2.5)
-        );
-        let short = receive(&reg, &spec, Some(&good[..20]), &sample).unwrap_err();
+        assert!(receive(Some(&good), &sample).is_ok());
+        let short = receive(Some(&good[..20]), &sample).unwrap_err();
         assert!(short.contains("attachment has 20 bytes"), "{short}");
-        let none = receive(&reg, &spec, None, &sample).unwrap_err();
+        let none = receive(None, &sample).unwrap_err();
         assert!(none.contains("no attachment"), "{none}");
-        let truncated = receive(&reg, &spec, Some(&good), &sample[..30]).unwrap_err();
-        assert!(!truncated.is_empty());
-        for n in 0..sample.len() {
-            let _ = receive(&reg, &spec, Some(&good), &sample[..n]);
+        let big_endian = receive(Some(&good), &[0, 0, 0, 0, 1]).unwrap_err();
+        assert!(big_endian.contains("00 00"), "{big_endian}");
+        for n in 0..4 {
+            assert!(receive(Some(&good), &sample[..n]).is_err());
         }
     }
 }

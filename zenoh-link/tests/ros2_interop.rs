@@ -12,7 +12,8 @@ mod support;
 
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::Qos;
-use ferroc_ros2::Registry;
+use ferroc_ros2::serde_cdr::{self, Shape};
+use ferroc_ros2::{json, Registry};
 use ferroc_runtime::link::transport::Addresses;
 use ferroc_zenoh::ros2::{NodeSpec, Ros2Node, TopicSpec};
 use std::path::Path;
@@ -71,8 +72,10 @@ fn a_ros2_peer_sees_our_node_receives_our_twist_and_feeds_our_input() {
         "linear": {"x": 0.5, "y": 0.0, "z": 0.0},
         "angular": {"x": 0.0, "y": 0.0, "z": -0.25}
     });
+    let twist_type = TypeName::parse("geometry_msgs/msg/Twist").unwrap();
+    let message = json::from_json(&Registry::shipped(), &twist_type, None, &value).unwrap();
     let out = loop {
-        publisher.publish_json(&value).unwrap();
+        publisher.publish(&message).unwrap();
         if let Some(_status) = child.try_wait().unwrap() {
             break child.wait_with_output().unwrap();
         }
@@ -126,7 +129,12 @@ fn a_ros2_peer_sees_our_node_receives_our_twist_and_feeds_our_input() {
         "nothing arrived; rosbags sent {}",
         report["sent"]
     );
-    assert!(got.iter().all(|v| *v == serde_json::json!(0.75)), "{got:?}");
+    let reg = Registry::shipped();
+    let linear_x = Shape::new(&reg, &twist_type, Some("linear.x")).unwrap();
+    let got: Vec<f64> = (got.iter())
+        .map(|cdr| serde_cdr::from_cdr(&linear_x, cdr).unwrap())
+        .collect();
+    assert!(got.iter().all(|v| *v == 0.75), "{got:?}");
     drop(node);
     session.close().wait().unwrap();
 }

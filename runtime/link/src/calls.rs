@@ -10,12 +10,14 @@
 //! Request and response types cross encoded like values (postcard); they are
 //! registered in pairs with `Registry::register_call` (`ferroc_app::builder`). A
 //! service offered as a ROS 2 service has the same stand-in client, with requests and
-//! answers as JSON (`Route::json`), which the network turns into CDR (docs/ros2.md).
+//! answers as the CDR of the service's messages (`Route::ros2`), which the network
+//! sends as they are (docs/ros2.md).
 
 use super::{Frame, Hub, Receive};
 use ferroc_ports::port::{Notifier, Notify};
 use ferroc_ports::service::{CallError, ClientHandle, ClientPort, PendingResponse, ServiceHandle};
 use ferroc_ports::service::{Responder, ServicePort};
+use ferroc_ros2::serde_cdr;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::collections::HashMap;
@@ -44,8 +46,8 @@ pub struct Route {
     pub hub: Arc<Hub>,
     pub link: u32,
     pub to_part: Arc<str>,
-    /// Requests and answers as serde JSON (a ROS 2 service's), else postcard.
-    pub json: bool,
+    /// Requests and answers as the CDR of a ROS 2 service's messages, else postcard.
+    pub ros2: Option<Arc<super::ros2::ServiceMessages>>,
 }
 
 impl Route {
@@ -108,19 +110,19 @@ impl<T: Notify> Notify for WeakNotify<T> {
     }
 }
 
-/// `value` as the route carries it.
-fn encode<T: Serialize>(route: &Route, value: &T) -> Result<Vec<u8>, String> {
-    match route.json {
-        true => serde_json::to_vec(value).map_err(|e| e.to_string()),
-        false => postcard::to_stdvec(value).map_err(|e| e.to_string()),
+/// `value` (a request, else an answer) as the route carries it.
+fn encode<T: Serialize>(route: &Route, value: &T, request: bool) -> Result<Vec<u8>, String> {
+    match &route.ros2 {
+        Some(m) => serde_cdr::encode(m.of(request), value).map_err(|e| e.to_string()),
+        None => postcard::to_stdvec(value).map_err(|e| e.to_string()),
     }
 }
 
-/// A value as the route carries it.
-fn decode<T: DeserializeOwned>(route: &Route, bytes: &[u8]) -> Result<T, String> {
-    match route.json {
-        true => serde_json::from_slice(bytes).map_err(|e| e.to_string()),
-        false => postcard::from_bytes(bytes).map_err(|e| e.to_string()),
+/// A value (a request, else an answer) as the route carries it.
+fn decode<T: DeserializeOwned>(route: &Route, bytes: &[u8], request: bool) -> Result<T, String> {
+    match &route.ros2 {
+        Some(m) => serde_cdr::from_cdr(m.of(request), bytes).map_err(|e| e.to_string()),
+        None => postcard::from_bytes(bytes).map_err(|e| e.to_string()),
     }
 }
 
@@ -185,7 +187,7 @@ where
     fn notify(&self) {
         while let Some(request) = self.port.take_request() {
             let (request, responder) = request.into_parts();
-            let Ok(body) = encode(&self.route, &request) else {
+            let Ok(body) = encode(&self.route, &request, true) else {
                 responder.fail(CallError::Disconnected);
                 continue;
             };
@@ -211,7 +213,7 @@ where
             responder.fail(error_of(head));
             return Ok(());
         }
-        match decode::<Resp>(&self.route, body) {
+        match decode::<Resp>(&self.route, body, false) {
             Ok(response) => {
                 responder.respond(response);
                 Ok(())
@@ -258,7 +260,7 @@ impl<Req, Resp: Serialize> RemoteClient<Req, Resp> {
         drop(calls);
         for (id, pending) in ready {
             match pending.try_take() {
-                Ok(Ok(response)) => match encode(&self.route, &response) {
+                Ok(Ok(response)) => match encode(&self.route, &response, false) {
                     Ok(body) => self.route.send(id, Some(ANSWERED), &body),
                     Err(_) => self
                         .route
@@ -288,7 +290,7 @@ where
 {
     fn receive(&self, bytes: &[u8]) -> Result<(), String> {
         let (id, body) = split_id(bytes)?;
-        let request = match decode::<Req>(&self.route, body) {
+        let request = match decode::<Req>(&self.route, body, true) {
             Ok(r) => r,
             Err(e) => {
                 self.route

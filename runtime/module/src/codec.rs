@@ -6,12 +6,18 @@
 //! `Registry::register_serde` (`ferroc_app::builder`). The encoding
 //! is postcard: compact, and exact for floats (an infinite laser range stays infinite).
 //!
+//! A port published or subscribed as a ROS 2 topic carries its value as the message's
+//! CDR instead ([`Codec::ros2_encode`], [`Codec::ros2_decode`]): written straight from
+//! the value by `ferroc_ros2::serde_cdr`, guided by the message definition, exact for
+//! floats too.
+//!
 //! Like the rest of the value table these are plain function pointers, monomorphised
 //! when the type is registered, working on the type-erased [`DynIn`]/[`DynOut`].
 
 use super::bytes::{self, Holder};
 use super::value::PortValue;
 use super::value_table::{DynIn, DynOut};
+use ferroc_ros2::serde_cdr::{self, Shape};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::borrow::Borrow;
@@ -28,6 +34,8 @@ pub struct Codec {
     decode: fn(&DynOut, &[u8]) -> Result<(), String>,
     json: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     from_json: fn(Option<&DynOut>, &[u8]) -> Result<(), String>,
+    ros2_encode: fn(&DynIn, &Shape<'_>, &mut Vec<u8>) -> Result<(), String>,
+    ros2_decode: fn(&DynOut, &Shape<'_>, &[u8]) -> Result<(), String>,
 }
 
 impl Codec {
@@ -39,6 +47,8 @@ impl Codec {
             decode: decode::<T>,
             json: json::<T>,
             from_json: from_json::<T>,
+            ros2_encode: ros2_encode::<T>,
+            ros2_decode: ros2_decode::<T>,
         }
     }
 
@@ -83,6 +93,23 @@ impl Codec {
     /// of [`encode`](Self::encode) is the exact one.
     pub fn json(&self, from: &DynIn, bytes: &mut Vec<u8>) -> Result<(), String> {
         (self.json)(from, bytes)
+    }
+
+    /// Replaces `bytes` with the latest value of `from` as a CDR sample of the ROS 2
+    /// message `shape` (the whole message, or the one field the port carries).
+    pub fn ros2_encode(
+        &self,
+        from: &DynIn,
+        shape: &Shape<'_>,
+        bytes: &mut Vec<u8>,
+    ) -> Result<(), String> {
+        (self.ros2_encode)(from, shape, bytes)
+    }
+
+    /// Decodes a CDR sample of the ROS 2 message `shape` and publishes the value on
+    /// `to`. A sample that does not decode is an error naming the field, never a panic.
+    pub fn ros2_decode(&self, to: &DynOut, shape: &Shape<'_>, bytes: &[u8]) -> Result<(), String> {
+        (self.ros2_decode)(to, shape, bytes)
     }
 }
 
@@ -177,6 +204,31 @@ fn from_json<T: PortValue + DeserializeOwned>(
             .ok_or_else(|| format!("`{}` does not carry {}", to.name(), T::model_type()))?;
         port.publish(value);
     }
+    Ok(())
+}
+
+fn ros2_encode<T: PortValue + Serialize>(
+    from: &DynIn,
+    shape: &Shape<'_>,
+    bytes: &mut Vec<u8>,
+) -> Result<(), String> {
+    let port = from
+        .typed::<T>()
+        .ok_or_else(|| format!("`{}` does not carry {}", from.name(), T::model_type()))?;
+    let value = port.get();
+    serde_cdr::to_cdr(shape, value.borrow(), bytes).map_err(|e| e.to_string())
+}
+
+fn ros2_decode<T: PortValue + DeserializeOwned>(
+    to: &DynOut,
+    shape: &Shape<'_>,
+    bytes: &[u8],
+) -> Result<(), String> {
+    let value: T = serde_cdr::from_cdr(shape, bytes).map_err(|e| e.to_string())?;
+    let port = to
+        .typed::<T>()
+        .ok_or_else(|| format!("`{}` does not carry {}", to.name(), T::model_type()))?;
+    port.publish(value);
     Ok(())
 }
 

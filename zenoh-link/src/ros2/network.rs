@@ -2,8 +2,9 @@
 //! ends (`ferroc_runtime::link::ros2`) made into rmw_zenoh nodes, publishers and
 //! subscriptions.
 //!
-//! A published port's frames (its values as JSON) become samples of the topic; a
-//! subscription's samples become frames for the port's receiving end: delivered at
+//! A published port's frames (its values as the message's CDR, which the runtime
+//! writes) become samples of the topic; a subscription's samples (CDR, which the
+//! port's receiving end decodes) become frames for that end: delivered at
 //! once when running freely, in lockstep kept until the next instant (at most the
 //! topic's history depth of them, the newest, so a flood from a foreign node cannot
 //! grow memory) and delivered with the frames of the other parts.
@@ -119,12 +120,9 @@ impl Ros2Ends {
         let (link, depth) = (ends::link(t.id), t.qos.depth.max(1) as usize);
         let arrived = self.arrived.clone();
         let delivery = delivery.clone();
-        let subscriber = node.subscriber(spec, move |value| {
-            let bytes = value.to_string().into_bytes();
-            match &arrived {
-                Some(queue) => queue.push(link, bytes, depth),
-                None => delivery.deliver_bytes(link, &bytes),
-            }
+        let subscriber = node.subscriber(spec, move |bytes| match &arrived {
+            Some(queue) => queue.push(link, bytes, depth),
+            None => delivery.deliver_bytes(link, &bytes),
         })?;
         self._subscribers.push(subscriber);
         Ok(())
@@ -174,10 +172,10 @@ impl Ros2Ends {
         self.publishers.contains_key(&link)
     }
 
-    /// Publishes a frame of a published port (its value as JSON); `false` when the
-    /// frame is not for a ROS 2 topic. A value that does not fit the message is
-    /// reported (throttled, naming the topic) and not sent.
-    pub fn publish(&self, frame: &Frame) -> bool {
+    /// Publishes a frame of a published port (its value as the message's CDR, sent as
+    /// it is); the frame back when it is not for a ROS 2 end. A sample that cannot be
+    /// sent is reported (throttled, naming the topic).
+    pub fn publish(&self, frame: Frame) -> Result<(), Frame> {
         if let Some(caller) = self.callers.get(&frame.link) {
             if let Err(why) = caller.call(&frame.bytes) {
                 console::report(&format!(
@@ -185,7 +183,7 @@ impl Ros2Ends {
                     caller.spec().name
                 ));
             }
-            return true;
+            return Ok(());
         }
         if let Some(server) = self.servers.get(&frame.link) {
             if let Err(why) = server.answer(&frame.bytes) {
@@ -194,21 +192,18 @@ impl Ros2Ends {
                     server.spec().name
                 ));
             }
-            return true;
+            return Ok(());
         }
         let Some(publisher) = self.publishers.get(&frame.link) else {
-            return false;
+            return Err(frame);
         };
-        let sent = serde_json::from_slice(&frame.bytes)
-            .map_err(|e| e.to_string())
-            .and_then(|value| publisher.publish_json(&value));
-        if let Err(why) = sent {
+        if let Err(why) = publisher.publish_cdr(frame.bytes) {
             console::report(&format!(
                 "warning: a value was not published on the ROS 2 topic `{}`: {why}",
                 publisher.spec().topic
             ));
         }
-        true
+        Ok(())
     }
 
     /// In lockstep: the samples that arrived since the last call, as frames in the
@@ -302,19 +297,19 @@ impl WithRos2 {
         }
     }
 
-    /// Publishes `frame` if it is a ROS 2 topic's; `false` if it is not.
-    fn publish(&self, frame: &Frame) -> bool {
+    /// Publishes `frame` if it is a ROS 2 end's; the frame back if it is not.
+    fn publish(&self, frame: Frame) -> Result<(), Frame> {
         let ends = self.ends.read().unwrap_or_else(|e| e.into_inner());
-        ends.as_ref().is_some_and(|e| e.publish(frame))
+        match ends.as_ref() {
+            Some(e) => e.publish(frame),
+            None => Err(frame),
+        }
     }
 }
 
 impl Connection for WithRos2 {
     fn send(&self, to_part: &str, frame: Frame) {
-        if self.publish(&frame) {
-            return;
-        }
-        if let Some(inner) = &self.inner {
+        if let (Err(frame), Some(inner)) = (self.publish(frame), &self.inner) {
             inner.send(to_part, frame);
         }
     }
@@ -343,7 +338,7 @@ impl Connection for WithRos2 {
     ) -> Result<(), String> {
         let others: Vec<(Arc<str>, Frame)> = frames
             .into_iter()
-            .filter(|(_, frame)| !self.publish(frame))
+            .filter_map(|(to, frame)| self.publish(frame).err().map(|f| (to, f)))
             .collect();
         match &self.inner {
             Some(inner) => inner.end_instant(nanos, others, stop),

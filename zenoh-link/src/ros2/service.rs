@@ -6,8 +6,10 @@
 //!
 //! A query is a request: its payload the `Name_Request` message in CDR, its attachment
 //! the client's (sequence number, time, GID). The request goes to the module's service
-//! as JSON (the stand-in client of `ferroc_link::calls`); the answer comes back as JSON
-//! and is replied in CDR (`Name_Response`) on the service's key with the attachment
+//! as its CDR (the stand-in client of `ferroc_link::calls` decodes it into the
+//! service's request type); the answer comes back as the `Name_Response` CDR the
+//! stand-in wrote from the module's answer and is replied on the service's key with the
+//! attachment
 //! rmw_zenoh's server writes: the request's sequence number, the reply's time and the
 //! client's GID, by which the client matches it. A request that does not decode is
 //! reported (throttled, naming the service) and answered with an error reply; at most
@@ -23,7 +25,7 @@
 use super::{token, Ros2Node, TopicSpec};
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::{self, Attachment, EntityKind, Qos};
-use ferroc_ros2::{cdr, json, Registry};
+use ferroc_ros2::{cdr, Registry};
 use ferroc_runtime::console;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
@@ -72,8 +74,8 @@ struct Shared {
 
 impl Ros2Node {
     /// A server of `spec` (its token `SS` and a queryable on the service key) handing
-    /// each request, as the call number followed by the JSON of the request (or of the
-    /// field the service's request fills), to `deliver`.
+    /// each request, as the call number followed by the request's CDR (checked against
+    /// the request message), to `deliver`.
     pub fn service_server(
         &self,
         spec: ServiceSpec,
@@ -114,7 +116,7 @@ impl Ros2Node {
 
 impl Ros2Server {
     /// Replies to the request an answer frame names (call number, kind, the response's
-    /// JSON). An answer nobody waits for, or one that does not fit the response
+    /// CDR). An answer nobody waits for, or one that does not fit the response
     /// message, is an error naming the service.
     pub fn answer(&self, bytes: &[u8]) -> Result<(), String> {
         self.shared.answer(bytes)
@@ -141,7 +143,7 @@ impl Shared {
                 waiting.insert(id, (query, attachment));
                 drop(waiting);
                 let mut bytes = id.to_le_bytes().to_vec();
-                bytes.extend(request.to_string().into_bytes());
+                bytes.extend_from_slice(&request);
                 deliver(bytes);
                 return;
             }
@@ -154,8 +156,8 @@ impl Shared {
         let _ = query.reply_err(refused).wait();
     }
 
-    /// The request's attachment and its JSON.
-    fn decode(&self, query: &Query) -> Result<(Attachment, serde_json::Value), String> {
+    /// The request's attachment and its CDR.
+    fn decode(&self, query: &Query) -> Result<(Attachment, Vec<u8>), String> {
         let attachment = query.attachment().map(|a| a.to_bytes());
         let payload = query.payload().map(|p| p.to_bytes());
         read_request(
@@ -204,57 +206,38 @@ impl Shared {
             .map_err(|e| format!("the answer of `{name}` was not sent: {e}"))
     }
 
-    /// The response message's CDR from the answer's JSON.
-    fn encode(&self, json_text: &[u8]) -> Result<Vec<u8>, String> {
-        let field = self.spec.response_field.as_deref();
-        to_cdr(&self.registry, &self.spec, "Response", field, json_text)
+    /// The answer's CDR, checked against the response message.
+    fn encode(&self, body: &[u8]) -> Result<Vec<u8>, String> {
+        check(&self.registry, &self.spec, "Response", body)?;
+        Ok(body.to_vec())
     }
 }
 
 /// A request as the module's service reads it: the client's attachment checked, the
-/// request message decoded, the JSON of the request (or of the field it fills).
+/// request message's CDR checked (so a malformed request is refused here, naming the
+/// service, and never waits for an answer).
 fn read_request(
     registry: &Registry,
     spec: &ServiceSpec,
     attachment: Option<&[u8]>,
     payload: Option<&[u8]>,
-) -> Result<(Attachment, serde_json::Value), String> {
+) -> Result<(Attachment, Vec<u8>), String> {
     let attachment =
         attachment.ok_or("it has no attachment (rmw_zenoh's clients send one with each)")?;
     let attachment = Attachment::decode(attachment).map_err(|e| e.0)?;
     let payload = payload.ok_or("it has no request message")?;
-    let field = spec.request_field.as_deref();
-    let request = from_cdr(registry, spec, "Request", field, payload)?;
-    Ok((attachment, request))
+    check(registry, spec, "Request", payload)?;
+    Ok((attachment, payload.to_vec()))
 }
 
-/// The CDR of the service's `Request` or `Response` message (`which`) from the JSON text
-/// of a request or answer (of the one field `field` when given).
-fn to_cdr(
-    registry: &Registry,
-    spec: &ServiceSpec,
-    which: &str,
-    field: Option<&str>,
-    json_text: &[u8],
-) -> Result<Vec<u8>, String> {
-    let value: serde_json::Value = serde_json::from_slice(json_text).map_err(|e| e.to_string())?;
+/// Whether `bytes` is a CDR sample of the service's `Request` or `Response` message
+/// (`which`). Calls are few: the dynamic decoder checks them whole, so a malformed one
+/// is reported here, naming the service.
+fn check(registry: &Registry, spec: &ServiceSpec, which: &str, bytes: &[u8]) -> Result<(), String> {
     let ty = spec.message(which);
-    let message = json::from_json(registry, &ty, field, &value)?;
-    cdr::encode(registry, &ty, &message).map_err(|e| e.to_string())
-}
-
-/// The JSON of a request or answer (of the one field `field` when given) from the CDR
-/// of the service's `Request` or `Response` message (`which`).
-fn from_cdr(
-    registry: &Registry,
-    spec: &ServiceSpec,
-    which: &str,
-    field: Option<&str>,
-    bytes: &[u8],
-) -> Result<serde_json::Value, String> {
-    let ty = spec.message(which);
-    let value = cdr::decode(registry, &ty, bytes).map_err(|e| e.to_string())?;
-    json::to_json(registry, &ty, field, &value)
+    cdr::decode(registry, &ty, bytes)
+        .map(|_| ())
+        .map_err(|e| e.to_string())
 }
 
 fn now_ns() -> i64 {
@@ -288,7 +271,7 @@ struct CallerShared {
 impl Ros2Node {
     /// A client of `spec` (its token `SC`): each call ([`Ros2Caller::call`]) is a query
     /// on the service's key; its answer (call number, kind, the response's JSON, as
-    /// `ferroc_link::calls` reads answers) goes to `deliver`.
+    /// `ferroc_link::calls` reads answers: the response's CDR) goes to `deliver`.
     pub fn service_client(
         &self,
         spec: ServiceSpec,
@@ -326,7 +309,7 @@ const TIMED_OUT: u8 = 2;
 const FAILED: u8 = 3;
 
 impl Ros2Caller {
-    /// Sends a request frame of the module's client (call number, the request's JSON)
+    /// Sends a request frame of the module's client (call number, the request's CDR)
     /// as a query with rmw_zenoh's attachment. A request that does not fit the request
     /// message is answered at once as failed, and an error naming the service.
     pub fn call(&self, bytes: &[u8]) -> Result<(), String> {
@@ -370,16 +353,16 @@ impl Ros2Caller {
 }
 
 impl CallerShared {
-    /// The request message's CDR from the request's JSON.
-    fn encode(&self, json_text: &[u8]) -> Result<Vec<u8>, String> {
-        let field = self.spec.request_field.as_deref();
-        to_cdr(&self.registry, &self.spec, "Request", field, json_text)
+    /// The request's CDR, checked against the request message.
+    fn encode(&self, body: &[u8]) -> Result<Vec<u8>, String> {
+        check(&self.registry, &self.spec, "Request", body)?;
+        Ok(body.to_vec())
     }
 
-    /// The response's JSON from a reply's CDR.
-    fn decode(&self, payload: &[u8]) -> Result<serde_json::Value, String> {
-        let field = self.spec.response_field.as_deref();
-        from_cdr(&self.registry, &self.spec, "Response", field, payload)
+    /// A reply's CDR, checked against the response message.
+    fn decode(&self, payload: &[u8]) -> Result<Vec<u8>, String> {
+        check(&self.registry, &self.spec, "Response", payload)?;
+        Ok(payload.to_vec())
     }
 
     fn answer(&self, id: u64, kind: u8, body: &[u8]) {
@@ -412,7 +395,7 @@ impl Pending {
             )),
         };
         match decoded {
-            Ok(response) => shared.answer(self.id, ANSWERED, response.to_string().as_bytes()),
+            Ok(response) => shared.answer(self.id, ANSWERED, &response),
             Err(why) => {
                 shared.answer(self.id, FAILED, &[]);
                 console::report(&format!(
@@ -435,6 +418,7 @@ impl Drop for Pending {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use ferroc_ros2::Value;
 
     fn set_bool() -> ServiceSpec {
         ServiceSpec {
@@ -456,13 +440,9 @@ mod tests {
         }
         .encode();
         // SetBool_Request { data: true }: the encapsulation header, then one byte.
-        let request = to_cdr(&reg, &spec, "Request", Some("data"), b"true").unwrap();
-        assert_eq!(request, [&cdr::HEADER[..], &[1]].concat());
-        let (attachment, json) = read_request(&reg, &spec, Some(&asked), Some(&request)).unwrap();
-        assert_eq!(
-            (attachment.sequence_number, json),
-            (7, serde_json::json!(true))
-        );
+        let request = [&cdr::HEADER[..], &[1]].concat();
+        let (attachment, cdr) = read_request(&reg, &spec, Some(&asked), Some(&request)).unwrap();
+        assert_eq!((attachment.sequence_number, cdr), (7, request.clone()));
         let short = read_request(&reg, &spec, Some(&asked[..20]), Some(&request)).unwrap_err();
         assert!(short.contains("attachment has 20 bytes"), "{short}");
         let none = read_request(&reg, &spec, None, Some(&request)).unwrap_err();
@@ -472,21 +452,23 @@ mod tests {
         for n in 0..request.len() {
             assert!(read_request(&reg, &spec, Some(&asked), Some(&request[..n])).is_err());
         }
+        let not_bool = [&cdr::HEADER[..], &[7]].concat();
+        let e = read_request(&reg, &spec, Some(&asked), Some(&not_bool)).unwrap_err();
+        assert!(e.contains("bool"), "{e}");
     }
 
     #[test]
-    fn an_answer_crosses_as_the_response_message_and_a_wrong_one_is_refused() {
+    fn an_answer_must_be_the_response_message() {
         let reg = Registry::shipped();
         let spec = set_bool();
-        let answer = br#"{"success":true,"message":"disabled"}"#;
-        let bytes = to_cdr(&reg, &spec, "Response", None, answer).unwrap();
-        let back = from_cdr(&reg, &spec, "Response", None, &bytes).unwrap();
-        assert_eq!(
-            back,
-            serde_json::json!({"success": true, "message": "disabled"})
+        let ty = spec.message("Response");
+        let answer = Value::Struct(vec![Value::Bool(true), Value::String("disabled".into())]);
+        let bytes = cdr::encode(&reg, &ty, &answer).unwrap();
+        assert!(check(&reg, &spec, "Response", &bytes).is_ok());
+        assert!(check(&reg, &spec, "Response", &bytes[..5]).is_err());
+        assert!(
+            check(&reg, &spec, "Request", &bytes).is_err(),
+            "another message"
         );
-        assert!(to_cdr(&reg, &spec, "Response", None, br#"{"success":"yes"}"#).is_err());
-        assert!(to_cdr(&reg, &spec, "Response", None, b"not json").is_err());
-        assert!(from_cdr(&reg, &spec, "Response", None, &bytes[..5]).is_err());
     }
 }

@@ -243,7 +243,7 @@ impl Builder<'_> {
             hub: Arc::clone(&self.hub),
             link,
             to_part: Arc::from(to_part),
-            json: false,
+            ros2: None,
         }
     }
 

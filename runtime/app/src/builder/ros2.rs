@@ -1,15 +1,17 @@
 //! A part's ROS 2 node (issue 29, docs/ros2.md): each published port gets a sending
 //! end, each subscribed port a receiving end, both on the topic's link number
-//! ([`ferroc_link::ros2`]). Values cross as their serde JSON, which the network
-//! (`ferroc_zenoh::ros2`) turns into the message's CDR and back, so the runtime needs
-//! no knowledge of ROS 2's formats.
+//! ([`ferroc_link::ros2`]). Values cross as the message's CDR, written straight from
+//! the port's value and read straight into it (`Codec::ros2_encode`/`ros2_decode`, no
+//! intermediate form, floats exact); the network (`ferroc_zenoh::ros2`) sends and
+//! receives the samples with rmw_zenoh's keys and attachments.
 
 use super::{BuildError, Builder, Conversion};
 use ferroc_exec::Step;
-use ferroc_link::ros2::{self, Ros2Node, Ros2Service, Ros2Topic};
+use ferroc_link::ros2::{self, Ros2Node, Ros2Service, Ros2Topic, ServiceMessages};
 use ferroc_link::{Frame, Receive};
 use ferroc_module::{Codec, DynOut, ValueType};
 use ferroc_ports::port::ConnectOptions;
+use ferroc_ros2::serde_cdr::Shape;
 use std::sync::Arc;
 
 impl Builder<'_> {
@@ -39,6 +41,7 @@ impl Builder<'_> {
     fn ros2_publish(&mut self, topic: &Ros2Topic, from: (&str, &str)) -> Result<(), BuildError> {
         let describe = format!("`{}/{}` → ROS 2 topic `{}`", from.0, from.1, topic.topic);
         let (value_type, codec) = self.ros2_type(topic, &describe)?;
+        let shape = shape(topic, &describe)?;
         let writer = self.module(from.0)?;
         let name = format!("ros2 {} out", ros2::link(topic.id));
         let (input, handle) = value_type.input(&name, None);
@@ -57,7 +60,7 @@ impl Builder<'_> {
                 return;
             }
             let mut bytes = Vec::new();
-            match codec.json(&input, &mut bytes) {
+            match codec.ros2_encode(&input, &shape, &mut bytes) {
                 Ok(()) => hub.send(&to, Frame { link, bytes }),
                 Err(why) if !std::mem::replace(&mut failed, true) => {
                     ferroc_ports::console::line(&format!("warning: {describe}: not sent: {why}"))
@@ -73,6 +76,7 @@ impl Builder<'_> {
     fn ros2_subscribe(&mut self, topic: &Ros2Topic, to: (&str, &str)) -> Result<(), BuildError> {
         let describe = format!("ROS 2 topic `{}` → `{}/{}`", topic.topic, to.0, to.1);
         let (value_type, codec) = self.ros2_type(topic, &describe)?;
+        let shape = shape(topic, &describe)?;
         let name = format!("ros2 {} in", ros2::link(topic.id));
         let (out, handle) = value_type.output(&name);
         let end = self.link_end(name, vec![], vec![("out".into(), handle)]);
@@ -82,16 +86,19 @@ impl Builder<'_> {
             Conversion::default(),
             ConnectOptions::default(),
         )?;
-        let end = Arc::new(JsonEnd {
+        let end = Arc::new(CdrEnd {
             out,
             codec,
+            shape,
+            topic: topic.topic.clone(),
             describe: describe.clone(),
         });
         self.direct_end(ros2::link(topic.id), end, &describe)
     }
 
     /// The stand-in client calling the module's service for each request of the ROS 2
-    /// service (as a call from another part does, its requests and answers as JSON).
+    /// service (as a call from another part does, its requests and answers as the CDR
+    /// of the service's messages).
     fn ros2_serve(&mut self, service: &Ros2Service) -> Result<(), BuildError> {
         let at = (service.port.0.as_str(), service.port.1.as_str());
         let describe = format!("ROS 2 service `{}` → `{}/{}`", service.name, at.0, at.1);
@@ -99,7 +106,7 @@ impl Builder<'_> {
         let handle = super::find(&self.modules[m].services, at, "service")?;
         let ends = self.call_ends(handle.types(), &describe)?;
         let mut route = self.route(ros2::answer_link(service.id), "ROS 2");
-        route.json = true;
+        route.ros2 = Some(service_messages(service, &describe)?);
         let (client, end) = ends.remote_client(format!("{} (ROS 2)", at.1), route);
         let handle = super::find(&self.modules[m].services, at, "service")?;
         client
@@ -109,7 +116,7 @@ impl Builder<'_> {
     }
 
     /// The stand-in service the module's client calls: each call goes to the network as
-    /// a request of the ROS 2 service (JSON), the answer comes back on the answer link.
+    /// a request of the ROS 2 service (CDR), the answer comes back on the answer link.
     fn ros2_call(&mut self, client: &Ros2Service) -> Result<(), BuildError> {
         let at = (client.port.0.as_str(), client.port.1.as_str());
         let describe = format!("`{}/{}` → ROS 2 service `{}`", at.0, at.1, client.name);
@@ -117,7 +124,7 @@ impl Builder<'_> {
         let handle = super::find(&self.modules[m].clients, at, "client")?;
         let ends = self.call_ends(handle.types(), &describe)?;
         let mut route = self.route(ros2::request_link(client.id), "ROS 2");
-        route.json = true;
+        route.ros2 = Some(service_messages(client, &describe)?);
         let (service, end) = ends.remote_service(format!("{} (ROS 2)", client.name), route);
         let handle = super::find(&self.modules[m].clients, at, "client")?;
         handle
@@ -155,18 +162,41 @@ impl Builder<'_> {
     }
 }
 
-/// The receiving end of a subscribed topic: a value's JSON (the message or the field
-/// the port carries) published into the port.
-struct JsonEnd {
+/// The message (or field) of a topic end, from the shipped definitions.
+fn shape(topic: &Ros2Topic, describe: &str) -> Result<Shape<'static>, BuildError> {
+    ros2::topic_shape(topic).map_err(|why| BuildError::Connect(format!("{describe}: {why}")))
+}
+
+/// The request and response messages of a service end.
+fn service_messages(
+    service: &Ros2Service,
+    describe: &str,
+) -> Result<Arc<ServiceMessages>, BuildError> {
+    ServiceMessages::new(service)
+        .map(Arc::new)
+        .map_err(|why| BuildError::Connect(format!("{describe}: {why}")))
+}
+
+/// The receiving end of a subscribed topic: a sample's CDR (the message, of which the
+/// port carries all or one field) decoded into the port. A sample that does not decode
+/// (a foreign node's malformed one) is reported, throttled and naming the topic, and
+/// dropped; the part keeps running.
+struct CdrEnd {
     out: DynOut,
     codec: Codec,
+    shape: Shape<'static>,
+    topic: String,
     describe: String,
 }
 
-impl Receive for JsonEnd {
+impl Receive for CdrEnd {
     fn receive(&self, bytes: &[u8]) -> Result<(), String> {
-        self.codec
-            .from_json(Some(&self.out), bytes)
-            .map_err(|why| format!("{}: {why}", self.describe))
+        if let Err(why) = self.codec.ros2_decode(&self.out, &self.shape, bytes) {
+            ferroc_ports::console::report(&format!(
+                "warning: a sample of the ROS 2 topic `{}` was dropped ({}): {why}",
+                self.topic, self.describe
+            ));
+        }
+        Ok(())
     }
 }
