@@ -400,8 +400,9 @@ impl Ros2Network {
             listen: "tcp/localhost:0".into(),
             peers: [("rmw_zenohd".to_string(), ROUTER.to_string())].into(),
         };
-        let config = crate::config::config(&addresses, file)
+        let mut config = crate::config::config(&addresses, file)
             .map_err(|e| e.replacen("--zenoh-config ", named, 1))?;
+        super::durability::session_settings(&mut config)?;
         Ok(Ros2Network { config })
     }
 }
