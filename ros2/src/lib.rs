@@ -32,5 +32,5 @@ pub mod units;
 mod value;
 
 pub use error::DefinitionError;
-pub use registry::Registry;
+pub use registry::{Registry, TeamFile};
 pub use value::Value;

@@ -6,7 +6,7 @@
 use super::code::Code;
 use super::literals::call;
 use super::text::rust_str;
-use ferroc_compiler::plan::{Ros2Node, Ros2Service, Ros2Topic};
+use ferroc_compiler::plan::{Ros2Interface, Ros2Node, Ros2Service, Ros2Topic};
 
 /// The `builder.ros2_node(…)` block of `node`, after a line break; empty without one.
 pub(super) fn node_block(node: Option<&Ros2Node>) -> String {
@@ -47,6 +47,13 @@ pub(super) fn node_block(node: Option<&Ros2Node>) -> String {
             code.line(2, "],");
         }
     }
+    if node.interfaces.is_empty() {
+        code.line(2, "interfaces: vec![],");
+    } else {
+        code.line(2, "interfaces: vec![");
+        node.interfaces.iter().for_each(|i| interface(&mut code, i));
+        code.line(2, "],");
+    }
     code.line(1, "})?;");
     code.text.trim_end_matches('\n').to_string()
 }
@@ -62,6 +69,9 @@ pub(super) fn type_names(node: Option<&Ros2Node>) -> Vec<&'static str> {
     }
     if !(node.services.is_empty() && node.clients.is_empty()) {
         names.push("Ros2Service");
+    }
+    if !node.interfaces.is_empty() {
+        names.push("Ros2Interface");
     }
     // In rustfmt's order.
     names.sort_unstable();
@@ -131,5 +141,16 @@ fn topic(code: &mut Code, t: &Ros2Topic) {
     code.line(5, &format!("transient_local: {},", t.qos.transient_local));
     code.line(5, &format!("depth: {},", t.qos.depth));
     code.line(4, "},");
+    code.line(3, "},");
+}
+
+/// One `Ros2Interface { … },` (a team's definition file, its text as a literal) at
+/// indentation 3.
+fn interface(code: &mut Code, i: &Ros2Interface) {
+    code.line(3, "Ros2Interface {");
+    code.line(4, &format!("package: {}.into(),", rust_str(&i.package)));
+    code.line(4, &format!("kind: {}.into(),", rust_str(&i.kind)));
+    code.line(4, &format!("name: {}.into(),", rust_str(&i.name)));
+    code.line(4, &format!("text: {}.into(),", rust_str(&i.text)));
     code.line(3, "},");
 }

@@ -21,6 +21,7 @@ use zenoh::liveliness::LivelinessToken;
 use zenoh::{Session, Wait};
 
 pub mod durability;
+pub mod interfaces;
 pub mod network;
 pub mod service;
 
