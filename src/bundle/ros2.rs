@@ -154,3 +154,38 @@ fn interface(code: &mut Code, i: &Ros2Interface) {
     code.line(4, &format!("text: {}.into(),", rust_str(&i.text)));
     code.line(3, "},");
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_team_s_definitions_are_written_into_the_node_and_named_in_its_use_line() {
+        let mut node = Ros2Node {
+            part: "robot".into(),
+            name: "base".into(),
+            namespace: "/".into(),
+            ..Ros2Node::default()
+        };
+        assert!(node_block(Some(&node)).contains("        interfaces: vec![],\n"));
+        assert!(!type_names(Some(&node)).contains(&"Ros2Interface"));
+        node.interfaces.push(Ros2Interface {
+            package: "robot_msgs".into(),
+            kind: "msg".into(),
+            name: "Wheel".into(),
+            text: "float64 speed # \"rad/s\"\n".into(),
+        });
+        let block = node_block(Some(&node));
+        let expected = "        interfaces: vec![
+            Ros2Interface {
+                package: \"robot_msgs\".into(),
+                kind: \"msg\".into(),
+                name: \"Wheel\".into(),
+                text: \"float64 speed # \\\"rad/s\\\"\\n\".into(),
+            },
+        ],
+";
+        assert!(block.contains(expected), "{block}");
+        assert!(type_names(Some(&node)).contains(&"Ros2Interface"));
+    }
+}
