@@ -87,12 +87,16 @@ fn package(ctx: &PassContext<'_>, index: usize, i: &Ros2Interfaces, out: &mut Di
         ),
         Ok(_) => {}
     }
-    for why in &i.unreadable {
+    // One finding for them all (findings at one place are one finding).
+    if !i.unreadable.is_empty() {
         out.push(
             Diagnostic::new(
                 &CHECK,
                 path_span,
-                format!("a definition of `{name}` cannot be read: {why}"),
+                format!(
+                    "definitions of `{name}` cannot be read: {}",
+                    i.unreadable.join("; ")
+                ),
             )
             .label("in this package")
             .help("keep the package's definitions as readable UTF-8 files inside its folder"),
