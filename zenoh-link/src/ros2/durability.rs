@@ -24,6 +24,7 @@
 
 use ferroc_ros2::rmw_zenoh::{self, Durability, History, Qos, Reliability};
 use std::time::Duration;
+use zenoh::bytes::ZBytes;
 use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::qos::CongestionControl;
 use zenoh::sample::Sample;
@@ -94,7 +95,12 @@ impl TopicPublisher {
     }
 
     /// Sends one sample with its attachment (and keeps it, when transient-local).
-    pub fn put(&self, payload: Vec<u8>, attachment: Vec<u8>) -> zenoh::Result<()> {
+    pub fn put(
+        &self,
+        payload: impl Into<ZBytes>,
+        attachment: impl Into<ZBytes>,
+    ) -> zenoh::Result<()> {
+        let attachment: ZBytes = attachment.into();
         match self {
             TopicPublisher::Volatile(p) => p.put(payload).attachment(attachment).wait(),
             TopicPublisher::TransientLocal(p) => p.put(payload).attachment(attachment).wait(),
