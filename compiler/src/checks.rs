@@ -63,6 +63,7 @@ pub static REGISTRY: &[&CheckInfo] = &[
     &ferroc_checks::ros2::r106_ros2_qos_incompatible::CHECK,
     &ferroc_checks::ros2::r107_ros2_topic_without_publisher::CHECK,
     &ferroc_checks::ros2::r108_ros2_service_mismatch::CHECK,
+    &ferroc_checks::ros2::r109_invalid_ros2_interfaces::CHECK,
     &ferroc_checks::behaviour::b101_meta_constant_out_of_range::CHECK,
     &ferroc_checks::behaviour::b102_meta_input_from_number::CHECK,
     &ferroc_checks::behaviour::b103_never_stimulated::CHECK,

@@ -174,3 +174,30 @@ fn a_ros2_end_whose_port_does_not_resolve_is_a_problem_not_left_out() {
     );
     assert_eq!(plan.ros2[0].topics.len(), 3, "the topics are planned still");
 }
+
+#[test]
+fn every_node_carries_the_model_s_own_message_packages_and_none_without() {
+    let (plain, _) = plan_of(|t| t);
+    assert!(plain.ros2[0].interfaces.is_empty());
+
+    // R109's silent fixture: the team package robot_msgs, used by a subscription.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("checks/src/ros2/r109_invalid_ros2_interfaces/silent.xml");
+    let options = Options::default();
+    let result = ferroc_compiler::check_model(&path, &options, &Policy::default()).unwrap();
+    let app = result.app.as_ref().expect("the model resolves");
+    let (plan, _) = plan::plan(app, &result.libraries, &[]);
+    let carried: Vec<(&str, &str, &str)> = (plan.ros2[0].interfaces.iter())
+        .map(|i| (i.package.as_str(), i.kind.as_str(), i.name.as_str()))
+        .collect();
+    assert_eq!(
+        carried,
+        [
+            ("robot_msgs", "msg", "Drive"),
+            ("robot_msgs", "msg", "Wheel"),
+            ("robot_msgs", "srv", "SetMode"),
+        ]
+    );
+    let wheel = &plan.ros2[0].interfaces[1];
+    assert!(wheel.text.contains("float64 torque"), "{}", wheel.text);
+}

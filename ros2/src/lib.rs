@@ -36,5 +36,5 @@ mod value;
 mod wire;
 
 pub use error::DefinitionError;
-pub use registry::Registry;
+pub use registry::{Registry, TeamFile};
 pub use value::Value;

@@ -1,6 +1,6 @@
 //! The packages a program knows: the shipped ones and any a team adds by pointing at
 //! their folders. Resolves nested types (every named type exists, no cycles).
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use crate::def::{Arity, BaseType, Field, FieldType, Message, Place, Service, TypeName};
@@ -12,6 +12,19 @@ const SHIPPED: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shipped.rs"
 
 /// A definition file larger than this is refused (the largest shipped one is under 8 KiB).
 const MAX_FILE_BYTES: u64 = 1 << 20;
+
+/// One definition file of a team's package, as [`Registry::shipped_with`] takes it.
+#[derive(Debug, Clone, Copy)]
+pub struct TeamFile<'t> {
+    pub package: &'t str,
+    /// `msg` or `srv`.
+    pub kind: &'t str,
+    /// The type's name (the file's stem).
+    pub name: &'t str,
+    pub text: &'t str,
+    /// The file as errors name it.
+    pub file: &'t str,
+}
 
 /// Message and service types by full name.
 #[derive(Debug, Clone, Default)]
@@ -52,6 +65,42 @@ impl Registry {
     /// The file names of the shipped definitions (`std_msgs/msg/Header.msg`, …).
     pub fn shipped_files() -> impl Iterator<Item = &'static str> {
         SHIPPED.iter().map(|(path, _)| *path)
+    }
+
+    /// The shipped packages with a team's definitions added (`<ros2-interfaces>` in a
+    /// model): every file parsed, then every nested type resolved across all packages.
+    /// A file of a shipped package's name is refused (a team package cannot redefine
+    /// `std_msgs`); every problem is returned, the registry holds what did parse.
+    pub fn shipped_with<'t>(
+        files: impl IntoIterator<Item = TeamFile<'t>>,
+    ) -> (Registry, Vec<DefinitionError>) {
+        let mut registry = Registry::shipped_shared().clone();
+        let shipped = Registry::shipped_shared().packages();
+        let mut errors = Vec::new();
+        for f in files {
+            if shipped.contains(f.package) {
+                errors.push(DefinitionError::new(
+                    f.file,
+                    1,
+                    1,
+                    format!("package `{}` is one ferroc ships", f.package),
+                    "a team package cannot redefine a shipped one: give yours its own name",
+                ));
+                continue;
+            }
+            if let Err(e) = registry.add_text(f.package, f.kind, f.name, f.text, f.file) {
+                errors.push(e);
+            }
+        }
+        errors.extend(registry.check());
+        (registry, errors)
+    }
+
+    /// The packages the registry's types come from.
+    pub fn packages(&self) -> BTreeSet<&str> {
+        let messages = self.messages.keys().map(|n| n.package.as_str());
+        let services = self.services.keys().map(|n| n.package.as_str());
+        messages.chain(services).collect()
     }
 
     /// Adds one definition from its text: `kind` is `msg` or `srv`.

@@ -40,10 +40,12 @@ pub(super) fn dependencies(
     // part needs it).
     if layout.parts.iter().any(|p| p.uses_zenoh()) {
         let mut zenoh = ours("ferroc-zenoh", "zenoh-link", "the Zenoh transport")?;
-        zenoh.features = Some(if shares_memory(layout) {
-            &["shared-memory"]
-        } else {
-            &[]
+        let ros2 = layout.parts.iter().any(|p| p.ros2.is_some());
+        zenoh.features = Some(match (shares_memory(layout), ros2) {
+            (true, true) => &["shared-memory", "ros2-durability"],
+            (true, false) => &["shared-memory"],
+            (false, true) => &["ros2-durability"],
+            (false, false) => &[],
         });
         out.push(zenoh);
     }

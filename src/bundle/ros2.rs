@@ -6,7 +6,7 @@
 use super::code::Code;
 use super::literals::call;
 use super::text::rust_str;
-use ferroc_compiler::plan::{Ros2Node, Ros2Service, Ros2Topic};
+use ferroc_compiler::plan::{Ros2Interface, Ros2Node, Ros2Service, Ros2Topic};
 
 /// The `builder.ros2_node(…)` block of `node`, after a line break; empty without one.
 pub(super) fn node_block(node: Option<&Ros2Node>) -> String {
@@ -47,6 +47,13 @@ pub(super) fn node_block(node: Option<&Ros2Node>) -> String {
             code.line(2, "],");
         }
     }
+    if node.interfaces.is_empty() {
+        code.line(2, "interfaces: vec![],");
+    } else {
+        code.line(2, "interfaces: vec![");
+        node.interfaces.iter().for_each(|i| interface(&mut code, i));
+        code.line(2, "],");
+    }
     code.line(1, "})?;");
     code.text.trim_end_matches('\n').to_string()
 }
@@ -62,6 +69,9 @@ pub(super) fn type_names(node: Option<&Ros2Node>) -> Vec<&'static str> {
     }
     if !(node.services.is_empty() && node.clients.is_empty()) {
         names.push("Ros2Service");
+    }
+    if !node.interfaces.is_empty() {
+        names.push("Ros2Interface");
     }
     // In rustfmt's order.
     names.sort_unstable();
@@ -132,4 +142,50 @@ fn topic(code: &mut Code, t: &Ros2Topic) {
     code.line(5, &format!("depth: {},", t.qos.depth));
     code.line(4, "},");
     code.line(3, "},");
+}
+
+/// One `Ros2Interface { … },` (a team's definition file, its text as a literal) at
+/// indentation 3.
+fn interface(code: &mut Code, i: &Ros2Interface) {
+    code.line(3, "Ros2Interface {");
+    code.line(4, &format!("package: {}.into(),", rust_str(&i.package)));
+    code.line(4, &format!("kind: {}.into(),", rust_str(&i.kind)));
+    code.line(4, &format!("name: {}.into(),", rust_str(&i.name)));
+    code.line(4, &format!("text: {}.into(),", rust_str(&i.text)));
+    code.line(3, "},");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_team_s_definitions_are_written_into_the_node_and_named_in_its_use_line() {
+        let mut node = Ros2Node {
+            part: "robot".into(),
+            name: "base".into(),
+            namespace: "/".into(),
+            ..Ros2Node::default()
+        };
+        assert!(node_block(Some(&node)).contains("        interfaces: vec![],\n"));
+        assert!(!type_names(Some(&node)).contains(&"Ros2Interface"));
+        node.interfaces.push(Ros2Interface {
+            package: "robot_msgs".into(),
+            kind: "msg".into(),
+            name: "Wheel".into(),
+            text: "float64 speed # \"rad/s\"\n".into(),
+        });
+        let block = node_block(Some(&node));
+        let expected = "        interfaces: vec![
+            Ros2Interface {
+                package: \"robot_msgs\".into(),
+                kind: \"msg\".into(),
+                name: \"Wheel\".into(),
+                text: \"float64 speed # \\\"rad/s\\\"\\n\".into(),
+            },
+        ],
+";
+        assert!(block.contains(expected), "{block}");
+        assert!(type_names(Some(&node)).contains(&"Ros2Interface"));
+    }
 }

@@ -11,6 +11,7 @@
 //! dropped by the port's receiving end the same way: the part keeps running and other
 //! topics keep flowing.
 
+use durability::{TopicPublisher, TopicSubscriber};
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::{self, Attachment, EntityKind, NodeInfo, Qos, TopicInfo};
 use ferroc_ros2::{cdr, Registry};
@@ -19,10 +20,10 @@ use std::sync::atomic::{AtomicI64, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{SystemTime, UNIX_EPOCH};
 use zenoh::liveliness::LivelinessToken;
-use zenoh::pubsub::{Publisher, Subscriber};
-use zenoh::qos::CongestionControl;
 use zenoh::{Session, Wait};
 
+pub mod durability;
+pub mod interfaces;
 pub mod network;
 pub mod service;
 
@@ -108,15 +109,7 @@ impl Ros2Node {
     pub fn publisher(&self, spec: TopicSpec) -> Result<Ros2Publisher, String> {
         let (key, live, _) = self.keys(&spec, EntityKind::Publisher)?;
         let token = token(&self.session, &live, &spec.topic)?;
-        let congestion = match spec.qos.reliability {
-            rmw_zenoh::Reliability::Reliable => CongestionControl::Block,
-            rmw_zenoh::Reliability::BestEffort => CongestionControl::Drop,
-        };
-        let publisher = self
-            .session
-            .declare_publisher(key)
-            .congestion_control(congestion)
-            .wait()
+        let publisher = TopicPublisher::declare(&self.session, key, &spec.qos)
             .map_err(|e| format!("cannot publish the ROS 2 topic `{}`: {e}", spec.topic))?;
         Ok(Ros2Publisher {
             registry: Arc::clone(&self.registry),
@@ -137,23 +130,19 @@ impl Ros2Node {
     ) -> Result<Ros2Subscriber, String> {
         let (key, live, _) = self.keys(&spec, EntityKind::Subscription)?;
         let token = token(&self.session, &live, &spec.topic)?;
-        let topic = spec.topic.clone();
-        let subscriber = self
-            .session
-            .declare_subscriber(key)
-            .callback(move |sample| {
-                let attachment = sample.attachment().map(|a| a.to_bytes().into_owned());
-                let payload = sample.payload().to_bytes();
-                match receive(attachment.as_deref(), &payload) {
-                    Ok(()) => deliver(payload.into_owned()),
-                    Err(why) => console::report(&format!(
-                        "warning: a sample of the ROS 2 topic `{}` was dropped: {why}",
-                        spec.topic
-                    )),
-                }
-            })
-            .wait()
-            .map_err(|e| format!("cannot subscribe to the ROS 2 topic `{topic}`: {e}"))?;
+        let (topic, qos) = (spec.topic.clone(), spec.qos);
+        let subscriber = TopicSubscriber::declare(&self.session, key, &qos, move |sample| {
+            let attachment = sample.attachment().map(|a| a.to_bytes().into_owned());
+            let payload = sample.payload().to_bytes();
+            match receive(attachment.as_deref(), &payload) {
+                Ok(()) => deliver(payload.into_owned()),
+                Err(why) => console::report(&format!(
+                    "warning: a sample of the ROS 2 topic `{}` was dropped: {why}",
+                    spec.topic
+                )),
+            }
+        })
+        .map_err(|e| format!("cannot subscribe to the ROS 2 topic `{topic}`: {e}"))?;
         Ok(Ros2Subscriber {
             _subscriber: subscriber,
             _token: token,
@@ -191,7 +180,7 @@ pub struct Ros2Publisher {
     registry: Arc<Registry>,
     spec: TopicSpec,
     gid: [u8; 16],
-    publisher: Publisher<'static>,
+    publisher: TopicPublisher,
     sequence: AtomicI64,
     _token: LivelinessToken,
 }
@@ -217,9 +206,7 @@ impl Ros2Publisher {
             gid: self.gid,
         };
         self.publisher
-            .put(bytes)
-            .attachment(attachment.encode().to_vec())
-            .wait()
+            .put(bytes, attachment.encode().to_vec())
             .map_err(|e| format!("cannot publish on `{}`: {e}", self.spec.topic))
     }
 
@@ -231,7 +218,7 @@ impl Ros2Publisher {
 
 /// A ROS 2 subscription; dropping it ends it.
 pub struct Ros2Subscriber {
-    _subscriber: Subscriber<()>,
+    _subscriber: TopicSubscriber,
     _token: LivelinessToken,
 }
 

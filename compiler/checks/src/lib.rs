@@ -47,6 +47,9 @@ pub struct PassContext<'a> {
     /// and S107 (hard waits) all read it, and building it walks every module that can
     /// wait, which is a noticeable share of checking a large model.
     deadlock: std::cell::OnceCell<ferroc_deadlock::Model>,
+    /// The shipped ROS 2 packages with the model's own (`<ros2-interfaces>`), parsed
+    /// on first use by the checks of area R.
+    ros2_team: std::cell::OnceCell<ros2::Team>,
 }
 
 impl<'a> PassContext<'a> {
@@ -63,6 +66,7 @@ impl<'a> PassContext<'a> {
             lockstep: false,
             ends,
             deadlock: std::cell::OnceCell::new(),
+            ros2_team: std::cell::OnceCell::new(),
         }
     }
 
@@ -70,6 +74,12 @@ impl<'a> PassContext<'a> {
     pub fn deadlock_model(&self) -> &ferroc_deadlock::Model {
         self.deadlock
             .get_or_init(|| ferroc_deadlock::model(self.app, self.libraries))
+    }
+
+    /// The model's ROS 2 registry and what is wrong in its team packages, built once.
+    pub(crate) fn ros2_team(&self) -> &ros2::Team {
+        self.ros2_team
+            .get_or_init(|| ros2::Team::read(self.app, self.sources))
     }
 
     /// The connections whose two ends resolve, with those ends.
@@ -149,6 +159,7 @@ passes![
     ros2::r106_ros2_qos_incompatible,
     ros2::r107_ros2_topic_without_publisher,
     ros2::r108_ros2_service_mismatch,
+    ros2::r109_invalid_ros2_interfaces,
 ];
 
 /// Runs every pass.

@@ -12,6 +12,8 @@ pub mod r105_topic_type_conflict;
 pub mod r106_ros2_qos_incompatible;
 pub mod r107_ros2_topic_without_publisher;
 pub mod r108_ros2_service_mismatch;
+pub mod r109_invalid_ros2_interfaces;
+mod team;
 
 use crate::PassContext;
 use ferroc_diagnostics::source::Span;
@@ -22,9 +24,15 @@ use ferroc_ros2::Registry;
 use ferroc_values::types::Type;
 use ferroc_values::units::Unit;
 
-/// The shipped ROS 2 packages, parsed once per process (only when a model names ROS 2).
-pub(crate) fn registry() -> &'static Registry {
-    Registry::shipped_shared()
+pub(crate) use team::Team;
+
+/// The ROS 2 packages the model knows: the shipped ones (parsed once per process, only
+/// when a model names ROS 2) and its own (`<ros2-interfaces>`, parsed once per check).
+pub(crate) fn registry<'c>(ctx: &'c PassContext<'_>) -> &'c Registry {
+    if ctx.app.ros2.interfaces.is_empty() {
+        return Registry::shipped_shared();
+    }
+    &ctx.ros2_team().registry
 }
 
 /// A topic end whose name ROS 2 accepts, with its fully qualified name.
@@ -129,7 +137,7 @@ pub(crate) struct Walked<'a> {
 
 /// Every bound topic of the model's own nodes, walked.
 pub(crate) fn walked_topics<'a>(ctx: &PassContext<'a>) -> Vec<Walked<'a>> {
-    let reg = registry();
+    let reg = registry(ctx);
     let mut out = Vec::new();
     for node in ctx.app.ros2.nodes.iter().filter(|n| !n.is_external()) {
         for topic in &node.topics {
@@ -174,10 +182,10 @@ pub(crate) struct Walk<'a> {
 }
 
 impl Walk<'_> {
-    pub(crate) fn new<'a>(ctx: &PassContext<'a>, dir: TopicDirection) -> Walk<'a> {
+    pub(crate) fn new<'c>(ctx: &'c PassContext<'_>, dir: TopicDirection) -> Walk<'c> {
         Walk {
             libs: ctx.libraries,
-            reg: registry(),
+            reg: registry(ctx),
             publish: dir == TopicDirection::Publish,
             found: Vec::new(),
         }

@@ -15,7 +15,10 @@ mod query;
 mod ros2;
 mod tables;
 pub use extras::{LinkSettings, ModuleExtras};
-pub use ros2::{Ros2, Ros2Node, Ros2Service, Ros2Topic, ServiceRole, Spanned, TopicDirection};
+pub use ros2::{
+    Ros2, Ros2InterfaceFile, Ros2Interfaces, Ros2Node, Ros2Service, Ros2Topic, ServiceRole,
+    Spanned, TopicDirection,
+};
 pub use tables::{Children, NodeTable};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -12,7 +12,7 @@ mod ports;
 mod ros2;
 
 pub use ferroc_model::ir::Wait;
-pub use ferroc_ros2_node::{Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};
+pub use ferroc_ros2_node::{Ros2Interface, Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};
 pub use links::{LinkSharing, PlannedCallLink, PlannedLink};
 
 use ferroc_diagnostics::source::Span;

@@ -125,6 +125,7 @@ pub static ELEMENTS: &[ElementSpec] = &[
     ros2::ROS2_EXTERNAL,
     ros2::ROS2_EXTERNAL_PUBLISH,
     ros2::ROS2_EXTERNAL_SUBSCRIBE,
+    ros2::ROS2_INTERFACES,
     // ----- library manifests -----
     manifest::LIBRARY,
     manifest::DEPENDS,

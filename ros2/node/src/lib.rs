@@ -36,6 +36,23 @@ pub struct Ros2Node {
     /// Its `<client>` ends: modules' clients calling ROS 2 services (absent: none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub clients: Vec<Ros2Service>,
+    /// The definitions of the model's own ROS 2 packages (`<ros2-interfaces>`), which
+    /// its types may name beside the shipped packages (absent: none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub interfaces: Vec<Ros2Interface>,
+}
+
+/// One definition file of a team's ROS 2 package, as text.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Ros2Interface {
+    /// The package (`my_robot_msgs`).
+    pub package: String,
+    /// `msg` or `srv`.
+    pub kind: String,
+    /// The type's name (`WheelSpeeds`).
+    pub name: String,
+    /// The file's text, in ROS 2's `.msg`/`.srv` format.
+    pub text: String,
 }
 
 /// One `<publish>` or `<subscribe>` of a node.
@@ -132,7 +149,23 @@ mod tests {
             }],
             services: Vec::new(),
             clients: Vec::new(),
+            interfaces: Vec::new(),
         }
+    }
+
+    #[test]
+    fn a_team_s_definitions_travel_and_default_to_none() {
+        let mut with = node();
+        with.interfaces.push(Ros2Interface {
+            package: "robot_msgs".into(),
+            kind: "msg".into(),
+            name: "Wheel".into(),
+            text: "float64 speed\n".into(),
+        });
+        let text = serde_json::to_string(&with).unwrap();
+        assert_eq!(serde_json::from_str::<Ros2Node>(&text).unwrap(), with);
+        let plain = serde_json::to_string(&node()).unwrap();
+        assert!(!plain.contains("interfaces"), "{plain}");
     }
 
     #[test]

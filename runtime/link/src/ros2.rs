@@ -45,7 +45,7 @@ pub fn answer_link(id: u32) -> u32 {
 
 /// The node's description, shared with the plan, the run plan and bundles
 /// (`ferroc-ros2-node`): one type in every layer.
-pub use ferroc_ros2_node::{Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};
+pub use ferroc_ros2_node::{Ros2Interface, Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};
 
 /// What the values of a topic end are on the wire: its message type of the shipped
 /// definitions, all of it or the one field the port carries.

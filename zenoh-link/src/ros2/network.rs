@@ -18,7 +18,6 @@ use super::service::{Ros2Caller, Ros2Server, ServiceSpec};
 use super::{NodeSpec, Ros2Node, Ros2Publisher, Ros2Subscriber, TopicSpec};
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::{Durability, History, Qos, Reliability};
-use ferroc_ros2::Registry;
 use ferroc_runtime::console;
 use ferroc_runtime::link::ros2::{self as ends, Ros2Qos};
 use ferroc_runtime::link::transport::{
@@ -61,7 +60,7 @@ impl Ros2Ends {
         delivery: Delivery,
         lockstep: bool,
     ) -> Result<Ros2Ends, String> {
-        let registry = Arc::new(Registry::shipped());
+        let registry = Arc::new(super::interfaces::registry(nodes)?);
         let arrived = lockstep.then(Arc::<Arrived>::default);
         let mut open = Ros2Ends {
             publishers: BTreeMap::new(),
@@ -395,8 +394,9 @@ impl Ros2Network {
             listen: "tcp/localhost:0".into(),
             peers: [("rmw_zenohd".to_string(), ROUTER.to_string())].into(),
         };
-        let config = crate::config::config(&addresses, file)
+        let mut config = crate::config::config(&addresses, file)
             .map_err(|e| e.replacen("--zenoh-config ", named, 1))?;
+        super::durability::session_settings(&mut config)?;
         Ok(Ros2Network { config })
     }
 }

@@ -27,14 +27,14 @@ Fix: `field=\"linear.x\"` (Vector3 has x, y, z).",
 };
 
 pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
-    let reg = super::registry();
+    let reg = super::registry(ctx);
     for node in &ctx.app.ros2.nodes {
         for t in &node.topics {
             if let Err((span, why)) = super::target(reg, t) {
                 out.push(
                     Diagnostic::new(&CHECK, span, why)
                         .label("unknown")
-                        .help("name a type of the shipped packages (e.g. `geometry_msgs/msg/Twist`) and one of its fields; docs/ros2.md lists them"),
+                        .help("name a type of the shipped packages (e.g. `geometry_msgs/msg/Twist`) or of a package the model adds with <ros2-interfaces>, and one of its fields; docs/ros2.md lists them"),
                 );
             }
             let want = match t.direction {
@@ -55,7 +55,7 @@ fn service(ctx: &PassContext<'_>, s: &Ros2Service, out: &mut Diagnostics) {
     let (text, span) = &s.ty;
     let known = TypeName::parse(text)
         .filter(|n| n.kind == "srv")
-        .is_some_and(|n| super::registry().service(&n).is_some());
+        .is_some_and(|n| super::registry(ctx).service(&n).is_some());
     if !known {
         out.push(
             Diagnostic::new(&CHECK, *span, format!("no service type `{text}` is known"))

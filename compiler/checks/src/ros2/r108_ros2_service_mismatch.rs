@@ -42,7 +42,7 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
 
 /// The first mismatch of the request and of the response of `s`, each reported.
 fn check(ctx: &PassContext<'_>, s: &Ros2Service, out: &mut Diagnostics) {
-    let reg = super::registry();
+    let reg = super::registry(ctx);
     let Some(srv) = TypeName::parse(&s.ty.0).filter(|n| n.kind == "srv") else {
         return; // R101 reports it
     };

@@ -4,7 +4,7 @@
 //! there with `ferroc_ros2::names`, so a bad name is one finding, not a missing node.
 
 use super::{ElementId, Endpoint};
-use ferroc_diagnostics::source::Span;
+use ferroc_diagnostics::source::{FileId, Span};
 use hashbrown::HashSet;
 
 /// Every ROS 2 node of the model and every external one it declares.
@@ -14,6 +14,8 @@ pub struct Ros2 {
     /// The ports a `<publish>`, `<subscribe>`, `<service>` or `<client>` names: they are
     /// connected to ROS 2, so "not connected" findings (T109, T110) pass them over.
     pub ports: HashSet<Endpoint>,
+    /// The team packages `<ros2-interfaces>` adds, in model order.
+    pub interfaces: Vec<Ros2Interfaces>,
 }
 
 impl Ros2 {
@@ -123,4 +125,33 @@ pub struct Ros2Service {
     pub port: Option<Spanned<Endpoint>>,
     pub name: Spanned<String>,
     pub ty: Spanned<String>,
+}
+
+/// A `<ros2-interfaces>`: a team's package and the definition files read from its
+/// folder (into the model's sources, so findings point into them). Parsing and
+/// judging them is R109's (`checks/src/ros2/`).
+#[derive(Debug)]
+pub struct Ros2Interfaces {
+    /// The element's tag.
+    pub span: Span,
+    pub package: Spanned<String>,
+    pub path: Spanned<String>,
+    /// The files read (`msg/*.msg`, `srv/*.srv`, sorted by name), or why the folder
+    /// could not be read (`None`: refused and reported already, as outside the model's
+    /// folder).
+    pub files: Result<Vec<Ros2InterfaceFile>, Option<String>>,
+    /// Files of the folder that could not be read, each with why.
+    pub unreadable: Vec<String>,
+}
+
+/// One definition file of a team's package.
+#[derive(Debug, Clone)]
+pub struct Ros2InterfaceFile {
+    /// `msg` or `srv`.
+    pub kind: &'static str,
+    /// The type's name: the file's stem.
+    pub name: String,
+    pub file: FileId,
+    /// Its text (also in the sources): what the plan hands the runtime.
+    pub text: String,
 }

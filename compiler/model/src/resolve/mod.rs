@@ -95,6 +95,7 @@ pub fn resolve(
     r.walk(ElementId(0), root, used, None, 0);
     r.application_timing(root);
     r.external_ros2(root);
+    r.ros2_interfaces(root);
     r.resolve_pending();
     r.app
 }

@@ -4,7 +4,17 @@
 
 use super::Resolver;
 use crate::ir::*;
+use crate::load::Confined;
 use ferroc_syntax::Element;
+use std::path::Path;
+
+/// A team package with more definition files than this is refused (the largest shipped
+/// package, sensor_msgs, has 27).
+const MAX_FILES: usize = 1000;
+
+/// A definition file larger than this is refused (as `ferroc_ros2::Registry` refuses
+/// one; the largest shipped one is under 8 KiB).
+const MAX_FILE_BYTES: usize = 1 << 20;
 
 impl Resolver<'_, '_, '_> {
     /// `<ros2>` children of the part `part`.
@@ -23,6 +33,110 @@ impl Resolver<'_, '_, '_> {
                 self.app.ros2.nodes.push(node);
             }
         }
+    }
+
+    /// `<ros2-interfaces>` children of the application: each package's definition
+    /// files read into the model's sources (R109 parses and judges them).
+    pub(super) fn ros2_interfaces(&mut self, root: &Element) {
+        for e in root.children_named("ros2-interfaces") {
+            let (Some(package), Some(path)) = (text(e, "package"), text(e, "path")) else {
+                continue; // M104 reported the missing attribute
+            };
+            let mut unreadable = Vec::new();
+            let files = match self.loader.confine(path.1.file, &path.0) {
+                Ok(folder) if folder.is_dir() => {
+                    Ok(self.definition_files(&folder, &mut unreadable))
+                }
+                Ok(_) => Err(Some("it is not a folder".to_string())),
+                Err(Confined::Outside) => {
+                    self.loader
+                        .report_outside(path.1, &path.0, "message packages");
+                    Err(None)
+                }
+                Err(Confined::Unreadable(why)) => Err(Some(why)),
+            };
+            self.app.ros2.interfaces.push(Ros2Interfaces {
+                span: e.name_span,
+                package,
+                path,
+                files,
+                unreadable,
+            });
+        }
+    }
+
+    /// The `msg/*.msg` and `srv/*.srv` files of `folder`, read into the sources.
+    fn definition_files(
+        &mut self,
+        folder: &Path,
+        unreadable: &mut Vec<String>,
+    ) -> Vec<Ros2InterfaceFile> {
+        let mut files = Vec::new();
+        for kind in ["msg", "srv"] {
+            let Ok(entries) = std::fs::read_dir(folder.join(kind)) else {
+                continue;
+            };
+            let mut paths: Vec<_> = entries.filter_map(Result::ok).map(|e| e.path()).collect();
+            paths.retain(|p| p.extension().is_some_and(|x| x == kind) && p.is_file());
+            paths.sort();
+            for path in paths {
+                let shown = format!(
+                    "{kind}/{}",
+                    path.file_name().unwrap_or_default().to_string_lossy()
+                );
+                if files.len() == MAX_FILES {
+                    unreadable.push(format!(
+                        "{shown} and the rest: a package has at most {MAX_FILES} definition files"
+                    ));
+                    break;
+                }
+                let Some(name) = path
+                    .file_stem()
+                    .and_then(|s| s.to_str())
+                    .map(str::to_string)
+                else {
+                    unreadable.push(format!("{shown}: the file name is not UTF-8"));
+                    continue;
+                };
+                // A link out of the package's folder is not followed (as includes'
+                // are not out of the model's folder).
+                if !path
+                    .canonicalize()
+                    .is_ok_and(|real| real.starts_with(folder))
+                {
+                    unreadable.push(format!("{shown}: it leads outside the package's folder"));
+                    continue;
+                }
+                let file = match self.loader.sources.find(&path) {
+                    Some(id) => id,
+                    None => match self.loader.options.read(&path) {
+                        Ok(text) => {
+                            let display = self.loader.display_name(&path);
+                            self.loader.sources.add(display, path.clone(), text)
+                        }
+                        Err(why) => {
+                            unreadable.push(format!("{shown}: {why}"));
+                            continue;
+                        }
+                    },
+                };
+                let text = self.loader.sources.get(file).text.clone();
+                if text.len() > MAX_FILE_BYTES {
+                    unreadable.push(format!(
+                        "{shown}: {} bytes, more than a definition may have ({MAX_FILE_BYTES})",
+                        text.len()
+                    ));
+                    continue;
+                }
+                files.push(Ros2InterfaceFile {
+                    kind,
+                    name,
+                    file,
+                    text,
+                });
+            }
+        }
+        files
     }
 
     /// A node and its ends; `None` without `node=` (M104 reported it).

@@ -10,8 +10,10 @@ use ferroc_model::library::LibrarySet;
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::names::expand_topic_name;
 use ferroc_ros2::Registry;
-use ferroc_ros2_node::{Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};
+use ferroc_ros2::TeamFile;
+use ferroc_ros2_node::{Ros2Interface, Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};
 use ferroc_values::types::Type;
+use std::borrow::Cow;
 
 /// The nodes of the model's parts; what cannot run yet is added to `problems`.
 pub(super) fn plan_ros2(
@@ -21,11 +23,13 @@ pub(super) fn plan_ros2(
 ) -> Vec<Ros2Node> {
     let (mut next_id, mut next_service) = (0, 0);
     let mut nodes = Vec::new();
+    let interfaces = team_interfaces(app);
+    let reg = registry(&interfaces);
     for node in app.ros2.nodes.iter().filter(|n| !n.is_external()) {
         let Some(part) = node.part else { continue };
         let (mut services, mut clients) = (Vec::new(), Vec::new());
         for s in &node.services {
-            match service(app, libs, node, s, next_service) {
+            match service(app, libs, &reg, (node, s), next_service) {
                 Ok(planned) if s.role == ServiceRole::Client => clients.push(planned),
                 Ok(planned) => services.push(planned),
                 Err(what) => problems.push(Unsupported { what, span: s.span }),
@@ -34,7 +38,7 @@ pub(super) fn plan_ros2(
         }
         let mut topics = Vec::new();
         for t in &node.topics {
-            match topic(app, libs, node, t, next_id) {
+            match topic(app, libs, &reg, (node, t), next_id) {
                 Ok(planned) => topics.push(planned),
                 Err(what) => problems.push(Unsupported { what, span: t.span }),
             }
@@ -48,20 +52,53 @@ pub(super) fn plan_ros2(
             topics,
             services,
             clients,
+            interfaces: interfaces.clone(),
         });
     }
     nodes
 }
 
+/// The definitions of the model's own packages (`<ros2-interfaces>`), which every node
+/// carries to the runtime (checked by R109 before any plan is made).
+fn team_interfaces(app: &Application) -> Vec<Ros2Interface> {
+    let mut out = Vec::new();
+    for i in &app.ros2.interfaces {
+        for f in i.files.iter().flatten() {
+            out.push(Ros2Interface {
+                package: i.package.0.clone(),
+                kind: f.kind.to_string(),
+                name: f.name.clone(),
+                text: f.text.clone(),
+            });
+        }
+    }
+    out
+}
+
+/// The shipped packages with `team`'s definitions.
+fn registry(team: &[Ros2Interface]) -> Cow<'static, Registry> {
+    if team.is_empty() {
+        return Cow::Borrowed(Registry::shipped_shared());
+    }
+    let files = team.iter().map(|i| TeamFile {
+        package: &i.package,
+        kind: &i.kind,
+        name: &i.name,
+        text: &i.text,
+        file: &i.name,
+    });
+    Cow::Owned(Registry::shipped_with(files).0)
+}
+
 /// The one field of `message` a port of type `port` carries when the port is a single
 /// value and the message a wrapper of one field (`f64` as `std_msgs/msg/Float64`, as
 /// check R102 accepts it): the runtime then fills that field alone.
-fn only_field(message: &str, port: &Type) -> Option<String> {
+fn only_field(reg: &Registry, message: &str, port: &Type) -> Option<String> {
     if matches!(port, Type::Named(..) | Type::Timestamp | Type::Duration) {
         return None;
     }
     let name = TypeName::parse(message)?;
-    match Registry::shipped_shared().message(&name)?.fields.as_slice() {
+    match reg.message(&name)?.fields.as_slice() {
         [only] => Some(only.name.clone()),
         _ => None,
     }
@@ -73,8 +110,8 @@ fn only_field(message: &str, port: &Type) -> Option<String> {
 fn service(
     app: &Application,
     libs: &LibrarySet,
-    node: &ir::Ros2Node,
-    s: &ir::Ros2Service,
+    reg: &Registry,
+    (node, s): (&ir::Ros2Node, &ir::Ros2Service),
     id: u32,
 ) -> Result<Ros2Service, String> {
     let Some((endpoint, _)) = s.port else {
@@ -95,8 +132,8 @@ fn service(
         port: (app.path(element), view.name.to_string()),
         name,
         service: s.ty.0.clone(),
-        request_field: only_field(&format!("{}_Request", s.ty.0), view.ty),
-        response_field: response.and_then(|r| only_field(&format!("{}_Response", s.ty.0), r)),
+        request_field: only_field(reg, &format!("{}_Request", s.ty.0), view.ty),
+        response_field: response.and_then(|r| only_field(reg, &format!("{}_Response", s.ty.0), r)),
     })
 }
 
@@ -104,8 +141,8 @@ fn service(
 fn topic(
     app: &Application,
     libs: &LibrarySet,
-    node: &ir::Ros2Node,
-    t: &ir::Ros2Topic,
+    reg: &Registry,
+    (node, t): (&ir::Ros2Node, &ir::Ros2Topic),
     id: u32,
 ) -> Result<Ros2Topic, String> {
     let Some((endpoint, _)) = t.port else {
@@ -130,7 +167,8 @@ fn topic(
         model_type: view.ty.to_string(),
         topic,
         message: t.ty.0.clone(),
-        field: (t.field.as_ref().map(|(f, _)| f.clone())).or_else(|| only_field(&t.ty.0, view.ty)),
+        field: (t.field.as_ref().map(|(f, _)| f.clone()))
+            .or_else(|| only_field(reg, &t.ty.0, view.ty)),
         qos: Ros2Qos {
             reliable: !t.is_best_effort(),
             transient_local: t.is_transient_local(),

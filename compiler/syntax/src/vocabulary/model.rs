@@ -24,6 +24,7 @@ pub(super) const APPLICATION: ElementSpec = ElementSpec {
         "flow",
         "allow",
         "ros2-external",
+        "ros2-interfaces",
     ],
     text: false,
 };

@@ -1,7 +1,8 @@
 //! The elements that make a part a ROS 2 node (issue 29, docs/ros2.md): `<ros2>` in a
 //! `<part>` names the node and lists the ports it publishes, subscribes, offers and calls
 //! as ROS 2 topics and services; `<ros2-external>` in the `<application>` declares a ROS 2
-//! node outside the model, so the checks can match topics and QoS against it.
+//! node outside the model, so the checks can match topics and QoS against it;
+//! `<ros2-interfaces>` in the `<application>` adds a team's message package.
 
 use super::AttrKind::*;
 use super::{opt, req, AttrSpec, ElementSpec};
@@ -90,6 +91,17 @@ pub(super) const ROS2_EXTERNAL: ElementSpec = ElementSpec {
     tag: "ros2-external",
     attrs: NODE_ATTRS,
     children: &["ros2-external-publish", "ros2-external-subscribe"],
+    text: false,
+};
+
+/// `<ros2-interfaces package="my_robot_msgs" path="interfaces/my_robot_msgs"/>` in the
+/// `<application>`: a team's ROS 2 package, read from its folder (`msg/*.msg`,
+/// `srv/*.srv`, as a ROS 2 package lays them out), beside the shipped packages.
+pub(super) const ROS2_INTERFACES: ElementSpec = ElementSpec {
+    key: "ros2-interfaces",
+    tag: "ros2-interfaces",
+    attrs: &[req("package", Ident), req("path", Text)],
+    children: &[],
     text: false,
 };
 
