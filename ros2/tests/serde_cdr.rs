@@ -162,9 +162,7 @@ impl<'de> Visitor<'de> for AnyVisitor {
 fn any_of(v: &Value) -> Any {
     match v {
         Value::Bytes(b) => Any::List(b.iter().map(|x| Any::Leaf(Value::U8(*x))).collect()),
-        Value::Array(items) | Value::Struct(items) => {
-            Any::List(items.iter().map(any_of).collect())
-        }
+        Value::Array(items) | Value::Struct(items) => Any::List(items.iter().map(any_of).collect()),
         v => Any::Leaf(v.clone()),
     }
 }

@@ -40,8 +40,22 @@ fn twist(topic: &str, reliability: Reliability, durability: Durability, depth: u
     }
 }
 
-fn moving(x: f64) -> Value {
-    json!({"linear": {"x": x, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": 0.0}})
+fn twist_type() -> TypeName {
+    TypeName::parse("geometry_msgs/msg/Twist").unwrap()
+}
+
+fn moving(x: f64) -> ferroc_ros2::Value {
+    let port =
+        json!({"linear": {"x": x, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": 0.0}});
+    ferroc_ros2::json::from_json(Registry::shipped_shared(), &twist_type(), None, &port).unwrap()
+}
+
+/// The `linear.x` of a Twist sample's CDR (at run time the port's end decodes it).
+fn linear_x(cdr: &[u8]) -> f64 {
+    let reg = Registry::shipped_shared();
+    let message = ferroc_ros2::cdr::decode(reg, &twist_type(), cdr).unwrap();
+    let port: Value = ferroc_ros2::json::to_json(reg, &twist_type(), None, &message).unwrap();
+    port["linear"]["x"].as_f64().unwrap()
 }
 
 /// The `linear.x` of each Twist a subscription received, in order.
@@ -51,11 +65,7 @@ fn subscribe(node: &Ros2Node, spec: TopicSpec) -> (ferroc_zenoh::ros2::Ros2Subsc
     let got = Got::default();
     let into = Arc::clone(&got);
     let subscriber = node
-        .subscriber(spec, move |v| {
-            into.lock()
-                .unwrap()
-                .push(v["linear"]["x"].as_f64().unwrap())
-        })
+        .subscriber(spec, move |cdr| into.lock().unwrap().push(linear_x(&cdr)))
         .unwrap();
     (subscriber, got)
 }
@@ -99,7 +109,7 @@ fn late_joiners(timestamps: bool) {
     .map(Result::unwrap);
     for x in 1..=5 {
         for p in &publishers {
-            p.publish_json(&moving(f64::from(x))).unwrap();
+            p.publish(&moving(f64::from(x))).unwrap();
         }
     }
 

@@ -13,6 +13,7 @@ mod support;
 
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::Qos;
+use ferroc_ros2::{cdr, json, Registry};
 use ferroc_runtime::link::ros2::{Ros2Interface, Ros2Node as NodeDescription};
 use ferroc_runtime::link::transport::Addresses;
 use ferroc_zenoh::ros2::{interfaces, NodeSpec, Ros2Node, TopicSpec};
@@ -80,12 +81,17 @@ fn rosbags_reads_a_team_type_we_publish_with_its_own_hash_and_we_read_its() {
         namespace: "/".into(),
         name: "ferroc_team".into(),
     };
-    let node = Ros2Node::declare(&session, registry, &spec, 0).unwrap();
+    let node = Ros2Node::declare(&session, Arc::clone(&registry), &spec, 0).unwrap();
     let publisher = node.publisher(drive("/drive")).unwrap();
     let received = Arc::new(Mutex::new(Vec::new()));
     let into = Arc::clone(&received);
     let _subscriber = node
-        .subscriber(drive("/drive_in"), move |v| into.lock().unwrap().push(v))
+        .subscriber(drive("/drive_in"), {
+            // Samples arrive as CDR (the port's end decodes them at run time); here the
+            // team's definitions read them back to the port's serde form.
+            let registry = Arc::clone(&registry);
+            move |cdr| into.lock().unwrap().push(as_json(&registry, &cdr))
+        })
         .unwrap();
 
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/python/ros2_team.py");
@@ -104,8 +110,9 @@ fn rosbags_reads_a_team_type_we_publish_with_its_own_hash_and_we_read_its() {
         "direction": {"x": 1.0, "y": 0.0, "z": 0.0},
         "mode": 1
     });
+    let message = json::from_json(&registry, &drive("/drive").ty, None, &value).unwrap();
     let out = loop {
-        publisher.publish_json(&value).unwrap();
+        publisher.publish(&message).unwrap();
         if child.try_wait().unwrap().is_some() {
             break child.wait_with_output().unwrap();
         }
@@ -142,4 +149,11 @@ fn rosbags_reads_a_team_type_we_publish_with_its_own_hash_and_we_read_its() {
     assert!(got.iter().all(|v| *v == expected), "{got:?}");
     drop(node);
     session.close().wait().unwrap();
+}
+
+/// A Drive sample's CDR as the serde form a port's value has.
+fn as_json(registry: &Registry, bytes: &[u8]) -> serde_json::Value {
+    let ty = drive("/drive").ty;
+    let message = cdr::decode(registry, &ty, bytes).unwrap();
+    json::to_json(registry, &ty, None, &message).unwrap()
 }

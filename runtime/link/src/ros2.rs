@@ -16,7 +16,9 @@
 
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::serde_cdr::Shape;
-use ferroc_ros2::Registry;
+use ferroc_ros2::{Registry, TeamFile};
+use std::collections::BTreeSet;
+use std::sync::Mutex;
 
 /// Link numbers of data links stay below this; ROS 2 end `k` travels on
 /// `ROS2_LINKS + k`; calls between parts start at `calls::CALL_LINKS`, above.
@@ -47,13 +49,63 @@ pub fn answer_link(id: u32) -> u32 {
 /// (`ferroc-ros2-node`): one type in every layer.
 pub use ferroc_ros2_node::{Ros2Interface, Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};
 
-/// What the values of a topic end are on the wire: its message type of the shipped
-/// definitions, all of it or the one field the port carries.
-pub fn topic_shape(topic: &Ros2Topic) -> Result<Shape<'static>, String> {
+/// The message packages `interfaces` (a model's `<ros2-interfaces>`, carried by its
+/// nodes) make with the shipped ones. The checks (R109) refused bad definitions before
+/// the run; one that still does not read (a plan written by hand) is an error naming
+/// the file, line and column.
+pub fn team_registry<'i>(
+    interfaces: impl IntoIterator<Item = &'i Ros2Interface>,
+) -> Result<Registry, String> {
+    let mut seen = BTreeSet::new();
+    let files: Vec<TeamFile<'_>> = interfaces
+        .into_iter()
+        // Every node of a model carries the model's packages: read each file once.
+        .filter(|i| seen.insert((&i.package, &i.kind, &i.name)))
+        .map(|i| TeamFile {
+            package: &i.package,
+            kind: &i.kind,
+            name: &i.name,
+            text: &i.text,
+            file: &i.name,
+        })
+        .collect();
+    if files.is_empty() {
+        return Ok(Registry::shipped_shared().clone());
+    }
+    let (registry, errors) = Registry::shipped_with(files);
+    match errors.first() {
+        None => Ok(registry),
+        Some(e) => Err(format!(
+            "a ROS 2 definition of the model does not read: {e}"
+        )),
+    }
+}
+
+/// The definitions `node`'s ends read, for the life of the process: the shipped ones,
+/// or those with the model's own packages, made once per distinct set of them (an
+/// application built again in the same process, as tests do, reuses it).
+pub fn node_registry(node: &Ros2Node) -> Result<&'static Registry, String> {
+    type Made = Vec<(Vec<Ros2Interface>, &'static Registry)>;
+    static MADE: Mutex<Made> = Mutex::new(Vec::new());
+    if node.interfaces.is_empty() {
+        return Ok(Registry::shipped_shared());
+    }
+    let mut made = MADE.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, reg)) = made.iter().find(|(i, _)| *i == node.interfaces) {
+        return Ok(reg);
+    }
+    let reg: &'static Registry = Box::leak(Box::new(team_registry(&node.interfaces)?));
+    made.push((node.interfaces.clone(), reg));
+    Ok(reg)
+}
+
+/// What the values of a topic end are on the wire: its message type of `reg` (a node's
+/// definitions, [`node_registry`]), all of it or the one field the port carries.
+pub fn topic_shape(topic: &Ros2Topic, reg: &'static Registry) -> Result<Shape<'static>, String> {
     let ty = TypeName::parse(&topic.message)
         .filter(|t| t.kind == "msg")
         .ok_or_else(|| format!("`{}` is not a ROS 2 message type", topic.message))?;
-    Shape::new(Registry::shipped_shared(), &ty, topic.field.as_deref())
+    Shape::new(reg, &ty, topic.field.as_deref())
 }
 
 /// The request and response messages of a ROS 2 service end, as its calls carry them.
@@ -68,13 +120,12 @@ pub struct ServiceMessages {
 impl ServiceMessages {
     /// The messages of `service`'s type (`pkg/srv/Name_Request`, `…_Response`), with
     /// the one field a single-value request or response fills.
-    pub fn new(service: &Ros2Service) -> Result<Self, String> {
+    pub fn new(service: &Ros2Service, reg: &'static Registry) -> Result<Self, String> {
         let ty = TypeName::parse(&service.service)
             .filter(|t| t.kind == "srv")
             .ok_or_else(|| format!("`{}` is not a ROS 2 service type", service.service))?;
         let message =
             |suffix: &str| TypeName::new(&ty.package, &ty.kind, &format!("{}_{suffix}", ty.name));
-        let reg = Registry::shipped_shared();
         Ok(ServiceMessages {
             request: Shape::new(reg, &message("Request"), service.request_field.as_deref())?,
             response: Shape::new(reg, &message("Response"), service.response_field.as_deref())?,
@@ -88,5 +139,54 @@ impl ServiceMessages {
         } else {
             &self.response
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn node(text: &str) -> Ros2Node {
+        Ros2Node {
+            interfaces: vec![Ros2Interface {
+                package: "robot_msgs".into(),
+                kind: "msg".into(),
+                name: "Wheel".into(),
+                text: text.into(),
+            }],
+            ..Ros2Node::default()
+        }
+    }
+
+    fn wheel_topic() -> Ros2Topic {
+        Ros2Topic {
+            id: 0,
+            publish: true,
+            port: ("base".into(), "speed".into()),
+            model_type: "f64".into(),
+            topic: "/wheel".into(),
+            message: "robot_msgs/msg/Wheel".into(),
+            field: Some("axis.x".into()),
+            qos: Ros2Qos::default(),
+        }
+    }
+
+    #[test]
+    fn a_node_s_team_types_reach_its_ends_once_per_set_of_definitions() {
+        let wheel = node("float64 speed\ngeometry_msgs/Vector3 axis\n");
+        let reg = node_registry(&wheel).unwrap();
+        assert!(topic_shape(&wheel_topic(), reg).is_ok());
+        assert!(std::ptr::eq(reg, node_registry(&wheel.clone()).unwrap()));
+        // The tricky non-case: a node without team packages reads the shipped ones,
+        // where the team's type does not exist.
+        let plain = node_registry(&Ros2Node::default()).unwrap();
+        assert!(std::ptr::eq(plain, Registry::shipped_shared()));
+        assert!(topic_shape(&wheel_topic(), plain).is_err());
+    }
+
+    #[test]
+    fn a_team_definition_that_does_not_read_is_an_error_naming_its_file() {
+        let why = node_registry(&node("float64[<=x] ranges\n")).unwrap_err();
+        assert!(why.contains("Wheel:1:"), "{why}");
     }
 }

@@ -2,36 +2,14 @@
 //! (`<ros2-interfaces>`, docs/ros2.md), whose definitions the nodes carry as text
 //! (`Ros2Node::interfaces`, from the plan or a bundle's generated code).
 
-use ferroc_ros2::{Registry, TeamFile};
-use ferroc_runtime::link::ros2::Ros2Node;
+use ferroc_ros2::Registry;
+use ferroc_runtime::link::ros2::{team_registry, Ros2Node};
 
-/// The shipped packages with every team definition `nodes` carry. The checks (R109)
-/// refused bad definitions before the run; one that still does not read (a plan written
-/// by hand) is an error naming the file, line and column.
+/// The shipped packages with every team definition `nodes` carry (the runtime's
+/// [`team_registry`]: the network hashes and keys with the same definitions the
+/// ports' ends encode with).
 pub fn registry(nodes: &[Ros2Node]) -> Result<Registry, String> {
-    let team: Vec<_> = nodes.iter().flat_map(|n| &n.interfaces).collect();
-    if team.is_empty() {
-        return Ok(Registry::shipped_shared().clone());
-    }
-    let mut seen = std::collections::BTreeSet::new();
-    let files = team
-        .iter()
-        // Every node of a model carries the model's packages: read each file once.
-        .filter(|i| seen.insert((&i.package, &i.kind, &i.name)))
-        .map(|i| TeamFile {
-            package: &i.package,
-            kind: &i.kind,
-            name: &i.name,
-            text: &i.text,
-            file: &i.name,
-        });
-    let (registry, errors) = Registry::shipped_with(files);
-    match errors.first() {
-        None => Ok(registry),
-        Some(e) => Err(format!(
-            "a ROS 2 definition of the model does not read: {e}"
-        )),
-    }
+    team_registry(nodes.iter().flat_map(|n| &n.interfaces))
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ use ferroc_link::{Frame, Receive};
 use ferroc_module::{Codec, DynOut, ValueType};
 use ferroc_ports::port::ConnectOptions;
 use ferroc_ros2::serde_cdr::Shape;
+use ferroc_ros2::Registry;
 use std::sync::Arc;
 
 impl Builder<'_> {
@@ -19,29 +20,36 @@ impl Builder<'_> {
     /// published port, a receiving end before the reader of every subscribed one. The
     /// network given at start declares the node and its topics.
     pub fn ros2_node(&mut self, node: Ros2Node) -> Result<(), BuildError> {
+        let reg = ros2::node_registry(&node)
+            .map_err(|why| BuildError::Connect(format!("ROS 2 node `{}`: {why}", node.name)))?;
         for topic in &node.topics {
             let port = (topic.port.0.as_str(), topic.port.1.as_str());
             if topic.publish {
-                self.ros2_publish(topic, port)?;
+                self.ros2_publish(topic, reg, port)?;
             } else {
-                self.ros2_subscribe(topic, port)?;
+                self.ros2_subscribe(topic, reg, port)?;
             }
         }
         for service in &node.services {
-            self.ros2_serve(service)?;
+            self.ros2_serve(service, reg)?;
         }
         for client in &node.clients {
-            self.ros2_call(client)?;
+            self.ros2_call(client, reg)?;
         }
         self.remote.ros2.push(node);
         Ok(())
     }
 
     /// The end publishing every new value of `from` (module path, output) on the topic.
-    fn ros2_publish(&mut self, topic: &Ros2Topic, from: (&str, &str)) -> Result<(), BuildError> {
+    fn ros2_publish(
+        &mut self,
+        topic: &Ros2Topic,
+        reg: &'static Registry,
+        from: (&str, &str),
+    ) -> Result<(), BuildError> {
         let describe = format!("`{}/{}` → ROS 2 topic `{}`", from.0, from.1, topic.topic);
         let (value_type, codec) = self.ros2_type(topic, &describe)?;
-        let shape = shape(topic, &describe)?;
+        let shape = shape(topic, reg, &describe)?;
         let writer = self.module(from.0)?;
         let name = format!("ros2 {} out", ros2::link(topic.id));
         let (input, handle) = value_type.input(&name, None);
@@ -73,10 +81,15 @@ impl Builder<'_> {
     }
 
     /// The end publishing what arrives from the topic into `to` (module path, input).
-    fn ros2_subscribe(&mut self, topic: &Ros2Topic, to: (&str, &str)) -> Result<(), BuildError> {
+    fn ros2_subscribe(
+        &mut self,
+        topic: &Ros2Topic,
+        reg: &'static Registry,
+        to: (&str, &str),
+    ) -> Result<(), BuildError> {
         let describe = format!("ROS 2 topic `{}` → `{}/{}`", topic.topic, to.0, to.1);
         let (value_type, codec) = self.ros2_type(topic, &describe)?;
-        let shape = shape(topic, &describe)?;
+        let shape = shape(topic, reg, &describe)?;
         let name = format!("ros2 {} in", ros2::link(topic.id));
         let (out, handle) = value_type.output(&name);
         let end = self.link_end(name, vec![], vec![("out".into(), handle)]);
@@ -99,14 +112,18 @@ impl Builder<'_> {
     /// The stand-in client calling the module's service for each request of the ROS 2
     /// service (as a call from another part does, its requests and answers as the CDR
     /// of the service's messages).
-    fn ros2_serve(&mut self, service: &Ros2Service) -> Result<(), BuildError> {
+    fn ros2_serve(
+        &mut self,
+        service: &Ros2Service,
+        reg: &'static Registry,
+    ) -> Result<(), BuildError> {
         let at = (service.port.0.as_str(), service.port.1.as_str());
         let describe = format!("ROS 2 service `{}` → `{}/{}`", service.name, at.0, at.1);
         let m = self.module(at.0)?;
         let handle = super::find(&self.modules[m].services, at, "service")?;
         let ends = self.call_ends(handle.types(), &describe)?;
         let mut route = self.route(ros2::answer_link(service.id), "ROS 2");
-        route.ros2 = Some(service_messages(service, &describe)?);
+        route.ros2 = Some(service_messages(service, reg, &describe)?);
         let (client, end) = ends.remote_client(format!("{} (ROS 2)", at.1), route);
         let handle = super::find(&self.modules[m].services, at, "service")?;
         client
@@ -117,14 +134,18 @@ impl Builder<'_> {
 
     /// The stand-in service the module's client calls: each call goes to the network as
     /// a request of the ROS 2 service (CDR), the answer comes back on the answer link.
-    fn ros2_call(&mut self, client: &Ros2Service) -> Result<(), BuildError> {
+    fn ros2_call(
+        &mut self,
+        client: &Ros2Service,
+        reg: &'static Registry,
+    ) -> Result<(), BuildError> {
         let at = (client.port.0.as_str(), client.port.1.as_str());
         let describe = format!("`{}/{}` → ROS 2 service `{}`", at.0, at.1, client.name);
         let m = self.module(at.0)?;
         let handle = super::find(&self.modules[m].clients, at, "client")?;
         let ends = self.call_ends(handle.types(), &describe)?;
         let mut route = self.route(ros2::request_link(client.id), "ROS 2");
-        route.ros2 = Some(service_messages(client, &describe)?);
+        route.ros2 = Some(service_messages(client, reg, &describe)?);
         let (service, end) = ends.remote_service(format!("{} (ROS 2)", client.name), route);
         let handle = super::find(&self.modules[m].clients, at, "client")?;
         handle
@@ -162,17 +183,22 @@ impl Builder<'_> {
     }
 }
 
-/// The message (or field) of a topic end, from the shipped definitions.
-fn shape(topic: &Ros2Topic, describe: &str) -> Result<Shape<'static>, BuildError> {
-    ros2::topic_shape(topic).map_err(|why| BuildError::Connect(format!("{describe}: {why}")))
+/// The message (or field) of a topic end, from the node's definitions.
+fn shape(
+    topic: &Ros2Topic,
+    reg: &'static Registry,
+    describe: &str,
+) -> Result<Shape<'static>, BuildError> {
+    ros2::topic_shape(topic, reg).map_err(|why| BuildError::Connect(format!("{describe}: {why}")))
 }
 
 /// The request and response messages of a service end.
 fn service_messages(
     service: &Ros2Service,
+    reg: &'static Registry,
     describe: &str,
 ) -> Result<Arc<ServiceMessages>, BuildError> {
-    ServiceMessages::new(service)
+    ServiceMessages::new(service, reg)
         .map(Arc::new)
         .map_err(|why| BuildError::Connect(format!("{describe}: {why}")))
 }
