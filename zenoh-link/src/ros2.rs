@@ -23,6 +23,7 @@ use zenoh::{Session, Wait};
 
 pub mod network;
 pub mod service;
+pub mod wire;
 
 /// A ROS 2 node: its name, namespace and domain.
 #[derive(Clone, Debug, PartialEq, Eq)]
