@@ -116,8 +116,8 @@ fn ros2_tools_read_a_recorded_node_s_topics_and_our_player_replays_them() {
         "the Twists rosbags decoded are the recorded values"
     );
     assert!(
-        (twists.iter()).any(|t| t["linear"]["x"].as_f64() != Some(0.0)),
-        "the robot moved"
+        (twists.iter()).any(|t| t["angular"]["z"].as_f64() != Some(0.0)),
+        "the robot turned (it looks around first)"
     );
     let ir = report["ros2"]["/ir_front"].as_array().unwrap();
     let noisy = report["json"]["fragile_bot/main/simulation/add_noise_front/output"]
@@ -127,6 +127,22 @@ fn ros2_tools_read_a_recorded_node_s_topics_and_our_player_replays_them() {
     for (message, value) in ir.iter().zip(noisy) {
         assert_eq!(&message["data"], value, "{message}");
     }
+
+    // `ferroc log cat` prints a ROS 2 channel decoded with its schema's definitions.
+    let cat = |topic: &str| -> Vec<Json> {
+        let (code, out, err) =
+            common::ferroc(&["log", "cat", record.to_str().unwrap(), "--channel", topic]);
+        assert_eq!(code, 0, "{err}");
+        (out.lines())
+            .map(|l| {
+                serde_json::from_str(&l.split_once(' ').unwrap().1.replace("\\\"", "\"")).unwrap()
+            })
+            .collect()
+    };
+    assert_eq!(
+        cat("/cmd_vel"),
+        cat("fragile_bot/main/control/twist_out/twist")
+    );
 
     // Our Player: the ROS 2 channels replay as their ports' exact channels do.
     run(REPLAY, &dir, &[]);
