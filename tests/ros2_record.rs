@@ -155,3 +155,20 @@ fn ros2_tools_read_a_recorded_node_s_topics_and_our_player_replays_them() {
         assert_eq!(&from_exact, recorded, "{log}: the recorded values");
     }
 }
+
+/// A bundle's program records the same ports: an output published as a ROS 2 topic is
+/// in its `RECORDABLE` table even when it feeds no connection (`/cmd_vel`'s Twist).
+#[test]
+fn a_bundle_s_program_may_record_every_published_output() {
+    let dir = tempdir("ros2_record_bundle");
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join(MODEL);
+    common::bundle_ok(&model, &dir.join("bundle"));
+    let main = std::fs::read_to_string(dir.join("bundle/parts/fragile_bot/src/main.rs")).unwrap();
+    let table = &main[main.find("const RECORDABLE").expect("the table")..];
+    let table = &table[..table.find("];").unwrap()];
+    assert!(
+        table.contains("\"twist\", \"crash_course.Twist\", \"fragile_bot/main\")"),
+        "{table}"
+    );
+    assert_eq!(table.matches("\"twist\"").count(), 1, "once: {table}");
+}
