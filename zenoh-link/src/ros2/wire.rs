@@ -66,7 +66,11 @@ mod tests {
         let cdr = wire
             .encode("std_msgs/msg/Float64", Some("data"), b"2.5")
             .unwrap();
-        assert_eq!(cdr, [0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 4, 64]);
+        assert_eq!(
+            cdr,
+            [0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 4, 64],
+            "header, then 2.5"
+        );
         let back = wire
             .decode("std_msgs/msg/Float64", Some("data"), &cdr)
             .unwrap();
