@@ -172,3 +172,40 @@ fn a_bundle_s_program_may_record_every_published_output() {
     );
     assert_eq!(table.matches("\"twist\"").count(), 1, "once: {table}");
 }
+
+/// A recording ferroc did not write: Python `rosbags` writes a rosbag2 bag with MCAP
+/// storage (`tests/ros2/write_bag.py`). `ferroc log cat` decodes its /cmd_vel with the
+/// bag's own schema, and our Player replays it (a foreign channel: matched by the
+/// message's field names) into a `crash_course.Twist` output, to the values sent.
+#[test]
+fn a_rosbags_bag_is_printed_and_replayed() {
+    let Some(python) = ferroc_testkit::python(&["mcap", "rosbags", "numpy"]) else {
+        return;
+    };
+    let dir = tempdir("ros2_record_bag");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = Command::new(&python)
+        .arg(root.join("tests/ros2/write_bag.py"))
+        .arg(dir.join("bag"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let sent: Json = serde_json::from_slice(&out.stdout).unwrap();
+    let bag = dir.join("bag/bag.mcap");
+
+    let (code, out, err) =
+        common::ferroc(&["log", "cat", bag.to_str().unwrap(), "--channel", "/cmd_vel"]);
+    assert_eq!(code, 0, "{err}");
+    let printed: Vec<Json> = (out.lines())
+        .map(|l| serde_json::from_str(&l.split_once(' ').unwrap().1.replace("\\\"", "\"")).unwrap())
+        .collect();
+    assert_eq!(Json::from(printed), sent);
+
+    run("tests/ros2/replay_bag.xml", &dir, &[]);
+    let replay = read(&python, &dir.join("bag_replay.mcap"));
+    assert_eq!(replay["json"]["replayer/main/log/in/0"], sent);
+}
