@@ -25,12 +25,12 @@ enum LogCommand {
         time: TimeArgs,
     },
     /// The messages of one topic, one line each: the time in seconds from the run's
-    /// start (model time in lockstep), then the value (the JSON form; --exact: the
-    /// exact channel's bytes in hex)
+    /// start (model time in lockstep), then the value (the JSON form, or a ROS 2
+    /// channel's messages as JSON; --exact: the exact channel's bytes in hex)
     Cat {
         /// The MCAP file
         file: PathBuf,
-        /// The topic (a recorded port's path)
+        /// The topic (a recorded port's path, or a ROS 2 topic: `/cmd_vel`)
         #[arg(long, value_name = "TOPIC")]
         channel: String,
         /// Print the exact (postcard) payloads instead of the JSON form
@@ -238,17 +238,19 @@ fn cat(
             && (if exact {
                 c.is_exact()
             } else {
-                c.message_encoding == "json"
+                c.message_encoding == "json" || c.is_ros2()
             })
     };
     let mut picked = None;
     let mut written = Ok(());
+    let mut decoder = None;
     // `ferroc.run` comes before the first chunk (where the writer puts it): the start
     // is known when the first message is printed.
     let rec = Recording::read_with_run(file, checksums, &mut |run, c, m| {
         if written.is_ok() && pick(c) && picked.is_none_or(|id| id == c.id) {
             picked = Some(c.id);
-            written = message_line(out, m, exact, Times::of(run, time));
+            let decoded = c.is_ros2().then(|| ros2_json(&mut decoder, c, m));
+            written = message_line(out, m, exact, decoded.as_deref(), Times::of(run, time));
         }
         false
     })?;
@@ -257,7 +259,7 @@ fn cat(
             rec.channels.values().map(|c| shown(&c.topic)).collect();
         return Err(format!(
             "no {} channel `{}` in the recording\n  help: its topics are: {}",
-            if exact { "exact" } else { "JSON" },
+            if exact { "exact" } else { "JSON or ROS 2" },
             shown(topic),
             topics.into_iter().collect::<Vec<_>>().join(", ")
         ));
@@ -265,14 +267,35 @@ fn cat(
     Ok(written)
 }
 
+/// A ROS 2 channel's message as JSON, decoded with the definitions of the channel's
+/// schema (`decoder` made at the first message); what does not decode says why.
+fn ros2_json(
+    decoder: &mut Option<Result<ferroc_ros2::mcap_schema::Decoder, String>>,
+    c: &ChannelSummary,
+    m: &Message,
+) -> String {
+    let decoder = decoder.get_or_insert_with(|| {
+        let text = String::from_utf8_lossy(&c.schema_data);
+        ferroc_ros2::mcap_schema::Decoder::new(&c.schema_name, &text)
+    });
+    match decoder.as_ref().map(|d| d.json(&m.data)) {
+        Ok(Ok(json)) => json.to_string(),
+        Ok(Err(why)) => format!("(this message does not decode: {why})"),
+        Err(why) => format!("(the channel's schema does not read: {why})"),
+    }
+}
+
 fn message_line(
     out: &mut impl Write,
     m: &Message,
     exact: bool,
+    decoded: Option<&str>,
     times: Times,
 ) -> std::io::Result<()> {
     write!(out, "{} ", times.show(m.log_time))?;
-    if exact {
+    if let Some(text) = decoded {
+        write!(out, "{}", text.escape_debug())?;
+    } else if exact {
         for b in &m.data {
             write!(out, "{b:02x}")?;
         }

@@ -162,7 +162,7 @@ fn record_writes_every_connection_and_log_shows_it() {
     let (code, _, err) = ferroc(&["log", "cat", some.to_str().unwrap(), "--channel", "x"]);
     assert_eq!(code, 2);
     assert!(
-        err.contains("no JSON channel `x`") && err.contains("help: its topics are"),
+        err.contains("no JSON or ROS 2 channel `x`") && err.contains("help: its topics are"),
         "{err}"
     );
 }

@@ -193,6 +193,16 @@ fn a_bundle_s_program_is_the_node_the_ros2_peer_sees_receives_and_stops() {
             .env("ZENOH_SESSION_CONFIG_URI", config);
         run
     });
+    // The program records its published Twist on /cmd_vel as ROS data too
+    // (tests/ros2_record.rs reads such a file with mcap and rosbags).
+    let cat = |channel: &str| {
+        let (code, out, err) =
+            ferroc(&["log", "cat", record.to_str().unwrap(), "--channel", channel]);
+        assert_eq!(code, 0, "{err}");
+        out.lines().count()
+    };
+    let twists = cat("/cmd_vel");
+    assert!(twists > 0 && twists == cat("fragile_bot/main/control/twist_out/twist"));
 }
 
 /// The generated programs of a service and a client (not built here): the node with

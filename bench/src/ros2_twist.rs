@@ -163,6 +163,7 @@ fn node(part: &str, port: &str) -> Ros2Node {
         }],
         services: Vec::new(),
         clients: Vec::new(),
+        interfaces: Vec::new(),
     }
 }
 

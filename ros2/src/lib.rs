@@ -14,6 +14,8 @@
 //! - [`names`]: the node, namespace and topic names ROS 2 accepts, and how a relative
 //!   topic name expands against a node's namespace.
 //! - [`json`]: a value's serde JSON as a message of a type, and back (tools, tests).
+//! - [`mcap_schema`]: a message type's schema text as MCAP's `ros2msg` encoding holds it
+//!   (recordings of ROS-typed ports).
 //! - [`units`]: the units REP-103 fixes for fields of the shipped messages.
 //! - [`rmw_zenoh`]: the topic key expression, the attachment and the liveliness tokens
 //!   exactly as rmw_zenoh writes them.
@@ -26,6 +28,7 @@ pub mod def;
 mod error;
 pub mod hash;
 pub mod json;
+pub mod mcap_schema;
 pub mod names;
 pub mod parse;
 mod registry;

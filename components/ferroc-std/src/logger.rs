@@ -21,6 +21,7 @@
 //! once, stops logging rather than stopping the application, and the run's summary
 //! names the lost recording (exit code 3).
 
+use crate::recording::ros2::Ros2Form;
 use crate::recording::{self, ChannelInfo, LogFile, SharedLog};
 use ferroc_runtime::module::{DynIn, Module, ModuleType, Parameter, Setup, Timestamp, Wire};
 use std::path::{Component, Path, PathBuf};
@@ -49,6 +50,11 @@ pub(crate) struct Recorded {
     pub(crate) wire: Wire,
     pub(crate) info: ChannelInfo,
     channel: Option<recording::ChannelId>,
+    /// The port's ROS 2 topic, if the program publishes it as one (found when its
+    /// channel is added: the nodes are open by then).
+    ros2: Option<Ros2Form>,
+    /// A value that did not fit its ROS 2 message was reported.
+    ros2_warned: bool,
     /// A value arrived that is not recorded yet.
     pending: bool,
     /// A value has arrived (sampling records nothing before).
@@ -65,6 +71,8 @@ impl Recorded {
             wire,
             info,
             channel: None,
+            ros2: None,
+            ros2_warned: false,
             pending: false,
             seen: false,
             next: None,
@@ -291,21 +299,54 @@ fn record_with(
             _ => now.saturating_add(period),
         });
         port.wire.encode(&port.input, exact)?;
-        if json {
-            port.wire.json(&port.input, text)?;
-        }
         let mut file = log.lock().unwrap_or_else(PoisonError::into_inner);
         let channel = match port.channel {
             Some(c) => c,
-            None => {
-                let c = file.channel(&port.info)?;
-                port.channel = Some(c);
-                c
-            }
+            None => add_channel(&mut file, port)?,
         };
-        file.write(channel, now, exact, json.then_some(text.as_slice()))?;
+        if json || port.ros2.is_some() {
+            port.wire.json(&port.input, text)?;
+        }
+        let cdr = cdr_of(port, text);
+        let json = json.then_some(text.as_slice());
+        file.write_forms(channel, now, exact, json, cdr.as_deref())?;
     }
     Ok(())
+}
+
+/// The channels of `port`, its ROS 2 channel too if the program publishes it as a topic
+/// (a message that cannot be had is said once; the port is recorded without it).
+fn add_channel(file: &mut LogFile, port: &mut Recorded) -> Result<recording::ChannelId, String> {
+    let c = file.channel(&port.info)?;
+    port.channel = Some(c);
+    match Ros2Form::of_port(&port.info.port) {
+        Ok(Some(form)) => {
+            file.add_ros2(c, &form)?;
+            port.ros2 = Some(form);
+        }
+        Ok(None) => {}
+        Err(why) => eprintln!("warning: {why}"),
+    }
+    Ok(c)
+}
+
+/// The CDR of the value whose JSON is `json` if `port` is a ROS 2 topic; `None` (said
+/// once per port) if the value does not fit the message.
+fn cdr_of(port: &mut Recorded, json: &[u8]) -> Option<Vec<u8>> {
+    let form = port.ros2.as_ref()?;
+    match form.encode(json) {
+        Ok(cdr) => Some(cdr),
+        Err(why) => {
+            if !std::mem::replace(&mut port.ros2_warned, true) {
+                eprintln!(
+                    "warning: a value of `{}` is not recorded on the ROS 2 topic `{}`: {why}; \
+                     such values are left out there",
+                    port.info.port, form.topic
+                );
+            }
+            None
+        }
+    }
 }
 
 impl Module for Logger {

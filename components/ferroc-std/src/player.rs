@@ -5,8 +5,11 @@
 //! `channels` names the recorded topic of each output, in order (`out/0` plays the
 //! first). When the instance is created, before anything runs, the recording is read
 //! and checked: every topic must have an exact (postcard) channel there, recorded
-//! with the output's model type; otherwise the instance is refused with what the file
-//! has. A recording cut off by a crash is replayed up to the cut, with a warning. A
+//! with the output's model type, or a ROS 2 channel (CDR with a `ros2msg` schema: a
+//! ROS-typed port's, or one a ROS 2 tool recorded), which is decoded then into the
+//! output's values through the program's ROS 2 wire (only a program whose part is a ROS 2
+//! node has one; a message that does not decode is skipped, said once); otherwise the
+//! instance is refused with what the file has. A recording cut off by a crash is replayed up to the cut, with a warning. A
 //! recording whose checksums do not match (it changed after it was written) is refused
 //! naming the chunk, unless `checksums` is `ignore`. Only the replayed channels'
 //! messages are kept in memory.
@@ -56,6 +59,9 @@ struct Replayed {
     warned: bool,
     /// How its values hold timestamps (`None`: not a timestamp type).
     stamps: Option<Stamps>,
+    /// The messages are the port's serde JSON (decoded from a ROS 2 channel's CDR when
+    /// the recording was read), not postcard.
+    json: bool,
 }
 
 /// The shape of a timestamp output's values, in postcard: one stamp, `N` stamps in a
@@ -210,11 +216,11 @@ fn load(
         (by_channel.entry(msg.channel).or_default()).push_back((msg.log_time, msg.data));
     }
     for (k, (out, topic)) in outputs.into_iter().zip(topics).enumerate() {
-        let Some(channel) = rec.exact_channel(topic) else {
+        let Some(channel) = rec.exact_channel(topic).or_else(|| rec.ros2_channel(topic)) else {
             let known: Vec<&str> = rec
                 .channels
                 .values()
-                .filter(|c| c.is_exact())
+                .filter(|c| c.is_exact() || c.is_ros2())
                 .map(|c| c.topic.as_str())
                 .collect();
             return Err(format!(
@@ -233,7 +239,10 @@ fn load(
             .iter()
             .find(|(n, _)| n == out.name())
             .map_or("", |(_, t)| *t);
-        if channel.model_type() != ty {
+        // A ROS 2 channel another program recorded names no ferroc type: its messages
+        // become the output's values by their fields' names.
+        let foreign = channel.is_ros2() && !channel.metadata.contains_key(recording::META_TYPE);
+        if channel.model_type() != ty && !foreign {
             return Err(format!(
                 "output `{}` has type `{ty}`, but the channel `{topic}` of `{}` was recorded \
                  as `{}`\n  help: declare the output with type=\"{}\" or pick another channel",
@@ -258,16 +267,64 @@ fn load(
             by_channel.remove(&channel.id)
         }
         .unwrap_or_default();
+        let json = channel.is_ros2();
+        let messages = if json {
+            from_cdr(m, path, channel, messages)?
+        } else {
+            messages
+        };
         replayed.push(Replayed {
             out,
             wire,
             topic: topic.clone(),
             messages,
             warned: false,
-            stamps: Stamps::of(ty),
+            stamps: Stamps::of(ty).filter(|_| !json),
+            json,
         });
     }
     Ok(replayed)
+}
+
+/// The messages of the ROS 2 channel `channel` as the port's values (serde JSON): an
+/// error if this program cannot decode ROS 2 messages; a message that does not decode
+/// is left out, said once with how many were.
+fn from_cdr(
+    m: &Setup<'_>,
+    path: &std::path::Path,
+    channel: &recording::ChannelSummary,
+    messages: VecDeque<(u64, Vec<u8>)>,
+) -> Result<VecDeque<(u64, Vec<u8>)>, String> {
+    let decoder = recording::ros2::Ros2Channel::of(channel).map_err(|why| {
+        let exact = (channel.metadata.get(recording::META_PORT))
+            .map(|p| format!("replay the port's exact channel `{p}`, or "))
+            .unwrap_or_default();
+        format!(
+            "{why}\n  help: {exact}replay it in a model whose part is a ROS 2 node (<ros2>, \
+             docs/ros2.md)"
+        )
+    })?;
+    let (mut out, mut bad) = (VecDeque::with_capacity(messages.len()), None);
+    let mut skipped = 0usize;
+    for (time, cdr) in messages {
+        match decoder.decode(&cdr) {
+            Ok(json) => out.push_back((time, json)),
+            Err(why) => {
+                skipped += 1;
+                bad.get_or_insert(why);
+            }
+        }
+    }
+    if let Some(why) = bad {
+        eprintln!(
+            "warning: ferroc_std.Player `{}`: {skipped} message(s) of the ROS 2 channel `{}` \
+             of `{}` do not decode ({why}); they are skipped",
+            m.path(),
+            channel.topic,
+            path.display()
+        );
+    }
+    Ok(out)
 }
 
 /// Reads the channels of `topics` from the recording at `path` (the others are only
@@ -282,7 +339,7 @@ fn read_replayed(
     // Only the replayed channels' messages are kept, and only up to a bound.
     let mut kept = 0u64;
     let rec = Recording::read_with(path, checksums, &mut |c, msg| {
-        let replayed = c.is_exact() && topics.contains(&c.topic);
+        let replayed = (c.is_exact() || c.is_ros2()) && topics.contains(&c.topic);
         if replayed {
             kept += msg.data.len() as u64;
         }
@@ -354,7 +411,12 @@ impl Module for Player {
                         bytes = shifted;
                     }
                 }
-                if let Err(e) = o.wire.decode(&o.out, &bytes) {
+                let published = if o.json {
+                    o.wire.from_json(Some(&o.out), &bytes)
+                } else {
+                    o.wire.decode(&o.out, &bytes)
+                };
+                if let Err(e) = published {
                     if !o.warned {
                         o.warned = true;
                         eprintln!(

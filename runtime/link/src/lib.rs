@@ -30,6 +30,7 @@ macro_rules! eprintln {
 #[doc(hidden)]
 pub mod calls;
 pub mod ros2;
+pub mod ros2_wire;
 pub mod transport;
 
 use ferroc_module::bytes::Holder;

@@ -1,5 +1,6 @@
 //! `--record` in generated programs: which outputs of a part's modules feed a
-//! connection (the ones `ferroc run --record` would record), with their model types
+//! connection or are published as ROS 2 topics (the ones `ferroc run --record` would
+//! record), with their model types
 //! from the compiler. `rust/recordable.rs` writes them into `main.rs` as the table
 //! `RECORDABLE` that `ferroc_std::Recorders` reads when the program is started with
 //! `--record`.
@@ -34,8 +35,12 @@ pub struct RecordedOutput {
 /// its links to other parts, each once, in connection order.
 pub fn outputs(app: &Application, libs: &LibrarySet, part: &Part<'_>) -> Vec<RecordedOutput> {
     let mut out: Vec<RecordedOutput> = Vec::new();
-    for c in part.connections.iter().chain(&part.links_out) {
-        let (module, port) = (&c.from.0, &c.from.1);
+    // Outputs feeding connections and links, and those published as ROS 2 topics.
+    let published = (part.ros2.iter()).flat_map(|n| n.topics.iter().filter(|t| t.publish));
+    let froms = (part.connections.iter().chain(&part.links_out))
+        .map(|c| (&c.from.0, &c.from.1))
+        .chain(published.map(|t| (&t.port.0, &t.port.1)));
+    for (module, port) in froms {
         if out.iter().any(|o| o.module == *module && o.port == *port) {
             continue;
         }

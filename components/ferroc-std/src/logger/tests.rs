@@ -70,3 +70,144 @@ fn logging_cost_of_a_100_hz_matrix_stream() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A ROS 2 wire for the tests: a value (JSON `x`) is the message `test_msgs/msg/X` of
+/// one float64, little-endian after the CDR header; anything else does not fit.
+struct FakeWire;
+
+impl ferroc_runtime::link::ros2_wire::Ros2Wire for FakeWire {
+    fn schema(&self, message: &str) -> Result<String, String> {
+        match message {
+            "test_msgs/msg/X" => Ok("float64 x\n".into()),
+            other => Err(format!("unknown message type `{other}`")),
+        }
+    }
+    fn encode(&self, _: &str, _: Option<&str>, json: &[u8]) -> Result<Vec<u8>, String> {
+        let x: f64 = serde_json::from_slice(json).map_err(|e| e.to_string())?;
+        if x < 0.0 {
+            return Err("negative".into());
+        }
+        Ok([[0, 1, 0, 0].as_slice(), &x.to_le_bytes()].concat())
+    }
+    fn decode(&self, _: &str, _: Option<&str>, cdr: &[u8]) -> Result<Vec<u8>, String> {
+        let x = cdr.get(4..12).ok_or("short")?;
+        let x = f64::from_le_bytes(x.try_into().map_err(|_| "short")?);
+        serde_json::to_vec(&x).map_err(|e| e.to_string())
+    }
+}
+
+/// Records `values` of an f64 output at `port` (a log time each) into `path`.
+fn record_values(path: &std::path::Path, port: &str, values: &[f64]) {
+    use ferroc_runtime::module::ValueTable;
+    use ferroc_runtime::port::ConnectOptions;
+    let table = ValueTable::default();
+    let vt = table.get("f64").expect("registered");
+    let (out, oh) = vt.output("out");
+    let (input, ih) = vt.input("in/0", None);
+    oh.connect(&ih, ConnectOptions::default()).unwrap();
+    let info = ChannelInfo {
+        topic: port.into(),
+        port: port.into(),
+        part: "robot".into(),
+        model_type: "f64".into(),
+        unit: "m".into(),
+        ..ChannelInfo::default()
+    };
+    let mut ports = vec![Recorded::new(input, *vt.wire().unwrap(), info)];
+    let log = LogFile::open_shared(path, 1).unwrap();
+    let (mut exact, mut text) = (Vec::new(), Vec::new());
+    for (k, x) in values.iter().enumerate() {
+        out.typed::<f64>().unwrap().publish(*x);
+        record_at(
+            &log,
+            &mut ports,
+            k as u64 * 1000,
+            true,
+            &mut exact,
+            &mut text,
+        )
+        .unwrap();
+    }
+}
+
+#[test]
+fn a_port_published_as_a_ros2_topic_gets_a_cdr_channel_with_its_ros2msg_schema() {
+    use ferroc_runtime::link::ros2::{Ros2Qos, Ros2Topic};
+    use ferroc_runtime::link::ros2_wire;
+    ros2_wire::install(std::sync::Arc::new(FakeWire));
+    ros2_wire::add_topics(&[Ros2Topic {
+        id: 7001,
+        publish: true,
+        port: ("robot/ranger".into(), "range".into()),
+        model_type: "f64".into(),
+        topic: "/range".into(),
+        message: "test_msgs/msg/X".into(),
+        field: Some("x".into()),
+        qos: Ros2Qos::default(),
+    }]);
+    let dir = std::env::temp_dir().join(format!("ferroc-ros2rec-{}", std::process::id()));
+    let path = dir.join("ros2.mcap");
+    // -1 does not fit the message: left out of the ROS 2 channel only.
+    record_values(&path, "robot/ranger/range", &[1.5, -1.0, 2.25]);
+    let rec = recording::Recording::read(&path).unwrap();
+    let ros2 = rec
+        .ros2_channel("/range")
+        .expect("a channel on the ROS 2 topic");
+    assert_eq!(
+        (
+            ros2.message_encoding.as_str(),
+            ros2.schema_encoding.as_str(),
+            ros2.schema_name.as_str()
+        ),
+        ("cdr", "ros2msg", "test_msgs/msg/X")
+    );
+    assert_eq!(ros2.schema_data, b"float64 x\n");
+    let meta = |k: &str| ros2.metadata.get(k).map(String::as_str);
+    assert_eq!(meta("ferroc.port"), Some("robot/ranger/range"));
+    assert_eq!(meta("ferroc.form"), Some("ros2"));
+    assert_eq!(meta("ferroc.ros2.field"), Some("x"));
+    assert_eq!(
+        (meta("ferroc.type"), meta("ferroc.unit")),
+        (Some("f64"), Some("m"))
+    );
+    let cdr: Vec<&Vec<u8>> = (rec.messages.iter())
+        .filter(|m| m.channel == ros2.id)
+        .map(|m| &m.data)
+        .collect();
+    let expected: Vec<Vec<u8>> = [1.5f64, 2.25]
+        .iter()
+        .map(|x| [[0, 1, 0, 0].as_slice(), &x.to_le_bytes()].concat())
+        .collect();
+    assert_eq!(cdr, expected.iter().collect::<Vec<_>>());
+    let exact = rec
+        .exact_channel("robot/ranger/range")
+        .expect("still exact");
+    assert_eq!(
+        rec.messages
+            .iter()
+            .filter(|m| m.channel == exact.id)
+            .count(),
+        3
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_port_no_node_publishes_is_recorded_as_before_even_beside_ros2_nodes() {
+    ferroc_runtime::link::ros2_wire::install(std::sync::Arc::new(FakeWire));
+    let dir = std::env::temp_dir().join(format!("ferroc-plainrec-{}", std::process::id()));
+    let path = dir.join("plain.mcap");
+    record_values(&path, "robot/plain/value", &[1.0, 2.0]);
+    let rec = recording::Recording::read(&path).unwrap();
+    let forms: Vec<(&str, &str)> = (rec.channels.values())
+        .map(|c| (c.topic.as_str(), c.message_encoding.as_str()))
+        .collect();
+    assert_eq!(
+        forms,
+        [
+            ("robot/plain/value", "postcard"),
+            ("robot/plain/value", "json")
+        ]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -2,6 +2,7 @@
 //! loggers naming the same file, the recorders of `ferroc run --record`, one per
 //! thread container): they take turns through a mutex, each message one lock.
 
+use super::ros2::{Ros2Form, META_ROS2_FIELD, ROS2_ENCODING, ROS2_FORM, ROS2_SCHEMA_ENCODING};
 use super::TYPE_SCHEMA_ENCODING;
 use super::{
     json_schema, EXACT_ENCODING, META_FORM, META_PART, META_PORT, META_RUN, META_TYPE, META_UNIT,
@@ -45,6 +46,8 @@ pub struct ChannelInfo {
 struct Channels {
     info: ChannelInfo,
     exact: u16,
+    /// The channel on the port's ROS 2 topic ([`super::ros2`]), if it is one.
+    ros2: Option<u16>,
     /// Added at the first message: a library type's JSON Schema is read off its
     /// first value.
     json: Option<u16>,
@@ -201,11 +204,37 @@ impl LogFile {
         self.channels.push(Channels {
             info: info.clone(),
             exact,
+            ros2: None,
             json: None,
             sequence: 0,
         });
         self.by_topic.insert(info.topic.clone(), k);
         Ok(ChannelId(k))
+    }
+
+    /// Adds the channel on the ROS 2 topic of `channel`'s port (see [`super::ros2`]);
+    /// nothing if it has one.
+    pub fn add_ros2(&mut self, channel: ChannelId, form: &Ros2Form) -> Result<(), String> {
+        let path = self.path.clone();
+        let Some(info) = self.channels.get(channel.0).map(|c| c.info.clone()) else {
+            return Err(format!("no channel {channel:?}"));
+        };
+        if self.channels[channel.0].ros2.is_some() {
+            return Ok(());
+        }
+        let writer = self.writer_mut()?;
+        let schema = writer
+            .add_schema(&form.message, ROS2_SCHEMA_ENCODING, form.schema.as_bytes())
+            .map_err(|e| mcap_error(&path, e))?;
+        let mut meta = metadata(&info, ROS2_FORM);
+        if let Some(field) = &form.field {
+            meta.insert(META_ROS2_FIELD.to_owned(), field.clone());
+        }
+        let id = writer
+            .add_channel(schema, &form.topic, ROS2_ENCODING, &meta)
+            .map_err(|e| mcap_error(&path, e))?;
+        self.channels[channel.0].ros2 = Some(id);
+        Ok(())
     }
 
     fn writer_mut(&mut self) -> Result<&mut Writer<BufWriter<File>>, String> {
@@ -233,10 +262,22 @@ impl LogFile {
         exact: &[u8],
         json: Option<&[u8]>,
     ) -> Result<(), String> {
+        self.write_forms(channel, log_time, exact, json, None)
+    }
+
+    /// [`Self::write`], and `cdr` on the port's ROS 2 channel ([`Self::add_ros2`]).
+    pub fn write_forms(
+        &mut self,
+        channel: ChannelId,
+        log_time: u64,
+        exact: &[u8],
+        json: Option<&[u8]>,
+        cdr: Option<&[u8]>,
+    ) -> Result<(), String> {
         if self.failed {
             return Ok(());
         }
-        let result = self.write_inner(channel, log_time, exact, json);
+        let result = self.write_inner(channel, log_time, exact, json, cdr);
         if result.is_err() {
             self.failed = true;
             // Closed quietly: what could be written was, and one message said why.
@@ -251,12 +292,13 @@ impl LogFile {
         log_time: u64,
         exact: &[u8],
         json: Option<&[u8]>,
+        cdr: Option<&[u8]>,
     ) -> Result<(), String> {
         let path = self.path.clone();
         let Some(ch) = self.channels.get(channel.0) else {
             return Err(format!("no channel {channel:?}"));
         };
-        let (exact_id, json_id, sequence) = (ch.exact, ch.json, ch.sequence);
+        let (exact_id, json_id, ros2_id, sequence) = (ch.exact, ch.json, ch.ros2, ch.sequence);
         let json_id = match (json, json_id) {
             (Some(bytes), None) => Some(self.add_json_channel(channel.0, bytes)?),
             (_, id) => id,
@@ -271,10 +313,12 @@ impl LogFile {
         writer
             .write_to_known_channel(&header(exact_id), exact)
             .map_err(|e| mcap_error(&path, e))?;
-        if let (Some(id), Some(bytes)) = (json_id, json) {
-            writer
-                .write_to_known_channel(&header(id), bytes)
-                .map_err(|e| mcap_error(&path, e))?;
+        for (id, bytes) in [(json_id, json), (ros2_id, cdr)] {
+            if let (Some(id), Some(bytes)) = (id, bytes) {
+                writer
+                    .write_to_known_channel(&header(id), bytes)
+                    .map_err(|e| mcap_error(&path, e))?;
+            }
         }
         if let Some(ch) = self.channels.get_mut(channel.0) {
             ch.sequence = sequence.wrapping_add(1);

@@ -11,6 +11,10 @@
 //!   `null`, so the schema allows `null` wherever a float may be; the exact channel
 //!   keeps the real value.
 //!
+//! A recorded output the model publishes as a ROS 2 topic has a third channel, on the
+//! topic (`/cmd_vel`), with message encoding `cdr` and a `ros2msg` schema, which ROS 2
+//! tools and Foxglove read as ROS data ([`ros2`]).
+//!
 //! Channel metadata names the part, the port path, the model type, the unit of the
 //! values (`ferroc.unit`, as the model writes it: `m/s`; empty when the port has none)
 //! and which of the two forms the channel holds. A metadata record `ferroc.run` holds
@@ -40,6 +44,7 @@
 mod context;
 mod file;
 mod read;
+pub mod ros2;
 mod schema;
 
 pub use context::{

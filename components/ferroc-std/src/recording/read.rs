@@ -64,6 +64,12 @@ impl ChannelSummary {
     pub fn is_exact(&self) -> bool {
         self.message_encoding == super::EXACT_ENCODING
     }
+    /// Whether the channel holds ROS 2 messages (CDR with a `ros2msg` schema): a ROS-typed
+    /// port's, or one a ROS 2 tool recorded.
+    pub fn is_ros2(&self) -> bool {
+        self.message_encoding == super::ros2::ROS2_ENCODING
+            && self.schema_encoding == super::ros2::ROS2_SCHEMA_ENCODING
+    }
 }
 
 /// One recorded message.
@@ -178,6 +184,13 @@ impl Recording {
         self.channels
             .values()
             .find(|c| c.topic == topic && c.is_exact())
+    }
+
+    /// The ROS 2 channel of `topic` ([`ChannelSummary::is_ros2`]).
+    pub fn ros2_channel(&self, topic: &str) -> Option<&ChannelSummary> {
+        self.channels
+            .values()
+            .find(|c| c.topic == topic && c.is_ros2())
     }
 }
 
