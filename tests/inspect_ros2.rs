@@ -65,13 +65,11 @@ fn twist(address: &str) -> serde_json::Value {
     }
 }
 
-#[test]
-fn an_inspected_run_is_a_ros2_node_the_sdk_sees_while_the_inspector_reads_its_ports() {
-    let Some(python) = ferroc_testkit::python(&["zenoh_ros2_sdk"]) else {
-        return;
-    };
-    let dir = tempdir("inspect_ros2");
-    let node_port = free_port();
+/// `ferroc run MODEL --inspect` on a free loopback port, the node listening on
+/// loopback's `node_port`: the child (killed when dropped) and its inspection address,
+/// once it printed its token.
+fn start_inspected(name: &str, node_port: u16) -> (Killed, String) {
+    let dir = tempdir(name);
     let config = listening_config(&dir, node_port);
     let address = format!("127.0.0.1:{}", free_port());
     let mut run = Command::new(env!("CARGO_BIN_EXE_ferroc"));
@@ -85,6 +83,16 @@ fn an_inspected_run_is_a_ros2_node_the_sdk_sees_while_the_inspector_reads_its_po
     let stderr = lines(run.0.stderr.take().unwrap());
     // The first inspected run of a ROS 2 model builds its runner: minutes.
     wait_for_line(&stderr, "token for changes: ", Duration::from_secs(1500));
+    (run, address)
+}
+
+#[test]
+fn an_inspected_run_is_a_ros2_node_the_sdk_sees_while_the_inspector_reads_its_ports() {
+    let Some(python) = ferroc_testkit::python(&["zenoh_ros2_sdk"]) else {
+        return;
+    };
+    let node_port = free_port();
+    let (mut run, address) = start_inspected("inspect_ros2", node_port);
 
     // The inspector reads the port the node publishes, a Twist's fields.
     let value = twist(&address);
@@ -129,4 +137,88 @@ fn an_inspected_run_is_a_ros2_node_the_sdk_sees_while_the_inspector_reads_its_po
     assert!(run.0.try_wait().unwrap().is_none(), "the run ended");
     let (code, _, err) = inspect(&address, &["--list"]);
     assert_eq!(code, 0, "{err}");
+}
+
+/// `ferroc inspect --list` names, under each port the node publishes or subscribes,
+/// its topic with type, QoS and node; no other port gets such a line. The page shows
+/// the same (tests/web/inspect_ros2_page.mjs, where a browser is installed).
+#[test]
+fn the_inspector_lists_which_ports_are_ros2_topics() {
+    // Nobody connects to the node: it runs all the same.
+    let (_run, address) = start_inspected("inspect_ros2_list", free_port());
+    let (code, out, err) = inspect(&address, &["--list"]);
+    assert_eq!(code, 0, "{err}");
+    let twist = "    out twist: crash_course.Twist\n        ROS 2 publish /cmd_vel (geometry_msgs/msg/Twist; reliable, volatile, depth 10) on node /fragile_bot, domain 0\n";
+    assert!(out.contains(twist), "{out}");
+    for line in [
+        "        ROS 2 publish /ir_front (std_msgs/msg/Float64.data; best-effort, volatile, depth 10) on node /fragile_bot, domain 0",
+        "        ROS 2 subscribe /enable (std_msgs/msg/Bool.data; reliable, volatile, depth 10) on node /fragile_bot, domain 0",
+    ] {
+        assert!(out.contains(line), "{line} not in {out}");
+    }
+    assert_eq!(out.matches("ROS 2 ").count(), 3, "{out}");
+
+    // The tree's JSON carries them as `ros2` of their module, and only there.
+    let (code, out, err) = inspect(&address, &["--list", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let all: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let modules = all["ros2_crash_course/fragile_bot"]["tree"]["modules"]
+        .as_array()
+        .unwrap();
+    let with: Vec<&serde_json::Value> =
+        modules.iter().filter(|m| m.get("ros2").is_some()).collect();
+    assert_eq!(with.len(), 3, "{out}");
+    let twist_out = modules
+        .iter()
+        .find(|m| m["path"] == "fragile_bot/main/control/twist_out")
+        .unwrap();
+    assert_eq!(
+        twist_out["ros2"],
+        serde_json::json!([{"port": "twist", "role": "publish", "name": "/cmd_vel",
+            "type": "geometry_msgs/msg/Twist", "node": "/fragile_bot", "domain": 0,
+            "qos": {"reliability": "reliable", "durability": "volatile", "depth": 10}}])
+    );
+
+    page_shows_ros2_topics(&address);
+}
+
+/// The page in a real browser (skips visibly without Chromium and playwright-core).
+fn page_shows_ros2_topics(connect: &str) {
+    let chromium = std::env::var("FERROC_CHROMIUM").unwrap_or_else(|_| "chromium".into());
+    let Some(chromium) = ferroc_testkit::command(&chromium) else {
+        return;
+    };
+    let Some(node_modules) = ferroc_testkit::node_modules(&["playwright-core"]) else {
+        return;
+    };
+    let page = format!("127.0.0.1:{}", free_port());
+    let mut web = Command::new(env!("CARGO_BIN_EXE_ferroc"));
+    web.args(["inspect", "--serve", &page, "--connect", connect])
+        .current_dir(root())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
+    let mut web = Killed(web.spawn().expect("ferroc runs"));
+    let stderr = lines(web.0.stderr.take().unwrap());
+    wait_for_line(&stderr, "the page is on", Duration::from_secs(60));
+    let out = Command::new("node")
+        .arg(root().join("tests/web/inspect_ros2_page.mjs"))
+        .env("FERROC_NODE_MODULES", &node_modules)
+        .env("FERROC_CHROMIUM", &chromium)
+        .env("FERROC_PAGE_URL", format!("http://{page}/"))
+        .output()
+        .expect("node runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    println!("{stdout}");
+    assert!(
+        out.status.success(),
+        "the page test failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for step in [
+        "/cmd_vel (geometry_msgs",
+        "only the node's 3 ports",
+        "twist value",
+    ] {
+        assert!(stdout.contains(step), "missing `{step}` in:\n{stdout}");
+    }
 }

@@ -25,15 +25,13 @@
 //! stopped reading. A computer without usable shared memory (no `/dev/shm`, a
 //! container without it) runs on the network path after one warning.
 
+use crate::stats::Counting;
 use ferroc_runtime::console;
 use ferroc_runtime::module::Encoder;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 use zenoh::bytes::ZBytes;
-use zenoh::shm::{
-    Defragment, GarbageCollect, JustAlloc, PosixShmProviderBackend, ShmProvider,
-    ShmProviderBuilder, ZShmMut,
-};
+use zenoh::shm::{Defragment, GarbageCollect, JustAlloc, ShmProvider, ZShmMut};
 use zenoh::Wait;
 
 /// ferroc's default threshold: values of at least this many encoded bytes travel in
@@ -120,7 +118,8 @@ pub struct Use {
 
 /// The shared-memory pool of one part (see the module documentation).
 pub struct Pool {
-    provider: Option<ShmProvider<PosixShmProviderBackend>>,
+    /// On Zenoh's POSIX backend, counting what it holds (`ferroc inspect`).
+    provider: Option<ShmProvider<Counting>>,
     settings: Settings,
     shared: AtomicU64,
     network: AtomicU64,
@@ -135,7 +134,7 @@ impl Pool {
     /// warning naming the cause.
     pub fn open(settings: Settings) -> Pool {
         let provider = if settings.enabled {
-            match ShmProviderBuilder::default_backend(settings.pool_size).wait() {
+            match Counting::provider(settings.pool_size) {
                 Ok(provider) => Some(provider),
                 Err(e) => {
                     console::note(&format!(
@@ -261,6 +260,17 @@ impl Pool {
 }
 
 impl Pool {
+    /// The pool's size, the bytes held now (by values on their way or read in place;
+    /// buffers nobody holds are collected first) and the threshold; `None` without a
+    /// pool. For `ferroc inspect` ([`crate::stats`]).
+    pub fn held(&self) -> Option<(usize, usize, usize)> {
+        let provider = self.provider.as_ref()?;
+        provider.garbage_collect();
+        let size = self.settings.pool_size;
+        let used = size.saturating_sub(provider.available());
+        Some((size, used, self.settings.threshold))
+    }
+
     /// How many buffers of `size` bytes the pool holds now, after collecting the
     /// buffers no reader holds: a measure of what came back, for checks while nothing
     /// is sent (the probe takes them all for a moment). `None` without a pool.
