@@ -188,6 +188,22 @@ mod tests {
         assert_eq!(stats.report(Some(&pool)).pool.unwrap().used, 0);
     }
 
+    /// A full pool: a reliable link's value falls back to the network, counted there.
+    #[test]
+    fn a_value_a_full_pool_cannot_take_counts_as_network() {
+        let pool = Pool::open(Settings {
+            enabled: true,
+            threshold: 4096,
+            pool_size: 64 * 1024,
+        });
+        let stats = Stats::new(&links());
+        let held = pool.payload(vec![1; 40_000], true, "link");
+        stats.sent([3], &held);
+        stats.sent([3], &pool.payload(vec![2; 40_000], true, "link"));
+        let l = &stats.report(Some(&pool)).links[0];
+        assert_eq!((l.shared_memory, l.network, l.dropped), (1, 1, 0));
+    }
+
     #[test]
     fn without_a_pool_there_are_no_pool_figures() {
         let off = Pool::open(Settings {
