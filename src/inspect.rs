@@ -7,6 +7,7 @@ use ferroc_compiler::diagnostic::{did_you_mean, escape_controls};
 use ferroc_inspect::client::{part_of, Answer, Client};
 use ferroc_inspect::request::{key, What};
 use ferroc_inspect::web;
+use ferroc_runtime::inspect::ros2;
 use ferroc_runtime::inspect::view::*;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
@@ -272,23 +273,21 @@ fn list(client: &Client, args: &InspectArgs) -> Result<(), Failure> {
         let containers: Vec<ContainerView> = client.one(app, part, &What::Containers)?;
         let links: Vec<LinkView> = client.one(app, part, &What::Links)?;
         let activities: Vec<ActivityView> = client.one(app, part, &What::Activities)?;
+        // A program built before `transport` was asked answers it with an error: none.
+        let transport: TransportView =
+            (client.one(app, part, &What::Transport)).unwrap_or_default();
         if args.json {
             all.insert(
                 format!("{app}/{part}"),
                 serde_json::json!({
-                    "tree": tree, "containers": containers, "links": links, "activities": activities
+                    "tree": tree, "containers": containers, "links": links,
+                    "activities": activities, "transport": transport
                 }),
             );
             continue;
         }
-        line(escape_controls(show_part(
-            app,
-            part,
-            &tree,
-            &containers,
-            &links,
-            &activities,
-        )))?;
+        let figures = (&containers[..], &links[..], &activities[..], &transport);
+        line(escape_controls(show_part(app, part, &tree, figures)))?;
     }
     if args.json {
         line(serde_json::Value::Object(all))?;
@@ -296,14 +295,17 @@ fn list(client: &Client, args: &InspectArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn show_part(
-    app: &str,
-    part: &str,
-    tree: &Tree,
-    containers: &[ContainerView],
-    links: &[LinkView],
-    activities: &[ActivityView],
-) -> String {
+/// A part's figures besides its tree: containers, links into it, activities, and how
+/// its links to other parts travel.
+type Figures<'a> = (
+    &'a [ContainerView],
+    &'a [LinkView],
+    &'a [ActivityView],
+    &'a TransportView,
+);
+
+fn show_part(app: &str, part: &str, tree: &Tree, figures: Figures<'_>) -> String {
+    let (containers, links, activities, transport) = figures;
     use std::fmt::Write;
     let mut s = format!("application {app}, part {part}\n");
     for c in containers {
@@ -345,6 +347,12 @@ fn show_part(
                 format!(" ← {}", p.from.join(", "))
             };
             let _ = writeln!(s, "    {:<3} {}: {}{unit}{from}", p.dir, p.name, p.r#type);
+            for end in m.ros2.iter().filter(|e| is_topic(e) && e.port == p.name) {
+                let _ = writeln!(s, "        {}", ros2::describe(end));
+            }
+        }
+        for end in m.ros2.iter().filter(|e| !is_topic(e)) {
+            let _ = writeln!(s, "    {} {}: {}", end.role, end.port, ros2::describe(end));
         }
         for p in &m.params {
             let _ = writeln!(s, "    param {}", show_param(p));
@@ -357,6 +365,7 @@ fn show_part(
             .unwrap_or_default();
         let _ = writeln!(s, "  link into {}: {}{age}", l.input, l.state);
     }
+    show_transport(&mut s, transport);
     for a in activities {
         let n = |x: Option<f64>| x.map_or("-".into(), |x| format!("{x:.3}"));
         let _ = writeln!(
@@ -368,6 +377,46 @@ fn show_part(
         );
     }
     s.trim_end().to_owned()
+}
+
+/// How the links `transport` names travel, a line each, and the pool's use:
+/// `link out of robot/cam/image to station: shared memory (120 in shared memory, 0 over
+/// the network, 0 dropped)`, `shared memory pool: 6.0 MiB of 64.0 MiB in use, for
+/// values of 4.0 KiB and more`.
+fn show_transport(s: &mut String, transport: &TransportView) {
+    use std::fmt::Write;
+    for l in &transport.links {
+        let _ = writeln!(
+            s,
+            "  link out of {} to {}: {} ({} in shared memory, {} over the network, {} dropped)",
+            l.output, l.to_part, l.by, l.shared_memory, l.network, l.dropped
+        );
+    }
+    if let Some(p) = &transport.pool {
+        let _ = writeln!(
+            s,
+            "  shared memory pool: {} of {} in use, for values of {} and more",
+            size(p.used),
+            size(p.size),
+            size(p.threshold)
+        );
+    }
+}
+
+/// A number of bytes as people read it: `512 bytes`, `4.0 KiB`, `64.0 MiB`.
+fn size(bytes: u64) -> String {
+    const KIB: u64 = 1024;
+    let x = bytes as f64;
+    match bytes {
+        b if b < KIB => format!("{b} bytes"),
+        b if b < KIB * KIB => format!("{:.1} KiB", x / 1024.0),
+        _ => format!("{:.1} MiB", x / (1024.0 * 1024.0)),
+    }
+}
+
+/// A port published or subscribed as a ROS 2 topic (else a service or client).
+fn is_topic(end: &Ros2View) -> bool {
+    matches!(end.role.as_str(), "publish" | "subscribe")
 }
 
 fn show_param(p: &ParamView) -> String {

@@ -129,6 +129,8 @@ fn the_nav_behaviours_run_is_inspected_and_a_speed_limit_takes_effect() {
         "{out}"
     );
     assert!(out.contains("container robot/control: "), "{out}");
+    // No part is a ROS 2 node: no port says it is a topic (tests/inspect_ros2.rs).
+    assert!(!out.contains("ROS 2"), "{out}");
     // A library struct registered with its serde form (the manifest says serde="true"):
     // a JSON object with the struct's fields, not its Debug text.
     let pose = get(&r, "robot/control/sim/pose");

@@ -161,6 +161,8 @@ fn the_json_api_reads_and_changes_with_the_token_and_answers_malformed_requests_
     assert_eq!(s["containers"][0]["path"], "robot/main");
     assert!(s["links"].as_array().unwrap().is_empty(), "{s}");
     assert_eq!(s["activities"], json!([]), "no behaviours here");
+    // One process: no link travels between parts (tests/inspect_transport.rs).
+    assert_eq!(s["transport"], json!({"links": [], "pool": null}), "{s}");
     eventually(&web, "robot/main/scaled/output", json!(8.0));
     let (_, p) = api(
         &web,
@@ -408,6 +410,7 @@ fn the_page_shows_nav_behaviours_live_in_a_real_browser_and_sets_a_parameter() {
         "behaviour bars labelled",
         "zoom: actual size and back to fitted",
         "values as short JSON",
+        "no ROS 2 lines",
         "a numeric port changed",
         "wrong token refused: not authorised",
         "operator/activity became 0.25",

@@ -483,16 +483,3 @@ fn check_enable(samples: &[serde_json::Value], text: &str) {
         "the robot still moves after /enable false: {text}"
     );
 }
-
-/// `ferroc run --inspect` does not open ROS 2 nodes yet and says so, instead of
-/// running without them.
-#[test]
-fn an_inspected_run_refuses_ros2_nodes_for_now() {
-    let (code, _, err) = ferroc(&["run", MODEL, "--inspect", "--cycles", "1"]);
-    assert_eq!(code, 2, "{err}");
-    assert!(
-        err.contains("does not open the model's ROS 2 nodes yet"),
-        "{err}"
-    );
-    assert!(err.contains("help: run it without --inspect"), "{err}");
-}

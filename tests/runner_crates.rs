@@ -114,6 +114,15 @@ fn the_runner_of_a_model_with_ros2_nodes_links_zenoh_but_no_compiler() {
             "the ROS 2 runner links {never}: {ros2:?}"
         );
     }
+    // Inspected: the inspecting runner, with ferroc-zenoh opening the nodes; still no
+    // web page.
+    let target = tempdir("runner_crates_ros2_inspect");
+    write_runner(&target, &["run", model, "--inspect", "--cycles", "1", "-q"]);
+    let inspect = crates_of(&runner_package(&target, "ferroc-zenoh"));
+    for linked in ["ferroc-host", "ferroc-compiler", "zenoh", "crash-course"] {
+        assert!(inspect.contains(linked), "{linked}: {inspect:?}");
+    }
+    assert!(!inspect.contains("axum"), "{inspect:?}");
 }
 
 #[test]

@@ -79,6 +79,39 @@ impl Editor {
     }
 }
 
+/// What the running ROS 2 nodes cannot take: their topics, services and clients are
+/// bound to the modules' ports when the run starts, so an edit may neither change
+/// `<ros2>` nor drop, replace or move a module one of them names.
+fn ros2_unsupported(old: &Plan, new: &Plan, d: &diff::PlanDiff) -> Vec<String> {
+    let mut why = Vec::new();
+    if old.ros2 != new.ros2 {
+        why.push(
+            "it changes the model's ROS 2 nodes (`<ros2>`), which are declared when the run starts"
+                .to_string(),
+        );
+    }
+    let named = |path: &str| {
+        (old.ros2.iter()).find_map(|node| {
+            let topics = (node.topics.iter()).map(|t| (&t.port.0, &t.topic));
+            let services =
+                (node.services.iter().chain(&node.clients)).map(|s| (&s.port.0, &s.name));
+            topics
+                .chain(services)
+                .find(|(module, _)| module.as_str() == path)
+                .map(|(_, name)| name.clone())
+        })
+    };
+    let dropped = (d.removed.iter()).chain(d.moved.iter().map(|(from, _)| from));
+    for path in dropped {
+        if let Some(name) = named(path) {
+            why.push(format!(
+                "`{path}` is bound to the ROS 2 topic or service `{name}` of the running node"
+            ));
+        }
+    }
+    why
+}
+
 /// The name diagnostics give the edited text.
 fn edited_name(model: &std::path::Path) -> String {
     format!("{} (edited)", model.display())
@@ -154,7 +187,9 @@ impl Structure for Editor {
                 what.join("; ")
             )));
         }
-        let d = diff::diff(&state.plan, &new_plan, &edited.moved);
+        let mut d = diff::diff(&state.plan, &new_plan, &edited.moved);
+        d.unsupported
+            .extend(ros2_unsupported(&state.plan, &new_plan, &d));
         if !d.unsupported.is_empty() {
             return Err(refusal(format!(
                 "the edited model checks clean, but the running application cannot take this change: {}; nothing changed (save the model and restart it to get there)",
@@ -281,4 +316,62 @@ fn apply_diff(live: &mut Live, d: &diff::PlanDiff, new: &Plan) -> Result<Vec<Str
             })
             .collect(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The plan of the crash course as the ROS 2 node /fragile_bot.
+    fn ros2_plan() -> Plan {
+        let model = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../models/ros2_crash_course.xml");
+        let options = crate::loader_options(&[], false);
+        let result = ferroc_compiler::check_model(&model, &options, &Policy::default()).unwrap();
+        assert!(errors_of(&result).is_none());
+        plan::plan(result.app.as_ref().unwrap(), &result.libraries, &[]).0
+    }
+
+    #[test]
+    fn an_edit_may_not_unbind_a_ros2_topic_from_its_module() {
+        let old = ros2_plan();
+        let published = old.ros2[0].topics[0].port.0.clone();
+        let dropped = diff::PlanDiff {
+            removed: vec![published.clone()],
+            ..diff::PlanDiff::default()
+        };
+        let why = ros2_unsupported(&old, &old, &dropped);
+        assert_eq!(why.len(), 1, "{why:?}");
+        assert!(
+            why[0].contains(&published) && why[0].contains("cmd_vel"),
+            "{why:?}"
+        );
+
+        let mut new = old.clone();
+        new.ros2[0].topics[0].qos.depth += 1;
+        let why = ros2_unsupported(&old, &new, &diff::PlanDiff::default());
+        assert_eq!(why.len(), 1, "{why:?}");
+        assert!(why[0].contains("`<ros2>`"), "{why:?}");
+    }
+
+    #[test]
+    fn an_edit_of_modules_the_node_does_not_name_is_taken() {
+        let old = ros2_plan();
+        let named: Vec<&str> = (old.ros2[0].topics.iter())
+            .map(|t| t.port.0.as_str())
+            .collect();
+        let other = (old.modules.iter())
+            .map(|m| m.path.clone())
+            .find(|p| !named.contains(&p.as_str()))
+            .unwrap();
+        let d = diff::PlanDiff {
+            removed: vec![other.clone()],
+            moved: vec![(other.clone(), format!("{other}_moved"))],
+            ..diff::PlanDiff::default()
+        };
+        assert_eq!(
+            ros2_unsupported(&old, &old.clone(), &d),
+            Vec::<String>::new()
+        );
+    }
 }

@@ -89,6 +89,16 @@ pub fn main(registry: Registry) -> ExitCode {
     main_from(registry, std::env::args_os())
 }
 
+/// The `main` of the inspecting runner of a model whose parts are ROS 2 nodes: [`main`]
+/// with `network` opening the nodes (`ferroc_zenoh::ros2::network::network`) on a
+/// Zenoh session of their own, beside the inspection server's.
+pub fn main_ros2(registry: Registry, network: ferroc_runner::run::Ros2Network) -> ExitCode {
+    let runner = <Runner as clap::Parser>::parse_from(std::env::args_os());
+    match runner.command {
+        RunnerCommand::Run(args) => run::run_with(args, &registry, Some(network)),
+    }
+}
+
 /// [`main`] with these arguments (the first is the program's name).
 pub fn main_from(
     registry: Registry,

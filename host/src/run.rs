@@ -9,6 +9,7 @@ use ferroc_compiler::plan::{self, Plan};
 use ferroc_compiler::source::SourceMap;
 use ferroc_compiler::CheckResult;
 use ferroc_runner::plan::{RunOptions, RunPlan};
+use ferroc_runner::run::Ros2Network;
 use ferroc_runtime::builder::{BuildError, Live, Registry, RunningApp, StartOptions};
 use ferroc_runtime::inspect::Catalogue;
 use ferroc_runtime::module::Interface;
@@ -151,6 +152,12 @@ pub fn param_pairs(params: &[String]) -> Result<Vec<(String, String)>, String> {
 
 /// `ferroc run` with the module types of `registry`: check, plan, build, supervise.
 pub fn run(args: RunArgs, registry: &Registry) -> ExitCode {
+    run_with(args, registry, None)
+}
+
+/// [`run`], with `ros2` opening the network of the model's ROS 2 nodes (the runner of
+/// a model with `<ros2>`; without it such a model is refused when it starts).
+pub fn run_with(args: RunArgs, registry: &Registry, ros2: Option<Ros2Network>) -> ExitCode {
     if let Err(code) = cmdline_params(&args) {
         return code;
     }
@@ -159,19 +166,29 @@ pub fn run(args: RunArgs, registry: &Registry) -> ExitCode {
             Ok(r) => r,
             Err(code) => return code,
         };
-    run_checked(args, &result, registry)
+    run_checked_with(args, &result, registry, ros2)
 }
 
 /// `ferroc run` of a model checked without errors, in this process.
 pub fn run_checked(args: RunArgs, result: &CheckResult, registry: &Registry) -> ExitCode {
+    run_checked_with(args, result, registry, None)
+}
+
+/// [`run_checked`], with `ros2` opening the network of the model's ROS 2 nodes.
+fn run_checked_with(
+    args: RunArgs,
+    result: &CheckResult,
+    registry: &Registry,
+    ros2: Option<Ros2Network>,
+) -> ExitCode {
     let (plan, run_plan) = match plan_run(&args, result, &interfaces_of(registry)) {
         Ok(planned) => planned,
         Err(code) => return code,
     };
     if args.inspect.is_none() {
-        return ferroc_runner::run::run(run_plan, registry);
+        return ferroc_runner::run::run_with(run_plan, registry, ros2);
     }
-    run_inspected(args, result, plan, run_plan, registry)
+    run_inspected(args, result, (plan, run_plan), registry, ros2)
 }
 
 /// The run plan a runner is handed (and the compiler's plan it came from): the
@@ -225,9 +242,9 @@ pub fn plan_run(
 fn run_inspected(
     args: RunArgs,
     result: &CheckResult,
-    plan: Plan,
-    mut run_plan: RunPlan,
+    (plan, mut run_plan): (Plan, RunPlan),
     registry: &Registry,
+    ros2: Option<Ros2Network>,
 ) -> ExitCode {
     let Some(app) = result.app.as_ref() else {
         return ExitCode::from(1);
@@ -247,7 +264,18 @@ fn run_inspected(
     };
     let seed = ferroc_runner::run::seed(&run_plan);
     let interrupted = ferroc_runner::run::interrupt_flag();
-    let start = ferroc_runner::run::start_options(&run_plan.run);
+    let mut start = ferroc_runner::run::start_options(&run_plan.run);
+    // The nodes open their own Zenoh session (rmw_zenoh's configuration, e.g. the
+    // router's address); the inspection server keeps its loopback-only one.
+    if let (false, Some(network)) = (run_plan.ros2.is_empty(), ros2) {
+        match network() {
+            Ok(n) => start.network = Some(n),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
     let (running, catalogue, live) = match start_live(&run_plan, &registry, seed, start) {
         Ok(started) => started,
         Err(e) => {

@@ -1,7 +1,8 @@
 //! The inspection keys (docs/inspect.md), built by the client and read by the server.
 //!
 //! `ferroc/APP/inspect/PART/WHAT`, where `WHAT` is one of `tree`, `containers`,
-//! `links`, `activities`, `value/MODULE/PATH/PORT` or `param/MODULE/PATH/NAME`. `APP`
+//! `links`, `activities`, `transport`, `value/MODULE/PATH/PORT`,
+//! `param/MODULE/PATH/NAME`, `edit` or `model`. `APP`
 //! and `PART` may be `*` (every application, every part); `WHAT` is always literal.
 
 use serde::{Deserialize, Serialize};
@@ -17,6 +18,9 @@ pub enum What {
     Links,
     /// The iB2C behaviours' activities and target ratings.
     Activities,
+    /// How the values of the links the part sends travel (shared memory or network),
+    /// and its shared-memory pool.
+    Transport,
     /// A port's latest value (`MODULE/PATH/PORT`).
     Value(String),
     /// A parameter (`MODULE/PATH/NAME`); with a [`SetRequest`] payload, a change.
@@ -36,6 +40,7 @@ impl What {
             What::Containers => "containers".into(),
             What::Links => "links".into(),
             What::Activities => "activities".into(),
+            What::Transport => "transport".into(),
             What::Value(p) => format!("value/{p}"),
             What::Param(p) => format!("param/{p}"),
             What::Edit => "edit".into(),
@@ -90,6 +95,7 @@ fn what(key: &str, tail: &str) -> Result<What, String> {
             "containers" => What::Containers,
             "links" => What::Links,
             "activities" => What::Activities,
+            "transport" => What::Transport,
             "edit" => What::Edit,
             "model" => What::Model,
             other => return Err(unknown(other)),
@@ -102,7 +108,7 @@ fn what(key: &str, tail: &str) -> Result<What, String> {
 
 fn unknown(what: &str) -> String {
     format!(
-        "`{what}` is not an inspection request; ask for tree, containers, links, activities, value/MODULE/PORT, param/MODULE/NAME, edit or model"
+        "`{what}` is not an inspection request; ask for tree, containers, links, activities, transport, value/MODULE/PORT, param/MODULE/NAME, edit or model"
     )
 }
 
@@ -145,6 +151,7 @@ mod tests {
             What::Containers,
             What::Links,
             What::Activities,
+            What::Transport,
             What::Value("robot/control/avoid/activity".into()),
             What::Param("robot/control/avoid/min_activity".into()),
             What::Edit,

@@ -204,6 +204,7 @@ fn handle(what: &What, part: &str, payload: Option<&[u8]>, c: &Context) -> Answe
         What::Containers => return json(&i.containers(Some(part))),
         What::Links => return json(&i.links(Some(part))),
         What::Activities => return json(&i.activities(Some(part))),
+        What::Transport => return json(&i.transport(Some(part))),
         What::Edit | What::Model => return structural(what, payload, c),
         What::Value(p) | What::Param(p) => p,
     };

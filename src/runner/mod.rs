@@ -55,20 +55,18 @@ pub fn run(args: RunArgs) -> ExitCode {
     // ROS 2 nodes need Zenoh, which ferroc and the plain runner do not link.
     let ros2 =
         (result.app.as_ref()).is_some_and(|app| app.ros2.nodes.iter().any(|n| !n.is_external()));
-    if ros2 && args.inspect.is_some() {
-        eprintln!(
-            "error: `ferroc run --inspect` does not open the model's ROS 2 nodes yet\n  \
-             help: run it without --inspect (docs/ros2.md)"
-        );
-        return ExitCode::from(2);
-    }
     if crates.is_empty() && !ros2 {
         let registry = ferroc_host::run::registry();
         return ferroc_host::run::run_checked(args, &result, &registry);
     }
     if args.inspect.is_some() {
         let argv: Vec<OsString> = std::env::args_os().skip(1).collect();
-        return hand_over(&crates, Kind::Inspect, argv, args.verbose);
+        let kind = if ros2 {
+            Kind::InspectRos2
+        } else {
+            Kind::Inspect
+        };
+        return hand_over(&crates, kind, argv, args.verbose);
     }
     let kind = if ros2 { Kind::Ros2 } else { Kind::Plain };
     let exe = match program::ensure(&crates, kind, args.verbose) {

@@ -7,11 +7,12 @@
 //! and share every compiled dependency. A model is not part of the runner: the runner
 //! checks and plans the model it is given, so editing a model never rebuilds anything.
 //!
-//! Two kinds of runner per set of libraries ([`Kind`]), each its own package with one
+//! Kinds of runner per set of libraries ([`Kind`]), each its own package with one
 //! feature set, sharing the cache: the plain runner links `ferroc-runner` (the runtime,
 //! the standard library, no compiler, no Zenoh) and is handed the plan of the model;
 //! the inspecting runner (`ferroc run --inspect`) links `ferroc-host` with the compiler
-//! and the inspection server.
+//! and the inspection server; for a model whose parts are ROS 2 nodes, each also
+//! links `ferroc-zenoh`, which opens the nodes.
 
 use super::build::{self, Build};
 use super::cache::{self, Cache};
@@ -43,6 +44,10 @@ pub enum Kind {
     /// `ferroc run` of a model whose parts are ROS 2 nodes: `ferroc-runner` and
     /// `ferroc-zenoh`, which opens the nodes (docs/ros2.md); still no compiler.
     Ros2,
+    /// `ferroc run --inspect` of a model whose parts are ROS 2 nodes: the inspecting
+    /// runner with `ferroc-zenoh` opening the nodes (on a session of their own, beside
+    /// the inspection server's).
+    InspectRos2,
 }
 
 impl Kind {
@@ -50,7 +55,7 @@ impl Kind {
     fn host_crate(self) -> (&'static str, &'static str) {
         match self {
             Kind::Plain | Kind::Ros2 => ("runner", "ferroc-runner"),
-            Kind::Inspect => ("host", "ferroc-host"),
+            Kind::Inspect | Kind::InspectRos2 => ("host", "ferroc-host"),
         }
     }
 
@@ -58,7 +63,7 @@ impl Kind {
     /// package name.
     fn more_crates(self) -> &'static [(&'static str, &'static str)] {
         match self {
-            Kind::Ros2 => &[("zenoh-link", "ferroc-zenoh")],
+            Kind::Ros2 | Kind::InspectRos2 => &[("zenoh-link", "ferroc-zenoh")],
             Kind::Plain | Kind::Inspect => &[],
         }
     }
@@ -69,6 +74,7 @@ impl Kind {
             Kind::Plain => "plain",
             Kind::Inspect => "inspect",
             Kind::Ros2 => "ros2",
+            Kind::InspectRos2 => "inspect-ros2",
         }
     }
 }
@@ -250,6 +256,12 @@ fn main_rs(kind: Kind, crates: &[LibraryCrate]) -> String {
             "ferroc_runner",
             "ferroc_runner::registry()",
             "ferroc_runner::main_ros2(registry, ferroc_zenoh::ros2::network::network)",
+        ),
+        Kind::InspectRos2 => (
+            "runs `ferroc run --inspect` of models with ROS 2 nodes",
+            "ferroc_host",
+            "ferroc_host::run::registry()",
+            "ferroc_host::main_ros2(registry, ferroc_zenoh::ros2::network::network)",
         ),
     };
     let mut main = format!(

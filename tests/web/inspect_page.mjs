@@ -68,6 +68,10 @@ async function run() {
 
   await checkDrawing();
   await checkValues();
+  // No part of nav_behaviours is a ROS 2 node: no port says it is a topic.
+  const ros2 = await count('.ros2');
+  if (ros2) throw new Error(`${ros2} ports say they are ROS 2 topics`);
+  pass('no ROS 2 lines: no port of nav_behaviours is a topic');
   await page.screenshot({ path: shot });
   await page.locator('#graph-box').screenshot({ path: graphShot });
   pass(`screenshots ${shot} (the window at 1400×900) and ${graphShot}`);

@@ -13,9 +13,10 @@
 use crate::alive::{Change, Watch};
 use crate::keys::{encoding, Keys};
 use crate::shm::{Payload, Pool};
+use crate::stats::Stats;
 use ferroc_runtime::console;
 use ferroc_runtime::link::transport::{
-    call_number, send_each, Connection, Delivery, LinkKind, PartLinks, Sending,
+    call_number, send_each, Connection, Delivery, LinkKind, PartLinks, Sending, TransportUse,
 };
 use ferroc_runtime::link::Frame;
 use ferroc_runtime::module::bytes::Holder;
@@ -45,6 +46,8 @@ pub(crate) struct Free {
     data: BTreeMap<u32, Out>,
     /// The shared-memory pool of large values (none if nothing is sent).
     pool: Option<Arc<Pool>>,
+    /// How each link's values went, for `ferroc inspect`.
+    stats: Stats,
     calls_out: BTreeMap<u32, OwnedKeyExpr>,
     /// Queries waiting for the service's answer, by call and request number.
     waiting: Arc<Mutex<HashMap<(u32, u64), Query>>>,
@@ -81,6 +84,7 @@ pub(crate) fn open(
         delivery,
         data,
         pool: shm.pool,
+        stats: Stats::new(links),
         calls_out,
         waiting,
         _subscribers: subscribers,
@@ -442,6 +446,7 @@ impl Connection for Free {
                         Some(pool) => pool.payload(frame.bytes, out.reliable, &out.name),
                         None => Payload::Network(frame.bytes.into()),
                     };
+                    self.stats.sent([id], &payload);
                     self.put(id, out, payload);
                 }
             }
@@ -466,6 +471,8 @@ impl Connection for Free {
             Some(pool) => pool.payload_encoded(encoder, out.reliable, &out.name)?,
             None => Payload::Network(encoder.to_vec()?.into()),
         };
+        self.stats
+            .sent(targets.iter().map(|(link, _)| *link), &payload);
         let attachment = match targets {
             [_] => out.attachment.clone(),
             _ => ZBytes::from(
@@ -501,6 +508,10 @@ impl Connection for Free {
             }
         }
         lines
+    }
+
+    fn transport(&self) -> TransportUse {
+        self.stats.report(self.pool.as_deref())
     }
 
     fn close(&self) {

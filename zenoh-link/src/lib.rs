@@ -30,6 +30,7 @@ pub mod keys;
 pub mod lockstep;
 pub mod ros2;
 pub mod shm;
+pub mod stats;
 
 use ferroc_runtime::link::transport::{Addresses, Connection, Delivery, Network, PartLinks};
 use ferroc_terminal::engine_error;

@@ -29,16 +29,15 @@
 //! computer turns it off: Zenoh's shared memory is 21 crates), there is never a pool:
 //! every value takes the network path, with the same API and no warning.
 
+#[cfg(feature = "shared-memory")]
+use crate::stats::Counting;
 use ferroc_runtime::console;
 use ferroc_runtime::module::Encoder;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 use zenoh::bytes::ZBytes;
 #[cfg(feature = "shared-memory")]
-use zenoh::shm::{
-    Defragment, GarbageCollect, JustAlloc, PosixShmProviderBackend, ShmProvider,
-    ShmProviderBuilder, ZShmMut,
-};
+use zenoh::shm::{Defragment, GarbageCollect, JustAlloc, ShmProvider, ZShmMut};
 #[cfg(feature = "shared-memory")]
 use zenoh::Wait;
 
@@ -137,7 +136,8 @@ pub struct Pool {
 
 /// Zenoh's pool on POSIX shared memory.
 #[cfg(feature = "shared-memory")]
-type Provider = ShmProvider<PosixShmProviderBackend>;
+/// Zenoh's POSIX backend, counting what it holds (`ferroc inspect`, stats.rs).
+type Provider = ShmProvider<Counting>;
 
 /// Built without the feature `shared-memory`: there is no pool to hold.
 #[cfg(not(feature = "shared-memory"))]
@@ -151,7 +151,7 @@ type Reclaim = Defragment<GarbageCollect<JustAlloc, JustAlloc>>;
 /// provide it.
 #[cfg(feature = "shared-memory")]
 fn provider(settings: Settings) -> Option<Provider> {
-    match ShmProviderBuilder::default_backend(settings.pool_size).wait() {
+    match Counting::provider(settings.pool_size) {
         Ok(provider) => Some(provider),
         Err(e) => {
             console::note(&format!(
@@ -305,12 +305,34 @@ impl Pool {
 }
 
 impl Pool {
+    /// The pool's size, the bytes held now (by values on their way or read in place;
+    /// buffers nobody holds are collected first) and the threshold; `None` without a
+    /// pool. For `ferroc inspect` ([`crate::stats`]).
+    pub fn held(&self) -> Option<(usize, usize, usize)> {
+        let provider = self.provider.as_ref()?;
+        let size = self.settings.pool_size;
+        let used = size.saturating_sub(free_after_collecting(provider));
+        Some((size, used, self.settings.threshold))
+    }
+
     /// How many buffers of `size` bytes the pool holds now, after collecting the
     /// buffers no reader holds: a measure of what came back, for checks while nothing
     /// is sent (the probe takes them all for a moment). `None` without a pool.
     pub fn room_for(&self, size: usize) -> Option<usize> {
         self.provider.as_ref().map(|p| buffers_of(p, size))
     }
+}
+
+/// The bytes `provider` has free once the buffers nobody holds are collected.
+#[cfg(feature = "shared-memory")]
+fn free_after_collecting(provider: &Provider) -> usize {
+    provider.garbage_collect();
+    provider.available()
+}
+
+#[cfg(not(feature = "shared-memory"))]
+fn free_after_collecting(provider: &Provider) -> usize {
+    match *provider {}
 }
 
 /// How many buffers of `size` bytes `provider` hands out, all held at once.

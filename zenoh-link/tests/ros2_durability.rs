@@ -10,6 +10,7 @@
 //!
 //! Loopback only, multicast scouting off. Without a Python that has `zenoh`,
 //! `zenoh_ros2_sdk` and `rosbags` the tests skip visibly (ferroc-testkit).
+#![cfg(feature = "ros2-durability")]
 
 mod support;
 

@@ -180,7 +180,7 @@ async fn tree(Shared(s): Shared<Arc<State>>, q: Result<Query<Params>, QueryRejec
     .await
 }
 
-/// `GET /api/status?app=APP&part=PART`: `{containers, links, activities}`.
+/// `GET /api/status?app=APP&part=PART`: `{containers, links, activities, transport}`.
 async fn status(Shared(s): Shared<Arc<State>>, q: Result<Query<Params>, QueryRejection>) -> Reply {
     let p = query(q)?;
     let (app, part) = (app(&s, &p)?, name("part", p.part.as_deref(), false)?);
@@ -193,6 +193,10 @@ async fn status(Shared(s): Shared<Arc<State>>, q: Result<Query<Params>, QueryRej
         ] {
             out.insert(field.into(), s.peer.one(&key(&app, &part, &what), None)?);
         }
+        // How the part's links to other parts travel; `null` from a program that does
+        // not answer it (one built before it was asked).
+        let transport = s.peer.one(&key(&app, &part, &What::Transport), None);
+        out.insert("transport".into(), transport.unwrap_or(Value::Null));
         Ok(Json(Value::Object(out)))
     })
     .await

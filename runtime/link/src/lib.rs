@@ -379,6 +379,19 @@ impl Hub {
         }
     }
 
+    /// How the values sent so far travelled ([`transport::Connection::transport`]);
+    /// empty without a network and in lockstep.
+    #[doc(hidden)]
+    pub fn transport(&self) -> transport::TransportUse {
+        match self.route.get() {
+            Some(Route::Direct {
+                network: Some(network),
+                ..
+            }) => network.transport(),
+            _ => transport::TransportUse::default(),
+        }
+    }
+
     /// Closes the network (after the containers stopped).
     #[doc(hidden)]
     pub fn close(&self) {

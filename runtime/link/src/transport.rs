@@ -199,6 +199,50 @@ pub trait Connection: Send + Sync {
     fn status(&self) -> Vec<String> {
         Vec::new()
     }
+
+    /// How the values of the links this part sends travelled so far (shared memory or
+    /// network), and its shared-memory pool, for `ferroc inspect`. Empty by default.
+    fn transport(&self) -> TransportUse {
+        TransportUse::default()
+    }
+}
+
+/// How the values this part sends travel ([`Connection::transport`]).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct TransportUse {
+    /// Each data link this part sends, by link number.
+    pub links: Vec<LinkUse>,
+    /// The part's shared-memory pool, if it has one.
+    pub pool: Option<PoolUse>,
+}
+
+/// The values sent on one data link to another part, by how they went.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LinkUse {
+    /// The link number.
+    pub link: u32,
+    /// The reading part.
+    pub to_part: String,
+    /// The writer's module path and output port.
+    pub topic: String,
+    /// Values sent in a buffer of the shared-memory pool.
+    pub shared_memory: u64,
+    /// Values sent as bytes over the network (below the threshold, no pool, or a full
+    /// pool on a link that may not drop).
+    pub network: u64,
+    /// Values dropped because the pool was full (`on-full="drop"`).
+    pub dropped: u64,
+}
+
+/// A shared-memory pool's figures.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct PoolUse {
+    /// Its size in bytes.
+    pub size: u64,
+    /// Bytes held now (by values on their way or read in place by readers).
+    pub used: u64,
+    /// Values of at least this many encoded bytes go into the pool.
+    pub threshold: u64,
 }
 
 /// [`Connection::send_encoded`] without buffers of the network's own: the value in a

@@ -373,6 +373,13 @@ impl Connection for WithRos2 {
     fn status(&self) -> Vec<String> {
         self.inner.as_ref().map_or_else(Vec::new, |i| i.status())
     }
+
+    fn transport(&self) -> ferroc_runtime::link::transport::TransportUse {
+        self.inner
+            .as_ref()
+            .map(|i| i.transport())
+            .unwrap_or_default()
+    }
 }
 
 /// The network of `ferroc run` for a model whose parts are ROS 2 nodes (every part

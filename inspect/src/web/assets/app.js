@@ -85,10 +85,11 @@ async function loadTree() {
 }
 
 async function poll() {
-  const cs = [], ls = [], as = [], values = {};
+  const cs = [], ls = [], as = [], ts = [], values = {};
   for (const p of parts) {
     const s = await api(`/api/status?app=${enc(p.app)}&part=${enc(p.part)}`);
     cs.push(...s.containers); ls.push(...s.links); as.push(...s.activities);
+    if (s.transport) ts.push({ part: p.part, ...s.transport });
     const outputs = p.tree.modules.flatMap((m) => m.ports.filter((q) => q.dir === 'out').map((q) => `${m.path}/${q.name}`));
     for (let i = 0; i < outputs.length; i += CHUNK) {
       const v = await api(`/api/values?app=${enc(p.app)}&paths=${outputs.slice(i, i + CHUNK).map(enc).join(',')}`);
@@ -97,6 +98,7 @@ async function poll() {
   }
   P.containers($('containers'), cs);
   P.links($('links'), ls);
+  P.transport($('transport'), ts);
   P.activities($('activities'), as);
   showActivities(new Map(as.map((a) => [a.module, a])));
   for (const [path, v] of Object.entries(values)) {

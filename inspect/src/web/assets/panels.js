@@ -42,6 +42,38 @@ export function links(table, list) {
   }
 }
 
+/** A number of bytes as people read it. */
+const bytes = (n) => (n < 1024 ? `${n} bytes` : n < 1048576 ? `${(n / 1024).toFixed(1)} KiB` : `${(n / 1048576).toFixed(1)} MiB`);
+
+/** How the links each part sends to other parts travel (`parts`: each part's
+ * `transport` answer with its name): per link, shared memory or network and the
+ * counts; per part, its shared-memory pool's use. */
+export function transport(table, parts) {
+  const links = parts.flatMap((p) => p.links || []);
+  if (!links.length) {
+    table.replaceChildren(h('tr', {}, h('td', {}, 'no links to other parts')));
+    return;
+  }
+  table.replaceChildren(h('tr', {}, h('th', {}, 'output → part'), h('th', {}, 'travels by'),
+    h('th', {}, 'shared memory'), h('th', {}, 'network'), h('th', {}, 'dropped')));
+  for (const l of links) {
+    const by = l.by === 'shared memory' ? 'shm' : l.by === 'network' ? 'network' : 'mixed';
+    table.append(h('tr', { 'data-link-out': l.output, 'data-to': l.to_part },
+      h('td', {}, `${l.output} → ${l.to_part}`),
+      h('td', { class: 'by by-' + by }, l.by),
+      h('td', { class: 'num shm' }, String(l.shared_memory)),
+      h('td', { class: 'num net' }, String(l.network)),
+      h('td', { class: 'num' + (l.dropped ? ' msg-bad' : '') }, String(l.dropped))));
+  }
+  for (const p of parts.filter((x) => x.pool)) {
+    const share = p.pool.size ? p.pool.used / p.pool.size : 0;
+    const bar = h('span', { class: 'load' }, h('span', { style: `width:${(Math.min(1, share) * 100).toFixed(1)}%` }));
+    table.append(h('tr', { 'data-pool': p.part, 'data-used': String(p.pool.used), 'data-size': String(p.pool.size) },
+      h('td', {}, `shared memory pool of ${p.part}`),
+      h('td', { colspan: '4' }, bar, `${bytes(p.pool.used)} of ${bytes(p.pool.size)} in use (values of ${bytes(p.pool.threshold)} and more)`)));
+  }
+}
+
 export function activities(box, list) {
   box.replaceChildren();
   for (const a of list) {
@@ -62,9 +94,23 @@ export function limits(p) {
   return parts.join(', ');
 }
 
+/** Roles of a port published or subscribed as a ROS 2 topic (the others are services
+ * and clients). */
+const TOPIC = new Set(['publish', 'subscribe']);
+
+/** The line under a port (or service) saying which ROS 2 topic (or service) its part's
+ * node makes of it: name, type, QoS, node. */
+export function ros2Line(e) {
+  const qos = e.qos ? `; ${e.qos.reliability}, ${e.qos.durability}, depth ${e.qos.depth}` : '';
+  const field = e.field ? `.${e.field}` : '';
+  return h('div', { class: 'ros2', 'data-ros2': e.name, title: `ROS 2 node ${e.node}, domain ${e.domain}` },
+    `ROS 2 ${e.role} ${e.name} (${e.type}${field}${qos})`);
+}
+
 /** One module's section: its ports (value cells keyed by the path whose value they
  * show) and parameters (`onSet(param, text, messageCell)` on Set). */
 export function moduleSection(m, onSet) {
+  const ros2 = m.ros2 || [];
   const ports = h('table', { class: 'grid' }, h('tr', {}, h('th', {}, 'port'), h('th', {}, 'type'),
     h('th', {}, 'value'), h('th', {}, 'over time')));
   for (const p of m.ports) {
@@ -73,10 +119,14 @@ export function moduleSection(m, onSet) {
     if (shown) value.dataset.shows = shown;
     const plot = h('canvas', { class: 'plot', width: 180, height: 32 });
     if (shown) plot.dataset.shows = shown;
+    const topics = ros2.filter((e) => TOPIC.has(e.role) && e.port === p.name).map(ros2Line);
     ports.append(h('tr', {},
-      h('td', {}, `${p.dir === 'in' ? '▸' : '◂'} ${p.name}`, p.from.length ? h('div', { class: 'type' }, '← ' + p.from.join(', ')) : null),
+      h('td', {}, `${p.dir === 'in' ? '▸' : '◂'} ${p.name}`, p.from.length ? h('div', { class: 'type' }, '← ' + p.from.join(', ')) : null, ...topics),
       h('td', {}, p.type + (p.unit ? ` [${p.unit}]` : '') + (p.meta ? ' (meta)' : '')),
       value, h('td', {}, plot)));
+  }
+  for (const e of ros2.filter((e) => !TOPIC.has(e.role))) {
+    ports.append(h('tr', {}, h('td', {}, `⇄ ${e.port}`, ros2Line(e)), h('td', {}, e.role), h('td', {}), h('td', {})));
   }
   const params = h('table', { class: 'grid' });
   if (m.params.length) params.append(h('tr', {}, h('th', {}, 'parameter'), h('th', {}, 'value'), h('th', {}, 'type, range'), h('th', {}, 'new value'), h('th', {}, '')));

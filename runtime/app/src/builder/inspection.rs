@@ -54,6 +54,11 @@ impl Builder<'_> {
                 (t.path.clone(), paths)
             })
             .collect();
-        Catalogue { modules, threads }
+        Catalogue {
+            modules,
+            threads,
+            ros2: self.remote.ros2.clone(),
+            hub: Some(Arc::clone(&self.hub)),
+        }
     }
 }

@@ -10,8 +10,10 @@
 //! `ferroc-inspect`; this module only knows the application.
 
 mod probe;
+pub mod ros2;
 #[cfg(test)]
 mod tests;
+mod transport;
 pub mod view;
 
 use ferroc_exec::ContainerStats;
@@ -27,6 +29,10 @@ pub struct Catalogue {
     pub(crate) modules: Vec<ModuleEntry>,
     /// Container path and the modules it executes, in step order.
     pub(crate) threads: Vec<(String, Vec<String>)>,
+    /// The ROS 2 nodes of the application's parts (their ends name modules' ports).
+    pub(crate) ros2: Vec<ferroc_link::ros2::Ros2Node>,
+    /// Where the application's links go: its network says how their values travel.
+    pub(crate) hub: Option<Arc<ferroc_link::Hub>>,
 }
 
 pub(crate) struct ModuleEntry {
@@ -68,6 +74,12 @@ struct State {
     /// the part still runs (its containers cycle), and it must stay inspectable, or
     /// its model could be neither saved nor edited back.
     served: BTreeSet<String>,
+    /// The ROS 2 ends of each module (by path). They are fixed for the run: an edit
+    /// that would change them is refused, so [`Inspector::rebuild`] keeps them.
+    ros2: HashMap<String, Vec<Ros2View>>,
+    /// The links' hub, for [`Inspector::transport`] (kept by [`Inspector::rebuild`]:
+    /// the network does not change while the application runs).
+    hub: Option<Arc<ferroc_link::Hub>>,
 }
 
 impl Inspector {
@@ -87,6 +99,8 @@ impl Inspector {
             origins: HashMap::new(),
             sources: HashMap::new(),
             served: BTreeSet::new(),
+            ros2: ros2::by_module(&catalogue.ros2),
+            hub: catalogue.hub,
         };
         state.served = state.parts();
         Inspector {
@@ -103,7 +117,8 @@ impl Inspector {
     }
 
     /// Replaces what it knows of the structure with `catalogue` (after a structural
-    /// change); origins and connections are forgotten, to be recorded again.
+    /// change); origins and connections are forgotten, to be recorded again. The ROS 2
+    /// ends stay (a running node's do not change).
     pub fn rebuild(&self, catalogue: Catalogue) {
         let mut state = self.write();
         let before = state.parts();
@@ -113,6 +128,9 @@ impl Inspector {
             .collect();
         state.modules = catalogue.modules;
         state.threads = catalogue.threads;
+        if catalogue.hub.is_some() {
+            state.hub = catalogue.hub;
+        }
         state.origins.clear();
         state.sources.clear();
     }
@@ -175,6 +193,24 @@ impl Inspector {
     /// The activity and target rating of every behaviour (of one part, or all).
     pub fn activities(&self, part: Option<&str>) -> Vec<ActivityView> {
         self.read().activities(part)
+    }
+
+    /// How the values of the links the part sends to other parts travel (of one part,
+    /// or all), and the shared-memory pool (running freely; nothing in lockstep).
+    pub fn transport(&self, part: Option<&str>) -> TransportView {
+        let state = self.read();
+        let Some(hub) = &state.hub else {
+            return TransportView::default();
+        };
+        let used = hub.transport();
+        let links: Vec<LinkTransportView> = (used.links.into_iter())
+            .filter(|l| state.in_part(&l.topic, part))
+            .map(transport::link_view)
+            .collect();
+        TransportView {
+            pool: used.pool.map(transport::pool_view),
+            links,
+        }
     }
 }
 
@@ -265,6 +301,7 @@ impl State {
             container: m.thread.clone(),
             ports,
             params,
+            ros2: self.ros2.get(&m.path).cloned().unwrap_or_default(),
         }
     }
 

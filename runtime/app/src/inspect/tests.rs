@@ -228,6 +228,8 @@ fn a_part_whose_last_module_is_removed_is_still_served() {
     i.rebuild(Catalogue {
         modules: Vec::new(),
         threads: vec![("robot/control".into(), Vec::new())],
+        ros2: Vec::new(),
+        hub: None,
     });
     assert_eq!(i.parts().into_iter().collect::<Vec<_>>(), ["robot"]);
     let t = i.tree(Some("robot"));
@@ -238,6 +240,8 @@ fn a_part_whose_last_module_is_removed_is_still_served() {
     i.rebuild(Catalogue {
         modules: Vec::new(),
         threads: Vec::new(),
+        ros2: Vec::new(),
+        hub: None,
     });
     assert_eq!(i.parts().into_iter().collect::<Vec<_>>(), ["robot"]);
 }

@@ -31,6 +31,47 @@ pub struct ModuleView {
     pub ports: Vec<PortView>,
     /// Its parameters with their current values.
     pub params: Vec<ParamView>,
+    /// Its ports and services that its part's ROS 2 node publishes, subscribes,
+    /// offers or calls (absent when none: answers of programs before issue 29 read
+    /// the same).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ros2: Vec<Ros2View>,
+}
+
+/// A port of a module published or subscribed as a ROS 2 topic, or a service (or
+/// client) of it offered (or calling) as a ROS 2 service.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Ros2View {
+    /// The module's port, service or client name.
+    pub port: String,
+    /// `publish`, `subscribe`, `service` or `client`.
+    pub role: String,
+    /// The fully qualified topic or service name (`/cmd_vel`).
+    pub name: String,
+    /// The message type (`geometry_msgs/msg/Twist`) or service type
+    /// (`std_srvs/srv/SetBool`).
+    pub r#type: String,
+    /// The one field of the message the port carries (`linear.x`), if not all of it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field: Option<String>,
+    /// The node (`/fragile_bot`, with its namespace).
+    pub node: String,
+    /// Its `ROS_DOMAIN_ID`.
+    pub domain: u32,
+    /// A topic's QoS (services have none here).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub qos: Option<QosView>,
+}
+
+/// A topic's QoS as ROS 2 names it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct QosView {
+    /// `reliable` or `best-effort`.
+    pub reliability: String,
+    /// `volatile` or `transient-local`.
+    pub durability: String,
+    /// History depth (keep last).
+    pub depth: u32,
 }
 
 /// One port of a module.
@@ -150,4 +191,44 @@ pub struct ActivityView {
     pub activity: Option<f64>,
     /// Its target rating `r`.
     pub target_rating: Option<f64>,
+}
+
+/// How the values of the links a part sends to other parts travel (issue 30): per link,
+/// by shared memory or by network, and the part's shared-memory pool.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TransportView {
+    /// Each data link the part sends, in link order.
+    pub links: Vec<LinkTransportView>,
+    /// The part's shared-memory pool; absent when it has none (shared memory off or
+    /// not usable here, or nothing sent to other parts).
+    pub pool: Option<PoolView>,
+}
+
+/// One data link to another part and how its values went so far.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LinkTransportView {
+    /// The writer's `module/port`.
+    pub output: String,
+    /// The reading part.
+    pub to_part: String,
+    /// `shared memory`, `network`, `shared memory and network` (some values each way:
+    /// small ones, or a full pool), or `nothing sent yet`.
+    pub by: String,
+    /// Values sent in a shared-memory buffer.
+    pub shared_memory: u64,
+    /// Values sent as bytes over the network.
+    pub network: u64,
+    /// Values dropped because the pool was full.
+    pub dropped: u64,
+}
+
+/// A shared-memory pool's figures.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PoolView {
+    /// Its size in bytes.
+    pub size: u64,
+    /// Bytes held now, by values on their way or read in place by readers.
+    pub used: u64,
+    /// Values of at least this many encoded bytes go into the pool.
+    pub threshold: u64,
 }

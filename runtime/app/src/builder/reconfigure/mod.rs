@@ -231,7 +231,14 @@ impl Live {
                 (c.path.clone(), paths)
             })
             .collect();
-        crate::inspect::Catalogue { modules, threads }
+        // The ROS 2 ends do not change while the application runs: the inspector
+        // keeps those it was given at start.
+        crate::inspect::Catalogue {
+            modules,
+            threads,
+            ros2: Vec::new(),
+            hub: None,
+        }
     }
 
     /// Applies `change`: everything is checked and every new module created first, so

@@ -1,0 +1,229 @@
+//! How the values of each link a part sends travel, for `ferroc inspect` (issue 30):
+//! per data link, the values sent in a shared-memory buffer, as bytes over the network
+//! and dropped by a full pool; with the pool's size, the bytes it holds now and the
+//! threshold. Counted where the sending path decides ([`crate::free`]), one relaxed
+//! atomic add per value and link; read only when an inspector asks.
+
+use crate::shm::{Payload, Pool};
+use ferroc_runtime::link::transport::{LinkUse, PartLinks, PoolUse, TransportUse};
+use std::collections::BTreeMap;
+#[cfg(feature = "shared-memory")]
+use std::sync::atomic::AtomicUsize;
+use std::sync::atomic::{AtomicU64, Ordering};
+#[cfg(feature = "shared-memory")]
+use zenoh::shm::{
+    ChunkAllocResult, ChunkDescriptor, MemoryLayout, PosixShmProviderBackend, ProtocolID,
+    ShmProvider, ShmProviderBackend, ShmProviderBuilder, WithProtocolID, ZLayoutError,
+};
+#[cfg(feature = "shared-memory")]
+use zenoh::Wait;
+
+#[cfg(feature = "shared-memory")]
+/// Zenoh's default POSIX backend, counting the bytes of the chunks it hands out and
+/// takes back: what the pool holds now ([`Counting::available`] is the rest; the default
+/// backend itself does not say). One atomic add per buffer.
+pub struct Counting {
+    inner: PosixShmProviderBackend,
+    size: usize,
+    used: AtomicUsize,
+}
+
+#[cfg(feature = "shared-memory")]
+impl Counting {
+    /// A provider of a pool of `size` bytes on the counting backend.
+    pub fn provider(size: usize) -> zenoh::Result<ShmProvider<Counting>> {
+        let inner = PosixShmProviderBackend::builder(size).wait()?;
+        let backend = Counting {
+            inner,
+            size,
+            used: AtomicUsize::new(0),
+        };
+        Ok(ShmProviderBuilder::backend(backend).wait())
+    }
+}
+
+#[cfg(feature = "shared-memory")]
+impl WithProtocolID for Counting {
+    fn id(&self) -> ProtocolID {
+        self.inner.id()
+    }
+}
+
+#[cfg(feature = "shared-memory")]
+impl ShmProviderBackend for Counting {
+    fn alloc(&self, layout: &MemoryLayout) -> ChunkAllocResult {
+        let chunk = self.inner.alloc(layout);
+        if let Ok(c) = &chunk {
+            self.used
+                .fetch_add(c.descriptor.len.get(), Ordering::Relaxed);
+        }
+        chunk
+    }
+
+    fn free(&self, chunk: &ChunkDescriptor) {
+        self.inner.free(chunk);
+        self.used.fetch_sub(chunk.len.get(), Ordering::Relaxed);
+    }
+
+    fn defragment(&self) -> usize {
+        self.inner.defragment()
+    }
+
+    fn available(&self) -> usize {
+        self.size.saturating_sub(self.used.load(Ordering::Relaxed))
+    }
+
+    fn layout_for(&self, layout: MemoryLayout) -> Result<MemoryLayout, ZLayoutError> {
+        self.inner.layout_for(layout)
+    }
+}
+
+/// The counters of the links one part sends.
+#[derive(Default)]
+pub(crate) struct Stats {
+    links: BTreeMap<u32, Counters>,
+}
+
+struct Counters {
+    to_part: String,
+    topic: String,
+    shared: AtomicU64,
+    network: AtomicU64,
+    dropped: AtomicU64,
+}
+
+impl Stats {
+    /// Counters for every data link of `links` this part sends.
+    pub(crate) fn new(links: &PartLinks) -> Stats {
+        let links = (links.sending.iter())
+            .map(|(id, s)| {
+                let counters = Counters {
+                    to_part: s.to_part.clone(),
+                    topic: s.topic.clone(),
+                    shared: AtomicU64::new(0),
+                    network: AtomicU64::new(0),
+                    dropped: AtomicU64::new(0),
+                };
+                (*id, counters)
+            })
+            .collect();
+        Stats { links }
+    }
+
+    /// Counts a value sent on each of `links` the way `payload` says it went.
+    pub(crate) fn sent(&self, links: impl IntoIterator<Item = u32>, payload: &Payload) {
+        for link in links {
+            let Some(c) = self.links.get(&link) else {
+                continue;
+            };
+            let counter = match payload {
+                Payload::Shared(_) => &c.shared,
+                Payload::Network(_) => &c.network,
+                Payload::Dropped => &c.dropped,
+            };
+            counter.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// The figures now, with those of `pool` (a part that sends nothing has none).
+    pub(crate) fn report(&self, pool: Option<&Pool>) -> TransportUse {
+        let links = (self.links.iter())
+            .map(|(id, c)| LinkUse {
+                link: *id,
+                to_part: c.to_part.clone(),
+                topic: c.topic.clone(),
+                shared_memory: c.shared.load(Ordering::Relaxed),
+                network: c.network.load(Ordering::Relaxed),
+                dropped: c.dropped.load(Ordering::Relaxed),
+            })
+            .collect();
+        let pool = pool.and_then(|p| {
+            let (size, used, threshold) = p.held()?;
+            let n = |x: usize| u64::try_from(x).unwrap_or(u64::MAX);
+            Some(PoolUse {
+                size: n(size),
+                used: n(used),
+                threshold: n(threshold),
+            })
+        });
+        TransportUse { links, pool }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shm::Settings;
+    use ferroc_runtime::link::transport::Sending;
+    use ferroc_runtime::link::Sharing;
+
+    fn links() -> PartLinks {
+        let sending = |topic: &str| Sending {
+            to_part: "station".into(),
+            topic: topic.into(),
+            model_type: "ferroc_std.Image".into(),
+            sharing: Sharing::default(),
+            reliable: false,
+        };
+        let mut links = PartLinks::default();
+        links.sending.insert(3, sending("robot/camera/image"));
+        links.sending.insert(4, sending("robot/camera/count"));
+        links
+    }
+
+    #[test]
+    fn each_link_counts_how_its_values_went_and_the_pool_its_bytes() {
+        let pool = Pool::open(Settings {
+            enabled: true,
+            threshold: 4096,
+            pool_size: 1 << 20,
+        });
+        let stats = Stats::new(&links());
+        let held = pool.payload(vec![1; 100_000], false, "link");
+        stats.sent([3], &held);
+        stats.sent([4], &pool.payload(vec![1; 8], false, "link"));
+        stats.sent([3, 4, 99], &Payload::Dropped);
+        let used = stats.report(Some(&pool));
+        let figures: Vec<(u32, u64, u64, u64)> = (used.links.iter())
+            .map(|l| (l.link, l.shared_memory, l.network, l.dropped))
+            .collect();
+        assert_eq!(figures, [(3, 1, 0, 1), (4, 0, 1, 1)]);
+        assert_eq!(used.links[0].topic, "robot/camera/image");
+        let p = used.pool.unwrap();
+        assert_eq!((p.size, p.threshold), (1 << 20, 4096));
+        assert!(p.used >= 100_000, "the held value's buffer: {p:?}");
+        drop(held);
+        assert_eq!(stats.report(Some(&pool)).pool.unwrap().used, 0);
+    }
+
+    /// A full pool: a reliable link's value falls back to the network, counted there.
+    #[test]
+    fn a_value_a_full_pool_cannot_take_counts_as_network() {
+        let pool = Pool::open(Settings {
+            enabled: true,
+            threshold: 4096,
+            pool_size: 64 * 1024,
+        });
+        let stats = Stats::new(&links());
+        let held = pool.payload(vec![1; 40_000], true, "link");
+        stats.sent([3], &held);
+        stats.sent([3], &pool.payload(vec![2; 40_000], true, "link"));
+        let l = &stats.report(Some(&pool)).links[0];
+        assert_eq!((l.shared_memory, l.network, l.dropped), (1, 1, 0));
+    }
+
+    #[test]
+    fn without_a_pool_there_are_no_pool_figures() {
+        let off = Pool::open(Settings {
+            enabled: false,
+            threshold: 4096,
+            pool_size: 1 << 20,
+        });
+        let stats = Stats::new(&links());
+        stats.sent([3], &off.payload(vec![1; 100_000], true, "link"));
+        let used = stats.report(Some(&off));
+        assert_eq!(used.pool, None);
+        assert_eq!((used.links[0].shared_memory, used.links[0].network), (0, 1));
+        assert_eq!(Stats::default().report(None), TransportUse::default());
+    }
+}
