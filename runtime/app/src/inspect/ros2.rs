@@ -117,6 +117,7 @@ mod tests {
                 request_field: Some("data".into()),
                 response_field: None,
             }],
+            interfaces: Vec::new(),
         }
     }
 
