@@ -117,11 +117,12 @@ impl Module for Camera {
         self.seq += 1;
         let seq = self.seq;
         announce(seq, false);
-        let source = &self.source;
-        self.out.publish_with(|img| {
+        let (source, out) = (&self.source, &self.out);
+        out.publish_with(|img| {
             (img.width, img.height, img.step) = (1920, 1080, 1920 * 3);
             "rgb8".clone_into(&mut img.encoding);
-            img.data.resize(FRAME_BYTES, 0);
+            // The frame straight into the pool buffer it travels in (`Out::lend`).
+            img.data = out.lend(FRAME_BYTES);
             frame_into(&mut img.data, source, seq);
         });
         announce(seq, true);
