@@ -98,15 +98,25 @@ const HELD_BY_A_READER: usize = 5;
 /// never more; a reader that stops normally gives every buffer back.
 #[test]
 fn a_reader_killed_while_holding_buffers_keeps_only_its_last_values_and_a_new_one_receives() {
+    killed_reader("shm_kill", false);
+}
+
+/// The same with frames in buffers the camera's output lends.
+#[test]
+fn a_reader_killed_while_holding_lent_buffers_keeps_only_its_last_values() {
+    killed_reader("shm_kill_lent", true);
+}
+
+fn killed_reader(name: &str, lend: bool) {
     let registry = registry();
     let peers = peers();
-    let cam = zenoh("shm_kill", "cam", &peers, None);
-    let app = camera(&registry, &cam, 20, SIZES[3]);
-    let first = Reader::start("shm_kill", &peers);
+    let cam = zenoh(name, "cam", &peers, None);
+    let app = camera_with(&registry, &cam, 20, SIZES[3], lend);
+    let first = Reader::start(name, &peers);
     assert!(eventually(Duration::from_secs(60), || first.seen().len() >= 10));
     first.kill();
     let sent_when_killed = cam.shm_use().shared;
-    let second = Reader::start("shm_kill", &peers);
+    let second = Reader::start(name, &peers);
     let again = eventually(Duration::from_secs(60), || second.seen().len() >= 10);
     assert!(again, "the restarted reader saw {:?}", second.seen());
     assert!(second.seen().iter().all(|(_, ok)| *ok));

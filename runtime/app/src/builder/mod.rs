@@ -455,6 +455,8 @@ mod determinism_tests;
 #[cfg(test)]
 mod flexible_tests;
 #[cfg(test)]
+mod lend_tests;
+#[cfg(test)]
 mod link_tests;
 #[cfg(test)]
 mod local_tests;
