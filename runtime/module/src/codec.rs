@@ -21,13 +21,16 @@ use std::sync::Arc;
 /// [`Codec::encode_with`] for one type.
 type EncodeWith = fn(&DynIn, &mut dyn FnMut(&Encoder<'_>)) -> Result<(), String>;
 
+/// [`Codec::decode_parts`] for one type.
+type DecodeParts = fn(&DynOut, &[Arc<dyn Holder>]) -> Result<(), String>;
+
 /// Encoding and decoding of one value type (an entry of the value table).
 #[derive(Clone, Copy)]
 pub struct Codec {
     encode: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     encode_with: EncodeWith,
     decode: fn(&DynOut, &[u8]) -> Result<(), String>,
-    decode_parts: fn(&DynOut, &[Arc<dyn Holder>]) -> Result<(), String>,
+    decode_parts: DecodeParts,
     json: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     from_json: fn(Option<&DynOut>, &[u8]) -> Result<(), String>,
 }

@@ -18,11 +18,13 @@
 //! ([`Codec::encode_with`](crate::Codec::encode_with) hands the network the pieces,
 //! [`Encoder::pieces`](crate::Encoder::pieces)).
 //!
-//! The buffer is a pool buffer only when the output feeds a link to another part and
-//! the network has shared memory for it (a [`Lender`]); otherwise (no link, shared
-//! memory off or unusable, the pool full, a value below the threshold) `lend` returns
-//! plain memory of the same size, so a module never needs to know which it got. The
-//! value behaves as any other: readers in the same part read the buffer where it is,
+//! The buffer is a pool buffer only when the output's only readers are links to other
+//! parts and the network has shared memory for them (the builder gives the output a
+//! [`Lender`]); otherwise (a reader in the same part, no link, lockstep, shared memory
+//! off or unusable, the pool full, a value below the threshold) `lend` returns zeroed
+//! plain memory of the same size, so a module never needs to know which it got. A pool
+//! buffer is not cleared (that would cost what lending saves): the module writes every
+//! byte, as a camera driver filling a frame does. The value behaves as any other:
 //! recordings and lockstep encode it as bytes (the same bytes either way).
 //!
 //! A lent buffer is written only while its [`Bytes`] is its only owner and the
@@ -68,7 +70,8 @@ impl LendSlot {
         self.0.get().is_some()
     }
 
-    /// A buffer of `len` bytes: lent if the lender has one, else zeroed plain memory.
+    /// A buffer of `len` bytes: lent if the lender has one (its bytes unspecified: an
+    /// earlier value's, maybe), else zeroed plain memory.
     pub fn lend(&self, len: usize) -> Bytes {
         match self.0.get().and_then(|l| l.lend(len)) {
             Some(buffer) if buffer.bytes().len() == len => Bytes::lent(buffer),

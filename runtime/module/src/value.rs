@@ -215,8 +215,10 @@ impl<T: PortValue> Out<T> {
 
     /// A buffer of `len` bytes for a large value's bytes (an image's pixels), to fill
     /// in place and publish in the value: a buffer of the shared-memory pool the value
-    /// then travels in, without a copy, when this output feeds a link to another part
-    /// on this computer; zeroed plain memory otherwise (see [`crate::lend`]).
+    /// then travels in, without a copy, when this output's only readers are links to
+    /// other parts on this computer; plain memory otherwise (see [`crate::lend`]). Write
+    /// every byte: a pool buffer may still hold an earlier value's bytes (plain memory
+    /// is zeroed).
     pub fn lend(&self, len: usize) -> crate::Bytes {
         self.lend.lend(len)
     }

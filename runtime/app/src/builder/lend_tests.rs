@@ -78,7 +78,10 @@ impl LentBuffer for Plain {
 /// A network that lends buffers and records what it was sent: per value, whether it
 /// came in pieces with a lent buffer, and its bytes joined.
 #[derive(Clone, Default)]
-struct Lending(Arc<Mutex<Vec<(bool, Vec<u8>)>>>);
+struct Lending(Arc<Mutex<Vec<Sent>>>);
+
+/// Whether a value came with a lent buffer, and its bytes.
+type Sent = (bool, Vec<u8>);
 
 impl Network for Lending {
     fn open(&self, _: &PartLinks, _: Delivery, _: bool) -> Result<Box<dyn Connection>, String> {
@@ -120,7 +123,7 @@ impl Connection for Lending {
 
 /// Part `a`: `a/lends` linked to part `b`, and read by `a/reads` if `read_here`. What
 /// the network was sent, once a few values went.
-fn run(read_here: bool) -> Vec<(bool, Vec<u8>)> {
+fn run(read_here: bool) -> Vec<Sent> {
     let mut registry = Registry::new();
     registry.register::<Lends>().register::<Reads>();
     registry.register_serde::<Blob>();
