@@ -105,7 +105,7 @@ impl Module for Camera {
             img.step = size as u32;
             "mono8".clone_into(&mut img.encoding);
             if lend {
-                img.data = out.lend(size);
+                out.lend_in(&mut img.data, size);
             } else {
                 img.data.resize(size, 0);
             }

@@ -4,12 +4,12 @@
 //! writer's shared-memory pool. Without lending, the module fills a buffer of its own
 //! (a [`Bytes`] in process memory) and the link copies it into the pool buffer when it
 //! sends the value: for a 6 MB image that copy is most of the trip. With
-//! [`Out::lend`](crate::Out::lend) the module fills the pool buffer itself:
+//! [`Out::lend_in`](crate::Out::lend_in) the module fills the pool buffer itself:
 //!
 //! ```ignore
 //! self.out.publish_with(|image| {
-//!     image.data = self.out.lend(size);     // a pool buffer, or plain memory
-//!     camera.read_into(&mut image.data);     // written in place
+//!     self.out.lend_in(&mut image.data, size); // a pool buffer, or plain memory
+//!     camera.read_into(&mut image.data);        // written in place
 //! });
 //! ```
 //!

@@ -223,6 +223,15 @@ impl<T: PortValue> Out<T> {
         self.lend.lend(len)
     }
 
+    /// [`lend`](Self::lend) into `data`, giving back the buffer `data` held first: in
+    /// `publish_with` the value is a recycled one, whose bytes may be a pool buffer
+    /// lent for an earlier value; given back before the new one is lent, the pool
+    /// never holds both.
+    pub fn lend_in(&self, data: &mut crate::Bytes, len: usize) {
+        *data = crate::Bytes::new();
+        *data = self.lend.lend(len);
+    }
+
     /// Publishes `value` to every connected input.
     #[inline]
     pub fn publish(&self, value: T) {

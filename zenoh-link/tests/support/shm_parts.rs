@@ -47,7 +47,7 @@ impl Module for Camera {
             img.encoding = "mono8".into();
             img.step = size as u32;
             if lend {
-                img.data = out.lend(size);
+                out.lend_in(&mut img.data, size);
             } else {
                 img.data.to_mut().resize(size, 0);
             }
