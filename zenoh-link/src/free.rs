@@ -15,7 +15,7 @@ use crate::keys::{encoding, Keys};
 use crate::shm::{Lent, Payload, Pool};
 use ferroc_runtime::console;
 use ferroc_runtime::link::transport::{
-    call_number, send_each, Connection, Delivery, LinkKind, PartLinks, Sending,
+    call_number, send_each, Connection, Delivery, LinkKind, PartLinks,
 };
 use ferroc_runtime::link::Frame;
 use ferroc_runtime::module::bytes::Holder;
@@ -30,9 +30,11 @@ use std::time::{Duration, Instant};
 use zenoh::bytes::ZBytes;
 use zenoh::key_expr::OwnedKeyExpr;
 use zenoh::pubsub::{Publisher, Subscriber};
-use zenoh::qos::CongestionControl;
 use zenoh::query::{Query, Queryable};
 use zenoh::{Session, Wait};
+
+mod qos;
+pub use qos::Qos;
 
 /// How long a call waits for its answer on the network before it fails (a client's
 /// own timeout, when shorter, ends the call first).
@@ -590,72 +592,4 @@ impl Connection for Free {
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// The Zenoh QoS of a link (the table in docs/zenoh.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Qos {
-    /// *block* for links that must not drop values, *drop* for the others.
-    pub congestion: CongestionControl,
-    /// Sent at once, without waiting to be batched: values of the built-in scalar types
-    /// (a few bytes each), whose worth is being current.
-    pub express: bool,
-}
-
-impl Qos {
-    /// The QoS of the link `sending`.
-    pub fn of(sending: &Sending) -> Qos {
-        const SMALL: &[&str] = &[
-            "f64",
-            "f32",
-            "i8",
-            "i16",
-            "i32",
-            "i64",
-            "u8",
-            "u16",
-            "u32",
-            "u64",
-            "bool",
-            "Stimulation",
-            "Inhibition",
-            "Activity",
-            "TargetRating",
-        ];
-        Qos {
-            congestion: if sending.reliable {
-                CongestionControl::Block
-            } else {
-                CongestionControl::Drop
-            },
-            express: SMALL.contains(&sending.model_type.as_str()),
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use ferroc_runtime::link::Sharing;
-
-    fn sending(model_type: &str, reliable: bool) -> Sending {
-        Sending {
-            to_part: "station".into(),
-            topic: "robot/x/out".into(),
-            model_type: model_type.into(),
-            sharing: Sharing::default(),
-            reliable,
-        }
-    }
-
-    #[test]
-    fn reliable_links_block_others_drop_and_small_values_go_express() {
-        let victims = Qos::of(&sending("rescue.VictimList", true));
-        assert_eq!(victims.congestion, CongestionControl::Block);
-        assert!(!victims.express, "a list is not small");
-        let pose = Qos::of(&sending("f64", false));
-        assert_eq!(pose.congestion, CongestionControl::Drop);
-        assert!(pose.express);
-        assert!(!Qos::of(&sending("Vec<f64>", false)).express);
-    }
 }
