@@ -31,6 +31,7 @@ use crate::b4_parts::{free_address, percentiles};
 use crate::options::Options;
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::time::{Duration, Instant};
 
@@ -46,6 +47,12 @@ const PERIOD: Duration = Duration::from_millis(20);
 const WARM_UP: u64 = 50;
 const VARIANTS: [&str; 3] = ["ferroc-shm", "ferroc-net", "zenoh-shm"];
 const DEFAULT_FRAMES: u64 = 500;
+/// `--mesh off`: every program connects only to the endpoints it is given (the
+/// producer's; Zenoh's gossip off), instead of Zenoh's default, where gossip makes every
+/// consumer connect to every other (as the parts of a bundle, which list each other).
+static MESH: AtomicBool = AtomicBool::new(true);
+/// How the children learn `--mesh`.
+pub(crate) const MESH_ENV: &str = "FERROC_B3_MESH";
 
 /// What one configuration measured.
 struct Figures {
@@ -127,7 +134,13 @@ impl Programs {
         all: &[String],
     ) -> Result<(), String> {
         let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+        let mesh = if MESH.load(Ordering::Relaxed) {
+            "on"
+        } else {
+            "off"
+        };
         let mut child = Command::new(exe)
+            .env(MESH_ENV, mesh)
             .arg(CHILD_ARG)
             .args([variant, &index.to_string(), &frames.to_string()])
             .args(all)
@@ -367,13 +380,24 @@ fn lists(o: &Options) -> Result<(Vec<usize>, Vec<&'static str>), String> {
 
 /// Runs B3 across parts and prints its lines; the exit code.
 pub fn run(args: &[String]) -> u8 {
-    let parsed = Options::parse("b3-parts", args, &["frames", "consumers", "variants"], &[])
-        .and_then(|o| {
-            Ok((
-                o.number("frames", DEFAULT_FRAMES, 2, 1_000_000)?,
-                lists(&o)?,
-            ))
-        });
+    let parsed = Options::parse(
+        "b3-parts",
+        args,
+        &["frames", "consumers", "variants", "mesh"],
+        &[],
+    )
+    .and_then(|o| {
+        let mesh = match o.text("mesh").unwrap_or("on") {
+            "on" => true,
+            "off" => false,
+            other => return Err(format!("b3-parts: `--mesh {other}`: on or off")),
+        };
+        MESH.store(mesh, Ordering::Relaxed);
+        Ok((
+            o.number("frames", DEFAULT_FRAMES, 2, 1_000_000)?,
+            lists(&o)?,
+        ))
+    });
     let (frames, (counts, variants)) = match parsed {
         Ok(v) => v,
         Err(e) => {

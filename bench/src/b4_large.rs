@@ -1,8 +1,12 @@
 //! B4 across parts, large values: p50/p99 latency of 64 B, 64 KB, 1 MB and 6.2 MB
-//! (1080p RGB) values between two programs on 127.0.0.1, four variants in the same run:
+//! (1080p RGB) values between two programs on 127.0.0.1, five variants in the same run:
 //!
 //! * `ferroc-shm`: a `ferroc_std.Image` link between two part programs, shared memory
-//!   on (ferroc's defaults: values of 4 KB and more go through the writer's pool);
+//!   on (ferroc's defaults: values of 4 KB and more go through the writer's pool); the
+//!   writer module fills a buffer its output lends it (`Out::lend`: a pool buffer, sent
+//!   without a copy);
+//! * `ferroc-copy`: the same, but the module fills a buffer of its own (the image's
+//!   `data` resized in place), which the link copies into a pool buffer;
 //! * `ferroc-net`: the same with `transport/shared_memory/enabled: false` in both
 //!   programs' `--zenoh-config`: every byte through the socket;
 //! * `zenoh-shm`: a bare Zenoh publisher that allocates each value in its own
@@ -32,7 +36,7 @@ use ferroc_zenoh::Zenoh;
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use zenoh::shm::{BlockOn, GarbageCollect, ShmProviderBuilder};
@@ -43,7 +47,13 @@ pub const CHILD_ARG: &str = "b4-large-child";
 const APP: &str = "b4large";
 const KEY: &str = "bench/b4large/bare";
 const SIZES: [usize; 4] = [64, 64 * 1024, 1 << 20, 1920 * 1080 * 3];
-const VARIANTS: [&str; 4] = ["ferroc-shm", "ferroc-net", "zenoh-shm", "zenoh-net"];
+const VARIANTS: [&str; 5] = [
+    "ferroc-shm",
+    "ferroc-copy",
+    "ferroc-net",
+    "zenoh-shm",
+    "zenoh-net",
+];
 const WARM_UP: usize = 20;
 const DEFAULT_MESSAGES: u64 = 300;
 const DEFAULT_ROUNDS: u64 = 2;
@@ -59,6 +69,8 @@ fn gap(size: usize) -> Duration {
 
 /// The size the writer module makes (one writer per process).
 static SIZE: AtomicUsize = AtomicUsize::new(64);
+/// Whether the writer module fills a buffer its output lends (`ferroc-shm`).
+static LEND: AtomicBool = AtomicBool::new(true);
 /// The latencies the reader saw (ns).
 static SEEN: Mutex<Vec<u64>> = Mutex::new(Vec::new());
 
@@ -85,12 +97,18 @@ impl Module for Camera {
     fn update(&mut self) {
         self.seq += 1;
         let (seq, size) = (self.seq, SIZE.load(Ordering::Relaxed));
-        self.out.publish_with(|img| {
+        let lend = LEND.load(Ordering::Relaxed);
+        let out = &self.out;
+        out.publish_with(|img| {
             img.width = size as u32;
             img.height = 1;
             img.step = size as u32;
             "mono8".clone_into(&mut img.encoding);
-            img.data.resize(size, 0);
+            if lend {
+                out.lend_in(&mut img.data, size);
+            } else {
+                img.data.resize(size, 0);
+            }
             fill(&mut img.data, seq);
         });
     }
@@ -343,6 +361,7 @@ fn once(variant: &str, size: usize, n: u64) -> Result<Vec<u64>, String> {
         Ok(child.try_wait().map_err(|e| e.to_string())?.is_some())
     };
     SIZE.store(size, Ordering::Relaxed);
+    LEND.store(variant != "ferroc-copy", Ordering::Relaxed);
     if variant.starts_with("ferroc") {
         let config = config_of(variant)?;
         let registry = registry();
@@ -399,7 +418,7 @@ pub fn run(args: &[String]) -> u8 {
     );
     let mut result = Vec::new();
     for size in SIZES {
-        let mut samples: [Vec<u64>; 4] = Default::default();
+        let mut samples: [Vec<u64>; 5] = Default::default();
         for round in 0..rounds as usize {
             for k in 0..VARIANTS.len() {
                 let i = (round + k) % VARIANTS.len();
@@ -414,9 +433,10 @@ pub fn run(args: &[String]) -> u8 {
         }
         let p50s = report(size, samples);
         result.push(format!(
-            "s{size}_ferroc_shm_p50_us={:.1} s{size}_ferroc_net_p50_us={:.1} \
-             s{size}_zenoh_shm_p50_us={:.1} s{size}_zenoh_net_p50_us={:.1}",
-            p50s[0], p50s[1], p50s[2], p50s[3]
+            "s{size}_ferroc_shm_p50_us={:.1} s{size}_ferroc_copy_p50_us={:.1} \
+             s{size}_ferroc_net_p50_us={:.1} s{size}_zenoh_shm_p50_us={:.1} \
+             s{size}_zenoh_net_p50_us={:.1}",
+            p50s[0], p50s[1], p50s[2], p50s[3], p50s[4]
         ));
     }
     println!("RESULT b4-large {}", result.join(" "));
@@ -424,8 +444,8 @@ pub fn run(args: &[String]) -> u8 {
 }
 
 /// Prints one size's lines; the p50 of each variant (µs).
-fn report(size: usize, samples: [Vec<u64>; 4]) -> [f64; 4] {
-    let mut p50s = [0.0; 4];
+fn report(size: usize, samples: [Vec<u64>; 5]) -> [f64; 5] {
+    let mut p50s = [0.0; 5];
     for (i, s) in samples.into_iter().enumerate() {
         let n = s.len();
         let (p50, p99, max) = percentiles(s);
@@ -436,9 +456,11 @@ fn report(size: usize, samples: [Vec<u64>; 4]) -> [f64; 4] {
         );
     }
     println!(
-        "b4-large {size:>8} B  ferroc-shm / zenoh-shm p50 {:.2}, ferroc-net / ferroc-shm p50 {:.2}",
-        p50s[0] / p50s[2],
-        p50s[1] / p50s[0]
+        "b4-large {size:>8} B  ferroc-shm / zenoh-shm p50 {:.2}, ferroc-copy / ferroc-shm p50 \
+         {:.2}, ferroc-net / ferroc-shm p50 {:.2}",
+        p50s[0] / p50s[3],
+        p50s[1] / p50s[0],
+        p50s[2] / p50s[0]
     );
     p50s
 }

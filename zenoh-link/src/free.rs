@@ -12,14 +12,15 @@
 
 use crate::alive::{Change, Watch};
 use crate::keys::{encoding, Keys};
-use crate::shm::{Payload, Pool};
+use crate::shm::{Lent, Payload, Pool};
 use crate::stats::Stats;
 use ferroc_runtime::console;
 use ferroc_runtime::link::transport::{
-    call_number, send_each, Connection, Delivery, LinkKind, PartLinks, Sending, TransportUse,
+    call_number, send_each, Connection, Delivery, LinkKind, PartLinks, TransportUse,
 };
 use ferroc_runtime::link::Frame;
 use ferroc_runtime::module::bytes::Holder;
+use ferroc_runtime::module::lend::{LentBuffer, Piece};
 use ferroc_runtime::module::Encoder;
 use ferroc_terminal::engine_error;
 use std::borrow::Cow;
@@ -30,9 +31,11 @@ use std::time::{Duration, Instant};
 use zenoh::bytes::ZBytes;
 use zenoh::key_expr::OwnedKeyExpr;
 use zenoh::pubsub::{Publisher, Subscriber};
-use zenoh::qos::CongestionControl;
 use zenoh::query::{Query, Queryable};
 use zenoh::{Session, Wait};
+
+mod qos;
+pub use qos::Qos;
 
 /// How long a call waits for its answer on the network before it fails (a client's
 /// own timeout, when shorter, ends the call first).
@@ -71,7 +74,7 @@ pub(crate) fn open(
     shm: Shm,
 ) -> Result<Free, String> {
     let data = publishers(session, keys, part, links)?;
-    let subscribers = subscribers(session, keys, links, &delivery, &shm.received)?;
+    let subscribers = subscribers(session, keys, links, &delivery, &shm)?;
     let waiting: Arc<Mutex<HashMap<(u32, u64), Query>>> = Arc::default();
     let queryables = queryables(session, keys, part, links, &delivery, &waiting)?;
     let mut calls_out = BTreeMap::new();
@@ -102,7 +105,14 @@ pub(crate) struct Shm {
     pub pool: Option<Arc<Pool>>,
     /// Counts the values that arrive in shared memory.
     pub received: Arc<AtomicU64>,
+    /// Whether this part's session has shared memory on (values in lent buffers
+    /// then arrive in it from writers on this computer).
+    pub enabled: bool,
 }
+
+/// The last byte of an attachment (after the link numbers, 4 bytes each) of a value
+/// sent in pieces around a lent buffer ([`Encoder::pieces`]).
+const LENT_MARK: u8 = b'L';
 
 /// One link this part sends.
 struct Out {
@@ -150,7 +160,7 @@ fn subscribers(
     keys: &Keys,
     links: &PartLinks,
     delivery: &Delivery,
-    received_shared: &Arc<AtomicU64>,
+    shm: &Shm,
 ) -> Result<Vec<Subscriber<()>>, String> {
     let mut subscribers = Vec::new();
     let mut from: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
@@ -159,7 +169,8 @@ fn subscribers(
     }
     for (writer, ids) in from {
         let (delivery, writer_part) = (delivery.clone(), writer.to_owned());
-        let received_shared = Arc::clone(received_shared);
+        let received_shared = Arc::clone(&shm.received);
+        let shm_on = shm.enabled;
         let subscriber = session
             .declare_subscriber(keys.data_of(writer)?)
             .callback(move |sample| {
@@ -169,11 +180,22 @@ fn subscribers(
                     return;
                 };
                 let links = attachment.to_bytes();
+                let lent = links.len() % 4 == 1 && links.last() == Some(&LENT_MARK);
                 let links = (links.chunks_exact(4))
                     .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
                     .filter(|l| ids.contains(l));
                 for link in links {
-                    deliver(&delivery, &received_shared, link, sample.payload());
+                    let payload = sample.payload();
+                    if lent {
+                        deliver_pieces(
+                            &delivery,
+                            shm_on.then_some(&*received_shared),
+                            link,
+                            payload,
+                        );
+                    } else {
+                        deliver(&delivery, &received_shared, link, payload);
+                    }
                 }
             })
             .wait()
@@ -186,6 +208,56 @@ fn subscribers(
         subscribers.push(subscriber);
     }
     Ok(subscribers)
+}
+
+/// One message of a value in `pieces` ([`Encoder::pieces`]): each lent pool buffer
+/// as it is (Zenoh sends its descriptor), the encoded bytes around them as they are.
+fn joined(pool: Option<&Pool>, pieces: Vec<Piece>) -> ZBytes {
+    let mut message = ZBytes::writer();
+    for piece in pieces {
+        let bytes = match piece {
+            Piece::Encoded(v) => ZBytes::from(v),
+            Piece::Lent(buffer) => match buffer.as_any().downcast_ref::<Lent>() {
+                Some(lent) => {
+                    pool.inspect(|p| p.sent_lent());
+                    lent.shared()
+                }
+                // Lent by another network (none today): its bytes, copied.
+                None => ZBytes::from(buffer.bytes().to_vec()),
+            },
+        };
+        message.append(bytes);
+    }
+    message.finish()
+}
+
+/// One buffer of a value that arrived in several (a writer's lent buffer and the bytes
+/// around it): the message, which keeps them all, and which one.
+struct Part(ZBytes, usize);
+
+impl AsRef<[u8]> for Part {
+    fn as_ref(&self) -> &[u8] {
+        self.0.slices().nth(self.1).unwrap_or_default()
+    }
+}
+
+/// Hands the value `payload` of the link `link`, sent in pieces around a lent buffer,
+/// to its receiving end: decoded from the buffers as they arrived (the lent one in
+/// shared memory from a writer on this computer, read in place), counted in
+/// `received_shared` if this part has shared memory on.
+fn deliver_pieces(
+    delivery: &Delivery,
+    received_shared: Option<&AtomicU64>,
+    link: u32,
+    payload: &ZBytes,
+) {
+    if let Some(count) = received_shared {
+        count.fetch_add(1, Ordering::Relaxed);
+    }
+    let parts: Vec<Arc<dyn Holder>> = (0..payload.slices().count())
+        .map(|i| Arc::new(Part(payload.clone(), i)) as Arc<dyn Holder>)
+        .collect();
+    delivery.deliver_parts(link, &parts);
 }
 
 /// Hands the value `payload` of the link `link` to its receiving end.
@@ -467,23 +539,30 @@ impl Connection for Free {
         let Some(out) = first.filter(|_| all_data) else {
             return send_each(self, targets, encoder);
         };
-        let payload = match &self.pool {
-            Some(pool) => pool.payload_encoded(encoder, out.reliable, &out.name)?,
-            None => Payload::Network(encoder.to_vec()?.into()),
+        let pieces = encoder.pieces()?;
+        let lent = pieces.is_some();
+        let payload = match (&self.pool, pieces) {
+            // Bytes an output lent from the pool go as they are (no copy).
+            (pool, Some(pieces)) => Payload::Shared(joined(pool.as_deref(), pieces)),
+            (Some(pool), None) => pool.payload_encoded(encoder, out.reliable, &out.name)?,
+            (None, None) => Payload::Network(encoder.to_vec()?.into()),
         };
         self.stats
             .sent(targets.iter().map(|(link, _)| *link), &payload);
-        let attachment = match targets {
-            [_] => out.attachment.clone(),
-            _ => ZBytes::from(
-                targets
-                    .iter()
-                    .flat_map(|(l, _)| l.to_le_bytes())
-                    .collect::<Vec<u8>>(),
-            ),
+        let attachment = match (targets, lent) {
+            ([_], false) => out.attachment.clone(),
+            _ => {
+                let links = targets.iter().flat_map(|(l, _)| l.to_le_bytes());
+                let mark = lent.then_some(LENT_MARK);
+                ZBytes::from(links.chain(mark).collect::<Vec<u8>>())
+            }
         };
         self.put_with(targets[0].0, out, payload, attachment);
         Ok(())
+    }
+
+    fn lend(&self, len: usize) -> Option<Box<dyn LentBuffer>> {
+        self.pool.as_ref()?.lend(len)
     }
 
     fn end_instant(
@@ -526,72 +605,4 @@ impl Connection for Free {
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// The Zenoh QoS of a link (the table in docs/zenoh.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Qos {
-    /// *block* for links that must not drop values, *drop* for the others.
-    pub congestion: CongestionControl,
-    /// Sent at once, without waiting to be batched: values of the built-in scalar types
-    /// (a few bytes each), whose worth is being current.
-    pub express: bool,
-}
-
-impl Qos {
-    /// The QoS of the link `sending`.
-    pub fn of(sending: &Sending) -> Qos {
-        const SMALL: &[&str] = &[
-            "f64",
-            "f32",
-            "i8",
-            "i16",
-            "i32",
-            "i64",
-            "u8",
-            "u16",
-            "u32",
-            "u64",
-            "bool",
-            "Stimulation",
-            "Inhibition",
-            "Activity",
-            "TargetRating",
-        ];
-        Qos {
-            congestion: if sending.reliable {
-                CongestionControl::Block
-            } else {
-                CongestionControl::Drop
-            },
-            express: SMALL.contains(&sending.model_type.as_str()),
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use ferroc_runtime::link::Sharing;
-
-    fn sending(model_type: &str, reliable: bool) -> Sending {
-        Sending {
-            to_part: "station".into(),
-            topic: "robot/x/out".into(),
-            model_type: model_type.into(),
-            sharing: Sharing::default(),
-            reliable,
-        }
-    }
-
-    #[test]
-    fn reliable_links_block_others_drop_and_small_values_go_express() {
-        let victims = Qos::of(&sending("rescue.VictimList", true));
-        assert_eq!(victims.congestion, CongestionControl::Block);
-        assert!(!victims.express, "a list is not small");
-        let pose = Qos::of(&sending("f64", false));
-        assert_eq!(pose.congestion, CongestionControl::Drop);
-        assert!(pose.express);
-        assert!(!Qos::of(&sending("Vec<f64>", false)).express);
-    }
 }

@@ -165,6 +165,7 @@ impl Network for Zenoh {
             let shm = free::Shm {
                 pool,
                 received: Arc::clone(&self.received_shared),
+                enabled: self.shm_settings().enabled,
             };
             free::open(&session, &self.keys, &part, links, delivery, shm)
                 .map(|l| Box::new(l) as Box<dyn Connection>)

@@ -18,6 +18,15 @@
 //! reference count, kept in shared memory by every process that maps it and by Zenoh for
 //! buffers still on their way to a peer, is zero (the *safe* garbage collection).
 //!
+//! An output whose only readers are links to other parts may lend its module a buffer
+//! of the pool to fill ([`Pool::lend`], `ferroc_module::lend`): the value then goes
+//! without any copy on the writer's side, the lent buffer as it is, the few bytes of
+//! the value's other fields in front of (and after) it as small pieces of the same
+//! message. Zenoh sends the buffer's descriptor; the reader decodes from both pieces,
+//! reading the buffer in place. The module writes a lent buffer only while nothing
+//! else holds it (Zenoh's reference count says it is unique); once sent it is
+//! immutable and comes back to the pool as any other.
+//!
 //! A full pool follows the link's `on-full` policy: a link that may drop values drops
 //! the value (a throttled warning); a reliable link waits for buffers to come back,
 //! collecting and defragmenting, and after [`BLOCK_LIMIT`] sends that value over the
@@ -32,12 +41,15 @@
 #[cfg(feature = "shared-memory")]
 use crate::stats::Counting;
 use ferroc_runtime::console;
+use ferroc_runtime::module::lend::LentBuffer;
 use ferroc_runtime::module::Encoder;
+#[cfg(feature = "shared-memory")]
+use std::any::Any;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 use zenoh::bytes::ZBytes;
 #[cfg(feature = "shared-memory")]
-use zenoh::shm::{Defragment, GarbageCollect, JustAlloc, ShmProvider, ZShmMut};
+use zenoh::shm::{zshmmut, Defragment, GarbageCollect, JustAlloc, ShmProvider, ZShm, ZShmMut};
 #[cfg(feature = "shared-memory")]
 use zenoh::Wait;
 
@@ -116,6 +128,9 @@ pub struct Use {
     pub pool_size: usize,
     /// Values sent in shared memory.
     pub shared: u64,
+    /// Of those, values whose bytes a module wrote into a buffer its output lent
+    /// ([`Pool::lend`]), sent without a copy.
+    pub lent: u64,
     /// Values at or above the threshold sent over the network (a full pool on a
     /// reliable link, or a value larger than the pool).
     pub network: u64,
@@ -130,6 +145,7 @@ pub struct Pool {
     provider: Option<Provider>,
     settings: Settings,
     shared: AtomicU64,
+    lent: AtomicU64,
     network: AtomicU64,
     dropped: AtomicU64,
 }
@@ -187,6 +203,7 @@ impl Pool {
             provider,
             settings,
             shared: AtomicU64::new(0),
+            lent: AtomicU64::new(0),
             network: AtomicU64::new(0),
             dropped: AtomicU64::new(0),
         }
@@ -291,12 +308,31 @@ impl Pool {
         match *provider {}
     }
 
+    /// A buffer of `len` bytes lent to an output to fill (see the module
+    /// documentation), if the value belongs in shared memory (at least the threshold,
+    /// not larger than the pool) and the pool has room now; never waits. `None` makes
+    /// the output lend plain memory, which the send path then treats as any value.
+    pub fn lend(&self, len: usize) -> Option<Box<dyn LentBuffer>> {
+        let provider = self.provider.as_ref()?;
+        if len < self.settings.threshold.max(1) || len > self.settings.pool_size {
+            return None;
+        }
+        lend_from(provider, len)
+    }
+
+    /// Counts a value sent in a lent buffer.
+    pub(crate) fn sent_lent(&self) {
+        self.shared.fetch_add(1, Ordering::Relaxed);
+        self.lent.fetch_add(1, Ordering::Relaxed);
+    }
+
     /// What the pool did so far.
     pub fn usage(&self) -> Use {
         Use {
             active: self.provider.is_some(),
             pool_size: self.settings.pool_size,
             shared: self.shared.load(Ordering::Relaxed),
+            lent: self.lent.load(Ordering::Relaxed),
             network: self.network.load(Ordering::Relaxed),
             dropped: self.dropped.load(Ordering::Relaxed),
             received_shared: 0,
@@ -348,6 +384,57 @@ fn buffers_of(provider: &Provider, size: usize) -> usize {
 #[cfg(not(feature = "shared-memory"))]
 fn buffers_of(provider: &Provider, _: usize) -> usize {
     match *provider {}
+}
+
+/// A buffer of `len` bytes from `provider`, collecting and defragmenting first if
+/// needed; never waits.
+#[cfg(feature = "shared-memory")]
+fn lend_from(provider: &Provider, len: usize) -> Option<Box<dyn LentBuffer>> {
+    let buffer = provider.alloc(len).with_policy::<Reclaim>().wait().ok()?;
+    Some(Box::new(Lent(buffer.into())))
+}
+
+#[cfg(not(feature = "shared-memory"))]
+fn lend_from(provider: &Provider, _: usize) -> Option<Box<dyn LentBuffer>> {
+    match *provider {}
+}
+
+/// A pool buffer lent to an output ([`Pool::lend`]).
+#[cfg(feature = "shared-memory")]
+pub struct Lent(ZShm);
+
+/// Built without shared memory: no buffer is ever lent.
+#[cfg(not(feature = "shared-memory"))]
+pub enum Lent {}
+
+impl Lent {
+    /// The buffer, to send: one more reference, so the module can no longer write it.
+    #[cfg(feature = "shared-memory")]
+    pub fn shared(&self) -> ZBytes {
+        ZBytes::from(self.0.clone())
+    }
+
+    #[cfg(not(feature = "shared-memory"))]
+    pub fn shared(&self) -> ZBytes {
+        match *self {}
+    }
+}
+
+#[cfg(feature = "shared-memory")]
+impl LentBuffer for Lent {
+    fn bytes(&self) -> &[u8] {
+        &self.0
+    }
+
+    fn bytes_mut(&mut self) -> Option<&mut [u8]> {
+        // Only while no one else (Zenoh, a reader in any process) holds the buffer.
+        let buffer: &mut zshmmut = (&mut self.0).try_into().ok()?;
+        Some(&mut buffer[..])
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
 }
 
 #[cfg(all(test, feature = "shared-memory"))]
@@ -435,6 +522,36 @@ mod tests {
         // A value the encoder says is larger than its buffer is an error, not a panic.
         let short = Encoder::new(40_000, &write);
         assert!(pool.payload_encoded(&short, false, "link").is_err());
+    }
+
+    /// A lent buffer is written only while nobody else holds it: once handed to Zenoh
+    /// (or held by a reader) a write would copy it first (`Bytes`); it is writable
+    /// again only when everybody let it go.
+    #[test]
+    fn a_lent_buffer_is_written_only_while_nobody_else_holds_it() {
+        let pool = Pool::open(settings(1 << 20));
+        assert!(
+            pool.lend(100).is_none(),
+            "below the threshold: plain memory"
+        );
+        assert!(
+            pool.lend(2 << 20).is_none(),
+            "larger than the pool: plain memory"
+        );
+        let mut lent = pool.lend(200_000).expect("room");
+        lent.bytes_mut().expect("nobody else holds it").fill(7);
+        let sent = lent.as_any().downcast_ref::<Lent>().unwrap().shared();
+        assert!(lent.bytes_mut().is_none(), "sent: no more writes");
+        assert!(sent.to_bytes().iter().all(|b| *b == 7));
+        assert_eq!(pool.room_for(200_000), Some(4), "it stays taken");
+        drop(sent);
+        assert!(lent.bytes_mut().is_some(), "let go: writable again");
+        drop(lent);
+        assert_eq!(pool.room_for(200_000), Some(5), "back in the pool");
+        // A full pool lends nothing (the output then lends plain memory), never waits.
+        let held: Vec<_> = (0..5).filter_map(|_| pool.lend(200_000)).collect();
+        assert_eq!(held.len(), 5);
+        assert!(pool.lend(200_000).is_none());
     }
 
     #[test]

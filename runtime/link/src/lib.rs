@@ -247,6 +247,17 @@ impl Inbox {
         });
     }
 
+    pub(crate) fn deliver_parts(&self, link_number: u32, parts: &[Arc<dyn Holder>]) {
+        if self.direct.contains_key(&link_number) {
+            // A call, a parameter or a ROS 2 value is never lent: joined, as it came.
+            let joined: Vec<u8> = parts.iter().flat_map(|p| (**p).as_ref()).copied().collect();
+            return self.deliver_bytes(link_number, &joined);
+        }
+        self.deliver_from(link_number, &[], |link| {
+            link.codec.decode_parts(&link.out, parts)
+        });
+    }
+
     /// Hands `bytes` to a direct end, or publishes the value `decode` makes of them
     /// into the reader of `link_number`.
     fn deliver_from(
@@ -365,6 +376,24 @@ impl Hub {
             self.send(to_part, Frame { link: *link, bytes });
         }
         Ok(())
+    }
+
+    /// A buffer of `len` bytes for an output whose values go on the links `targets`,
+    /// lent by the network when they all leave this process
+    /// ([`transport::Connection::lend`]); `None` otherwise.
+    #[doc(hidden)]
+    pub fn lend(
+        &self,
+        targets: &[(u32, Arc<str>)],
+        len: usize,
+    ) -> Option<Box<dyn ferroc_module::lend::LentBuffer>> {
+        match self.route.get() {
+            Some(Route::Direct {
+                inbox,
+                network: Some(network),
+            }) if targets.iter().all(|(link, _)| !inbox.has(*link)) => network.lend(len),
+            _ => None,
+        }
     }
 
     /// What the network reports now ([`transport::Connection::status`]).

@@ -11,6 +11,7 @@
 use super::calls;
 use super::{Frame, Inbox, Sharing};
 use ferroc_module::bytes::Holder;
+use ferroc_module::lend::LentBuffer;
 use ferroc_module::Encoder;
 use std::collections::BTreeMap;
 use std::sync::atomic::AtomicBool;
@@ -175,6 +176,15 @@ pub trait Connection: Send + Sync {
         send_each(self, targets, encoder)
     }
 
+    /// Running freely: a buffer of `len` bytes for an output to fill whose values go
+    /// out on data links of this network (`ferroc_module::lend`): one of its own that
+    /// [`send_encoded`](Self::send_encoded) then sends without a copy (shared memory),
+    /// or `None` (the default: the output lends plain memory).
+    fn lend(&self, len: usize) -> Option<Box<dyn LentBuffer>> {
+        let _ = len;
+        None
+    }
+
     /// Lockstep: this part finished the instant `nanos` (model time) and sent `frames`
     /// in it; every part it sends to receives them, and the news that the instant is
     /// finished. An error if a part it sends to is gone or `stop` was set.
@@ -289,6 +299,12 @@ impl Delivery {
     /// buffer lives as long as they do.
     pub fn deliver_held(&self, link: u32, holder: &Arc<dyn Holder>) {
         self.inbox.deliver_held(link, holder);
+    }
+
+    /// [`deliver_held`](Self::deliver_held) of a value that arrived in pieces, the
+    /// buffers `parts` one after the other (`Codec::decode_parts`).
+    pub fn deliver_parts(&self, link: u32, parts: &[Arc<dyn Holder>]) {
+        self.inbox.deliver_parts(link, parts);
     }
 
     /// Whether this part receives the link `link`.

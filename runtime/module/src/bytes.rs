@@ -16,9 +16,13 @@
 //! ([`Bytes::to_mut`]) copies a shared buffer into an owned one first (copy on write), so
 //! a writer that fills a pooled port value in place keeps its allocation.
 //!
+//! A `Bytes` may also be a buffer an output lent its module ([`crate::lend`]): written
+//! in place while the value is its only owner, then sent without a copy.
+//!
 //! No `unsafe`: the check that a borrowed slice lies in the held buffer compares
 //! addresses, and the value reads its bytes through the holder's own `AsRef<[u8]>`.
 
+use crate::lend::LentBuffer;
 use serde::de::{Error, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::cell::RefCell;
@@ -43,6 +47,8 @@ enum Repr {
         holder: Arc<dyn Holder>,
         range: Range<usize>,
     },
+    /// A buffer an output lent (see [`crate::lend`]).
+    Lent(Arc<dyn LentBuffer>),
 }
 
 impl Bytes {
@@ -57,15 +63,21 @@ impl Bytes {
         Bytes(Repr::Shared { holder, range })
     }
 
-    /// The bytes, to change in place. A buffer read where it arrived is first copied
-    /// into an owned one (the received buffer is never written).
+    /// A lent buffer ([`crate::lend`]).
+    pub(crate) fn lent(buffer: Box<dyn LentBuffer>) -> Self {
+        Bytes(Repr::Lent(Arc::from(buffer)))
+    }
+
+    /// The bytes as a `Vec`, to change in place or resize. A buffer read where it
+    /// arrived, or a lent one, is first copied into an owned one (the received buffer
+    /// is never written; a lent one is written in place through `&mut *bytes`).
     pub fn to_mut(&mut self) -> &mut Vec<u8> {
-        if let Repr::Shared { .. } = self.0 {
+        if !matches!(self.0, Repr::Owned(_)) {
             self.0 = Repr::Owned(self.as_ref().to_vec());
         }
         match &mut self.0 {
             Repr::Owned(v) => v,
-            Repr::Shared { .. } => unreachable!("made owned above"),
+            _ => unreachable!("made owned above"),
         }
     }
 
@@ -80,11 +92,26 @@ impl Bytes {
         matches!(self.0, Repr::Shared { .. })
     }
 
+    /// Whether the bytes are a buffer an output lent ([`crate::lend`]).
+    pub fn is_lent(&self) -> bool {
+        matches!(self.0, Repr::Lent(_))
+    }
+
+    /// Whether the bytes can be written in place, without a copy first: owned, or lent
+    /// and seen by nobody else yet.
+    fn writable_lent(&mut self) -> bool {
+        match &mut self.0 {
+            Repr::Lent(b) => Arc::get_mut(b).is_some_and(|b| b.bytes_mut().is_some()),
+            _ => false,
+        }
+    }
+
     /// The bytes as an owned `Vec` (a copy unless they are owned already).
     pub fn into_vec(self) -> Vec<u8> {
         match self.0 {
             Repr::Owned(v) => v,
             Repr::Shared { holder, range } => (*holder).as_ref()[range].to_vec(),
+            Repr::Lent(b) => b.bytes().to_vec(),
         }
     }
 
@@ -94,15 +121,15 @@ impl Bytes {
             return None;
         }
         RECEIVED.with(|r| {
-            let r = r.borrow();
-            let holder = r.as_ref()?;
-            let whole = (**holder).as_ref();
-            let start = (bytes.as_ptr() as usize).checked_sub(whole.as_ptr() as usize)?;
-            let range = start..start.checked_add(bytes.len())?;
-            (range.end <= whole.len()).then(|| {
-                Bytes(Repr::Shared {
-                    holder: Arc::clone(holder),
-                    range,
+            r.borrow().iter().find_map(|holder| {
+                let whole = (**holder).as_ref();
+                let start = (bytes.as_ptr() as usize).checked_sub(whole.as_ptr() as usize)?;
+                let range = start..start.checked_add(bytes.len())?;
+                (range.end <= whole.len()).then(|| {
+                    Bytes(Repr::Shared {
+                        holder: Arc::clone(holder),
+                        range,
+                    })
                 })
             })
         })
@@ -110,23 +137,50 @@ impl Bytes {
 }
 
 thread_local! {
-    /// The buffer this thread decodes a received value from, while it does.
-    static RECEIVED: RefCell<Option<Arc<dyn Holder>>> = const { RefCell::new(None) };
+    /// The buffers this thread decodes a received value from, while it does.
+    static RECEIVED: RefCell<Vec<Arc<dyn Holder>>> = const { RefCell::new(Vec::new()) };
+    /// The lent buffers the value this thread encodes holds, while it collects them.
+    static LENT: RefCell<Option<Vec<Arc<dyn LentBuffer>>>> = const { RefCell::new(None) };
 }
 
 /// Runs `decode` on `holder`'s bytes; a [`Bytes`] decoded meanwhile from inside them
 /// keeps a range of `holder` instead of a copy. Nested calls restore the outer buffer.
 pub fn decode_in_place<R>(holder: &Arc<dyn Holder>, decode: impl FnOnce(&[u8]) -> R) -> R {
-    struct Restore(Option<Arc<dyn Holder>>);
+    decode_in_parts(std::slice::from_ref(holder), || decode((**holder).as_ref()))
+}
+
+/// Runs `decode`; a [`Bytes`] decoded meanwhile from inside one of `holders` keeps a
+/// range of it instead of a copy (a value that arrived in pieces). Nested calls
+/// restore the outer buffers.
+pub fn decode_in_parts<R>(holders: &[Arc<dyn Holder>], decode: impl FnOnce() -> R) -> R {
+    struct Restore(Vec<Arc<dyn Holder>>);
     impl Drop for Restore {
         fn drop(&mut self) {
-            let outer = self.0.take();
+            let outer = std::mem::take(&mut self.0);
             RECEIVED.with(|r| *r.borrow_mut() = outer);
         }
     }
-    let outer = RECEIVED.with(|r| r.borrow_mut().replace(Arc::clone(holder)));
+    let outer = RECEIVED.with(|r| std::mem::replace(&mut *r.borrow_mut(), holders.to_vec()));
     let _restore = Restore(outer);
-    decode((**holder).as_ref())
+    decode()
+}
+
+/// Runs `encode` and returns, with its result, the lent buffers of the [`Bytes`] it
+/// serialised meanwhile (in their order).
+pub(crate) fn collect_lent<R>(encode: impl FnOnce() -> R) -> (R, Vec<Arc<dyn LentBuffer>>) {
+    struct Restore(Option<Vec<Arc<dyn LentBuffer>>>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            let outer = self.0.take();
+            LENT.with(|l| *l.borrow_mut() = outer);
+        }
+    }
+    let outer = LENT.with(|l| l.borrow_mut().replace(Vec::new()));
+    let restore = Restore(outer);
+    let result = encode();
+    let lent = LENT.with(|l| l.borrow_mut().take()).unwrap_or_default();
+    drop(restore);
+    (result, lent)
 }
 
 impl Default for Bytes {
@@ -141,14 +195,24 @@ impl Deref for Bytes {
         match &self.0 {
             Repr::Owned(v) => v,
             Repr::Shared { holder, range } => &(**holder).as_ref()[range.clone()],
+            Repr::Lent(b) => b.bytes(),
         }
     }
 }
 
-/// Writing copies a received buffer into an owned one first ([`Bytes::to_mut`]).
+/// A lent buffer nobody else sees is written in place; any other buffer not owned
+/// (received, or lent and already sent) is copied into an owned one first.
 impl DerefMut for Bytes {
     fn deref_mut(&mut self) -> &mut [u8] {
-        self.to_mut()
+        if !self.writable_lent() {
+            return self.to_mut();
+        }
+        match &mut self.0 {
+            Repr::Lent(b) => {
+                (Arc::get_mut(b).and_then(|b| b.bytes_mut())).expect("writable_lent checked it")
+            }
+            _ => unreachable!("writable_lent checked it"),
+        }
     }
 }
 
@@ -192,10 +256,10 @@ impl PartialEq<Vec<u8>> for Bytes {
 impl fmt::Debug for Bytes {
     /// The length and where the bytes are, not thousands of numbers.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let where_ = if self.is_shared() {
-            "received"
-        } else {
-            "owned"
+        let where_ = match self.0 {
+            Repr::Owned(_) => "owned",
+            Repr::Shared { .. } => "received",
+            Repr::Lent(_) => "lent",
         };
         write!(f, "Bytes({} bytes, {where_})", self.len())
     }
@@ -203,6 +267,13 @@ impl fmt::Debug for Bytes {
 
 impl Serialize for Bytes {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        if let Repr::Lent(b) = &self.0 {
+            LENT.with(|l| {
+                if let Some(lent) = l.borrow_mut().as_mut() {
+                    lent.push(Arc::clone(b));
+                }
+            });
+        }
         s.serialize_bytes(self)
     }
 }

@@ -15,6 +15,7 @@
 //! when the type is registered, working on the type-erased [`DynIn`]/[`DynOut`].
 
 use super::bytes::{self, Holder};
+use super::lend::{Chain, LentBuffer, Piece, Split};
 use super::value::PortValue;
 use super::value_table::{DynIn, DynOut};
 use ferroc_ros2::serde_cdr::{self, Shape};
@@ -26,12 +27,16 @@ use std::sync::Arc;
 /// [`Codec::encode_with`] for one type.
 type EncodeWith = fn(&DynIn, &mut dyn FnMut(&Encoder<'_>)) -> Result<(), String>;
 
+/// [`Codec::decode_parts`] for one type.
+type DecodeParts = fn(&DynOut, &[Arc<dyn Holder>]) -> Result<(), String>;
+
 /// Encoding and decoding of one value type (an entry of the value table).
 #[derive(Clone, Copy)]
 pub struct Codec {
     encode: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     encode_with: EncodeWith,
     decode: fn(&DynOut, &[u8]) -> Result<(), String>,
+    decode_parts: DecodeParts,
     json: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     from_json: fn(Option<&DynOut>, &[u8]) -> Result<(), String>,
     ros2_encode: fn(&DynIn, &Shape<'_>, &mut Vec<u8>) -> Result<(), String>,
@@ -45,6 +50,7 @@ impl Codec {
             encode: encode::<T>,
             encode_with: encode_with::<T>,
             decode: decode::<T>,
+            decode_parts: decode_parts::<T>,
             json: json::<T>,
             from_json: from_json::<T>,
             ros2_encode: ros2_encode::<T>,
@@ -73,6 +79,14 @@ impl Codec {
     /// [`Bytes`](crate::Bytes) fields keep ranges of `holder` instead of copies.
     pub fn decode_held(&self, to: &DynOut, holder: &Arc<dyn Holder>) -> Result<(), String> {
         bytes::decode_in_place(holder, |b| self.decode(to, b))
+    }
+
+    /// [`decode_held`](Self::decode_held) of a value that arrived in pieces, the
+    /// buffers `parts` one after the other (a value whose bytes the writer lent,
+    /// [`crate::lend`]): `Bytes` fields keep ranges of the part they lie in. A block of
+    /// bytes that spans two parts is decoded from a copy of them joined.
+    pub fn decode_parts(&self, to: &DynOut, parts: &[Arc<dyn Holder>]) -> Result<(), String> {
+        (self.decode_parts)(to, parts)
     }
 
     /// Decodes `bytes` and publishes the value on `to`. A value that does not decode
@@ -129,13 +143,35 @@ fn encode<T: PortValue + Serialize>(from: &DynIn, bytes: &mut Vec<u8>) -> Result
 pub struct Encoder<'a> {
     len: usize,
     write: &'a dyn Fn(&mut [u8]) -> Result<(), String>,
+    /// The lent buffers the value holds ([`crate::lend`]), in the order it encodes them.
+    lent: Vec<Arc<dyn LentBuffer>>,
+    split: Option<&'a SplitFn<'a>>,
 }
+
+/// Encodes a value into pieces around the lent buffers it is handed.
+type SplitFn<'a> = dyn Fn(&[Arc<dyn LentBuffer>]) -> Result<Vec<Piece>, String> + 'a;
 
 impl<'a> Encoder<'a> {
     /// An encoder of a value of `len` encoded bytes that `write` writes into a buffer
     /// of that size (for networks' tests; [`Codec::encode_with`] makes the real ones).
     pub fn new(len: usize, write: &'a dyn Fn(&mut [u8]) -> Result<(), String>) -> Self {
-        Encoder { len, write }
+        Encoder {
+            len,
+            write,
+            lent: Vec::new(),
+            split: None,
+        }
+    }
+
+    /// The value as pieces, if it holds buffers an output lent ([`crate::lend`]): each
+    /// lent buffer a piece of its own (sent as it is, without a copy), the rest encoded
+    /// around them; together exactly the bytes [`write`](Self::write) writes. `None`
+    /// for a value without lent buffers.
+    pub fn pieces(&self) -> Result<Option<Vec<Piece>>, String> {
+        match self.split {
+            Some(split) if !self.lent.is_empty() => split(&self.lent).map(Some),
+            _ => Ok(None),
+        }
     }
 
     /// The encoded size in bytes.
@@ -173,13 +209,22 @@ fn encode_with<T: PortValue + Serialize>(
         .ok_or_else(|| format!("`{}` does not carry {}", from.name(), T::model_type()))?;
     let value = port.get();
     let value: &T = value.borrow();
-    let len = postcard::experimental::serialized_size(value).map_err(|e| e.to_string())?;
+    let (len, lent) = bytes::collect_lent(|| postcard::experimental::serialized_size(value));
+    let len = len.map_err(|e| e.to_string())?;
     let write = |buffer: &mut [u8]| {
         postcard::to_slice(value, buffer)
             .map(|_| ())
             .map_err(|e| e.to_string())
     };
-    then(&Encoder { len, write: &write });
+    let split = |lent: &[Arc<dyn LentBuffer>]| {
+        postcard::serialize_with_flavor(value, Split::new(lent)).map_err(|e| e.to_string())
+    };
+    then(&Encoder {
+        len,
+        write: &write,
+        lent,
+        split: Some(&split),
+    });
     Ok(())
 }
 
@@ -225,6 +270,31 @@ fn ros2_decode<T: PortValue + DeserializeOwned>(
     bytes: &[u8],
 ) -> Result<(), String> {
     let value: T = serde_cdr::from_cdr(shape, bytes).map_err(|e| e.to_string())?;
+    let port = to
+        .typed::<T>()
+        .ok_or_else(|| format!("`{}` does not carry {}", to.name(), T::model_type()))?;
+    port.publish(value);
+    Ok(())
+}
+
+fn decode_parts<T: PortValue + DeserializeOwned>(
+    to: &DynOut,
+    parts: &[Arc<dyn Holder>],
+) -> Result<(), String> {
+    let value = bytes::decode_in_parts(parts, || {
+        let pieces = parts.iter().map(|p| (**p).as_ref()).collect();
+        let mut chained = postcard::Deserializer::from_flavor(Chain::new(pieces));
+        T::deserialize(&mut chained)
+    });
+    let value: T = match value {
+        Ok(value) => value,
+        // A block of bytes across two parts (not as a writer splits): decode a copy.
+        Err(_) => {
+            let joined: Vec<u8> = parts.iter().flat_map(|p| (**p).as_ref()).copied().collect();
+            postcard::from_bytes(&joined)
+                .map_err(|e| format!("not a {} value: {e}", T::model_type()))?
+        }
+    };
     let port = to
         .typed::<T>()
         .ok_or_else(|| format!("`{}` does not carry {}", to.name(), T::model_type()))?;

@@ -30,6 +30,7 @@ macro_rules! eprintln {
 pub mod behaviour;
 pub mod bytes;
 pub mod cycle;
+pub mod lend;
 pub mod resource;
 pub mod violations;
 

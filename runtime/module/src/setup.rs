@@ -61,6 +61,9 @@ pub struct Setup<'a> {
     pub inputs: Vec<(String, InputHandle)>,
     #[doc(hidden)]
     pub outputs: Vec<(String, OutputHandle)>,
+    /// Per output: where it finds a lender of buffers ([`crate::lend`]).
+    #[doc(hidden)]
+    pub lenders: Vec<(String, crate::lend::LendSlot)>,
     #[doc(hidden)]
     pub params: Vec<(String, ParamHandle)>,
     /// Services and clients, for the Builder to connect (see `services.rs`).
@@ -112,6 +115,7 @@ impl<'a> Setup<'a> {
             interface,
             inputs: Vec::new(),
             outputs: Vec::new(),
+            lenders: Vec::new(),
             params: Vec::new(),
             services: Vec::new(),
             clients: Vec::new(),
@@ -392,8 +396,10 @@ impl<'s, 'a> OutputDecl<'s, 'a> {
         info.model_type = model_type;
         let (port, handle) = T::Kind::output(&info.name);
         setup.outputs.push((info.name.clone(), handle));
+        let lend = crate::lend::LendSlot::default();
+        setup.lenders.push((info.name.clone(), lend.clone()));
         setup.record_port(info);
-        Out::from_port(port)
+        Out::from_port(port).with_lend(lend)
     }
 }
 

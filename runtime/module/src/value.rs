@@ -196,11 +196,40 @@ impl<T: PortValue> In<T> {
 /// An output port field of a module: `pub velocity: Out<f64>`.
 pub struct Out<T: PortValue> {
     port: <T::Kind as PortKind<T>>::Output,
+    /// Who lends this output buffers ([`Out::lend`]).
+    lend: crate::lend::LendSlot,
 }
 
 impl<T: PortValue> Out<T> {
     pub(crate) fn from_port(port: <T::Kind as PortKind<T>>::Output) -> Self {
-        Out { port }
+        Out {
+            port,
+            lend: crate::lend::LendSlot::default(),
+        }
+    }
+
+    pub(crate) fn with_lend(mut self, lend: crate::lend::LendSlot) -> Self {
+        self.lend = lend;
+        self
+    }
+
+    /// A buffer of `len` bytes for a large value's bytes (an image's pixels), to fill
+    /// in place and publish in the value: a buffer of the shared-memory pool the value
+    /// then travels in, without a copy, when this output's only readers are links to
+    /// other parts on this computer; plain memory otherwise (see [`crate::lend`]). Write
+    /// every byte: a pool buffer may still hold an earlier value's bytes (plain memory
+    /// is zeroed).
+    pub fn lend(&self, len: usize) -> crate::Bytes {
+        self.lend.lend(len)
+    }
+
+    /// [`lend`](Self::lend) into `data`, giving back the buffer `data` held first: in
+    /// `publish_with` the value is a recycled one, whose bytes may be a pool buffer
+    /// lent for an earlier value; given back before the new one is lent, the pool
+    /// never holds both.
+    pub fn lend_in(&self, data: &mut crate::Bytes, len: usize) {
+        *data = crate::Bytes::new();
+        *data = self.lend.lend(len);
     }
 
     /// Publishes `value` to every connected input.

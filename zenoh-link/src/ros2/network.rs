@@ -24,6 +24,7 @@ use ferroc_runtime::link::transport::{
     send_each, Addresses, Connection, Delivery, Network, PartLinks,
 };
 use ferroc_runtime::link::Frame;
+use ferroc_runtime::module::lend::LentBuffer;
 use ferroc_runtime::module::Encoder;
 use ferroc_terminal::engine_error;
 use std::collections::{BTreeMap, VecDeque};
@@ -329,6 +330,13 @@ impl Connection for WithRos2 {
             Some(inner) if !ros2 => inner.send_encoded(targets, encoder),
             _ => send_each(self, targets, encoder),
         }
+    }
+
+    /// A buffer of the parts' network (its shared memory) for an output whose readers
+    /// are all other parts; a ROS 2 topic's end reads in this part, so its outputs never
+    /// ask.
+    fn lend(&self, len: usize) -> Option<Box<dyn LentBuffer>> {
+        self.inner.as_ref()?.lend(len)
     }
 
     fn end_instant(

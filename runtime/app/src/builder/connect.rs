@@ -28,6 +28,7 @@ impl Builder<'_> {
                 let pair = output.local_pair(input);
                 self.claim_local(writer, reader, describe(), pair);
             }
+            self.note_reader(writer, from.1, reader);
             return Ok(());
         }
         // A chain of converters: each selected part, then the numeric change.
@@ -79,6 +80,7 @@ impl Builder<'_> {
         let steps = &mut self.modules[writer].converters;
         steps.extend(chain.into_iter().map(|c| c.step));
         self.connections.push((writer, reader, to.1.to_owned()));
+        self.note_reader(writer, from.1, reader);
         if options.local {
             // Checked like the others, but the converters keep it on the lock-free path.
             self.claim_local(writer, reader, describe(), None);

@@ -7,6 +7,7 @@ use super::{BuildError, Builder, Conversion, Instance};
 use ferroc_exec::Step;
 use ferroc_link::transport::{RemoteCall, Sending};
 use ferroc_link::{calls, CallSpec, LinkSpec, Pace, Receiving, Sharing};
+use ferroc_module::lend::{Lender, LentBuffer};
 use ferroc_module::{Interface, Kind, Timestamp, ValueType};
 use ferroc_ports::port::{ConnectOptions, InputHandle, OutputHandle};
 use std::sync::{Arc, Mutex};
@@ -46,6 +47,11 @@ impl Builder<'_> {
         let targets: Targets = Arc::new(Mutex::new(vec![target]));
         if unchanged {
             let targets = Arc::clone(&targets);
+            let lender = HubLender {
+                hub: Arc::clone(&self.hub),
+                targets: Arc::clone(&targets),
+            };
+            (self.lending.links).push((writer, from.1.to_owned(), Arc::new(lender)));
             self.fanouts.push(Fanout { key, targets });
         }
         let hub = Arc::clone(&self.hub);
@@ -153,6 +159,7 @@ impl Builder<'_> {
             },
             inputs,
             outputs,
+            lenders: Vec::new(),
             params: Vec::new(),
             services: Vec::new(),
             clients: Vec::new(),
@@ -266,6 +273,57 @@ impl Builder<'_> {
 /// The sending end of links that carry the values of one output, unchanged, to other
 /// parts: one step encodes each value once and sends it on all of them (one buffer of
 /// the pool and one message for 15 reading parts, not 15).
+/// Outputs that feed links to other parts unchanged, and outputs read in this part:
+/// an output of the first kind and not the second lends its module the network's
+/// buffers (`ferroc_module::lend`), given at start ([`Builder::give_lenders`]).
+#[derive(Default)]
+pub(super) struct Lending {
+    /// (module, output, its lender).
+    links: Vec<(usize, String, Arc<dyn Lender>)>,
+    /// (module, output) with a reader in this part (a module, a converter).
+    read_here: Vec<(usize, String)>,
+}
+
+impl Builder<'_> {
+    /// Notes that the output `output` of module `writer` has a reader in this part,
+    /// unless `reader` is the sending end of a link.
+    pub(super) fn note_reader(&mut self, writer: usize, output: &str, reader: usize) {
+        if !self.modules[reader].link_end {
+            (self.lending.read_here).push((writer, output.to_owned()));
+        }
+    }
+
+    /// Gives each output whose only readers are links to other parts its lender: its
+    /// module's large values are then written straight into the network's buffers.
+    /// An output also read here lends plain memory (its readers here would hold the
+    /// pool's buffers).
+    pub(super) fn give_lenders(&mut self) {
+        for (writer, output, lender) in std::mem::take(&mut self.lending.links) {
+            let read_here =
+                (self.lending.read_here.iter()).any(|(w, o)| *w == writer && *o == output);
+            let slot = self.modules[writer]
+                .lenders
+                .iter()
+                .find(|(o, _)| *o == output);
+            if let (false, Some((_, slot))) = (read_here, slot) {
+                slot.set(lender);
+            }
+        }
+    }
+}
+
+/// Lends an output the buffers of the network its links leave by.
+struct HubLender {
+    hub: Arc<ferroc_link::Hub>,
+    targets: Targets,
+}
+
+impl Lender for HubLender {
+    fn lend(&self, len: usize) -> Option<Box<dyn LentBuffer>> {
+        self.hub.lend(&lock(&self.targets), len)
+    }
+}
+
 pub(super) struct Fanout {
     key: FanoutKey,
     /// The links and their reading parts.

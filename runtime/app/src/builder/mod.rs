@@ -173,6 +173,8 @@ struct Instance {
     interface: Interface,
     inputs: Vec<(String, InputHandle)>,
     outputs: Vec<(String, OutputHandle)>,
+    /// Per output: where it finds a lender of buffers (`ferroc_module::lend`).
+    lenders: Vec<(String, ferroc_module::lend::LendSlot)>,
     /// Shared: a parameter driven by a port is set by a step as well as by the app.
     params: Vec<(String, Arc<ParamHandle>)>,
     services: Vec<(String, ferroc_ports::service::ServiceHandle)>,
@@ -220,6 +222,8 @@ pub struct Builder<'r> {
     /// Outputs handed to an inspector (`inspection.rs`), shared with a reconfigurable
     /// application (`reconfigure.rs`), by module path.
     inspected: HashMap<String, Vec<(String, Arc<OutputHandle>)>>,
+    /// Outputs that may lend their modules the network's buffers ([`links::Lending`]).
+    lending: links::Lending,
 }
 
 impl<'r> Builder<'r> {
@@ -242,6 +246,7 @@ impl<'r> Builder<'r> {
             remote: Default::default(),
             fanouts: Vec::new(),
             inspected: HashMap::new(),
+            lending: Default::default(),
         }
     }
 
@@ -408,6 +413,7 @@ fn create(
         interface: setup.interface,
         inputs: setup.inputs,
         outputs: setup.outputs,
+        lenders: setup.lenders,
         params: setup
             .params
             .into_iter()
@@ -448,6 +454,8 @@ mod convert_tests;
 mod determinism_tests;
 #[cfg(test)]
 mod flexible_tests;
+#[cfg(test)]
+mod lend_tests;
 #[cfg(test)]
 mod link_tests;
 #[cfg(test)]

@@ -66,6 +66,7 @@ impl Builder<'_> {
         }
         self.check_local_claims()?;
         self.bind_remaining_locks();
+        self.give_lenders();
         let specs = self.threads.clone();
         let containers = self.containers()?;
         let params = self.take_params();
