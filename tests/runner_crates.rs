@@ -422,6 +422,7 @@ fn a_bundle_compiles_shared_memory_in_only_where_two_linked_parts_share_a_host()
     let one_host = [(r#"host="base-pc""#, r#"host="robot-pc""#)];
     let (together, workspace) = bundle("together", &one_host);
     assert!(together.contains("zenoh-shm"), "{together:?}");
+    assert!(!together.contains("zenoh-ext"), "no ROS 2 node: {together:?}");
     assert!(
         workspace.contains("default-features = false, features = [\"shared-memory\"] }"),
         "{workspace}"
@@ -455,8 +456,12 @@ fn a_bundle_compiles_shared_memory_in_only_where_two_linked_parts_share_a_host()
     ]);
     assert_eq!(code, 0, "{err}");
     let workspace = std::fs::read_to_string(out.join("Cargo.toml")).unwrap();
+    // …and a ROS 2 node gets transient-local topics (zenoh-ext), which no other does.
+    assert!(crates_of(&out.join("Cargo.toml")).contains("zenoh-ext"));
     assert!(
-        workspace.contains("default-features = false, features = [\"shared-memory\"] }"),
+        workspace.contains(
+            "default-features = false, features = [\"shared-memory\", \"ros2-durability\"] }"
+        ),
         "{workspace}"
     );
 }
