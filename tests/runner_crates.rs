@@ -422,7 +422,10 @@ fn a_bundle_compiles_shared_memory_in_only_where_two_linked_parts_share_a_host()
     let one_host = [(r#"host="base-pc""#, r#"host="robot-pc""#)];
     let (together, workspace) = bundle("together", &one_host);
     assert!(together.contains("zenoh-shm"), "{together:?}");
-    assert!(!together.contains("zenoh-ext"), "no ROS 2 node: {together:?}");
+    assert!(
+        !together.contains("zenoh-ext"),
+        "no ROS 2 node: {together:?}"
+    );
     assert!(
         workspace.contains("default-features = false, features = [\"shared-memory\"] }"),
         "{workspace}"

@@ -12,7 +12,7 @@
 
 use crate::alive::{Change, Watch};
 use crate::keys::{encoding, Keys};
-use crate::shm::{Lent, Payload, Pool};
+use crate::shm::{Payload, Pool};
 use crate::stats::Stats;
 use ferroc_runtime::console;
 use ferroc_runtime::link::transport::{
@@ -20,7 +20,7 @@ use ferroc_runtime::link::transport::{
 };
 use ferroc_runtime::link::Frame;
 use ferroc_runtime::module::bytes::Holder;
-use ferroc_runtime::module::lend::{LentBuffer, Piece};
+use ferroc_runtime::module::lend::LentBuffer;
 use ferroc_runtime::module::Encoder;
 use ferroc_terminal::engine_error;
 use std::borrow::Cow;
@@ -34,7 +34,9 @@ use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::query::{Query, Queryable};
 use zenoh::{Session, Wait};
 
+mod pieces;
 mod qos;
+use pieces::{deliver_pieces, joined, LENT_MARK};
 pub use qos::Qos;
 
 /// How long a call waits for its answer on the network before it fails (a client's
@@ -109,10 +111,6 @@ pub(crate) struct Shm {
     /// then arrive in it from writers on this computer).
     pub enabled: bool,
 }
-
-/// The last byte of an attachment (after the link numbers, 4 bytes each) of a value
-/// sent in pieces around a lent buffer ([`Encoder::pieces`]).
-const LENT_MARK: u8 = b'L';
 
 /// One link this part sends.
 struct Out {
@@ -208,56 +206,6 @@ fn subscribers(
         subscribers.push(subscriber);
     }
     Ok(subscribers)
-}
-
-/// One message of a value in `pieces` ([`Encoder::pieces`]): each lent pool buffer
-/// as it is (Zenoh sends its descriptor), the encoded bytes around them as they are.
-fn joined(pool: Option<&Pool>, pieces: Vec<Piece>) -> ZBytes {
-    let mut message = ZBytes::writer();
-    for piece in pieces {
-        let bytes = match piece {
-            Piece::Encoded(v) => ZBytes::from(v),
-            Piece::Lent(buffer) => match buffer.as_any().downcast_ref::<Lent>() {
-                Some(lent) => {
-                    pool.inspect(|p| p.sent_lent());
-                    lent.shared()
-                }
-                // Lent by another network (none today): its bytes, copied.
-                None => ZBytes::from(buffer.bytes().to_vec()),
-            },
-        };
-        message.append(bytes);
-    }
-    message.finish()
-}
-
-/// One buffer of a value that arrived in several (a writer's lent buffer and the bytes
-/// around it): the message, which keeps them all, and which one.
-struct Part(ZBytes, usize);
-
-impl AsRef<[u8]> for Part {
-    fn as_ref(&self) -> &[u8] {
-        self.0.slices().nth(self.1).unwrap_or_default()
-    }
-}
-
-/// Hands the value `payload` of the link `link`, sent in pieces around a lent buffer,
-/// to its receiving end: decoded from the buffers as they arrived (the lent one in
-/// shared memory from a writer on this computer, read in place), counted in
-/// `received_shared` if this part has shared memory on.
-fn deliver_pieces(
-    delivery: &Delivery,
-    received_shared: Option<&AtomicU64>,
-    link: u32,
-    payload: &ZBytes,
-) {
-    if let Some(count) = received_shared {
-        count.fetch_add(1, Ordering::Relaxed);
-    }
-    let parts: Vec<Arc<dyn Holder>> = (0..payload.slices().count())
-        .map(|i| Arc::new(Part(payload.clone(), i)) as Arc<dyn Holder>)
-        .collect();
-    delivery.deliver_parts(link, &parts);
 }
 
 /// Hands the value `payload` of the link `link` to its receiving end.
