@@ -7,11 +7,16 @@ fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("interfaces");
     println!("cargo:rerun-if-changed={}", root.display());
     let mut files = Vec::new();
-    for package in read_dir(&root) {
+    // Only folders that exist: cargo copies these paths into the dep-info of every
+    // program linking this crate, and a runner whose dep-info names a missing path is
+    // never fresh (`ferroc run` would rebuild it on every run). A package's folder is
+    // watched too, so a `msg/` or `srv/` added to it is seen.
+    for package in read_dir(&root).into_iter().filter(|p| p.is_dir()) {
+        println!("cargo:rerun-if-changed={}", package.display());
         for kind in ["msg", "srv"] {
             let dir = package.join(kind);
-            println!("cargo:rerun-if-changed={}", dir.display());
             if dir.is_dir() {
+                println!("cargo:rerun-if-changed={}", dir.display());
                 files.extend(
                     read_dir(&dir)
                         .into_iter()
