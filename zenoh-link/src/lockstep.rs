@@ -9,10 +9,16 @@
 //! other do not wait for each other).
 //!
 //! Before its first message a part waits until the receiving part's subscriber is
-//! there (the publisher's matching status), so the first instant is never lost. A part
+//! there (the publisher's matching status), so the first instant is never lost to a
+//! slow start. An instant lost later on the way (a Zenoh link that closes takes the
+//! messages queued on it along) is sent again on request ([`resend`]). A part
 //! it waits for whose liveliness token is withdrawn (it stopped, was killed or lost its
 //! network) ends the run with an error naming it: never a hang. So does a part it only
 //! sends to: its instants would go nowhere.
+
+mod resend;
+
+pub use resend::lose_on_the_way;
 
 use crate::alive::{Change, Watch};
 use crate::keys::Keys;
@@ -20,19 +26,24 @@ use ferroc_runtime::console;
 use ferroc_runtime::link::transport::{Connection, PartLinks};
 use ferroc_runtime::link::Frame;
 use ferroc_terminal::engine_error;
+use resend::{Inbox, Kept};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, TryRecvError};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
+use zenoh::bytes::ZBytes;
 use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::qos::CongestionControl;
+use zenoh::query::{ConsolidationMode, Query, Queryable, Reply};
 use zenoh::{Session, Wait};
 
 /// One instant of one part, for one other part.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Instant {
+    /// Its number among the instants this part sent to the other (from 0).
+    pub seq: u64,
     /// Model time of the instant, in nanoseconds.
     pub nanos: u64,
     /// The frames sent in it: link number and encoded value.
@@ -41,8 +52,11 @@ pub struct Instant {
 
 /// What the receiving side hears, in the order it happened.
 enum Event {
-    Instant(String, Instant),
+    /// An instant of a part; `true` when it was sent again on request.
+    Instant(String, Instant, bool),
     Garbled(String, String),
+    /// The part no longer keeps its instants from this number on: why.
+    Unkept(String, u64, String),
     /// A part went (the watch knows which and since when): wakes the wait.
     Gone,
 }
@@ -60,17 +74,32 @@ const GRACE: Duration = Duration::from_secs(2);
 /// take its last instants and end too (a little more than they wait for them).
 const LINGER: Duration = Duration::from_secs(3);
 
+/// How long a request for instants sent again waits for the answers.
+const ASK_TIMEOUT: Duration = Duration::from_secs(2);
+
 /// The open network of a part in lockstep.
 pub(crate) struct Lockstep {
     session: Session,
-    to: BTreeMap<String, Publisher<'static>>,
+    keys: Keys,
+    part: String,
+    to: BTreeMap<String, Outbox>,
     from: BTreeSet<String>,
     events: Mutex<Receiver<Event>>,
-    queues: Mutex<BTreeMap<String, VecDeque<Instant>>>,
+    /// Where the answers to requests for instants sent again go.
+    answers: Mutex<Sender<Event>>,
+    inboxes: Mutex<BTreeMap<String, Inbox>>,
     matched: AtomicBool,
     watch: Watch,
     _subscribers: Vec<Subscriber<()>>,
+    _queryables: Vec<Queryable<()>>,
     closed: AtomicBool,
+}
+
+/// What a part keeps for one part it sends to.
+struct Outbox {
+    publisher: Publisher<'static>,
+    key: String,
+    kept: Arc<Mutex<Kept>>,
 }
 
 pub(crate) fn open(
@@ -92,11 +121,7 @@ pub(crate) fn open(
             .declare_subscriber(keys.lockstep(sender, part)?)
             .callback(move |sample| {
                 let bytes = sample.payload().to_bytes();
-                let event = match postcard::from_bytes::<Instant>(&bytes) {
-                    Ok(instant) => Event::Instant(sender_part.clone(), instant),
-                    Err(e) => Event::Garbled(sender_part.clone(), e.to_string()),
-                };
-                let _ = lock(&tx).send(event);
+                let _ = lock(&tx).send(decode(&sender_part, &bytes, false));
             })
             .wait()
             .map_err(|e| {
@@ -108,14 +133,33 @@ pub(crate) fn open(
         subscribers.push(subscriber);
     }
     let mut to = BTreeMap::new();
+    let mut queryables = Vec::new();
     for receiver in links.sends_to() {
+        let key = keys.lockstep(part, receiver)?;
+        let cannot =
+            |e: zenoh::Error| format!("cannot send instants to `{receiver}`: {}", engine_error(&e));
         let publisher = session
-            .declare_publisher(keys.lockstep(part, receiver)?)
+            .declare_publisher(key.clone())
             .congestion_control(CongestionControl::Block)
             .wait()
-            .map_err(|e| format!("cannot send instants to `{receiver}`: {}", engine_error(&e)))?;
-        to.insert(receiver.to_owned(), publisher);
+            .map_err(cannot)?;
+        let kept = Arc::new(Mutex::new(Kept::default()));
+        let keeper = Arc::clone(&kept);
+        let queryable = session
+            .declare_queryable(key.clone())
+            .callback(move |query| send_again(&query, &keeper))
+            .wait()
+            .map_err(cannot)?;
+        queryables.push(queryable);
+        let key = key.to_string();
+        let outbox = Outbox {
+            publisher,
+            key,
+            kept,
+        };
+        to.insert(receiver.to_owned(), outbox);
     }
+    let answers = Mutex::new(tx.clone());
     let gone = Mutex::new(tx);
     let watch = Watch::start(session, keys, part, move |change, _| {
         if let Change::Went(_) = change {
@@ -124,25 +168,138 @@ pub(crate) fn open(
     })?;
     Ok(Lockstep {
         session: session.clone(),
+        keys: keys.clone(),
+        part: part.to_owned(),
         to,
         from,
         events: Mutex::new(rx),
-        queues: Mutex::default(),
+        answers,
+        inboxes: Mutex::default(),
         matched: AtomicBool::new(false),
         watch,
         _subscribers: subscribers,
+        _queryables: queryables,
         closed: AtomicBool::new(false),
     })
 }
 
+/// The event of a message of `part`: its instant, or why it does not decode.
+fn decode(part: &str, bytes: &[u8], again: bool) -> Event {
+    match postcard::from_bytes::<Instant>(bytes) {
+        Ok(instant) => Event::Instant(part.to_owned(), instant, again),
+        Err(e) => Event::Garbled(part.to_owned(), e.to_string()),
+    }
+}
+
+/// Answers a request for instants sent again (`from=SEQ`): each kept one from that
+/// number on, or an error if the first of them is no longer kept.
+fn send_again(query: &Query, kept: &Mutex<Kept>) {
+    let from = resend::asked_from(query.parameters().as_str());
+    let answer = match from {
+        Some(from) => lock(kept).from(from),
+        None => Err("ask with `from=SEQ`".to_owned()),
+    };
+    let key = query.key_expr().clone();
+    let _ = match answer {
+        Ok(payloads) => {
+            (payloads.into_iter()).try_for_each(|payload| query.reply(key.clone(), payload).wait())
+        }
+        Err(why) => query.reply_err(format!("{NOT_KEPT}{why}")).wait(),
+    };
+}
+
+/// How the answer that instants are no longer kept begins (Zenoh's own errors, a
+/// timeout, do not).
+const NOT_KEPT: &str = "not kept: ";
+
+impl Outbox {
+    /// Sends the next instant, keeping it to send again when asked.
+    fn send(&self, nanos: u64, frames: Vec<(u32, Vec<u8>)>) -> zenoh::Result<()> {
+        let mut kept = lock(&self.kept);
+        let seq = kept.next_seq();
+        let instant = Instant { seq, nanos, frames };
+        let payload = ZBytes::from(postcard::to_stdvec(&instant)?);
+        kept.push(payload.clone());
+        drop(kept);
+        if resend::to_lose(&self.key, seq) {
+            return Ok(());
+        }
+        self.publisher.put(payload).wait()
+    }
+}
+
 impl Lockstep {
+    /// Asks the part `part` for its instants for this one from the number `from` on.
+    fn ask(&self, part: &str, from: u64) {
+        let Ok(key) = self.keys.lockstep(part, &self.part) else {
+            return;
+        };
+        let (tx, sender) = (Mutex::new(lock(&self.answers).clone()), part.to_owned());
+        let _ = (self.session.get(format!("{key}?from={from}")))
+            .consolidation(ConsolidationMode::None)
+            .timeout(ASK_TIMEOUT)
+            .callback(move |reply: Reply| {
+                let event = match reply.result() {
+                    Ok(sample) => decode(&sender, &sample.payload().to_bytes(), true),
+                    Err(e) => {
+                        let text = e.payload().try_to_string().unwrap_or_default();
+                        match text.strip_prefix(NOT_KEPT) {
+                            Some(why) => Event::Unkept(sender.clone(), from, why.to_owned()),
+                            None => return, // no answer in time: asked again later
+                        }
+                    }
+                };
+                let _ = lock(&tx).send(event);
+            })
+            .wait();
+    }
+
+    /// Takes in what arrived while waiting for the instant `nanos`.
+    fn arrived(
+        &self,
+        inboxes: &mut BTreeMap<String, Inbox>,
+        event: Event,
+        nanos: u64,
+    ) -> Result<(), String> {
+        match event {
+            Event::Instant(part, instant, again) => {
+                let inbox = inboxes.entry(part).or_default();
+                inbox.arrive(instant.seq, instant, again);
+            }
+            Event::Garbled(part, why) => {
+                return Err(format!(
+                    "the part `{part}` sent an instant that does not decode ({why}); are \
+                     both programs built from the same model and ferroc?"
+                ))
+            }
+            Event::Unkept(part, from, why) => {
+                if inboxes.get(&part).is_none_or(|i| i.lacks(from)) {
+                    return Err(format!(
+                        "the instant {:.3} s of the part `{part}` was lost on the way (a \
+                         Zenoh link between the two programs closed) and cannot be sent \
+                         again: {why}; the run cannot stay in lockstep. help: give the \
+                         parts a longer lease, e.g. \
+                         `{{ transport: {{ link: {{ tx: {{ lease: 5000 }} }} }} }}` in \
+                         --zenoh-config, on a loaded machine",
+                        nanos as f64 / 1e9
+                    ));
+                }
+            }
+            // Only a wakeup: the wait reads the watch.
+            Event::Gone => {}
+        }
+        Ok(())
+    }
+
     /// Waits until every part this one sends to is listening.
     fn wait_for_receivers(&self, stop: &AtomicBool) -> Result<(), String> {
         let started = std::time::Instant::now();
         let mut told = false;
         loop {
             let missing: Vec<&str> = (self.to.iter())
-                .filter(|(_, p)| !p.matching_status().wait().is_ok_and(|m| m.matching()))
+                .filter(|(_, o)| {
+                    !(o.publisher.matching_status().wait()).is_ok_and(|m| m.matching())
+                })
                 .map(|(part, _)| part.as_str())
                 .collect();
             if missing.is_empty() {
@@ -201,13 +358,9 @@ impl Connection for Lockstep {
                     .push((frame.link, frame.bytes));
             }
         }
-        for (part, publisher) in &self.to {
-            let instant = Instant {
-                nanos,
-                frames: by_part.remove(part.as_str()).unwrap_or_default(),
-            };
-            let bytes = postcard::to_stdvec(&instant).map_err(|e| e.to_string())?;
-            publisher.put(bytes).wait().map_err(|e| {
+        for (part, outbox) in &self.to {
+            let frames = by_part.remove(part.as_str()).unwrap_or_default();
+            outbox.send(nanos, frames).map_err(|e| {
                 format!("cannot send the instant to `{part}`: {}", engine_error(&e))
             })?;
         }
@@ -216,15 +369,29 @@ impl Connection for Lockstep {
 
     fn wait_instant(&self, nanos: u64, stop: &AtomicBool) -> Result<Vec<Frame>, String> {
         let events = lock(&self.events);
-        let mut queues = lock(&self.queues);
+        let mut inboxes = lock(&self.inboxes);
         let started = std::time::Instant::now();
+        for part in &self.from {
+            inboxes
+                .entry(part.clone())
+                .or_default()
+                .wait_begins(started);
+        }
         let mut told = false;
         loop {
+            // Everything that arrived first: what is asked for again must be missing.
+            loop {
+                match events.try_recv() {
+                    Ok(event) => self.arrived(&mut inboxes, event, nanos)?,
+                    Err(TryRecvError::Empty) => break,
+                    Err(TryRecvError::Disconnected) => {
+                        return Err("the network of this part was closed".into())
+                    }
+                }
+            }
             let missing: Vec<&String> = (self.from.iter())
                 .filter(|p| {
-                    !queues
-                        .get(*p)
-                        .is_some_and(|q| q.iter().any(|i| i.nanos >= nanos))
+                    !(inboxes.get(*p)).is_some_and(|i| i.ready.iter().any(|i| i.nanos >= nanos))
                 })
                 .collect();
             if missing.is_empty() {
@@ -255,25 +422,24 @@ impl Connection for Lockstep {
                     names(missing.iter().map(|s| s.as_str()))
                 ));
             }
+            let now = std::time::Instant::now();
+            for part in missing {
+                if let Some(from) = inboxes.get_mut(part).and_then(|i| i.ask(now)) {
+                    self.ask(part, from);
+                }
+            }
             match events.recv_timeout(Duration::from_millis(50)) {
-                Ok(Event::Instant(part, instant)) => {
-                    queues.entry(part).or_default().push_back(instant)
-                }
-                Ok(Event::Garbled(part, why)) => {
-                    return Err(format!(
-                        "the part `{part}` sent an instant that does not decode ({why}); are \
-                         both programs built from the same model and ferroc?"
-                    ))
-                }
-                // Only a wakeup: `lost` above reads the watch.
-                Ok(Event::Gone) => {}
+                Ok(event) => self.arrived(&mut inboxes, event, nanos)?,
                 Err(RecvTimeoutError::Timeout) => {}
                 Err(RecvTimeoutError::Disconnected) => {
                     return Err("the network of this part was closed".into())
                 }
             }
         }
-        take(&mut queues, nanos)
+        take(
+            (inboxes.iter_mut()).map(|(part, inbox)| (part, &mut inbox.ready)),
+            nanos,
+        )
     }
 
     fn close(&self) {
@@ -286,6 +452,15 @@ impl Connection for Lockstep {
         // parts this one sends to take what is still on its way for GRACE, as they do
         // when a part ends), and the session stays open until each of them has ended
         // too (at most LINGER).
+        let inboxes = lock(&self.inboxes);
+        for (part, inbox) in inboxes.iter().filter(|(_, i)| i.resent > 0) {
+            console::note(&format!(
+                "lockstep: {} instant(s) of the part `{part}` were lost on the way (a Zenoh \
+                 link closed) and sent again",
+                inbox.resent
+            ));
+        }
+        drop(inboxes);
         self.watch.withdraw();
         let until = std::time::Instant::now() + LINGER;
         while (self.to.keys()).any(|p| self.watch.parts.gone_since(p).is_none())
@@ -297,18 +472,18 @@ impl Connection for Lockstep {
     }
 }
 
-/// The frames of the instant `nanos` (and any before it) of every part, taken from
-/// `queues`. Every part steps through the same instants (the application's timeline)
-/// and sends one message for each, so the instant `nanos` itself must be there: if a
-/// later one came instead, messages were lost on the way (the session between the two
-/// programs dropped and came back within the grace period), and going on would give a
-/// different result than one process does. That is an error, never silence.
-fn take(
-    queues: &mut BTreeMap<String, VecDeque<Instant>>,
+/// The frames of the instant `nanos` (and any before it) of every part, taken from its
+/// queue of instants in order. Every part steps through the same instants (the
+/// application's timeline) and sends one message for each, so the instant `nanos`
+/// itself must be there: a part whose next instant is a later one steps through another
+/// timeline, and going on would give a different result than one process does. That is
+/// an error, never silence.
+fn take<'q>(
+    queues: impl IntoIterator<Item = (&'q String, &'q mut VecDeque<Instant>)>,
     nanos: u64,
 ) -> Result<Vec<Frame>, String> {
     let mut frames = Vec::new();
-    for (part, queue) in queues.iter_mut() {
+    for (part, queue) in queues {
         let mut found = false;
         while queue.front().is_some_and(|i| i.nanos <= nanos) {
             let instant = queue.pop_front().expect("front exists");
@@ -317,11 +492,8 @@ fn take(
         }
         if !found {
             return Err(format!(
-                "the instant {:.3} s of the part `{part}` was lost on the way (its Zenoh \
-                 session to this part dropped and came back); the run cannot stay in \
-                 lockstep. help: give the parts a longer lease, e.g. \
-                 `{{ transport: {{ link: {{ tx: {{ lease: 5000 }} }} }} }}` in --zenoh-config, \
-                 on a loaded machine",
+                "the part `{part}` sent no instant {:.3} s but a later one: its timeline is \
+                 not this part's; are both programs built from the same model and ferroc?",
                 nanos as f64 / 1e9
             ));
         }
@@ -349,6 +521,7 @@ mod tests {
             .map(|(part, instants)| {
                 let queue = (instants.iter())
                     .map(|&nanos| Instant {
+                        seq: 0,
                         nanos,
                         frames: vec![(0, nanos.to_le_bytes().to_vec())],
                     })
@@ -361,19 +534,19 @@ mod tests {
     #[test]
     fn the_instant_and_those_before_it_are_taken_in_order() {
         let mut q = queues(&[("a", &[10, 20, 30]), ("b", &[20])]);
-        let frames = take(&mut q, 20).unwrap();
+        let frames = take(q.iter_mut(), 20).unwrap();
         let stamps: Vec<u8> = frames.iter().map(|f| f.bytes[0]).collect();
         assert_eq!(stamps, [10, 20, 20]);
         assert_eq!(q["a"].len(), 1, "30 stays for later");
     }
 
     #[test]
-    fn a_lost_instant_is_an_error_naming_the_part_and_the_lease() {
-        // `a` sent 20, 30 and 40, but 30 never arrived.
+    fn an_instant_skipped_by_its_sender_is_an_error_naming_the_part() {
+        // `a` sent 20 and then 40, not 30: another timeline.
         let mut q = queues(&[("a", &[40])]);
-        let err = take(&mut q, 30).unwrap_err();
+        let err = take(q.iter_mut(), 30_000_000).unwrap_err();
         assert!(
-            err.contains("`a`") && err.contains("0.000 s") && err.contains("lease"),
+            err.contains("`a`") && err.contains("0.030 s") && err.contains("same model"),
             "{err}"
         );
     }
