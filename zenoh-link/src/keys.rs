@@ -5,7 +5,7 @@
 //! |---|---|
 //! | a link's values | `ferroc/APP/data/PART/MODULE/PATH/PORT` |
 //! | a service called across parts | `ferroc/APP/service/PART/MODULE/PATH/SERVICE` |
-//! | lockstep: one instant of a part for another | `ferroc/APP/lockstep/FROM/TO` |
+//! | lockstep: one instant of a part for another (a `get` with `from=SEQ`: the kept ones again) | `ferroc/APP/lockstep/FROM/TO` |
 //! | a part is alive (liveliness token) | `ferroc/APP/alive/PART` |
 //!
 //! Module paths start with their part in ferroc models; a path that does not gets the
