@@ -53,6 +53,7 @@ fn the_server_serves_its_page_reports_an_unreachable_program_and_stops_cleanly()
         "/app.js",
         "/graph.js",
         "/layout.js",
+        "/labels.js",
         "/panels.js",
         "/style.css",
     ] {

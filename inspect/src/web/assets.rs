@@ -34,6 +34,11 @@ const FILES: &[(&str, &str, &str)] = &[
         include_str!("assets/layout.js"),
     ),
     (
+        "/labels.js",
+        "text/javascript; charset=utf-8",
+        include_str!("assets/labels.js"),
+    ),
+    (
         "/panels.js",
         "text/javascript; charset=utf-8",
         include_str!("assets/panels.js"),

@@ -10,14 +10,17 @@
 // top, activities and target rating below, its data inputs left and data outputs
 // right; a plain module's inputs on top and outputs below, in the order of the other
 // ends. Data edges are labelled with the port's name at a place along the edge where
-// the label overlaps neither a box nor another label.
+// the label overlaps neither a box nor another label (labels.js).
+
+import { labels, clusters, samples, overlaps } from './labels.js';
+
+export { samples, overlaps };
 
 export const SLOT = 26, ROW = 16, METER = 22;
 /** Font size (px) of a slot's name. */
 export const SLOT_PX = 10;
 const LAYER_GAP = 46, MARGIN = 12, ROUNDS = 6;
 const GAP = { node: 26, mixed: 12, lane: 8, part: 44 };
-const LABEL_PX = 9;
 
 /** Text width estimate (px) when no canvas measures it: Helvetica's mean advance. */
 export const estimate = (text, px) => text.length * px * 0.56;
@@ -502,83 +505,6 @@ export function pathText(segs) {
   const f = (p) => `${+p.x.toFixed(1)},${+p.y.toFixed(1)}`;
   const straight = (s) => s[1] === s[0] && s[2] === s[3];
   return `M${f(segs[0][0])}` + segs.map((s) => (straight(s) ? ` L${f(s[3])}` : ` C${f(s[1])} ${f(s[2])} ${f(s[3])}`)).join('');
-}
-
-function bezier(s, t) {
-  const u = 1 - t;
-  const c = [u * u * u, 3 * u * u * t, 3 * u * t * t, t * t * t];
-  return { x: s.reduce((a, p, i) => a + c[i] * p.x, 0), y: s.reduce((a, p, i) => a + c[i] * p.y, 0) };
-}
-
-/** Points along the path about every `step` px, from its start. */
-export function samples(segs, step = 6) {
-  const out = [];
-  for (const s of segs) {
-    const len = Math.hypot(s[3].x - s[0].x, s[3].y - s[0].y) + 1;
-    const n = Math.max(2, Math.ceil(len / step));
-    for (let i = 0; i < n; i++) out.push(bezier(s, i / n));
-  }
-  out.push(segs[segs.length - 1][3]);
-  return out;
-}
-
-export const overlaps = (a, b, pad = 0) =>
-  a.x < b.x + b.w + pad && b.x < a.x + a.w + pad && a.y < b.y + b.h + pad && b.y < a.y + a.h + pad;
-
-/** Rectangles by the 64 px cells they touch, so a test for overlap looks only near. */
-class Grid {
-  constructor() { this.cells = new Map(); }
-  *keys(r, pad) {
-    for (let i = Math.floor((r.x - pad) / 64); i <= Math.floor((r.x + r.w + pad) / 64); i++) {
-      for (let j = Math.floor((r.y - pad) / 64); j <= Math.floor((r.y + r.h + pad) / 64); j++) yield `${i},${j}`;
-    }
-  }
-  add(r) { for (const k of this.keys(r, 0)) (this.cells.get(k) || this.cells.set(k, []).get(k)).push(r); }
-  hits(r, pad) {
-    for (const k of this.keys(r, pad)) for (const o of this.cells.get(k) || []) if (overlaps(r, o, pad)) return true;
-    return false;
-  }
-}
-
-/** One label per port of a data edge, placed at the first point along the edge (from
- * the writer) where it overlaps no box and no label placed before it. */
-function labels(g, es, measure) {
-  const taken = new Grid();
-  for (const it of g.items.values()) if (!it.dummy) taken.add(it);
-  const placed = [], done = new Set();
-  for (const e of es) {
-    const key = `${e.from}|${e.exit.key}`;
-    if (!e.label || done.has(key)) continue;
-    done.add(key);
-    const w = measure(e.label, LABEL_PX) + 2, h = LABEL_PX + 3;
-    const pts = samples(e.segs).filter((p) => Math.hypot(p.x - e.segs[0][0].x, p.y - e.segs[0][0].y) > 6);
-    let spot = null;
-    for (const p of pts) {
-      for (const r of [{ x: p.x + 3, y: p.y - h / 2, w, h }, { x: p.x - 3 - w, y: p.y - h / 2, w, h }]) {
-        if (!taken.hits(r, 2)) { spot = r; break; }
-      }
-      if (spot) break;
-    }
-    if (spot) { placed.push({ ...spot, text: e.label, edge: key }); taken.add(spot); }
-    else e.unlabelled = true;
-  }
-  return placed;
-}
-
-/** The dashed rectangle of every part: its boxes, lanes and edges, with room for its name. */
-function clusters(g, es) {
-  const parts = new Map();
-  const grow = (part, x0, y0, x1, y1) => {
-    const c = parts.get(part) || { x0: Infinity, y0: Infinity, x1: -Infinity, y1: -Infinity };
-    parts.set(part, { x0: Math.min(c.x0, x0), y0: Math.min(c.y0, y0), x1: Math.max(c.x1, x1), y1: Math.max(c.y1, y1) });
-  };
-  for (const it of g.items.values()) grow(it.part, it.x, it.y, it.x + it.w, it.y + it.h);
-  for (const e of es) {
-    const part = g.items.get(e.from).part;
-    if (part !== g.items.get(e.to).part) continue;
-    for (const p of samples(e.segs, 12)) grow(part, p.x, p.y, p.x, p.y);
-  }
-  return [...parts].map(([rank, c]) => ({ part: g.partNames[rank], x: c.x0 - 10, y: c.y0 - 24, w: c.x1 - c.x0 + 20, h: c.y1 - c.y0 + 34 }));
 }
 
 /** The whole drawing of `modules`: boxes, edges with their paths, labels, part
