@@ -147,7 +147,7 @@ pub(crate) fn open(
         let keeper = Arc::clone(&kept);
         let queryable = session
             .declare_queryable(key.clone())
-            .callback(move |query| send_again(&query, &keeper))
+            .callback(move |query| send_again(query, &keeper))
             .wait()
             .map_err(cannot)?;
         queryables.push(queryable);
@@ -192,20 +192,29 @@ fn decode(part: &str, bytes: &[u8], again: bool) -> Event {
 }
 
 /// Answers a request for instants sent again (`from=SEQ`): each kept one from that
-/// number on, or an error if the first of them is no longer kept.
-fn send_again(query: &Query, kept: &Mutex<Kept>) {
+/// number on, or an error if the first of them is no longer kept. The answers go from
+/// a thread of their own: a callback runs on Zenoh's receiving thread, and sending
+/// large instants from there (congestion control *block*) would stop this session
+/// from reading while the other's reading waits for it.
+fn send_again(query: Query, kept: &Mutex<Kept>) {
     let from = resend::asked_from(query.parameters().as_str());
     let answer = match from {
         Some(from) => lock(kept).from(from),
         None => Err("ask with `from=SEQ`".to_owned()),
     };
-    let key = query.key_expr().clone();
-    let _ = match answer {
-        Ok(payloads) => {
-            (payloads.into_iter()).try_for_each(|payload| query.reply(key.clone(), payload).wait())
-        }
-        Err(why) => query.reply_err(format!("{NOT_KEPT}{why}")).wait(),
-    };
+    if matches!(&answer, Ok(payloads) if payloads.is_empty()) {
+        return; // nothing to send: dropping the query answers it
+    }
+    let _ = std::thread::Builder::new()
+        .name("lockstep-again".into())
+        .spawn(move || {
+            let key = query.key_expr().clone();
+            let _ = match answer {
+                Ok(payloads) => (payloads.into_iter())
+                    .try_for_each(|payload| query.reply(key.clone(), payload).wait()),
+                Err(why) => query.reply_err(format!("{NOT_KEPT}{why}")).wait(),
+            };
+        });
 }
 
 /// How the answer that instants are no longer kept begins (Zenoh's own errors, a
