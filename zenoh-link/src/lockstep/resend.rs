@@ -129,14 +129,17 @@ impl Inbox {
 
     /// The number to ask the sender for instants from, if it is time to: at once when
     /// later instants show a gap (then again every [`ASK_AGAIN`]), and after
-    /// [`QUIET`] without an instant. Called only while this sender is waited for and
-    /// nothing that arrived is still unread.
+    /// [`QUIET`] without an instant once one came (before its first instant a sender
+    /// waits until this part listens, so nothing of it can be lost yet; a first one
+    /// lost later shows as a gap when the next comes). Called only while this sender is
+    /// waited for and nothing that arrived is still unread.
     pub(crate) fn ask(&mut self, now: Clock) -> Option<u64> {
         let since_asked = self.asked.map(|t| now.saturating_duration_since(t));
         let due = match self.early.is_empty() {
             false => since_asked.is_none_or(|d| d >= ASK_AGAIN),
             true => {
-                now.saturating_duration_since(self.heard) >= QUIET
+                self.next > 0
+                    && now.saturating_duration_since(self.heard) >= QUIET
                     && since_asked.is_none_or(|d| d >= QUIET)
             }
         };
@@ -213,6 +216,12 @@ mod tests {
     #[test]
     fn in_order_nothing_is_asked_until_the_sender_is_quiet() {
         let mut inbox = Inbox::default();
+        let start = Clock::now();
+        assert_eq!(
+            inbox.ask(start + QUIET),
+            None,
+            "nothing came yet: nothing lost"
+        );
         inbox.arrive(0, instant(0), false);
         inbox.arrive(1, instant(10), false);
         let now = Clock::now();
