@@ -205,9 +205,20 @@ impl<'d> In<'d> {
     #[inline]
     pub fn get<const N: usize>(&mut self) -> Result<[u8; N], String> {
         self.align(N)?;
-        let mut out = [0; N];
-        out.copy_from_slice(self.take(N)?);
-        Ok(out)
+        self.array()
+    }
+
+    /// `N` bytes as they come (no alignment: an array's element after the first).
+    #[inline]
+    pub fn array<const N: usize>(&mut self) -> Result<[u8; N], String> {
+        let data: &'d [u8] = self.data;
+        match data.get(self.pos..).and_then(<[u8]>::first_chunk::<N>) {
+            Some(bytes) => {
+                self.pos += N;
+                Ok(*bytes)
+            }
+            None => Err(self.short(N)),
+        }
     }
 
     pub fn bool(&mut self) -> Result<bool, String> {
