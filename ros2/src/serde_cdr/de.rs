@@ -55,7 +55,7 @@ impl<'a, 'p, 'd> De<'a, 'p, 'd> {
     fn primitive<'de, V: Visitor<'de>>(self, p: Primitive, v: V) -> Result<V::Value, Fail> {
         self.r.input.align(p.size())?;
         PackedDe {
-            input: &mut self.r.input,
+            bytes: &mut self.r.input.take(p.size())?,
             p,
         }
         .deserialize_any(v)
@@ -143,19 +143,20 @@ impl<'a, 'p, 'd> De<'a, 'p, 'd> {
                 want.unwrap_or(0)
             )));
         }
-        let packed = match slot.elem {
-            Elem::Prim(p) => {
-                if len > 0 {
-                    self.r.input.align(p.size())?;
-                }
-                Some(p)
+        // An array of a primitive: aligned once, its bytes taken whole (the length
+        // fits in what is left: `In::elements`).
+        let (packed, bytes) = match slot.elem {
+            Elem::Prim(p) if len > 0 => {
+                self.r.input.align(p.size())?;
+                (Some(p), self.r.input.take(len * p.size())?)
             }
-            _ => None,
+            _ => (None, &[][..]),
         };
         v.visit_seq(Elements {
             r: self.r,
             element: Expect::Elem(&slot.elem),
             packed,
+            bytes,
             len,
             next: 0,
         })
@@ -321,8 +322,9 @@ impl<'de> SeqAccess<'de> for Fields<'_, '_, '_> {
 struct Elements<'a, 'p, 'd> {
     r: &'a mut R<'p, 'd>,
     element: Expect<'p>,
-    /// The primitive of an array of one (aligned already: see `prim.rs`).
+    /// The primitive of an array of one, and the array's bytes (see `prim.rs`).
     packed: Option<Primitive>,
+    bytes: &'d [u8],
     len: usize,
     next: usize,
 }
@@ -340,7 +342,7 @@ impl<'de> SeqAccess<'de> for Elements<'_, '_, '_> {
         self.next += 1;
         let value = match self.packed {
             Some(p) => seed.deserialize(PackedDe {
-                input: &mut self.r.input,
+                bytes: &mut self.bytes,
                 p,
             }),
             None => seed.deserialize(De::new(self.r, self.element)),

@@ -5,7 +5,7 @@
 
 use super::{same, Fail};
 use crate::def::Primitive;
-use crate::wire::{In, Out};
+use crate::wire::Out;
 use serde::de::{self, Visitor};
 use serde::ser::{self, Impossible, Serialize};
 
@@ -168,30 +168,45 @@ impl ser::Serializer for PackedSer<'_> {
     }
 }
 
-/// Reads one element of an array of `p` (offered to the port's type as what the
-/// message has: a port's `f32` element of a `float64` array is serde's type error).
+/// Reads one element of an array of `p` from the array's bytes (taken whole from the
+/// sample: no bounds to keep but these), offered to the port's type as what the message
+/// has (a port's `f32` element of a `float64` array is serde's type error).
 pub(super) struct PackedDe<'a, 'd> {
-    pub input: &'a mut In<'d>,
+    pub bytes: &'a mut &'d [u8],
     pub p: Primitive,
 }
 
 impl PackedDe<'_, '_> {
     #[inline(always)]
-    fn visit<'de, V: Visitor<'de>>(self, v: V) -> Result<V::Value, Fail> {
+    fn next<const N: usize>(&mut self) -> Result<[u8; N], Fail> {
+        match self.bytes.split_first_chunk::<N>() {
+            Some((bytes, rest)) => {
+                *self.bytes = rest;
+                Ok(*bytes)
+            }
+            None => Err(Fail::new("the sample ends early")),
+        }
+    }
+
+    #[inline(always)]
+    fn visit<'de, V: Visitor<'de>>(mut self, v: V) -> Result<V::Value, Fail> {
         use Primitive::*;
-        let r = self.input;
         match self.p {
-            Float32 => v.visit_f32(f32::from_le_bytes(r.array()?)),
-            Float64 => v.visit_f64(f64::from_le_bytes(r.array()?)),
-            Bool => v.visit_bool(r.bool()?),
-            Byte | Char | UInt8 => v.visit_u8(r.array::<1>()?[0]),
-            Int8 => v.visit_i8(i8::from_le_bytes(r.array()?)),
-            Int16 => v.visit_i16(i16::from_le_bytes(r.array()?)),
-            UInt16 => v.visit_u16(u16::from_le_bytes(r.array()?)),
-            Int32 => v.visit_i32(i32::from_le_bytes(r.array()?)),
-            UInt32 => v.visit_u32(u32::from_le_bytes(r.array()?)),
-            Int64 => v.visit_i64(i64::from_le_bytes(r.array()?)),
-            UInt64 => v.visit_u64(u64::from_le_bytes(r.array()?)),
+            Float32 => v.visit_f32(f32::from_le_bytes(self.next()?)),
+            Float64 => v.visit_f64(f64::from_le_bytes(self.next()?)),
+            Bool => match self.next::<1>()? {
+                [0] => v.visit_bool(false),
+                [1] => v.visit_bool(true),
+                [b] => Err(Fail::new(format!("a bool is 0 or 1, the sample has {b}"))),
+            },
+            Byte | Char | UInt8 => v.visit_u8(self.next::<1>()?[0]),
+            Int8 => v.visit_i8(i8::from_le_bytes(self.next()?)),
+            Int16 => v.visit_i16(i16::from_le_bytes(self.next()?)),
+            UInt16 => v.visit_u16(u16::from_le_bytes(self.next()?)),
+            Int32 => v.visit_i32(i32::from_le_bytes(self.next()?)),
+            UInt32 => v.visit_u32(u32::from_le_bytes(self.next()?)),
+            Int64 => v.visit_i64(i64::from_le_bytes(self.next()?)),
+            UInt64 => v.visit_u64(u64::from_le_bytes(self.next()?)),
         }
     }
 
@@ -213,6 +228,18 @@ macro_rules! visit {
     };
 }
 
+macro_rules! exact {
+    ($($name:ident $p:ident $visit:ident $t:ty),*) => {
+        $(#[inline(always)]
+        fn $name<V: Visitor<'de>>(mut self, v: V) -> Result<V::Value, Fail> {
+            if self.p == Primitive::$p {
+                return v.$visit(<$t>::from_le_bytes(self.next()?));
+            }
+            self.visit(v)
+        })*
+    };
+}
+
 macro_rules! refuse {
     ($($name:ident $what:literal)*) => {
         $(fn $name<V: Visitor<'de>>(self, _: V) -> Result<V::Value, Fail> {
@@ -225,10 +252,18 @@ impl<'de> de::Deserializer<'de> for PackedDe<'_, '_> {
     type Error = Fail;
 
     visit! {
-        deserialize_any deserialize_bool deserialize_i8 deserialize_i16 deserialize_i32
-        deserialize_i64 deserialize_u8 deserialize_u16 deserialize_u32 deserialize_u64
-        deserialize_f32 deserialize_f64 deserialize_str deserialize_string
+        deserialize_any deserialize_bool deserialize_str deserialize_string
         deserialize_ignored_any
+    }
+
+    // The port's element type is the message's (the case that runs): one compare, no
+    // dispatch on the message's type.
+    exact! {
+        deserialize_i8 Int8 visit_i8 i8, deserialize_i16 Int16 visit_i16 i16,
+        deserialize_i32 Int32 visit_i32 i32, deserialize_i64 Int64 visit_i64 i64,
+        deserialize_u8 UInt8 visit_u8 u8, deserialize_u16 UInt16 visit_u16 u16,
+        deserialize_u32 UInt32 visit_u32 u32, deserialize_u64 UInt64 visit_u64 u64,
+        deserialize_f32 Float32 visit_f32 f32, deserialize_f64 Float64 visit_f64 f64
     }
 
     refuse! {

@@ -236,8 +236,8 @@ impl<'a, 'p> ser::Serializer for Ser<'a, 'p> {
         let Expect::Message(node) = self.expect.resolve(self.w.plan) else {
             return Err(self.mismatch(&format!("a `{name}`")));
         };
-        let kind = match (node.builtin, name, len) {
-            (Builtin::Time, "Timestamp", 1) => Kind::Time,
+        let kind = match node.builtin {
+            Builtin::Time if name == "Timestamp" && len == 1 => Kind::Time,
             _ if len == node.slots.len() => Kind::Plain,
             _ => {
                 return Err(Fail::new(format!(
@@ -347,35 +347,29 @@ pub(super) struct Struct<'a, 'p> {
 }
 
 impl<'p> Struct<'_, 'p> {
-    /// What the field `key` is, if it is the next one.
-    #[inline]
-    fn expect(&mut self, key: &'static str) -> Result<(Expect<'p>, &'p str), Fail> {
+    /// What the field `key` is where it is not simply the next field of the message:
+    /// ferroc's `Timestamp` and `std::time::Duration` in their builtin messages, or an
+    /// error.
+    fn special(&mut self, at: usize, key: &'static str) -> Result<(Expect<'p>, &'p str), Fail> {
         let node = self.node;
-        if self.kind == Kind::Time {
-            return match key {
-                "nanos" => Ok((Expect::TimeNanos, "nanos")),
-                _ => Err(Fail::new(format!(
+        match (self.kind, node.builtin, at, key) {
+            (Kind::Time, _, _, "nanos") => return Ok((Expect::TimeNanos, "nanos")),
+            (Kind::Time, ..) => {
+                return Err(Fail::new(format!(
                     "`{}` has no field `{key}`",
                     node.message.name
-                ))),
-            };
-        }
-        let at = self.next;
-        let slot = (node.slots.get(at)).ok_or("more fields than the message")?;
-        self.next += 1;
-        // `std::time::Duration { secs, nanos }` is builtin_interfaces' Duration.
-        match (node.builtin, at, key) {
-            (Builtin::Duration, 0, "secs") => return Ok((Expect::DurationSecs, "sec")),
-            (Builtin::Duration, 1, "nanos") => return Ok((Expect::Elem(&UINT32), "nanosec")),
+                )))
+            }
+            // `std::time::Duration { secs, nanos }` is builtin_interfaces' Duration.
+            (_, Builtin::Duration, 0, "secs") => return Ok((Expect::DurationSecs, "sec")),
+            (_, Builtin::Duration, 1, "nanos") => return Ok((Expect::Elem(&UINT32), "nanosec")),
             _ => {}
         }
-        if !slot.named(key) {
-            return Err(Fail::new(format!(
-                "the value's field `{key}` where `{}` has `{}`",
-                node.message.name, slot.field.name
-            )));
-        }
-        Ok((Expect::of(slot), &slot.field.name))
+        let slot = (node.slots.get(at)).ok_or("more fields than the message")?;
+        Err(Fail::new(format!(
+            "the value's field `{key}` where `{}` has `{}`",
+            node.message.name, slot.field.name
+        )))
     }
 }
 
@@ -389,7 +383,14 @@ impl ser::SerializeStruct for Struct<'_, '_> {
         key: &'static str,
         value: &T,
     ) -> Result<(), Fail> {
-        let (expect, name) = self.expect(key)?;
+        let at = self.next;
+        self.next += 1;
+        let (expect, name) = match self.node.slots.get(at) {
+            Some(slot) if self.kind == Kind::Plain && slot.named(key) => {
+                (Expect::of(slot), slot.field.name.as_str())
+            }
+            _ => self.special(at, key)?,
+        };
         (value.serialize(Ser::new(self.w, expect))).map_err(|e| e.within(name))
     }
 
