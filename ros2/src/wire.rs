@@ -201,6 +201,20 @@ impl<'d> In<'d> {
         Ok(())
     }
 
+    /// `n` bytes (1, 2, 4 or 8: one primitive) aligned to `n`, with one bounds check.
+    #[inline]
+    pub fn aligned(&mut self, n: usize) -> Result<&'d [u8], String> {
+        let start = self.pos + ((self.pos - HEADER.len()).wrapping_neg() & (n - 1));
+        let data: &'d [u8] = self.data;
+        match data.get(start..start.saturating_add(n)) {
+            Some(bytes) => {
+                self.pos = start + n;
+                Ok(bytes)
+            }
+            None => Err(self.short(start - self.pos + n)),
+        }
+    }
+
     /// A primitive of `N` bytes, aligned to `N`.
     #[inline]
     pub fn get<const N: usize>(&mut self) -> Result<[u8; N], String> {

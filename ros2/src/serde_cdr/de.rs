@@ -50,26 +50,22 @@ impl<'a, 'p, 'd> De<'a, 'p, 'd> {
         ))
     }
 
+    #[cold]
+    fn not_struct(&self, name: &str) -> Fail {
+        self.mismatch(&format!("a `{name}`"))
+    }
+
     /// The primitive `p`, aligned.
     #[inline]
     fn primitive<'de, V: Visitor<'de>>(self, p: Primitive, v: V) -> Result<V::Value, Fail> {
-        self.r.input.align(p.size())?;
         PackedDe {
-            bytes: &mut self.r.input.take(p.size())?,
+            bytes: &mut self.r.input.aligned(p.size())?,
             p,
         }
         .deserialize_any(v)
     }
 
     /// One value (a wrapper's field if the message is a wrapper).
-    #[inline]
-    fn scalar<'de, V: Visitor<'de>>(self, v: V) -> Result<V::Value, Fail> {
-        match self.expect {
-            Expect::Elem(&Elem::Prim(p)) => self.primitive(p, v),
-            _ => self.scalar_slow(v),
-        }
-    }
-
     fn scalar_slow<'de, V: Visitor<'de>>(self, v: V) -> Result<V::Value, Fail> {
         let expect = self.expect.unwrap(self.r.plan)?;
         match expect {
@@ -111,13 +107,8 @@ impl<'a, 'p, 'd> De<'a, 'p, 'd> {
         ours: Option<&'static [&'static str]>,
         v: V,
     ) -> Result<V::Value, Fail> {
-        if ours.is_some_and(|ours| !node.named(ours)) {
-            return Err(Fail::new(format!(
-                "the port's type has the fields ({}), `{}` has ({})",
-                ours.unwrap_or_default().join(", "),
-                node.message.name,
-                node.names().join(", ")
-            )));
+        if let Some(ours) = ours.filter(|ours| !node.named(ours)) {
+            return Err(other_fields(ours, node));
         }
         if node.slots.is_empty() {
             self.r.input.take(1)?;
@@ -170,11 +161,28 @@ impl<'a, 'p, 'd> De<'a, 'p, 'd> {
     }
 }
 
+#[cold]
+fn other_fields(ours: &[&str], node: &Node<'_>) -> Fail {
+    Fail::new(format!(
+        "the port's type has the fields ({}), `{}` has ({})",
+        ours.join(", "),
+        node.message.name,
+        node.names().join(", ")
+    ))
+}
+
 macro_rules! scalars {
     ($($name:ident)*) => {
         $(#[inline]
         fn $name<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Fail> {
-            self.scalar(v)
+            match self.expect {
+                // The port's primitive where the message has one: `PackedDe`'s same
+                // method, over the primitive's bytes.
+                Expect::Elem(&Elem::Prim(p)) => {
+                    PackedDe { bytes: &mut self.r.input.aligned(p.size())?, p }.$name(v)
+                }
+                _ => self.scalar_slow(v),
+            }
         })*
     };
 }
@@ -257,7 +265,7 @@ impl<'de> de::Deserializer<'de> for De<'_, '_, '_> {
         v: V,
     ) -> Result<V::Value, Fail> {
         let Expect::Message(node) = self.expect.resolve(self.r.plan) else {
-            return Err(self.mismatch(&format!("a `{name}`")));
+            return Err(self.not_struct(name));
         };
         match (node.builtin, name, fields) {
             (Builtin::Time, "Timestamp", ["nanos"]) => v.visit_seq(Special {
@@ -310,7 +318,7 @@ impl<'de> SeqAccess<'de> for Fields<'_, '_, '_> {
         self.next += 1;
         match seed.deserialize(De::new(self.r, Expect::of(slot))) {
             Ok(value) => Ok(Some(value)),
-            Err(e) => Err(e.within(&slot.field.name)),
+            Err(e) => Err(e.within(slot.name)),
         }
     }
     fn size_hint(&self) -> Option<usize> {

@@ -39,6 +39,8 @@ pub(crate) enum Builtin {
 /// A field of a message, compiled.
 pub(crate) struct Slot<'r> {
     pub field: &'r Field,
+    /// The field's name (here, not behind `field`: compared for every sample).
+    pub name: &'r str,
     pub arity: Arity,
     pub elem: Elem,
     /// The address of the last key found equal to the field's name.
@@ -50,10 +52,10 @@ impl Slot<'_> {
     #[inline]
     pub fn named(&self, key: &'static str) -> bool {
         let at = key.as_ptr() as usize;
-        if self.seen.load(Ordering::Relaxed) == at && key.len() == self.field.name.len() {
+        if self.seen.load(Ordering::Relaxed) == at && key.len() == self.name.len() {
             return true;
         }
-        let same = key == self.field.name;
+        let same = key == self.name;
         if same {
             self.seen.store(at, Ordering::Relaxed);
         }
@@ -141,6 +143,7 @@ impl<'r> Plan<'r> {
             };
             slots.push(Slot {
                 field,
+                name: &field.name,
                 arity: field.ty.arity,
                 elem,
                 seen: AtomicUsize::new(0),

@@ -33,6 +33,11 @@ impl<'a, 'p> Ser<'a, 'p> {
         ))
     }
 
+    #[cold]
+    fn not_struct(&self, name: &str) -> Fail {
+        self.mismatch(&format!("a `{name}`"))
+    }
+
     /// A primitive of the port's type `ours`, written if the message has the same
     /// primitive here.
     #[inline]
@@ -234,18 +239,12 @@ impl<'a, 'p> ser::Serializer for Ser<'a, 'p> {
     #[inline]
     fn serialize_struct(self, name: &'static str, len: usize) -> Result<Struct<'a, 'p>, Fail> {
         let Expect::Message(node) = self.expect.resolve(self.w.plan) else {
-            return Err(self.mismatch(&format!("a `{name}`")));
+            return Err(self.not_struct(name));
         };
         let kind = match node.builtin {
             Builtin::Time if name == "Timestamp" && len == 1 => Kind::Time,
             _ if len == node.slots.len() => Kind::Plain,
-            _ => {
-                return Err(Fail::new(format!(
-                    "`{name}` has {len} fields, `{}` has {}",
-                    node.message.name,
-                    node.slots.len()
-                )))
-            }
+            _ => return Err(fields(name, len, node)),
         };
         if node.slots.is_empty() {
             // rosidl's placeholder member of an empty structure.
@@ -267,6 +266,15 @@ impl<'a, 'p> ser::Serializer for Ser<'a, 'p> {
     ) -> Result<Self::SerializeStructVariant, Fail> {
         Err(self.mismatch(&format!("the enum value `{v}`")))
     }
+}
+
+#[cold]
+fn fields(name: &str, len: usize, node: &Node<'_>) -> Fail {
+    Fail::new(format!(
+        "`{name}` has {len} fields, `{}` has {}",
+        node.message.name,
+        node.slots.len()
+    ))
 }
 
 /// The elements of an array or sequence.
@@ -387,7 +395,7 @@ impl ser::SerializeStruct for Struct<'_, '_> {
         self.next += 1;
         let (expect, name) = match self.node.slots.get(at) {
             Some(slot) if self.kind == Kind::Plain && slot.named(key) => {
-                (Expect::of(slot), slot.field.name.as_str())
+                (Expect::of(slot), slot.name)
             }
             _ => self.special(at, key)?,
         };
