@@ -181,6 +181,7 @@ macro_rules! scalars {
                 Expect::Elem(&Elem::Prim(p)) => {
                     PackedDe { bytes: &mut self.r.input.aligned(p.size())?, p }.$name(v)
                 }
+                Expect::Elem(&Elem::Str(bound)) => v.visit_str(self.r.input.string(bound)?),
                 _ => self.scalar_slow(v),
             }
         })*

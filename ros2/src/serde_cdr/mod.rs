@@ -250,7 +250,16 @@ impl<'p> Expect<'p> {
     /// [`Self::resolve`], and a message of one field (a wrapper such as
     /// `std_msgs/msg/Float64`) is that field: where a single value or a plain array is
     /// found.
+    #[inline]
     fn unwrap(self, plan: &'p Plan<'p>) -> Result<Expect<'p>, Fail> {
+        match self {
+            Expect::Field(slot) if slot.arity != Arity::Single => Ok(self),
+            Expect::Elem(Elem::Prim(_) | Elem::Str(_)) => Ok(self),
+            _ => self.unwrap_message(plan),
+        }
+    }
+
+    fn unwrap_message(self, plan: &'p Plan<'p>) -> Result<Expect<'p>, Fail> {
         let mut e = self.resolve(plan);
         for _ in 0..MAX_DEPTH {
             match e {
