@@ -218,20 +218,14 @@ impl<'d> In<'d> {
     /// A primitive of `N` bytes, aligned to `N`.
     #[inline]
     pub fn get<const N: usize>(&mut self) -> Result<[u8; N], String> {
-        self.align(N)?;
-        self.array()
-    }
-
-    /// `N` bytes as they come (no alignment: an array's element after the first).
-    #[inline]
-    pub fn array<const N: usize>(&mut self) -> Result<[u8; N], String> {
+        let start = self.pos + ((self.pos - HEADER.len()).wrapping_neg() & (N - 1));
         let data: &'d [u8] = self.data;
-        match data.get(self.pos..).and_then(<[u8]>::first_chunk::<N>) {
+        match data.get(start..).and_then(<[u8]>::first_chunk::<N>) {
             Some(bytes) => {
-                self.pos += N;
+                self.pos = start + N;
                 Ok(*bytes)
             }
-            None => Err(self.short(N)),
+            None => Err(self.short(start - self.pos + N)),
         }
     }
 

@@ -66,6 +66,15 @@ impl<'a, 'p, 'd> De<'a, 'p, 'd> {
     }
 
     /// One value (a wrapper's field if the message is a wrapper).
+    #[inline]
+    fn scalar<'de, V: Visitor<'de>>(self, v: V) -> Result<V::Value, Fail> {
+        match self.expect {
+            Expect::Elem(&Elem::Prim(p)) => self.primitive(p, v),
+            Expect::Elem(&Elem::Str(bound)) => v.visit_str(self.r.input.string(bound)?),
+            _ => self.scalar_slow(v),
+        }
+    }
+
     fn scalar_slow<'de, V: Visitor<'de>>(self, v: V) -> Result<V::Value, Fail> {
         let expect = self.expect.unwrap(self.r.plan)?;
         match expect {
@@ -175,15 +184,20 @@ macro_rules! scalars {
     ($($name:ident)*) => {
         $(#[inline]
         fn $name<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Fail> {
-            match self.expect {
-                // The port's primitive where the message has one: `PackedDe`'s same
-                // method, over the primitive's bytes.
-                Expect::Elem(&Elem::Prim(p)) => {
-                    PackedDe { bytes: &mut self.r.input.aligned(p.size())?, p }.$name(v)
-                }
-                Expect::Elem(&Elem::Str(bound)) => v.visit_str(self.r.input.string(bound)?),
-                _ => self.scalar_slow(v),
+            self.scalar(v)
+        })*
+    };
+}
+
+macro_rules! exact {
+    ($($name:ident $p:ident $visit:ident $t:ty),*) => {
+        $(#[inline]
+        fn $name<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Fail> {
+            // The message's primitive is the port's (the case that runs).
+            if let Expect::Elem(Elem::Prim(Primitive::$p)) = self.expect {
+                return v.$visit(<$t>::from_le_bytes(self.r.input.get()?));
             }
+            self.scalar(v)
         })*
     };
 }
@@ -191,10 +205,14 @@ macro_rules! scalars {
 impl<'de> de::Deserializer<'de> for De<'_, '_, '_> {
     type Error = Fail;
 
-    scalars! {
-        deserialize_bool deserialize_i8 deserialize_i16 deserialize_i32 deserialize_i64
-        deserialize_u8 deserialize_u16 deserialize_u32 deserialize_u64 deserialize_f32
-        deserialize_f64 deserialize_str deserialize_string
+    scalars! { deserialize_bool deserialize_str deserialize_string }
+
+    exact! {
+        deserialize_i8 Int8 visit_i8 i8, deserialize_i16 Int16 visit_i16 i16,
+        deserialize_i32 Int32 visit_i32 i32, deserialize_i64 Int64 visit_i64 i64,
+        deserialize_u8 UInt8 visit_u8 u8, deserialize_u16 UInt16 visit_u16 u16,
+        deserialize_u32 UInt32 visit_u32 u32, deserialize_u64 UInt64 visit_u64 u64,
+        deserialize_f32 Float32 visit_f32 f32, deserialize_f64 Float64 visit_f64 f64
     }
 
     fn deserialize_any<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Fail> {
