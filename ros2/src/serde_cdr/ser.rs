@@ -40,7 +40,7 @@ impl<'a, 'p> Ser<'a, 'p> {
 
     /// A primitive of the port's type `ours`, written if the message has the same
     /// primitive here.
-    #[inline]
+    #[inline(always)]
     fn primitive<const N: usize>(self, ours: Primitive, bytes: [u8; N]) -> Result<(), Fail> {
         match self.expect {
             Expect::Elem(&Elem::Prim(p)) if same(ours, p) => {
@@ -236,7 +236,7 @@ impl<'a, 'p> ser::Serializer for Ser<'a, 'p> {
     fn serialize_map(self, _: Option<usize>) -> Result<Self::SerializeMap, Fail> {
         Err(self.mismatch("a map"))
     }
-    #[inline]
+    #[inline(always)]
     fn serialize_struct(self, name: &'static str, len: usize) -> Result<Struct<'a, 'p>, Fail> {
         let Expect::Message(node) = self.expect.resolve(self.w.plan) else {
             return Err(self.not_struct(name));
@@ -385,7 +385,7 @@ impl ser::SerializeStruct for Struct<'_, '_> {
     type Ok = ();
     type Error = Fail;
 
-    #[inline]
+    #[inline(always)]
     fn serialize_field<T: Serialize + ?Sized>(
         &mut self,
         key: &'static str,
