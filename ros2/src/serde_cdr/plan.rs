@@ -7,7 +7,8 @@
 //! A port's type names its fields with `&'static str`s (serde's derive): a slot keeps
 //! the address of the last key found equal to its name, so the names are compared once
 //! per type and after that only an address is (a `&'static str` at the same address and
-//! of the same length is the same text).
+//! of the same length is the same text; ferroc links value types into its programs and
+//! unloads no library, which could give an address other text).
 
 use crate::def::{Arity, BaseType, Field, Message, Primitive, TypeName};
 use crate::wire::{self, MAX_DEPTH};
