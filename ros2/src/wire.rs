@@ -201,13 +201,32 @@ impl<'d> In<'d> {
         Ok(())
     }
 
+    /// `n` bytes (1, 2, 4 or 8: one primitive) aligned to `n`, with one bounds check.
+    #[inline]
+    pub fn aligned(&mut self, n: usize) -> Result<&'d [u8], String> {
+        let start = self.pos + ((self.pos - HEADER.len()).wrapping_neg() & (n - 1));
+        let data: &'d [u8] = self.data;
+        match data.get(start..start.saturating_add(n)) {
+            Some(bytes) => {
+                self.pos = start + n;
+                Ok(bytes)
+            }
+            None => Err(self.short(start - self.pos + n)),
+        }
+    }
+
     /// A primitive of `N` bytes, aligned to `N`.
     #[inline]
     pub fn get<const N: usize>(&mut self) -> Result<[u8; N], String> {
-        self.align(N)?;
-        let mut out = [0; N];
-        out.copy_from_slice(self.take(N)?);
-        Ok(out)
+        let start = self.pos + ((self.pos - HEADER.len()).wrapping_neg() & (N - 1));
+        let data: &'d [u8] = self.data;
+        match data.get(start..).and_then(<[u8]>::first_chunk::<N>) {
+            Some(bytes) => {
+                self.pos = start + N;
+                Ok(*bytes)
+            }
+            None => Err(self.short(start - self.pos + N)),
+        }
     }
 
     pub fn bool(&mut self) -> Result<bool, String> {

@@ -16,74 +16,42 @@
 //! The rules of CDR itself (alignment, lengths, strings) are `wire.rs`'s, shared with
 //! the dynamic codec ([`cdr`](crate::cdr)); decoding is as bounded against hostile
 //! samples as there.
+//!
+//! Speed (the `cdr` benchmark, issue 29's target: no slower than 1.2 × postcard): the
+//! definition is compiled once per shape (`plan.rs`: nested types resolved, field names
+//! compared once per port type), an array or sequence of a primitive is aligned and
+//! sized once, its elements then written back to back and read from its bytes taken
+//! whole (`prim.rs`), and nothing is allocated per sample but the value's own strings
+//! and vectors: an error's field path is built only when there is an error.
 
 mod de;
+mod plan;
+mod prim;
 mod ser;
 
-use crate::cdr::{self, CdrError};
-use crate::def::{Arity, BaseType, Field, FieldType, Message, Primitive, TypeName};
-use crate::wire::{self, In, Out, MAX_DEPTH};
+use crate::cdr::CdrError;
+use crate::def::{Arity, Primitive, TypeName};
+use crate::wire::{Out, MAX_DEPTH};
 use crate::Registry;
+use plan::{Elem, Node, Plan, Slot};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::fmt;
+use std::sync::Arc;
 
 /// What a port's value is on the wire: a message type, and the field of it the port
 /// carries, if only one.
 #[derive(Clone)]
 pub struct Shape<'r> {
-    reg: &'r Registry,
-    message: &'r Message,
-    /// The field path: the index of each field in its message, with the message.
-    path: Vec<(&'r Message, usize)>,
-    /// Every nested message field's type (by address) with its definition, found once
-    /// here instead of by name in the registry for every sample.
-    nested: Vec<(usize, &'r Message)>,
-}
-
-/// How the codecs find nested messages: the shape's table, else the registry.
-#[derive(Clone, Copy)]
-pub(crate) struct Look<'r> {
-    pub reg: &'r Registry,
-    nested: &'r [(usize, &'r Message)],
-}
-
-impl<'r> Look<'r> {
-    fn message(self, base: &'r BaseType, name: &TypeName) -> Result<&'r Message, Fail> {
-        let at = base as *const BaseType as usize;
-        match self.nested.iter().find(|(a, _)| *a == at) {
-            Some((_, m)) => Ok(m),
-            None => Ok(wire::message(self.reg, name)?),
-        }
-    }
-}
-
-/// The nested message fields under `m`, each once (by the address of its type).
-fn nested<'r>(
-    reg: &'r Registry,
-    m: &'r Message,
-    depth: usize,
-    out: &mut Vec<(usize, &'r Message)>,
-) -> Result<(), String> {
-    if depth > MAX_DEPTH {
-        return Err("messages are nested too deeply".into());
-    }
-    for f in &m.fields {
-        if let BaseType::Nested(n) = &f.ty.base {
-            let inner = wire::message(reg, n)?;
-            out.push((&f.ty.base as *const BaseType as usize, inner));
-            nested(reg, inner, depth + 1, out)?;
-        }
-    }
-    Ok(())
+    /// The message and every message it nests, compiled (shared by the clones).
+    plan: Arc<Plan<'r>>,
+    /// The field path: the node of each message on the way and the field's index in it.
+    path: Vec<(usize, usize)>,
 }
 
 impl fmt::Debug for Shape<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let names: Vec<&str> = (self.path.iter())
-            .map(|(m, i)| m.fields[*i].name.as_str())
-            .collect();
-        write!(f, "Shape({} {})", self.message.name, names.join("."))
+        write!(f, "Shape({} {})", self.message(), self.names().join("."))
     }
 }
 
@@ -91,55 +59,59 @@ impl<'r> Shape<'r> {
     /// The message type `ty` of `reg`, all of it or with `field` (a dotted path through
     /// nested messages, `linear.x`) only that field.
     pub fn new(reg: &'r Registry, ty: &TypeName, field: Option<&str>) -> Result<Self, String> {
-        let message = wire::message(reg, ty)?;
+        let plan = Plan::new(reg, crate::wire::message(reg, ty)?)?;
         let mut path = Vec::new();
         if let Some(field) = field {
-            let mut m = message;
+            let mut node = plan.root();
             let mut segments = field.split('.').peekable();
             while let Some(seg) = segments.next() {
-                let i = (m.fields.iter().position(|f| f.name == seg))
-                    .ok_or_else(|| format!("`{}` has no field `{seg}`", m.name))?;
-                path.push((m, i));
+                let n = &plan.nodes[node];
+                let i = (n.slots.iter().position(|s| s.field.name == seg))
+                    .ok_or_else(|| format!("`{}` has no field `{seg}`", n.message.name))?;
+                path.push((node, i));
                 if segments.peek().is_none() {
                     break;
                 }
-                m = match (&m.fields[i].ty.base, m.fields[i].ty.arity) {
-                    (BaseType::Nested(n), Arity::Single) => wire::message(reg, n)?,
-                    _ => return Err(format!("field `{seg}` of `{}` has no fields", m.name)),
+                node = match (n.slots[i].elem, n.slots[i].arity) {
+                    (Elem::Msg(inner), Arity::Single) => inner,
+                    _ => {
+                        return Err(format!(
+                            "field `{seg}` of `{}` has no fields",
+                            n.message.name
+                        ))
+                    }
                 };
             }
         }
-        let mut table = Vec::new();
-        nested(reg, message, 0, &mut table)?;
         Ok(Shape {
-            reg,
-            message,
+            plan: Arc::new(plan),
             path,
-            nested: table,
         })
-    }
-
-    fn look(&self) -> Look<'_> {
-        Look {
-            reg: self.reg,
-            nested: &self.nested,
-        }
     }
 
     /// The message type.
     pub fn message(&self) -> &'r TypeName {
-        &self.message.name
+        &self.plan.nodes[self.plan.root()].message.name
     }
 
     /// The field the port's value is: the last of the path.
-    fn leaf(&self) -> Option<&'r Field> {
-        self.path.last().map(|(m, i)| &m.fields[*i])
+    fn leaf(&self) -> Option<&Slot<'r>> {
+        (self.path.last()).map(|&(n, i)| &self.plan.nodes[n].slots[i])
     }
 
-    fn names(&self) -> Vec<&'r str> {
+    fn names(&self) -> Vec<&str> {
         (self.path.iter())
-            .map(|(m, i)| m.fields[*i].name.as_str())
+            .map(|&(n, i)| self.plan.nodes[n].slots[i].field.name.as_str())
             .collect()
+    }
+
+    /// `fail` inside the path's first `depth` fields.
+    #[cold]
+    fn within(&self, depth: usize, mut fail: Fail) -> Fail {
+        for name in self.names()[..depth].iter().rev() {
+            fail = fail.within(name);
+        }
+        fail
     }
 }
 
@@ -160,14 +132,12 @@ fn to_cdr_in<'s, T: Serialize + ?Sized>(
     buf: &mut Vec<u8>,
 ) -> Result<(), CdrError> {
     let mut w = ser::W {
-        reg: shape.look(),
+        plan: &shape.plan,
         out: Out::new(std::mem::take(buf)),
-        path: Vec::new(),
     };
     let done = write(shape, value, &mut w);
-    let path = std::mem::take(&mut w.path);
     *buf = w.out.buf;
-    done.map_err(|e| cdr::error(&path, e.0))
+    done.map_err(Fail::into_error)
 }
 
 /// `value` as a new CDR sample of `shape`.
@@ -177,25 +147,28 @@ pub fn encode<T: Serialize + ?Sized>(shape: &Shape<'_>, value: &T) -> Result<Vec
     Ok(buf)
 }
 
-fn write<'r, T: Serialize + ?Sized>(
-    shape: &Shape<'r>,
+fn write<'p, T: Serialize + ?Sized>(
+    shape: &'p Shape<'p>,
     value: &T,
-    w: &mut ser::W<'r>,
+    w: &mut ser::W<'p>,
 ) -> Result<(), Fail> {
+    let plan = &*shape.plan;
     let Some(leaf) = shape.leaf() else {
-        return value.serialize(ser::Ser::new(w, Expect::Message(shape.message)));
+        return value.serialize(ser::Ser::new(w, Expect::Message(&plan.nodes[plan.root()])));
     };
-    for (m, i) in &shape.path {
-        for f in &m.fields[..*i] {
-            w.out.zero_field(w.reg.reg, &f.ty, 0).map_err(Fail)?;
+    let fields = |&(n, _): &(usize, usize)| &plan.nodes[n].message.fields;
+    for (depth, at) in shape.path.iter().enumerate() {
+        for f in &fields(at)[..at.1] {
+            let zero = w.out.zero_field(plan.reg, &f.ty, 0);
+            zero.map_err(|e| shape.within(depth, Fail::new(e)))?;
         }
     }
-    w.path = shape.names();
-    value.serialize(ser::Ser::new(w, Expect::Field(&leaf.ty)))?;
-    w.path.clear();
-    for (m, i) in shape.path.iter().rev() {
-        for f in &m.fields[*i + 1..] {
-            w.out.zero_field(w.reg.reg, &f.ty, 0).map_err(Fail)?;
+    (value.serialize(ser::Ser::new(w, Expect::Field(leaf))))
+        .map_err(|e| shape.within(shape.path.len(), e))?;
+    for (depth, at) in shape.path.iter().enumerate().rev() {
+        for f in &fields(at)[at.1 + 1..] {
+            let zero = w.out.zero_field(plan.reg, &f.ty, 0);
+            zero.map_err(|e| shape.within(depth, Fail::new(e)))?;
         }
     }
     Ok(())
@@ -208,32 +181,32 @@ pub fn from_cdr<T: DeserializeOwned>(shape: &Shape<'_>, bytes: &[u8]) -> Result<
 
 /// [`from_cdr`] with the shape's borrow and its registry's as one lifetime.
 fn from_cdr_in<'s, T: DeserializeOwned>(shape: &'s Shape<'s>, bytes: &[u8]) -> Result<T, CdrError> {
-    let input = In::new(bytes).map_err(|e| cdr::error::<&str>(&[], e))?;
+    let input = crate::wire::In::new(bytes).map_err(|e| Fail::new(e).into_error())?;
     let mut r = de::R {
-        reg: shape.look(),
+        plan: &shape.plan,
         input,
-        path: Vec::new(),
     };
-    let value = read(shape, &mut r).map_err(|e| cdr::error(&r.path, e.0))?;
-    (r.input.finish(&shape.message.name)).map_err(|e| cdr::error::<&str>(&[], e))?;
+    let value = read(shape, &mut r).map_err(Fail::into_error)?;
+    (r.input.finish(shape.message())).map_err(|e| Fail::new(e).into_error())?;
     Ok(value)
 }
 
-fn read<'r, T: DeserializeOwned>(shape: &Shape<'r>, r: &mut de::R<'r, '_>) -> Result<T, Fail> {
+fn read<'p, T: DeserializeOwned>(shape: &'p Shape<'p>, r: &mut de::R<'p, '_>) -> Result<T, Fail> {
+    let plan = &*shape.plan;
     let Some(leaf) = shape.leaf() else {
-        return T::deserialize(de::De::new(r, Expect::Message(shape.message)));
+        return T::deserialize(de::De::new(r, Expect::Message(&plan.nodes[plan.root()])));
     };
-    for (m, i) in &shape.path {
-        for f in &m.fields[..*i] {
-            r.skip(f)?;
+    let fields = |&(n, _): &(usize, usize)| &plan.nodes[n].message.fields;
+    for (depth, at) in shape.path.iter().enumerate() {
+        for f in &fields(at)[..at.1] {
+            r.skip(f).map_err(|e| shape.within(depth, e))?;
         }
     }
-    r.path = shape.names();
-    let value = T::deserialize(de::De::new(r, Expect::Field(&leaf.ty)))?;
-    r.path.clear();
-    for (m, i) in shape.path.iter().rev() {
-        for f in &m.fields[*i + 1..] {
-            r.skip(f)?;
+    let value = (T::deserialize(de::De::new(r, Expect::Field(leaf))))
+        .map_err(|e| shape.within(shape.path.len(), e))?;
+    for (depth, at) in shape.path.iter().enumerate().rev() {
+        for f in &fields(at)[at.1 + 1..] {
+            r.skip(f).map_err(|e| shape.within(depth, e))?;
         }
     }
     Ok(value)
@@ -241,77 +214,91 @@ fn read<'r, T: DeserializeOwned>(shape: &Shape<'r>, r: &mut de::R<'r, '_>) -> Re
 
 /// What the definition expects next.
 #[derive(Clone, Copy)]
-enum Expect<'r> {
-    Message(&'r Message),
+enum Expect<'p> {
+    Message(&'p Node<'p>),
     /// A field: one value or an array of them.
-    Field(&'r FieldType),
+    Field(&'p Slot<'p>),
     /// One element.
-    Base(&'r BaseType),
+    Elem(&'p Elem),
     /// `builtin_interfaces/msg/Time` from `Timestamp::nanos`.
     TimeNanos,
     /// `builtin_interfaces/msg/Duration::sec` (int32) from `Duration::secs` (u64).
     DurationSecs,
 }
 
-/// `uint32`, for `Duration::nanos`.
-static UINT32: BaseType = BaseType::Primitive(Primitive::UInt32);
-
-impl<'r> Expect<'r> {
-    /// One value is a base type; a nested message is its definition.
+impl<'p> Expect<'p> {
+    /// A field of a message: one value is its element.
     #[inline]
-    fn resolve(self, reg: Look<'r>) -> Result<Expect<'r>, Fail> {
-        Ok(match self {
-            Expect::Field(FieldType {
-                base,
-                arity: Arity::Single,
-            }) => Expect::Base(base).resolve(reg)?,
-            Expect::Base(base @ BaseType::Nested(n)) => Expect::Message(reg.message(base, n)?),
+    fn of(slot: &'p Slot<'p>) -> Expect<'p> {
+        match slot.arity {
+            Arity::Single => Expect::Elem(&slot.elem),
+            _ => Expect::Field(slot),
+        }
+    }
+
+    /// One value is an element; a nested message is its node.
+    #[inline]
+    fn resolve(self, plan: &'p Plan<'p>) -> Expect<'p> {
+        let e = match self {
+            Expect::Field(slot) if slot.arity == Arity::Single => Expect::Elem(&slot.elem),
             e => e,
-        })
+        };
+        match e {
+            Expect::Elem(&Elem::Msg(n)) => Expect::Message(&plan.nodes[n]),
+            e => e,
+        }
     }
 
     /// [`Self::resolve`], and a message of one field (a wrapper such as
     /// `std_msgs/msg/Float64`) is that field: where a single value or a plain array is
     /// found.
     #[inline]
-    fn unwrap(self, reg: Look<'r>) -> Result<Expect<'r>, Fail> {
-        let mut e = self.resolve(reg)?;
+    fn unwrap(self, plan: &'p Plan<'p>) -> Result<Expect<'p>, Fail> {
+        match self {
+            Expect::Field(slot) if slot.arity != Arity::Single => Ok(self),
+            Expect::Elem(Elem::Prim(_) | Elem::Str(_)) => Ok(self),
+            _ => self.unwrap_message(plan),
+        }
+    }
+
+    fn unwrap_message(self, plan: &'p Plan<'p>) -> Result<Expect<'p>, Fail> {
+        let mut e = self.resolve(plan);
         for _ in 0..MAX_DEPTH {
             match e {
-                Expect::Message(Message { fields, .. }) if fields.len() == 1 => {
-                    e = Expect::Field(&fields[0].ty).resolve(reg)?;
+                Expect::Message(Node { slots, .. }) if slots.len() == 1 => {
+                    e = Expect::Field(&slots[0]).resolve(plan);
                 }
                 e => return Ok(e),
             }
         }
-        Err(Fail("messages are nested too deeply".into()))
+        Err(Fail::new("messages are nested too deeply"))
     }
 
-    fn describe(self) -> String {
+    #[cold]
+    fn describe(self, plan: &Plan<'_>) -> String {
         match self {
-            Expect::Message(m) => format!("a `{}` message", m.name),
-            Expect::Field(t) => match t.arity {
-                Arity::Single => Expect::Base(&t.base).describe(),
+            Expect::Message(n) => format!("a `{}` message", n.message.name),
+            Expect::Field(s) => match s.arity {
+                Arity::Single => Expect::Elem(&s.elem).describe(plan),
                 Arity::Fixed(n) => format!("an array of {n}"),
                 Arity::Bounded(n) => format!("a sequence of at most {n}"),
                 Arity::Unbounded => "a sequence".into(),
             },
-            Expect::Base(BaseType::Primitive(p)) => p.msg_name().into(),
-            Expect::Base(BaseType::String { .. }) => "a string".into(),
-            Expect::Base(BaseType::WString { .. }) => "a wstring (not supported)".into(),
-            Expect::Base(BaseType::Nested(n)) => format!("a `{n}` message"),
+            Expect::Elem(Elem::Prim(p)) => p.msg_name().into(),
+            Expect::Elem(Elem::Str(_)) => "a string".into(),
+            Expect::Elem(Elem::WStr) => "a wstring (not supported)".into(),
+            Expect::Elem(&Elem::Msg(n)) => format!("a `{}` message", plan.nodes[n].message.name),
             Expect::TimeNanos => "`Timestamp::nanos`".into(),
             Expect::DurationSecs => "`Duration::secs`".into(),
         }
     }
 }
 
-/// Whether `m` is `builtin_interfaces/msg/NAME`.
-fn builtin(m: &Message, name: &str) -> bool {
-    m.name.package == "builtin_interfaces" && m.name.name == name
-}
+/// `Duration::nanos`: `builtin_interfaces/msg/Duration::nanosec`.
+static UINT32: Elem = Elem::Prim(Primitive::UInt32);
 
 /// `byte` and `char` are `uint8` (rosidl's mapping).
+#[inline]
 fn same(ours: Primitive, theirs: Primitive) -> bool {
     let norm = |p| match p {
         Primitive::Byte | Primitive::Char => Primitive::UInt8,
@@ -320,44 +307,93 @@ fn same(ours: Primitive, theirs: Primitive) -> bool {
     norm(ours) == norm(theirs)
 }
 
-/// Why a value does not fit its message (the codecs add the field path).
+/// Why a value does not fit its message, and in which field (boxed: the codecs'
+/// results stay one word wide).
 #[derive(Debug)]
-pub(crate) struct Fail(pub String);
+pub(crate) struct Fail(Box<Failure>);
+
+#[derive(Debug)]
+struct Failure {
+    message: String,
+    /// The field path (`ranges[3]`, `pose.pose.position.x`), built as the error leaves
+    /// each field.
+    path: String,
+}
+
+impl Fail {
+    #[cold]
+    pub fn new(message: impl Into<String>) -> Fail {
+        Fail(Box::new(Failure {
+            message: message.into(),
+            path: String::new(),
+        }))
+    }
+
+    /// The failure inside the field `name` (or `[i]`, an element).
+    #[cold]
+    pub fn within(mut self, name: &str) -> Fail {
+        let path = &mut self.0.path;
+        if !path.is_empty() && !path.starts_with('[') {
+            path.insert(0, '.');
+        }
+        path.insert_str(0, name);
+        self
+    }
+
+    /// The failure inside element `index` of an array.
+    #[cold]
+    pub fn at(self, index: usize) -> Fail {
+        self.within(&format!("[{index}]"))
+    }
+
+    fn into_error(self) -> CdrError {
+        let Failure { message, path } = *self.0;
+        CdrError { path, message }
+    }
+}
 
 impl fmt::Display for Fail {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
+        f.write_str(&self.0.message)
     }
 }
 
 impl std::error::Error for Fail {}
 
 impl serde::ser::Error for Fail {
+    #[cold]
     fn custom<M: fmt::Display>(msg: M) -> Self {
-        Fail(msg.to_string())
+        Fail::new(msg.to_string())
     }
 }
 
 impl serde::de::Error for Fail {
+    #[cold]
     fn custom<M: fmt::Display>(msg: M) -> Self {
-        Fail(msg.to_string())
+        Fail::new(msg.to_string())
     }
 }
 
 impl From<String> for Fail {
+    #[cold]
     fn from(s: String) -> Self {
-        Fail(s)
+        Fail::new(s)
     }
 }
 
 impl From<&str> for Fail {
+    #[cold]
     fn from(s: &str) -> Self {
-        Fail(s.to_string())
+        Fail::new(s)
     }
 }
 
 impl From<CdrError> for Fail {
+    #[cold]
     fn from(e: CdrError) -> Self {
-        Fail(e.to_string())
+        Fail(Box::new(Failure {
+            message: e.message,
+            path: e.path,
+        }))
     }
 }

@@ -1,49 +1,61 @@
 //! The serde `Serializer` writing a port's value as CDR (see the module documentation).
 
-use super::{builtin, same, Expect, Fail, Look, UINT32};
-use crate::def::{Arity, BaseType, Message, Primitive};
+use super::plan::{Builtin, Elem, Node, Plan};
+use super::prim::PackedSer;
+use super::{same, Expect, Fail, UINT32};
+use crate::def::{Arity, Primitive};
 use crate::wire::{is_bytes, Out};
 use serde::ser::{self, Impossible, Serialize};
 
-/// The sample being written and where in the message it is.
-pub(super) struct W<'r> {
-    pub reg: Look<'r>,
+/// The sample being written.
+pub(super) struct W<'p> {
+    pub plan: &'p Plan<'p>,
     pub out: Out,
-    /// The field path, for errors.
-    pub path: Vec<&'r str>,
 }
 
 /// Serializes one value where the definition expects `expect`.
-pub(super) struct Ser<'a, 'r> {
-    w: &'a mut W<'r>,
-    expect: Expect<'r>,
+pub(super) struct Ser<'a, 'p> {
+    w: &'a mut W<'p>,
+    expect: Expect<'p>,
 }
 
-impl<'a, 'r> Ser<'a, 'r> {
-    pub(super) fn new(w: &'a mut W<'r>, expect: Expect<'r>) -> Self {
+impl<'a, 'p> Ser<'a, 'p> {
+    #[inline]
+    pub(super) fn new(w: &'a mut W<'p>, expect: Expect<'p>) -> Self {
         Ser { w, expect }
     }
 
+    #[cold]
     fn mismatch(&self, ours: &str) -> Fail {
-        Fail(format!(
+        Fail::new(format!(
             "the value has {ours} where the message has {}",
-            self.expect.describe()
+            self.expect.describe(self.w.plan)
         ))
     }
 
-    /// A primitive of the port's type `ours`, written by `write` if the message has
-    /// the same primitive here.
-    #[inline]
-    fn primitive(self, ours: Primitive, write: impl FnOnce(&mut Out)) -> Result<(), Fail> {
-        if let Expect::Base(BaseType::Primitive(p)) = self.expect {
-            if same(ours, *p) {
-                write(&mut self.w.out);
-                return Ok(());
+    #[cold]
+    fn not_struct(&self, name: &str) -> Fail {
+        self.mismatch(&format!("a `{name}`"))
+    }
+
+    /// A primitive of the port's type `ours`, written if the message has the same
+    /// primitive here.
+    #[inline(always)]
+    fn primitive<const N: usize>(self, ours: Primitive, bytes: [u8; N]) -> Result<(), Fail> {
+        match self.expect {
+            Expect::Elem(&Elem::Prim(p)) if same(ours, p) => {
+                self.w.out.put(bytes);
+                Ok(())
             }
+            _ => self.primitive_slow(ours, bytes),
         }
-        match self.expect.unwrap(self.w.reg)? {
-            Expect::Base(BaseType::Primitive(p)) if same(ours, *p) => {
-                write(&mut self.w.out);
+    }
+
+    /// [`Self::primitive`] where the message may wrap it.
+    fn primitive_slow<const N: usize>(self, ours: Primitive, bytes: [u8; N]) -> Result<(), Fail> {
+        match self.expect.unwrap(self.w.plan)? {
+            Expect::Elem(&Elem::Prim(p)) if same(ours, p) => {
+                self.w.out.put(bytes);
                 Ok(())
             }
             _ => Err(self.mismatch(ours.msg_name())),
@@ -51,42 +63,59 @@ impl<'a, 'r> Ser<'a, 'r> {
     }
 
     /// The sequence or array field a serde sequence of `len` elements is.
-    fn sequence(self, len: Option<usize>) -> Result<Seq<'a, 'r>, Fail> {
-        let Expect::Field(ty) = self.expect.unwrap(self.w.reg)? else {
+    fn sequence(self, len: Option<usize>) -> Result<Seq<'a, 'p>, Fail> {
+        let Expect::Field(slot) = self.expect.unwrap(self.w.plan)? else {
             return Err(self.mismatch("an array"));
         };
         let len = len.ok_or("a sequence of unknown length")?;
-        self.w.out.arity(ty.arity, len)?;
+        self.w.out.arity(slot.arity, len)?;
+        let packed = match slot.elem {
+            Elem::Prim(p) => {
+                if len > 0 {
+                    self.w.out.align(p.size());
+                    self.w.out.buf.reserve(len * p.size());
+                }
+                Some(p)
+            }
+            _ => None,
+        };
         Ok(Seq {
             w: self.w,
-            base: &ty.base,
+            element: Expect::Elem(&slot.elem),
+            packed,
+            next: 0,
         })
     }
 }
 
-impl<'a, 'r> ser::Serializer for Ser<'a, 'r> {
+impl<'a, 'p> ser::Serializer for Ser<'a, 'p> {
     type Ok = ();
     type Error = Fail;
-    type SerializeSeq = Seq<'a, 'r>;
-    type SerializeTuple = Seq<'a, 'r>;
-    type SerializeTupleStruct = Seq<'a, 'r>;
+    type SerializeSeq = Seq<'a, 'p>;
+    type SerializeTuple = Seq<'a, 'p>;
+    type SerializeTupleStruct = Seq<'a, 'p>;
     type SerializeTupleVariant = Impossible<(), Fail>;
     type SerializeMap = Impossible<(), Fail>;
-    type SerializeStruct = Struct<'a, 'r>;
+    type SerializeStruct = Struct<'a, 'p>;
     type SerializeStructVariant = Impossible<(), Fail>;
 
+    #[inline]
     fn serialize_bool(self, v: bool) -> Result<(), Fail> {
-        self.primitive(Primitive::Bool, |o| o.put([u8::from(v)]))
+        self.primitive(Primitive::Bool, [u8::from(v)])
     }
+    #[inline]
     fn serialize_i8(self, v: i8) -> Result<(), Fail> {
-        self.primitive(Primitive::Int8, |o| o.put(v.to_le_bytes()))
+        self.primitive(Primitive::Int8, v.to_le_bytes())
     }
+    #[inline]
     fn serialize_i16(self, v: i16) -> Result<(), Fail> {
-        self.primitive(Primitive::Int16, |o| o.put(v.to_le_bytes()))
+        self.primitive(Primitive::Int16, v.to_le_bytes())
     }
+    #[inline]
     fn serialize_i32(self, v: i32) -> Result<(), Fail> {
-        self.primitive(Primitive::Int32, |o| o.put(v.to_le_bytes()))
+        self.primitive(Primitive::Int32, v.to_le_bytes())
     }
+    #[inline]
     fn serialize_i64(self, v: i64) -> Result<(), Fail> {
         if let Expect::TimeNanos = self.expect {
             let sec = i32::try_from(v.div_euclid(1_000_000_000))
@@ -96,17 +125,21 @@ impl<'a, 'r> ser::Serializer for Ser<'a, 'r> {
             self.w.out.put(nanosec.to_le_bytes());
             return Ok(());
         }
-        self.primitive(Primitive::Int64, |o| o.put(v.to_le_bytes()))
+        self.primitive(Primitive::Int64, v.to_le_bytes())
     }
+    #[inline]
     fn serialize_u8(self, v: u8) -> Result<(), Fail> {
-        self.primitive(Primitive::UInt8, |o| o.put([v]))
+        self.primitive(Primitive::UInt8, [v])
     }
+    #[inline]
     fn serialize_u16(self, v: u16) -> Result<(), Fail> {
-        self.primitive(Primitive::UInt16, |o| o.put(v.to_le_bytes()))
+        self.primitive(Primitive::UInt16, v.to_le_bytes())
     }
+    #[inline]
     fn serialize_u32(self, v: u32) -> Result<(), Fail> {
-        self.primitive(Primitive::UInt32, |o| o.put(v.to_le_bytes()))
+        self.primitive(Primitive::UInt32, v.to_le_bytes())
     }
+    #[inline]
     fn serialize_u64(self, v: u64) -> Result<(), Fail> {
         if let Expect::DurationSecs = self.expect {
             let sec = i32::try_from(v).map_err(|_| {
@@ -115,27 +148,29 @@ impl<'a, 'r> ser::Serializer for Ser<'a, 'r> {
             self.w.out.put(sec.to_le_bytes());
             return Ok(());
         }
-        self.primitive(Primitive::UInt64, |o| o.put(v.to_le_bytes()))
+        self.primitive(Primitive::UInt64, v.to_le_bytes())
     }
+    #[inline]
     fn serialize_f32(self, v: f32) -> Result<(), Fail> {
-        self.primitive(Primitive::Float32, |o| o.put(v.to_le_bytes()))
+        self.primitive(Primitive::Float32, v.to_le_bytes())
     }
+    #[inline]
     fn serialize_f64(self, v: f64) -> Result<(), Fail> {
-        self.primitive(Primitive::Float64, |o| o.put(v.to_le_bytes()))
+        self.primitive(Primitive::Float64, v.to_le_bytes())
     }
     fn serialize_char(self, _: char) -> Result<(), Fail> {
         Err(self.mismatch("a char"))
     }
     fn serialize_str(self, v: &str) -> Result<(), Fail> {
-        match self.expect.unwrap(self.w.reg)? {
-            Expect::Base(BaseType::String { bound }) => Ok(self.w.out.string(v, *bound)?),
+        match self.expect.unwrap(self.w.plan)? {
+            Expect::Elem(&Elem::Str(bound)) => Ok(self.w.out.string(v, bound)?),
             _ => Err(self.mismatch("a string")),
         }
     }
     fn serialize_bytes(self, v: &[u8]) -> Result<(), Fail> {
-        match self.expect.unwrap(self.w.reg)? {
-            Expect::Field(ty) if ty.arity != Arity::Single && is_bytes(&ty.base) => {
-                self.w.out.arity(ty.arity, v.len())?;
+        match self.expect.unwrap(self.w.plan)? {
+            Expect::Field(slot) if slot.arity != Arity::Single && is_bytes(&slot.field.ty.base) => {
+                self.w.out.arity(slot.arity, v.len())?;
                 self.w.out.buf.extend_from_slice(v);
                 Ok(())
             }
@@ -149,8 +184,8 @@ impl<'a, 'r> ser::Serializer for Ser<'a, 'r> {
         Err(self.mismatch("an optional value"))
     }
     fn serialize_unit(self) -> Result<(), Fail> {
-        match self.expect.resolve(self.w.reg)? {
-            Expect::Message(m) if m.fields.is_empty() => {
+        match self.expect.resolve(self.w.plan) {
+            Expect::Message(n) if n.slots.is_empty() => {
                 self.w.out.buf.push(0);
                 Ok(())
             }
@@ -163,6 +198,7 @@ impl<'a, 'r> ser::Serializer for Ser<'a, 'r> {
     fn serialize_unit_variant(self, _: &'static str, _: u32, v: &'static str) -> Result<(), Fail> {
         Err(self.mismatch(&format!("the enum value `{v}`")))
     }
+    #[inline]
     fn serialize_newtype_struct<T: Serialize + ?Sized>(
         self,
         _: &'static str,
@@ -179,13 +215,13 @@ impl<'a, 'r> ser::Serializer for Ser<'a, 'r> {
     ) -> Result<(), Fail> {
         Err(self.mismatch(&format!("the enum value `{v}`")))
     }
-    fn serialize_seq(self, len: Option<usize>) -> Result<Seq<'a, 'r>, Fail> {
+    fn serialize_seq(self, len: Option<usize>) -> Result<Seq<'a, 'p>, Fail> {
         self.sequence(len)
     }
-    fn serialize_tuple(self, len: usize) -> Result<Seq<'a, 'r>, Fail> {
+    fn serialize_tuple(self, len: usize) -> Result<Seq<'a, 'p>, Fail> {
         self.sequence(Some(len))
     }
-    fn serialize_tuple_struct(self, _: &'static str, len: usize) -> Result<Seq<'a, 'r>, Fail> {
+    fn serialize_tuple_struct(self, _: &'static str, len: usize) -> Result<Seq<'a, 'p>, Fail> {
         self.sequence(Some(len))
     }
     fn serialize_tuple_variant(
@@ -200,28 +236,23 @@ impl<'a, 'r> ser::Serializer for Ser<'a, 'r> {
     fn serialize_map(self, _: Option<usize>) -> Result<Self::SerializeMap, Fail> {
         Err(self.mismatch("a map"))
     }
-    fn serialize_struct(self, name: &'static str, len: usize) -> Result<Struct<'a, 'r>, Fail> {
-        let Expect::Message(m) = self.expect.resolve(self.w.reg)? else {
-            return Err(self.mismatch(&format!("a `{name}`")));
+    #[inline(always)]
+    fn serialize_struct(self, name: &'static str, len: usize) -> Result<Struct<'a, 'p>, Fail> {
+        let Expect::Message(node) = self.expect.resolve(self.w.plan) else {
+            return Err(self.not_struct(name));
         };
-        let kind = match (name, len) {
-            ("Timestamp", 1) if builtin(m, "Time") => Kind::Time,
-            _ if len == m.fields.len() => Kind::Plain,
-            _ => {
-                return Err(Fail(format!(
-                    "`{name}` has {len} fields, `{}` has {}",
-                    m.name,
-                    m.fields.len()
-                )))
-            }
+        let kind = match node.builtin {
+            Builtin::Time if name == "Timestamp" && len == 1 => Kind::Time,
+            _ if len == node.slots.len() => Kind::Plain,
+            _ => return Err(fields(name, len, node)),
         };
-        if m.fields.is_empty() {
+        if node.slots.is_empty() {
             // rosidl's placeholder member of an empty structure.
             self.w.out.buf.push(0);
         }
         Ok(Struct {
             w: self.w,
-            m,
+            node,
             kind,
             next: 0,
         })
@@ -237,21 +268,43 @@ impl<'a, 'r> ser::Serializer for Ser<'a, 'r> {
     }
 }
 
+#[cold]
+fn fields(name: &str, len: usize, node: &Node<'_>) -> Fail {
+    Fail::new(format!(
+        "`{name}` has {len} fields, `{}` has {}",
+        node.message.name,
+        node.slots.len()
+    ))
+}
+
 /// The elements of an array or sequence.
-pub(super) struct Seq<'a, 'r> {
-    w: &'a mut W<'r>,
-    base: &'r BaseType,
+pub(super) struct Seq<'a, 'p> {
+    w: &'a mut W<'p>,
+    element: Expect<'p>,
+    /// The primitive of an array of one (aligned already: see `prim.rs`).
+    packed: Option<Primitive>,
+    next: usize,
 }
 
 impl Seq<'_, '_> {
+    #[inline(always)]
     fn element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Fail> {
-        value.serialize(Ser::new(self.w, Expect::Base(self.base)))
+        let done = match self.packed {
+            Some(p) => value.serialize(PackedSer {
+                out: &mut self.w.out,
+                p,
+            }),
+            None => value.serialize(Ser::new(self.w, self.element)),
+        };
+        self.next += 1;
+        done.map_err(|e| e.at(self.next - 1))
     }
 }
 
 impl ser::SerializeSeq for Seq<'_, '_> {
     type Ok = ();
     type Error = Fail;
+    #[inline]
     fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Fail> {
         self.element(value)
     }
@@ -263,6 +316,7 @@ impl ser::SerializeSeq for Seq<'_, '_> {
 impl ser::SerializeTuple for Seq<'_, '_> {
     type Ok = ();
     type Error = Fail;
+    #[inline]
     fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Fail> {
         self.element(value)
     }
@@ -274,6 +328,7 @@ impl ser::SerializeTuple for Seq<'_, '_> {
 impl ser::SerializeTupleStruct for Seq<'_, '_> {
     type Ok = ();
     type Error = Fail;
+    #[inline]
     fn serialize_field<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Fail> {
         self.element(value)
     }
@@ -292,51 +347,59 @@ pub(super) enum Kind {
 }
 
 /// The fields of a struct: the message's, in order.
-pub(super) struct Struct<'a, 'r> {
-    w: &'a mut W<'r>,
-    m: &'r Message,
+pub(super) struct Struct<'a, 'p> {
+    w: &'a mut W<'p>,
+    node: &'p Node<'p>,
     kind: Kind,
     next: usize,
+}
+
+impl<'p> Struct<'_, 'p> {
+    /// What the field `key` is where it is not simply the next field of the message:
+    /// ferroc's `Timestamp` and `std::time::Duration` in their builtin messages, or an
+    /// error.
+    fn special(&mut self, at: usize, key: &'static str) -> Result<(Expect<'p>, &'p str), Fail> {
+        let node = self.node;
+        match (self.kind, node.builtin, at, key) {
+            (Kind::Time, _, _, "nanos") => return Ok((Expect::TimeNanos, "nanos")),
+            (Kind::Time, ..) => {
+                return Err(Fail::new(format!(
+                    "`{}` has no field `{key}`",
+                    node.message.name
+                )))
+            }
+            // `std::time::Duration { secs, nanos }` is builtin_interfaces' Duration.
+            (_, Builtin::Duration, 0, "secs") => return Ok((Expect::DurationSecs, "sec")),
+            (_, Builtin::Duration, 1, "nanos") => return Ok((Expect::Elem(&UINT32), "nanosec")),
+            _ => {}
+        }
+        let slot = (node.slots.get(at)).ok_or("more fields than the message")?;
+        Err(Fail::new(format!(
+            "the value's field `{key}` where `{}` has `{}`",
+            node.message.name, slot.field.name
+        )))
+    }
 }
 
 impl ser::SerializeStruct for Struct<'_, '_> {
     type Ok = ();
     type Error = Fail;
 
+    #[inline(always)]
     fn serialize_field<T: Serialize + ?Sized>(
         &mut self,
         key: &'static str,
         value: &T,
     ) -> Result<(), Fail> {
-        let expect = match (self.kind, key) {
-            (Kind::Time, "nanos") => Expect::TimeNanos,
-            (Kind::Plain, _) => {
-                let f = (self.m.fields.get(self.next)).ok_or("more fields than the message")?;
-                // `std::time::Duration { secs, nanos }` is builtin_interfaces' Duration.
-                let duration = builtin(self.m, "Duration");
-                if duration && (self.next, key) == (0, "secs") {
-                    self.next += 1;
-                    return value.serialize(Ser::new(self.w, Expect::DurationSecs));
-                }
-                if duration && (self.next, key) == (1, "nanos") {
-                    self.next += 1;
-                    return value.serialize(Ser::new(self.w, Expect::Base(&UINT32)));
-                }
-                if f.name != key {
-                    return Err(Fail(format!(
-                        "the value's field `{key}` where `{}` has `{}`",
-                        self.m.name, f.name
-                    )));
-                }
-                self.w.path.push(&f.name);
-                value.serialize(Ser::new(self.w, Expect::Field(&f.ty)))?;
-                self.w.path.pop();
-                self.next += 1;
-                return Ok(());
+        let at = self.next;
+        self.next += 1;
+        let (expect, name) = match self.node.slots.get(at) {
+            Some(slot) if self.kind == Kind::Plain && slot.named(key) => {
+                (Expect::of(slot), slot.name)
             }
-            _ => return Err(Fail(format!("`{}` has no field `{key}`", self.m.name))),
+            _ => self.special(at, key)?,
         };
-        value.serialize(Ser::new(self.w, expect))
+        (value.serialize(Ser::new(self.w, expect))).map_err(|e| e.within(name))
     }
 
     fn end(self) -> Result<(), Fail> {
