@@ -2,7 +2,7 @@
 //! the parts it is linked with as explicit endpoints (one side of each pair connects,
 //! no gossip mesh: [`connect`]), multicast scouting off (nothing leaves the addresses
 //! the model names), and a short lease so that a part that dies or loses its network is
-//! noticed within a second.
+//! noticed within two seconds (one that is killed at once: its connections close).
 //!
 //! `--zenoh-config FILE` (Zenoh's JSON5) is *merged* with these defaults: what
 //! the file sets wins, every default the file does not set stays. So a file that only
@@ -19,8 +19,12 @@ use ferroc_terminal::engine_error;
 use std::path::Path;
 use zenoh::Config;
 
-/// How long a silent peer counts as alive (keep-alives go 4 times per lease).
-pub const LEASE_MS: u64 = 500;
+/// How long a silent peer counts as alive (keep-alives go 4 times per lease). 2 s: a
+/// killed part is noticed at once anyway (its connections close), the lease only
+/// matters for a cut network; with 500 ms a loaded machine let leases expire (and the
+/// messages on the way were lost), and keep-alives every 125 ms on every connection
+/// cost a consumer of `ferroc-bench b3-parts` measurable CPU (bench/README.md).
+pub const LEASE_MS: u64 = 2000;
 
 /// ferroc's settings on top of Zenoh's defaults (the table in docs/zenoh.md), each
 /// kept unless a `--zenoh-config` file sets the key.
@@ -31,7 +35,7 @@ pub const DEFAULTS: &[(&str, &str)] = &[
         "connect/retry",
         "{ period_init_ms: 100, period_max_ms: 500, period_increase_factor: 2 }",
     ),
-    ("transport/link/tx/lease", "500"),
+    ("transport/link/tx/lease", "2000"),
     ("transport/link/tx/keep_alive", "4"),
     // Shared memory between parts on one computer (shm.rs): on, from 4 KB, 64 MiB.
     ("transport/shared_memory/enabled", "true"),
