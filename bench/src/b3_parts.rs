@@ -37,6 +37,9 @@ use std::time::{Duration, Instant};
 
 pub use roles::child;
 
+/// `--zenoh` and `--zenoh-runtime` as the children's environment.
+static TUNING: std::sync::Mutex<Vec<(&str, String)>> = std::sync::Mutex::new(Vec::new());
+
 /// The argument that makes `ferroc-bench` one program of a configuration.
 pub const CHILD_ARG: &str = "b3-parts-child";
 /// 1920 × 1080 pixels × 3 bytes (RGB).
@@ -47,12 +50,18 @@ const PERIOD: Duration = Duration::from_millis(20);
 const WARM_UP: u64 = 50;
 const VARIANTS: [&str; 3] = ["ferroc-shm", "ferroc-net", "zenoh-shm"];
 const DEFAULT_FRAMES: u64 = 500;
-/// `--mesh off`: every program connects only to the endpoints it is given (the
-/// producer's; Zenoh's gossip off), instead of Zenoh's default, where gossip makes every
-/// consumer connect to every other (as the parts of a bundle, which list each other).
-static MESH: AtomicBool = AtomicBool::new(true);
+/// `--mesh on`: Zenoh's gossip autoconnect in every program (`scouting/gossip/autoconnect`
+/// as Zenoh sets it), so every consumer also connects to every other, as ferroc's
+/// parts did before they connected only to the parts they link with. Off by default:
+/// ferroc's own configuration, which the bare programs take too.
+static MESH: AtomicBool = AtomicBool::new(false);
 /// How the children learn `--mesh`.
 pub(crate) const MESH_ENV: &str = "FERROC_B3_MESH";
+/// `--zenoh KEY=VALUE;…`: Zenoh settings for every program, ferroc's and bare (the
+/// same configuration on both sides), e.g. `transport/link/rx/buffer_size=65536`.
+pub(crate) const ZENOH_ENV: &str = "FERROC_B3_ZENOH";
+/// `--zenoh-runtime RON`: Zenoh's runtime threads (`ZENOH_RUNTIME`) of every program.
+const RUNTIME_ENV: &str = "ZENOH_RUNTIME";
 
 /// What one configuration measured.
 struct Figures {
@@ -139,7 +148,11 @@ impl Programs {
         } else {
             "off"
         };
-        let mut child = Command::new(exe)
+        let mut command = Command::new(exe);
+        for (key, value) in TUNING.lock().unwrap_or_else(|e| e.into_inner()).iter() {
+            command.env(key, value);
+        }
+        let mut child = command
             .env(MESH_ENV, mesh)
             .arg(CHILD_ARG)
             .args([variant, &index.to_string(), &frames.to_string()])
@@ -383,11 +396,21 @@ pub fn run(args: &[String]) -> u8 {
     let parsed = Options::parse(
         "b3-parts",
         args,
-        &["frames", "consumers", "variants", "mesh"],
+        &[
+            "frames",
+            "consumers",
+            "variants",
+            "mesh",
+            "zenoh",
+            "zenoh-runtime",
+        ],
         &[],
     )
     .and_then(|o| {
-        let mesh = match o.text("mesh").unwrap_or("on") {
+        let mut tuning = TUNING.lock().unwrap_or_else(|e| e.into_inner());
+        tuning.extend(o.text("zenoh").map(|z| (ZENOH_ENV, z.to_owned())));
+        tuning.extend(o.text("zenoh-runtime").map(|r| (RUNTIME_ENV, r.to_owned())));
+        let mesh = match o.text("mesh").unwrap_or("off") {
             "on" => true,
             "off" => false,
             other => return Err(format!("b3-parts: `--mesh {other}`: on or off")),
@@ -412,6 +435,21 @@ pub fn run(args: &[String]) -> u8 {
         "b3-parts: 1920x1080 RGB frames ({FRAME_BYTES} bytes) at 50 fps from one part program \
          to each consumer's own; {frames} frames measured per configuration after {WARM_UP}; {}",
         load_note()
+    );
+    let tuning = TUNING.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    let tuning: Vec<String> = tuning.iter().map(|(k, v)| format!("{k}='{v}'")).collect();
+    println!(
+        "b3-parts: gossip mesh {}; every program's tuning: {}",
+        if MESH.load(Ordering::Relaxed) {
+            "on"
+        } else {
+            "off"
+        },
+        if tuning.is_empty() {
+            "none".to_string()
+        } else {
+            tuning.join(" ")
+        }
     );
     let mut table: Vec<(&str, usize, f64, f64)> = Vec::new();
     let mut failed = 0;

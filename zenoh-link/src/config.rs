@@ -1,7 +1,8 @@
 //! The Zenoh configuration of a part: peer mode, the part's own listening endpoint,
-//! every other part as an explicit endpoint, multicast scouting off (nothing leaves
-//! the addresses the model names), and a short lease so that a part that dies or
-//! loses its network is noticed within a second.
+//! the parts it is linked with as explicit endpoints (one side of each pair connects,
+//! no gossip mesh: [`connect`]), multicast scouting off (nothing leaves the addresses
+//! the model names), and a short lease so that a part that dies or loses its network is
+//! noticed within two seconds (one that is killed at once: its connections close).
 //!
 //! `--zenoh-config FILE` (Zenoh's JSON5) is *merged* with these defaults: what
 //! the file sets wins, every default the file does not set stays. So a file that only
@@ -11,13 +12,19 @@
 //! with Zenoh's defaults: a file that writes Zenoh's default value on purpose
 //! (`scouting: { multicast: { enabled: true } }`) keeps it.
 
-use ferroc_runtime::link::transport::Addresses;
+pub mod connect;
+
+use ferroc_runtime::link::transport::{Addresses, PartLinks};
 use ferroc_terminal::engine_error;
 use std::path::Path;
 use zenoh::Config;
 
-/// How long a silent peer counts as alive (keep-alives go 4 times per lease).
-pub const LEASE_MS: u64 = 500;
+/// How long a silent peer counts as alive (keep-alives go 4 times per lease). 2 s: a
+/// killed part is noticed at once anyway (its connections close), the lease only
+/// matters for a cut network; with 500 ms a loaded machine let leases expire (and the
+/// messages on the way were lost), and keep-alives every 125 ms on every connection
+/// cost a consumer of `ferroc-bench b3-parts` measurable CPU (bench/README.md).
+pub const LEASE_MS: u64 = 2000;
 
 /// ferroc's settings on top of Zenoh's defaults (the table in docs/zenoh.md), each
 /// kept unless a `--zenoh-config` file sets the key.
@@ -28,7 +35,7 @@ pub const DEFAULTS: &[(&str, &str)] = &[
         "connect/retry",
         "{ period_init_ms: 100, period_max_ms: 500, period_increase_factor: 2 }",
     ),
-    ("transport/link/tx/lease", "500"),
+    ("transport/link/tx/lease", "2000"),
     ("transport/link/tx/keep_alive", "4"),
     // Shared memory between parts on one computer (shm.rs): on, from 4 KB, 64 MiB.
     ("transport/shared_memory/enabled", "true"),
@@ -76,7 +83,7 @@ const MESSAGE_SIZE_THRESHOLD: &str =
 const POOL_SIZE: &str = "transport/shared_memory/transport_optimization/pool_size";
 
 /// The configuration of the part `addresses.part`: ferroc's defaults and the model's
-/// endpoints, merged under `file` if one is given.
+/// endpoints (every other part), merged under `file` if one is given.
 pub fn config(addresses: &Addresses, file: Option<&Path>) -> Result<Config, String> {
     config_with(addresses, file, ModelShm::default())
 }
@@ -88,49 +95,84 @@ pub fn config_with(
     file: Option<&Path>,
     model: ModelShm,
 ) -> Result<Config, String> {
-    let (mut config, given) = match file {
-        Some(path) => {
-            let bad = |e: &dyn std::fmt::Display| {
-                format!(
-                    "--zenoh-config {}: not a Zenoh configuration: {}",
-                    path.display(),
-                    engine_error(e)
-                )
-            };
-            let keys = keys_in(path).map_err(|e| bad(&e))?;
-            (Config::from_file(path).map_err(|e| bad(&e))?, keys)
-        }
-        None => (Config::default(), serde_json::Value::Null),
-    };
-    for (key, value) in DEFAULTS {
-        if !sets(&given, key) {
-            set(&mut config, key, value)?;
-        }
-    }
-    for (key, value) in model.entries() {
-        if !sets(&given, key) {
-            set(&mut config, key, &value)?;
-        }
-    }
-    if !sets(&given, "listen/endpoints") {
-        let listen = endpoint(&addresses.listen, "--listen")?;
-        set(&mut config, "listen/endpoints", &format!("[\"{listen}\"]"))?;
-    }
-    if !sets(&given, "connect/endpoints") {
-        let mut peers = Vec::new();
-        for (part, address) in &addresses.peers {
-            if *part != addresses.part {
-                let flag = format!("--peer {part}=HOST:PORT");
-                peers.push(format!("\"{}\"", endpoint(address, &flag)?));
+    PartConfig::new(addresses, file, model).map(|c| c.config)
+}
+
+/// A part's configuration before its links are known: ferroc's defaults, the model's
+/// settings and every other part as an endpoint, under `file`; and what the file sets,
+/// so that [`PartConfig::for_links`] keeps it.
+#[derive(Clone, Debug)]
+pub struct PartConfig {
+    config: Config,
+    given: serde_json::Value,
+}
+
+impl PartConfig {
+    /// The configuration of the part `addresses.part` ([`config_with`]).
+    pub fn new(
+        addresses: &Addresses,
+        file: Option<&Path>,
+        model: ModelShm,
+    ) -> Result<PartConfig, String> {
+        let (mut config, given) = match file {
+            Some(path) => {
+                let bad = |e: &dyn std::fmt::Display| {
+                    format!(
+                        "--zenoh-config {}: not a Zenoh configuration: {}",
+                        path.display(),
+                        engine_error(e)
+                    )
+                };
+                let keys = keys_in(path).map_err(|e| bad(&e))?;
+                (Config::from_file(path).map_err(|e| bad(&e))?, keys)
+            }
+            None => (Config::default(), serde_json::Value::Null),
+        };
+        for (key, value) in DEFAULTS {
+            if !sets(&given, key) {
+                set(&mut config, key, value)?;
             }
         }
-        set(
-            &mut config,
-            "connect/endpoints",
-            &format!("[{}]", peers.join(",")),
-        )?;
+        for (key, value) in model.entries() {
+            if !sets(&given, key) {
+                set(&mut config, key, &value)?;
+            }
+        }
+        if !sets(&given, "listen/endpoints") {
+            let listen = endpoint(&addresses.listen, "--listen")?;
+            set(&mut config, "listen/endpoints", &format!("[\"{listen}\"]"))?;
+        }
+        if !sets(&given, "connect/endpoints") {
+            let mut peers = Vec::new();
+            for (part, address) in &addresses.peers {
+                if *part != addresses.part {
+                    let flag = format!("--peer {part}=HOST:PORT");
+                    peers.push(format!("\"{}\"", endpoint(address, &flag)?));
+                }
+            }
+            set(
+                &mut config,
+                "connect/endpoints",
+                &format!("[{}]", peers.join(",")),
+            )?;
+        }
+        Ok(PartConfig { config, given })
     }
-    Ok(config)
+
+    /// The configuration with every other part as an endpoint (and Zenoh's gossip).
+    pub fn every_part(&self) -> &Config {
+        &self.config
+    }
+
+    /// The configuration of the session of a part whose links to other parts are
+    /// `links`: it connects only to the parts it is linked with, and only to those
+    /// whose name sorts before its own ([`connect`]); a ROS 2 node's part keeps
+    /// [`PartConfig::every_part`]. What the file sets stays.
+    pub fn for_links(&self, addresses: &Addresses, links: &PartLinks) -> Result<Config, String> {
+        let mut config = self.config.clone();
+        connect::narrow(&mut config, &self.given, addresses, links)?;
+        Ok(config)
+    }
 }
 
 /// The settings a configuration file writes, as a tree. Only JSON5 (Zenoh's own

@@ -2,9 +2,9 @@
 //!
 //! A generated program whose part is linked to others gives the runtime a [`Zenoh`]
 //! network (`StartOptions::network`). When the part starts, it opens one Zenoh session
-//! (peer mode, the model's addresses as explicit endpoints, multicast scouting off:
-//! [`config`]) and declares what its links need on the documented keys ([`keys`],
-//! docs/zenoh.md):
+//! (peer mode, the addresses of the parts it is linked with as explicit endpoints,
+//! multicast scouting off: [`config`]) and declares what its links need on the
+//! documented keys ([`keys`], docs/zenoh.md):
 //!
 //! - running freely, a publisher per link it sends, a subscriber per part it receives
 //!   from, a queryable per service it serves across parts and a `get` per call it
@@ -45,7 +45,7 @@ pub use keys::Keys;
 pub struct Zenoh {
     keys: Keys,
     addresses: Addresses,
-    config: zenoh::Config,
+    config: config::PartConfig,
     /// The shared-memory pool of the values this part sends, made when a connection
     /// that sends first opens and kept across reopenings (a restarted part).
     pool: Mutex<Option<Arc<shm::Pool>>>,
@@ -80,7 +80,7 @@ impl Zenoh {
     ) -> Result<Zenoh, String> {
         let keys = Keys::new(application)?;
         keys.alive(&addresses.part)?;
-        let config = config::config_with(&addresses, config_file, shm)?;
+        let config = config::PartConfig::new(&addresses, config_file, shm)?;
         Ok(Zenoh {
             keys,
             addresses,
@@ -97,7 +97,7 @@ impl Zenoh {
 
     /// The shared-memory settings of this part ([`shm::Settings`]).
     pub fn shm_settings(&self) -> shm::Settings {
-        shm::Settings::of(&self.config)
+        shm::Settings::of(self.config.every_part())
     }
 
     /// What this part's shared memory did so far: its pool (not active before a
@@ -122,10 +122,17 @@ impl Zenoh {
         Arc::clone(pool.get_or_insert_with(|| Arc::new(shm::Pool::open(self.shm_settings()))))
     }
 
-    /// Opens this part's session: a listening address in use is an error that names
-    /// `--listen`.
-    fn session(&self) -> Result<zenoh::Session, String> {
-        zenoh::open(self.config.clone()).wait().map_err(|e| {
+    /// The configuration of this part's session when its links are `links`: it
+    /// connects only to the parts it is linked with ([`config::connect`]).
+    pub fn session_config(&self, links: &PartLinks) -> Result<zenoh::Config, String> {
+        self.config.for_links(&self.addresses, links)
+    }
+
+    /// Opens this part's session for `links`: a listening address in use is an error
+    /// that names `--listen`.
+    fn session(&self, links: &PartLinks) -> Result<zenoh::Session, String> {
+        let config = self.session_config(links)?;
+        zenoh::open(config).wait().map_err(|e| {
             let part = &self.addresses.part;
             let listen = &self.addresses.listen;
             let text = engine_error(&e);
@@ -151,11 +158,11 @@ impl Network for Zenoh {
         delivery: Delivery,
         lockstep: bool,
     ) -> Result<Box<dyn Connection>, String> {
-        let session = self.session()?;
         let part = self.addresses.part.clone();
         let mut links = links.clone();
         links.part = part.clone();
         let links = &links;
+        let session = self.session(links)?;
         let for_ros2 = delivery.clone();
         let opened = if lockstep {
             lockstep::open(&session, &self.keys, &part, links)

@@ -17,11 +17,12 @@ use ferroc_runtime::builder::{
     ThreadSpec,
 };
 use ferroc_runtime::container::ThreadOptions;
-use ferroc_runtime::link::transport::{Addresses, Sending};
+use ferroc_runtime::link::transport::{Addresses, PartLinks, Sending};
 use ferroc_runtime::link::{LinkSpec, Sharing};
 use ferroc_runtime::module::{In, Module, ModuleType, Out, Setup};
 use ferroc_runtime::port::ConnectOptions;
 use ferroc_std::Image;
+use ferroc_zenoh::config::{ModelShm, PartConfig};
 use ferroc_zenoh::free::Qos;
 use ferroc_zenoh::Zenoh;
 use std::io::Write;
@@ -254,11 +255,38 @@ fn ferroc_part(variant: &str, index: usize, all: &[String]) -> Result<RunningApp
     b.start_with(options).map_err(|e| e.to_string())
 }
 
-/// A bare Zenoh session of part `index` (ferroc's settings, as `b4-large` uses).
+/// A bare Zenoh session of part `index`: ferroc's configuration of the same part
+/// (who connects to whom included), as `b4-large` uses.
 fn bare_session(variant: &str, index: usize, all: &[String]) -> Result<zenoh::Session, String> {
-    let config = config_of(variant)?;
-    let config = ferroc_zenoh::config::config(&addresses(index, all), config.as_deref())?;
+    let file = config_of(variant)?;
+    let addresses = addresses(index, all);
+    let part = PartConfig::new(&addresses, file.as_deref(), ModelShm::default())?;
+    let config = part.for_links(&addresses, &part_links(index, all.len()))?;
     zenoh::open(config).wait().map_err(|e| e.to_string())
+}
+
+/// What part `index` sends and receives, as ferroc's part of the same index.
+fn part_links(index: usize, parts: usize) -> PartLinks {
+    let mut links = PartLinks {
+        part: part_name(index),
+        ..PartLinks::default()
+    };
+    if index == 0 {
+        for i in 1..parts {
+            let spec = link(i, "");
+            let sending = Sending {
+                to_part: part_name(i),
+                topic: "camera/camera/out".into(),
+                model_type: spec.model_type.into(),
+                sharing: spec.sharing,
+                reliable: spec.reliable,
+            };
+            links.sending.insert(i as u32, sending);
+        }
+    } else {
+        links.receiving.insert(index as u32, part_name(0));
+    }
+    links
 }
 
 /// The bare producer: a frame every period in a buffer of its own `ShmProvider`, one
@@ -401,7 +429,9 @@ fn wait_for_window_end() -> Result<(), String> {
     let limit = PERIOD * (25 * WARM_UP) as u32 + Duration::from_secs(60);
     let deadline = Instant::now() + limit;
     loop {
-        std::thread::sleep(Duration::from_millis(10));
+        // Every 100 ms: a 10 ms poll was ~13 % of a consumer program's CPU (perf), the
+        // harness's and not what is measured; the window's end is read by the parent.
+        std::thread::sleep(Duration::from_millis(100));
         let s = seen();
         let now = mono_ns();
         let measuring = !s.latencies.is_empty();
@@ -420,25 +450,70 @@ fn wait_for_window_end() -> Result<(), String> {
 }
 
 /// The `--zenoh-config` of a program of `variant`: shared memory off for `…-net`,
-/// Zenoh's gossip off with `--mesh off` (super::MESH_ENV).
+/// Zenoh's gossip autoconnect with `--mesh on` (super::MESH_ENV), the `--zenoh`
+/// settings (super::ZENOH_ENV); none when nothing is set.
 fn config_of(variant: &str) -> Result<Option<std::path::PathBuf>, String> {
-    let mesh = std::env::var(super::MESH_ENV).map_or(true, |m| m != "off");
-    let net = variant.ends_with("-net");
-    if mesh && !net {
+    let mesh = std::env::var(super::MESH_ENV).is_ok_and(|m| m == "on");
+    let mut settings: Vec<(String, String)> = Vec::new();
+    if variant.ends_with("-net") {
+        settings.push(("transport/shared_memory/enabled".into(), "false".into()));
+    }
+    if mesh {
+        let zenohs = "{ router: [], peer: [\"router\", \"peer\"] }";
+        settings.push(("scouting/gossip/autoconnect".into(), zenohs.into()));
+    }
+    let extra = std::env::var(super::ZENOH_ENV).unwrap_or_default();
+    for pair in extra.split(';').filter(|p| !p.trim().is_empty()) {
+        let (key, value) =
+            (pair.split_once('=')).ok_or_else(|| format!("--zenoh `{pair}`: write KEY=VALUE"))?;
+        settings.push((key.trim().into(), value.trim().into()));
+    }
+    if settings.is_empty() {
         return Ok(None);
     }
-    let shm = if net {
-        "transport: { shared_memory: { enabled: false } },"
-    } else {
-        ""
-    };
-    let gossip = if mesh {
-        ""
-    } else {
-        "scouting: { gossip: { enabled: false } },"
-    };
     let path = std::env::temp_dir().join(format!("ferroc-b3-parts-{}.json5", std::process::id()));
-    std::fs::write(&path, format!("{{ {shm} {gossip} }}"))
+    std::fs::write(&path, json5_of(&settings))
         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     Ok(Some(path))
+}
+
+/// A JSON5 object of `key/path` = value settings (values written as given).
+fn json5_of(settings: &[(String, String)]) -> String {
+    use std::collections::BTreeMap;
+    enum Node {
+        Value(String),
+        Object(BTreeMap<String, Node>),
+    }
+    fn put(object: &mut BTreeMap<String, Node>, path: &[&str], value: &str) {
+        match path {
+            [] => {}
+            [last] => {
+                object.insert(last.to_string(), Node::Value(value.into()));
+            }
+            [first, rest @ ..] => {
+                let node = (object.entry(first.to_string()))
+                    .or_insert_with(|| Node::Object(BTreeMap::new()));
+                if let Node::Value(_) = node {
+                    *node = Node::Object(BTreeMap::new());
+                }
+                if let Node::Object(inner) = node {
+                    put(inner, rest, value);
+                }
+            }
+        }
+    }
+    fn text(object: &BTreeMap<String, Node>) -> String {
+        let fields: Vec<String> = (object.iter())
+            .map(|(k, v)| match v {
+                Node::Value(value) => format!("{k}: {value}"),
+                Node::Object(inner) => format!("{k}: {}", text(inner)),
+            })
+            .collect();
+        format!("{{ {} }}", fields.join(", "))
+    }
+    let mut root = BTreeMap::new();
+    for (key, value) in settings {
+        put(&mut root, &key.split('/').collect::<Vec<_>>(), value);
+    }
+    text(&root)
 }

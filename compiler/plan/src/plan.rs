@@ -8,19 +8,19 @@
 
 mod links;
 mod local;
+mod params;
 mod ports;
 mod ros2;
+mod threads;
 
 pub use ferroc_model::ir::Wait;
 pub use ferroc_ros2_node::{Ros2Interface, Ros2Node, Ros2Qos, Ros2Service, Ros2Topic};
 pub use links::{LinkSharing, PlannedCallLink, PlannedLink};
 
 use ferroc_diagnostics::source::Span;
-use ferroc_model::ir::{
-    Application, ElementId, ElementKind, Endpoint, ModuleInstance, ParamSource, PortView,
-};
+use ferroc_model::ir::{Application, ElementId, ModuleInstance, ParamSource, PortView};
 use ferroc_model::library::{LibrarySet, ModuleType, PortDir, PortRole};
-use ferroc_schedule::{self as schedule, call_edges, data_edges, DataEdge, StepKind};
+use ferroc_schedule::{call_edges, data_edges, DataEdge, StepKind};
 use ferroc_values::units::{relate, Unit, UnitRelation};
 use ferroc_values::values::{parse_value, Value, ValueError};
 
@@ -203,10 +203,10 @@ pub fn plan(
         mut problems,
         ..
     } = planner;
-    plan_param_links(app, libs, &paths, &mut plan, &mut problems);
-    plan.threads = plan_threads(app, libs, &paths);
+    params::plan_param_links(app, libs, &paths, &mut plan, &mut problems);
+    plan.threads = threads::plan_threads(app, libs, &paths);
     local::mark_local(&mut plan);
-    plan.locks = plan_locks(app, libs, &paths);
+    plan.locks = threads::plan_locks(app, libs, &paths);
     plan.ros2 = ros2::plan_ros2(app, libs, &mut problems);
     (plan, problems)
 }
@@ -460,36 +460,6 @@ impl Planner<'_> {
     }
 }
 
-/// Each thread container with its timing and the step order of the scheduling pass.
-fn plan_threads(app: &Application, libs: &LibrarySet, paths: &[String]) -> Vec<PlannedThread> {
-    let mut threads = Vec::new();
-    for container in schedule::compute(app, libs).containers {
-        let ElementKind::Thread {
-            period,
-            continuous,
-            wait,
-            ..
-        } = app.element(container.thread).kind
-        else {
-            continue;
-        };
-        threads.push(PlannedThread {
-            path: app.path(container.thread),
-            period,
-            continuous,
-            wait,
-            priority: app.timing.priority.get(&container.thread).map(|(p, _)| *p),
-            cpu: app.timing.cpu.get(&container.thread).map(|(c, _)| *c),
-            steps: container
-                .steps
-                .iter()
-                .map(|s| (paths[s.module.0 as usize].clone(), s.kind))
-                .collect(),
-        });
-    }
-    threads
-}
-
 /// Every edge from a module output to a module input (group ports flattened), with
 /// the views of both ends: what becomes one runtime connection (a data connection, or
 /// a client calling a service). The plan and the bundle's resolved model both list
@@ -519,90 +489,4 @@ fn unit_scale(from: Option<&Unit>, to: Option<&Unit>) -> f64 {
         },
         _ => 1.0,
     }
-}
-
-/// Connections into module parameters. Only a module output straight into a module's
-/// parameter is realised; through group ports it is refused by name (not ignored).
-fn plan_param_links(
-    app: &Application,
-    libs: &LibrarySet,
-    paths: &[String],
-    plan: &mut Plan,
-    problems: &mut Vec<Unsupported>,
-) {
-    for (hop, c) in app.connections.iter().enumerate() {
-        let Endpoint::Param {
-            element: target, ..
-        } = c.to
-        else {
-            continue;
-        };
-        let (Some(from), Some(to)) = (app.view(libs, c.from), app.view(libs, c.to)) else {
-            continue;
-        };
-        let Endpoint::Port {
-            element: source, ..
-        } = c.from
-        else {
-            problems.push(Unsupported {
-                what:
-                    "a parameter driven through a group port is not supported by the runtime yet; \
-                       connect the module output to the parameter directly"
-                        .into(),
-                span: c.span,
-            });
-            continue;
-        };
-        let scale = unit_scale(from.unit, to.unit);
-        let id = (plan.connections.iter().filter(|c| c.link.is_some()).count()
-            + plan.param_links.iter().filter(|l| l.link.is_some()).count()) as u32;
-        plan.param_links.push(PlannedParamLink {
-            from: (paths[source.0 as usize].clone(), from.name.to_string()),
-            to: (paths[target.0 as usize].clone(), to.name.to_string()),
-            scale,
-            link: links::param_link_of(app, hop, (source, target), id),
-            span: c.span,
-        });
-    }
-}
-
-fn plan_locks(app: &Application, libs: &LibrarySet, paths: &[String]) -> PlannedLocks {
-    let mut locks = PlannedLocks {
-        resources: app
-            .resources
-            .iter()
-            .map(|r| (r.name.clone(), r.level, r.recursive))
-            .collect(),
-        ..PlannedLocks::default()
-    };
-    let mut declared = std::collections::HashSet::new();
-    for (id, m) in app.modules() {
-        let ty = &libs.get(m.library).module_types[m.type_index];
-        let path = &paths[id.0 as usize];
-        for (slot, resource, _) in m.binds() {
-            locks
-                .binds
-                .push((path.clone(), slot.clone(), resource.clone()));
-        }
-        let resource_of = |slot: &String| {
-            m.binds()
-                .iter()
-                .find(|(s, _, _)| s == slot)
-                .map_or(slot.clone(), |(_, r, _)| r.clone())
-        };
-        for sequence in &ty.lock_orders {
-            for pair in sequence.windows(2) {
-                let (a, b) = (resource_of(&pair[0]), resource_of(&pair[1]));
-                if a != b && declared.insert((a.clone(), b.clone())) {
-                    let why = format!(
-                        "<locks order=\"{}\"> of `{}`, as bound in `{path}`",
-                        sequence.join(" "),
-                        ty.qualified
-                    );
-                    locks.orders.push((a, b, why));
-                }
-            }
-        }
-    }
-    locks
 }
