@@ -1,0 +1,158 @@
+use super::*;
+
+fn settings(pool_size: usize) -> Settings {
+    Settings {
+        enabled: true,
+        threshold: 4096,
+        pool_size,
+    }
+}
+
+#[test]
+fn large_values_go_into_the_pool_and_small_ones_do_not() {
+    let pool = Pool::open(settings(1 << 20));
+    assert!(pool.usage().active, "this machine has /dev/shm");
+    assert_eq!(pool.room_for(200_000), Some(5), "1 MiB holds five");
+    let big = vec![7u8; 10_000];
+    match pool.payload(big.clone(), true, "link") {
+        Payload::Shared(z) => {
+            assert!(z.as_shm().is_some());
+            assert_eq!(z.to_bytes().as_ref(), big.as_slice());
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        pool.payload(vec![1; 4095], true, "link"),
+        Payload::Network(_)
+    ));
+    assert_eq!(pool.usage().shared, 1);
+}
+
+#[test]
+fn a_buffer_comes_back_only_when_nobody_holds_it() {
+    let pool = Pool::open(settings(64 * 1024));
+    let held = pool.payload(vec![1; 40_000], false, "link");
+    assert!(matches!(held, Payload::Shared(_)));
+    // The pool cannot hold a second one while the first is held: drop policy drops.
+    assert!(matches!(
+        pool.payload(vec![2; 40_000], false, "link"),
+        Payload::Dropped
+    ));
+    assert_eq!(pool.usage().dropped, 1);
+    assert_eq!(pool.room_for(40_000), Some(0));
+    drop(held);
+    assert_eq!(pool.room_for(40_000), Some(1));
+    assert!(matches!(
+        pool.payload(vec![3; 40_000], false, "link"),
+        Payload::Shared(_)
+    ));
+}
+
+/// A value decoded in place from a pool buffer holds it: the pool cannot hand the
+/// buffer out again (nobody writes it) until the value is dropped.
+#[test]
+fn a_buffer_a_decoded_value_reads_in_place_is_not_reused_while_it_lives() {
+    use ferroc_runtime::module::bytes::{decode_in_place, Holder};
+    use ferroc_runtime::module::{Bytes, Encoder};
+    use std::sync::Arc;
+    let pool = Pool::open(settings(64 * 1024));
+    let value: (u32, Bytes) = (7, vec![3; 40_000].into());
+    let len = postcard::experimental::serialized_size(&value).unwrap();
+    let write =
+        |buf: &mut [u8]| (postcard::to_slice(&value, buf).map(|_| ())).map_err(|e| e.to_string());
+    let payload = pool.payload_encoded(&Encoder::new(len, &write), false, "link");
+    let Ok(Payload::Shared(zbytes)) = payload else {
+        panic!("{payload:?}");
+    };
+    let holder: Arc<dyn Holder> = Arc::new(zbytes.as_shm().unwrap().to_owned());
+    drop(zbytes);
+    let decoded: (u32, Bytes) = decode_in_place(&holder, |b| postcard::from_bytes(b)).unwrap();
+    drop(holder);
+    assert!(decoded.1.is_shared());
+    assert_eq!(decoded, value);
+    assert_eq!(pool.room_for(40_000), Some(0), "the value still reads it");
+    drop(decoded);
+    assert_eq!(
+        pool.room_for(40_000),
+        Some(1),
+        "back once the value is gone"
+    );
+    // A value the encoder says is larger than its buffer is an error, not a panic.
+    let short = Encoder::new(40_000, &write);
+    assert!(pool.payload_encoded(&short, false, "link").is_err());
+}
+
+/// A lent buffer is written only while nobody else holds it: once handed to Zenoh
+/// (or held by a reader) a write would copy it first (`Bytes`); it is writable
+/// again only when everybody let it go.
+#[test]
+fn a_lent_buffer_is_written_only_while_nobody_else_holds_it() {
+    let pool = Pool::open(settings(1 << 20));
+    assert!(
+        pool.lend(100).is_none(),
+        "below the threshold: plain memory"
+    );
+    assert!(
+        pool.lend(2 << 20).is_none(),
+        "larger than the pool: plain memory"
+    );
+    let mut lent = pool.lend(200_000).expect("room");
+    lent.bytes_mut().expect("nobody else holds it").fill(7);
+    let sent = lent.as_any().downcast_ref::<Lent>().unwrap().shared();
+    assert!(lent.bytes_mut().is_none(), "sent: no more writes");
+    assert!(sent.to_bytes().iter().all(|b| *b == 7));
+    assert_eq!(pool.room_for(200_000), Some(4), "it stays taken");
+    drop(sent);
+    assert!(lent.bytes_mut().is_some(), "let go: writable again");
+    drop(lent);
+    assert_eq!(pool.room_for(200_000), Some(5), "back in the pool");
+    // A full pool lends nothing (the output then lends plain memory), never waits.
+    let held: Vec<_> = (0..5).filter_map(|_| pool.lend(200_000)).collect();
+    assert_eq!(held.len(), 5);
+    assert!(pool.lend(200_000).is_none());
+}
+
+#[test]
+fn a_reliable_link_on_a_full_pool_waits_then_takes_the_network() {
+    let pool = Pool::open(settings(64 * 1024));
+    let _held = pool.payload(vec![1; 40_000], true, "link");
+    let sent = pool.payload(vec![2; 40_000], true, "link");
+    match sent {
+        Payload::Network(z) => assert_eq!(z.len(), 40_000),
+        other => panic!("{other:?}"),
+    }
+    let used = pool.usage();
+    assert_eq!((used.shared, used.network, used.dropped), (1, 1, 0));
+}
+
+#[test]
+fn without_shared_memory_everything_takes_the_network() {
+    let off = Pool::open(Settings {
+        enabled: false,
+        ..settings(1 << 20)
+    });
+    assert!(!off.usage().active);
+    assert!(matches!(
+        off.payload(vec![1; 100_000], true, "link"),
+        Payload::Network(_)
+    ));
+    // A pool the system cannot provide (larger than any /dev/shm): one warning, then
+    // the network path.
+    let impossible = Pool::open(settings(1 << 62));
+    assert!(!impossible.usage().active);
+    assert!(matches!(
+        impossible.payload(vec![1; 100_000], true, "link"),
+        Payload::Network(_)
+    ));
+}
+
+#[test]
+fn the_settings_are_read_from_the_configuration() {
+    let mut c = zenoh::Config::default();
+    c.insert_json5(THRESHOLD_KEY, "10000").unwrap();
+    let s = Settings::of(&c);
+    assert_eq!(s.threshold, 10000);
+    assert!(s.enabled, "Zenoh's default");
+    c.insert_json5(ENABLED_KEY, "false").unwrap();
+    assert!(!Settings::of(&c).enabled);
+}
