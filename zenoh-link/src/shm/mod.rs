@@ -41,12 +41,17 @@
 //! The pool's parts, each in its own file along the seams where they meet: this file
 //! decides where a value goes (settings, the pool, its figures); `lending.rs` is the
 //! buffer a module writes; `counting.rs` is the backend that sees every chunk come and
-//! go; the tests are in `tests.rs`.
+//! go; `reclaim.rs` gives back the buffers of readers that are gone (a reader killed
+//! while it held values); the tests are in `tests.rs`.
 
 #[cfg(feature = "shared-memory")]
 mod counting;
 mod lending;
+#[cfg(feature = "shared-memory")]
+mod reclaim;
 
+#[cfg(feature = "shared-memory")]
+use counting::Chunks;
 #[cfg(feature = "shared-memory")]
 pub use counting::Counting;
 use ferroc_runtime::console;
@@ -54,11 +59,21 @@ use ferroc_runtime::module::lend::LentBuffer;
 use ferroc_runtime::module::Encoder;
 use lending::lend_from;
 pub use lending::Lent;
+#[cfg(feature = "shared-memory")]
+use reclaim::Ledger;
+#[cfg(feature = "shared-memory")]
+pub use reclaim::GRACE;
 use std::sync::atomic::{AtomicU64, Ordering};
+#[cfg(feature = "shared-memory")]
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use zenoh::bytes::ZBytes;
 #[cfg(feature = "shared-memory")]
-use zenoh::shm::{Defragment, GarbageCollect, JustAlloc, ShmProvider, ZShmMut};
+use zenoh::sample::SampleKind;
+#[cfg(feature = "shared-memory")]
+use zenoh::session::TransportEventsListener;
+#[cfg(feature = "shared-memory")]
+use zenoh::shm::{Defragment, GarbageCollect, JustAlloc, ShmProvider, ZShm, ZShmMut};
 #[cfg(feature = "shared-memory")]
 use zenoh::Wait;
 
@@ -159,10 +174,16 @@ pub struct Pool {
     dropped: AtomicU64,
 }
 
-/// Zenoh's pool on POSIX shared memory.
+/// Zenoh's pool on POSIX shared memory (its backend counting what it holds, for
+/// `ferroc inspect`), with the ledger that gives back the buffers of gone readers.
 #[cfg(feature = "shared-memory")]
-/// Zenoh's POSIX backend, counting what it holds (`ferroc inspect`, stats.rs).
-type Provider = ShmProvider<Counting>;
+struct Provider {
+    zenoh: ShmProvider<Counting>,
+    chunks: Arc<Chunks>,
+    ledger: Arc<Ledger>,
+    /// Zenoh's transport events of the session the part sends with, for the ledger.
+    events: Mutex<Option<TransportEventsListener<()>>>,
+}
 
 /// Built without the feature `shared-memory`: there is no pool to hold.
 #[cfg(not(feature = "shared-memory"))]
@@ -177,7 +198,12 @@ type Reclaim = Defragment<GarbageCollect<JustAlloc, JustAlloc>>;
 #[cfg(feature = "shared-memory")]
 fn provider(settings: Settings) -> Option<Provider> {
     match Counting::provider(settings.pool_size) {
-        Ok(provider) => Some(provider),
+        Ok((zenoh, chunks)) => Some(Provider {
+            zenoh,
+            chunks,
+            ledger: Arc::default(),
+            events: Mutex::default(),
+        }),
         Err(e) => {
             console::note(&format!(
                 "warning: shared memory is not usable here ({}); links between \
@@ -225,7 +251,7 @@ impl Pool {
             #[cfg(feature = "shared-memory")]
             Room::Buffer(mut buffer) => {
                 buffer.copy_from_slice(&bytes);
-                Payload::Shared(buffer.into())
+                self.shared_payload(buffer)
             }
             Room::Network => Payload::Network(bytes.into()),
             Room::Dropped => Payload::Dropped,
@@ -245,7 +271,7 @@ impl Pool {
             #[cfg(feature = "shared-memory")]
             Room::Buffer(mut buffer) => {
                 encoder.write(&mut buffer)?;
-                Payload::Shared(buffer.into())
+                self.shared_payload(buffer)
             }
             Room::Network => Payload::Network(encoder.to_vec()?.into()),
             Room::Dropped => Payload::Dropped,
@@ -281,7 +307,11 @@ impl Pool {
     fn alloc(&self, provider: &Provider, len: usize, reliable: bool, link: &str) -> Room {
         let started = std::time::Instant::now();
         loop {
-            match provider.alloc(len).with_policy::<Reclaim>().wait() {
+            let mut buffer = provider.zenoh.alloc(len).with_policy::<Reclaim>().wait();
+            if buffer.is_err() && provider.reclaim() > 0 {
+                buffer = provider.zenoh.alloc(len).with_policy::<Reclaim>().wait();
+            }
+            match buffer {
                 Ok(buffer) => {
                     self.shared.fetch_add(1, Ordering::Relaxed);
                     return Room::Buffer(buffer);
@@ -326,7 +356,7 @@ impl Pool {
         if len < self.settings.threshold.max(1) || len > self.settings.pool_size {
             return None;
         }
-        lend_from(provider, len)
+        lend_from(provider, len).or_else(|| retry(provider).then(|| lend_from(provider, len))?)
     }
 
     /// Counts a value sent in a lent buffer.
@@ -355,6 +385,7 @@ impl Pool {
     /// pool. For `ferroc inspect` ([`crate::stats`]).
     pub fn held(&self) -> Option<(usize, usize, usize)> {
         let provider = self.provider.as_ref()?;
+        retry(provider);
         let size = self.settings.pool_size;
         let used = size.saturating_sub(free_after_collecting(provider));
         Some((size, used, self.settings.threshold))
@@ -364,15 +395,113 @@ impl Pool {
     /// buffers no reader holds: a measure of what came back, for checks while nothing
     /// is sent (the probe takes them all for a moment). `None` without a pool.
     pub fn room_for(&self, size: usize) -> Option<usize> {
-        self.provider.as_ref().map(|p| buffers_of(p, size))
+        self.provider.as_ref().map(|p| {
+            retry(p);
+            buffers_of(p, size)
+        })
     }
+}
+
+/// Who may hold the buffers this part sends (reclaim.rs): the session it sends with.
+impl Pool {
+    /// The part sends with `session` from now on: the ledger follows its transports.
+    /// Without Zenoh's transport events it cannot tell who holds a buffer, and gives
+    /// nothing back that others hold.
+    pub(crate) fn attach(&self, session: &zenoh::Session) {
+        #[cfg(feature = "shared-memory")]
+        if let Some(provider) = &self.provider {
+            provider.ledger.attach();
+            let ledger = Arc::clone(&provider.ledger);
+            let listener = (session.info().transport_events_listener())
+                .history(true)
+                .callback(move |event| {
+                    let open = event.kind() == SampleKind::Put;
+                    let peer = event.transport().zid().to_string();
+                    ledger.transport(peer, open, std::time::Instant::now());
+                })
+                .wait();
+            if listener.is_err() {
+                provider.ledger.detach();
+            }
+            *lock(&provider.events) = listener.ok();
+        }
+        #[cfg(not(feature = "shared-memory"))]
+        let _ = session;
+    }
+
+    /// The part closed the session it sent with.
+    pub(crate) fn detach(&self) {
+        #[cfg(feature = "shared-memory")]
+        if let Some(provider) = &self.provider {
+            provider.ledger.detach();
+            lock(&provider.events).take();
+        }
+    }
+
+    /// Where the buffers of `payload` start (to tell [`sent`](Self::sent) after the
+    /// put, which takes the payload).
+    pub(crate) fn addresses(payload: &Payload) -> Vec<usize> {
+        match payload {
+            #[cfg(feature = "shared-memory")]
+            Payload::Shared(bytes) => bytes.slices().map(reclaim::address).collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The buffers at `addresses` were just put: the ledger notes who may hold them,
+    /// and gives back what gone readers held.
+    pub(crate) fn sent(&self, addresses: &[usize]) {
+        #[cfg(feature = "shared-memory")]
+        if let (Some(provider), false) = (&self.provider, addresses.is_empty()) {
+            provider.ledger.sent(addresses);
+            provider.reclaim();
+        }
+        #[cfg(not(feature = "shared-memory"))]
+        let _ = addresses;
+    }
+
+    /// A filled pool buffer, listed in the ledger, as the payload to send.
+    #[cfg(feature = "shared-memory")]
+    fn shared_payload(&self, buffer: ZShmMut) -> Payload {
+        let buffer = ZShm::from(buffer);
+        if let Some(provider) = &self.provider {
+            provider.ledger.track(&buffer, None);
+        }
+        Payload::Shared(buffer.into())
+    }
+}
+
+#[cfg(feature = "shared-memory")]
+impl Provider {
+    /// Gives back the buffers only the ledger holds and those only gone readers hold
+    /// (reclaim.rs); how many.
+    fn reclaim(&self) -> usize {
+        self.ledger.reclaim(std::time::Instant::now(), &self.chunks)
+    }
+}
+
+#[cfg(feature = "shared-memory")]
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Gives back what gone readers held (reclaim.rs); whether anything came back, so
+/// that an allocation that failed is worth trying again.
+#[cfg(feature = "shared-memory")]
+fn retry(provider: &Provider) -> bool {
+    provider.reclaim() > 0
+}
+
+#[cfg(not(feature = "shared-memory"))]
+fn retry(provider: &Provider) -> bool {
+    match *provider {}
 }
 
 /// The bytes `provider` has free once the buffers nobody holds are collected.
 #[cfg(feature = "shared-memory")]
 fn free_after_collecting(provider: &Provider) -> usize {
-    provider.garbage_collect();
-    provider.available()
+    provider.zenoh.garbage_collect();
+    provider.zenoh.available()
 }
 
 #[cfg(not(feature = "shared-memory"))]
@@ -384,7 +513,12 @@ fn free_after_collecting(provider: &Provider) -> usize {
 #[cfg(feature = "shared-memory")]
 fn buffers_of(provider: &Provider, size: usize) -> usize {
     let mut held = Vec::new();
-    while let Ok(buffer) = provider.alloc(size.max(1)).with_policy::<Reclaim>().wait() {
+    let alloc = || {
+        (provider.zenoh.alloc(size.max(1)))
+            .with_policy::<Reclaim>()
+            .wait()
+    };
+    while let Ok(buffer) = alloc() {
         held.push(buffer);
     }
     held.len()

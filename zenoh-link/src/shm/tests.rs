@@ -1,4 +1,5 @@
 use super::*;
+use zenoh::shm::ZShm;
 
 fn settings(pool_size: usize) -> Settings {
     Settings {
@@ -155,4 +156,103 @@ fn the_settings_are_read_from_the_configuration() {
     assert!(s.enabled, "Zenoh's default");
     c.insert_json5(ENABLED_KEY, "false").unwrap();
     assert!(!Settings::of(&c).enabled);
+}
+
+/// A value sent in a 40 000-byte buffer of `pool` while the sessions `peers` were
+/// there, one of them still holding it (as a reader does: its own count); returns
+/// that reader's reference.
+fn sent_and_held(pool: &Pool, peers: &[&str]) -> ZShm {
+    let provider = pool.provider.as_ref().unwrap();
+    let now = std::time::Instant::now();
+    for peer in peers {
+        provider.ledger.transport(peer.to_string(), true, now);
+    }
+    let payload = pool.payload(vec![9; 40_000], false, "link");
+    let Payload::Shared(bytes) = &payload else {
+        panic!("{payload:?}");
+    };
+    let reader = bytes.as_shm().unwrap().to_owned();
+    pool.sent(&Pool::addresses(&payload));
+    reader
+}
+
+fn gone(pool: &Pool, peer: &str) {
+    let ledger = &pool.provider.as_ref().unwrap().ledger;
+    ledger.transport(peer.to_string(), false, std::time::Instant::now());
+}
+
+/// What the ledger gives back at `later` than now.
+fn reclaim_later(pool: &Pool, later: Duration) -> usize {
+    let provider = pool.provider.as_ref().unwrap();
+    let at = std::time::Instant::now() + later;
+    provider.ledger.reclaim(at, &provider.chunks)
+}
+
+/// A buffer only a session that is gone holds (a reader killed holding it) comes back
+/// once that session has been gone for the grace; its count stays in Zenoh's header,
+/// which the ledger keeps, so nothing frees the chunk twice.
+#[test]
+fn a_buffer_only_gone_sessions_hold_comes_back_after_the_grace() {
+    let pool = Pool::open(settings(64 * 1024));
+    pool.provider.as_ref().unwrap().ledger.attach();
+    let dead = sent_and_held(&pool, &["reader"]);
+    assert_eq!(pool.room_for(40_000), Some(0), "the reader holds it");
+    gone(&pool, "reader");
+    assert_eq!(reclaim_later(&pool, GRACE / 2), 0, "not within the grace");
+    assert_eq!(reclaim_later(&pool, GRACE), 1);
+    assert_eq!(pool.room_for(40_000), Some(1), "back, though still counted");
+    let fresh = pool.payload(vec![3; 40_000], false, "link");
+    assert!(matches!(fresh, Payload::Shared(_)), "{fresh:?}");
+    drop(dead); // (a killed reader never does this; a stray count changes nothing)
+    assert_eq!(pool.room_for(40_000), Some(0), "the fresh value holds it");
+    drop(fresh);
+    assert_eq!(pool.room_for(40_000), Some(1));
+}
+
+/// The silent side: a buffer a live session may hold is never given back, however
+/// long it holds it; nor one whose output still holds it, one not sent yet, or one
+/// sent by a session since closed.
+#[test]
+fn a_buffer_a_live_session_may_hold_is_kept_however_long() {
+    let pool = Pool::open(settings(256 * 1024));
+    let ledger = &pool.provider.as_ref().unwrap().ledger;
+    ledger.attach();
+    let slow = sent_and_held(&pool, &["slow", "killed"]);
+    gone(&pool, "killed");
+    assert_eq!(
+        reclaim_later(&pool, GRACE * 100),
+        0,
+        "slow may still read it"
+    );
+    assert!(slow.iter().all(|b| *b == 9), "intact");
+    // Lent and sent, while the output still holds it: kept although its reader left.
+    let mut lent = pool.lend(40_000).unwrap();
+    lent.bytes_mut().unwrap().fill(5);
+    let lent_zenoh = lent.as_any().downcast_ref::<Lent>().unwrap().shared();
+    let read = lent_zenoh.as_shm().unwrap().to_owned();
+    ledger.transport("lent-reader".into(), true, std::time::Instant::now());
+    pool.sent(&[reclaim::address(&read)]);
+    drop(lent_zenoh);
+    gone(&pool, "lent-reader");
+    assert_eq!(reclaim_later(&pool, GRACE * 100), 0, "the output holds it");
+    assert!(lent.bytes_mut().is_none(), "and its reader's count stays");
+    // Put, but not noted as sent (on its way): kept.
+    let on_its_way = pool.payload(vec![1; 40_000], false, "link");
+    let Payload::Shared(way) = &on_its_way else {
+        panic!()
+    };
+    let _way_reader = way.as_shm().unwrap().to_owned();
+    drop(on_its_way);
+    assert_eq!(reclaim_later(&pool, GRACE * 100), 0, "on its way");
+    // Sent by a session the part has since closed: who holds it cannot be known.
+    let before = sent_and_held(&pool, &["old"]);
+    ledger.detach();
+    ledger.attach();
+    gone(&pool, "old");
+    assert_eq!(
+        reclaim_later(&pool, GRACE * 100),
+        0,
+        "sent by an older session"
+    );
+    drop((slow, read, before));
 }
