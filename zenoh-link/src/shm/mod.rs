@@ -47,6 +47,7 @@
 #[cfg(feature = "shared-memory")]
 mod counting;
 mod lending;
+pub mod process;
 #[cfg(feature = "shared-memory")]
 mod reclaim;
 
@@ -162,6 +163,10 @@ pub struct Use {
     pub dropped: u64,
     /// Values this part received in shared memory (from any writer).
     pub received_shared: u64,
+    /// Buffers given back although readers still counted in them, the processes of
+    /// every session they were sent to being gone (a reader killed while it held
+    /// values: reclaim.rs).
+    pub reclaimed: u64,
 }
 
 /// The shared-memory pool of one part (see the module documentation).
@@ -375,6 +380,7 @@ impl Pool {
             network: self.network.load(Ordering::Relaxed),
             dropped: self.dropped.load(Ordering::Relaxed),
             received_shared: 0,
+            reclaimed: given_back(self.provider.as_ref()),
         }
     }
 }
@@ -483,6 +489,17 @@ impl Provider {
 #[cfg(feature = "shared-memory")]
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// How many buffers came back from gone readers so far.
+#[cfg(feature = "shared-memory")]
+fn given_back(provider: Option<&Provider>) -> u64 {
+    provider.map_or(0, |p| p.ledger.given_back())
+}
+
+#[cfg(not(feature = "shared-memory"))]
+fn given_back(_: Option<&Provider>) -> u64 {
+    0
 }
 
 /// Gives back what gone readers held (reclaim.rs); whether anything came back, so

@@ -9,37 +9,41 @@
 //! buffers of a live reader whose watchdog thread did not run for 100 ms.
 //!
 //! This file keeps a ledger of the buffers this part sent instead, and gives a buffer
-//! back by a rule about sessions, not time:
+//! back by a rule about processes, not time:
 //!
 //! - Right after each put of a buffer, it notes every Zenoh session this part's session
-//!   has a transport to (on this computer or not). Only those can hold the buffer:
-//!   Zenoh hands a value only to sessions it has a transport to, when the put routes
-//!   it, and ferroc's parts are peers that do not forward each other's values.
+//!   has a transport to (on this computer or not; Zenoh tells a new transport before a
+//!   value can take it). Only those can hold the buffer: Zenoh hands a value only to
+//!   sessions it has a transport to, when the put routes it, and ferroc's parts are
+//!   peers that do not forward each other's values.
 //! - The ledger holds one reference of its own to every buffer it lists. A buffer that
 //!   only the ledger holds is dropped from it, and Zenoh's safe collection takes it as
 //!   before.
-//! - A buffer that others still hold comes back when every session it was sent to has
-//!   been gone for [`GRACE`] (its transport closed: the process ended, or it was
-//!   silent for a whole lease), nothing in this part still holds it (no output's lent
-//!   buffer, no value on its way), and the session it was sent by is still this part's
-//!   (a part that reopened its session cannot tell who holds what any more). Then its
-//!   chunk goes back to the backend ([`Chunks::free_held`]); the ledger keeps its
-//!   reference for good, so the count never reaches zero and Zenoh never frees that
-//!   chunk a second time.
+//! - A buffer that others still hold comes back when, for every session it was sent
+//!   to, the transport is closed *and* the process behind the session no longer exists
+//!   ([`process`]: a ferroc part's Zenoh id names its process), since [`GRACE`] at
+//!   least; when nothing in this part still holds it (no output's lent buffer); and
+//!   when the session it was sent by is still the part's, or saw all of them go before
+//!   it closed. Then its chunk goes back to the backend ([`Chunks::free_held`]); the
+//!   ledger keeps its reference for good, so the count never reaches zero and Zenoh
+//!   never frees that chunk a second time.
 //!
-//! Why a live reader never loses a buffer it still reads, however slow it is: it holds
-//! the buffer only if Zenoh delivered it a value in it, over a transport to this
-//! part's session; that transport stays open as long as its session lives, so its
-//! session is in the buffer's list and present, and the buffer stays. Being slow
-//! changes nothing: no timer of the reader's is involved. The one thing that does: a
-//! reader process whose session is gone while the process lives on (stopped for longer
-//! than the lease, then resumed) may find a buffer it still held reused; ferroc treats
-//! a part whose session is gone as gone (docs/zenoh.md).
+//! Why a live reader never loses a buffer it still reads, however slow it is: its
+//! process exists, so the buffer stays; nothing about its speed, its watchdog thread
+//! or its transport (which a process starved for longer than the lease loses and
+//! opens again) is asked. A session that is not a ferroc part, or whose process this
+//! part cannot look up (another PID namespace, no `/proc`), never counts as gone: what
+//! it was sent stays, as before.
+//!
+//! What stays counted: a buffer also sent to a session that lives on comes back only
+//! once that session's process is gone too (Zenoh's count does not say who holds
+//! what, so a killed reader's share cannot be told from a live one's).
 //!
 //! Why [`GRACE`]: a transport that closed may still hand its last messages to its
 //! socket for a moment; a second is far more than that takes.
 
 use super::counting::Chunks;
+use super::process;
 use std::collections::{BTreeSet, HashMap};
 use std::sync::{Mutex, Weak};
 use std::time::{Duration, Instant};
@@ -69,6 +73,8 @@ struct State {
     /// The sessions this part's session has a transport to now, as Zenoh's transport
     /// events say (an opening transport is told before any value can take it).
     present: BTreeSet<String>,
+    /// How many buffers came back from gone sessions so far.
+    given_back: u64,
 }
 
 struct Entry {
@@ -96,7 +102,10 @@ enum Sent {
         session: u64,
         peers: BTreeSet<String>,
     },
-    /// By a session since closed: nobody can tell who holds it.
+    /// By a session since closed, which saw every session it was sent to go first.
+    Left,
+    /// By a session since closed, while some session it was sent to was still there:
+    /// nobody can tell who holds it.
     Unknown,
 }
 
@@ -113,9 +122,22 @@ impl Ledger {
         s.session = Some(s.sessions);
     }
 
-    /// The part closed its session.
+    /// The part closed its session: a buffer whose every session was already gone
+    /// can still come back, no other can.
     pub(crate) fn detach(&self) {
         let mut s = lock(&self.state);
+        let State {
+            entries,
+            session,
+            present,
+            ..
+        } = &mut *s;
+        for e in entries.values_mut() {
+            let left = e.record.gone(*session, present);
+            if let Sent::To { .. } = e.record.sent {
+                e.record.sent = if left { Sent::Left } else { Sent::Unknown };
+            }
+        }
         s.session = None;
         s.present.clear();
     }
@@ -247,7 +269,15 @@ impl Ledger {
         });
         let count = back.len();
         kept.extend(back);
+        s.given_back += count as u64;
         count + released
+    }
+}
+
+impl Ledger {
+    /// How many buffers came back from gone sessions so far.
+    pub(crate) fn given_back(&self) -> u64 {
+        lock(&self.state).given_back
     }
 }
 
@@ -270,12 +300,18 @@ impl Record {
         self.lent.as_ref().is_some_and(|l| l.strong_count() > 0)
     }
 
-    /// Whether every session the buffer was sent to (by the session `now`) is gone.
+    /// Whether every session the buffer was sent to (by the session `now`) is gone: its
+    /// transport closed and its process ended.
     fn gone(&self, now: Option<u64>, present: &BTreeSet<String>) -> bool {
         match &self.sent {
             Sent::To { session, peers } => {
-                Some(*session) == now && !self.lent_held() && peers.is_disjoint(present)
+                Some(*session) == now
+                    && !self.lent_held()
+                    && peers
+                        .iter()
+                        .all(|p| !present.contains(p) && process::gone(p))
             }
+            Sent::Left => !self.lent_held(),
             Sent::Not | Sent::Unknown => false,
         }
     }

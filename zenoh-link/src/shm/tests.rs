@@ -176,6 +176,13 @@ fn sent_and_held(pool: &Pool, peers: &[&str]) -> ZShm {
     reader
 }
 
+/// The session id of a process that has ended (a ferroc part's, [`process`]).
+fn dead() -> String {
+    let mut child = std::process::Command::new("true").spawn().unwrap();
+    child.wait().unwrap();
+    process::id_for(child.id())
+}
+
 fn gone(pool: &Pool, peer: &str) {
     let ledger = &pool.provider.as_ref().unwrap().ledger;
     ledger.transport(peer.to_string(), false, std::time::Instant::now());
@@ -195,12 +202,14 @@ fn reclaim_later(pool: &Pool, later: Duration) -> usize {
 fn a_buffer_only_gone_sessions_hold_comes_back_after_the_grace() {
     let pool = Pool::open(settings(64 * 1024));
     pool.provider.as_ref().unwrap().ledger.attach();
-    let dead = sent_and_held(&pool, &["reader"]);
+    let reader = dead();
+    let dead = sent_and_held(&pool, &[&reader]);
     assert_eq!(pool.room_for(40_000), Some(0), "the reader holds it");
-    gone(&pool, "reader");
+    gone(&pool, &reader);
     assert_eq!(reclaim_later(&pool, GRACE / 2), 0, "not within the grace");
     assert_eq!(reclaim_later(&pool, GRACE), 1);
     assert_eq!(pool.room_for(40_000), Some(1), "back, though still counted");
+    assert_eq!(pool.usage().reclaimed, 1);
     let fresh = pool.payload(vec![3; 40_000], false, "link");
     assert!(matches!(fresh, Payload::Shared(_)), "{fresh:?}");
     drop(dead); // (a killed reader never does this; a stray count changes nothing)
@@ -209,31 +218,37 @@ fn a_buffer_only_gone_sessions_hold_comes_back_after_the_grace() {
     assert_eq!(pool.room_for(40_000), Some(1));
 }
 
-/// The silent side: a buffer a live session may hold is never given back, however
-/// long it holds it; nor one whose output still holds it, one not sent yet, or one
+/// The silent side: a buffer a live process may hold is never given back, however
+/// long it holds it and even if its transport closed; nor one sent to a session not
+/// known to be a ferroc part, one its output still holds, one not sent yet, or one
 /// sent by a session since closed.
 #[test]
 fn a_buffer_a_live_session_may_hold_is_kept_however_long() {
     let pool = Pool::open(settings(256 * 1024));
     let ledger = &pool.provider.as_ref().unwrap().ledger;
     ledger.attach();
-    let slow = sent_and_held(&pool, &["slow", "killed"]);
-    gone(&pool, "killed");
-    assert_eq!(
-        reclaim_later(&pool, GRACE * 100),
-        0,
-        "slow may still read it"
-    );
+    // A transport closed, but its process lives (starved past the lease): kept.
+    let (live, killed) = (process::session_id(), dead());
+    let slow = sent_and_held(&pool, &[&live, &killed]);
+    gone(&pool, &killed);
+    gone(&pool, &live);
+    assert_eq!(reclaim_later(&pool, GRACE * 100), 0, "slow still reads it");
+    // Another Zenoh program (its id names no process): kept.
+    let stranger = "1f2e3d4c5b6a79881f2e3d4c5b6a7988";
+    let other = sent_and_held(&pool, &[stranger]);
+    gone(&pool, stranger);
+    assert_eq!(reclaim_later(&pool, GRACE * 100), 0, "not known to be dead");
     assert!(slow.iter().all(|b| *b == 9), "intact");
     // Lent and sent, while the output still holds it: kept although its reader left.
     let mut lent = pool.lend(40_000).unwrap();
     lent.bytes_mut().unwrap().fill(5);
     let lent_zenoh = lent.as_any().downcast_ref::<Lent>().unwrap().shared();
     let read = lent_zenoh.as_shm().unwrap().to_owned();
-    ledger.transport("lent-reader".into(), true, std::time::Instant::now());
+    let lent_reader = dead();
+    ledger.transport(lent_reader.clone(), true, std::time::Instant::now());
     pool.sent(&[reclaim::address(&read)]);
     drop(lent_zenoh);
-    gone(&pool, "lent-reader");
+    gone(&pool, &lent_reader);
     assert_eq!(reclaim_later(&pool, GRACE * 100), 0, "the output holds it");
     assert!(lent.bytes_mut().is_none(), "and its reader's count stays");
     // Put, but not noted as sent (on its way): kept.
@@ -245,14 +260,29 @@ fn a_buffer_a_live_session_may_hold_is_kept_however_long() {
     drop(on_its_way);
     assert_eq!(reclaim_later(&pool, GRACE * 100), 0, "on its way");
     // Sent by a session the part has since closed: who holds it cannot be known.
-    let before = sent_and_held(&pool, &["old"]);
+    let old = dead();
+    let before = sent_and_held(&pool, &[&old]);
     ledger.detach();
     ledger.attach();
-    gone(&pool, "old");
+    gone(&pool, &old);
     assert_eq!(
         reclaim_later(&pool, GRACE * 100),
         0,
         "sent by an older session"
     );
-    drop((slow, read, before));
+    drop((slow, other, read, before));
+}
+
+/// A part that closes its session after its reader was gone still gets that
+/// reader's buffers back: the session saw every holder go before it closed.
+#[test]
+fn a_gone_readers_buffer_comes_back_after_the_part_closed_its_session() {
+    let pool = Pool::open(settings(64 * 1024));
+    pool.provider.as_ref().unwrap().ledger.attach();
+    let reader = dead();
+    let _dead = sent_and_held(&pool, &[&reader]);
+    gone(&pool, &reader);
+    pool.detach();
+    assert_eq!(reclaim_later(&pool, GRACE), 1);
+    assert_eq!(pool.room_for(40_000), Some(1));
 }
