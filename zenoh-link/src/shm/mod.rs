@@ -16,7 +16,9 @@
 //! A buffer is never written while a reader can still see it: a buffer handed to Zenoh
 //! is immutable (`ZShmMut` becomes `ZBytes`), and the pool only reuses a buffer whose
 //! reference count, kept in shared memory by every process that maps it and by Zenoh for
-//! buffers still on their way to a peer, is zero (the *safe* garbage collection).
+//! buffers still on their way to a peer, is zero (the *safe* garbage collection), or
+//! whose every holder's process is gone (a reader killed while it held values:
+//! `reclaim.rs`, with the argument why a live reader never loses a buffer).
 //!
 //! An output whose only readers are links to other parts may lend its module a buffer
 //! of the pool to fill ([`Pool::lend`], `ferroc_module::lend`): the value then goes
@@ -42,7 +44,8 @@
 //! decides where a value goes (settings, the pool, its figures); `lending.rs` is the
 //! buffer a module writes; `counting.rs` is the backend that sees every chunk come and
 //! go; `reclaim.rs` gives back the buffers of readers that are gone (a reader killed
-//! while it held values); the tests are in `tests.rs`.
+//! while it held values) and `process.rs` tells whether a session's process is gone;
+//! the tests are in `tests.rs`.
 
 #[cfg(feature = "shared-memory")]
 mod counting;
