@@ -184,6 +184,48 @@ fn a_slow_live_reader_keeps_its_buffers_while_another_is_killed() {
     assert!(back, "room for {} of {fresh}: {:?}", room(), cam.shm_use());
 }
 
+/// The silent side again, where transports fail: a reader stopped (SIGSTOP) for much
+/// longer than the 500 ms lease loses its transport while it holds frames in place;
+/// its process lives, so none of them comes back to the pool, and once it runs again
+/// (SIGCONT) every frame it kept is still intact, while the camera went on reusing
+/// the rest of a small pool.
+#[test]
+fn a_reader_stopped_past_the_lease_keeps_its_buffers() {
+    let name = "shm_stopped";
+    let registry = registry();
+    let peers = peers();
+    let small = config_file(
+        "stopped.json5",
+        "{ transport: { shared_memory: { transport_optimization: { pool_size: 12582912 } } } }",
+    );
+    let cam = zenoh(name, "cam", &peers, Some(&small));
+    let app = camera_with(&registry, &cam, 20, SIZES[2], false);
+    let reader = Reader::start_with(name, &peers["cam"], &peers["view"], 3, 20);
+    let checking = eventually(Duration::from_secs(60), || reader.held_checks().len() >= 5);
+    assert!(checking, "{:?}", reader.seen());
+    reader.signal("STOP");
+    // 40 frames: the pool fills with what the stopped reader holds and what waits in
+    // its socket, so a reliable frame waits 500 ms for room before it takes the
+    // network: some 20 s, past the lease and the grace many times over.
+    let sent = cam.shm_use().shared + cam.shm_use().network;
+    let went_on = eventually(Duration::from_secs(120), || {
+        let used = cam.shm_use();
+        used.shared + used.network > sent + 40
+    });
+    reader.signal("CONT");
+    assert!(went_on, "{:?}", cam.shm_use());
+    let checks = reader.held_checks().len();
+    let again = eventually(Duration::from_secs(60), || {
+        reader.held_checks().len() >= checks + 5
+    });
+    app.stop();
+    drop(app);
+    assert!(again, "{:?}", reader.held_checks());
+    let held = reader.held_checks();
+    assert!(held.iter().all(|ok| *ok), "a kept frame changed: {held:?}");
+    assert_eq!(cam.shm_use().reclaimed, 0, "its process lived");
+}
+
 #[test]
 fn with_shared_memory_off_values_take_the_network_intact() {
     network_only("shm_off", false);

@@ -345,6 +345,14 @@ impl Reader {
             .unwrap_or(0)
     }
 
+    /// Sends the program the signal `name` (`STOP`, `CONT`), with the shell's own
+    /// `kill` and the program's process id only.
+    pub fn signal(&self, name: &str) {
+        let command = format!("kill -s {name} {}", self.child.id());
+        let status = Command::new("sh").args(["-c", &command]).status().unwrap();
+        assert!(status.success(), "{command}");
+    }
+
     /// Ends the program as a crash would: SIGKILL.
     pub fn kill(mut self) {
         self.child.kill().unwrap();
