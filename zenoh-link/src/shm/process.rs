@@ -6,7 +6,9 @@
 //! its PID namespace, and a writer on the same computer asks the system whether that
 //! process still exists. A session that is not named so (another Zenoh program, a
 //! part in a container with its own PID namespace, a system without `/proc`) never
-//! counts as gone: its buffers stay, as they did before.
+//! counts as gone: its buffers stay, as they did before. Nor does any session while
+//! `/proc` hides other users' processes (`hidepid`): there a missing process may be
+//! one this process may not see.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -40,7 +42,7 @@ pub fn gone(zid: &str) -> bool {
     let (Some(pid), Some(ns)) = (hex(&rest[..8]), hex(&rest[8..16])) else {
         return false;
     };
-    if pid_namespace() != Some(ns) || ns == 0 {
+    if pid_namespace() != Some(ns) || ns == 0 || proc_hides_processes() {
         return false;
     }
     match std::fs::read_to_string(format!("/proc/{pid}/stat")) {
@@ -50,6 +52,27 @@ pub fn gone(zid: &str) -> bool {
             .is_some_and(|(_, s)| matches!(s.trim_start().chars().next(), Some('Z' | 'X'))),
         Err(e) => e.kind() == std::io::ErrorKind::NotFound,
     }
+}
+
+/// Whether `/proc` is mounted so that it hides processes (`hidepid=1|2`,
+/// `invisible`, `noaccess`, `subset=pid` aside): a process it does not show may live.
+/// Also true when the mounts cannot be read.
+fn proc_hides_processes() -> bool {
+    let Ok(mounts) = std::fs::read_to_string("/proc/self/mountinfo") else {
+        return true;
+    };
+    let proc = mounts
+        .lines()
+        .find(|l| l.split(' ').nth(4) == Some("/proc"));
+    proc.is_none_or(|line| {
+        let options = line.rsplit(' ').next().unwrap_or("");
+        options.split(',').any(|o| {
+            matches!(
+                o,
+                "hidepid=1" | "hidepid=2" | "hidepid=invisible" | "hidepid=noaccess"
+            )
+        })
+    })
 }
 
 /// This process's PID namespace (the low 32 bits of its inode), if the system says.
@@ -86,5 +109,9 @@ mod tests {
         assert!(!gone("1f2e3d4c5b6a79881f2e3d4c5b6a7988"));
         let elsewhere = format!("{}00000001{}", &dead[..10], &dead[18..]);
         assert!(!gone(&elsewhere));
+        assert!(
+            !proc_hides_processes(),
+            "this machine's /proc shows every process"
+        );
     }
 }
