@@ -301,11 +301,13 @@ impl Record {
     }
 
     /// Whether every session the buffer was sent to (by the session `now`) is gone: its
-    /// transport closed and its process ended.
+    /// transport closed and its process ended. A buffer sent to no session at all never
+    /// is (whoever holds it is in this process, a subscriber of the part's own session).
     fn gone(&self, now: Option<u64>, present: &BTreeSet<String>) -> bool {
         match &self.sent {
             Sent::To { session, peers } => {
                 Some(*session) == now
+                    && !peers.is_empty()
                     && !self.lent_held()
                     && peers
                         .iter()

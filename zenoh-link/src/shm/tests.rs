@@ -220,8 +220,8 @@ fn a_buffer_only_gone_sessions_hold_comes_back_after_the_grace() {
 
 /// The silent side: a buffer a live process may hold is never given back, however
 /// long it holds it and even if its transport closed; nor one sent to a session not
-/// known to be a ferroc part, one its output still holds, one not sent yet, or one
-/// sent by a session since closed.
+/// known to be a ferroc part, one its output still holds, one not sent yet, one sent
+/// by a session since closed, or one sent to no session at all.
 #[test]
 fn a_buffer_a_live_session_may_hold_is_kept_however_long() {
     let pool = Pool::open(settings(256 * 1024));
@@ -271,6 +271,15 @@ fn a_buffer_a_live_session_may_hold_is_kept_however_long() {
         "sent by an older session"
     );
     drop((slow, other, read, before));
+    // Sent while no transport was open: whoever holds it is in this process.
+    let alone = Pool::open(settings(64 * 1024));
+    alone.provider.as_ref().unwrap().ledger.attach();
+    let _local = sent_and_held(&alone, &[]);
+    assert_eq!(
+        reclaim_later(&alone, GRACE * 100),
+        0,
+        "held in this process"
+    );
 }
 
 /// A part that closes its session after its reader was gone still gets that
