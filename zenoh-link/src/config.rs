@@ -164,6 +164,11 @@ impl PartConfig {
         &self.config
     }
 
+    /// Whether the user's configuration file names the session's Zenoh id.
+    pub fn names_an_id(&self) -> bool {
+        self.given.get("id").is_some_and(|id| !id.is_null())
+    }
+
     /// The configuration of the session of a part whose links to other parts are
     /// `links`: it connects only to the parts it is linked with, and only to those
     /// whose name sorts before its own ([`connect`]); a ROS 2 node's part keeps

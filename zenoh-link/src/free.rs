@@ -75,6 +75,9 @@ pub(crate) fn open(
     delivery: Delivery,
     shm: Shm,
 ) -> Result<Free, String> {
+    if let Some(pool) = &shm.pool {
+        pool.attach(session); // who may hold what it sends (shm/reclaim.rs)
+    }
     let data = publishers(session, keys, part, links)?;
     let subscribers = subscribers(session, keys, links, &delivery, &shm)?;
     let waiting: Arc<Mutex<HashMap<(u32, u64), Query>>> = Arc::default();
@@ -436,10 +439,14 @@ impl Free {
 
     /// [`put`](Self::put) with the attachment `links` (the link numbers it is for).
     fn put_with(&self, id: u32, out: &Out, payload: Payload, links: ZBytes) {
+        let buffers = Pool::addresses(&payload);
         let (Payload::Shared(bytes) | Payload::Network(bytes)) = payload else {
             return; // dropped: the pool is full (warned)
         };
         let put = (out.publisher.put(bytes)).attachment(links).wait();
+        if let Some(pool) = &self.pool {
+            pool.sent(&buffers); // the pool's ledger notes who may hold them now
+        }
         if let Err(e) = put {
             self.failed(&format!(
                 "a value of link {id} could not be sent: {}",
@@ -546,6 +553,9 @@ impl Connection for Free {
             return;
         }
         self.watch.withdraw();
+        if let Some(pool) = &self.pool {
+            pool.detach();
+        }
         lock(&self.waiting).clear();
         let _ = self.session.close().wait();
     }

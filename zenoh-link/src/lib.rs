@@ -46,6 +46,10 @@ pub struct Zenoh {
     keys: Keys,
     addresses: Addresses,
     config: config::PartConfig,
+    /// Whether each session gets an id naming this process (the configuration file
+    /// sets none): what tells a writer that a reader's process is gone
+    /// ([`shm::process`]).
+    own_id: bool,
     /// The shared-memory pool of the values this part sends, made when a connection
     /// that sends first opens and kept across reopenings (a restarted part).
     pool: Mutex<Option<Arc<shm::Pool>>>,
@@ -81,10 +85,12 @@ impl Zenoh {
         let keys = Keys::new(application)?;
         keys.alive(&addresses.part)?;
         let config = config::PartConfig::new(&addresses, config_file, shm)?;
+        let own_id = !config.names_an_id();
         Ok(Zenoh {
             keys,
             addresses,
             config,
+            own_id,
             pool: Mutex::default(),
             received_shared: Arc::default(),
         })
@@ -131,7 +137,13 @@ impl Zenoh {
     /// Opens this part's session for `links`: a listening address in use is an error
     /// that names `--listen`.
     fn session(&self, links: &PartLinks) -> Result<zenoh::Session, String> {
-        let config = self.session_config(links)?;
+        let mut config = self.session_config(links)?;
+        if self.own_id {
+            let id = format!("\"{}\"", shm::process::session_id());
+            config
+                .insert_json5("id", &id)
+                .map_err(|e| engine_error(&e))?;
+        }
         zenoh::open(config).wait().map_err(|e| {
             let part = &self.addresses.part;
             let listen = &self.addresses.listen;

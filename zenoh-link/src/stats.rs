@@ -7,76 +7,7 @@
 use crate::shm::{Payload, Pool};
 use ferroc_runtime::link::transport::{LinkUse, PartLinks, PoolUse, TransportUse};
 use std::collections::BTreeMap;
-#[cfg(feature = "shared-memory")]
-use std::sync::atomic::AtomicUsize;
 use std::sync::atomic::{AtomicU64, Ordering};
-#[cfg(feature = "shared-memory")]
-use zenoh::shm::{
-    ChunkAllocResult, ChunkDescriptor, MemoryLayout, PosixShmProviderBackend, ProtocolID,
-    ShmProvider, ShmProviderBackend, ShmProviderBuilder, WithProtocolID, ZLayoutError,
-};
-#[cfg(feature = "shared-memory")]
-use zenoh::Wait;
-
-#[cfg(feature = "shared-memory")]
-/// Zenoh's default POSIX backend, counting the bytes of the chunks it hands out and
-/// takes back: what the pool holds now ([`Counting::available`] is the rest; the default
-/// backend itself does not say). One atomic add per buffer.
-pub struct Counting {
-    inner: PosixShmProviderBackend,
-    size: usize,
-    used: AtomicUsize,
-}
-
-#[cfg(feature = "shared-memory")]
-impl Counting {
-    /// A provider of a pool of `size` bytes on the counting backend.
-    pub fn provider(size: usize) -> zenoh::Result<ShmProvider<Counting>> {
-        let inner = PosixShmProviderBackend::builder(size).wait()?;
-        let backend = Counting {
-            inner,
-            size,
-            used: AtomicUsize::new(0),
-        };
-        Ok(ShmProviderBuilder::backend(backend).wait())
-    }
-}
-
-#[cfg(feature = "shared-memory")]
-impl WithProtocolID for Counting {
-    fn id(&self) -> ProtocolID {
-        self.inner.id()
-    }
-}
-
-#[cfg(feature = "shared-memory")]
-impl ShmProviderBackend for Counting {
-    fn alloc(&self, layout: &MemoryLayout) -> ChunkAllocResult {
-        let chunk = self.inner.alloc(layout);
-        if let Ok(c) = &chunk {
-            self.used
-                .fetch_add(c.descriptor.len.get(), Ordering::Relaxed);
-        }
-        chunk
-    }
-
-    fn free(&self, chunk: &ChunkDescriptor) {
-        self.inner.free(chunk);
-        self.used.fetch_sub(chunk.len.get(), Ordering::Relaxed);
-    }
-
-    fn defragment(&self) -> usize {
-        self.inner.defragment()
-    }
-
-    fn available(&self) -> usize {
-        self.size.saturating_sub(self.used.load(Ordering::Relaxed))
-    }
-
-    fn layout_for(&self, layout: MemoryLayout) -> Result<MemoryLayout, ZLayoutError> {
-        self.inner.layout_for(layout)
-    }
-}
 
 /// The counters of the links one part sends.
 #[derive(Default)]

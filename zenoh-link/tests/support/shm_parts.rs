@@ -70,24 +70,55 @@ impl ModuleType for Camera {
 }
 
 /// Checks every frame it reads and says `seen SEQ SIZE ok|bad`: on standard output in
-/// the reader program, in the record of `tag` in this process.
+/// the reader program, in the record of `tag` in this process. With `hold` > 0 it keeps
+/// its last `hold` frames (where they arrived) and checks them all again every step,
+/// saying `held N ok|bad`: a frame reused under it would show.
 pub struct Viewer {
     input: In<Image>,
     tag: Parameter<f64>,
+    hold: Parameter<f64>,
+    held: Vec<Image>,
 }
+
+/// A camera frame's number and whether its bytes all say it (`None`: no frame yet).
+fn frame(img: &Image) -> Option<(u64, bool)> {
+    let seq = img
+        .data
+        .first_chunk::<8>()
+        .map(|b| u64::from_le_bytes(*b))?;
+    let block = [seq as u8; 4096];
+    let intact = img.data[8..].chunks(4096).all(|c| c == &block[..c.len()])
+        && img.width as usize == img.data.len()
+        && img.check().is_ok();
+    Some((seq, intact))
+}
+
+impl Viewer {
+    fn check_held(&mut self, img: &Image) {
+        let hold = self.hold.get() as usize;
+        if hold == 0 {
+            return;
+        }
+        if self.held.len() == hold {
+            self.held.remove(0);
+        }
+        self.held.push(img.clone());
+        let intact = self.held.iter().all(|h| frame(h).is_some_and(|(_, ok)| ok));
+        let word = if intact { "ok" } else { "bad" };
+        println!("held {} {word}", self.held.len());
+    }
+}
+
 impl Module for Viewer {
     fn update(&mut self) {
         if !self.input.changed() {
             return;
         }
         let img = self.input.get();
-        let Some(seq) = img.data.first_chunk::<8>().map(|b| u64::from_le_bytes(*b)) else {
+        let Some((seq, intact)) = frame(&img) else {
             return; // the default value before the first frame
         };
-        let block = [seq as u8; 4096];
-        let intact = img.data[8..].chunks(4096).all(|c| c == &block[..c.len()])
-            && img.width as usize == img.data.len()
-            && img.check().is_ok();
+        self.check_held(&img);
         let line = format!(
             "seen {seq} {} {}",
             img.data.len(),
@@ -113,6 +144,8 @@ impl ModuleType for Viewer {
         Viewer {
             input: m.input("in").build(),
             tag: m.param("tag").default(0.0).build(),
+            hold: m.param("hold").default(0.0).build(),
+            held: Vec::new(),
         }
     }
 }
@@ -241,11 +274,17 @@ pub struct Reader {
 
 impl Reader {
     pub fn start(app: &str, peers: &BTreeMap<String, String>) -> Reader {
+        Reader::start_with(app, &peers["cam"], &peers["view"], 0, 5)
+    }
+
+    /// A reader listening on `listen`, connecting to the camera at `cam`, keeping its
+    /// last `hold` frames ([`Viewer`]), stepping every `ms`.
+    pub fn start_with(app: &str, cam: &str, listen: &str, hold: usize, ms: u64) -> Reader {
         let mut child = Command::new(std::env::current_exe().unwrap())
             .args(["reader_program", "--exact", "--ignored", "--nocapture"])
             .env(
                 "FERROC_SHM_READER",
-                format!("{app} {} {}", peers["cam"], peers["view"]),
+                format!("{app} {cam} {listen} {hold} {ms}"),
             )
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
@@ -290,12 +329,28 @@ impl Reader {
         places
     }
 
+    /// The checks of the frames it keeps so far: whether each found them all intact.
+    pub fn held_checks(&self) -> Vec<bool> {
+        let lines = self.lines.lock().unwrap();
+        (lines.iter())
+            .filter_map(|l| Some(l.strip_prefix("held ")?.ends_with(" ok")))
+            .collect()
+    }
+
     /// The latest count of values that arrived in shared memory.
     pub fn received_shared(&self) -> u64 {
         let lines = self.lines.lock().unwrap();
         (lines.iter().rev())
             .find_map(|l| l.strip_prefix("received_shared ")?.parse().ok())
             .unwrap_or(0)
+    }
+
+    /// Sends the program the signal `name` (`STOP`, `CONT`), with the shell's own
+    /// `kill` and the program's process id only.
+    pub fn signal(&self, name: &str) {
+        let command = format!("kill -s {name} {}", self.child.id());
+        let status = Command::new("sh").args(["-c", &command]).status().unwrap();
+        assert!(status.success(), "{command}");
     }
 
     /// Ends the program as a crash would: SIGKILL.
@@ -313,8 +368,8 @@ impl Drop for Reader {
 }
 
 /// The reader program of tests/shm.rs (started by them; does nothing otherwise):
-/// the `view` part of `FERROC_SHM_READER` = "APP CAM_ADDR VIEW_ADDR", until its
-/// standard input closes.
+/// the `view` part of `FERROC_SHM_READER` = "APP CAM_ADDR VIEW_ADDR HOLD MS" (its
+/// viewer keeping HOLD frames, stepping every MS), until its standard input closes.
 pub fn reader_program() {
     let Ok(spec) = std::env::var("FERROC_SHM_READER") else {
         return;
@@ -331,7 +386,12 @@ pub fn reader_program() {
         network: Some(Arc::clone(&zenoh) as _),
         ..StartOptions::default()
     };
-    let app = part(&registry, "view", 5, &[]).start_with(options).unwrap();
+    let number = |i: usize| words.get(i).and_then(|w| w.parse::<u64>().ok());
+    let (hold, ms) = (number(3).unwrap_or(0), number(4).unwrap_or(5));
+    let params = [("hold".to_string(), Value::Float(hold as f64))];
+    let app = part(&registry, "view", ms, &params)
+        .start_with(options)
+        .unwrap();
     let (tx, rx) = std::sync::mpsc::channel::<()>();
     std::thread::spawn(move || {
         let _ = std::io::stdin().read_to_end(&mut Vec::new());

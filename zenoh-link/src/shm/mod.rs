@@ -16,7 +16,9 @@
 //! A buffer is never written while a reader can still see it: a buffer handed to Zenoh
 //! is immutable (`ZShmMut` becomes `ZBytes`), and the pool only reuses a buffer whose
 //! reference count, kept in shared memory by every process that maps it and by Zenoh for
-//! buffers still on their way to a peer, is zero (the *safe* garbage collection).
+//! buffers still on their way to a peer, is zero (the *safe* garbage collection), or
+//! whose every holder's process is gone (a reader killed while it held values:
+//! `reclaim.rs`, with the argument why a live reader never loses a buffer).
 //!
 //! An output whose only readers are links to other parts may lend its module a buffer
 //! of the pool to fill ([`Pool::lend`], `ferroc_module::lend`): the value then goes
@@ -37,19 +39,45 @@
 //! Without the crate's feature `shared-memory` (a bundle whose linked parts share no
 //! computer turns it off: Zenoh's shared memory is 21 crates), there is never a pool:
 //! every value takes the network path, with the same API and no warning.
+//!
+//! The pool's parts, each in its own file along the seams where they meet: this file
+//! decides where a value goes (settings, the pool, its figures); `lending.rs` is the
+//! buffer a module writes; `counting.rs` is the backend that sees every chunk come and
+//! go; `reclaim.rs` gives back the buffers of readers that are gone (a reader killed
+//! while it held values) and `process.rs` tells whether a session's process is gone;
+//! the tests are in `tests.rs`.
 
 #[cfg(feature = "shared-memory")]
-use crate::stats::Counting;
+mod counting;
+mod lending;
+pub mod process;
+#[cfg(feature = "shared-memory")]
+mod reclaim;
+
+#[cfg(feature = "shared-memory")]
+use counting::Chunks;
+#[cfg(feature = "shared-memory")]
+pub use counting::Counting;
 use ferroc_runtime::console;
 use ferroc_runtime::module::lend::LentBuffer;
 use ferroc_runtime::module::Encoder;
+use lending::lend_from;
+pub use lending::Lent;
 #[cfg(feature = "shared-memory")]
-use std::any::Any;
+use reclaim::Ledger;
+#[cfg(feature = "shared-memory")]
+pub use reclaim::GRACE;
 use std::sync::atomic::{AtomicU64, Ordering};
+#[cfg(feature = "shared-memory")]
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use zenoh::bytes::ZBytes;
 #[cfg(feature = "shared-memory")]
-use zenoh::shm::{zshmmut, Defragment, GarbageCollect, JustAlloc, ShmProvider, ZShm, ZShmMut};
+use zenoh::sample::SampleKind;
+#[cfg(feature = "shared-memory")]
+use zenoh::session::TransportEventsListener;
+#[cfg(feature = "shared-memory")]
+use zenoh::shm::{Defragment, GarbageCollect, JustAlloc, ShmProvider, ZShm, ZShmMut};
 #[cfg(feature = "shared-memory")]
 use zenoh::Wait;
 
@@ -138,6 +166,10 @@ pub struct Use {
     pub dropped: u64,
     /// Values this part received in shared memory (from any writer).
     pub received_shared: u64,
+    /// Buffers given back although readers still counted in them, the processes of
+    /// every session they were sent to being gone (a reader killed while it held
+    /// values: reclaim.rs).
+    pub reclaimed: u64,
 }
 
 /// The shared-memory pool of one part (see the module documentation).
@@ -150,10 +182,16 @@ pub struct Pool {
     dropped: AtomicU64,
 }
 
-/// Zenoh's pool on POSIX shared memory.
+/// Zenoh's pool on POSIX shared memory (its backend counting what it holds, for
+/// `ferroc inspect`), with the ledger that gives back the buffers of gone readers.
 #[cfg(feature = "shared-memory")]
-/// Zenoh's POSIX backend, counting what it holds (`ferroc inspect`, stats.rs).
-type Provider = ShmProvider<Counting>;
+struct Provider {
+    zenoh: ShmProvider<Counting>,
+    chunks: Arc<Chunks>,
+    ledger: Arc<Ledger>,
+    /// Zenoh's transport events of the session the part sends with, for the ledger.
+    events: Mutex<Option<TransportEventsListener<()>>>,
+}
 
 /// Built without the feature `shared-memory`: there is no pool to hold.
 #[cfg(not(feature = "shared-memory"))]
@@ -168,7 +206,12 @@ type Reclaim = Defragment<GarbageCollect<JustAlloc, JustAlloc>>;
 #[cfg(feature = "shared-memory")]
 fn provider(settings: Settings) -> Option<Provider> {
     match Counting::provider(settings.pool_size) {
-        Ok(provider) => Some(provider),
+        Ok((zenoh, chunks)) => Some(Provider {
+            zenoh,
+            chunks,
+            ledger: Arc::default(),
+            events: Mutex::default(),
+        }),
         Err(e) => {
             console::note(&format!(
                 "warning: shared memory is not usable here ({}); links between \
@@ -216,7 +259,7 @@ impl Pool {
             #[cfg(feature = "shared-memory")]
             Room::Buffer(mut buffer) => {
                 buffer.copy_from_slice(&bytes);
-                Payload::Shared(buffer.into())
+                self.shared_payload(buffer)
             }
             Room::Network => Payload::Network(bytes.into()),
             Room::Dropped => Payload::Dropped,
@@ -236,7 +279,7 @@ impl Pool {
             #[cfg(feature = "shared-memory")]
             Room::Buffer(mut buffer) => {
                 encoder.write(&mut buffer)?;
-                Payload::Shared(buffer.into())
+                self.shared_payload(buffer)
             }
             Room::Network => Payload::Network(encoder.to_vec()?.into()),
             Room::Dropped => Payload::Dropped,
@@ -272,7 +315,11 @@ impl Pool {
     fn alloc(&self, provider: &Provider, len: usize, reliable: bool, link: &str) -> Room {
         let started = std::time::Instant::now();
         loop {
-            match provider.alloc(len).with_policy::<Reclaim>().wait() {
+            let mut buffer = provider.zenoh.alloc(len).with_policy::<Reclaim>().wait();
+            if buffer.is_err() && provider.reclaim() > 0 {
+                buffer = provider.zenoh.alloc(len).with_policy::<Reclaim>().wait();
+            }
+            match buffer {
                 Ok(buffer) => {
                     self.shared.fetch_add(1, Ordering::Relaxed);
                     return Room::Buffer(buffer);
@@ -317,7 +364,7 @@ impl Pool {
         if len < self.settings.threshold.max(1) || len > self.settings.pool_size {
             return None;
         }
-        lend_from(provider, len)
+        lend_from(provider, len).or_else(|| retry(provider).then(|| lend_from(provider, len))?)
     }
 
     /// Counts a value sent in a lent buffer.
@@ -336,6 +383,7 @@ impl Pool {
             network: self.network.load(Ordering::Relaxed),
             dropped: self.dropped.load(Ordering::Relaxed),
             received_shared: 0,
+            reclaimed: given_back(self.provider.as_ref()),
         }
     }
 }
@@ -346,6 +394,7 @@ impl Pool {
     /// pool. For `ferroc inspect` ([`crate::stats`]).
     pub fn held(&self) -> Option<(usize, usize, usize)> {
         let provider = self.provider.as_ref()?;
+        retry(provider);
         let size = self.settings.pool_size;
         let used = size.saturating_sub(free_after_collecting(provider));
         Some((size, used, self.settings.threshold))
@@ -355,15 +404,124 @@ impl Pool {
     /// buffers no reader holds: a measure of what came back, for checks while nothing
     /// is sent (the probe takes them all for a moment). `None` without a pool.
     pub fn room_for(&self, size: usize) -> Option<usize> {
-        self.provider.as_ref().map(|p| buffers_of(p, size))
+        self.provider.as_ref().map(|p| {
+            retry(p);
+            buffers_of(p, size)
+        })
     }
+}
+
+/// Who may hold the buffers this part sends (reclaim.rs): the session it sends with.
+impl Pool {
+    /// The part sends with `session` from now on: the ledger follows its transports.
+    /// Without Zenoh's transport events it cannot tell who holds a buffer, and gives
+    /// nothing back that others hold.
+    pub(crate) fn attach(&self, session: &zenoh::Session) {
+        #[cfg(feature = "shared-memory")]
+        if let Some(provider) = &self.provider {
+            provider.ledger.attach();
+            let ledger = Arc::clone(&provider.ledger);
+            let listener = (session.info().transport_events_listener())
+                .history(true)
+                .callback(move |event| {
+                    let open = event.kind() == SampleKind::Put;
+                    let peer = event.transport().zid().to_string();
+                    ledger.transport(peer, open, std::time::Instant::now());
+                })
+                .wait();
+            if listener.is_err() {
+                provider.ledger.detach();
+            }
+            *lock(&provider.events) = listener.ok();
+        }
+        #[cfg(not(feature = "shared-memory"))]
+        let _ = session;
+    }
+
+    /// The part closed the session it sent with.
+    pub(crate) fn detach(&self) {
+        #[cfg(feature = "shared-memory")]
+        if let Some(provider) = &self.provider {
+            provider.ledger.detach();
+            lock(&provider.events).take();
+        }
+    }
+
+    /// Where the buffers of `payload` start (to tell [`sent`](Self::sent) after the
+    /// put, which takes the payload).
+    pub(crate) fn addresses(payload: &Payload) -> Vec<usize> {
+        match payload {
+            #[cfg(feature = "shared-memory")]
+            Payload::Shared(bytes) => bytes.slices().map(reclaim::address).collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The buffers at `addresses` were just put: the ledger notes who may hold them,
+    /// and gives back what gone readers held.
+    pub(crate) fn sent(&self, addresses: &[usize]) {
+        #[cfg(feature = "shared-memory")]
+        if let (Some(provider), false) = (&self.provider, addresses.is_empty()) {
+            provider.ledger.sent(addresses);
+            provider.reclaim();
+        }
+        #[cfg(not(feature = "shared-memory"))]
+        let _ = addresses;
+    }
+
+    /// A filled pool buffer, listed in the ledger, as the payload to send.
+    #[cfg(feature = "shared-memory")]
+    fn shared_payload(&self, buffer: ZShmMut) -> Payload {
+        let buffer = ZShm::from(buffer);
+        if let Some(provider) = &self.provider {
+            provider.ledger.track(&buffer, None);
+        }
+        Payload::Shared(buffer.into())
+    }
+}
+
+#[cfg(feature = "shared-memory")]
+impl Provider {
+    /// Gives back the buffers only the ledger holds and those only gone readers hold
+    /// (reclaim.rs); how many.
+    fn reclaim(&self) -> usize {
+        self.ledger.reclaim(std::time::Instant::now(), &self.chunks)
+    }
+}
+
+#[cfg(feature = "shared-memory")]
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// How many buffers came back from gone readers so far.
+#[cfg(feature = "shared-memory")]
+fn given_back(provider: Option<&Provider>) -> u64 {
+    provider.map_or(0, |p| p.ledger.given_back())
+}
+
+#[cfg(not(feature = "shared-memory"))]
+fn given_back(_: Option<&Provider>) -> u64 {
+    0
+}
+
+/// Gives back what gone readers held (reclaim.rs); whether anything came back, so
+/// that an allocation that failed is worth trying again.
+#[cfg(feature = "shared-memory")]
+fn retry(provider: &Provider) -> bool {
+    provider.reclaim() > 0
+}
+
+#[cfg(not(feature = "shared-memory"))]
+fn retry(provider: &Provider) -> bool {
+    match *provider {}
 }
 
 /// The bytes `provider` has free once the buffers nobody holds are collected.
 #[cfg(feature = "shared-memory")]
 fn free_after_collecting(provider: &Provider) -> usize {
-    provider.garbage_collect();
-    provider.available()
+    provider.zenoh.garbage_collect();
+    provider.zenoh.available()
 }
 
 #[cfg(not(feature = "shared-memory"))]
@@ -375,7 +533,12 @@ fn free_after_collecting(provider: &Provider) -> usize {
 #[cfg(feature = "shared-memory")]
 fn buffers_of(provider: &Provider, size: usize) -> usize {
     let mut held = Vec::new();
-    while let Ok(buffer) = provider.alloc(size.max(1)).with_policy::<Reclaim>().wait() {
+    let alloc = || {
+        (provider.zenoh.alloc(size.max(1)))
+            .with_policy::<Reclaim>()
+            .wait()
+    };
+    while let Ok(buffer) = alloc() {
         held.push(buffer);
     }
     held.len()
@@ -386,216 +549,5 @@ fn buffers_of(provider: &Provider, _: usize) -> usize {
     match *provider {}
 }
 
-/// A buffer of `len` bytes from `provider`, collecting and defragmenting first if
-/// needed; never waits.
-#[cfg(feature = "shared-memory")]
-fn lend_from(provider: &Provider, len: usize) -> Option<Box<dyn LentBuffer>> {
-    let buffer = provider.alloc(len).with_policy::<Reclaim>().wait().ok()?;
-    Some(Box::new(Lent(buffer.into())))
-}
-
-#[cfg(not(feature = "shared-memory"))]
-fn lend_from(provider: &Provider, _: usize) -> Option<Box<dyn LentBuffer>> {
-    match *provider {}
-}
-
-/// A pool buffer lent to an output ([`Pool::lend`]).
-#[cfg(feature = "shared-memory")]
-pub struct Lent(ZShm);
-
-/// Built without shared memory: no buffer is ever lent.
-#[cfg(not(feature = "shared-memory"))]
-pub enum Lent {}
-
-impl Lent {
-    /// The buffer, to send: one more reference, so the module can no longer write it.
-    #[cfg(feature = "shared-memory")]
-    pub fn shared(&self) -> ZBytes {
-        ZBytes::from(self.0.clone())
-    }
-
-    #[cfg(not(feature = "shared-memory"))]
-    pub fn shared(&self) -> ZBytes {
-        match *self {}
-    }
-}
-
-#[cfg(feature = "shared-memory")]
-impl LentBuffer for Lent {
-    fn bytes(&self) -> &[u8] {
-        &self.0
-    }
-
-    fn bytes_mut(&mut self) -> Option<&mut [u8]> {
-        // Only while no one else (Zenoh, a reader in any process) holds the buffer.
-        let buffer: &mut zshmmut = (&mut self.0).try_into().ok()?;
-        Some(&mut buffer[..])
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-}
-
 #[cfg(all(test, feature = "shared-memory"))]
-mod tests {
-    use super::*;
-
-    fn settings(pool_size: usize) -> Settings {
-        Settings {
-            enabled: true,
-            threshold: 4096,
-            pool_size,
-        }
-    }
-
-    #[test]
-    fn large_values_go_into_the_pool_and_small_ones_do_not() {
-        let pool = Pool::open(settings(1 << 20));
-        assert!(pool.usage().active, "this machine has /dev/shm");
-        assert_eq!(pool.room_for(200_000), Some(5), "1 MiB holds five");
-        let big = vec![7u8; 10_000];
-        match pool.payload(big.clone(), true, "link") {
-            Payload::Shared(z) => {
-                assert!(z.as_shm().is_some());
-                assert_eq!(z.to_bytes().as_ref(), big.as_slice());
-            }
-            other => panic!("{other:?}"),
-        }
-        assert!(matches!(
-            pool.payload(vec![1; 4095], true, "link"),
-            Payload::Network(_)
-        ));
-        assert_eq!(pool.usage().shared, 1);
-    }
-
-    #[test]
-    fn a_buffer_comes_back_only_when_nobody_holds_it() {
-        let pool = Pool::open(settings(64 * 1024));
-        let held = pool.payload(vec![1; 40_000], false, "link");
-        assert!(matches!(held, Payload::Shared(_)));
-        // The pool cannot hold a second one while the first is held: drop policy drops.
-        assert!(matches!(
-            pool.payload(vec![2; 40_000], false, "link"),
-            Payload::Dropped
-        ));
-        assert_eq!(pool.usage().dropped, 1);
-        assert_eq!(pool.room_for(40_000), Some(0));
-        drop(held);
-        assert_eq!(pool.room_for(40_000), Some(1));
-        assert!(matches!(
-            pool.payload(vec![3; 40_000], false, "link"),
-            Payload::Shared(_)
-        ));
-    }
-
-    /// A value decoded in place from a pool buffer holds it: the pool cannot hand the
-    /// buffer out again (nobody writes it) until the value is dropped.
-    #[test]
-    fn a_buffer_a_decoded_value_reads_in_place_is_not_reused_while_it_lives() {
-        use ferroc_runtime::module::bytes::{decode_in_place, Holder};
-        use ferroc_runtime::module::{Bytes, Encoder};
-        use std::sync::Arc;
-        let pool = Pool::open(settings(64 * 1024));
-        let value: (u32, Bytes) = (7, vec![3; 40_000].into());
-        let len = postcard::experimental::serialized_size(&value).unwrap();
-        let write = |buf: &mut [u8]| {
-            (postcard::to_slice(&value, buf).map(|_| ())).map_err(|e| e.to_string())
-        };
-        let payload = pool.payload_encoded(&Encoder::new(len, &write), false, "link");
-        let Ok(Payload::Shared(zbytes)) = payload else {
-            panic!("{payload:?}");
-        };
-        let holder: Arc<dyn Holder> = Arc::new(zbytes.as_shm().unwrap().to_owned());
-        drop(zbytes);
-        let decoded: (u32, Bytes) = decode_in_place(&holder, |b| postcard::from_bytes(b)).unwrap();
-        drop(holder);
-        assert!(decoded.1.is_shared());
-        assert_eq!(decoded, value);
-        assert_eq!(pool.room_for(40_000), Some(0), "the value still reads it");
-        drop(decoded);
-        assert_eq!(
-            pool.room_for(40_000),
-            Some(1),
-            "back once the value is gone"
-        );
-        // A value the encoder says is larger than its buffer is an error, not a panic.
-        let short = Encoder::new(40_000, &write);
-        assert!(pool.payload_encoded(&short, false, "link").is_err());
-    }
-
-    /// A lent buffer is written only while nobody else holds it: once handed to Zenoh
-    /// (or held by a reader) a write would copy it first (`Bytes`); it is writable
-    /// again only when everybody let it go.
-    #[test]
-    fn a_lent_buffer_is_written_only_while_nobody_else_holds_it() {
-        let pool = Pool::open(settings(1 << 20));
-        assert!(
-            pool.lend(100).is_none(),
-            "below the threshold: plain memory"
-        );
-        assert!(
-            pool.lend(2 << 20).is_none(),
-            "larger than the pool: plain memory"
-        );
-        let mut lent = pool.lend(200_000).expect("room");
-        lent.bytes_mut().expect("nobody else holds it").fill(7);
-        let sent = lent.as_any().downcast_ref::<Lent>().unwrap().shared();
-        assert!(lent.bytes_mut().is_none(), "sent: no more writes");
-        assert!(sent.to_bytes().iter().all(|b| *b == 7));
-        assert_eq!(pool.room_for(200_000), Some(4), "it stays taken");
-        drop(sent);
-        assert!(lent.bytes_mut().is_some(), "let go: writable again");
-        drop(lent);
-        assert_eq!(pool.room_for(200_000), Some(5), "back in the pool");
-        // A full pool lends nothing (the output then lends plain memory), never waits.
-        let held: Vec<_> = (0..5).filter_map(|_| pool.lend(200_000)).collect();
-        assert_eq!(held.len(), 5);
-        assert!(pool.lend(200_000).is_none());
-    }
-
-    #[test]
-    fn a_reliable_link_on_a_full_pool_waits_then_takes_the_network() {
-        let pool = Pool::open(settings(64 * 1024));
-        let _held = pool.payload(vec![1; 40_000], true, "link");
-        let sent = pool.payload(vec![2; 40_000], true, "link");
-        match sent {
-            Payload::Network(z) => assert_eq!(z.len(), 40_000),
-            other => panic!("{other:?}"),
-        }
-        let used = pool.usage();
-        assert_eq!((used.shared, used.network, used.dropped), (1, 1, 0));
-    }
-
-    #[test]
-    fn without_shared_memory_everything_takes_the_network() {
-        let off = Pool::open(Settings {
-            enabled: false,
-            ..settings(1 << 20)
-        });
-        assert!(!off.usage().active);
-        assert!(matches!(
-            off.payload(vec![1; 100_000], true, "link"),
-            Payload::Network(_)
-        ));
-        // A pool the system cannot provide (larger than any /dev/shm): one warning, then
-        // the network path.
-        let impossible = Pool::open(settings(1 << 62));
-        assert!(!impossible.usage().active);
-        assert!(matches!(
-            impossible.payload(vec![1; 100_000], true, "link"),
-            Payload::Network(_)
-        ));
-    }
-
-    #[test]
-    fn the_settings_are_read_from_the_configuration() {
-        let mut c = zenoh::Config::default();
-        c.insert_json5(THRESHOLD_KEY, "10000").unwrap();
-        let s = Settings::of(&c);
-        assert_eq!(s.threshold, 10000);
-        assert!(s.enabled, "Zenoh's default");
-        c.insert_json5(ENABLED_KEY, "false").unwrap();
-        assert!(!Settings::of(&c).enabled);
-    }
-}
+mod tests;

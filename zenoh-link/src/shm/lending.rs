@@ -1,0 +1,97 @@
+//! Lending: a buffer of the pool an output fills in place (`Out::lend`,
+//! `ferroc_module::lend`), sent without a copy. Its own file because it is the one
+//! part of the pool a module touches: what it may write, and when.
+
+#[cfg(feature = "shared-memory")]
+use super::reclaim::{address, Ledger};
+use super::Provider;
+#[cfg(feature = "shared-memory")]
+use super::Reclaim;
+use ferroc_runtime::module::lend::LentBuffer;
+#[cfg(feature = "shared-memory")]
+use std::any::Any;
+#[cfg(feature = "shared-memory")]
+use std::sync::Arc;
+use zenoh::bytes::ZBytes;
+#[cfg(feature = "shared-memory")]
+use zenoh::shm::{zshmmut, ZShm};
+#[cfg(feature = "shared-memory")]
+use zenoh::Wait;
+
+/// A buffer of `len` bytes from `provider`, collecting and defragmenting first if
+/// needed; never waits.
+#[cfg(feature = "shared-memory")]
+pub(super) fn lend_from(provider: &Provider, len: usize) -> Option<Box<dyn LentBuffer>> {
+    let buffer = provider
+        .zenoh
+        .alloc(len)
+        .with_policy::<Reclaim>()
+        .wait()
+        .ok()?;
+    Some(Box::new(Lent {
+        buffer: buffer.into(),
+        ledger: Arc::clone(&provider.ledger),
+        held: Arc::new(()),
+    }))
+}
+
+#[cfg(not(feature = "shared-memory"))]
+pub(super) fn lend_from(provider: &Provider, _: usize) -> Option<Box<dyn LentBuffer>> {
+    match *provider {}
+}
+
+/// A pool buffer lent to an output ([`Pool::lend`](super::Pool::lend)).
+#[cfg(feature = "shared-memory")]
+pub struct Lent {
+    buffer: ZShm,
+    /// The pool's ledger, which lists the buffer once it is sent (reclaim.rs).
+    ledger: Arc<Ledger>,
+    /// Alive as long as the output holds the buffer: the ledger never gives it back
+    /// meanwhile.
+    held: Arc<()>,
+}
+
+/// Built without shared memory: no buffer is ever lent.
+#[cfg(not(feature = "shared-memory"))]
+pub enum Lent {}
+
+impl Lent {
+    /// The buffer, to send: one more reference, so the module can no longer write it.
+    #[cfg(feature = "shared-memory")]
+    pub fn shared(&self) -> ZBytes {
+        let held = Arc::downgrade(&self.held);
+        self.ledger.track(&self.buffer, Some(held));
+        ZBytes::from(self.buffer.clone())
+    }
+
+    #[cfg(not(feature = "shared-memory"))]
+    pub fn shared(&self) -> ZBytes {
+        match *self {}
+    }
+}
+
+#[cfg(feature = "shared-memory")]
+impl LentBuffer for Lent {
+    fn bytes(&self) -> &[u8] {
+        &self.buffer
+    }
+
+    fn bytes_mut(&mut self) -> Option<&mut [u8]> {
+        // Only while no one else (Zenoh, a reader in any process) holds the buffer. The
+        // ledger's own reference to a sent buffer is taken away to tell, and given back
+        // if others still hold it.
+        let listed = self.ledger.untrack(address(&self.buffer));
+        if <&mut zshmmut>::try_from(&mut self.buffer).is_err() {
+            if let Some(record) = listed {
+                self.ledger.retrack(&self.buffer, record);
+            }
+            return None;
+        }
+        let buffer: &mut zshmmut = (&mut self.buffer).try_into().ok()?;
+        Some(&mut buffer[..])
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
