@@ -310,9 +310,9 @@ fn bare_writer(
     let mut next = Instant::now();
     let mut seq = 0u64;
     while !done()? {
-        while Instant::now() < next {
-            std::thread::sleep(Duration::from_micros(200));
-        }
+        // Sleeps to the next value as ferroc's periodic writer container does (it
+        // polled every 200 µs before: a writer process that never slept long).
+        std::thread::sleep(next.saturating_duration_since(Instant::now()));
         next += gap(size);
         seq += 1;
         let put = match &provider {
@@ -390,16 +390,57 @@ fn once(variant: &str, size: usize, n: u64) -> Result<Vec<u64>, String> {
     Ok(samples)
 }
 
+/// What one run measures: the values per size and variant, the rounds, the sizes and
+/// the variants (`--sizes`, `--variants`: all by default).
+struct Plan {
+    messages: u64,
+    rounds: u64,
+    sizes: Vec<usize>,
+    variants: [bool; 5],
+}
+
+fn plan(args: &[String]) -> Result<Plan, String> {
+    let o = Options::parse(
+        "b4-large",
+        args,
+        &["messages", "rounds", "sizes", "variants"],
+        &[],
+    )?;
+    let sizes = match o.text("sizes") {
+        None => SIZES.to_vec(),
+        Some(list) => (list.split(','))
+            .map(|s| match s.trim().parse::<usize>() {
+                Ok(n) if SIZES.contains(&n) => Ok(n),
+                _ => Err(format!("b4-large: --sizes {s}: one of {SIZES:?}")),
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let mut variants = [o.text("variants").is_none(); 5];
+    for name in o.text("variants").unwrap_or_default().split(',') {
+        let name = name.trim();
+        match VARIANTS.iter().position(|v| *v == name) {
+            Some(i) => variants[i] = true,
+            None if name.is_empty() => {}
+            None => return Err(format!("b4-large: --variants {name}: one of {VARIANTS:?}")),
+        }
+    }
+    Ok(Plan {
+        messages: o.number("messages", DEFAULT_MESSAGES, 1, 1_000_000)?,
+        rounds: o.number("rounds", DEFAULT_ROUNDS, 1, 100)?,
+        sizes,
+        variants,
+    })
+}
+
 /// Runs B4 across parts with large values and prints its lines; the exit code.
 pub fn run(args: &[String]) -> u8 {
-    let parsed = Options::parse("b4-large", args, &["messages", "rounds"], &[]).and_then(|o| {
-        Ok((
-            o.number("messages", DEFAULT_MESSAGES, 1, 1_000_000)?,
-            o.number("rounds", DEFAULT_ROUNDS, 1, 100)?,
-        ))
-    });
-    let (messages, rounds) = match parsed {
-        Ok(v) => v,
+    let Plan {
+        messages,
+        rounds,
+        sizes,
+        variants,
+    } = match plan(args) {
+        Ok(p) => p,
         Err(e) => {
             eprintln!("{e}");
             return 2;
@@ -417,11 +458,14 @@ pub fn run(args: &[String]) -> u8 {
         load_note()
     );
     let mut result = Vec::new();
-    for size in SIZES {
+    for size in sizes {
         let mut samples: [Vec<u64>; 5] = Default::default();
         for round in 0..rounds as usize {
             for k in 0..VARIANTS.len() {
                 let i = (round + k) % VARIANTS.len();
+                if !variants[i] {
+                    continue;
+                }
                 match once(VARIANTS[i], size, per_round) {
                     Ok(mut s) => samples[i].append(&mut s),
                     Err(e) => {
@@ -432,35 +476,41 @@ pub fn run(args: &[String]) -> u8 {
             }
         }
         let p50s = report(size, samples);
-        result.push(format!(
-            "s{size}_ferroc_shm_p50_us={:.1} s{size}_ferroc_copy_p50_us={:.1} \
-             s{size}_ferroc_net_p50_us={:.1} s{size}_zenoh_shm_p50_us={:.1} \
-             s{size}_zenoh_net_p50_us={:.1}",
-            p50s[0], p50s[1], p50s[2], p50s[3], p50s[4]
-        ));
+        let figures = (VARIANTS.iter().zip(p50s)).filter_map(|(v, p50)| {
+            let v = v.replace('-', "_");
+            p50.map(|p| format!("s{size}_{v}_p50_us={p:.1}"))
+        });
+        result.extend(figures);
     }
     println!("RESULT b4-large {}", result.join(" "));
     0
 }
 
-/// Prints one size's lines; the p50 of each variant (µs).
-fn report(size: usize, samples: [Vec<u64>; 5]) -> [f64; 5] {
-    let mut p50s = [0.0; 5];
+/// Prints one size's lines; the p50 of each variant measured (µs).
+fn report(size: usize, samples: [Vec<u64>; 5]) -> [Option<f64>; 5] {
+    let mut p50s = [None; 5];
     for (i, s) in samples.into_iter().enumerate() {
         let n = s.len();
+        if n == 0 {
+            continue;
+        }
         let (p50, p99, max) = percentiles(s);
-        p50s[i] = p50;
+        p50s[i] = Some(p50);
         println!(
             "b4-large {size:>8} B  {:<10}  p50 {p50:9.1}  p99 {p99:9.1}  max {max:9.1} µs  n={n}",
             VARIANTS[i]
         );
     }
+    let ratio = |a: usize, b: usize| match (p50s[a], p50s[b]) {
+        (Some(a), Some(b)) => format!("{:.2}", a / b),
+        _ => "-".into(),
+    };
     println!(
-        "b4-large {size:>8} B  ferroc-shm / zenoh-shm p50 {:.2}, ferroc-copy / ferroc-shm p50 \
-         {:.2}, ferroc-net / ferroc-shm p50 {:.2}",
-        p50s[0] / p50s[3],
-        p50s[1] / p50s[0],
-        p50s[2] / p50s[0]
+        "b4-large {size:>8} B  ferroc-shm / zenoh-shm p50 {}, ferroc-copy / ferroc-shm p50 \
+         {}, ferroc-net / ferroc-shm p50 {}",
+        ratio(0, 3),
+        ratio(1, 0),
+        ratio(2, 0)
     );
     p50s
 }
