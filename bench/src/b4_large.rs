@@ -71,8 +71,9 @@ fn gap(size: usize) -> Duration {
 static SIZE: AtomicUsize = AtomicUsize::new(64);
 /// Whether the writer module fills a buffer its output lends (`ferroc-shm`).
 static LEND: AtomicBool = AtomicBool::new(true);
-/// The latencies the reader saw (ns).
-static SEEN: Mutex<Vec<u64>> = Mutex::new(Vec::new());
+/// Per value the reader saw: the latency and the part of it after the value arrived in
+/// the reader's Zenoh callback (ns; 0 for the bare subscriber, which reads it there).
+static SEEN: Mutex<Vec<(u64, u64)>> = Mutex::new(Vec::new());
 
 /// Fills `data` with frame `seq` and stamps it last.
 fn fill(data: &mut [u8], seq: u64) {
@@ -84,8 +85,10 @@ pub(crate) fn stamp_of(data: &[u8]) -> Option<u64> {
     data.first_chunk::<8>().map(|b| u64::from_le_bytes(*b))
 }
 
-fn seen(latency: u64) {
-    SEEN.lock().unwrap_or_else(|e| e.into_inner()).push(latency);
+fn seen(latency: u64, hop: u64) {
+    SEEN.lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push((latency, hop));
 }
 
 /// Publishes an image of `SIZE` bytes every cycle.
@@ -131,7 +134,8 @@ impl Module for Viewer {
     fn update(&mut self) {
         if self.input.changed() {
             if let Some(stamp) = stamp_of(&self.input.get().data) {
-                seen(mono_ns().saturating_sub(stamp));
+                let hop = self.input.age().map_or(0, |a| a.as_nanos() as u64);
+                seen(mono_ns().saturating_sub(stamp), hop);
             }
         }
     }
@@ -222,8 +226,8 @@ fn part(
     b.start_with(options).map_err(|e| e.to_string())
 }
 
-/// The reader: `b4-large-child VARIANT WRITER READER N` prints N latencies (ns) after
-/// the warm-up, one a line.
+/// The reader: `b4-large-child VARIANT WRITER READER N` prints N latencies and the part
+/// of each after the reader's Zenoh callback (ns) after the warm-up, a pair a line.
 pub fn child(args: &[String]) -> u8 {
     let [variant, writer, reader, n] = args else {
         eprintln!("usage: {CHILD_ARG} VARIANT WRITER READER N");
@@ -253,7 +257,7 @@ pub fn child(args: &[String]) -> u8 {
             .callback(|sample| {
                 let first = sample.payload().slices().next().and_then(stamp_of);
                 if let Some(stamp) = first {
-                    seen(mono_ns().saturating_sub(stamp));
+                    seen(mono_ns().saturating_sub(stamp), 0);
                 }
             })
             .wait()
@@ -277,7 +281,7 @@ pub fn child(args: &[String]) -> u8 {
     let seen = std::mem::take(&mut *SEEN.lock().unwrap_or_else(|e| e.into_inner()));
     let out: String = seen[WARM_UP..WARM_UP + n]
         .iter()
-        .map(|l| format!("{l}\n"))
+        .map(|(latency, hop)| format!("{latency} {hop}\n"))
         .collect();
     print!("{out}");
     drop(keep);
@@ -337,8 +341,8 @@ fn bare_writer(
 }
 
 /// One variant and size once: the reader as a child, the writer here until the child
-/// is done. The latencies in ns.
-fn once(variant: &str, size: usize, n: u64) -> Result<Vec<u64>, String> {
+/// is done. Per value: the latency and the part after the Zenoh callback (ns).
+fn once(variant: &str, size: usize, n: u64) -> Result<Vec<(u64, u64)>, String> {
     let (writer, reader) = (free_address()?, free_address()?);
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let mut child = Command::new(exe)
@@ -349,8 +353,11 @@ fn once(variant: &str, size: usize, n: u64) -> Result<Vec<u64>, String> {
     let stdout = child.stdout.take().ok_or("no output of the reader")?;
     let reading = std::thread::spawn(move || {
         (BufReader::new(stdout).lines().map_while(Result::ok))
-            .filter_map(|l| l.trim().parse::<u64>().ok())
-            .collect::<Vec<u64>>()
+            .filter_map(|l| {
+                let (latency, hop) = l.trim().split_once(' ')?;
+                Some((latency.parse::<u64>().ok()?, hop.parse::<u64>().ok()?))
+            })
+            .collect::<Vec<(u64, u64)>>()
     });
     let deadline = Instant::now() + Duration::from_secs(300);
     let mut done = || -> Result<bool, String> {
@@ -459,7 +466,7 @@ pub fn run(args: &[String]) -> u8 {
     );
     let mut result = Vec::new();
     for size in sizes {
-        let mut samples: [Vec<u64>; 5] = Default::default();
+        let mut samples: [Vec<(u64, u64)>; 5] = Default::default();
         for round in 0..rounds as usize {
             for k in 0..VARIANTS.len() {
                 let i = (round + k) % VARIANTS.len();
@@ -486,20 +493,32 @@ pub fn run(args: &[String]) -> u8 {
     0
 }
 
-/// Prints one size's lines; the p50 of each variant measured (µs).
-fn report(size: usize, samples: [Vec<u64>; 5]) -> [Option<f64>; 5] {
+/// Prints one size's lines; the p50 of each variant measured (µs). For ferroc's
+/// variants also the split at the reader's Zenoh callback: the way there (latency
+/// minus `In::age`) and the hand-off to the reader's container after it.
+fn report(size: usize, samples: [Vec<(u64, u64)>; 5]) -> [Option<f64>; 5] {
     let mut p50s = [None; 5];
     for (i, s) in samples.into_iter().enumerate() {
         let n = s.len();
         if n == 0 {
             continue;
         }
-        let (p50, p99, max) = percentiles(s);
+        let to_callback = s.iter().map(|(l, h)| l.saturating_sub(*h)).collect();
+        let hop = s.iter().map(|(_, h)| *h).collect();
+        let (p50, p99, max) = percentiles(s.into_iter().map(|(l, _)| l).collect());
         p50s[i] = Some(p50);
         println!(
             "b4-large {size:>8} B  {:<10}  p50 {p50:9.1}  p99 {p99:9.1}  max {max:9.1} µs  n={n}",
             VARIANTS[i]
         );
+        if VARIANTS[i].starts_with("ferroc") {
+            let ((c50, c99, _), (h50, h99, _)) = (percentiles(to_callback), percentiles(hop));
+            println!(
+                "b4-large {size:>8} B  {:<10}  to callback p50 {c50:.1} p99 {c99:.1}, \
+                 callback → module p50 {h50:.1} p99 {h99:.1} µs",
+                VARIANTS[i]
+            );
+        }
     }
     let ratio = |a: usize, b: usize| match (p50s[a], p50s[b]) {
         (Some(a), Some(b)) => format!("{:.2}", a / b),
