@@ -30,7 +30,7 @@ use ferroc_runtime::builder::{
 use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::link::{LinkSpec, Sharing};
 use ferroc_runtime::module::{In, Module, ModuleType, Out, Setup};
-use ferroc_runtime::port::ConnectOptions;
+use ferroc_runtime::port::{ConnectOptions, WaitMode};
 use ferroc_std::Image;
 use ferroc_zenoh::Zenoh;
 use std::io::{BufRead, BufReader};
@@ -182,6 +182,15 @@ pub(crate) fn config_of(variant: &str) -> Result<Option<PathBuf>, String> {
     Ok(Some(path))
 }
 
+/// How the reader's container waits for data (`--reader-wait`, handed to the reader
+/// program in this variable; the writer's periodic container ignores it).
+const WAIT_VAR: &str = "FERROC_B4_LARGE_READER_WAIT";
+
+fn reader_wait() -> WaitMode {
+    let wait = std::env::var(WAIT_VAR).ok();
+    wait.and_then(|w| WaitMode::parse(&w)).unwrap_or_default()
+}
+
 /// One part of a ferroc variant: the camera every `gap`, or the viewer woken by data.
 fn part(
     registry: &Registry,
@@ -207,7 +216,10 @@ fn part(
     b.add_thread(ThreadSpec {
         path: part.into(),
         schedule,
-        options: ThreadOptions::default(),
+        options: ThreadOptions {
+            wait: reader_wait(),
+            ..ThreadOptions::default()
+        },
         steps: vec![(path.into(), StepKind::Update)],
     })
     .map_err(|e| e.to_string())?;
@@ -347,6 +359,7 @@ fn once(variant: &str, size: usize, n: u64) -> Result<Vec<(u64, u64)>, String> {
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let mut child = Command::new(exe)
         .args([CHILD_ARG, variant, &writer, &reader, &n.to_string()])
+        .env(WAIT_VAR, reader_wait().as_str())
         .stdout(Stdio::piped())
         .spawn()
         .map_err(|e| format!("cannot start the reader: {e}"))?;
@@ -410,7 +423,7 @@ fn plan(args: &[String]) -> Result<Plan, String> {
     let o = Options::parse(
         "b4-large",
         args,
-        &["messages", "rounds", "sizes", "variants"],
+        &["messages", "rounds", "sizes", "variants", "reader-wait"],
         &[],
     )?;
     let sizes = match o.text("sizes") {
@@ -422,6 +435,15 @@ fn plan(args: &[String]) -> Result<Plan, String> {
             })
             .collect::<Result<_, _>>()?,
     };
+    if let Some(w) = o.text("reader-wait") {
+        if WaitMode::parse(w).is_none() {
+            return Err(format!(
+                "b4-large: --reader-wait {w}: park, spin or adaptive"
+            ));
+        }
+        // Read back by `reader_wait` here and, through the environment, in the reader.
+        std::env::set_var(WAIT_VAR, w);
+    }
     let mut variants = [o.text("variants").is_none(); 5];
     for name in o.text("variants").unwrap_or_default().split(',') {
         let name = name.trim();
