@@ -30,7 +30,7 @@ use ferroc_runtime::builder::{
 use ferroc_runtime::container::ThreadOptions;
 use ferroc_runtime::link::{LinkSpec, Sharing};
 use ferroc_runtime::module::{In, Module, ModuleType, Out, Setup};
-use ferroc_runtime::port::ConnectOptions;
+use ferroc_runtime::port::{ConnectOptions, WaitMode};
 use ferroc_std::Image;
 use ferroc_zenoh::Zenoh;
 use std::io::{BufRead, BufReader};
@@ -71,8 +71,9 @@ fn gap(size: usize) -> Duration {
 static SIZE: AtomicUsize = AtomicUsize::new(64);
 /// Whether the writer module fills a buffer its output lends (`ferroc-shm`).
 static LEND: AtomicBool = AtomicBool::new(true);
-/// The latencies the reader saw (ns).
-static SEEN: Mutex<Vec<u64>> = Mutex::new(Vec::new());
+/// Per value the reader saw: the latency and the part of it after the value arrived in
+/// the reader's Zenoh callback (ns; 0 for the bare subscriber, which reads it there).
+static SEEN: Mutex<Vec<(u64, u64)>> = Mutex::new(Vec::new());
 
 /// Fills `data` with frame `seq` and stamps it last.
 fn fill(data: &mut [u8], seq: u64) {
@@ -84,8 +85,10 @@ pub(crate) fn stamp_of(data: &[u8]) -> Option<u64> {
     data.first_chunk::<8>().map(|b| u64::from_le_bytes(*b))
 }
 
-fn seen(latency: u64) {
-    SEEN.lock().unwrap_or_else(|e| e.into_inner()).push(latency);
+fn seen(latency: u64, hop: u64) {
+    SEEN.lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push((latency, hop));
 }
 
 /// Publishes an image of `SIZE` bytes every cycle.
@@ -131,7 +134,8 @@ impl Module for Viewer {
     fn update(&mut self) {
         if self.input.changed() {
             if let Some(stamp) = stamp_of(&self.input.get().data) {
-                seen(mono_ns().saturating_sub(stamp));
+                let hop = self.input.age().map_or(0, |a| a.as_nanos() as u64);
+                seen(mono_ns().saturating_sub(stamp), hop);
             }
         }
     }
@@ -178,6 +182,15 @@ pub(crate) fn config_of(variant: &str) -> Result<Option<PathBuf>, String> {
     Ok(Some(path))
 }
 
+/// How the reader's container waits for data (`--reader-wait`, handed to the reader
+/// program in this variable; the writer's periodic container ignores it).
+const WAIT_VAR: &str = "FERROC_B4_LARGE_READER_WAIT";
+
+fn reader_wait() -> WaitMode {
+    let wait = std::env::var(WAIT_VAR).ok();
+    wait.and_then(|w| WaitMode::parse(&w)).unwrap_or_default()
+}
+
 /// One part of a ferroc variant: the camera every `gap`, or the viewer woken by data.
 fn part(
     registry: &Registry,
@@ -203,7 +216,10 @@ fn part(
     b.add_thread(ThreadSpec {
         path: part.into(),
         schedule,
-        options: ThreadOptions::default(),
+        options: ThreadOptions {
+            wait: reader_wait(),
+            ..ThreadOptions::default()
+        },
         steps: vec![(path.into(), StepKind::Update)],
     })
     .map_err(|e| e.to_string())?;
@@ -222,8 +238,8 @@ fn part(
     b.start_with(options).map_err(|e| e.to_string())
 }
 
-/// The reader: `b4-large-child VARIANT WRITER READER N` prints N latencies (ns) after
-/// the warm-up, one a line.
+/// The reader: `b4-large-child VARIANT WRITER READER N` prints N latencies and the part
+/// of each after the reader's Zenoh callback (ns) after the warm-up, a pair a line.
 pub fn child(args: &[String]) -> u8 {
     let [variant, writer, reader, n] = args else {
         eprintln!("usage: {CHILD_ARG} VARIANT WRITER READER N");
@@ -253,7 +269,7 @@ pub fn child(args: &[String]) -> u8 {
             .callback(|sample| {
                 let first = sample.payload().slices().next().and_then(stamp_of);
                 if let Some(stamp) = first {
-                    seen(mono_ns().saturating_sub(stamp));
+                    seen(mono_ns().saturating_sub(stamp), 0);
                 }
             })
             .wait()
@@ -277,7 +293,7 @@ pub fn child(args: &[String]) -> u8 {
     let seen = std::mem::take(&mut *SEEN.lock().unwrap_or_else(|e| e.into_inner()));
     let out: String = seen[WARM_UP..WARM_UP + n]
         .iter()
-        .map(|l| format!("{l}\n"))
+        .map(|(latency, hop)| format!("{latency} {hop}\n"))
         .collect();
     print!("{out}");
     drop(keep);
@@ -310,9 +326,9 @@ fn bare_writer(
     let mut next = Instant::now();
     let mut seq = 0u64;
     while !done()? {
-        while Instant::now() < next {
-            std::thread::sleep(Duration::from_micros(200));
-        }
+        // Sleeps to the next value as ferroc's periodic writer container does (it
+        // polled every 200 µs before: a writer process that never slept long).
+        std::thread::sleep(next.saturating_duration_since(Instant::now()));
         next += gap(size);
         seq += 1;
         let put = match &provider {
@@ -337,20 +353,24 @@ fn bare_writer(
 }
 
 /// One variant and size once: the reader as a child, the writer here until the child
-/// is done. The latencies in ns.
-fn once(variant: &str, size: usize, n: u64) -> Result<Vec<u64>, String> {
+/// is done. Per value: the latency and the part after the Zenoh callback (ns).
+fn once(variant: &str, size: usize, n: u64) -> Result<Vec<(u64, u64)>, String> {
     let (writer, reader) = (free_address()?, free_address()?);
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let mut child = Command::new(exe)
         .args([CHILD_ARG, variant, &writer, &reader, &n.to_string()])
+        .env(WAIT_VAR, reader_wait().as_str())
         .stdout(Stdio::piped())
         .spawn()
         .map_err(|e| format!("cannot start the reader: {e}"))?;
     let stdout = child.stdout.take().ok_or("no output of the reader")?;
     let reading = std::thread::spawn(move || {
         (BufReader::new(stdout).lines().map_while(Result::ok))
-            .filter_map(|l| l.trim().parse::<u64>().ok())
-            .collect::<Vec<u64>>()
+            .filter_map(|l| {
+                let (latency, hop) = l.trim().split_once(' ')?;
+                Some((latency.parse::<u64>().ok()?, hop.parse::<u64>().ok()?))
+            })
+            .collect::<Vec<(u64, u64)>>()
     });
     let deadline = Instant::now() + Duration::from_secs(300);
     let mut done = || -> Result<bool, String> {
@@ -390,16 +410,66 @@ fn once(variant: &str, size: usize, n: u64) -> Result<Vec<u64>, String> {
     Ok(samples)
 }
 
+/// What one run measures: the values per size and variant, the rounds, the sizes and
+/// the variants (`--sizes`, `--variants`: all by default).
+struct Plan {
+    messages: u64,
+    rounds: u64,
+    sizes: Vec<usize>,
+    variants: [bool; 5],
+}
+
+fn plan(args: &[String]) -> Result<Plan, String> {
+    let o = Options::parse(
+        "b4-large",
+        args,
+        &["messages", "rounds", "sizes", "variants", "reader-wait"],
+        &[],
+    )?;
+    let sizes = match o.text("sizes") {
+        None => SIZES.to_vec(),
+        Some(list) => (list.split(','))
+            .map(|s| match s.trim().parse::<usize>() {
+                Ok(n) if SIZES.contains(&n) => Ok(n),
+                _ => Err(format!("b4-large: --sizes {s}: one of {SIZES:?}")),
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    if let Some(w) = o.text("reader-wait") {
+        if WaitMode::parse(w).is_none() {
+            return Err(format!(
+                "b4-large: --reader-wait {w}: park, spin or adaptive"
+            ));
+        }
+        // Read back by `reader_wait` here and, through the environment, in the reader.
+        std::env::set_var(WAIT_VAR, w);
+    }
+    let mut variants = [o.text("variants").is_none(); 5];
+    for name in o.text("variants").unwrap_or_default().split(',') {
+        let name = name.trim();
+        match VARIANTS.iter().position(|v| *v == name) {
+            Some(i) => variants[i] = true,
+            None if name.is_empty() => {}
+            None => return Err(format!("b4-large: --variants {name}: one of {VARIANTS:?}")),
+        }
+    }
+    Ok(Plan {
+        messages: o.number("messages", DEFAULT_MESSAGES, 1, 1_000_000)?,
+        rounds: o.number("rounds", DEFAULT_ROUNDS, 1, 100)?,
+        sizes,
+        variants,
+    })
+}
+
 /// Runs B4 across parts with large values and prints its lines; the exit code.
 pub fn run(args: &[String]) -> u8 {
-    let parsed = Options::parse("b4-large", args, &["messages", "rounds"], &[]).and_then(|o| {
-        Ok((
-            o.number("messages", DEFAULT_MESSAGES, 1, 1_000_000)?,
-            o.number("rounds", DEFAULT_ROUNDS, 1, 100)?,
-        ))
-    });
-    let (messages, rounds) = match parsed {
-        Ok(v) => v,
+    let Plan {
+        messages,
+        rounds,
+        sizes,
+        variants,
+    } = match plan(args) {
+        Ok(p) => p,
         Err(e) => {
             eprintln!("{e}");
             return 2;
@@ -417,11 +487,14 @@ pub fn run(args: &[String]) -> u8 {
         load_note()
     );
     let mut result = Vec::new();
-    for size in SIZES {
-        let mut samples: [Vec<u64>; 5] = Default::default();
+    for size in sizes {
+        let mut samples: [Vec<(u64, u64)>; 5] = Default::default();
         for round in 0..rounds as usize {
             for k in 0..VARIANTS.len() {
                 let i = (round + k) % VARIANTS.len();
+                if !variants[i] {
+                    continue;
+                }
                 match once(VARIANTS[i], size, per_round) {
                     Ok(mut s) => samples[i].append(&mut s),
                     Err(e) => {
@@ -432,35 +505,53 @@ pub fn run(args: &[String]) -> u8 {
             }
         }
         let p50s = report(size, samples);
-        result.push(format!(
-            "s{size}_ferroc_shm_p50_us={:.1} s{size}_ferroc_copy_p50_us={:.1} \
-             s{size}_ferroc_net_p50_us={:.1} s{size}_zenoh_shm_p50_us={:.1} \
-             s{size}_zenoh_net_p50_us={:.1}",
-            p50s[0], p50s[1], p50s[2], p50s[3], p50s[4]
-        ));
+        let figures = (VARIANTS.iter().zip(p50s)).filter_map(|(v, p50)| {
+            let v = v.replace('-', "_");
+            p50.map(|p| format!("s{size}_{v}_p50_us={p:.1}"))
+        });
+        result.extend(figures);
     }
     println!("RESULT b4-large {}", result.join(" "));
     0
 }
 
-/// Prints one size's lines; the p50 of each variant (µs).
-fn report(size: usize, samples: [Vec<u64>; 5]) -> [f64; 5] {
-    let mut p50s = [0.0; 5];
+/// Prints one size's lines; the p50 of each variant measured (µs). For ferroc's
+/// variants also the split at the reader's Zenoh callback: the way there (latency
+/// minus `In::age`) and the hand-off to the reader's container after it.
+fn report(size: usize, samples: [Vec<(u64, u64)>; 5]) -> [Option<f64>; 5] {
+    let mut p50s = [None; 5];
     for (i, s) in samples.into_iter().enumerate() {
         let n = s.len();
-        let (p50, p99, max) = percentiles(s);
-        p50s[i] = p50;
+        if n == 0 {
+            continue;
+        }
+        let to_callback = s.iter().map(|(l, h)| l.saturating_sub(*h)).collect();
+        let hop = s.iter().map(|(_, h)| *h).collect();
+        let (p50, p99, max) = percentiles(s.into_iter().map(|(l, _)| l).collect());
+        p50s[i] = Some(p50);
         println!(
             "b4-large {size:>8} B  {:<10}  p50 {p50:9.1}  p99 {p99:9.1}  max {max:9.1} µs  n={n}",
             VARIANTS[i]
         );
+        if VARIANTS[i].starts_with("ferroc") {
+            let ((c50, c99, _), (h50, h99, _)) = (percentiles(to_callback), percentiles(hop));
+            println!(
+                "b4-large {size:>8} B  {:<10}  to callback p50 {c50:.1} p99 {c99:.1}, \
+                 callback → module p50 {h50:.1} p99 {h99:.1} µs",
+                VARIANTS[i]
+            );
+        }
     }
+    let ratio = |a: usize, b: usize| match (p50s[a], p50s[b]) {
+        (Some(a), Some(b)) => format!("{:.2}", a / b),
+        _ => "-".into(),
+    };
     println!(
-        "b4-large {size:>8} B  ferroc-shm / zenoh-shm p50 {:.2}, ferroc-copy / ferroc-shm p50 \
-         {:.2}, ferroc-net / ferroc-shm p50 {:.2}",
-        p50s[0] / p50s[3],
-        p50s[1] / p50s[0],
-        p50s[2] / p50s[0]
+        "b4-large {size:>8} B  ferroc-shm / zenoh-shm p50 {}, ferroc-copy / ferroc-shm p50 \
+         {}, ferroc-net / ferroc-shm p50 {}",
+        ratio(0, 3),
+        ratio(1, 0),
+        ratio(2, 0)
     );
     p50s
 }

@@ -76,6 +76,10 @@ IDs:
         the same run (reader in a child process), p50/p99/max, rounds alternate
           --messages N    recorded values per size and variant (default 300)
           --rounds R      rounds the values are split into (default 2)
+          --sizes LIST    only these sizes (bytes, comma-separated: 64,65536,...)
+          --variants LIST only these variants (ferroc-shm,ferroc-copy,ferroc-net,
+                          zenoh-shm,zenoh-net)
+          --reader-wait W the reader's container waits: park (default), spin, adaptive
   b5    bundle: `ferroc bundle models/control_loop.xml` (the B2 ring) built as a
         release program, against `ferroc run` of the same model; running time
         from their summaries, rounds alternate

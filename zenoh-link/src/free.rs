@@ -36,8 +36,10 @@ use zenoh::{Session, Wait};
 
 mod pieces;
 mod qos;
+mod routes;
 use pieces::{deliver_pieces, joined, LENT_MARK};
 pub use qos::Qos;
+use routes::Routes;
 
 /// How long a call waits for its answer on the network before it fails (a client's
 /// own timeout, when shorter, ends the call first).
@@ -57,6 +59,8 @@ pub(crate) struct Free {
     /// Queries waiting for the service's answer, by call and request number.
     waiting: Arc<Mutex<HashMap<(u32, u64), Query>>>,
     _subscribers: Vec<Subscriber<()>>,
+    /// The keys values arrived on, declared for their routes ([`routes`]).
+    routes: Arc<Routes>,
     _queryables: Vec<Queryable<()>>,
     watch: Watch,
     /// Per part linked to this one: how its link is named in reports (`link robot →
@@ -79,7 +83,8 @@ pub(crate) fn open(
         pool.attach(session); // who may hold what it sends (shm/reclaim.rs)
     }
     let data = publishers(session, keys, part, links)?;
-    let subscribers = subscribers(session, keys, links, &delivery, &shm)?;
+    let routes = Routes::new(session);
+    let subscribers = subscribers(session, keys, links, (&delivery, &shm, &routes))?;
     let waiting: Arc<Mutex<HashMap<(u32, u64), Query>>> = Arc::default();
     let queryables = queryables(session, keys, part, links, &delivery, &waiting)?;
     let mut calls_out = BTreeMap::new();
@@ -96,6 +101,7 @@ pub(crate) fn open(
         calls_out,
         waiting,
         _subscribers: subscribers,
+        routes,
         _queryables: queryables,
         watch,
         linked: linked_names(part, links),
@@ -155,13 +161,12 @@ fn publishers(
 }
 
 /// A subscriber per part this one receives from, handing the samples of this part's
-/// links to `delivery`.
+/// links to `delivery` (and their keys to `routes`).
 fn subscribers(
     session: &Session,
     keys: &Keys,
     links: &PartLinks,
-    delivery: &Delivery,
-    shm: &Shm,
+    (delivery, shm, routes): (&Delivery, &Shm, &Arc<Routes>),
 ) -> Result<Vec<Subscriber<()>>, String> {
     let mut subscribers = Vec::new();
     let mut from: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
@@ -172,6 +177,7 @@ fn subscribers(
         let (delivery, writer_part) = (delivery.clone(), writer.to_owned());
         let received_shared = Arc::clone(&shm.received);
         let shm_on = shm.enabled;
+        let routes = Arc::clone(routes);
         let subscriber = session
             .declare_subscriber(keys.data_of(writer)?)
             .callback(move |sample| {
@@ -198,6 +204,7 @@ fn subscribers(
                         deliver(&delivery, &received_shared, link, payload);
                     }
                 }
+                routes.arrived(sample.key_expr());
             })
             .wait()
             .map_err(|e| {
@@ -556,6 +563,7 @@ impl Connection for Free {
         if let Some(pool) = &self.pool {
             pool.detach();
         }
+        self.routes.close();
         lock(&self.waiting).clear();
         let _ = self.session.close().wait();
     }

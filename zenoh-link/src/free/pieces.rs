@@ -38,12 +38,57 @@ pub(super) fn joined(pool: Option<&Pool>, pieces: Vec<Piece>) -> ZBytes {
 
 /// One buffer of a value that arrived in several (a writer's lent buffer and the bytes
 /// around it): the message, which keeps them all, and which one.
+#[cfg(not(feature = "shared-memory"))]
 struct Part(ZBytes, usize);
 
+#[cfg(not(feature = "shared-memory"))]
 impl AsRef<[u8]> for Part {
     fn as_ref(&self) -> &[u8] {
         self.0.slices().nth(self.1).unwrap_or_default()
     }
+}
+
+/// A slice of a received message kept as it is (a lent buffer in shared memory, read
+/// in place).
+#[cfg(feature = "shared-memory")]
+struct Kept(zenoh::internal::buffers::ZSlice);
+
+#[cfg(feature = "shared-memory")]
+impl AsRef<[u8]> for Kept {
+    fn as_ref(&self) -> &[u8] {
+        self.0.as_slice()
+    }
+}
+
+/// Slices shorter than this are copied out of the message rather than kept.
+#[cfg(feature = "shared-memory")]
+const KEEP: usize = 4096;
+
+/// The buffers of a value sent in pieces, each as a holder the value may keep. With
+/// shared memory: the large slices (a lent pool buffer) as they are, the small ones
+/// (the encoded bytes around it) copied. Those small ones lie in Zenoh's receive
+/// buffer, of which a link has one to reuse (`transport/link/rx/buffer_size` over the
+/// batch size): a value that kept it while its reader holds the value would make Zenoh
+/// allocate and zero a new 64 KB buffer for every message (b4-large's reader did).
+fn holders(payload: &ZBytes) -> Vec<Arc<dyn Holder>> {
+    #[cfg(feature = "shared-memory")]
+    {
+        let message = zenoh::internal::buffers::ZBuf::from(payload.clone());
+        message
+            .zslices()
+            .map(|slice| {
+                if slice.len() >= KEEP {
+                    Arc::new(Kept(slice.clone())) as Arc<dyn Holder>
+                } else {
+                    Arc::new(slice.as_slice().to_vec()) as Arc<dyn Holder>
+                }
+            })
+            .collect()
+    }
+    #[cfg(not(feature = "shared-memory"))]
+    (0..payload.slices().count())
+        .map(|i| Arc::new(Part(payload.clone(), i)) as Arc<dyn Holder>)
+        .collect()
 }
 
 /// Hands the value `payload` of the link `link`, sent in pieces around a lent buffer,
@@ -59,8 +104,55 @@ pub(super) fn deliver_pieces(
     if let Some(count) = received_shared {
         count.fetch_add(1, Ordering::Relaxed);
     }
-    let parts: Vec<Arc<dyn Holder>> = (0..payload.slices().count())
-        .map(|i| Arc::new(Part(payload.clone(), i)) as Arc<dyn Holder>)
-        .collect();
-    delivery.deliver_parts(link, &parts);
+    delivery.deliver_parts(link, &holders(payload));
+}
+
+#[cfg(all(test, feature = "shared-memory"))]
+mod tests {
+    use super::*;
+
+    /// A message as a writer sends a lent value: encoded bytes, a large buffer, more
+    /// encoded bytes, each its own slice.
+    fn message(large: &ZBytes) -> ZBytes {
+        let mut message = ZBytes::writer();
+        message.append(ZBytes::from(vec![1u8, 2, 3]));
+        message.append(large.clone());
+        message.append(ZBytes::from(vec![4u8]));
+        message.finish()
+    }
+
+    #[test]
+    fn a_value_in_pieces_keeps_its_large_slice_and_copies_the_bytes_around_it() {
+        let large = ZBytes::from(vec![7u8; KEEP]);
+        let at = large.slices().next().map(<[u8]>::as_ptr);
+        let message = message(&large);
+        let holders = holders(&message);
+        let parts: Vec<&[u8]> = holders.iter().map(|h| (**h).as_ref()).collect();
+        assert_eq!(parts.len(), 3);
+        assert_eq!(parts[0], [1, 2, 3]);
+        assert_eq!(parts[2], [4]);
+        // The large slice is read where it arrived, not copied.
+        assert_eq!(Some(parts[1].as_ptr()), at);
+        assert_eq!(parts[1], vec![7u8; KEEP]);
+        // The small ones are copies: holding the value holds no byte of the message
+        // around them (in a received message, Zenoh's receive buffer).
+        let small = message.slices().next().map(<[u8]>::as_ptr);
+        assert_ne!(Some(parts[0].as_ptr()), small);
+    }
+
+    #[test]
+    fn a_value_in_small_pieces_is_copied_whole() {
+        let message = message(&ZBytes::from(vec![9u8; KEEP - 1]));
+        let originals: Vec<*const u8> = message.slices().map(<[u8]>::as_ptr).collect();
+        let holders = holders(&message);
+        let joined: Vec<u8> = holders
+            .iter()
+            .flat_map(|h| (**h).as_ref())
+            .copied()
+            .collect();
+        assert_eq!(joined, message.to_bytes().as_ref());
+        for (holder, original) in holders.iter().zip(originals) {
+            assert_ne!((**holder).as_ref().as_ptr(), original);
+        }
+    }
 }
