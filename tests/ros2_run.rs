@@ -12,7 +12,8 @@
 //! stays off. Without a Python that has `zenoh` and `rosbags` the test skips visibly.
 
 mod common;
-/// The demo with /scan, /odom and /goal_pose, beside zenoh-ros2-sdk (`ros2_run/demo.rs`).
+/// The demo with /scan, /odom and /goal_pose, beside zenoh-ros2-sdk.
+#[path = "ros2_run/demo.rs"]
 mod demo;
 
 use common::{build_bundle, bundle_ok, ferroc, tempdir, test_log_dir};

@@ -8,13 +8,17 @@ use super::*;
 
 const DEMO: &str = "models/ros2_demo.xml";
 
-/// The recorded values of a channel, each with its JSON form.
+/// The recorded values of a channel, in order. `ferroc log cat` prints each as its
+/// JSON text escaped (`\"`): read as the body of a JSON string first.
 fn recorded_json(file: &Path, channel: &str) -> Vec<serde_json::Value> {
     let (code, out, err) = ferroc(&["log", "cat", file.to_str().unwrap(), "--channel", channel]);
     assert_eq!(code, 0, "{err}");
-    (out.lines())
-        .map(|l| serde_json::from_str(l.split_once(' ').unwrap().1).unwrap())
-        .collect()
+    let value = |line: &str| {
+        let escaped = line.split_once(' ').unwrap().1;
+        let text: String = serde_json::from_str(&format!("\"{escaped}\"")).unwrap();
+        serde_json::from_str(&text).unwrap()
+    };
+    out.lines().map(value).collect()
 }
 
 /// A ROS 2 header stamp (`sec`, `nanosec`) as ferroc's `Timestamp::nanos`.

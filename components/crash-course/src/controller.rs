@@ -166,16 +166,12 @@ impl Controller {
         };
         let at = self.at;
         let steer = |heading: f64| (TURN_GAIN * plan::wrap(heading - at.yaw)).clamp(-max_w, max_w);
-        if let (Some((x, y)), Phase::Scan { .. }) = (self.goal, &self.phase) {
-            let (dx, dy) = (x - at.x, y - at.y);
-            let distance = dx.hypot(dy);
-            if distance < GOAL_TOLERANCE {
-                return (0.0, 0.0);
+        if let (Some(goal), Phase::Scan { .. }) = (self.goal, &self.phase) {
+            match plan::toward(goal, (at.x, at.y), GOAL_TOLERANCE, MAX_DRIVE) {
+                Some(drive) => self.phase = Phase::Turn(drive),
+                // There: stand.
+                None => return (0.0, 0.0),
             }
-            self.phase = Phase::Turn(plan::Drive {
-                heading: dy.atan2(dx),
-                distance: distance.min(MAX_DRIVE),
-            });
         }
         match &mut self.phase {
             Phase::Scan { turned, readings } => {

@@ -219,6 +219,57 @@ mod tests {
         assert_eq!(Quaternion::default().w, 1.0);
     }
 
+    /// `value` as the CDR of `message` and back, as a ROS 2 end writes and reads it.
+    fn through_cdr<T>(message: &str, value: &T) -> T
+    where
+        T: serde::Serialize + serde::de::DeserializeOwned,
+    {
+        use ferroc_ros2::def::TypeName;
+        use ferroc_ros2::serde_cdr::{self, Shape};
+        let reg = ferroc_ros2::Registry::shipped();
+        let shape = Shape::new(&reg, &TypeName::parse(message).unwrap(), None).unwrap();
+        let bytes = serde_cdr::encode(&shape, value).unwrap_or_else(|e| panic!("{message}: {e}"));
+        serde_cdr::from_cdr(&shape, &bytes).unwrap_or_else(|e| panic!("{message}: {e}"))
+    }
+
+    #[test]
+    fn the_demo_s_messages_cross_as_their_ros2_messages_cdr() {
+        let header = Header {
+            stamp: Timestamp {
+                nanos: 1_700_000_000_123_456_789,
+            },
+            frame_id: "base_link".into(),
+        };
+        let scan = LaserScan {
+            header: header.clone(),
+            angle_min: -3.1,
+            angle_max: 3.1,
+            angle_increment: 0.0175,
+            scan_time: 0.04,
+            range_min: 0.05,
+            range_max: 12.0,
+            ranges: vec![1.0, 2.5, f32::INFINITY],
+            ..LaserScan::default()
+        };
+        assert_eq!(through_cdr("sensor_msgs/msg/LaserScan", &scan), scan);
+        let mut odom = Odometry {
+            header: header.clone(),
+            child_frame_id: "base_link".into(),
+            ..Odometry::default()
+        };
+        odom.pose.pose.position.x = 1.5;
+        odom.pose.pose.orientation = Quaternion::from_yaw(0.7);
+        odom.pose.covariance[7] = 0.25;
+        odom.twist.twist.angular.z = -0.5;
+        odom.twist.covariance[35] = 0.125;
+        assert_eq!(through_cdr("nav_msgs/msg/Odometry", &odom), odom);
+        let goal = PoseStamped {
+            header,
+            pose: Pose::default(),
+        };
+        assert_eq!(through_cdr("geometry_msgs/msg/PoseStamped", &goal), goal);
+    }
+
     #[test]
     fn odometry_s_serde_form_has_the_message_s_field_names_and_36_covariances() {
         let mut odom = Odometry {
