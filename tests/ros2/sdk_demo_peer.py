@@ -9,15 +9,17 @@ definitions come from INTERFACES (the `.msg` files ferroc ships, laid out as
 PACKAGE/msg/NAME.msg), given explicitly: the SDK cannot download them here.
 
 1. Lists the topics with their types as `ros2 topic list -t` does, and subscribes to
-   `/cmd_vel` (geometry_msgs/msg/Twist), `/scan` (sensor_msgs/msg/LaserScan) and `/odom`
-   (nav_msgs/msg/Odometry).
+   `/cmd_vel` (geometry_msgs/msg/Twist), `/scan` (sensor_msgs/msg/LaserScan), `/odom`
+   (nav_msgs/msg/Odometry) and `/tf` (tf2_msgs/msg/TFMessage: the model's own
+   definition, models/interfaces/tf2_msgs, but the key's hash from rosbags' built-in
+   ROS 2 Jazzy tf2_msgs, so a sample arrives only if ferroc's hash is Jazzy's).
 2. Once the robot moved, publishes `/enable` `data: false` every 100 ms until ten
    commands came more than 0.5 s later (the robot must stand), then `data: true`.
 3. Then publishes a `/goal_pose` (geometry_msgs/msg/PoseStamped, frame `odom`) 1.2 m
    from where `/odom` last put the robot, towards the arena's middle, three times
    0.5 s apart, and waits until `/odom` is within 0.15 m of it, or SECONDS pass.
 
-Prints one JSON object: topics; twists (each with `disabled`: received between 0.5 s
+Prints one JSON object: topics; tfs (each message's transforms); twists (each with `disabled`: received between 0.5 s
 after the first `false` and the first `true`); scans (every field but the ranges, whose
 values only the first 40 scans keep in full: `ranges`, and every scan as `count`, `min`,
 `max`); odoms; the goal, when it was sent (`goal_after`: the number of odometry
@@ -27,9 +29,12 @@ messages received before it) and whether the robot reached it.
 import json
 import logging
 import math
+import os
 import sys
 import threading
 import time
+
+from rosbags.typesys import Stores, get_typestore
 
 port, interfaces, seconds = int(sys.argv[1]), sys.argv[2], float(sys.argv[3])
 
@@ -39,7 +44,11 @@ logging.getLogger('zenoh_ros2_sdk').setLevel(logging.ERROR)
 # The definitions ferroc ships, before any entity asks for one.
 sdk.get_registry(interfaces)
 where = {'router_ip': '127.0.0.1', 'router_port': port}
-TOPICS = {'/cmd_vel', '/scan', '/odom', '/goal_pose', '/enable'}
+TOPICS = {'/cmd_vel', '/scan', '/odom', '/tf', '/goal_pose', '/enable'}
+TF = 'tf2_msgs/msg/TFMessage'
+TF_MSG = os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                      '../../models/interfaces/tf2_msgs/msg/TFMessage.msg')
+TF_HASH = get_typestore(Stores.ROS2_JAZZY).hash_rihs01(TF)
 
 deadline = time.time() + seconds
 topics = []
@@ -50,7 +59,7 @@ while time.time() < deadline:
     time.sleep(0.2)
 
 lock = threading.Lock()
-twists, scans, odoms = [], [], []
+twists, scans, odoms, tfs = [], [], [], []
 window = {'disabled_at': None, 'enabled_at': None}
 
 
@@ -100,6 +109,17 @@ def on_odom(msg):
         })
 
 
+def on_tf(msg):
+    with lock:
+        tfs.append([{
+            'stamp': stamp(t.header), 'frame_id': t.header.frame_id, 'child_frame_id': t.child_frame_id,
+            'translation': [t.transform.translation.x, t.transform.translation.y,
+                            t.transform.translation.z],
+            'rotation': [t.transform.rotation.x, t.transform.rotation.y,
+                         t.transform.rotation.z, t.transform.rotation.w],
+        } for t in msg.transforms])
+
+
 def moving(s):
     return any(v != 0.0 for v in s['linear'] + s['angular'])
 
@@ -112,6 +132,11 @@ subscribers = [
     sdk.ROS2Subscriber(topic='/odom', msg_type='nav_msgs/msg/Odometry',
                        callback=on_odom, **where),
 ]
+# The SDK reads a definition given as text without its nested types: load them first.
+sdk.get_message_class('geometry_msgs/msg/TransformStamped')
+with open(TF_MSG) as f:
+    subscribers.append(sdk.ROS2Subscriber(topic='/tf', msg_type=TF, msg_definition=f.read(),
+                                          type_hash=TF_HASH, callback=on_tf, **where))
 enable = sdk.ROS2Publisher(topic='/enable', msg_type='std_msgs/msg/Bool', **where)
 goal_pose = sdk.ROS2Publisher(topic='/goal_pose', msg_type='geometry_msgs/msg/PoseStamped',
                               **where)
@@ -168,7 +193,8 @@ while goal is not None and time.time() < deadline:
 
 with lock:
     print(json.dumps({'topics': [[name, types] for name, types in topics],
-                      'samples': twists, 'scans': scans, 'odoms': odoms,
+                      'samples': twists, 'scans': scans, 'odoms': odoms, 'tfs': tfs,
+                      'tf_hash': TF_HASH,
                       'goal': goal, 'goal_after': goal_after, 'goal_sent': sent,
                       'reached': reached}))
 sys.stdout.flush()

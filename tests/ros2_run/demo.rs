@@ -1,8 +1,10 @@
 //! The ROS 2 demo (`models/ros2_demo.xml`, docs/ros2.md "The demo") beside a ROS 2 node
 //! of `zenoh-ros2-sdk` (`tests/ros2/sdk_demo_peer.py`; its CDR is `rosbags`'): its topic
-//! listing shows the five topics with their types, its subscribers receive /cmd_vel,
-//! /scan and /odom with the values the run recorded (matched by their header stamps),
-//! its /enable stops the robot and its /goal_pose sends it to the goal.
+//! listing shows the six topics with their types, its subscribers receive /cmd_vel,
+//! /scan and /odom with the values the run recorded (matched by their header stamps)
+//! and /tf (on the key of rosbags' own hash of ROS 2 Jazzy's tf2_msgs/msg/TFMessage, of
+//! which the model brings the definition), its /enable stops the robot and its
+//! /goal_pose sends it to the goal.
 
 use super::*;
 
@@ -53,6 +55,7 @@ fn zenoh_ros2_sdk_sees_the_demo_s_topics_receives_scan_and_odom_and_sets_a_goal(
         ("/cmd_vel", "geometry_msgs/msg/Twist"),
         ("/scan", "sensor_msgs/msg/LaserScan"),
         ("/odom", "nav_msgs/msg/Odometry"),
+        ("/tf", "tf2_msgs/msg/TFMessage"),
         ("/goal_pose", "geometry_msgs/msg/PoseStamped"),
         ("/enable", "std_msgs/msg/Bool"),
     ] {
@@ -65,6 +68,7 @@ fn zenoh_ros2_sdk_sees_the_demo_s_topics_receives_scan_and_odom_and_sets_a_goal(
     check_enable(twists, &text);
     check_scans(&report, &record, &text);
     check_odoms(&report, &record, &text);
+    check_tf(&report, &text);
     check_goal(&report, &record, &text);
 }
 
@@ -176,4 +180,26 @@ fn check_goal(report: &serde_json::Value, record: &Path, text: &str) {
         .iter()
         .any(|p| away(&serde_json::json!([p["x"], p["y"]])) < 0.15);
     assert!(near, "the recorded pose never came near the goal {goal:?}");
+}
+
+/// Every /tf message: the one transform odom → base_link, at the pose the odometry of
+/// the same stamp gives (the SDK's subscription is on the key of rosbags' Jazzy hash).
+fn check_tf(report: &serde_json::Value, text: &str) {
+    let tfs = report["tfs"].as_array().unwrap();
+    assert!(tfs.len() >= 10, "too few /tf messages: {text}");
+    let odoms = report["odoms"].as_array().unwrap();
+    let mut compared = 0;
+    for tf in tfs {
+        let [t] = &tf.as_array().unwrap()[..] else {
+            panic!("one transform: {tf}");
+        };
+        assert_eq!(t["frame_id"], "odom", "{t}");
+        assert_eq!(t["child_frame_id"], "base_link", "{t}");
+        if let Some(o) = odoms.iter().find(|o| o["stamp"] == t["stamp"]) {
+            assert_eq!(t["translation"], o["position"], "{t} {o}");
+            assert_eq!(t["rotation"], o["orientation"], "{t} {o}");
+            compared += 1;
+        }
+    }
+    assert!(compared >= 10, "{text}");
 }

@@ -24,7 +24,7 @@ pub use enable::{Ack, EnableAsk, EnableSwitch};
 pub use noise::AddNoise;
 pub use ros::{
     Header, LaserScan, Odometry, Point, Pose, PoseStamped, PoseWithCovariance, Quaternion,
-    TwistWithCovariance,
+    TfMessage, Transform, TransformStamped, TwistWithCovariance,
 };
 pub use sensors::{LaserScanner, OdometryOut};
 pub use simulation::MainSimulation;
@@ -77,6 +77,9 @@ pub fn register(registry: &mut Registry) {
         .register_serde::<PoseWithCovariance>()
         .register_serde::<TwistWithCovariance>()
         .register_serde::<Odometry>()
+        .register_serde::<Transform>()
+        .register_serde::<TransformStamped>()
+        .register_serde::<TfMessage>()
         // `EnableSwitch` answers a ROS 2 service and `EnableAsk` calls one: their calls
         // cross as JSON.
         .register_call::<bool, Ack>();

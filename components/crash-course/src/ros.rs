@@ -142,7 +142,35 @@ pub struct Odometry {
     pub twist: TwistWithCovariance,
 }
 
+/// `geometry_msgs/msg/Transform`: where a child frame is in its parent (m).
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, bytemuck::NoUninit, serde::Serialize, serde::Deserialize,
+)]
+#[repr(C)]
+pub struct Transform {
+    pub translation: crate::Vector3,
+    pub rotation: Quaternion,
+}
+
+/// `geometry_msgs/msg/TransformStamped`: `child_frame_id` in `header.frame_id`.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TransformStamped {
+    pub header: Header,
+    pub child_frame_id: String,
+    pub transform: Transform,
+}
+
+/// `tf2_msgs/msg/TFMessage`, what `/tf` carries (the model brings its definition:
+/// models/interfaces/tf2_msgs).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TfMessage {
+    pub transforms: Vec<TransformStamped>,
+}
+
 ferroc_runtime::port_value!(Header, "crash_course.Header", pooled);
+ferroc_runtime::port_value!(Transform, "crash_course.Transform", copy);
+ferroc_runtime::port_value!(TransformStamped, "crash_course.TransformStamped", pooled);
+ferroc_runtime::port_value!(TfMessage, "crash_course.TFMessage", pooled);
 ferroc_runtime::port_value!(LaserScan, "crash_course.LaserScan", pooled);
 ferroc_runtime::port_value!(Point, "crash_course.Point", copy);
 ferroc_runtime::port_value!(Quaternion, "crash_course.Quaternion", copy);

@@ -4,7 +4,7 @@
 //! pose and the commanded velocities as odometry (`/odom`). Both stamp their messages
 //! with `Timestamp::now()`: model time in a lockstep run.
 
-use crate::ros::{Header, LaserScan, Odometry, Pose, Quaternion};
+use crate::ros::{Header, LaserScan, Odometry, Pose, Quaternion, TfMessage, TransformStamped};
 use crate::simulation::ray_to_walls;
 use crate::{Point, Pose2D};
 use ferroc_runtime::module::{In, Module, ModuleType, Out, Parameter, Setup, Timestamp};
@@ -102,17 +102,20 @@ impl Module for LaserScanner {
 }
 
 /// The robot's pose in `odom` and its commanded velocities in `base_link`, as
-/// `nav_msgs/msg/Odometry` (covariances zero: unknown).
+/// `nav_msgs/msg/Odometry` (covariances zero: unknown), and the same pose as the
+/// transform `odom` → `base_link` (`tf2_msgs/msg/TFMessage`, for `/tf`).
 pub struct OdometryOut {
     pose: In<Pose2D>,
     velocity: In<f64>,
     angular_velocity: In<f64>,
     odom: Out<Odometry>,
+    tf: Out<TfMessage>,
 }
 
 impl ModuleType for OdometryOut {
     const NAME: &'static str = "crash_course.OdometryOut";
-    const DOC: &'static str = "The pose and velocities as odometry (odom → base_link)";
+    const DOC: &'static str =
+        "The pose and velocities as odometry and as the transform odom → base_link";
 
     fn create(m: &mut Setup<'_>) -> Self {
         OdometryOut {
@@ -120,6 +123,7 @@ impl ModuleType for OdometryOut {
             velocity: m.input("velocity").unit("m/s").build(),
             angular_velocity: m.input("angular_velocity").unit("rad/s").build(),
             odom: m.output("odom").build(),
+            tf: m.output("tf").doc("odom → base_link").build(),
         }
     }
 }
@@ -154,6 +158,19 @@ impl Module for OdometryOut {
             odom.twist.twist.linear.x = v;
             odom.twist.twist.angular.z = w;
             odom.twist.covariance = [0.0; 36];
+        });
+        self.tf.publish_with(|tf| {
+            tf.transforms.resize_with(1, TransformStamped::default);
+            let t = &mut tf.transforms[0];
+            t.header.stamp = stamp;
+            t.header.frame_id.clear();
+            t.header.frame_id.push_str(ODOM_FRAME);
+            t.child_frame_id.clear();
+            t.child_frame_id.push_str(BASE_FRAME);
+            t.transform.translation.x = pose.position.x;
+            t.transform.translation.y = pose.position.y;
+            t.transform.translation.z = 0.0;
+            t.transform.rotation = pose.orientation;
         });
     }
 }
