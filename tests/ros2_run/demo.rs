@@ -34,6 +34,57 @@ fn f32_of(v: &serde_json::Value) -> f32 {
     v.as_f64().unwrap() as f32
 }
 
+/// `ferroc check` of the demo, in `models/`, with the model from standard input when
+/// `text` is given: (exit code, findings in short form).
+fn check_demo(text: Option<&str>) -> (Option<i32>, String) {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ferroc"))
+        .args(["check", if text.is_some() { "-" } else { "ros2_demo.xml" }])
+        .args(["--format", "short"])
+        .current_dir(root().join("models"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    stdin.write_all(text.unwrap_or("").as_bytes()).unwrap();
+    drop(stdin);
+    let out = child.wait_with_output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout) + String::from_utf8_lossy(&out.stderr);
+    (out.status.code(), text.into_owned())
+}
+
+/// The demo checks with notes only (no finding of area R), and the same model with /tf
+/// declared as the wrong message and rviz2 publishing another topic than /goal_pose has
+/// both found before anything runs.
+#[test]
+fn the_demo_checks_clean_and_a_wrong_message_or_a_missing_publisher_is_found() {
+    let (code, out) = check_demo(None);
+    assert_eq!(code, Some(0), "{out}");
+    assert!(!out.contains("error") && !out.contains("warning"), "{out}");
+    assert!(!out.contains("[R1"), "{out}");
+    let model = std::fs::read_to_string(root().join(DEMO)).unwrap();
+    let tf = r#"topic="/tf" type="tf2_msgs/msg/TFMessage""#;
+    let goal = r#"<publish topic="/goal_pose""#;
+    assert!(model.contains(tf) && model.contains(goal));
+    let broken = (model.replace(
+        tf,
+        r#"topic="/tf" type="geometry_msgs/msg/TransformStamped""#,
+    ))
+    .replace(goal, r#"<publish topic="/goal""#);
+    let (code, out) = check_demo(Some(&broken));
+    assert_eq!(code, Some(1), "{out}");
+    assert!(
+        out.contains("error[R102]: port `tf` (`crash_course.TFMessage`)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("warning[R107]: nothing publishes `/goal_pose`"),
+        "{out}"
+    );
+}
+
 #[test]
 fn zenoh_ros2_sdk_sees_the_demo_s_topics_receives_scan_and_odom_and_sets_a_goal() {
     let Some(python) = ferroc_testkit::python(&["zenoh_ros2_sdk"]) else {
