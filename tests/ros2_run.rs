@@ -12,6 +12,9 @@
 //! stays off. Without a Python that has `zenoh` and `rosbags` the test skips visibly.
 
 mod common;
+/// The demo with /scan, /odom and /goal_pose, beside zenoh-ros2-sdk.
+#[path = "ros2_run/demo.rs"]
+mod demo;
 
 use common::{build_bundle, bundle_ok, ferroc, tempdir, test_log_dir};
 use std::path::{Path, PathBuf};
@@ -279,35 +282,6 @@ fn beside_run_peer(python: &Path, dir: &Path, record: &Path, run: impl FnOnce(&P
             "/ir_front {data} was never recorded: {s}"
         );
     }
-}
-
-#[test]
-fn zenoh_ros2_sdk_lists_our_topics_receives_cmd_vel_and_stops_the_robot() {
-    let Some(python) = ferroc_testkit::python(&["zenoh_ros2_sdk"]) else {
-        return;
-    };
-    let dir = tempdir("ros2_sdk");
-    build_runner(&dir);
-    // The run listens; the SDK's node connects to it as to its router.
-    let port = free_port();
-    let config = listening_config(&dir, port);
-    let peer = sdk_peer(&python, port, "sdk_peer.py");
-    let record = dir.join("run.mcap");
-    let (report, text) = run_beside(peer, run_for_30s(&config, &record));
-
-    let topics = report["topics"].as_array().unwrap();
-    for (topic, ty) in [
-        ("/cmd_vel", "geometry_msgs/msg/Twist"),
-        ("/enable", "std_msgs/msg/Bool"),
-        ("/ir_front", "std_msgs/msg/Float64"),
-    ] {
-        let listed = serde_json::json!([topic, [ty]]);
-        assert!(topics.contains(&listed), "{listed} not in {text}");
-    }
-    let samples = report["samples"].as_array().unwrap();
-    assert!(samples.len() >= 10, "{text}");
-    check_values(samples, &record);
-    check_enable(samples, &text);
 }
 
 /// A module's service offered as a ROS 2 service (`tests/ros2/switch.xml`): the SDK

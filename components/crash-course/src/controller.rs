@@ -5,8 +5,15 @@
 //! `plan.rs`), drive straight that far (`Drive`), stopping early when the front ray
 //! unexpectedly sees something close. It never moves sideways into a wall it has not
 //! seen, and one noisy reading cannot send it into one.
+//!
+//! Given a goal (`goal`, a `geometry_msgs/msg/PoseStamped` in the arena's frame `odom`,
+//! e.g. from rviz2's "2D Goal Pose" as `/goal_pose`), it turns to the goal's x/y and
+//! drives there instead, at most `MAX_DRIVE` at a time, and stands at it until the next
+//! goal; the goal's orientation is not used. A drive the front ray finds blocked drops
+//! the goal, and the robot looks around as before.
 
 use crate::plan::{self, Reading};
+use crate::ros::PoseStamped;
 use crate::Pose2D;
 use ferroc_runtime::module::{In, Kind, Module, ModuleType, Out, Parameter, Setup};
 
@@ -21,6 +28,8 @@ const DRIVE_GAIN: f64 = 2.0;
 /// A heading this close (radians) is reached; a drive this close (metres) is done.
 const HEADING_TOLERANCE: f64 = 0.01;
 const DISTANCE_TOLERANCE: f64 = 0.01;
+/// A goal this close (metres) is reached.
+const GOAL_TOLERANCE: f64 = 0.1;
 
 /// What the controller is doing.
 #[derive(Clone, Debug)]
@@ -43,6 +52,7 @@ pub struct Controller {
     ir_rear: In<f64>,
     obstacle_distance: Out<f64>,
     enable: In<bool>,
+    goal_in: In<PoseStamped>,
     velocity: Out<f64>,
     angular_velocity: Out<f64>,
     safety_distance: Parameter<f64>,
@@ -58,6 +68,8 @@ pub struct Controller {
     phase: Phase,
     /// `enable` counts only once something was published to it; unconnected, drive.
     enable_seen: bool,
+    /// Where to drive to (x, y in the arena's frame), once a goal came.
+    goal: Option<(f64, f64)>,
 }
 
 impl ModuleType for Controller {
@@ -86,6 +98,10 @@ impl ModuleType for Controller {
             enable: m
                 .controller_input("enable")
                 .doc("drive only while true (default true)")
+                .build(),
+            goal_in: m
+                .controller_input("goal")
+                .doc("drive to its x/y (in odom) and stand there")
                 .build(),
             velocity: m.controller_output("velocity").unit("m/s").build(),
             angular_velocity: m
@@ -123,6 +139,7 @@ impl ModuleType for Controller {
             recent_front: [f64::INFINITY; 3],
             phase: Phase::scan(),
             enable_seen: false,
+            goal: None,
         }
     }
 }
@@ -149,6 +166,13 @@ impl Controller {
         };
         let at = self.at;
         let steer = |heading: f64| (TURN_GAIN * plan::wrap(heading - at.yaw)).clamp(-max_w, max_w);
+        if let (Some(goal), Phase::Scan { .. }) = (self.goal, &self.phase) {
+            match plan::toward(goal, (at.x, at.y), GOAL_TOLERANCE, MAX_DRIVE) {
+                Some(drive) => self.phase = Phase::Turn(drive),
+                // There: stand.
+                None => return (0.0, 0.0),
+            }
+        }
         match &mut self.phase {
             Phase::Scan { turned, readings } => {
                 readings.push(Reading {
@@ -186,8 +210,13 @@ impl Controller {
                 let left = drive.distance - travelled;
                 let mut recent = self.recent_front;
                 recent.sort_by(f64::total_cmp);
-                // The corridor was free: something close ahead now is unexpected.
-                if left < DISTANCE_TOLERANCE || recent[1] < safety / 2.0 {
+                // The corridor was free: something close ahead now is unexpected (and
+                // the way to a goal blocked).
+                let blocked = recent[1] < safety / 2.0;
+                if blocked {
+                    self.goal = None;
+                }
+                if left < DISTANCE_TOLERANCE || blocked {
                     self.phase = Phase::scan();
                     return self.step();
                 }
@@ -208,6 +237,12 @@ impl Module for Controller {
 
     fn control(&mut self) {
         self.enable_seen |= self.enable.changed();
+        if self.goal_in.changed() {
+            let goal = self.goal_in.get();
+            self.goal = Some((goal.pose.position.x, goal.pose.position.y));
+            // Head for it now, from wherever the robot is.
+            self.phase = Phase::scan();
+        }
         let enabled = !self.enable_seen || *self.enable.get();
         let (v, w) = if enabled {
             self.step()

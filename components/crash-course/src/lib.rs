@@ -13,6 +13,8 @@ mod controller;
 mod enable;
 mod noise;
 pub mod plan;
+pub mod ros;
+mod sensors;
 mod simulation;
 mod twist;
 mod visualization;
@@ -20,6 +22,11 @@ mod visualization;
 pub use controller::Controller;
 pub use enable::{Ack, EnableAsk, EnableSwitch};
 pub use noise::AddNoise;
+pub use ros::{
+    Header, LaserScan, Odometry, Point, Pose, PoseStamped, PoseWithCovariance, Quaternion,
+    TfMessage, Transform, TransformStamped, TwistWithCovariance,
+};
+pub use sensors::{LaserScanner, OdometryOut};
 pub use simulation::MainSimulation;
 pub use twist::{Twist, TwistOut, Vector3};
 pub use visualization::Visualization;
@@ -52,12 +59,27 @@ pub fn register(registry: &mut Registry) {
         .register::<TwistOut>()
         .register::<EnableSwitch>()
         .register::<EnableAsk>()
+        .register::<LaserScanner>()
+        .register::<OdometryOut>()
         // Its value type, for flexible ports (`ferroc_std.Dump`, `Logger`, `Player`, …)
         // and `--record`: with its serde form, so a recording holds the pose.
         .register_serde::<Pose2D>()
         .register_serde::<Vector3>()
         .register_serde::<Twist>()
         .register_serde::<Ack>()
+        // The demo's ROS 2 messages (models/ros2_demo.xml).
+        .register_serde::<Header>()
+        .register_serde::<LaserScan>()
+        .register_serde::<Point>()
+        .register_serde::<Quaternion>()
+        .register_serde::<Pose>()
+        .register_serde::<PoseStamped>()
+        .register_serde::<PoseWithCovariance>()
+        .register_serde::<TwistWithCovariance>()
+        .register_serde::<Odometry>()
+        .register_serde::<Transform>()
+        .register_serde::<TransformStamped>()
+        .register_serde::<TfMessage>()
         // `EnableSwitch` answers a ROS 2 service and `EnableAsk` calls one: their calls
         // cross as JSON.
         .register_call::<bool, Ack>();

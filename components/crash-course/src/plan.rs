@@ -63,6 +63,17 @@ pub fn choose(readings: &[Reading], half_width: f64, max: f64) -> Drive {
     best
 }
 
+/// The drive from `at` towards `goal` (x, y), at most `max` metres; `None` within
+/// `tolerance` of it.
+pub fn toward(goal: (f64, f64), at: (f64, f64), tolerance: f64, max: f64) -> Option<Drive> {
+    let (dx, dy) = (goal.0 - at.0, goal.1 - at.1);
+    let distance = dx.hypot(dy);
+    (distance >= tolerance).then(|| Drive {
+        heading: dy.atan2(dx),
+        distance: distance.min(max),
+    })
+}
+
 /// `angle` in (−π, π].
 pub fn wrap(angle: f64) -> f64 {
     let a = angle.rem_euclid(std::f64::consts::TAU);
@@ -150,6 +161,16 @@ mod tests {
         let readings = look_around(0.0, 0.0, 100.0, 1.5, 0.048);
         let drive = choose(&readings, 0.55, 5.0);
         assert!(drive.distance <= 1.5 - 0.55 + 1e-9, "{drive:?}");
+    }
+
+    #[test]
+    fn a_goal_is_driven_to_in_pieces_and_then_stood_at() {
+        let drive = toward((1.0, -1.0), (1.0, 2.0), 0.1, 2.0).unwrap();
+        assert!((drive.heading + FRAC_PI_2).abs() < 1e-12, "{drive:?}");
+        assert_eq!(drive.distance, 2.0);
+        let drive = toward((1.0, -1.0), (0.0, -1.0), 0.1, 2.0).unwrap();
+        assert_eq!((drive.heading, drive.distance), (0.0, 1.0));
+        assert_eq!(toward((1.0, -1.0), (1.05, -0.95), 0.1, 2.0), None);
     }
 
     #[test]

@@ -92,19 +92,25 @@ impl MainSimulation {
     /// Distance from the robot's bumper to the wall along `heading`.
     fn wall_distance(&mut self, heading: f64) -> f64 {
         let half = self.arena_size.get() / 2.0;
-        let (dx, dy) = (heading.cos(), heading.sin());
-        let along = |p: f64, d: f64| {
-            if d > 1e-9 {
-                (half - p) / d
-            } else if d < -1e-9 {
-                (-half - p) / d
-            } else {
-                f64::INFINITY
-            }
-        };
-        let d = along(self.pose.x, dx).min(along(self.pose.y, dy)) - RADIUS;
+        let d = ray_to_walls(self.pose.x, self.pose.y, heading, half) - RADIUS;
         d.clamp(0.0, self.ir_max_range.get())
     }
+}
+
+/// How far a ray from (`x`, `y`) along `heading` (radians) goes before it meets a wall
+/// of the square arena reaching `half` metres from the middle each way (infinite for a
+/// point outside that never meets one).
+pub fn ray_to_walls(x: f64, y: f64, heading: f64, half: f64) -> f64 {
+    let along = |p: f64, d: f64| {
+        if d > 1e-9 {
+            (half - p) / d
+        } else if d < -1e-9 {
+            (-half - p) / d
+        } else {
+            f64::INFINITY
+        }
+    };
+    along(x, heading.cos()).min(along(y, heading.sin()))
 }
 
 impl Module for MainSimulation {
