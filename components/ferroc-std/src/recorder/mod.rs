@@ -50,6 +50,9 @@ impl ModuleType for Recorder {
             port.info.part = recording::part_of(&port.info.topic);
             port.info.unit = recording::unit_of(&port.info.topic);
         }
+        if !m.path().is_empty() {
+            recording::ros2::add_recorded(ports.iter().map(|p| p.info.port.as_str()));
+        }
         Recorder {
             ports,
             path,
