@@ -13,7 +13,7 @@ mod program;
 mod select;
 
 pub use program::{Recordable, Recorders};
-pub use select::{glob, select, RecordedPort, RecorderPlan, RECORDER_TYPE};
+pub use select::{glob, select, Candidate, RecordedPort, RecorderPlan, RECORDER_TYPE};
 
 use crate::logger::{record, recorded_inputs};
 use crate::recording::{self, LogFile, SharedLog};
