@@ -97,19 +97,28 @@ fn a_subscribed_input_is_recorded_on_its_topic_with_the_values_it_received() {
     let dir = tempdir("ros2_record_subscribed");
     let record = dir.join("listener.mcap");
     let args = ["--record", record.to_str().unwrap()];
-    run(MODEL, &dir, &[&args[..], &["--record-filter", "listener/*"]].concat());
+    run(
+        MODEL,
+        &dir,
+        &[&args[..], &["--record-filter", "listener/*"]].concat(),
+    );
     let report = read(&python, &record);
 
     let c = channel(&report, "/tick", "cdr");
     assert_eq!(c["schema_name"], "std_msgs/msg/UInt64", "{c}");
     assert_eq!(c["schema_encoding"], "ros2msg", "{c}");
-    assert_eq!(c["metadata"]["ferroc.port"], "listener/main/echo/in/0", "{c}");
+    assert_eq!(
+        c["metadata"]["ferroc.port"], "listener/main/echo/in/0",
+        "{c}"
+    );
     assert_eq!(c["metadata"]["ferroc.part"], "listener", "{c}");
     assert_eq!(c["metadata"]["ferroc.form"], "ros2", "{c}");
     let ticks: Vec<Json> = (report["ros2"]["/tick"].as_array().unwrap().iter())
         .map(|t| t["data"].clone())
         .collect();
-    let received = report["json"]["listener/main/echo/in/0"].as_array().unwrap();
+    let received = report["json"]["listener/main/echo/in/0"]
+        .as_array()
+        .unwrap();
     assert!(ticks.len() >= 10, "{} ticks received", ticks.len());
     assert_eq!(&ticks, received, "rosbags reads what the input received");
     let counts: Vec<u64> = ticks.iter().map(|t| t.as_u64().unwrap()).collect();

@@ -53,4 +53,3 @@ pub fn channel<'a>(report: &'a Json, topic: &str, encoding: &str) -> &'a Json {
         .find(|c| c["topic"] == topic && c["message_encoding"] == encoding)
         .unwrap_or_else(|| panic!("no {encoding} channel {topic}: {channels:?}"))
 }
-

@@ -6,10 +6,11 @@
 //! first). When the instance is created, before anything runs, the recording is read
 //! and checked: every topic must have an exact (postcard) channel there, recorded
 //! with the output's model type, or a ROS 2 channel (CDR with a `ros2msg` schema: a
-//! ROS-typed port's, or one a ROS 2 tool recorded), which is decoded then into the
-//! output's values through the program's ROS 2 wire (only a program whose part is a ROS 2
-//! node has one; a message that does not decode is skipped, said once); otherwise the
-//! instance is refused with what the file has. A recording cut off by a crash is replayed up to the cut, with a warning. A
+//! ROS-typed port's, or one a ROS 2 tool recorded), read with the definitions its
+//! schema holds: each message is checked against the message then (one that does not
+//! decode is skipped, said once) and read straight into the output's value when it is
+//! replayed (`Codec::ros2_decode`), in any program; otherwise the instance is refused
+//! with what the file has. A recording cut off by a crash is replayed up to the cut, with a warning. A
 //! recording whose checksums do not match (it changed after it was written) is refused
 //! naming the chunk, unless `checksums` is `ignore`. Only the replayed channels'
 //! messages are kept in memory.

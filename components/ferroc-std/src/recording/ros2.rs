@@ -205,3 +205,69 @@ impl Ros2Channel {
         codec.ros2_decode(out, shape, cdr)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn channel(schema_name: &str, schema: &str, field: Option<&str>) -> ChannelSummary {
+        ChannelSummary {
+            id: 1,
+            topic: "/motion".into(),
+            message_encoding: ROS2_ENCODING.into(),
+            schema_name: schema_name.into(),
+            schema_encoding: ROS2_SCHEMA_ENCODING.into(),
+            schema_data: schema.as_bytes().to_vec(),
+            metadata: (field.iter())
+                .map(|f| (META_ROS2_FIELD.to_owned(), (*f).to_owned()))
+                .collect(),
+            count: 0,
+            first: None,
+            last: None,
+        }
+    }
+
+    #[test]
+    fn a_channel_is_read_with_its_schema_s_team_types_and_a_bad_sample_is_refused() {
+        let text = "team_msgs/Speed linear\nfloat64 turn\n=====\nMSG: team_msgs/Speed\n\
+                    float64 x\n";
+        let read = Ros2Channel::of(&channel("team_msgs/msg/Motion", text, None)).unwrap();
+        let shape = read.shape().unwrap();
+        let mut cdr = vec![0, 1, 0, 0];
+        cdr.extend(1.5f64.to_le_bytes());
+        cdr.extend(f64::NAN.to_le_bytes());
+        assert_eq!(Ros2Channel::check(&shape, &cdr), Ok(()));
+        assert!(Ros2Channel::check(&shape, &cdr[..10]).is_err(), "short");
+        let longer = [cdr.as_slice(), &[0; 9]].concat();
+        assert!(Ros2Channel::check(&shape, &longer).is_err(), "bytes left");
+        // One field of it, as `ferroc.ros2.field` says.
+        let field = Ros2Channel::of(&channel("team_msgs/msg/Motion", text, Some("linear.x")));
+        assert!(field.is_ok());
+    }
+
+    #[test]
+    fn a_schema_that_does_not_read_is_an_error_naming_the_channel_and_an_empty_one_is_shipped() {
+        let broken = Ros2Channel::of(&channel("team_msgs/msg/Motion", "float65 x\n", None));
+        let why = broken.err().unwrap();
+        assert!(why.contains("`/motion`"), "{why}");
+        assert!(why.contains(":1:"), "the line: {why}");
+        let missing = Ros2Channel::of(&channel(
+            "team_msgs/msg/Motion",
+            "team_msgs/Speed s\n",
+            None,
+        ));
+        assert!(missing.is_err(), "a nested type the schema lacks");
+        let no_field = Ros2Channel::of(&channel(
+            "std_msgs/msg/Float64",
+            "float64 data\n",
+            Some("x"),
+        ));
+        assert!(no_field.err().unwrap().contains("no field `x`"));
+        // An empty schema: the shipped definitions.
+        let shipped = Ros2Channel::of(&channel("geometry_msgs/msg/Vector3", "", None)).unwrap();
+        let mut cdr = vec![0, 1, 0, 0];
+        cdr.extend([0u8; 24]);
+        assert_eq!(Ros2Channel::check(&shipped.shape().unwrap(), &cdr), Ok(()));
+        assert!(Ros2Channel::of(&channel("team_msgs/msg/Nothing", "", None)).is_err());
+    }
+}
