@@ -131,6 +131,15 @@ fn a_subscribed_input_is_recorded_on_its_topic_with_the_values_it_received() {
         ros2_channels(&report),
         [("/tick".to_owned(), "listener/main/echo/in/0".to_owned())]
     );
+
+    // Our Player replays the channel: the values the input received, in a program
+    // without a ROS 2 node (`--for 4s` of one message per step replays them all).
+    run("tests/ros2/replay_tick.xml", &dir, &[]);
+    let replay = read(&python, &dir.join("tick_replay.mcap"));
+    assert_eq!(
+        replay["json"]["replayer/main/log/in/0"].as_array(),
+        Some(&ticks)
+    );
 }
 
 /// A bag whose message type is a team's own (`team_msgs/msg/Motion`, nesting
@@ -157,4 +166,51 @@ fn a_team_type_bag_rosbags_wrote_replays_in_a_program_without_a_ros2_node() {
     run("tests/ros2/replay_team_bag.xml", &dir, &[]);
     let replay = read(&python, &dir.join("team_replay.mcap"));
     assert_eq!(replay["json"]["replayer/main/log/in/0"], sent);
+}
+
+/// A free loopback address (`127.0.0.1:PORT`).
+fn free_address() -> String {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    listener.local_addr().unwrap().to_string()
+}
+
+/// A bundle's program whose part has links to another part replays a ROS 2 channel
+/// (a bag Python `rosbags` wrote): the Player reads it with the bag's schema whatever
+/// network the program opens. The other part is not started: the program runs alone.
+#[test]
+fn a_bundle_part_with_links_replays_a_ros2_channel() {
+    let Some(python) = python() else {
+        return;
+    };
+    let dir = tempdir("ros2_record_bundle_linked");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = Command::new(&python)
+        .arg(root.join("tests/ros2/write_bag.py"))
+        .arg(dir.join("bag"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let sent: Json = serde_json::from_slice(&out.stdout).unwrap();
+
+    let bundle = dir.join("bundle");
+    common::bundle_ok(&root.join("tests/ros2/replay_bag_linked.xml"), &bundle);
+    let main = std::fs::read_to_string(bundle.join("parts/replayer/src/main.rs")).unwrap();
+    assert!(main.contains("Zenoh::with_model"), "a part with links");
+    let program = common::build_bundle(&bundle).join("debug/ros2_replay_linked-replayer");
+    let (listen, peer) = (free_address(), free_address());
+    let run = Command::new(&program)
+        .args(["--cycles", "10", "-q", "--listen", &listen])
+        .args(["--peer", &format!("sink={peer}")])
+        .env("FERROC_LOG_DIR", &dir)
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{err}");
+    let replay = read(&python, &dir.join("linked_replay.mcap"));
+    assert_eq!(replay["json"]["replayer/main/log/in/0"], sent, "{err}");
 }

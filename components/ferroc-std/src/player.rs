@@ -286,6 +286,9 @@ fn load(
     Ok(replayed)
 }
 
+/// A channel's messages to replay: (log time, bytes).
+type Queue = VecDeque<(u64, Vec<u8>)>;
+
 /// The reader of the ROS 2 channel `channel` (the definitions its schema holds) and
 /// its messages, each checked against the message: one that does not read is left out,
 /// said once with how many were. An error if the schema does not read.
@@ -293,8 +296,8 @@ fn from_cdr(
     m: &Setup<'_>,
     path: &std::path::Path,
     channel: &recording::ChannelSummary,
-    messages: VecDeque<(u64, Vec<u8>)>,
-) -> Result<(VecDeque<(u64, Vec<u8>)>, recording::ros2::Ros2Channel), String> {
+    messages: Queue,
+) -> Result<(Queue, recording::ros2::Ros2Channel), String> {
     use recording::ros2::Ros2Channel;
     let read = Ros2Channel::of(channel).map_err(|why| {
         let exact = (channel.metadata.get(recording::META_PORT))

@@ -259,3 +259,66 @@ fn a_port_no_node_publishes_or_subscribes_is_recorded_as_before_even_beside_ros2
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_timestamp_in_a_message_is_recorded_as_builtin_interfaces_time() {
+    use ferroc_runtime::link::ros2::{Ros2Node, Ros2Qos, Ros2Topic};
+    use ferroc_runtime::module::ValueTable;
+    use ferroc_runtime::port::ConnectOptions;
+    let port = "robot/stamper/stamp";
+    let node = Ros2Node {
+        part: "robot".into(),
+        domain: 0,
+        namespace: "/".into(),
+        name: "robot".into(),
+        topics: vec![Ros2Topic {
+            id: 7301,
+            publish: true,
+            port: ("robot/stamper".into(), "stamp".into()),
+            model_type: "timestamp".into(),
+            topic: "/stamped".into(),
+            message: "std_msgs/msg/Header".into(),
+            field: Some("stamp".into()),
+            qos: Ros2Qos::default(),
+        }],
+        services: vec![],
+        clients: vec![],
+        interfaces: vec![],
+    };
+    ferroc_runtime::link::ros2_wire::add_node(&node).unwrap();
+    recording::ros2::add_recorded([port]);
+    let table = ValueTable::default();
+    let vt = table.get("timestamp").expect("registered");
+    let (out, oh) = vt.output("out");
+    let (input, ih) = vt.input("in/0", None);
+    oh.connect(&ih, ConnectOptions::default()).unwrap();
+    let info = ChannelInfo {
+        topic: port.into(),
+        port: port.into(),
+        model_type: "timestamp".into(),
+        ..ChannelInfo::default()
+    };
+    let mut ports = vec![Recorded::new(input, *vt.wire().unwrap(), info)];
+    let dir = std::env::temp_dir().join(format!("ferroc-ros2time-{}", std::process::id()));
+    let path = dir.join("time.mcap");
+    let log = LogFile::open_shared(&path, 1).unwrap();
+    out.typed::<Timestamp>().unwrap().publish(Timestamp {
+        nanos: 1_500_000_007,
+    });
+    let (mut exact, mut text) = (Vec::new(), Vec::new());
+    record_at(&log, &mut ports, 0, false, &mut exact, &mut text).unwrap();
+    drop(log);
+    let rec = recording::Recording::read(&path).unwrap();
+    let ros2 = rec.ros2_channel("/stamped").expect("a ROS 2 channel");
+    // Header: stamp (sec 1, nanosec 500000007), frame_id "" (length 1, the NUL).
+    let expected = [
+        [0, 1, 0, 0].as_slice(),
+        &1i32.to_le_bytes(),
+        &500_000_007u32.to_le_bytes(),
+        &1u32.to_le_bytes(),
+        &[0],
+    ]
+    .concat();
+    assert_eq!(messages_of(&rec, ros2.id), [&expected]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
