@@ -305,6 +305,11 @@ fn from_cdr(
             .unwrap_or_default();
         format!("{why}{exact}")
     })?;
+    // Without definitions in the file, the program's may be known only at the first
+    // step: its messages are checked as they are replayed.
+    if read.of_program() {
+        return Ok((messages, read));
+    }
     let shape = read.shape()?;
     let (mut out, mut bad) = (VecDeque::with_capacity(messages.len()), None);
     let mut skipped = 0usize;
@@ -401,8 +406,12 @@ impl Module for Player {
             let shape = match o.ros2.as_ref().map(|r| r.shape()).transpose() {
                 Ok(shape) => shape,
                 Err(e) => {
-                    // Read when the player was made: cannot fail here.
-                    eprintln!("warning: ferroc_std.Player: `{}`: {e}", o.topic);
+                    // A channel without definitions whose message this program does not
+                    // define either: said once, nothing of it replayed.
+                    eprintln!(
+                        "warning: ferroc_std.Player: the ROS 2 channel `{}` is not replayed: {e}",
+                        o.topic
+                    );
                     o.messages.clear();
                     continue;
                 }

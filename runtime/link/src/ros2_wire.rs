@@ -31,11 +31,18 @@ impl std::fmt::Debug for Ros2End {
 }
 
 static ENDS: RwLock<Vec<Ros2End>> = RwLock::new(Vec::new());
+/// The definitions of every node added, each once.
+static DEFINITIONS: RwLock<Vec<&'static Registry>> = RwLock::new(Vec::new());
 
 /// Adds the topic ends of `node` (an end already known, by its number, is replaced:
 /// an application built again in the same process declares its nodes again).
 pub fn add_node(node: &Ros2Node) -> Result<(), String> {
     let registry = node_registry(node)?;
+    let mut definitions = DEFINITIONS.write().unwrap_or_else(PoisonError::into_inner);
+    if !definitions.iter().any(|d| std::ptr::eq(*d, registry)) {
+        definitions.push(registry);
+    }
+    drop(definitions);
     let mut known = ENDS.write().unwrap_or_else(PoisonError::into_inner);
     for t in &node.topics {
         known.retain(|k| k.topic.id != t.id);
@@ -62,6 +69,15 @@ pub fn ends_on(topic: &str) -> Vec<Ros2End> {
         .filter(|e| e.topic.topic == topic)
         .cloned()
         .collect()
+}
+
+/// The definitions of the program's nodes (the shipped packages with the model's own),
+/// each set once, in the order added; none in a program without ROS 2 nodes.
+pub fn definitions() -> Vec<&'static Registry> {
+    DEFINITIONS
+        .read()
+        .unwrap_or_else(PoisonError::into_inner)
+        .clone()
 }
 
 /// Whether `t`'s port is `port` (`module/path/port`).

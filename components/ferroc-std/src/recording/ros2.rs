@@ -134,9 +134,10 @@ fn whole(e: &Ros2End) -> bool {
     message.is_some_and(|m| m.fields.len() == 1 && m.fields[0].name == *field)
 }
 
-/// The definitions a channel is read in: its schema's, or the shipped ones.
+/// The definitions a channel is read in: its schema's, or (an empty schema) the
+/// program's: those of its ROS 2 nodes that define the message, else the shipped ones.
 enum Definitions {
-    Shipped,
+    Program,
     Schema(Registry),
 }
 
@@ -150,8 +151,10 @@ pub struct Ros2Channel {
 
 impl Ros2Channel {
     /// The reader of `channel` (a ROS 2 channel: [`ChannelSummary::is_ros2`]), with the
-    /// definitions its schema holds (the shipped ones if the schema is empty); an error
-    /// naming the channel if they do not read.
+    /// definitions its schema holds; an error naming the channel if they do not read. A
+    /// channel whose schema is empty (a tool that found no definition) is read with the
+    /// program's definitions ([`Self::shape`]), which may be known only once the
+    /// program's nodes are declared: then it is not checked here.
     pub fn of(channel: &ChannelSummary) -> Result<Ros2Channel, String> {
         let bad = |why: String| {
             format!(
@@ -164,7 +167,7 @@ impl Ros2Channel {
             .ok_or_else(|| bad("its schema names no message type (package/msg/Name)".into()))?;
         let text = String::from_utf8_lossy(&channel.schema_data);
         let definitions = if text.trim().is_empty() {
-            Definitions::Shipped
+            Definitions::Program
         } else {
             Definitions::Schema(mcap_schema::registry_of(&message, &text).map_err(bad)?)
         };
@@ -173,17 +176,35 @@ impl Ros2Channel {
             message,
             field: channel.metadata.get(META_ROS2_FIELD).cloned(),
         };
-        read.shape().map_err(bad)?;
+        if let Definitions::Schema(_) = read.definitions {
+            read.shape().map_err(bad)?;
+        }
         Ok(read)
+    }
+
+    /// Whether the messages are read with the program's definitions (the schema is
+    /// empty), not with the file's.
+    pub fn of_program(&self) -> bool {
+        matches!(self.definitions, Definitions::Program)
     }
 
     /// What the channel's messages are: the message, or the field the port carries.
     pub fn shape(&self) -> Result<Shape<'_>, String> {
         let registry = match &self.definitions {
-            Definitions::Shipped => Registry::shipped_shared(),
+            Definitions::Program => (ros2_wire::definitions().into_iter())
+                .find(|r| r.message(&self.message).is_some())
+                .unwrap_or(Registry::shipped_shared()),
             Definitions::Schema(r) => r,
         };
-        Shape::new(registry, &self.message, self.field.as_deref())
+        Shape::new(registry, &self.message, self.field.as_deref()).map_err(|why| {
+            match &self.definitions {
+                Definitions::Program => format!(
+                    "{why} (the recording holds no definition of it, nor do this program's \
+                     ROS 2 nodes)"
+                ),
+                Definitions::Schema(_) => why,
+            }
+        })
     }
 
     /// Whether `cdr` is a sample of the message (every length and the whole sample
@@ -265,9 +286,44 @@ mod tests {
         assert!(no_field.err().unwrap().contains("no field `x`"));
         // An empty schema: the shipped definitions.
         let shipped = Ros2Channel::of(&channel("geometry_msgs/msg/Vector3", "", None)).unwrap();
+        assert!(shipped.of_program());
         let mut cdr = vec![0, 1, 0, 0];
         cdr.extend([0u8; 24]);
         assert_eq!(Ros2Channel::check(&shipped.shape().unwrap(), &cdr), Ok(()));
-        assert!(Ros2Channel::of(&channel("team_msgs/msg/Nothing", "", None)).is_err());
+        let unknown = Ros2Channel::of(&channel("nobody_msgs/msg/Nothing", "", None)).unwrap();
+        let why = unknown.shape().err().unwrap();
+        assert!(why.contains("nor do this program's ROS 2 nodes"), "{why}");
+    }
+
+    #[test]
+    fn an_empty_schema_is_read_with_the_team_definitions_of_the_program_s_nodes() {
+        use ferroc_runtime::link::ros2::{Ros2Interface, Ros2Node};
+        let team = channel("h29r_team_msgs/msg/Pair", "", None);
+        let read = Ros2Channel::of(&team).unwrap();
+        assert!(read.shape().is_err(), "no node defines it yet");
+        ferroc_runtime::link::ros2_wire::add_node(&Ros2Node {
+            part: "robot".into(),
+            domain: 0,
+            namespace: "/".into(),
+            name: "robot".into(),
+            topics: vec![],
+            services: vec![],
+            clients: vec![],
+            interfaces: vec![Ros2Interface {
+                package: "h29r_team_msgs".into(),
+                kind: "msg".into(),
+                name: "Pair".into(),
+                text: "int32 a\nint32 b\n".into(),
+            }],
+        })
+        .unwrap();
+        let shape = read.shape().unwrap();
+        let cdr = [
+            [0, 1, 0, 0].as_slice(),
+            &7i32.to_le_bytes(),
+            &9i32.to_le_bytes(),
+        ]
+        .concat();
+        assert_eq!(Ros2Channel::check(&shape, &cdr), Ok(()));
     }
 }
