@@ -168,6 +168,34 @@ fn a_team_type_bag_rosbags_wrote_replays_in_a_program_without_a_ros2_node() {
     assert_eq!(replay["json"]["replayer/main/log/in/0"], sent);
 }
 
+/// A recording whose ROS 2 channel has an empty schema (Python `mcap` wrote it, the
+/// CDR of a team type by Python `rosbags`): the Player reads it with the definitions of
+/// the part's ROS 2 node, the model's own package (`<ros2-interfaces>`) among them.
+#[test]
+fn a_channel_without_definitions_replays_with_the_model_s_team_package() {
+    let Some(python) = python() else {
+        return;
+    };
+    let dir = tempdir("ros2_record_schemaless");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = Command::new(&python)
+        .arg(root.join("tests/ros2/write_schemaless_bag.py"))
+        .arg(dir.join("schemaless.mcap"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let sent: Json = serde_json::from_slice(&out.stdout).unwrap();
+
+    let err = run("tests/ros2/replay_schemaless.xml", &dir, &[]);
+    assert!(!err.contains("not replayed"), "{err}");
+    let replay = read(&python, &dir.join("schemaless_replay.mcap"));
+    assert_eq!(replay["json"]["replayer/main/log/in/0"], sent, "{err}");
+}
+
 /// A free loopback address (`127.0.0.1:PORT`).
 fn free_address() -> String {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
