@@ -194,6 +194,24 @@ fn a_channel_without_definitions_replays_with_the_model_s_team_package() {
     assert!(!err.contains("not replayed"), "{err}");
     let replay = read(&python, &dir.join("schemaless_replay.mcap"));
     assert_eq!(replay["json"]["replayer/main/log/in/0"], sent, "{err}");
+
+    // Compressed chunks (Python mcap's default) are refused as what they are, not as a
+    // corrupted file.
+    let zstd = dir.join("zstd.mcap");
+    let out = Command::new(&python)
+        .arg(root.join("tests/ros2/write_schemaless_bag.py"))
+        .args([zstd.as_os_str(), "zstd".as_ref()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (code, _, err) = common::ferroc(&["log", "info", zstd.to_str().unwrap()]);
+    assert_ne!(code, 0);
+    assert!(err.contains("compressed with `zstd`"), "{err}");
+    assert!(!err.contains("corrupted"), "{err}");
 }
 
 /// A free loopback address (`127.0.0.1:PORT`).

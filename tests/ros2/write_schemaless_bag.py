@@ -2,12 +2,13 @@
 no definition of the type), for tests/ros2_record_topics.rs: Python `mcap` (Foxglove's
 writer) writes /motion, schema `team_msgs/msg/Motion` of encoding ros2msg with no text,
 four messages 40 ms apart, their CDR made by Python `rosbags` from the team's .msg files
-(tests/ros2/team_msgs). Prints the messages as JSON."""
+(tests/ros2/team_msgs). Prints the messages as JSON. With a second argument `zstd`, the
+chunks are compressed (Python mcap's default), which ferroc refuses to read."""
 import json
 import sys
 from pathlib import Path
 
-from mcap.writer import Writer
+from mcap.writer import CompressionType, Writer
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 folder = Path(__file__).parent / 'team_msgs' / 'msg'
@@ -21,7 +22,9 @@ Velocity = store.types['team_msgs/msg/Velocity']
 Vector3 = store.types['geometry_msgs/msg/Vector3']
 sent = []
 with open(sys.argv[1], 'wb') as f:
-    writer = Writer(f)
+    # Uncompressed: ferroc reads no compressed chunks (its mcap crate is built without).
+    zstd = sys.argv[2:] == ['zstd']
+    writer = Writer(f, compression=CompressionType.ZSTD if zstd else CompressionType.NONE)
     writer.start(profile='ros2', library='write_schemaless_bag.py')
     schema = writer.register_schema(name='team_msgs/msg/Motion', encoding='ros2msg', data=b'')
     channel = writer.register_channel(topic='/motion', message_encoding='cdr', schema_id=schema)
