@@ -12,61 +12,17 @@
 //! skips visibly.
 
 mod common;
+#[path = "ros2/record_support.rs"]
+mod record_support;
 
 use common::tempdir;
+use record_support::{channel, read, run};
 use serde_json::Value as Json;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 const MODEL: &str = "models/ros2_crash_course.xml";
 const REPLAY: &str = "tests/ros2/replay.xml";
-
-/// A Zenoh configuration connecting only to a loopback port nobody listens on.
-fn nobody(dir: &Path) -> PathBuf {
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
-    let file = dir.join("zenoh-nobody.json5");
-    let text = format!(
-        "{{ connect: {{ endpoints: [\"tcp/127.0.0.1:{port}\"] }},\n  listen: {{ endpoints: [\"tcp/127.0.0.1:0\"] }} }}\n"
-    );
-    std::fs::write(&file, text).unwrap();
-    file
-}
-
-/// `ferroc run MODEL --lockstep --for 4s --log-dir DIR` with `args`, which must succeed:
-/// its standard error.
-fn run(model: &str, dir: &Path, args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_ferroc"))
-        .args(["run", model, "-q", "--lockstep", "--for", "4s", "--log-dir"])
-        .arg(dir)
-        .args(args)
-        .env("ZENOH_SESSION_CONFIG_URI", nobody(dir))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(out.status.success(), "{err}");
-    err
-}
-
-/// What Python `mcap` and `rosbags` read in `file` (`tests/ros2/record_check.py`).
-fn read(python: &Path, file: &Path) -> Json {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ros2/record_check.py");
-    let out = Command::new(python).arg(script).arg(file).output().unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{err}");
-    serde_json::from_slice(&out.stdout).expect("one JSON object")
-}
-
-fn channel<'a>(report: &'a Json, topic: &str, encoding: &str) -> &'a Json {
-    let channels = report["channels"].as_array().unwrap();
-    (channels.iter())
-        .find(|c| c["topic"] == topic && c["message_encoding"] == encoding)
-        .unwrap_or_else(|| panic!("no {encoding} channel {topic}: {channels:?}"))
-}
 
 #[test]
 fn ros2_tools_read_a_recorded_node_s_topics_and_our_player_replays_them() {

@@ -36,12 +36,14 @@ pub fn builder<'r>(
     builder.set_seed(seed);
     add_modules(&mut builder, plan)?;
     add_locks(&mut builder, plan)?;
-    connect_data(&mut builder, plan)?;
-    connect_params(&mut builder, plan)?;
-    connect_calls(&mut builder, plan)?;
+    // The ROS 2 ends before the connections: a recorder of a subscribed input
+    // (`--record`) is connected to its topic's receiving end.
     for node in &plan.ros2 {
         builder.ros2_node(node.clone())?;
     }
+    connect_data(&mut builder, plan)?;
+    connect_params(&mut builder, plan)?;
+    connect_calls(&mut builder, plan)?;
     add_threads(&mut builder, plan)?;
     Ok(builder)
 }

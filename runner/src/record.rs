@@ -22,7 +22,8 @@ pub fn configure(plan: &RunPlan) {
 
 /// `--record FILE` (none: nothing to do): a `ferroc_std.Recorder` at the end of every
 /// thread container, connected to each output of the container's modules that feeds a
-/// connection or is published as a ROS 2 topic (or those matching a `--record-filter`); which ones is
+/// connection or is published as a ROS 2 topic, and to the receiving end of each input
+/// subscribed from a ROS 2 topic (or those matching a `--record-filter`); which ones is
 /// `ferroc_std::recorder::select`'s choice, as in generated programs. The model is not
 /// edited: only the plan this run builds. Outputs whose type has no serde are left
 /// out, named on stderr.
@@ -42,22 +43,30 @@ pub fn add_recorders(plan: &mut RunPlan, registry: &mut Registry) -> Result<(), 
     registry.register::<ferroc_std::Recorder>();
     let thread_of =
         |module: &str| (plan.threads.iter()).find(|t| t.steps.iter().any(|(p, _)| *p == module));
-    let mut outputs: Vec<(&str, &str, String, &str)> = Vec::new();
+    let mut outputs: Vec<(&str, &str, String, &str, Option<u32>)> = Vec::new();
     for c in &plan.connections {
         let Some(thread) = thread_of(&c.from.0) else {
             continue;
         };
         let ty = output_type(plan, registry, &c.from.0, &c.from.1).unwrap_or_default();
-        outputs.push((&c.from.0, &c.from.1, ty, &thread.path));
+        outputs.push((&c.from.0, &c.from.1, ty, &thread.path, None));
     }
-    // Outputs published as ROS 2 topics, also those that feed no connection.
-    let published = (plan.ros2.iter()).flat_map(|n| n.topics.iter().filter(|t| t.publish));
-    for t in published {
+    // Outputs published as ROS 2 topics, also those that feed no connection, and inputs
+    // subscribed from ROS 2 topics (recorded from the topic's receiving end).
+    for t in plan.ros2.iter().flat_map(|n| &n.topics) {
         if let Some(thread) = thread_of(&t.port.0) {
-            outputs.push((&t.port.0, &t.port.1, t.model_type.clone(), &thread.path));
+            let subscribed = (!t.publish).then_some(t.id);
+            let ty = t.model_type.clone();
+            outputs.push((&t.port.0, &t.port.1, ty, &thread.path, subscribed));
         }
     }
-    let outputs = (outputs.iter()).map(|(m, p, ty, t)| (*m, *p, ty.as_str(), *t));
+    let outputs = (outputs.iter()).map(|(m, p, ty, t, s)| ferroc_std::recorder::Candidate {
+        module: m,
+        port: p,
+        model_type: ty,
+        thread: t,
+        subscribed: *s,
+    });
     let recorders = ferroc_std::recorder::select(registry.values(), outputs, &record_filter)
         .map_err(|e| format!("--record {}: {e}", file.display()))?;
     let Some(template) = plan.modules.first().cloned() else {

@@ -3,8 +3,10 @@ a recording ferroc wrote, and Python `rosbags` decodes every message of its ROS 
 channels (message encoding `cdr`, schema encoding `ros2msg`) with a type store built
 only from the schema text in the file. Prints one JSON object: every channel (topic,
 encodings, schema name, metadata), the decoded ROS 2 messages by topic, and the values
-of the JSON display channels by topic, in file order."""
+of the JSON display channels by topic, in file order. JSON has no NaN or infinity: a
+decoded float that is not finite is printed as the string "nan", "inf" or "-inf"."""
 import json
+import math
 import sys
 
 import numpy
@@ -14,14 +16,16 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 def plain(value):
     if isinstance(value, numpy.ndarray):
-        return value.tolist()
+        return [plain(v) for v in value.tolist()]
     if isinstance(value, (list, tuple)):
         return [plain(v) for v in value]
     if hasattr(value, '__dataclass_fields__'):
         return {k: plain(getattr(value, k)) for k in value.__dataclass_fields__
                 if k != '__msgtype__' and not k.isupper()}
     if isinstance(value, numpy.generic):
-        return value.item()
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return 'nan' if math.isnan(value) else ('inf' if value > 0 else '-inf')
     return value
 
 

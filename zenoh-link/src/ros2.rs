@@ -26,7 +26,6 @@ pub mod durability;
 pub mod interfaces;
 pub mod network;
 pub mod service;
-pub mod wire;
 
 /// A ROS 2 node: its name, namespace and domain.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -50,11 +50,14 @@ pub(crate) struct Recorded {
     pub(crate) wire: Wire,
     pub(crate) info: ChannelInfo,
     channel: Option<recording::ChannelId>,
-    /// The port's ROS 2 topic, if the program publishes it as one (found when its
-    /// channel is added: the nodes are open by then).
+    /// The port's ROS 2 topic, if it is published or subscribed as one and writes
+    /// the topic's channel (found when its channel is added: the nodes are declared by
+    /// then).
     ros2: Option<Ros2Form>,
     /// A value that did not fit its ROS 2 message was reported.
     ros2_warned: bool,
+    /// The CDR of the latest value (its buffer kept between values).
+    cdr: Vec<u8>,
     /// A value arrived that is not recorded yet.
     pending: bool,
     /// A value has arrived (sampling records nothing before).
@@ -73,6 +76,7 @@ impl Recorded {
             channel: None,
             ros2: None,
             ros2_warned: false,
+            cdr: Vec::new(),
             pending: false,
             seen: false,
             next: None,
@@ -109,6 +113,9 @@ impl ModuleType for Logger {
         let raw = PathBuf::from(file.value());
         let path = recording::resolve_log_path(&raw);
         let ports = recorded_inputs(m, inputs);
+        if !m.path().is_empty() {
+            recording::ros2::add_recorded(ports.iter().map(|p| p.info.port.as_str()));
+        }
         // The registry learning the interface gives no path: nothing to check then.
         // The path as written first (empty, `..`), then where it leads.
         if !m.path().is_empty() {
@@ -304,12 +311,12 @@ fn record_with(
             Some(c) => c,
             None => add_channel(&mut file, port)?,
         };
-        if json || port.ros2.is_some() {
+        if json {
             port.wire.json(&port.input, text)?;
         }
-        let cdr = cdr_of(port, text);
+        let cdr = cdr_of(port).then_some(port.cdr.as_slice());
         let json = json.then_some(text.as_slice());
-        file.write_forms(channel, now, exact, json, cdr.as_deref())?;
+        file.write_forms(channel, now, exact, json, cdr)?;
     }
     Ok(())
 }
@@ -330,12 +337,14 @@ fn add_channel(file: &mut LogFile, port: &mut Recorded) -> Result<recording::Cha
     Ok(c)
 }
 
-/// The CDR of the value whose JSON is `json` if `port` is a ROS 2 topic; `None` (said
-/// once per port) if the value does not fit the message.
-fn cdr_of(port: &mut Recorded, json: &[u8]) -> Option<Vec<u8>> {
-    let form = port.ros2.as_ref()?;
-    match form.encode(json) {
-        Ok(cdr) => Some(cdr),
+/// Whether `port` is written on its ROS 2 topic and its latest value is in `port.cdr`
+/// (a value that does not fit the message is said once per port and left out there).
+fn cdr_of(port: &mut Recorded) -> bool {
+    let Some(form) = port.ros2.as_ref() else {
+        return false;
+    };
+    match form.encode(&port.wire, &port.input, &mut port.cdr) {
+        Ok(()) => true,
         Err(why) => {
             if !std::mem::replace(&mut port.ros2_warned, true) {
                 eprintln!(
@@ -344,7 +353,7 @@ fn cdr_of(port: &mut Recorded, json: &[u8]) -> Option<Vec<u8>> {
                     port.info.port, form.topic
                 );
             }
-            None
+            false
         }
     }
 }

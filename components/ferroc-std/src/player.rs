@@ -6,10 +6,11 @@
 //! first). When the instance is created, before anything runs, the recording is read
 //! and checked: every topic must have an exact (postcard) channel there, recorded
 //! with the output's model type, or a ROS 2 channel (CDR with a `ros2msg` schema: a
-//! ROS-typed port's, or one a ROS 2 tool recorded), which is decoded then into the
-//! output's values through the program's ROS 2 wire (only a program whose part is a ROS 2
-//! node has one; a message that does not decode is skipped, said once); otherwise the
-//! instance is refused with what the file has. A recording cut off by a crash is replayed up to the cut, with a warning. A
+//! ROS-typed port's, or one a ROS 2 tool recorded), read with the definitions its
+//! schema holds: each message is checked against the message then (one that does not
+//! decode is skipped, said once) and read straight into the output's value when it is
+//! replayed (`Codec::ros2_decode`), in any program; otherwise the instance is refused
+//! with what the file has. A recording cut off by a crash is replayed up to the cut, with a warning. A
 //! recording whose checksums do not match (it changed after it was written) is refused
 //! naming the chunk, unless `checksums` is `ignore`. Only the replayed channels'
 //! messages are kept in memory.
@@ -59,9 +60,8 @@ struct Replayed {
     warned: bool,
     /// How its values hold timestamps (`None`: not a timestamp type).
     stamps: Option<Stamps>,
-    /// The messages are the port's serde JSON (decoded from a ROS 2 channel's CDR when
-    /// the recording was read), not postcard.
-    json: bool,
+    /// The messages are a ROS 2 channel's CDR, read with its definitions, not postcard.
+    ros2: Option<recording::ros2::Ros2Channel>,
 }
 
 /// The shape of a timestamp output's values, in postcard: one stamp, `N` stamps in a
@@ -267,11 +267,11 @@ fn load(
             by_channel.remove(&channel.id)
         }
         .unwrap_or_default();
-        let json = channel.is_ros2();
-        let messages = if json {
-            from_cdr(m, path, channel, messages)?
+        let (messages, ros2) = if channel.is_ros2() {
+            let (messages, read) = from_cdr(m, path, channel, messages)?;
+            (messages, Some(read))
         } else {
-            messages
+            (messages, None)
         };
         replayed.push(Replayed {
             out,
@@ -279,42 +279,50 @@ fn load(
             topic: topic.clone(),
             messages,
             warned: false,
-            stamps: Stamps::of(ty).filter(|_| !json),
-            json,
+            stamps: Stamps::of(ty).filter(|_| ros2.is_none()),
+            ros2,
         });
     }
     Ok(replayed)
 }
 
-/// The messages of the ROS 2 channel `channel` as the port's values (serde JSON): an
-/// error if this program cannot decode ROS 2 messages; a message that does not decode
-/// is left out, said once with how many were.
+/// A channel's messages to replay: (log time, bytes).
+type Queue = VecDeque<(u64, Vec<u8>)>;
+
+/// The reader of the ROS 2 channel `channel` (the definitions its schema holds) and
+/// its messages, each checked against the message: one that does not read is left out,
+/// said once with how many were. An error if the schema does not read.
 fn from_cdr(
     m: &Setup<'_>,
     path: &std::path::Path,
     channel: &recording::ChannelSummary,
-    messages: VecDeque<(u64, Vec<u8>)>,
-) -> Result<VecDeque<(u64, Vec<u8>)>, String> {
-    let decoder = recording::ros2::Ros2Channel::of(channel).map_err(|why| {
+    messages: Queue,
+) -> Result<(Queue, recording::ros2::Ros2Channel), String> {
+    use recording::ros2::Ros2Channel;
+    let read = Ros2Channel::of(channel).map_err(|why| {
         let exact = (channel.metadata.get(recording::META_PORT))
-            .map(|p| format!("replay the port's exact channel `{p}`, or "))
+            .map(|p| format!("\n  help: replay the port's exact channel `{p}`"))
             .unwrap_or_default();
-        format!(
-            "{why}\n  help: {exact}replay it in a model whose part is a ROS 2 node (<ros2>, \
-             docs/ros2.md)"
-        )
+        format!("{why}{exact}")
     })?;
+    // Without definitions in the file, the program's may be known only at the first
+    // step: its messages are checked as they are replayed.
+    if read.of_program() {
+        return Ok((messages, read));
+    }
+    let shape = read.shape()?;
     let (mut out, mut bad) = (VecDeque::with_capacity(messages.len()), None);
     let mut skipped = 0usize;
     for (time, cdr) in messages {
-        match decoder.decode(&cdr) {
-            Ok(json) => out.push_back((time, json)),
+        match Ros2Channel::check(&shape, &cdr) {
+            Ok(()) => out.push_back((time, cdr)),
             Err(why) => {
                 skipped += 1;
                 bad.get_or_insert(why);
             }
         }
     }
+    drop(shape);
     if let Some(why) = bad {
         eprintln!(
             "warning: ferroc_std.Player `{}`: {skipped} message(s) of the ROS 2 channel `{}` \
@@ -324,7 +332,7 @@ fn from_cdr(
             path.display()
         );
     }
-    Ok(out)
+    Ok((out, read))
 }
 
 /// Reads the channels of `topics` from the recording at `path` (the others are only
@@ -395,6 +403,19 @@ impl Module for Player {
             Mode::Step => None,
         };
         for o in &mut self.outputs {
+            let shape = match o.ros2.as_ref().map(|r| r.shape()).transpose() {
+                Ok(shape) => shape,
+                Err(e) => {
+                    // A channel without definitions whose message this program does not
+                    // define either: said once, nothing of it replayed.
+                    eprintln!(
+                        "warning: ferroc_std.Player: the ROS 2 channel `{}` is not replayed: {e}",
+                        o.topic
+                    );
+                    o.messages.clear();
+                    continue;
+                }
+            };
             while let Some((t, _)) = o.messages.front() {
                 if due.is_some_and(|due| *t > due) {
                     break;
@@ -411,8 +432,8 @@ impl Module for Player {
                         bytes = shifted;
                     }
                 }
-                let published = if o.json {
-                    o.wire.from_json(Some(&o.out), &bytes)
+                let published = if let Some(shape) = &shape {
+                    recording::ros2::Ros2Channel::publish(&o.wire, &o.out, shape, &bytes)
                 } else {
                     o.wire.decode(&o.out, &bytes)
                 };

@@ -30,6 +30,13 @@ pub fn link(id: u32) -> u32 {
     ROS2_LINKS.saturating_add(id)
 }
 
+/// The name of the receiving end of the subscribed ROS 2 end `id` (the builder's
+/// stand-in module whose output `out` feeds the subscribing input): what a recorder of
+/// the input connects to.
+pub fn subscriber_end(id: u32) -> String {
+    format!("ros2 {} in", link(id))
+}
+
 /// ROS 2 service ends travel above the topic ends: service `k`'s requests on
 /// `ROS2_SERVICES + 2k`, its answers on the number after.
 pub const ROS2_SERVICES: u32 = ROS2_LINKS + (1 << 29);

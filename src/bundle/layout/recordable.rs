@@ -1,6 +1,6 @@
 //! `--record` in generated programs: which outputs of a part's modules feed a
-//! connection or are published as ROS 2 topics (the ones `ferroc run --record` would
-//! record), with their model types
+//! connection or are published as ROS 2 topics, and which inputs are subscribed from
+//! ROS 2 topics (the ones `ferroc run --record` would record), with their model types
 //! from the compiler. `rust/recordable.rs` writes them into `main.rs` as the table
 //! `RECORDABLE` that `ferroc_std::Recorders` reads when the program is started with
 //! `--record`.
@@ -29,18 +29,25 @@ pub struct RecordedOutput {
     pub serde_rust: Option<String>,
     /// The library that declares that type: the part depends on its crate.
     pub serde_library: Option<String>,
+    /// An input subscribed from a ROS 2 topic (not an output): its end's number.
+    pub subscribed: Option<u32>,
 }
 
 /// The outputs `part` records with `--record`: the sources of its connections and of
 /// its links to other parts, each once, in connection order.
 pub fn outputs(app: &Application, libs: &LibrarySet, part: &Part<'_>) -> Vec<RecordedOutput> {
     let mut out: Vec<RecordedOutput> = Vec::new();
-    // Outputs feeding connections and links, and those published as ROS 2 topics.
-    let published = (part.ros2.iter()).flat_map(|n| n.topics.iter().filter(|t| t.publish));
+    // Outputs feeding connections and links, those published as ROS 2 topics, and
+    // inputs subscribed from ROS 2 topics.
+    let ros2 = (part.ros2.iter()).flat_map(|n| &n.topics);
     let froms = (part.connections.iter().chain(&part.links_out))
-        .map(|c| (&c.from.0, &c.from.1))
-        .chain(published.map(|t| (&t.port.0, &t.port.1)));
-    for (module, port) in froms {
+        .map(|c| (&c.from.0, &c.from.1, None))
+        .chain(ros2.map(|t| (&t.port.0, &t.port.1, (!t.publish).then_some(t.id))));
+    for (module, port, subscribed) in froms {
+        let dir = match subscribed {
+            Some(_) => PortDir::In,
+            None => PortDir::Out,
+        };
         if out.iter().any(|o| o.module == *module && o.port == *port) {
             continue;
         }
@@ -53,7 +60,7 @@ pub fn outputs(app: &Application, libs: &LibrarySet, part: &Part<'_>) -> Vec<Rec
         };
         let index = app
             .module_ports(libs, m.element)
-            .find(|(_, p)| p.name == *port && p.dir == PortDir::Out)
+            .find(|(_, p)| p.name == *port && p.dir == dir)
             .map(|(i, _)| i);
         let endpoint = index.map(|port| Endpoint::Port {
             element: m.element,
@@ -79,6 +86,7 @@ pub fn outputs(app: &Application, libs: &LibrarySet, part: &Part<'_>) -> Vec<Rec
             thread: thread.path.clone(),
             serde_rust,
             serde_library,
+            subscribed,
         });
     }
     out
@@ -91,6 +99,11 @@ pub fn units(plan_units: &[(String, String)], part: &Part<'_>) -> Vec<(String, S
         .flat_map(|c| [&c.from, &c.to])
         .chain(part.links_out.iter().map(|c| &c.from))
         .chain(part.links_in.iter().map(|c| &c.to))
+        .chain(
+            part.ros2
+                .iter()
+                .flat_map(|n| n.topics.iter().map(|t| &t.port)),
+        )
         .map(|(module, port)| format!("{module}/{port}"))
         .collect();
     (plan_units.iter())

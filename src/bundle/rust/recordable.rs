@@ -12,15 +12,19 @@ use super::super::text::rust_str;
 pub fn table(part: &Part<'_>, name_of: &dyn Fn(&str) -> String) -> String {
     let items: Vec<String> = (part.recordable.iter())
         .map(|o| {
-            call(
-                "Recordable::new",
-                &[
-                    name_of(&o.module),
-                    rust_str(&o.port),
-                    rust_str(&o.model_type),
-                    rust_str(&o.thread),
-                ],
-            )
+            let mut args = vec![
+                name_of(&o.module),
+                rust_str(&o.port),
+                rust_str(&o.model_type),
+                rust_str(&o.thread),
+            ];
+            match o.subscribed {
+                Some(id) => {
+                    args.push(id.to_string());
+                    call("Recordable::subscribed", &args)
+                }
+                None => call("Recordable::new", &args),
+            }
         })
         .collect();
     let mut code = Code::default();

@@ -62,8 +62,6 @@ impl Ros2Ends {
         lockstep: bool,
     ) -> Result<Ros2Ends, String> {
         let registry = Arc::new(super::interfaces::registry(nodes)?);
-        // Recordings write the nodes' published ports as their topics' CDR.
-        super::wire::install(Arc::clone(&registry), nodes.iter().flat_map(|n| &n.topics));
         let arrived = lockstep.then(Arc::<Arrived>::default);
         let mut open = Ros2Ends {
             publishers: BTreeMap::new(),
@@ -428,8 +426,6 @@ pub fn network() -> Result<Arc<dyn Network>, String> {
 /// the one `ZENOH_SESSION_CONFIG_URI` names, if set: what a bundle's program whose part
 /// is a ROS 2 node but has no links to other parts runs on.
 pub fn network_from(file: Option<&Path>) -> Result<Arc<dyn Network>, String> {
-    // Before the modules are made: a player replaying a ROS 2 channel decodes it then.
-    super::wire::install(Arc::new(ferroc_ros2::Registry::shipped()), []);
     let network = match file {
         Some(file) => Ros2Network::configured(Some(file), "--zenoh-config "),
         None => {

@@ -13,7 +13,7 @@ mod program;
 mod select;
 
 pub use program::{Recordable, Recorders};
-pub use select::{glob, select, RecordedPort, RecorderPlan, RECORDER_TYPE};
+pub use select::{glob, select, Candidate, RecordedPort, RecorderPlan, RECORDER_TYPE};
 
 use crate::logger::{record, recorded_inputs};
 use crate::recording::{self, LogFile, SharedLog};
@@ -49,6 +49,9 @@ impl ModuleType for Recorder {
             port.info.port = port.info.topic.clone();
             port.info.part = recording::part_of(&port.info.topic);
             port.info.unit = recording::unit_of(&port.info.topic);
+        }
+        if !m.path().is_empty() {
+            recording::ros2::add_recorded(ports.iter().map(|p| p.info.port.as_str()));
         }
         Recorder {
             ports,

@@ -1,6 +1,7 @@
 //! `--record` in the programs `ferroc bundle` generates: the generated `main.rs` lists
-//! the outputs its modules write into connections ([`Recordable`], with the model
-//! types the compiler knows) and hands them to [`Recorders`], which adds the same
+//! the outputs its modules write into connections or publish as ROS 2 topics and the
+//! inputs subscribed from ROS 2 topics ([`Recordable`], with the model types the
+//! compiler knows) and hands them to [`Recorders`], which adds the same
 //! recorders `ferroc run --record` adds to its plan.
 
 use super::select::{select, RecorderPlan, RECORDER_TYPE};
@@ -13,8 +14,8 @@ use ferroc_runtime::port::ConnectOptions;
 use ferroc_runtime::supervise::Args;
 use std::path::PathBuf;
 
-/// An output of a generated program's module that feeds a connection: what
-/// `--record` may record.
+/// An output of a generated program's module that feeds a connection or is published
+/// as a ROS 2 topic, or an input subscribed from one: what `--record` may record.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Recordable {
     /// The module's path and the output port.
@@ -24,9 +25,12 @@ pub struct Recordable {
     pub model_type: &'static str,
     /// The thread container running the module.
     pub thread: &'static str,
+    /// An input subscribed from a ROS 2 topic, not an output: its end's number.
+    pub subscribed: Option<u32>,
 }
 
 impl Recordable {
+    /// An output of a module.
     pub const fn new(
         module: &'static str,
         port: &'static str,
@@ -38,6 +42,22 @@ impl Recordable {
             port,
             model_type,
             thread,
+            subscribed: None,
+        }
+    }
+
+    /// An input subscribed from the ROS 2 end `id` (its topic's receiving end feeds the
+    /// recorder).
+    pub const fn subscribed(
+        module: &'static str,
+        port: &'static str,
+        model_type: &'static str,
+        thread: &'static str,
+        id: u32,
+    ) -> Self {
+        Recordable {
+            subscribed: Some(id),
+            ..Recordable::new(module, port, model_type, thread)
         }
     }
 }
@@ -70,9 +90,13 @@ impl Recorders {
         let file = std::path::absolute(file).map_err(|e| format!("--record: {e}"))?;
         crate::check_log_path(&file).map_err(|e| format!("--record: {e}"))?;
         crate::recording::check_overwrite(&file).map_err(|e| format!("--record: {e}"))?;
-        let outputs = outputs
-            .iter()
-            .map(|o| (o.module, o.port, o.model_type, o.thread));
+        let outputs = outputs.iter().map(|o| super::Candidate {
+            module: o.module,
+            port: o.port,
+            model_type: o.model_type,
+            thread: o.thread,
+            subscribed: o.subscribed,
+        });
         let plans = select(registry.values(), outputs, &args.record_filter)
             .map_err(|e| format!("--record {}: {e}", file.display()))?;
         registry.register::<super::Recorder>();

@@ -7,13 +7,46 @@ use ferroc_runtime::module::ValueTable;
 /// The model name of the recorder type (registered only for recording runs).
 pub const RECORDER_TYPE: &str = "ferroc_std.Recorder";
 
-/// One output a recorder records.
+/// What `--record` may record: an output of a module, or an input subscribed from a
+/// ROS 2 topic (its values are what the node receives).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Candidate<'a> {
+    /// The module's path and the port (`out/0` for numbered ports).
+    pub module: &'a str,
+    pub port: &'a str,
+    /// The port's model type; empty when it is unknown.
+    pub model_type: &'a str,
+    /// The thread container running the module.
+    pub thread: &'a str,
+    /// For an input subscribed from a ROS 2 topic: the end's number (`Ros2Topic::id`),
+    /// whose receiving end feeds the input and the recorder.
+    pub subscribed: Option<u32>,
+}
+
+impl<'a> From<(&'a str, &'a str, &'a str, &'a str)> for Candidate<'a> {
+    /// An output: `(module, port, model type, thread)`.
+    fn from((module, port, model_type, thread): (&'a str, &'a str, &'a str, &'a str)) -> Self {
+        Candidate {
+            module,
+            port,
+            model_type,
+            thread,
+            subscribed: None,
+        }
+    }
+}
+
+/// One port a recorder records.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct RecordedPort {
-    /// The writing module's path and its output port (`in/0` for numbered ports).
+    /// What the recorder's input is connected to: the writing module's path and its
+    /// output port (`in/0` for numbered ports), or for a subscribed input the
+    /// receiving end of its topic (`ferroc_runtime::link::ros2::subscriber_end`) and
+    /// `out`.
     pub module: String,
     pub port: String,
-    /// `module/port`: the channel's topic and the recorder's input.
+    /// The recorded port's path (`module/port`): the channel's topic and the
+    /// recorder's input.
     pub topic: String,
     /// The output's model type.
     pub model_type: String,
@@ -29,19 +62,26 @@ pub struct RecorderPlan {
     pub ports: Vec<RecordedPort>,
 }
 
-/// The recorders for `outputs` — `(module, port, model type, thread container)` of
-/// every output that feeds a connection, an empty model type when it is unknown —
-/// keeping those matching one of `filters` (all when there is none), each output once.
-/// Outputs whose type has no encoding in `values` are left out and named on stderr.
+/// The recorders for `outputs` — every output that feeds a connection or is published
+/// as a ROS 2 topic, and every input subscribed from one ([`Candidate`]) —
+/// keeping those matching one of `filters` (all when there is none), each port once.
+/// Ports whose type has no encoding in `values` are left out and named on stderr.
 /// An error when nothing is left to record.
-pub fn select<'a>(
+pub fn select<'a, C: Into<Candidate<'a>>>(
     values: &ValueTable,
-    outputs: impl IntoIterator<Item = (&'a str, &'a str, &'a str, &'a str)>,
+    outputs: impl IntoIterator<Item = C>,
     filters: &[String],
 ) -> Result<Vec<RecorderPlan>, String> {
     let mut recorders: Vec<RecorderPlan> = Vec::new();
     let mut skipped = Vec::new();
-    for (module, port, model_type, thread) in outputs {
+    for candidate in outputs {
+        let Candidate {
+            module,
+            port,
+            model_type,
+            thread,
+            subscribed,
+        } = candidate.into();
         let topic = format!("{module}/{port}");
         if !filters.is_empty() && !filters.iter().any(|f| glob(f, &topic)) {
             continue;
@@ -58,8 +98,12 @@ pub fn select<'a>(
             skipped.push(format!("{topic} ({model_type} has no serde)"));
             continue;
         }
+        let (module, port) = match subscribed {
+            Some(id) => (ferroc_runtime::link::ros2::subscriber_end(id), "out"),
+            None => (module.to_owned(), port),
+        };
         let port = RecordedPort {
-            module: module.to_owned(),
+            module,
             port: port.to_owned(),
             topic,
             model_type: model_type.to_owned(),
@@ -156,5 +200,30 @@ mod tests {
         assert_eq!(filtered.len(), 1);
         let none = select(&values, outputs, &["nothing*".into()]).unwrap_err();
         assert!(none.contains("matches --record-filter"), "{none}");
+    }
+
+    #[test]
+    fn a_subscribed_input_is_recorded_from_its_topic_s_receiving_end_under_its_own_path() {
+        let values = ValueTable::default();
+        let enable = Candidate {
+            subscribed: Some(3),
+            ..Candidate::from(("r/control", "enable", "bool", "r/main"))
+        };
+        let outputs = [enable, Candidate::from(("r/a", "out", "f64", "r/main"))];
+        let plans = select(&values, outputs, &["r/control/*".into()]).unwrap();
+        let port = &plans[0].ports[..];
+        assert_eq!(port.len(), 1, "the filter matches the input's path");
+        assert_eq!(
+            (port[0].module.as_str(), port[0].port.as_str()),
+            (
+                ferroc_runtime::link::ros2::subscriber_end(3).as_str(),
+                "out"
+            )
+        );
+        assert_eq!(port[0].topic, "r/control/enable");
+        assert_eq!(plans[0].thread, "r/main");
+        // An output is connected to itself.
+        let plans = select(&values, outputs, &["r/a/*".into()]).unwrap();
+        assert_eq!(plans[0].ports[0].module, "r/a");
     }
 }

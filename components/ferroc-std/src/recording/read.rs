@@ -267,6 +267,7 @@ fn scan(
                     Ok(()) => continue,
                     Err(Stop::Corrupt(what)) => Problem::Corrupt(what),
                     Err(Stop::Damaged(why)) => Problem::Damaged(why),
+                    Err(Stop::Unsupported(why)) => return Err(why),
                 }
             }
             Err(mcap::McapError::BadDataCrc { saved, calculated }) => Problem::Corrupt(format!(
@@ -291,6 +292,9 @@ enum Stop {
     Corrupt(String),
     /// The record does not read.
     Damaged(String),
+    /// The file is well formed but holds what ferroc does not read (compressed chunks):
+    /// an error, whatever the checksums say.
+    Unsupported(String),
 }
 
 /// What stopped the reading, as the file's state or an error.
@@ -357,6 +361,15 @@ impl Scan<'_, '_> {
     ) -> Result<(), Stop> {
         self.chunks += 1;
         let which = format!("chunk {} (the record at byte {offset})", self.chunks);
+        if !header.compression.is_empty() {
+            return Err(Stop::Unsupported(format!(
+                "holds chunks compressed with `{}` ({which}), which ferroc does not read: \
+                 its recordings are uncompressed\n  help: write the file without chunk \
+                 compression (the writer's compression `none`), or decompress it with an \
+                 MCAP tool first",
+                header.compression
+            )));
+        }
         if header.uncompressed_crc != 0 && header.compression.is_empty() {
             let computed = crc32fast::hash(data);
             if computed != header.uncompressed_crc {

@@ -22,6 +22,9 @@ impl Builder<'_> {
     pub fn ros2_node(&mut self, node: Ros2Node) -> Result<(), BuildError> {
         let reg = ros2::node_registry(&node)
             .map_err(|why| BuildError::Connect(format!("ROS 2 node `{}`: {why}", node.name)))?;
+        // Recordings see which ports are topics, and in which definitions.
+        ferroc_link::ros2_wire::add_node(&node)
+            .map_err(|why| BuildError::Connect(format!("ROS 2 node `{}`: {why}", node.name)))?;
         for topic in &node.topics {
             let port = (topic.port.0.as_str(), topic.port.1.as_str());
             if topic.publish {
@@ -90,7 +93,7 @@ impl Builder<'_> {
         let describe = format!("ROS 2 topic `{}` → `{}/{}`", topic.topic, to.0, to.1);
         let (value_type, codec) = self.ros2_type(topic, &describe)?;
         let shape = shape(topic, reg, &describe)?;
-        let name = format!("ros2 {} in", ros2::link(topic.id));
+        let name = ros2::subscriber_end(topic.id);
         let (out, handle) = value_type.output(&name);
         let end = self.link_end(name, vec![], vec![("out".into(), handle)]);
         self.connect(
