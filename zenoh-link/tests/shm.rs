@@ -140,7 +140,8 @@ fn killed_reader(name: &str, lend: bool) {
 /// read in place, and checks them all again at every step, stepping slowly) keeps
 /// them while another reader is killed; in a small pool that reuses its buffers at
 /// once, none of the kept frames changes under it. The killed reader's buffers, which
-/// the live one was sent too, come back once the live one has stopped.
+/// the live one was sent too, come back while it runs, as it answers that it let go of
+/// them (shm/asking.rs), never one it still holds.
 #[test]
 fn a_slow_live_reader_keeps_its_buffers_while_another_is_killed() {
     let name = "shm_slow";
@@ -166,22 +167,101 @@ fn a_slow_live_reader_keeps_its_buffers_while_another_is_killed() {
         slow.held_checks().len() >= checks + 10 && cam.shm_use().shared > sent + 30
     });
     assert!(more, "{:?} {:?}", slow.held_checks(), cam.shm_use());
-    let held = slow.held_checks();
-    assert!(held.iter().all(|ok| *ok), "a kept frame changed: {held:?}");
-    assert!(slow.seen().iter().all(|(_, ok)| *ok), "{:?}", slow.seen());
-    drop(slow); // stops normally
     let reclaimed = eventually(Duration::from_secs(60), || cam.shm_use().reclaimed > 0);
     assert!(
         reclaimed,
         "the killed reader's buffers: {:?}",
         cam.shm_use()
     );
+    let checks = slow.held_checks().len();
+    let after = eventually(Duration::from_secs(60), || {
+        slow.held_checks().len() >= checks + 10
+    });
+    assert!(after, "{:?}", slow.held_checks());
+    let held = slow.held_checks();
+    assert!(held.iter().all(|ok| *ok), "a kept frame changed: {held:?}");
+    assert!(slow.seen().iter().all(|(_, ok)| *ok), "{:?}", slow.seen());
+    drop(slow); // stops normally
     app.stop();
     drop(app);
     let fresh = Pool::open(cam.shm_settings()).room_for(SIZES[2]).unwrap();
     let room = || cam.shm_room_for(SIZES[2]).unwrap_or(0);
     let back = eventually(Duration::from_secs(20), || room() == fresh);
     assert!(back, "room for {} of {fresh}: {:?}", room(), cam.shm_use());
+}
+
+/// Three readers of the same frames, one killed mid-stream: its buffers all come back
+/// while the other two keep reading (they answer which buffers they still hold:
+/// shm/asking.rs), without waiting for them to stop. Meanwhile the two keep receiving
+/// intact frames and keep their last three, read in place, unchanged, in a small pool
+/// that reuses every buffer that comes back at once. In the end the pool has room for
+/// exactly as many frames as a fresh one.
+#[test]
+fn a_killed_reader_among_three_leaks_nothing_while_the_others_read_on() {
+    let name = "shm_three";
+    let registry = registry();
+    let peers = peers();
+    let small = config_file(
+        "three.json5",
+        "{ transport: { shared_memory: { transport_optimization: { pool_size: 12582912 } } } }",
+    );
+    let cam = zenoh(name, "cam", &peers, Some(&small));
+    let app = camera_with(&registry, &cam, 20, SIZES[2], false);
+    let live = [0, 1].map(|_| Reader::start_with(name, &peers["cam"], &free_port(), 3, 20));
+    let killed = Reader::start_with(name, &peers["cam"], &peers["view"], 3, 20);
+    let all = eventually(Duration::from_secs(60), || {
+        killed.held_checks().len() >= 5 && live.iter().all(|r| r.held_checks().len() >= 5)
+    });
+    assert!(
+        all,
+        "{:?} {:?}",
+        killed.seen(),
+        live.each_ref().map(Reader::seen)
+    );
+    killed.kill();
+    // Its buffers come back and none stays counted for it, the others still reading.
+    let back = eventually(Duration::from_secs(60), || {
+        let used = cam.shm_use();
+        used.reclaimed > 0 && used.gone_held == 0
+    });
+    assert!(back, "{:?}", cam.shm_use());
+    let (seen, sent) = (
+        live.each_ref().map(|r| r.seen().len()),
+        cam.shm_use().shared,
+    );
+    let on = eventually(Duration::from_secs(60), || {
+        live.iter()
+            .zip(&seen)
+            .all(|(r, n)| r.seen().len() >= n + 20)
+            && cam.shm_use().shared > sent + 20
+    });
+    assert!(
+        on,
+        "{:?} {:?}",
+        live.each_ref().map(Reader::seen),
+        cam.shm_use()
+    );
+    for reader in &live {
+        let held = reader.held_checks();
+        assert!(held.iter().all(|ok| *ok), "a kept frame changed: {held:?}");
+        assert!(
+            reader.seen().iter().all(|(_, ok)| *ok),
+            "{:?}",
+            reader.seen()
+        );
+    }
+    app.stop();
+    drop(app);
+    drop(live); // stop normally
+    let fresh = Pool::open(cam.shm_settings()).room_for(SIZES[2]).unwrap();
+    let room = || cam.shm_room_for(SIZES[2]).unwrap_or(0);
+    let none_lost = eventually(Duration::from_secs(20), || room() == fresh);
+    assert!(
+        none_lost,
+        "room for {} of {fresh}: {:?}",
+        room(),
+        cam.shm_use()
+    );
 }
 
 /// The silent side again, where transports fail: a reader stopped (SIGSTOP) for much
