@@ -19,7 +19,10 @@ use ferroc_runtime::port::ConnectOptions;
 use ferroc_zenoh::shm::Pool;
 use shm_parts::*;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 use support::{eventually, free_port, lines_of};
@@ -136,15 +139,24 @@ fn killed_reader(name: &str, lend: bool) {
     );
 }
 
-/// The silent side: a live reader that holds buffers long (it keeps its last frames,
-/// read in place, and checks them all again at every step, stepping slowly) keeps
-/// them while another reader is killed; in a small pool that reuses its buffers at
-/// once, none of the kept frames changes under it. The killed reader's buffers, which
-/// the live one was sent too, come back while it runs, as it answers that it let go of
-/// them (shm/asking.rs), never one it still holds.
+/// The silent side: a live reader that holds buffers long (it keeps its first frames,
+/// sent to the other reader too, read in place, and checks them all again at every
+/// step, stepping slowly) keeps them while another reader is killed; in a small pool
+/// that reuses its buffers at once, none of the kept frames changes under it. The
+/// killed reader's other buffers, which the live one was sent too, come back while it
+/// runs, as it answers that it let go of them (shm/asking.rs), never one it still holds.
 #[test]
 fn a_slow_live_reader_keeps_its_buffers_while_another_is_killed() {
-    let name = "shm_slow";
+    slow_reader("shm_slow", false);
+}
+
+/// The same with frames in buffers the camera's output lends (read in pieces).
+#[test]
+fn a_slow_live_reader_keeps_its_lent_buffers_while_another_is_killed() {
+    slow_reader("shm_slow_lent", true);
+}
+
+fn slow_reader(name: &str, lend: bool) {
     let registry = registry();
     let peers = peers();
     // 12 MiB: twelve 1 MiB frames, so freed buffers are written again at once.
@@ -153,9 +165,11 @@ fn a_slow_live_reader_keeps_its_buffers_while_another_is_killed() {
         "{ transport: { shared_memory: { transport_optimization: { pool_size: 12582912 } } } }",
     );
     let cam = zenoh(name, "cam", &peers, Some(&small));
-    let app = camera_with(&registry, &cam, 20, SIZES[2], false);
-    let slow = Reader::start_with(name, &peers["cam"], &free_port(), 3, 100);
+    let app = camera_with(&registry, &cam, 20, SIZES[2], lend);
+    // The killed reader first: the frames the slow one keeps were sent to both.
     let killed = Reader::start(name, &peers);
+    assert!(eventually(Duration::from_secs(60), || killed.seen().len() >= 5));
+    let slow = Reader::start_with(name, &peers["cam"], &free_port(), -3, 100);
     let both = eventually(Duration::from_secs(60), || {
         slow.held_checks().len() >= 5 && killed.seen().len() >= 5
     });
@@ -198,7 +212,16 @@ fn a_slow_live_reader_keeps_its_buffers_while_another_is_killed() {
 /// exactly as many frames as a fresh one.
 #[test]
 fn a_killed_reader_among_three_leaks_nothing_while_the_others_read_on() {
-    let name = "shm_three";
+    killed_among_three("shm_three", false);
+}
+
+/// The same with frames in buffers the camera's output lends (read in pieces).
+#[test]
+fn a_killed_reader_among_three_lent_to_leaks_nothing_while_the_others_read_on() {
+    killed_among_three("shm_three_lent", true);
+}
+
+fn killed_among_three(name: &str, lend: bool) {
     let registry = registry();
     let peers = peers();
     let small = config_file(
@@ -206,7 +229,7 @@ fn a_killed_reader_among_three_leaks_nothing_while_the_others_read_on() {
         "{ transport: { shared_memory: { transport_optimization: { pool_size: 12582912 } } } }",
     );
     let cam = zenoh(name, "cam", &peers, Some(&small));
-    let app = camera_with(&registry, &cam, 20, SIZES[2], false);
+    let app = camera_with(&registry, &cam, 20, SIZES[2], lend);
     let live = [0, 1].map(|_| Reader::start_with(name, &peers["cam"], &free_port(), 3, 20));
     let killed = Reader::start_with(name, &peers["cam"], &peers["view"], 3, 20);
     let all = eventually(Duration::from_secs(60), || {
@@ -261,6 +284,65 @@ fn a_killed_reader_among_three_leaks_nothing_while_the_others_read_on() {
         "room for {} of {fresh}: {:?}",
         room(),
         cam.shm_use()
+    );
+}
+
+/// The silent side with a reader that is not a ferroc part (Python's `eclipse-zenoh`,
+/// which receives the frames' bytes over the network): it cannot say which buffers it
+/// holds, so a killed ferroc reader's buffers that it was sent too stay counted while
+/// it lives, as before there was any asking.
+#[test]
+fn a_killed_readers_buffers_also_sent_to_a_python_client_stay() {
+    let Some(python) = ferroc_testkit::python(&["zenoh"]) else {
+        return;
+    };
+    let name = "shm_python";
+    let registry = registry();
+    let peers = peers();
+    let cam = zenoh(name, "cam", &peers, None);
+    let app = camera_with(&registry, &cam, 20, SIZES[2], false);
+    let killed = Reader::start_with(name, &peers["cam"], &peers["view"], 3, 20);
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/python/hold_on.py");
+    let mut client = Command::new(python)
+        .arg(script)
+        .args([format!("tcp/{}", peers["cam"]), name.to_string()])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let samples = Arc::new(AtomicUsize::new(0));
+    let (stdout, count) = (client.stdout.take().unwrap(), Arc::clone(&samples));
+    std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+            if line.starts_with("sample ") {
+                count.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+    });
+    let both = eventually(Duration::from_secs(60), || {
+        samples.load(Ordering::Relaxed) >= 5 && killed.held_checks().len() >= 5
+    });
+    assert!(
+        both,
+        "python saw {samples:?}, the reader {:?}",
+        killed.seen()
+    );
+    killed.kill();
+    // The client keeps receiving, the camera keeps sending in shared memory, past the
+    // grace many times over; nothing the client was sent comes back.
+    let (got, sent) = (samples.load(Ordering::Relaxed), cam.shm_use().shared);
+    let on = eventually(Duration::from_secs(60), || {
+        samples.load(Ordering::Relaxed) >= got + 250 && cam.shm_use().shared > sent + 250
+    });
+    let used = cam.shm_use();
+    drop(client.stdin.take());
+    let _ = client.wait();
+    app.stop();
+    assert!(on, "python saw {samples:?}: {used:?}");
+    assert_eq!(used.reclaimed, 0, "{used:?}");
+    assert!(
+        used.gone_held > 0,
+        "the killed reader's share stays: {used:?}"
     );
 }
 
