@@ -326,8 +326,11 @@ mod without_shm {
     use zenoh::sample::Sample;
     use zenoh::{Session, Wait};
 
+    /// Nothing to number: nothing is asked.
     #[derive(Default)]
-    pub(crate) struct Order;
+    pub(crate) struct Order {
+        _nothing: (),
+    }
 
     impl Order {
         pub(crate) fn put(
