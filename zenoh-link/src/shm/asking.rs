@@ -300,8 +300,13 @@ mod with_shm {
                 let Ok(sample) = reply.result() else {
                     return;
                 };
-                if let Ok(answer) = postcard::from_bytes::<Answer>(&sample.payload().to_bytes()) {
-                    ledger.answered(asked, &answer);
+                // An answer counts only for the session that sent it (Zenoh says which).
+                let replier = reply.replier_id().map(|id| id.zid().to_string());
+                match postcard::from_bytes::<Answer>(&sample.payload().to_bytes()) {
+                    Ok(answer) if replier.as_ref() == Some(&answer.reader) => {
+                        ledger.answered(asked, &answer);
+                    }
+                    _ => {}
                 }
             })
             .wait();
