@@ -245,11 +245,7 @@ fn deliver(
         // Decoded from the writer's buffer; its byte blocks (an image's pixels) stay
         // there, read in place, the buffer (and its receipt) held while the value lives.
         received_shared.fetch_add(1, Ordering::Relaxed);
-        let (bytes, receipt) = (shm.to_owned(), receipt.clone());
-        let holder: Arc<dyn Holder> = Arc::new(Read {
-            bytes,
-            _receipt: receipt,
-        });
+        let holder: Arc<dyn Holder> = Arc::new(Read::new(shm.to_owned(), receipt));
         delivery.deliver_held(link, &holder);
         return;
     }

@@ -81,11 +81,7 @@ fn holders(payload: &ZBytes, receipt: &Option<Arc<Receipt>>) -> Vec<Arc<dyn Hold
             .zslices()
             .map(|slice| {
                 if slice.len() >= KEEP {
-                    let (bytes, receipt) = (Kept(slice.clone()), receipt.clone());
-                    Arc::new(Read {
-                        bytes,
-                        _receipt: receipt,
-                    }) as Arc<dyn Holder>
+                    Arc::new(Read::new(Kept(slice.clone()), receipt)) as Arc<dyn Holder>
                 } else {
                     Arc::new(slice.as_slice().to_vec()) as Arc<dyn Holder>
                 }

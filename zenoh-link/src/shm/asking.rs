@@ -105,6 +105,14 @@ pub(crate) struct Read<T> {
     pub(crate) _receipt: Option<std::sync::Arc<Receipt>>,
 }
 
+impl<T> Read<T> {
+    /// `bytes`, keeping `receipt`.
+    pub(crate) fn new(bytes: T, receipt: &Option<std::sync::Arc<Receipt>>) -> Self {
+        let _receipt = receipt.clone();
+        Read { bytes, _receipt }
+    }
+}
+
 impl<T: AsRef<[u8]>> AsRef<[u8]> for Read<T> {
     fn as_ref(&self) -> &[u8] {
         self.bytes.as_ref()
