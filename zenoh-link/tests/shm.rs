@@ -322,11 +322,7 @@ fn a_killed_readers_buffers_also_sent_to_a_python_client_stay() {
     let both = eventually(Duration::from_secs(60), || {
         samples.load(Ordering::Relaxed) >= 5 && killed.held_checks().len() >= 5
     });
-    assert!(
-        both,
-        "python saw {samples:?}, the reader {:?}",
-        killed.seen()
-    );
+    assert!(both, "python: {samples:?}, reader: {:?}", killed.seen());
     killed.kill();
     // The client keeps receiving, the camera keeps sending in shared memory, past the
     // grace many times over; nothing the client was sent comes back.
@@ -340,10 +336,7 @@ fn a_killed_readers_buffers_also_sent_to_a_python_client_stay() {
     app.stop();
     assert!(on, "python saw {samples:?}: {used:?}");
     assert_eq!(used.reclaimed, 0, "{used:?}");
-    assert!(
-        used.gone_held > 0,
-        "the killed reader's share stays: {used:?}"
-    );
+    assert!(used.gone_held > 0, "the killed one's share stays: {used:?}");
 }
 
 /// The silent side again, where transports fail: a reader stopped (SIGSTOP) for much
