@@ -503,7 +503,8 @@ impl Provider {
         let now = std::time::Instant::now();
         let back = self.ledger.reclaim(now, &self.chunks);
         if let Some(asked) = self.ledger.to_ask(now) {
-            match lock(&self.asking).clone() {
+            let to = lock(&self.asking).clone();
+            match to {
                 Some((session, key)) => asking::ask(&session, &key, &self.ledger, asked),
                 None => self.ledger.asked(),
             }

@@ -148,7 +148,7 @@ impl Ledger {
             ..
         } = &mut *s;
         for e in entries.values_mut() {
-            let left = e.record.gone(*session, present);
+            let left = e.record.readers_gone(*session, present);
             if let Sent::To { .. } = e.record.sent {
                 e.record.sent = if left { Sent::Left } else { Sent::Unknown };
             }
@@ -302,12 +302,13 @@ impl Ledger {
         lock(&self.state).given_back
     }
 
-    /// How many listed buffers a session that is gone was sent (they wait for the
-    /// grace, for the other readers' answers, or for sessions that cannot answer).
+    /// How many listed buffers a session that is gone was sent and nothing in this part
+    /// holds (they wait for the grace, for the other readers' answers, or for sessions
+    /// that cannot answer).
     pub(crate) fn gone_held(&self) -> u64 {
         let s = lock(&self.state);
         let n = (s.entries.values())
-            .filter(|e| e.record.some_gone(s.session, &s.present))
+            .filter(|e| e.record.some_gone(s.session, &s.present) && !e.record.lent_held())
             .count();
         n as u64
     }
@@ -323,7 +324,8 @@ impl Ledger {
         }
         let (session, present) = (s.session?, &s.present);
         let waiting = (s.entries.values()).any(|e| {
-            e.record.some_gone(Some(session), present) && !e.record.gone(Some(session), present)
+            let record = &e.record;
+            record.some_gone(Some(session), present) && !record.readers_gone(Some(session), present)
         });
         if waiting {
             s.asking = true;
@@ -375,11 +377,17 @@ impl Record {
         self.lent.as_ref().is_some_and(|l| l.strong_count() > 0)
     }
 
-    /// Whether every session the buffer was sent to (by the session `now`) is gone (its
-    /// transport closed and its process ended) or answered it is done with it, at least
-    /// one really gone. A buffer sent to no session at all never is (whoever holds it
-    /// is in this process, a subscriber of the part's own session).
+    /// Whether no output of this part holds the buffer and every session it was sent
+    /// to (by the session `now`) is gone (its transport closed and its process ended)
+    /// or answered it is done with it, at least one really gone. A buffer sent to no
+    /// session at all never is (whoever holds it is in this process, a subscriber of
+    /// the part's own session).
     fn gone(&self, now: Option<u64>, present: &BTreeSet<String>) -> bool {
+        !self.lent_held() && self.readers_gone(now, present)
+    }
+
+    /// [`gone`](Self::gone), whether or not an output of this part still holds it.
+    fn readers_gone(&self, now: Option<u64>, present: &BTreeSet<String>) -> bool {
         match &self.sent {
             Sent::To {
                 session,
@@ -388,11 +396,10 @@ impl Record {
                 ..
             } => {
                 Some(*session) == now
-                    && !self.lent_held()
                     && peers.iter().any(|p| ended(p, present))
                     && peers.iter().all(|p| done.contains(p) || ended(p, present))
             }
-            Sent::Left => !self.lent_held(),
+            Sent::Left => true,
             Sent::Not | Sent::Unknown => false,
         }
     }

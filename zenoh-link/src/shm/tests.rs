@@ -414,3 +414,30 @@ fn a_gone_readers_buffer_comes_back_after_the_part_closed_its_session() {
     assert_eq!(reclaim_later(&pool, GRACE), 1);
     assert_eq!(pool.room_for(40_000), Some(1));
 }
+
+/// A lent buffer its output still held when the part closed its session, every reader
+/// it was sent to gone before: it comes back once the output lets go, and meanwhile
+/// it does not count as waiting for readers (`gone_held`).
+#[test]
+fn a_lent_buffer_held_at_close_comes_back_once_its_output_lets_go() {
+    let pool = Pool::open(settings(64 * 1024));
+    let ledger = &pool.provider.as_ref().unwrap().ledger;
+    ledger.attach();
+    let reader = dead();
+    ledger.transport(reader.clone(), true, std::time::Instant::now());
+    let mut lent = pool.lend(40_000).unwrap();
+    lent.bytes_mut().unwrap().fill(5);
+    let sent = lent.as_any().downcast_ref::<Lent>().unwrap().shared();
+    let killed_holds = sent.as_shm().unwrap().to_owned();
+    pool.sent(&[reclaim::address(&killed_holds)], Some((7, 1)));
+    drop(sent);
+    gone(&pool, &reader);
+    assert_eq!(pool.usage().gone_held, 0, "its output holds it");
+    pool.detach();
+    assert_eq!(reclaim_later(&pool, GRACE * 2), 0, "its output holds it");
+    drop(lent);
+    assert_eq!(reclaim_later(&pool, GRACE * 3), 0, "the grace");
+    assert_eq!(reclaim_later(&pool, GRACE * 5), 1);
+    assert_eq!(pool.room_for(40_000), Some(1));
+    drop(killed_holds);
+}
