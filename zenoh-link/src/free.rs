@@ -12,6 +12,9 @@
 
 use crate::alive::{Change, Watch};
 use crate::keys::{encoding, Keys};
+#[cfg(feature = "shared-memory")]
+use crate::shm::asking::Read;
+use crate::shm::asking::{answering, Order, Receipt, Receipts};
 use crate::shm::{Payload, Pool};
 use crate::stats::Stats;
 use ferroc_runtime::console;
@@ -59,6 +62,8 @@ pub(crate) struct Free {
     /// Queries waiting for the service's answer, by call and request number.
     waiting: Arc<Mutex<HashMap<(u32, u64), Query>>>,
     _subscribers: Vec<Subscriber<()>>,
+    /// Answers writers which of their buffers this part still holds (shm/asking.rs).
+    _answering: Option<Queryable<()>>,
     /// The keys values arrived on, declared for their routes ([`routes`]).
     routes: Arc<Routes>,
     _queryables: Vec<Queryable<()>>,
@@ -80,11 +85,14 @@ pub(crate) fn open(
     shm: Shm,
 ) -> Result<Free, String> {
     if let Some(pool) = &shm.pool {
-        pool.attach(session); // who may hold what it sends (shm/reclaim.rs)
+        pool.attach(session, keys.held(part)?); // who may hold what it sends (shm/reclaim.rs)
     }
     let data = publishers(session, keys, part, links)?;
     let routes = Routes::new(session);
-    let subscribers = subscribers(session, keys, links, (&delivery, &shm, &routes))?;
+    let receipts = Arc::new(Receipts::new(links.receiving.values().cloned()));
+    let subscribers = subscribers(session, keys, links, (&delivery, &shm, &routes, &receipts))?;
+    let answering = answering(session, keys.held("*")?, receipts)
+        .map_err(|e| format!("cannot answer for shared memory: {}", engine_error(&e)))?;
     let waiting: Arc<Mutex<HashMap<(u32, u64), Query>>> = Arc::default();
     let queryables = queryables(session, keys, part, links, &delivery, &waiting)?;
     let mut calls_out = BTreeMap::new();
@@ -101,6 +109,7 @@ pub(crate) fn open(
         calls_out,
         waiting,
         _subscribers: subscribers,
+        _answering: answering,
         routes,
         _queryables: queryables,
         watch,
@@ -130,6 +139,8 @@ struct Out {
     reliable: bool,
     /// `link robot → station (robot/x/out)`, for warnings.
     name: String,
+    /// The numbers its values in shared memory are stamped with (shm/asking.rs).
+    order: Order,
 }
 
 /// A publisher per link this part sends, with its attachment (the link number).
@@ -154,6 +165,7 @@ fn publishers(
             attachment: ZBytes::from(id.to_le_bytes().to_vec()),
             reliable: s.reliable,
             name: format!("link {part} → {} ({})", s.to_part, s.topic),
+            order: Order::default(),
         };
         data.insert(*id, out);
     }
@@ -166,7 +178,7 @@ fn subscribers(
     session: &Session,
     keys: &Keys,
     links: &PartLinks,
-    (delivery, shm, routes): (&Delivery, &Shm, &Arc<Routes>),
+    (delivery, shm, routes, receipts): (&Delivery, &Shm, &Arc<Routes>, &Arc<Receipts>),
 ) -> Result<Vec<Subscriber<()>>, String> {
     let mut subscribers = Vec::new();
     let mut from: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
@@ -178,6 +190,7 @@ fn subscribers(
         let received_shared = Arc::clone(&shm.received);
         let shm_on = shm.enabled;
         let routes = Arc::clone(routes);
+        let receipts = Arc::clone(receipts);
         let subscriber = session
             .declare_subscriber(keys.data_of(writer)?)
             .callback(move |sample| {
@@ -188,6 +201,7 @@ fn subscribers(
                 };
                 let links = attachment.to_bytes();
                 let lent = links.len() % 4 == 1 && links.last() == Some(&LENT_MARK);
+                let receipt = receipts.arrived(&sample); // held while read (shm/asking.rs)
                 let links = (links.chunks_exact(4))
                     .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
                     .filter(|l| ids.contains(l));
@@ -197,11 +211,11 @@ fn subscribers(
                         deliver_pieces(
                             &delivery,
                             shm_on.then_some(&*received_shared),
-                            link,
+                            (link, &receipt),
                             payload,
                         );
                     } else {
-                        deliver(&delivery, &received_shared, link, payload);
+                        deliver(&delivery, &received_shared, (link, &receipt), payload);
                     }
                 }
                 routes.arrived(sample.key_expr());
@@ -220,13 +234,18 @@ fn subscribers(
 
 /// Hands the value `payload` of the link `link` to its receiving end.
 #[cfg_attr(not(feature = "shared-memory"), allow(unused_variables))]
-fn deliver(delivery: &Delivery, received_shared: &AtomicU64, link: u32, payload: &ZBytes) {
+fn deliver(
+    delivery: &Delivery,
+    received_shared: &AtomicU64,
+    (link, receipt): (u32, &Option<Arc<Receipt>>),
+    payload: &ZBytes,
+) {
     #[cfg(feature = "shared-memory")]
     if let Some(shm) = payload.as_shm() {
         // Decoded from the writer's buffer; its byte blocks (an image's pixels) stay
-        // there, read in place, the buffer held while the value lives.
+        // there, read in place, the buffer (and its receipt) held while the value lives.
         received_shared.fetch_add(1, Ordering::Relaxed);
-        let holder: Arc<dyn Holder> = Arc::new(shm.to_owned());
+        let holder: Arc<dyn Holder> = Arc::new(Read::new(shm.to_owned(), receipt));
         delivery.deliver_held(link, &holder);
         return;
     }
@@ -450,9 +469,11 @@ impl Free {
         let (Payload::Shared(bytes) | Payload::Network(bytes)) = payload else {
             return; // dropped: the pool is full (warned)
         };
-        let put = (out.publisher.put(bytes)).attachment(links).wait();
+        // A value in shared memory is stamped with its publisher's next number.
+        let stamp = !buffers.is_empty();
+        let (put, send) = out.order.put(&out.publisher, bytes, links, stamp);
         if let Some(pool) = &self.pool {
-            pool.sent(&buffers); // the pool's ledger notes who may hold them now
+            pool.sent(&buffers, send); // the pool's ledger notes who may hold them now
         }
         if let Err(e) = put {
             self.failed(&format!(

@@ -50,6 +50,13 @@ impl Keys {
         self.key(&["lockstep", from, to])
     }
 
+    /// `ferroc/APP/held/PART`: the question of the part `part` to its readers, which
+    /// of its shared-memory buffers they still hold (shm/asking.rs); `*` for the
+    /// queryable every part answers it with.
+    pub fn held(&self, part: &str) -> Result<OwnedKeyExpr, String> {
+        self.key(&["held", part])
+    }
+
     /// `ferroc/APP/alive/PART`: the liveliness token of a part.
     pub fn alive(&self, part: &str) -> Result<OwnedKeyExpr, String> {
         self.key(&["alive", part])

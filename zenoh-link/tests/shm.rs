@@ -19,7 +19,10 @@ use ferroc_runtime::port::ConnectOptions;
 use ferroc_zenoh::shm::Pool;
 use shm_parts::*;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 use support::{eventually, free_port, lines_of};
@@ -136,14 +139,24 @@ fn killed_reader(name: &str, lend: bool) {
     );
 }
 
-/// The silent side: a live reader that holds buffers long (it keeps its last frames,
-/// read in place, and checks them all again at every step, stepping slowly) keeps
-/// them while another reader is killed; in a small pool that reuses its buffers at
-/// once, none of the kept frames changes under it. The killed reader's buffers, which
-/// the live one was sent too, come back once the live one has stopped.
+/// The silent side: a live reader that holds buffers long (it keeps its first frames,
+/// sent to the other reader too, read in place, and checks them all again at every
+/// step, stepping slowly) keeps them while another reader is killed; in a small pool
+/// that reuses its buffers at once, none of the kept frames changes under it. The
+/// killed reader's other buffers, which the live one was sent too, come back while it
+/// runs, as it answers that it let go of them (shm/asking.rs), never one it still holds.
 #[test]
 fn a_slow_live_reader_keeps_its_buffers_while_another_is_killed() {
-    let name = "shm_slow";
+    slow_reader("shm_slow", false);
+}
+
+/// The same with frames in buffers the camera's output lends (read in pieces).
+#[test]
+fn a_slow_live_reader_keeps_its_lent_buffers_while_another_is_killed() {
+    slow_reader("shm_slow_lent", true);
+}
+
+fn slow_reader(name: &str, lend: bool) {
     let registry = registry();
     let peers = peers();
     // 12 MiB: twelve 1 MiB frames, so freed buffers are written again at once.
@@ -152,9 +165,11 @@ fn a_slow_live_reader_keeps_its_buffers_while_another_is_killed() {
         "{ transport: { shared_memory: { transport_optimization: { pool_size: 12582912 } } } }",
     );
     let cam = zenoh(name, "cam", &peers, Some(&small));
-    let app = camera_with(&registry, &cam, 20, SIZES[2], false);
-    let slow = Reader::start_with(name, &peers["cam"], &free_port(), 3, 100);
+    let app = camera_with(&registry, &cam, 20, SIZES[2], lend);
+    // The killed reader first: the frames the slow one keeps were sent to both.
     let killed = Reader::start(name, &peers);
+    assert!(eventually(Duration::from_secs(60), || killed.seen().len() >= 5));
+    let slow = Reader::start_with(name, &peers["cam"], &free_port(), -3, 100);
     let both = eventually(Duration::from_secs(60), || {
         slow.held_checks().len() >= 5 && killed.seen().len() >= 5
     });
@@ -166,22 +181,162 @@ fn a_slow_live_reader_keeps_its_buffers_while_another_is_killed() {
         slow.held_checks().len() >= checks + 10 && cam.shm_use().shared > sent + 30
     });
     assert!(more, "{:?} {:?}", slow.held_checks(), cam.shm_use());
-    let held = slow.held_checks();
-    assert!(held.iter().all(|ok| *ok), "a kept frame changed: {held:?}");
-    assert!(slow.seen().iter().all(|(_, ok)| *ok), "{:?}", slow.seen());
-    drop(slow); // stops normally
     let reclaimed = eventually(Duration::from_secs(60), || cam.shm_use().reclaimed > 0);
     assert!(
         reclaimed,
         "the killed reader's buffers: {:?}",
         cam.shm_use()
     );
+    let checks = slow.held_checks().len();
+    let after = eventually(Duration::from_secs(60), || {
+        slow.held_checks().len() >= checks + 10
+    });
+    assert!(after, "{:?}", slow.held_checks());
+    let held = slow.held_checks();
+    assert!(held.iter().all(|ok| *ok), "a kept frame changed: {held:?}");
+    assert!(slow.seen().iter().all(|(_, ok)| *ok), "{:?}", slow.seen());
+    drop(slow); // stops normally
     app.stop();
     drop(app);
     let fresh = Pool::open(cam.shm_settings()).room_for(SIZES[2]).unwrap();
     let room = || cam.shm_room_for(SIZES[2]).unwrap_or(0);
     let back = eventually(Duration::from_secs(20), || room() == fresh);
     assert!(back, "room for {} of {fresh}: {:?}", room(), cam.shm_use());
+}
+
+/// Three readers of the same frames, one killed mid-stream: its buffers all come back
+/// while the other two keep reading (they answer which buffers they still hold:
+/// shm/asking.rs), without waiting for them to stop. Meanwhile the two keep receiving
+/// intact frames and keep their last three, read in place, unchanged, in a small pool
+/// that reuses every buffer that comes back at once. In the end the pool has room for
+/// exactly as many frames as a fresh one.
+#[test]
+fn a_killed_reader_among_three_leaks_nothing_while_the_others_read_on() {
+    killed_among_three("shm_three", false);
+}
+
+/// The same with frames in buffers the camera's output lends (read in pieces).
+#[test]
+fn a_killed_reader_among_three_lent_to_leaks_nothing_while_the_others_read_on() {
+    killed_among_three("shm_three_lent", true);
+}
+
+fn killed_among_three(name: &str, lend: bool) {
+    let registry = registry();
+    let peers = peers();
+    let small = config_file(
+        "three.json5",
+        "{ transport: { shared_memory: { transport_optimization: { pool_size: 12582912 } } } }",
+    );
+    let cam = zenoh(name, "cam", &peers, Some(&small));
+    let app = camera_with(&registry, &cam, 20, SIZES[2], lend);
+    let live = [0, 1].map(|_| Reader::start_with(name, &peers["cam"], &free_port(), 3, 20));
+    let killed = Reader::start_with(name, &peers["cam"], &peers["view"], 3, 20);
+    let all = eventually(Duration::from_secs(60), || {
+        killed.held_checks().len() >= 5 && live.iter().all(|r| r.held_checks().len() >= 5)
+    });
+    assert!(
+        all,
+        "{:?} {:?}",
+        killed.seen(),
+        live.each_ref().map(Reader::seen)
+    );
+    killed.kill();
+    // Its buffers come back and none stays counted for it, the others still reading.
+    let back = eventually(Duration::from_secs(60), || {
+        let used = cam.shm_use();
+        used.reclaimed > 0 && used.gone_held == 0
+    });
+    assert!(back, "{:?}", cam.shm_use());
+    let (seen, sent) = (
+        live.each_ref().map(|r| r.seen().len()),
+        cam.shm_use().shared,
+    );
+    let on = eventually(Duration::from_secs(60), || {
+        live.iter()
+            .zip(&seen)
+            .all(|(r, n)| r.seen().len() >= n + 20)
+            && cam.shm_use().shared > sent + 20
+    });
+    assert!(
+        on,
+        "{:?} {:?}",
+        live.each_ref().map(Reader::seen),
+        cam.shm_use()
+    );
+    for reader in &live {
+        let held = reader.held_checks();
+        assert!(held.iter().all(|ok| *ok), "a kept frame changed: {held:?}");
+        assert!(
+            reader.seen().iter().all(|(_, ok)| *ok),
+            "{:?}",
+            reader.seen()
+        );
+    }
+    app.stop();
+    drop(app);
+    drop(live); // stop normally
+    let fresh = Pool::open(cam.shm_settings()).room_for(SIZES[2]).unwrap();
+    let room = || cam.shm_room_for(SIZES[2]).unwrap_or(0);
+    let none_lost = eventually(Duration::from_secs(20), || room() == fresh);
+    assert!(
+        none_lost,
+        "room for {} of {fresh}: {:?}",
+        room(),
+        cam.shm_use()
+    );
+}
+
+/// The silent side with a reader that is not a ferroc part (Python's `eclipse-zenoh`,
+/// which receives the frames' bytes over the network): it cannot say which buffers it
+/// holds, so a killed ferroc reader's buffers that it was sent too stay counted while
+/// it lives, as before there was any asking.
+#[test]
+fn a_killed_readers_buffers_also_sent_to_a_python_client_stay() {
+    let Some(python) = ferroc_testkit::python(&["zenoh"]) else {
+        return;
+    };
+    let name = "shm_python";
+    let registry = registry();
+    let peers = peers();
+    let cam = zenoh(name, "cam", &peers, None);
+    let app = camera_with(&registry, &cam, 20, SIZES[2], false);
+    let killed = Reader::start_with(name, &peers["cam"], &peers["view"], 3, 20);
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/python/hold_on.py");
+    let mut client = Command::new(python)
+        .arg(script)
+        .args([format!("tcp/{}", peers["cam"]), name.to_string()])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let samples = Arc::new(AtomicUsize::new(0));
+    let (stdout, count) = (client.stdout.take().unwrap(), Arc::clone(&samples));
+    std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+            if line.starts_with("sample ") {
+                count.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+    });
+    let both = eventually(Duration::from_secs(60), || {
+        samples.load(Ordering::Relaxed) >= 5 && killed.held_checks().len() >= 5
+    });
+    assert!(both, "python: {samples:?}, reader: {:?}", killed.seen());
+    killed.kill();
+    // The client keeps receiving, the camera keeps sending in shared memory, past the
+    // grace many times over; nothing the client was sent comes back.
+    let (got, sent) = (samples.load(Ordering::Relaxed), cam.shm_use().shared);
+    let on = eventually(Duration::from_secs(60), || {
+        samples.load(Ordering::Relaxed) >= got + 250 && cam.shm_use().shared > sent + 250
+    });
+    let used = cam.shm_use();
+    drop(client.stdin.take());
+    let _ = client.wait();
+    app.stop();
+    assert!(on, "python saw {samples:?}: {used:?}");
+    assert_eq!(used.reclaimed, 0, "{used:?}");
+    assert!(used.gone_held > 0, "the killed one's share stays: {used:?}");
 }
 
 /// The silent side again, where transports fail: a reader stopped (SIGSTOP) for much

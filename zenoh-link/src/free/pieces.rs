@@ -3,6 +3,9 @@
 //! descriptor to a reader on this computer), marked in the attachment, and read back
 //! from the buffers as they arrived.
 
+#[cfg(feature = "shared-memory")]
+use crate::shm::asking::Read;
+use crate::shm::asking::Receipt;
 use crate::shm::{Lent, Pool};
 use ferroc_runtime::link::transport::Delivery;
 use ferroc_runtime::module::bytes::Holder;
@@ -70,7 +73,7 @@ const KEEP: usize = 4096;
 /// buffer, of which a link has one to reuse (`transport/link/rx/buffer_size` over the
 /// batch size): a value that kept it while its reader holds the value would make Zenoh
 /// allocate and zero a new 64 KB buffer for every message (b4-large's reader did).
-fn holders(payload: &ZBytes) -> Vec<Arc<dyn Holder>> {
+fn holders(payload: &ZBytes, receipt: &Option<Arc<Receipt>>) -> Vec<Arc<dyn Holder>> {
     #[cfg(feature = "shared-memory")]
     {
         let message = zenoh::internal::buffers::ZBuf::from(payload.clone());
@@ -78,13 +81,15 @@ fn holders(payload: &ZBytes) -> Vec<Arc<dyn Holder>> {
             .zslices()
             .map(|slice| {
                 if slice.len() >= KEEP {
-                    Arc::new(Kept(slice.clone())) as Arc<dyn Holder>
+                    Arc::new(Read::new(Kept(slice.clone()), receipt)) as Arc<dyn Holder>
                 } else {
                     Arc::new(slice.as_slice().to_vec()) as Arc<dyn Holder>
                 }
             })
             .collect()
     }
+    #[cfg(not(feature = "shared-memory"))]
+    let _ = receipt;
     #[cfg(not(feature = "shared-memory"))]
     (0..payload.slices().count())
         .map(|i| Arc::new(Part(payload.clone(), i)) as Arc<dyn Holder>)
@@ -93,18 +98,18 @@ fn holders(payload: &ZBytes) -> Vec<Arc<dyn Holder>> {
 
 /// Hands the value `payload` of the link `link`, sent in pieces around a lent buffer,
 /// to its receiving end: decoded from the buffers as they arrived (the lent one in
-/// shared memory from a writer on this computer, read in place), counted in
-/// `received_shared` if this part has shared memory on.
+/// shared memory from a writer on this computer, read in place, keeping `receipt`),
+/// counted in `received_shared` if this part has shared memory on.
 pub(super) fn deliver_pieces(
     delivery: &Delivery,
     received_shared: Option<&AtomicU64>,
-    link: u32,
+    (link, receipt): (u32, &Option<Arc<Receipt>>),
     payload: &ZBytes,
 ) {
     if let Some(count) = received_shared {
         count.fetch_add(1, Ordering::Relaxed);
     }
-    delivery.deliver_parts(link, &holders(payload));
+    delivery.deliver_parts(link, &holders(payload, receipt));
 }
 
 #[cfg(all(test, feature = "shared-memory"))]
@@ -126,7 +131,7 @@ mod tests {
         let large = ZBytes::from(vec![7u8; KEEP]);
         let at = large.slices().next().map(<[u8]>::as_ptr);
         let message = message(&large);
-        let holders = holders(&message);
+        let holders = holders(&message, &None);
         let parts: Vec<&[u8]> = holders.iter().map(|h| (**h).as_ref()).collect();
         assert_eq!(parts.len(), 3);
         assert_eq!(parts[0], [1, 2, 3]);
@@ -144,7 +149,7 @@ mod tests {
     fn a_value_in_small_pieces_is_copied_whole() {
         let message = message(&ZBytes::from(vec![9u8; KEEP - 1]));
         let originals: Vec<*const u8> = message.slices().map(<[u8]>::as_ptr).collect();
-        let holders = holders(&message);
+        let holders = holders(&message, &None);
         let joined: Vec<u8> = holders
             .iter()
             .flat_map(|h| (**h).as_ref())

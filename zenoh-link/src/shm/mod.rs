@@ -44,9 +44,11 @@
 //! decides where a value goes (settings, the pool, its figures); `lending.rs` is the
 //! buffer a module writes; `counting.rs` is the backend that sees every chunk come and
 //! go; `reclaim.rs` gives back the buffers of readers that are gone (a reader killed
-//! while it held values) and `process.rs` tells whether a session's process is gone;
-//! the tests are in `tests.rs`.
+//! while it held values), `process.rs` tells whether a session's process is gone and
+//! `asking.rs` asks live readers which buffers they still hold; the tests are in
+//! `tests.rs`.
 
+pub(crate) mod asking;
 #[cfg(feature = "shared-memory")]
 mod counting;
 mod lending;
@@ -170,6 +172,10 @@ pub struct Use {
     /// every session they were sent to being gone (a reader killed while it held
     /// values: reclaim.rs).
     pub reclaimed: u64,
+    /// Buffers sent to a reader whose process is gone that have not come back yet:
+    /// within the grace, waiting for the other readers' word, or also sent to a session
+    /// that cannot answer (reclaim.rs, asking.rs).
+    pub gone_held: u64,
 }
 
 /// The shared-memory pool of one part (see the module documentation).
@@ -191,6 +197,8 @@ struct Provider {
     ledger: Arc<Ledger>,
     /// Zenoh's transport events of the session the part sends with, for the ledger.
     events: Mutex<Option<TransportEventsListener<()>>>,
+    /// That session and the key its readers answer on (asking.rs).
+    asking: Mutex<Option<(zenoh::Session, zenoh::key_expr::OwnedKeyExpr)>>,
 }
 
 /// Built without the feature `shared-memory`: there is no pool to hold.
@@ -211,6 +219,7 @@ fn provider(settings: Settings) -> Option<Provider> {
             chunks,
             ledger: Arc::default(),
             events: Mutex::default(),
+            asking: Mutex::default(),
         }),
         Err(e) => {
             console::note(&format!(
@@ -383,7 +392,8 @@ impl Pool {
             network: self.network.load(Ordering::Relaxed),
             dropped: self.dropped.load(Ordering::Relaxed),
             received_shared: 0,
-            reclaimed: given_back(self.provider.as_ref()),
+            reclaimed: given_back(self.provider.as_ref()).0,
+            gone_held: given_back(self.provider.as_ref()).1,
         }
     }
 }
@@ -413,13 +423,15 @@ impl Pool {
 
 /// Who may hold the buffers this part sends (reclaim.rs): the session it sends with.
 impl Pool {
-    /// The part sends with `session` from now on: the ledger follows its transports.
-    /// Without Zenoh's transport events it cannot tell who holds a buffer, and gives
-    /// nothing back that others hold.
-    pub(crate) fn attach(&self, session: &zenoh::Session) {
+    /// The part sends with `session` from now on: the ledger follows its transports,
+    /// and asks its readers on `held` (`ferroc/APP/held/PART`, asking.rs). Without
+    /// Zenoh's transport events it cannot tell who holds a buffer, and gives nothing
+    /// back that others hold.
+    pub(crate) fn attach(&self, session: &zenoh::Session, held: zenoh::key_expr::OwnedKeyExpr) {
         #[cfg(feature = "shared-memory")]
         if let Some(provider) = &self.provider {
             provider.ledger.attach();
+            *lock(&provider.asking) = Some((session.clone(), held));
             let ledger = Arc::clone(&provider.ledger);
             let listener = (session.info().transport_events_listener())
                 .history(true)
@@ -435,7 +447,7 @@ impl Pool {
             *lock(&provider.events) = listener.ok();
         }
         #[cfg(not(feature = "shared-memory"))]
-        let _ = session;
+        let _ = (session, held);
     }
 
     /// The part closed the session it sent with.
@@ -444,6 +456,7 @@ impl Pool {
         if let Some(provider) = &self.provider {
             provider.ledger.detach();
             lock(&provider.events).take();
+            lock(&provider.asking).take();
         }
     }
 
@@ -457,16 +470,17 @@ impl Pool {
         }
     }
 
-    /// The buffers at `addresses` were just put: the ledger notes who may hold them,
-    /// and gives back what gone readers held.
-    pub(crate) fn sent(&self, addresses: &[usize]) {
+    /// The buffers at `addresses` were just put, stamped `send` (publisher, number;
+    /// asking.rs): the ledger notes who may hold them, and gives back what gone
+    /// readers held.
+    pub(crate) fn sent(&self, addresses: &[usize], send: Option<(u32, u32)>) {
         #[cfg(feature = "shared-memory")]
         if let (Some(provider), false) = (&self.provider, addresses.is_empty()) {
-            provider.ledger.sent(addresses);
+            provider.ledger.sent(addresses, send);
             provider.reclaim();
         }
         #[cfg(not(feature = "shared-memory"))]
-        let _ = addresses;
+        let _ = (addresses, send);
     }
 
     /// A filled pool buffer, listed in the ledger, as the payload to send.
@@ -483,9 +497,19 @@ impl Pool {
 #[cfg(feature = "shared-memory")]
 impl Provider {
     /// Gives back the buffers only the ledger holds and those only gone readers hold
-    /// (reclaim.rs); how many.
+    /// (reclaim.rs); how many. Asks the live readers what they hold if a buffer waits
+    /// for their word (asking.rs).
     fn reclaim(&self) -> usize {
-        self.ledger.reclaim(std::time::Instant::now(), &self.chunks)
+        let now = std::time::Instant::now();
+        let back = self.ledger.reclaim(now, &self.chunks);
+        if let Some(asked) = self.ledger.to_ask(now) {
+            let to = lock(&self.asking).clone();
+            match to {
+                Some((session, key)) => asking::ask(&session, &key, &self.ledger, asked),
+                None => self.ledger.asked(),
+            }
+        }
+        back
     }
 }
 
@@ -494,15 +518,16 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-/// How many buffers came back from gone readers so far.
+/// How many buffers came back from gone readers so far, and how many gone readers
+/// still count in.
 #[cfg(feature = "shared-memory")]
-fn given_back(provider: Option<&Provider>) -> u64 {
-    provider.map_or(0, |p| p.ledger.given_back())
+fn given_back(provider: Option<&Provider>) -> (u64, u64) {
+    provider.map_or((0, 0), |p| (p.ledger.given_back(), p.ledger.gone_held()))
 }
 
 #[cfg(not(feature = "shared-memory"))]
-fn given_back(_: Option<&Provider>) -> u64 {
-    0
+fn given_back(_: Option<&Provider>) -> (u64, u64) {
+    (0, 0)
 }
 
 /// Gives back what gone readers held (reclaim.rs); whether anything came back, so

@@ -10,6 +10,7 @@
 //! `/proc` hides other users' processes (`hidepid`): there a missing process may be
 //! one this process may not see.
 
+use std::collections::BTreeSet;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The first two hex digits of a session id that names its process.
@@ -33,8 +34,25 @@ pub(crate) fn id_for(pid: u32) -> String {
 }
 
 /// Whether the session `zid` (as Zenoh writes it) names a process of this computer's
-/// PID namespace that no longer exists (or is a zombie: its memory is released).
+/// PID namespace that no longer exists (or is a zombie: its memory is released). A
+/// process found gone stays gone (its session id holds a nonce no later process has),
+/// so that answer is remembered: the ledger asks about the same dead reader at every
+/// send until its buffers are back.
 pub fn gone(zid: &str) -> bool {
+    static GONE: std::sync::Mutex<BTreeSet<String>> = std::sync::Mutex::new(BTreeSet::new());
+    let known = |g: &BTreeSet<String>| g.contains(zid);
+    if known(&GONE.lock().unwrap_or_else(|e| e.into_inner())) {
+        return true;
+    }
+    let gone = looked_up(zid);
+    if gone {
+        (GONE.lock().unwrap_or_else(|e| e.into_inner())).insert(zid.to_owned());
+    }
+    gone
+}
+
+/// [`gone`], asking the system.
+fn looked_up(zid: &str) -> bool {
     let Some(rest) = zid.strip_prefix(MARK).filter(|_| zid.len() == 32) else {
         return false;
     };

@@ -35,13 +35,21 @@
 //! part cannot look up (another PID namespace, no `/proc`), never counts as gone: what
 //! it was sent stays, as before.
 //!
-//! What stays counted: a buffer also sent to a session that lives on comes back only
-//! once that session's process is gone too (Zenoh's count does not say who holds
-//! what, so a killed reader's share cannot be told from a live one's).
+//! Several readers of the same buffers (one camera, many consumer parts): Zenoh's
+//! count does not say who holds what, so a killed reader's share cannot be told from
+//! a live one's by the count. The writer asks its live readers instead
+//! ([`asking`](super::asking)): a session it was sent to also counts as gone for a
+//! buffer once it answered that it is done with it (holds nothing read from it and
+//! has seen it go by, so none of it is still on its way). A buffer comes back only if
+//! at least one of its sessions is really gone (otherwise nobody should still count
+//! in it) and every other one answered so. What stays counted: a buffer also sent to
+//! a session that lives on and does not answer (a Python client, bare Zenoh) comes
+//! back only once that session's process is gone too.
 //!
 //! Why [`GRACE`]: a transport that closed may still hand its last messages to its
 //! socket for a moment; a second is far more than that takes.
 
+use super::asking::{Answer, ASK_EVERY};
 use super::counting::Chunks;
 use super::process;
 use std::collections::{BTreeSet, HashMap};
@@ -75,6 +83,9 @@ struct State {
     present: BTreeSet<String>,
     /// How many buffers came back from gone sessions so far.
     given_back: u64,
+    /// Whether a question to the readers is on its way, and when the last one went.
+    asking: bool,
+    asked_at: Option<Instant>,
 }
 
 struct Entry {
@@ -101,6 +112,10 @@ enum Sent {
     To {
         session: u64,
         peers: BTreeSet<String>,
+        /// Each time it was sent: the publisher and its number (asking.rs).
+        sends: Vec<(u32, u32)>,
+        /// The peers that answered they are done with it.
+        done: BTreeSet<String>,
     },
     /// By a session since closed, which saw every session it was sent to go first.
     Left,
@@ -133,7 +148,7 @@ impl Ledger {
             ..
         } = &mut *s;
         for e in entries.values_mut() {
-            let left = e.record.gone(*session, present);
+            let left = e.record.readers_gone(*session, present);
             if let Sent::To { .. } = e.record.sent {
                 e.record.sent = if left { Sent::Left } else { Sent::Unknown };
             }
@@ -181,9 +196,9 @@ impl Ledger {
         }
     }
 
-    /// The buffers at `addresses` were just put: every session this part's session has
-    /// a transport to may hold them.
-    pub(crate) fn sent(&self, addresses: &[usize]) {
+    /// The buffers at `addresses` were just put (stamped `send`: publisher, number):
+    /// every session this part's session has a transport to may hold them.
+    pub(crate) fn sent(&self, addresses: &[usize], send: Option<(u32, u32)>) {
         let mut s = lock(&self.state);
         let State {
             entries,
@@ -201,18 +216,25 @@ impl Ledger {
                 (Sent::Not, Some(now)) => Sent::To {
                     session: now,
                     peers: peers.clone(),
+                    sends: send.into_iter().collect(),
+                    done: BTreeSet::new(),
                 },
                 (
                     Sent::To {
                         session,
                         peers: mut known,
+                        mut sends,
+                        ..
                     },
                     Some(now),
                 ) if session == now => {
                     known.extend(peers.iter().cloned());
+                    sends.extend(send);
                     Sent::To {
                         session,
                         peers: known,
+                        sends,
+                        done: BTreeSet::new(),
                     }
                 }
                 _ => Sent::Unknown,
@@ -279,6 +301,61 @@ impl Ledger {
     pub(crate) fn given_back(&self) -> u64 {
         lock(&self.state).given_back
     }
+
+    /// How many listed buffers a session that is gone was sent and nothing in this part
+    /// holds (they wait for the grace, for the other readers' answers, or for sessions
+    /// that cannot answer).
+    pub(crate) fn gone_held(&self) -> u64 {
+        let s = lock(&self.state);
+        let n = (s.entries.values())
+            .filter(|e| e.record.some_gone(s.session, &s.present) && !e.record.lent_held())
+            .count();
+        n as u64
+    }
+
+    /// The session number to ask the readers for, if a buffer waits for their word
+    /// (a session it was sent to is gone, another has not said it is done), no
+    /// question is on its way and the last went [`ASK_EVERY`] ago or more.
+    pub(crate) fn to_ask(&self, now: Instant) -> Option<u64> {
+        let mut s = lock(&self.state);
+        let recent = (s.asked_at).is_some_and(|at| now.saturating_duration_since(at) < ASK_EVERY);
+        if s.asking || recent {
+            return None;
+        }
+        let (session, present) = (s.session?, &s.present);
+        let waiting = (s.entries.values()).any(|e| {
+            let record = &e.record;
+            record.some_gone(Some(session), present) && !record.readers_gone(Some(session), present)
+        });
+        if waiting {
+            s.asking = true;
+            s.asked_at = Some(now);
+        }
+        waiting.then_some(session)
+    }
+
+    /// The question is over (answered, timed out or not sent).
+    pub(crate) fn asked(&self) {
+        lock(&self.state).asking = false;
+    }
+
+    /// A reader's `answer` to the question asked for the session numbered `asked`.
+    pub(crate) fn answered(&self, asked: u64, answer: &Answer) {
+        let mut s = lock(&self.state);
+        for e in s.entries.values_mut() {
+            if let Sent::To {
+                session,
+                peers,
+                sends,
+                done,
+            } = &mut e.record.sent
+            {
+                if *session == asked && peers.contains(&answer.reader) && answer.done_with(sends) {
+                    done.insert(answer.reader.clone());
+                }
+            }
+        }
+    }
 }
 
 impl Entry {
@@ -300,23 +377,49 @@ impl Record {
         self.lent.as_ref().is_some_and(|l| l.strong_count() > 0)
     }
 
-    /// Whether every session the buffer was sent to (by the session `now`) is gone: its
-    /// transport closed and its process ended. A buffer sent to no session at all never
-    /// is (whoever holds it is in this process, a subscriber of the part's own session).
+    /// Whether no output of this part holds the buffer and every session it was sent
+    /// to (by the session `now`) is gone (its transport closed and its process ended)
+    /// or answered it is done with it, at least one really gone. A buffer sent to no
+    /// session at all never is (whoever holds it is in this process, a subscriber of
+    /// the part's own session).
     fn gone(&self, now: Option<u64>, present: &BTreeSet<String>) -> bool {
+        !self.lent_held() && self.readers_gone(now, present)
+    }
+
+    /// [`gone`](Self::gone), whether or not an output of this part still holds it.
+    fn readers_gone(&self, now: Option<u64>, present: &BTreeSet<String>) -> bool {
         match &self.sent {
-            Sent::To { session, peers } => {
+            Sent::To {
+                session,
+                peers,
+                done,
+                ..
+            } => {
                 Some(*session) == now
-                    && !peers.is_empty()
-                    && !self.lent_held()
-                    && peers
-                        .iter()
-                        .all(|p| !present.contains(p) && process::gone(p))
+                    && peers.iter().any(|p| ended(p, present))
+                    && peers.iter().all(|p| done.contains(p) || ended(p, present))
             }
-            Sent::Left => !self.lent_held(),
+            Sent::Left => true,
             Sent::Not | Sent::Unknown => false,
         }
     }
+}
+
+impl Record {
+    /// Whether a session the buffer was sent to (by the session `now`) is gone.
+    fn some_gone(&self, now: Option<u64>, present: &BTreeSet<String>) -> bool {
+        match &self.sent {
+            Sent::To { session, peers, .. } => {
+                Some(*session) == now && peers.iter().any(|p| ended(p, present))
+            }
+            _ => false,
+        }
+    }
+}
+
+/// Whether the session `peer` is gone: no transport to it, and its process ended.
+fn ended(peer: &str, present: &BTreeSet<String>) -> bool {
+    !present.contains(peer) && process::gone(peer)
 }
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {

@@ -172,8 +172,127 @@ fn sent_and_held(pool: &Pool, peers: &[&str]) -> ZShm {
         panic!("{payload:?}");
     };
     let reader = bytes.as_shm().unwrap().to_owned();
-    pool.sent(&Pool::addresses(&payload));
+    pool.sent(&Pool::addresses(&payload), None);
     reader
+}
+
+/// [`sent_and_held`], the put stamped `send` (publisher, number: asking.rs).
+fn sent_stamped(pool: &Pool, peers: &[&str], send: (u32, u32)) -> ZShm {
+    let provider = pool.provider.as_ref().unwrap();
+    let now = std::time::Instant::now();
+    for peer in peers {
+        provider.ledger.transport(peer.to_string(), true, now);
+    }
+    let payload = pool.payload(vec![8; 40_000], false, "link");
+    let Payload::Shared(bytes) = &payload else {
+        panic!("{payload:?}");
+    };
+    let reader = bytes.as_shm().unwrap().to_owned();
+    pool.sent(&Pool::addresses(&payload), Some(send));
+    reader
+}
+
+/// A reader's answer: it has seen publisher 7 up to `last` and holds `held`.
+fn answer(reader: &str, last: u32, held: &[u32]) -> asking::Answer {
+    asking::Answer {
+        reader: reader.to_owned(),
+        receives: true,
+        publishers: vec![asking::Seen {
+            publisher: 7,
+            last,
+            held: held.to_vec(),
+        }],
+    }
+}
+
+/// Several readers were sent one buffer, one of them was killed holding it: it comes
+/// back once every live one answered that it has seen it go by and holds it no more,
+/// and not before (one not asked yet, one that has not seen it yet, one that still
+/// holds it, an answer to an older session's question).
+#[test]
+fn a_buffer_a_killed_reader_shares_comes_back_once_the_live_ones_let_go() {
+    let pool = Pool::open(settings(64 * 1024));
+    let ledger = &pool.provider.as_ref().unwrap().ledger;
+    ledger.attach();
+    let (killed, one, two) = (dead(), process::session_id(), process::session_id());
+    let held_by_killed = sent_stamped(&pool, &[&killed, &one, &two], (7, 41));
+    gone(&pool, &killed);
+    assert_eq!(pool.usage().gone_held, 1);
+    let now = std::time::Instant::now();
+    let asked = ledger
+        .to_ask(now)
+        .expect("a buffer waits for the live readers");
+    assert_eq!(ledger.to_ask(now), None, "one question at a time");
+    ledger.answered(asked, &answer(&one, 41, &[]));
+    assert_eq!(reclaim_later(&pool, GRACE * 100), 0, "two has not answered");
+    ledger.answered(asked, &answer(&two, 40, &[]));
+    assert_eq!(
+        reclaim_later(&pool, GRACE * 100),
+        0,
+        "two has not seen it yet"
+    );
+    ledger.answered(asked, &answer(&two, 45, &[41]));
+    assert_eq!(reclaim_later(&pool, GRACE * 100), 0, "two still holds it");
+    ledger.answered(asked + 1, &answer(&two, 45, &[]));
+    assert_eq!(
+        reclaim_later(&pool, GRACE * 100),
+        0,
+        "another session's question"
+    );
+    ledger.answered(asked, &answer(&two, 45, &[44]));
+    // The grace runs from when the last one let go.
+    assert_eq!(reclaim_later(&pool, GRACE / 2), 0, "within the grace");
+    assert_eq!(reclaim_later(&pool, GRACE * 2), 1);
+    assert_eq!(pool.usage().reclaimed, 1);
+    assert_eq!(pool.usage().gone_held, 0);
+    assert_eq!(pool.room_for(40_000), Some(1), "back, though still counted");
+    ledger.asked();
+    let later = now + asking::ASK_EVERY;
+    assert_eq!(ledger.to_ask(later), None, "nothing waits any more");
+    drop(held_by_killed);
+}
+
+/// The silent side: a buffer also sent to a session that never answers (a Python
+/// client, bare Zenoh) stays, whatever the others answer; a part that does not
+/// receive from the writer is done with everything; a reader that answers for a buffer
+/// sent twice must have let go of both.
+#[test]
+fn a_buffer_a_silent_session_was_sent_stays() {
+    let pool = Pool::open(settings(256 * 1024));
+    let ledger = &pool.provider.as_ref().unwrap().ledger;
+    ledger.attach();
+    let (killed, live) = (dead(), process::session_id());
+    let stranger = "1f2e3d4c5b6a79881f2e3d4c5b6a7988";
+    let _held = sent_stamped(&pool, &[&killed, &live, stranger], (7, 1));
+    gone(&pool, &killed);
+    let asked = ledger.to_ask(std::time::Instant::now()).unwrap();
+    ledger.answered(asked, &answer(&live, 9, &[]));
+    assert_eq!(
+        reclaim_later(&pool, GRACE * 100),
+        0,
+        "the stranger may hold it"
+    );
+    assert_eq!(pool.usage().gone_held, 1);
+    let not_reading = asking::Answer {
+        reader: stranger.to_owned(),
+        receives: false,
+        publishers: Vec::new(),
+    };
+    ledger.answered(asked, &not_reading);
+    assert_eq!(reclaim_later(&pool, GRACE), 0, "the grace");
+    assert_eq!(
+        reclaim_later(&pool, GRACE * 3),
+        1,
+        "it reads nothing of ours"
+    );
+    // Numbers wrap: one far ahead of the last seen reads as not seen yet.
+    assert!(asking::at_or_after(3, u32::MAX - 2));
+    assert!(!asking::at_or_after(u32::MAX - 2, 3));
+    let twice = [(7, 5), (7, 9)];
+    assert!(!answer(&live, 9, &[5]).done_with(&twice));
+    assert!(!answer(&live, 8, &[]).done_with(&twice));
+    assert!(answer(&live, 9, &[]).done_with(&twice));
+    assert!(!answer(&live, 9, &[]).done_with(&[]), "sent unstamped");
 }
 
 /// The session id of a process that has ended (a ferroc part's, [`process`]).
@@ -246,7 +365,7 @@ fn a_buffer_a_live_session_may_hold_is_kept_however_long() {
     let read = lent_zenoh.as_shm().unwrap().to_owned();
     let lent_reader = dead();
     ledger.transport(lent_reader.clone(), true, std::time::Instant::now());
-    pool.sent(&[reclaim::address(&read)]);
+    pool.sent(&[reclaim::address(&read)], None);
     drop(lent_zenoh);
     gone(&pool, &lent_reader);
     assert_eq!(reclaim_later(&pool, GRACE * 100), 0, "the output holds it");
@@ -294,4 +413,31 @@ fn a_gone_readers_buffer_comes_back_after_the_part_closed_its_session() {
     pool.detach();
     assert_eq!(reclaim_later(&pool, GRACE), 1);
     assert_eq!(pool.room_for(40_000), Some(1));
+}
+
+/// A lent buffer its output still held when the part closed its session, every reader
+/// it was sent to gone before: it comes back once the output lets go, and meanwhile
+/// it does not count as waiting for readers (`gone_held`).
+#[test]
+fn a_lent_buffer_held_at_close_comes_back_once_its_output_lets_go() {
+    let pool = Pool::open(settings(64 * 1024));
+    let ledger = &pool.provider.as_ref().unwrap().ledger;
+    ledger.attach();
+    let reader = dead();
+    ledger.transport(reader.clone(), true, std::time::Instant::now());
+    let mut lent = pool.lend(40_000).unwrap();
+    lent.bytes_mut().unwrap().fill(5);
+    let sent = lent.as_any().downcast_ref::<Lent>().unwrap().shared();
+    let killed_holds = sent.as_shm().unwrap().to_owned();
+    pool.sent(&[reclaim::address(&killed_holds)], Some((7, 1)));
+    drop(sent);
+    gone(&pool, &reader);
+    assert_eq!(pool.usage().gone_held, 0, "its output holds it");
+    pool.detach();
+    assert_eq!(reclaim_later(&pool, GRACE * 2), 0, "its output holds it");
+    drop(lent);
+    assert_eq!(reclaim_later(&pool, GRACE * 3), 0, "the grace");
+    assert_eq!(reclaim_later(&pool, GRACE * 5), 1);
+    assert_eq!(pool.room_for(40_000), Some(1));
+    drop(killed_holds);
 }

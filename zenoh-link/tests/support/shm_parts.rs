@@ -72,7 +72,8 @@ impl ModuleType for Camera {
 /// Checks every frame it reads and says `seen SEQ SIZE ok|bad`: on standard output in
 /// the reader program, in the record of `tag` in this process. With `hold` > 0 it keeps
 /// its last `hold` frames (where they arrived) and checks them all again every step,
-/// saying `held N ok|bad`: a frame reused under it would show.
+/// saying `held N ok|bad`: a frame reused under it would show. With `hold` < 0 it keeps
+/// its first `-hold` frames instead, for as long as it runs.
 pub struct Viewer {
     input: In<Image>,
     tag: Parameter<f64>,
@@ -95,14 +96,18 @@ fn frame(img: &Image) -> Option<(u64, bool)> {
 
 impl Viewer {
     fn check_held(&mut self, img: &Image) {
-        let hold = self.hold.get() as usize;
+        let (hold, first) = (self.hold.get().abs() as usize, self.hold.get() < 0.0);
         if hold == 0 {
             return;
         }
-        if self.held.len() == hold {
-            self.held.remove(0);
+        match (self.held.len() == hold, first) {
+            (true, true) => {}
+            (true, false) => {
+                self.held.remove(0);
+                self.held.push(img.clone());
+            }
+            (false, _) => self.held.push(img.clone()),
         }
-        self.held.push(img.clone());
         let intact = self.held.iter().all(|h| frame(h).is_some_and(|(_, ok)| ok));
         let word = if intact { "ok" } else { "bad" };
         println!("held {} {word}", self.held.len());
@@ -278,8 +283,9 @@ impl Reader {
     }
 
     /// A reader listening on `listen`, connecting to the camera at `cam`, keeping its
-    /// last `hold` frames ([`Viewer`]), stepping every `ms`.
-    pub fn start_with(app: &str, cam: &str, listen: &str, hold: usize, ms: u64) -> Reader {
+    /// last `hold` frames (its first `-hold` if negative: [`Viewer`]), stepping every
+    /// `ms`.
+    pub fn start_with(app: &str, cam: &str, listen: &str, hold: i64, ms: u64) -> Reader {
         let mut child = Command::new(std::env::current_exe().unwrap())
             .args(["reader_program", "--exact", "--ignored", "--nocapture"])
             .env(
@@ -386,8 +392,8 @@ pub fn reader_program() {
         network: Some(Arc::clone(&zenoh) as _),
         ..StartOptions::default()
     };
-    let number = |i: usize| words.get(i).and_then(|w| w.parse::<u64>().ok());
-    let (hold, ms) = (number(3).unwrap_or(0), number(4).unwrap_or(5));
+    let number = |i: usize| words.get(i).and_then(|w| w.parse::<i64>().ok());
+    let (hold, ms) = (number(3).unwrap_or(0), number(4).unwrap_or(5).max(1) as u64);
     let params = [("hold".to_string(), Value::Float(hold as f64))];
     let app = part(&registry, "view", ms, &params)
         .start_with(options)

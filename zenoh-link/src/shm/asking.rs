@@ -1,0 +1,381 @@
+//! "Which of my buffers do you still hold?": how a writer learns that its live readers
+//! let go of a buffer that a killed reader still counts in (reclaim.rs).
+//!
+//! Zenoh's count of a pool buffer's holders says how many there are, not who. With
+//! several readers of the same frames (one camera, many consumer parts) a killed
+//! reader's count stays in every buffer it was sent, and the other readers, alive,
+//! were sent the same buffers. So the writer asks them, and a buffer comes back once
+//! every session it was sent to is either gone (its process ended) or a ferroc reader
+//! that answered that it is done with it. A session that does not answer (a Python
+//! client, bare Zenoh, a part whose `/proc` the writer cannot see) is never done: what
+//! it was sent stays, as before.
+//!
+//! What "done" must mean, for a buffer never to be written while a live reader can
+//! still see it: the reader holds no value read from it **and** never will again.
+//! A value still on its way (in the writer's send queue, a socket, or Zenoh's receive
+//! queue of the reader) is not held yet, so the reader alone cannot say that. Hence:
+//!
+//! - The writer stamps each value it sends in shared memory with its publisher's id
+//!   and the next number of that publisher (Zenoh's `SourceInfo`, a field of the
+//!   message any client may ignore; [`Order`]). Numbers are taken and values put under
+//!   one lock, and one publisher's values reach a reader in order (one priority, one
+//!   transport), so once a reader has seen number *n*, every value numbered up to *n*
+//!   has reached it or never will (a dropped value is not held by anyone).
+//! - A reader notes, per publisher, the last number it has seen and every number a
+//!   value it holds came with ([`Receipts`]): a value it decoded in place keeps its
+//!   [`Receipt`] as long as it lives.
+//! - Asked (a `get` on `ferroc/APP/held/WRITER`, every part has a queryable on
+//!   `ferroc/APP/held/*`), it answers with both, or that it does not receive from that
+//!   writer at all (then nothing the writer sent ever reached it).
+//! - The writer counts a reader done with a buffer when for every time it sent it the
+//!   answer's last number is at least the send's and the send is not among the held
+//!   ones. That is a fact that stays true, whenever the answer arrives.
+//!
+//! The writer asks only while some buffer waits for a live reader's word (a reader it
+//! was sent to is gone, another is not known to be done), at most every
+//! [`ASK_EVERY`], one question at a time.
+
+// Without shared memory only the types below stay, unused: nothing is asked.
+#![cfg_attr(not(feature = "shared-memory"), allow(dead_code))]
+
+use serde::{Deserialize, Serialize};
+use std::time::Duration;
+
+/// How often at most a writer asks its readers what they hold.
+pub const ASK_EVERY: Duration = Duration::from_millis(250);
+
+/// How long a question waits for its answers.
+pub(crate) const ASK_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// A writer's question: what of `writer`'s (its session's Zenoh id) do you hold?
+#[derive(Serialize, Deserialize, Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Question {
+    pub writer: String,
+}
+
+/// A reader's answer.
+#[derive(Serialize, Deserialize, Debug, Clone, PartialEq, Eq, Default)]
+pub(crate) struct Answer {
+    /// The reader's session (its Zenoh id, as the writer's transport events name it).
+    pub reader: String,
+    /// Whether it receives from the writer's part at all.
+    pub receives: bool,
+    /// Per publisher of the writer it has seen a value of.
+    pub publishers: Vec<Seen>,
+}
+
+/// What a reader has seen of one publisher.
+#[derive(Serialize, Deserialize, Debug, Clone, PartialEq, Eq, Default)]
+pub(crate) struct Seen {
+    /// The publisher's entity id in the writer's session.
+    pub publisher: u32,
+    /// The last number it has seen.
+    pub last: u32,
+    /// The numbers of the values it still holds.
+    pub held: Vec<u32>,
+}
+
+/// Whether number `a` is `b` or came after it (numbers wrap; one more than 2³¹ apart
+/// read as *before*, which only keeps a buffer longer).
+pub(crate) fn at_or_after(a: u32, b: u32) -> bool {
+    a.wrapping_sub(b) < 1 << 31
+}
+
+impl Answer {
+    /// Whether the reader is done with a buffer sent as `sends` (publisher, number).
+    pub(crate) fn done_with(&self, sends: &[(u32, u32)]) -> bool {
+        if !self.receives {
+            return true;
+        }
+        !sends.is_empty()
+            && sends.iter().all(|(publisher, number)| {
+                self.publishers.iter().any(|s| {
+                    s.publisher == *publisher
+                        && at_or_after(s.last, *number)
+                        && !s.held.contains(number)
+                })
+            })
+    }
+}
+
+/// A buffer a reader reads in place, with the receipt of the message it came in
+/// (while it lives, the reader says it holds that message's number).
+pub(crate) struct Read<T> {
+    pub(crate) bytes: T,
+    pub(crate) _receipt: Option<std::sync::Arc<Receipt>>,
+}
+
+impl<T> Read<T> {
+    /// `bytes`, keeping `receipt`.
+    pub(crate) fn new(bytes: T, receipt: &Option<std::sync::Arc<Receipt>>) -> Self {
+        let _receipt = receipt.clone();
+        Read { bytes, _receipt }
+    }
+}
+
+impl<T: AsRef<[u8]>> AsRef<[u8]> for Read<T> {
+    fn as_ref(&self) -> &[u8] {
+        self.bytes.as_ref()
+    }
+}
+
+#[cfg(feature = "shared-memory")]
+pub(crate) use with_shm::*;
+
+#[cfg(feature = "shared-memory")]
+mod with_shm {
+    use super::{at_or_after, Answer, Question, Seen, ASK_TIMEOUT};
+    use crate::shm::reclaim::Ledger;
+    use std::collections::{BTreeSet, HashMap};
+    use std::sync::{Arc, Mutex};
+    use zenoh::bytes::ZBytes;
+    use zenoh::key_expr::OwnedKeyExpr;
+    use zenoh::pubsub::Publisher;
+    use zenoh::query::{ConsolidationMode, Query, QueryTarget, Queryable};
+    use zenoh::sample::{Sample, SourceInfo};
+    use zenoh::session::EntityGlobalId;
+    use zenoh::{Session, Wait};
+
+    /// The numbers one publisher stamps its shared-memory values with.
+    #[derive(Default)]
+    pub(crate) struct Order {
+        next: Mutex<u32>,
+    }
+
+    impl Order {
+        /// Puts `bytes` with `attachment` on `publisher`; stamped with the publisher's
+        /// next number when `stamp` (a value in shared memory), under this order's lock
+        /// so that numbers and puts keep one order. The send (publisher, number) if
+        /// stamped.
+        pub(crate) fn put(
+            &self,
+            publisher: &Publisher<'static>,
+            bytes: ZBytes,
+            attachment: ZBytes,
+            stamp: bool,
+        ) -> (zenoh::Result<()>, Option<(u32, u32)>) {
+            let put = publisher.put(bytes).attachment(attachment);
+            if !stamp {
+                return (put.wait(), None);
+            }
+            let mut next = lock(&self.next);
+            let (id, number) = (publisher.id(), *next);
+            *next = next.wrapping_add(1);
+            let put = put.source_info(SourceInfo::new(id, number)).wait();
+            (put, Some((id.eid(), number)))
+        }
+    }
+
+    /// What one reading connection has seen and holds, per publisher of its writers.
+    pub(crate) struct Receipts {
+        /// The parts it receives from.
+        writers: BTreeSet<String>,
+        seen: Arc<Mutex<HashMap<EntityGlobalId, Heard>>>,
+    }
+
+    /// What a reader has seen of one publisher.
+    #[derive(Default)]
+    struct Heard {
+        last: u32,
+        /// How many values it holds per number.
+        held: HashMap<u32, usize>,
+    }
+
+    /// Kept by a value read in place from a stamped message: while it lives, the
+    /// reader says it holds that number.
+    pub(crate) struct Receipt {
+        seen: Arc<Mutex<HashMap<EntityGlobalId, Heard>>>,
+        publisher: EntityGlobalId,
+        number: u32,
+    }
+
+    impl Drop for Receipt {
+        fn drop(&mut self) {
+            let mut seen = lock(&self.seen);
+            if let Some(p) = seen.get_mut(&self.publisher) {
+                if let Some(count) = p.held.get_mut(&self.number) {
+                    *count -= 1;
+                    if *count == 0 {
+                        p.held.remove(&self.number);
+                    }
+                }
+            }
+        }
+    }
+
+    impl Receipts {
+        /// For a connection receiving from the parts `writers`.
+        pub(crate) fn new(writers: impl IntoIterator<Item = String>) -> Receipts {
+            Receipts {
+                writers: writers.into_iter().collect(),
+                seen: Arc::default(),
+            }
+        }
+
+        /// `sample` arrived: its number is seen, and held until the receipt (kept by
+        /// whatever reads the value in place) is dropped. `None` if it is not stamped.
+        pub(crate) fn arrived(&self, sample: &Sample) -> Option<Arc<Receipt>> {
+            let info = sample.source_info()?;
+            let (publisher, number) = (*info.source_id(), info.source_sn());
+            let mut seen = lock(&self.seen);
+            let p = seen.entry(publisher).or_insert_with(|| Heard {
+                last: number,
+                held: HashMap::new(),
+            });
+            if at_or_after(number, p.last) {
+                p.last = number;
+            }
+            *p.held.entry(number).or_default() += 1;
+            Some(Arc::new(Receipt {
+                seen: Arc::clone(&self.seen),
+                publisher,
+                number,
+            }))
+        }
+
+        /// The answer to `question`, asked about the part `writer`, by `reader`.
+        pub(crate) fn answer(&self, reader: &str, writer: &str, question: &Question) -> Answer {
+            let seen = lock(&self.seen);
+            let publishers = (seen.iter())
+                .filter(|(id, _)| id.zid().to_string() == question.writer)
+                .map(|(id, p)| Seen {
+                    publisher: id.eid(),
+                    last: p.last,
+                    held: p.held.keys().copied().collect(),
+                })
+                .collect();
+            Answer {
+                reader: reader.to_owned(),
+                receives: self.writers.contains(writer),
+                publishers,
+            }
+        }
+    }
+
+    /// The queryable on `key` (`ferroc/APP/held/*`, the last chunk the asking
+    /// writer's part) that answers for `receipts`.
+    pub(crate) fn answering(
+        session: &Session,
+        key: OwnedKeyExpr,
+        receipts: Arc<Receipts>,
+    ) -> zenoh::Result<Option<Queryable<()>>> {
+        let reader = session.zid().to_string();
+        let queryable = session
+            .declare_queryable(key)
+            .callback(move |query: Query| {
+                let Some(writer) = query.key_expr().as_str().rsplit('/').next() else {
+                    return;
+                };
+                let question = query.payload().map(|p| p.to_bytes());
+                let Some(question) = question.and_then(|q| postcard::from_bytes(&q).ok()) else {
+                    return;
+                };
+                let answer = receipts.answer(&reader, writer, &question);
+                let Ok(bytes) = postcard::to_allocvec(&answer) else {
+                    return;
+                };
+                let _ = query.reply(query.key_expr().clone(), bytes).wait();
+            })
+            .wait()?;
+        Ok(Some(queryable))
+    }
+
+    /// Asks the readers on `key` (`ferroc/APP/held/PART`) of `session` what they hold
+    /// of it; their answers go to `ledger` for its session number `asked`. The ledger
+    /// hears when the question is over.
+    pub(crate) fn ask(session: &Session, key: &OwnedKeyExpr, ledger: &Arc<Ledger>, asked: u64) {
+        struct Over(Arc<Ledger>);
+        impl Drop for Over {
+            fn drop(&mut self) {
+                self.0.asked();
+            }
+        }
+        let question = Question {
+            writer: session.zid().to_string(),
+        };
+        let over = Over(Arc::clone(ledger));
+        let Ok(bytes) = postcard::to_allocvec(&question) else {
+            return;
+        };
+        let _ = session
+            .get(key.clone())
+            .payload(bytes)
+            .target(QueryTarget::All)
+            .consolidation(ConsolidationMode::None)
+            .timeout(ASK_TIMEOUT)
+            .callback(move |reply| {
+                let ledger = &over.0;
+                let Ok(sample) = reply.result() else {
+                    return;
+                };
+                // An answer counts only for the session that sent it (Zenoh says which).
+                let replier = reply.replier_id().map(|id| id.zid().to_string());
+                match postcard::from_bytes::<Answer>(&sample.payload().to_bytes()) {
+                    Ok(answer) if replier.as_ref() == Some(&answer.reader) => {
+                        ledger.answered(asked, &answer);
+                    }
+                    _ => {}
+                }
+            })
+            .wait();
+    }
+
+    fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+        m.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// Without shared memory nothing is stamped, held or asked.
+#[cfg(not(feature = "shared-memory"))]
+pub(crate) use without_shm::*;
+
+#[cfg(not(feature = "shared-memory"))]
+mod without_shm {
+    use std::sync::Arc;
+    use zenoh::bytes::ZBytes;
+    use zenoh::key_expr::OwnedKeyExpr;
+    use zenoh::pubsub::Publisher;
+    use zenoh::query::Queryable;
+    use zenoh::sample::Sample;
+    use zenoh::{Session, Wait};
+
+    /// Nothing to number: nothing is asked.
+    #[derive(Default)]
+    pub(crate) struct Order {
+        _nothing: (),
+    }
+
+    impl Order {
+        pub(crate) fn put(
+            &self,
+            publisher: &Publisher<'static>,
+            bytes: ZBytes,
+            attachment: ZBytes,
+            _stamp: bool,
+        ) -> (zenoh::Result<()>, Option<(u32, u32)>) {
+            (publisher.put(bytes).attachment(attachment).wait(), None)
+        }
+    }
+
+    pub(crate) struct Receipts;
+
+    pub(crate) enum Receipt {}
+
+    impl Receipts {
+        pub(crate) fn new(_: impl IntoIterator<Item = String>) -> Receipts {
+            Receipts
+        }
+
+        pub(crate) fn arrived(&self, _: &Sample) -> Option<Arc<Receipt>> {
+            None
+        }
+    }
+
+    pub(crate) fn answering(
+        _: &Session,
+        _: OwnedKeyExpr,
+        _: Arc<Receipts>,
+    ) -> zenoh::Result<Option<Queryable<()>>> {
+        Ok(None)
+    }
+}
