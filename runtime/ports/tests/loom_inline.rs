@@ -76,7 +76,10 @@ fn chores_and_a_delivery_take_turns() {
         let t = thread::spawn(move || s.deliver(&g));
         let chores_done = gate.chores(
             || {
-                assert!(!seen.running.load(Ordering::SeqCst), "chores during a cycle");
+                assert!(
+                    !seen.running.load(Ordering::SeqCst),
+                    "chores during a cycle"
+                );
             },
             || seen.cycle(),
         );

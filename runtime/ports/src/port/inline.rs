@@ -119,8 +119,7 @@ impl InlineGate {
     /// Leaves the gate idle, unless a cycle is owed: then runs it (and so on).
     fn finish(&self, cycle: &mut impl FnMut()) {
         loop {
-            match (self.state).compare_exchange(RUNNING, IDLE, Ordering::SeqCst, Ordering::SeqCst)
-            {
+            match (self.state).compare_exchange(RUNNING, IDLE, Ordering::SeqCst, Ordering::SeqCst) {
                 Ok(_) => return,
                 Err(_) => {
                     // `AGAIN`: only the runner leaves it. The owed cycle starts after
@@ -160,7 +159,10 @@ mod tests {
     #[test]
     fn a_closed_gate_runs_nothing() {
         let gate = InlineGate::new();
-        assert!(gate.chores(|| (), || unreachable!()), "idle: the chores run");
+        assert!(
+            gate.chores(|| (), || unreachable!()),
+            "idle: the chores run"
+        );
         assert!(gate.close());
         assert!(gate.close(), "closing twice is harmless");
         assert_eq!(gate.arrive(|| unreachable!()), Arrival::Closed);
