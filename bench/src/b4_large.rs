@@ -396,9 +396,9 @@ fn once(variant: &str, size: usize, n: u64) -> Result<(Vec<(u64, u64)>, [u64; 2]
             let numbers: Vec<u64> = (l.split_whitespace())
                 .filter_map(|w| w.parse().ok())
                 .collect();
-            match (l.starts_with("cpu "), numbers[..]) {
-                (true, [c, w]) => cpu = [c, w],
-                (false, [latency, hop]) => samples.push((latency, hop)),
+            match (l.starts_with("cpu "), &numbers[..]) {
+                (true, &[c, w]) => cpu = [c, w],
+                (false, &[latency, hop]) => samples.push((latency, hop)),
                 _ => {}
             }
         }

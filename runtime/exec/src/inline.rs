@@ -156,8 +156,10 @@ fn serve(inline: &Inline, wakeup: &Wakeup) {
         std::thread::sleep(Duration::from_millis(1));
     }
     // Dropping the container here (its steps, ports and their notifier) breaks the
-    // cycle wakeup → runner → container → input → wakeup.
-    drop(inline.container().take());
+    // cycle wakeup → runner → container → input → wakeup. Taken out first: what its
+    // ports do as they go runs without the lock held.
+    let container = inline.container().take();
+    drop(container);
 }
 
 #[cfg(test)]

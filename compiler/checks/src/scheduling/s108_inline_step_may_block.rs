@@ -34,6 +34,10 @@ the model shows that it can wait or take long:
   through the very thread the cycle holds), takes a lock, reads a queue waiting for
   an item, or writes into a queue with `on-full=\"block\"` (the deadlock model's
   wait-states of the container, with a timeout or without);
+- a connection into one of its inputs has a queue with `on-full=\"block\"`: a writer
+  delivering into it when it is full waits for a cycle to take a value, and that
+  cycle can only run in a delivering thread (a link's writer waits in the network's
+  receive thread: nothing from that part arrives any more);
 - its modules' declared budgets add up to more than 1 ms;
 - it is a pool (`pool=`), or it has `cpu=` or `priority=`: an inline container has no
   thread of its own to spread, pin or prioritise (it runs at the priority of
@@ -108,6 +112,20 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             format!("waits here: {}", render.step(i as u32)),
             "keep wait=\"park\" for this container, or move what waits into a container it feeds through a queue that drops (on-full=\"drop-oldest\")",
         ));
+    }
+    for c in app.connections.iter().filter(|c| c.blocks_when_full()) {
+        let Some(thread) = app.element(c.to.element()).thread else {
+            continue;
+        };
+        if inline.contains(&thread) {
+            out.push(finding(
+                thread,
+                c.to_span,
+                "a writer into its input waits for room when the queue is full, and only a delivering thread runs its cycle".into(),
+                "on-full=\"block\" into an inline container".into(),
+                "let this queue drop (on-full=\"drop-oldest\"), or keep wait=\"park\" for the container",
+            ));
+        }
     }
     for load in loads(app, ctx.libraries, None) {
         let total = load.total();

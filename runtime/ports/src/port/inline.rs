@@ -157,6 +157,29 @@ mod tests {
     }
 
     #[test]
+    fn a_wakeup_with_a_runner_calls_it_instead_of_setting_its_flag() {
+        use crate::port::{Notify, Wakeup};
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        use std::sync::Arc;
+        let wakeup = Wakeup::new();
+        wakeup.notify();
+        let calls = Arc::new(AtomicUsize::new(0));
+        let c = Arc::clone(&calls);
+        let runner = move || {
+            c.fetch_add(1, Ordering::SeqCst);
+        };
+        assert!(wakeup.run_inline(Arc::new(runner)).is_ok());
+        wakeup.notify();
+        assert_eq!(calls.load(Ordering::SeqCst), 1);
+        assert!(
+            wakeup.take(),
+            "the notification from before the runner stays"
+        );
+        assert!(!wakeup.take(), "and the runner's left no flag");
+        assert!(wakeup.run_inline(Arc::new(|| ())).is_err(), "one runner");
+    }
+
+    #[test]
     fn a_closed_gate_runs_nothing() {
         let gate = InlineGate::new();
         assert!(
