@@ -377,10 +377,14 @@ fn bare_writer(
     Ok(())
 }
 
+/// What one run of a variant measured: per value the latency and the part after the
+/// Zenoh callback (ns); the reader's CPU and wall time over those values (ns).
+type Measured = (Vec<(u64, u64)>, [u64; 2]);
+
 /// One variant and size once: the reader as a child, the writer here until the child
 /// is done. Per value: the latency and the part after the Zenoh callback (ns); and
 /// the reader's CPU and wall time over those values (ns).
-fn once(variant: &str, size: usize, n: u64) -> Result<(Vec<(u64, u64)>, [u64; 2]), String> {
+fn once(variant: &str, size: usize, n: u64) -> Result<Measured, String> {
     let (writer, reader) = (free_address()?, free_address()?);
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let mut child = Command::new(exe)
