@@ -28,6 +28,22 @@ use std::time::Duration;
 /// How often the container's own thread looks for changes and for the end of the run.
 const CHORES_EVERY: Duration = Duration::from_millis(50);
 
+/// A cycle longer than this is reported (once per container): it held up the thread
+/// that delivered its data. The compiler's S108 holds declared budgets to the same bound.
+const SLOW_CYCLE: Duration = Duration::from_millis(1);
+
+/// The warning for a cycle of `name` that took `took`, the first time one is slow.
+fn slow_warning(name: &str, took: Duration, reported: &AtomicBool) -> Option<String> {
+    if took <= SLOW_CYCLE || reported.swap(true, Ordering::Relaxed) {
+        return None;
+    }
+    Some(format!(
+        "warning: `{name}` runs inline (wait=\"inline\") and a cycle of it took {took:.1?}, \
+         holding up the thread that delivers its data (a link's network thread) as long; \
+         help: make its step shorter, or keep wait=\"park\" for it (reported once)"
+    ))
+}
+
 /// An inline container while it runs: what a notification of its wakeup calls.
 struct Inline {
     gate: InlineGate,
@@ -37,6 +53,8 @@ struct Inline {
     stop: Arc<AtomicBool>,
     limit: Option<u64>,
     done: AtomicU64,
+    /// A slow cycle was reported.
+    slow: AtomicBool,
     /// The container's own thread, woken when the cycle limit is reached.
     owner: OnceLock<std::thread::Thread>,
 }
@@ -68,6 +86,11 @@ impl Inline {
         // `run_cycle` holds the home's session for the cycle; entering serves the
         // changes of local connections queued meanwhile (a cycle boundary).
         container.run_cycle();
+        let slow = slow_warning(
+            &container.stats.name,
+            container.stats.last_cycle(),
+            &self.slow,
+        );
         container.changes.apply_pending(&mut container.steps);
         ferroc_ports::stopping::swap(outer_stop);
         match outer_period {
@@ -75,6 +98,9 @@ impl Inline {
             None => ferroc_module::cycle::leave_cycle(),
         }
         drop(guard);
+        if let Some(warning) = slow {
+            ferroc_ports::console::line(&warning);
+        }
         let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
         if self.limit.is_some_and(|l| done >= l) {
             if let Some(owner) = self.owner.get() {
@@ -114,6 +140,7 @@ pub(crate) fn spawn(
         stop,
         limit,
         done: AtomicU64::new(0),
+        slow: AtomicBool::new(false),
         owner: OnceLock::new(),
     });
     let runner: Arc<dyn Notify> = Arc::clone(&inline) as Arc<dyn Notify>;
@@ -169,6 +196,7 @@ mod tests {
     use std::sync::atomic::{AtomicBool, Ordering};
     use std::sync::{mpsc, Arc, Mutex};
     use std::thread::ThreadId;
+    use std::time::Duration;
 
     fn inline() -> ThreadOptions {
         ThreadOptions {
@@ -259,6 +287,23 @@ mod tests {
         stop.store(true, Ordering::SeqCst);
         running.nudge();
         running.join();
+    }
+
+    /// A cycle over 1 ms is reported once; shorter ones never.
+    #[test]
+    fn a_slow_cycle_is_reported_once() {
+        let reported = AtomicBool::new(false);
+        let fast = super::slow_warning("robot/view", Duration::from_micros(900), &reported);
+        assert_eq!(fast, None);
+        let slow = super::slow_warning("robot/view", Duration::from_millis(3), &reported);
+        let slow = slow.expect("a 3 ms cycle is reported");
+        assert!(
+            slow.contains("`robot/view` runs inline") && slow.contains("3.0ms"),
+            "{slow}"
+        );
+        assert!(slow.contains("help: "), "{slow}");
+        let again = super::slow_warning("robot/view", Duration::from_millis(5), &reported);
+        assert_eq!(again, None, "once");
     }
 
     /// A cycle limit ends the container (its thread), as for one with a thread.
