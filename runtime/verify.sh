@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Model checks of the port core and services (used by CI):
 #   1. loom: every interleaving, up to a preemption bound, of the scenarios in
-#      runtime/ports/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs
-#      and loom_local.rs
+#      runtime/ports/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs,
+#      loom_local.rs and loom_inline.rs
 #      (LOOM_MAX_PREEMPTIONS, default 3; ~20 s).
 #   2. Miri: undefined behaviour, data races and leaks in the unit tests of the port
 #      core (cargo +nightly miri test -p ferroc-ports --lib port::), where every
@@ -22,12 +22,12 @@ run() {
   "$@"
 }
 
-echo "== loom (runtime/ports/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs, loom_local.rs)" >&2
+echo "== loom (runtime/ports/tests/loom_ports.rs, loom_services.rs, loom_wakeup.rs, loom_local.rs, loom_inline.rs)" >&2
 # A separate target dir: --cfg loom changes every fingerprint, and sharing target/
 # would rebuild the normal build after each loom run.
 run env RUSTFLAGS="--cfg loom" CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-target}/loom" \
   LOOM_MAX_PREEMPTIONS="${LOOM_MAX_PREEMPTIONS:-3}" \
-  cargo test -p ferroc-ports --release --test loom_ports --test loom_services --test loom_wakeup --test loom_local
+  cargo test -p ferroc-ports --release --test loom_ports --test loom_services --test loom_wakeup --test loom_local --test loom_inline
 
 echo "== miri (ferroc-ports unit tests of the port core)" >&2
 if ! cargo +nightly miri --version >/dev/null 2>&1; then

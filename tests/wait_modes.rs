@@ -1,6 +1,7 @@
-//! `wait=` of a data-triggered container (`park`, `spin`, `adaptive`) as `ferroc run`
-//! realises it: each mode wakes on data and ends when the run ends (no hang), and in
-//! lockstep the three modes print exactly the same.
+//! `wait=` of a data-triggered container (`park`, `spin`, `adaptive`, `inline`) as
+//! `ferroc run` realises it: each mode wakes on data and ends when the run ends (no
+//! hang), and in lockstep the four modes print exactly the same. (`inline` runs the
+//! container's cycle in the writer's thread, here the periodic `src`.)
 
 mod common;
 use common::{bundle_ok, tempdir};
@@ -64,7 +65,7 @@ fn cycles(stderr: &str, container: &str) -> u64 {
 
 #[test]
 fn every_wait_mode_wakes_on_data_and_ends_with_the_run() {
-    for wait in ["park", "spin", "adaptive"] {
+    for wait in ["park", "spin", "adaptive", "inline"] {
         let (code, _, err) = run(wait, &["--for", "1s"]);
         assert_eq!(code, 0, "{wait}: {err}");
         // Wall-clock run: only that data woke the container at least once, which holds
@@ -74,13 +75,13 @@ fn every_wait_mode_wakes_on_data_and_ends_with_the_run() {
 }
 
 #[test]
-fn in_lockstep_the_three_modes_print_the_same() {
+fn in_lockstep_the_four_modes_print_the_same() {
     let args = ["--lockstep", "--for", "100ms"];
     let (code, park, err) = run("park", &args);
     assert_eq!(code, 0, "{err}");
     assert!(cycles(&err, "p/ev") >= 10, "{err}");
     assert!(!park.is_empty(), "the Dump prints every cycle");
-    for wait in ["spin", "adaptive"] {
+    for wait in ["spin", "adaptive", "inline"] {
         let (code, out, err) = run(wait, &args);
         assert_eq!(code, 0, "{wait}: {err}");
         assert_eq!(out, park, "{wait} printed something else than park");

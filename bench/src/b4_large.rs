@@ -283,21 +283,46 @@ pub fn child(args: &[String]) -> u8 {
         return 1;
     }
     let deadline = Instant::now() + Duration::from_secs(300);
-    while SEEN.lock().unwrap_or_else(|e| e.into_inner()).len() < WARM_UP + n {
+    // The reader's CPU (all its threads) and wall time from the end of the warm-up.
+    let mut from: Option<(u64, u64)> = None;
+    loop {
+        let len = SEEN.lock().unwrap_or_else(|e| e.into_inner()).len();
+        if len >= WARM_UP && from.is_none() {
+            from = Some((cpu_ns(), mono_ns()));
+        }
+        if len >= WARM_UP + n {
+            break;
+        }
         if Instant::now() > deadline {
             eprintln!("{CHILD_ARG}: too few values arrived");
             return 1;
         }
+        // As rarely as before the CPU figure was added: a poller waking more often
+        // would keep the CPU from idling between values, which is what is measured.
         std::thread::sleep(Duration::from_millis(10));
     }
+    let (cpu0, wall0) = from.unwrap_or_default();
+    let (cpu, wall) = (cpu_ns() - cpu0, mono_ns() - wall0);
     let seen = std::mem::take(&mut *SEEN.lock().unwrap_or_else(|e| e.into_inner()));
-    let out: String = seen[WARM_UP..WARM_UP + n]
+    let mut out: String = seen[WARM_UP..WARM_UP + n]
         .iter()
         .map(|(latency, hop)| format!("{latency} {hop}\n"))
         .collect();
+    out.push_str(&format!("cpu {cpu} {wall}\n"));
     print!("{out}");
     drop(keep);
     0
+}
+
+/// CPU time of this process, all threads (ns).
+fn cpu_ns() -> u64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: writes one timespec.
+    unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut t) };
+    t.tv_sec as u64 * 1_000_000_000 + t.tv_nsec as u64
 }
 
 /// A bare writer: puts a filled, stamped value of `size` bytes every `gap` until
@@ -352,9 +377,14 @@ fn bare_writer(
     Ok(())
 }
 
+/// What one run of a variant measured: per value the latency and the part after the
+/// Zenoh callback (ns); the reader's CPU and wall time over those values (ns).
+type Measured = (Vec<(u64, u64)>, [u64; 2]);
+
 /// One variant and size once: the reader as a child, the writer here until the child
-/// is done. Per value: the latency and the part after the Zenoh callback (ns).
-fn once(variant: &str, size: usize, n: u64) -> Result<Vec<(u64, u64)>, String> {
+/// is done. Per value: the latency and the part after the Zenoh callback (ns); and
+/// the reader's CPU and wall time over those values (ns).
+fn once(variant: &str, size: usize, n: u64) -> Result<Measured, String> {
     let (writer, reader) = (free_address()?, free_address()?);
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let mut child = Command::new(exe)
@@ -365,12 +395,18 @@ fn once(variant: &str, size: usize, n: u64) -> Result<Vec<(u64, u64)>, String> {
         .map_err(|e| format!("cannot start the reader: {e}"))?;
     let stdout = child.stdout.take().ok_or("no output of the reader")?;
     let reading = std::thread::spawn(move || {
-        (BufReader::new(stdout).lines().map_while(Result::ok))
-            .filter_map(|l| {
-                let (latency, hop) = l.trim().split_once(' ')?;
-                Some((latency.parse::<u64>().ok()?, hop.parse::<u64>().ok()?))
-            })
-            .collect::<Vec<(u64, u64)>>()
+        let (mut samples, mut cpu) = (Vec::new(), [0u64; 2]);
+        for l in BufReader::new(stdout).lines().map_while(Result::ok) {
+            let numbers: Vec<u64> = (l.split_whitespace())
+                .filter_map(|w| w.parse().ok())
+                .collect();
+            match (l.starts_with("cpu "), &numbers[..]) {
+                (true, &[c, w]) => cpu = [c, w],
+                (false, &[latency, hop]) => samples.push((latency, hop)),
+                _ => {}
+            }
+        }
+        (samples, cpu)
     });
     let deadline = Instant::now() + Duration::from_secs(300);
     let mut done = || -> Result<bool, String> {
@@ -400,14 +436,14 @@ fn once(variant: &str, size: usize, n: u64) -> Result<Vec<(u64, u64)>, String> {
         bare_writer(variant, (&writer, &reader), size, &mut done)?;
     }
     let status = child.wait().map_err(|e| e.to_string())?;
-    let samples = reading.join().map_err(|_| "reading the reader failed")?;
+    let (samples, cpu) = reading.join().map_err(|_| "reading the reader failed")?;
     if !status.success() || samples.len() as u64 != n {
         return Err(format!(
             "the reader failed ({status}, {} values)",
             samples.len()
         ));
     }
-    Ok(samples)
+    Ok((samples, cpu))
 }
 
 /// What one run measures: the values per size and variant, the rounds, the sizes and
@@ -438,7 +474,7 @@ fn plan(args: &[String]) -> Result<Plan, String> {
     if let Some(w) = o.text("reader-wait") {
         if WaitMode::parse(w).is_none() {
             return Err(format!(
-                "b4-large: --reader-wait {w}: park, spin or adaptive"
+                "b4-large: --reader-wait {w}: park, spin, adaptive or inline"
             ));
         }
         // Read back by `reader_wait` here and, through the environment, in the reader.
@@ -489,6 +525,7 @@ pub fn run(args: &[String]) -> u8 {
     let mut result = Vec::new();
     for size in sizes {
         let mut samples: [Vec<(u64, u64)>; 5] = Default::default();
+        let mut cpu = [[0u64; 2]; 5];
         for round in 0..rounds as usize {
             for k in 0..VARIANTS.len() {
                 let i = (round + k) % VARIANTS.len();
@@ -496,7 +533,10 @@ pub fn run(args: &[String]) -> u8 {
                     continue;
                 }
                 match once(VARIANTS[i], size, per_round) {
-                    Ok(mut s) => samples[i].append(&mut s),
+                    Ok((mut s, [c, w])) => {
+                        samples[i].append(&mut s);
+                        cpu[i] = [cpu[i][0] + c, cpu[i][1] + w];
+                    }
                     Err(e) => {
                         eprintln!("b4-large: {} {size} B: {e}", VARIANTS[i]);
                         return 1;
@@ -504,7 +544,7 @@ pub fn run(args: &[String]) -> u8 {
                 }
             }
         }
-        let p50s = report(size, samples);
+        let p50s = report(size, samples, cpu);
         let figures = (VARIANTS.iter().zip(p50s)).filter_map(|(v, p50)| {
             let v = v.replace('-', "_");
             p50.map(|p| format!("s{size}_{v}_p50_us={p:.1}"))
@@ -518,7 +558,7 @@ pub fn run(args: &[String]) -> u8 {
 /// Prints one size's lines; the p50 of each variant measured (µs). For ferroc's
 /// variants also the split at the reader's Zenoh callback: the way there (latency
 /// minus `In::age`) and the hand-off to the reader's container after it.
-fn report(size: usize, samples: [Vec<(u64, u64)>; 5]) -> [Option<f64>; 5] {
+fn report(size: usize, samples: [Vec<(u64, u64)>; 5], cpu: [[u64; 2]; 5]) -> [Option<f64>; 5] {
     let mut p50s = [None; 5];
     for (i, s) in samples.into_iter().enumerate() {
         let n = s.len();
@@ -532,6 +572,13 @@ fn report(size: usize, samples: [Vec<(u64, u64)>; 5]) -> [Option<f64>; 5] {
         println!(
             "b4-large {size:>8} B  {:<10}  p50 {p50:9.1}  p99 {p99:9.1}  max {max:9.1} µs  n={n}",
             VARIANTS[i]
+        );
+        let [c, w] = cpu[i];
+        println!(
+            "b4-large {size:>8} B  {:<10}  reader CPU {:.1} µs a value, {:.1} % of a core",
+            VARIANTS[i],
+            c as f64 / 1e3 / n as f64,
+            100.0 * c as f64 / w.max(1) as f64
         );
         if VARIANTS[i].starts_with("ferroc") {
             let ((c50, c99, _), (h50, h99, _)) = (percentiles(to_callback), percentiles(hop));

@@ -79,7 +79,7 @@ IDs:
           --sizes LIST    only these sizes (bytes, comma-separated: 64,65536,...)
           --variants LIST only these variants (ferroc-shm,ferroc-copy,ferroc-net,
                           zenoh-shm,zenoh-net)
-          --reader-wait W the reader's container waits: park (default), spin, adaptive
+          --reader-wait W the reader's container waits: park (default), spin, adaptive, inline
   b5    bundle: `ferroc bundle models/control_loop.xml` (the B2 ring) built as a
         release program, against `ferroc run` of the same model; running time
         from their summaries, rounds alternate

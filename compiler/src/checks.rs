@@ -105,6 +105,7 @@ pub static REGISTRY: &[&CheckInfo] = &[
     &ferroc_checks::scheduling::s105_flow_latency::CHECK,
     &ferroc_checks::scheduling::s106_flow_not_connected::CHECK,
     &ferroc_checks::scheduling::s107_priority_inversion::CHECK,
+    &ferroc_checks::scheduling::s108_inline_step_may_block::CHECK,
     &ferroc_checks::deployment::x101_part_without_threads::CHECK,
     &ferroc_checks::deployment::x102_invalid_host_label::CHECK,
     &ferroc_checks::deployment::x103_host_label_conflict::CHECK,

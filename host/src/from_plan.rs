@@ -124,6 +124,7 @@ pub fn thread(t: &plan::PlannedThread) -> run::Thread {
             plan::Wait::Park => run::Wait::Park,
             plan::Wait::Spin => run::Wait::Spin,
             plan::Wait::Adaptive => run::Wait::Adaptive,
+            plan::Wait::Inline => run::Wait::Inline,
         },
         priority: t.priority,
         cpu: t.cpu,

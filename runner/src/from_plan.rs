@@ -21,6 +21,7 @@ pub fn thread_options(t: &plan::Thread) -> ThreadOptions {
             plan::Wait::Park => WaitMode::Park,
             plan::Wait::Spin => WaitMode::Spin,
             plan::Wait::Adaptive => WaitMode::Adaptive,
+            plan::Wait::Inline => WaitMode::Inline,
         },
     }
 }

@@ -229,6 +229,7 @@ pub enum Wait {
     Park,
     Spin,
     Adaptive,
+    Inline,
 }
 
 /// A module's step in a container's cycle.

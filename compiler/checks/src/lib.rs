@@ -145,6 +145,7 @@ passes![
     scheduling::s105_flow_latency,
     scheduling::s106_flow_not_connected,
     scheduling::s107_priority_inversion,
+    scheduling::s108_inline_step_may_block,
     deployment::x101_part_without_threads,
     deployment::x102_invalid_host_label,
     deployment::x103_host_label_conflict,

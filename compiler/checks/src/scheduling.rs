@@ -13,6 +13,7 @@ pub mod s104_host_overload;
 pub mod s105_flow_latency;
 pub mod s106_flow_not_connected;
 pub mod s107_priority_inversion;
+pub mod s108_inline_step_may_block;
 
 /// Relative slack for comparing sums of decimal durations (10 × 1 ms is not over 10 ms).
 pub(crate) const EPS: f64 = 1e-9;

@@ -57,6 +57,9 @@ pub enum Wait {
     Spin,
     /// Polls as `Spin` does for a bounded time, then parks.
     Adaptive,
+    /// No thread waits: the cycle runs in the thread that delivers the trigger value
+    /// (S108 refuses steps that could block it).
+    Inline,
 }
 
 impl Wait {
@@ -66,6 +69,7 @@ impl Wait {
             Wait::Park => "park",
             Wait::Spin => "spin",
             Wait::Adaptive => "adaptive",
+            Wait::Inline => "inline",
         }
     }
 
@@ -75,6 +79,7 @@ impl Wait {
             "park" => Some(Wait::Park),
             "spin" => Some(Wait::Spin),
             "adaptive" => Some(Wait::Adaptive),
+            "inline" => Some(Wait::Inline),
             _ => None,
         }
     }

@@ -8,7 +8,8 @@
 //!   overrun and the container resumes at the next deadline still ahead (no burst of
 //!   catch-up cycles), or
 //! * data-triggered: a cycle runs whenever an input registered with the container's
-//!   [`Wakeup`] receives data, or
+//!   [`Wakeup`] receives data (with `wait="inline"` in the thread that delivered it,
+//!   `inline.rs`), or
 //! * continuous: cycles run back to back without sleeping. Timing every step would
 //!   cost more than a small cycle itself (two clock reads and three atomic updates per
 //!   step), so a continuous container runs its cycles in batches, times the first
@@ -43,6 +44,7 @@ macro_rules! eprintln {
 
 mod change;
 mod clock;
+mod inline;
 mod os;
 mod stats;
 
@@ -353,13 +355,20 @@ impl ThreadContainer {
         }
     }
 
-    /// Starts the container on its own thread.
+    /// Starts the container on its own thread (with [`WaitMode::Inline`], a
+    /// data-triggered container runs its cycles on the threads that deliver its data;
+    /// its own thread only sleeps, unplaced, until the run ends: `inline.rs`).
     pub fn spawn(
         mut self,
         options: ThreadOptions,
         stop: Arc<AtomicBool>,
         limit: Option<u64>,
     ) -> std::io::Result<RunningContainer> {
+        if let (WaitMode::Inline, Trigger::Data(wakeup)) = (options.wait, &self.trigger) {
+            // No thread of its own to place: it runs on the threads that deliver.
+            let wakeup = Arc::clone(wakeup);
+            return inline::spawn(self, wakeup, stop, limit);
+        }
         let stats = self.stats();
         self.wait = options.wait;
         let wakeup = match &self.trigger {

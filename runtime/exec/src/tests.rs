@@ -112,7 +112,12 @@ fn a_panicking_step_is_stopped_and_the_others_keep_running() {
 #[cfg_attr(miri, ignore)] // threads spinning and blocking with timeouts
 fn every_wait_mode_wakes_on_data_and_stops_on_request() {
     use ferroc_ports::port::WaitMode;
-    for mode in [WaitMode::Park, WaitMode::Spin, WaitMode::Adaptive] {
+    for mode in [
+        WaitMode::Park,
+        WaitMode::Spin,
+        WaitMode::Adaptive,
+        WaitMode::Inline,
+    ] {
         let wakeup = Wakeup::new();
         let log = Arc::new(Mutex::new(Vec::new()));
         let clock = ManualClock::new();

@@ -22,6 +22,13 @@ pub fn watch(stop: Arc<AtomicBool>) {
     STOP.with(|s| *s.borrow_mut() = Some(stop));
 }
 
+/// Makes `stop` the flag that waits on this thread watch for a while (an inline
+/// container's cycle run by a thread that delivered its value); gives back the flag
+/// watched before, for the caller to put back.
+pub fn swap(stop: Option<Arc<AtomicBool>>) -> Option<Arc<AtomicBool>> {
+    STOP.with(|s| std::mem::replace(&mut *s.borrow_mut(), stop))
+}
+
 /// Whether the application running on this thread has been asked to stop. False on
 /// threads that run no container (and under loom, whose threads share one OS thread).
 #[inline]

@@ -71,7 +71,7 @@ pub(super) const THREAD: ElementSpec = ElementSpec {
         req("name", Ident),
         opt("period", Text),
         opt("trigger", Choice(&["data", "continuous"])),
-        opt("wait", Choice(&["park", "spin", "adaptive"])),
+        opt("wait", Choice(&["park", "spin", "adaptive", "inline"])),
         opt("priority", Count),
         opt("realtime", Bool),
         opt("cpu", Count),

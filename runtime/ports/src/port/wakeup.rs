@@ -1,5 +1,6 @@
-//! [`Wakeup`]: the flag a data-triggered container sleeps on, and the three ways it
-//! can wait for it ([`WaitMode`]).
+//! [`Wakeup`]: the flag a data-triggered container sleeps on, and the ways it can wait
+//! for it ([`WaitMode`]); with `wait="inline"` nobody sleeps on it: a notification runs
+//! the container's cycle in the notifying thread ([`Wakeup::run_inline`]).
 //!
 //! The flag is an atomic so that a spinning waiter sees a notification with one load
 //! and a notifier pays no lock and no system call while nobody sleeps. Sleepers
@@ -13,6 +14,7 @@
 use std::sync::atomic::AtomicBool as StdAtomicBool;
 use std::time::{Duration, Instant};
 
+use super::notify::{Notifier, SetOnce};
 use crate::sync::{self, AtomicBool, AtomicUsize, Condvar, Mutex, Ordering};
 
 /// How a data-triggered container waits for data (`wait=` on `<thread>`).
@@ -28,6 +30,12 @@ pub enum WaitMode {
     /// Poll as `Spin` does for [`ADAPTIVE_SPIN`], then sleep as `Park` does: low
     /// latency when data comes often, no CPU when it stops.
     Adaptive,
+    /// No thread waits: the cycle runs in the thread that delivers the trigger value
+    /// (a link's network callback, an in-process writer), one at a time
+    /// ([`InlineGate`](super::InlineGate)). No wakeup latency and no CPU while idle;
+    /// the step holds up the delivering thread, so it must be short and never block
+    /// (the compiler's S108 refuses what it can see).
+    Inline,
 }
 
 impl WaitMode {
@@ -37,6 +45,7 @@ impl WaitMode {
             WaitMode::Park => "park",
             WaitMode::Spin => "spin",
             WaitMode::Adaptive => "adaptive",
+            WaitMode::Inline => "inline",
         }
     }
 
@@ -46,6 +55,7 @@ impl WaitMode {
             "park" => Some(WaitMode::Park),
             "spin" => Some(WaitMode::Spin),
             "adaptive" => Some(WaitMode::Adaptive),
+            "inline" => Some(WaitMode::Inline),
             _ => None,
         }
     }
@@ -65,6 +75,8 @@ pub struct Wakeup {
     sleeping: AtomicUsize,
     lock: Mutex<()>,
     cv: Condvar,
+    /// `wait="inline"`: what a notification calls instead of setting the flag.
+    inline: SetOnce<Notifier>,
 }
 
 impl Default for Wakeup {
@@ -74,6 +86,7 @@ impl Default for Wakeup {
             sleeping: AtomicUsize::new(0),
             lock: Mutex::new(()),
             cv: Condvar::new(),
+            inline: SetOnce::new(),
         }
     }
 }
@@ -88,6 +101,13 @@ impl Wakeup {
     /// A new wakeup, not pending.
     pub fn new() -> std::sync::Arc<Self> {
         std::sync::Arc::new(Self::default())
+    }
+
+    /// From now on every notification calls `runner` on the notifying thread instead of
+    /// setting the flag (`wait="inline"`); a notification already pending stays so
+    /// (see [`Self::take`]). Gives `runner` back if one was set before.
+    pub fn run_inline(&self, runner: Notifier) -> Result<(), Notifier> {
+        self.inline.set(runner)
     }
 
     /// Clears a pending notification without waiting; true if there was one.
@@ -114,7 +134,9 @@ impl Wakeup {
     pub fn wait_in(&self, mode: WaitMode, stop: &StdAtomicBool, timeout: Duration) -> bool {
         let stopped = || stop.load(std::sync::atomic::Ordering::Relaxed);
         match mode {
-            WaitMode::Park => self.wait_timeout(timeout),
+            // A container told to wait inline but run on a thread of its own (run
+            // directly, not spawned) waits as `Park` does.
+            WaitMode::Park | WaitMode::Inline => self.wait_timeout(timeout),
             WaitMode::Spin => loop {
                 if self.take() {
                     return true;
@@ -180,6 +202,10 @@ impl Wakeup {
 
 impl super::Notify for Wakeup {
     fn notify(&self) {
+        if let Some(runner) = self.inline.get() {
+            runner.notify();
+            return;
+        }
         if !self.pending.swap(true, Ordering::SeqCst) && self.sleeping.load(Ordering::SeqCst) > 0 {
             // Taking the lock orders the signal after the sleeper's last look (it holds
             // the lock until the condition variable releases it). Signalling after the
