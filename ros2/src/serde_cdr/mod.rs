@@ -25,6 +25,7 @@
 //! and vectors: an error's field path is built only when there is an error.
 
 mod de;
+mod fast;
 mod plan;
 mod prim;
 mod ser;
@@ -47,6 +48,8 @@ pub struct Shape<'r> {
     plan: Arc<Plan<'r>>,
     /// The field path: the node of each message on the way and the field's index in it.
     path: Vec<(usize, usize)>,
+    /// The message flattened for the fast path (a whole message only, see `fast/`).
+    fast: Option<Arc<fast::Tape<'r>>>,
 }
 
 impl fmt::Debug for Shape<'_> {
@@ -83,9 +86,14 @@ impl<'r> Shape<'r> {
                 };
             }
         }
+        let fast = match path.is_empty() {
+            true => fast::Tape::new(&plan).map(Arc::new),
+            false => None,
+        };
         Ok(Shape {
             plan: Arc::new(plan),
             path,
+            fast,
         })
     }
 
@@ -117,12 +125,41 @@ impl<'r> Shape<'r> {
 
 /// Writes `value` as a CDR sample of `shape` into `buf` (replacing what it held, its
 /// capacity kept).
+#[inline]
 pub fn to_cdr<T: Serialize + ?Sized>(
     shape: &Shape<'_>,
     value: &T,
     buf: &mut Vec<u8>,
 ) -> Result<(), CdrError> {
+    let Some(tape) = &shape.fast else {
+        return to_cdr_in(shape, value, buf);
+    };
+    if tape.write(value, buf).is_ok() {
+        return Ok(());
+    }
+    let planned = to_cdr_in(shape, value, buf);
+    if planned.is_ok() {
+        tape.written_slowly::<T>();
+    }
+    planned
+}
+
+/// [`to_cdr`] by the plan path alone (for tests and benchmarks: the fast path must
+/// write the same bytes).
+#[doc(hidden)]
+pub fn to_cdr_planned<T: Serialize + ?Sized>(
+    shape: &Shape<'_>,
+    value: &T,
+    buf: &mut Vec<u8>,
+) -> Result<(), CdrError> {
     to_cdr_in(shape, value, buf)
+}
+
+/// [`to_cdr`] by the fast path alone: `false` where it misses (for tests: which types
+/// it takes).
+#[doc(hidden)]
+pub fn to_cdr_fast<T: Serialize + ?Sized>(shape: &Shape<'_>, value: &T, buf: &mut Vec<u8>) -> bool {
+    (shape.fast.as_ref()).is_some_and(|tape| fast::write_any(tape, value, buf).is_ok())
 }
 
 /// [`to_cdr`] with the shape's borrow and its registry's as one lifetime.
@@ -175,8 +212,34 @@ fn write<'p, T: Serialize + ?Sized>(
 }
 
 /// Reads a CDR sample of `shape` as a value of `T`.
+#[inline]
 pub fn from_cdr<T: DeserializeOwned>(shape: &Shape<'_>, bytes: &[u8]) -> Result<T, CdrError> {
+    let Some(tape) = &shape.fast else {
+        return from_cdr_in(shape, bytes);
+    };
+    if let Ok(value) = tape.read(bytes) {
+        return Ok(value);
+    }
+    let planned = from_cdr_in(shape, bytes);
+    if planned.is_ok() {
+        tape.read_slowly::<T>();
+    }
+    planned
+}
+
+/// [`from_cdr`] by the plan path alone (for tests and benchmarks).
+#[doc(hidden)]
+pub fn from_cdr_planned<T: DeserializeOwned>(
+    shape: &Shape<'_>,
+    bytes: &[u8],
+) -> Result<T, CdrError> {
     from_cdr_in(shape, bytes)
+}
+
+/// [`from_cdr`] by the fast path alone: `None` where it misses (for tests).
+#[doc(hidden)]
+pub fn from_cdr_fast<T: DeserializeOwned>(shape: &Shape<'_>, bytes: &[u8]) -> Option<T> {
+    (shape.fast.as_ref()).and_then(|tape| fast::read_any(tape, bytes).ok())
 }
 
 /// [`from_cdr`] with the shape's borrow and its registry's as one lifetime.
