@@ -278,6 +278,9 @@ impl<'r, T: Serialize + serde::de::DeserializeOwned> Case<'r, T> {
         if !serde_cdr::to_cdr_fast(&shape, &value, &mut fast) || fast != cdr {
             return Err(format!("{name}: the fast path does not write the sample"));
         }
+        if serde_cdr::from_cdr_fast::<T>(&shape, &cdr).is_none() {
+            return Err(format!("{name}: the fast path does not read the sample"));
+        }
         println!("{name}: CDR {} B, postcard {} B", cdr.len(), postcard.len());
         Ok(Case {
             name,

@@ -2,7 +2,7 @@
 //! length is checked against the bytes left before anything is allocated, and anything
 //! unexpected is a [`Miss`] (the plan path then says what is wrong).
 
-use super::{Kind, Miss, Op, NANOS};
+use super::{Kind, Miss, Op, DYNAMIC, NANOS};
 use crate::def::Primitive;
 use crate::wire::HEADER;
 use serde::de::{self, DeserializeOwned, DeserializeSeed, SeqAccess, Visitor};
@@ -37,10 +37,15 @@ struct R<'t, 'd> {
 }
 
 impl<'d> R<'_, 'd> {
-    /// A primitive of `N` bytes, aligned to `N`, with one bounds check.
+    /// A primitive of `N` bytes after `pad` bytes of padding (known from the tape, or
+    /// [`DYNAMIC`]: to a multiple of `N`), with one bounds check.
     #[inline(always)]
-    fn get<const N: usize>(&mut self) -> Result<[u8; N], Miss> {
-        let start = self.at + (HEADER.len().wrapping_sub(self.at) & (N - 1));
+    fn get<const N: usize>(&mut self, pad: u8) -> Result<[u8; N], Miss> {
+        let start = match pad {
+            0 => self.at,
+            DYNAMIC => self.at + (HEADER.len().wrapping_sub(self.at) & (N - 1)),
+            pad => self.at + pad as usize,
+        };
         let data: &'d [u8] = self.data;
         match data.get(start..).and_then(<[u8]>::first_chunk::<N>) {
             Some(bytes) => {
@@ -59,15 +64,25 @@ impl<'d> R<'_, 'd> {
         Ok(bytes)
     }
 
-    /// The number of elements of an array or sequence whose elements take at least
-    /// `min` bytes each, refused if the rest of the sample cannot hold them.
+    /// Skips the padding before the first element of an array of `p`.
     #[inline(always)]
-    fn count(&mut self, fixed: bool, max: u32, min: usize) -> Result<usize, Miss> {
-        let len = if fixed {
-            max
+    fn pad(&mut self, pad: u8, p: Primitive) -> Result<(), Miss> {
+        let pad = match pad {
+            DYNAMIC => HEADER.len().wrapping_sub(self.at) & (p.size() - 1),
+            pad => pad as usize,
+        };
+        self.take(pad).map(drop)
+    }
+
+    /// The number of elements of the array or sequence `op` whose elements take at
+    /// least `min` bytes each, refused if the rest of the sample cannot hold them.
+    #[inline(always)]
+    fn count(&mut self, op: &Op<'_>, min: usize) -> Result<usize, Miss> {
+        let len = if op.fixed {
+            op.n
         } else {
-            let len = u32::from_le_bytes(self.get()?);
-            if len > max {
+            let len = u32::from_le_bytes(self.get(op.pad)?);
+            if len > op.n {
                 return Err(Miss);
             }
             len
@@ -79,13 +94,13 @@ impl<'d> R<'_, 'd> {
         Ok(len)
     }
 
-    /// A string of at most `bound` bytes: its length (counting the NUL), its UTF-8
-    /// bytes, the NUL.
+    /// A string of at most `bound` bytes: its length (counting the NUL) after `pad`,
+    /// its UTF-8 bytes, the NUL.
     #[inline]
-    fn string(&mut self, bound: Option<u32>) -> Result<&'d str, Miss> {
-        let len = u32::from_le_bytes(self.get()?) as usize;
+    fn string(&mut self, pad: u8, bound: u32) -> Result<&'d str, Miss> {
+        let len = u32::from_le_bytes(self.get(pad)?) as usize;
         let (nul, text) = (self.take(len)?).split_last().ok_or(Miss)?;
-        if *nul != 0 || bound.is_some_and(|b| text.len() > b as usize) {
+        if *nul != 0 || text.len() > bound as usize {
             return Err(Miss);
         }
         std::str::from_utf8(text).map_err(|_| Miss)
@@ -111,37 +126,34 @@ impl<'a, 't, 'd> De<'a, 't, 'd> {
     /// An array or sequence; `want`: the length of a Rust array.
     #[inline]
     fn elements<V: Visitor<'d>>(self, want: Option<usize>, v: V) -> Result<V::Value, Miss> {
-        let Kind::Seq { fixed, max, prim } = self.op.kind else {
+        let op = self.op;
+        if op.kind != Kind::Seq {
             return Err(Miss);
-        };
-        let end = self.op.end;
-        let value = match prim {
+        }
+        let value = match op.elem {
             Some(p) => {
-                let len = self.r.count(fixed, max, p.size())?;
+                let len = self.r.count(op, p.size())?;
                 if want.is_some_and(|n| n != len) {
                     return Err(Miss);
                 }
                 if len > 0 {
-                    self.r.get_align(p.size())?;
+                    self.r.pad(op.pad_elem, p)?;
                 }
-                let mut packed = PackedSeq {
+                // By value (in registers): a visitor that stops early leaves the rest
+                // of these bytes unread, the sample's offset is past them all the same.
+                v.visit_seq(PackedSeq {
                     bytes: self.r.take(len * p.size())?,
                     p,
                     len,
-                };
-                let value = v.visit_seq(&mut packed)?;
-                if !packed.bytes.is_empty() {
-                    return Err(Miss);
-                }
-                value
+                })?
             }
             None => {
                 let body = self.r.pos;
                 let min = match self.r.ops.get(body).map(|op| op.kind) {
-                    Some(Kind::Str(_)) => 5,
+                    Some(Kind::Str) => 5,
                     _ => 1,
                 };
-                let len = self.r.count(fixed, max, min)?;
+                let len = self.r.count(op, min)?;
                 if want.is_some_and(|n| n != len) {
                     return Err(Miss);
                 }
@@ -157,7 +169,7 @@ impl<'a, 't, 'd> De<'a, 't, 'd> {
                 value
             }
         };
-        self.r.pos = end;
+        self.r.pos = op.end;
         Ok(value)
     }
 
@@ -176,12 +188,12 @@ impl<'a, 't, 'd> De<'a, 't, 'd> {
             // rosidl's placeholder member of an empty structure.
             self.r.take(1)?;
         }
-        let mut fields = Fields {
+        let value = v.visit_seq(Fields {
             r: self.r,
             left: len,
-        };
-        let value = v.visit_seq(&mut fields)?;
-        if fields.left != 0 || self.r.pos != self.op.end {
+        })?;
+        // Every field read (a visitor may stop early).
+        if self.r.pos != self.op.end {
             return Err(Miss);
         }
         Ok(value)
@@ -218,15 +230,6 @@ impl<'a, 't, 'd> De<'a, 't, 'd> {
     }
 }
 
-impl R<'_, '_> {
-    /// Skips to a multiple of `n` (1, 2, 4 or 8) counted from after the header.
-    #[inline(always)]
-    fn get_align(&mut self, n: usize) -> Result<(), Miss> {
-        let pad = HEADER.len().wrapping_sub(self.at) & (n - 1);
-        self.take(pad).map(drop)
-    }
-}
-
 /// The primitives, each read only into the port's type of the same width.
 macro_rules! exact {
     ($($name:ident $p:ident $visit:ident $t:ty),*) => {
@@ -235,7 +238,7 @@ macro_rules! exact {
             if self.op.kind != Kind::Prim(Primitive::$p) {
                 return Err(Miss);
             }
-            v.$visit(<$t>::from_le_bytes(self.r.get()?))
+            v.$visit(<$t>::from_le_bytes(self.r.get(self.op.pad)?))
         })*
     };
 }
@@ -268,10 +271,12 @@ impl<'d> de::Deserializer<'d> for De<'_, '_, 'd> {
     #[inline(always)]
     fn deserialize_i64<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
         match self.op.kind {
-            Kind::Prim(Primitive::Int64) => v.visit_i64(i64::from_le_bytes(self.r.get()?)),
+            Kind::Prim(Primitive::Int64) => {
+                v.visit_i64(i64::from_le_bytes(self.r.get(self.op.pad)?))
+            }
             Kind::Nanos => {
-                let sec = i32::from_le_bytes(self.r.get()?);
-                let nanosec = u32::from_le_bytes(self.r.get()?);
+                let sec = i32::from_le_bytes(self.r.get(DYNAMIC)?);
+                let nanosec = u32::from_le_bytes(self.r.get(0)?);
                 v.visit_i64(i64::from(sec) * 1_000_000_000 + i64::from(nanosec))
             }
             _ => Err(Miss),
@@ -279,32 +284,27 @@ impl<'d> de::Deserializer<'d> for De<'_, '_, 'd> {
     }
     #[inline]
     fn deserialize_bool<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
-        match (self.op.kind, self.r.get::<1>()?) {
+        match (self.op.kind, self.r.get::<1>(0)?) {
             (Kind::Prim(Primitive::Bool), [b @ (0 | 1)]) => v.visit_bool(b == 1),
             _ => Err(Miss),
         }
     }
     #[inline]
     fn deserialize_str<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
-        let Kind::Str(bound) = self.op.kind else {
+        if self.op.kind != Kind::Str {
             return Err(Miss);
-        };
-        v.visit_str(self.r.string(bound)?)
+        }
+        v.visit_str(self.r.string(self.op.pad, self.op.n)?)
     }
     #[inline]
     fn deserialize_string<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
         self.deserialize_str(v)
     }
     fn deserialize_bytes<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
-        let Kind::Seq {
-            fixed,
-            max,
-            prim: Some(Primitive::UInt8),
-        } = self.op.kind
-        else {
+        if self.op.kind != Kind::Seq || self.op.elem != Some(Primitive::UInt8) {
             return Err(Miss);
-        };
-        let len = self.r.count(fixed, max, 1)?;
+        }
+        let len = self.r.count(self.op, 1)?;
         v.visit_bytes(self.r.take(len)?)
     }
     fn deserialize_byte_buf<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
@@ -349,14 +349,15 @@ impl<'d> de::Deserializer<'d> for De<'_, '_, 'd> {
         fields: &'static [&'static str],
         v: V,
     ) -> Result<V::Value, Miss> {
-        let Kind::Struct { len, time } = self.op.kind else {
+        if self.op.kind != Kind::Struct {
             return Err(Miss);
-        };
-        if time && name == "Timestamp" && fields == ["nanos"] {
+        }
+        if self.op.time && name == "Timestamp" && fields == ["nanos"] {
             let value = v.visit_seq(Nanos { r: self.r })?;
             self.r.pos = self.op.end;
             return Ok(value);
         }
+        let len = self.op.n;
         self.fields(len, fields, v)
     }
     fn deserialize_enum<V: Visitor<'d>>(

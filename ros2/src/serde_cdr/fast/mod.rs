@@ -64,38 +64,52 @@ impl serde::de::Error for Miss {
     }
 }
 
-/// What a field is on the wire.
+/// What a field is on the wire (one byte: the primitive's own, or one of the others).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Kind {
     /// A primitive (`byte` and `char` are `uint8`, as rosidl maps them).
     Prim(Primitive),
-    /// A string of at most so many bytes.
-    Str(Option<u32>),
-    /// A message of `len` fields (they follow); `time`: `builtin_interfaces/msg/Time`.
-    Struct { len: u32, time: bool },
-    /// An array (`fixed`: exactly `max` elements, no count) or a sequence (a count of at
-    /// most `max`). Of a primitive (`prim`), or of what the next op is.
-    Seq {
-        fixed: bool,
-        max: u32,
-        prim: Option<Primitive>,
-    },
+    /// A string of at most [`Op::n`] bytes.
+    Str,
+    /// A message of [`Op::n`] fields (they follow).
+    Struct,
+    /// An array ([`Op::fixed`]: exactly [`Op::n`] elements, no count) or a sequence (a
+    /// count of at most [`Op::n`]), of [`Op::elem`] or of what the next op is.
+    Seq,
     /// `Timestamp::nanos` as a Time's two fields (not on the tape: [`NANOS`]).
     Nanos,
 }
 
+/// The padding before a value is not known from the tape (it follows a string or a
+/// sequence): it is computed from the offset.
+pub(crate) const DYNAMIC: u8 = u8::MAX;
+
 /// One field (or the message, or an array's element) on the tape.
 pub(crate) struct Op<'r> {
     pub kind: Kind,
-    /// The field's name (empty for the message and for elements).
-    name: &'r str,
+    /// The padding before the primitive, or the length of a string or sequence: `0..8`
+    /// known from the tape, or [`DYNAMIC`].
+    pub pad: u8,
+    /// The padding before the first element of an array of a primitive.
+    pub pad_elem: u8,
+    /// An array's element, if a primitive (written and read packed).
+    pub elem: Option<Primitive>,
+    /// An array, not a sequence.
+    pub fixed: bool,
+    /// A message that is `builtin_interfaces/msg/Time`.
+    pub time: bool,
+    /// A string's bound (`u32::MAX`: none), a sequence's (`u32::MAX`: none) or an
+    /// array's length, a message's number of fields.
+    pub n: u32,
+    /// The index after this op and all it contains.
+    pub end: usize,
     /// The address of the last key found equal to the name.
     seen: AtomicUsize,
     /// A message's: the address of the last list of field names (a derived
     /// `Deserialize`'s) found equal to its fields' names.
     seen_fields: AtomicUsize,
-    /// The index after this op and all it contains.
-    pub end: usize,
+    /// The field's name (empty for the message and for elements).
+    name: &'r str,
 }
 
 impl Op<'_> {
@@ -123,10 +137,16 @@ impl Op<'_> {
 /// The op a `Timestamp`'s `nanos` is read and written with.
 pub(crate) static NANOS: Op<'static> = Op {
     kind: Kind::Nanos,
-    name: "nanos",
+    pad: DYNAMIC,
+    pad_elem: DYNAMIC,
+    elem: None,
+    fixed: false,
+    time: false,
+    n: 0,
+    end: 0,
     seen: AtomicUsize::new(0),
     seen_fields: AtomicUsize::new(0),
-    end: 0,
+    name: "nanos",
 };
 
 /// A message flattened for the fast path, and the types found not to fit it.
@@ -141,10 +161,15 @@ pub(crate) struct Tape<'r> {
 impl<'r> Tape<'r> {
     /// The tape of the plan's message, unless it holds a `wstring` or is too long.
     pub fn new(plan: &Plan<'r>) -> Option<Tape<'r>> {
-        let mut ops = Vec::new();
-        node(plan, plan.root(), "", &mut ops)?;
+        let mut make = Make {
+            plan,
+            ops: Vec::new(),
+            offset: 0,
+            modulus: 8,
+        };
+        make.node(plan.root(), "")?;
         Some(Tape {
-            ops,
+            ops: make.ops,
             slow_write: AtomicUsize::new(0),
             slow_read: AtomicUsize::new(0),
         })
@@ -189,61 +214,139 @@ fn type_key<T: ?Sized>() -> usize {
     std::any::type_name::<T>().as_ptr() as usize
 }
 
-/// Appends `op` and returns its index, unless the tape is full.
-fn push<'r>(ops: &mut Vec<Op<'r>>, kind: Kind, name: &'r str) -> Option<usize> {
-    if ops.len() >= MAX_OPS {
-        return None;
-    }
-    ops.push(Op {
-        kind,
-        name,
-        seen: AtomicUsize::new(0),
-        seen_fields: AtomicUsize::new(0),
-        end: ops.len() + 1,
-    });
-    Some(ops.len() - 1)
+/// The tape being made, and what is known of the offset where it is (for the padding):
+/// `offset % modulus` (`modulus` 1, 2, 4 or 8).
+struct Make<'p, 'r> {
+    plan: &'p Plan<'r>,
+    ops: Vec<Op<'r>>,
+    offset: usize,
+    modulus: usize,
 }
 
-/// The message of the plan's node `n`, then its fields.
-fn node<'r>(plan: &Plan<'r>, n: usize, name: &'r str, ops: &mut Vec<Op<'r>>) -> Option<()> {
-    let node = &plan.nodes[n];
-    let kind = Kind::Struct {
-        len: u32::try_from(node.slots.len()).ok()?,
-        time: node.builtin == Builtin::Time,
-    };
-    let at = push(ops, kind, name)?;
-    for slot in &node.slots {
-        field(plan, slot, ops)?;
+impl<'r> Make<'_, 'r> {
+    /// Appends an op of `kind` and returns its index, unless the tape is full.
+    fn push(&mut self, kind: Kind, name: &'r str) -> Option<usize> {
+        if self.ops.len() >= MAX_OPS {
+            return None;
+        }
+        self.ops.push(Op {
+            kind,
+            pad: DYNAMIC,
+            pad_elem: DYNAMIC,
+            elem: None,
+            fixed: false,
+            time: false,
+            n: 0,
+            end: self.ops.len() + 1,
+            seen: AtomicUsize::new(0),
+            seen_fields: AtomicUsize::new(0),
+            name,
+        });
+        Some(self.ops.len() - 1)
     }
-    ops[at].end = ops.len();
-    Some(())
-}
 
-fn field<'r>(plan: &Plan<'r>, slot: &Slot<'r>, ops: &mut Vec<Op<'r>>) -> Option<()> {
-    let (fixed, max) = match slot.arity {
-        Arity::Single => return element(plan, &slot.elem, slot.name, ops),
-        Arity::Fixed(n) => (true, n),
-        Arity::Bounded(n) => (false, n),
-        Arity::Unbounded => (false, u32::MAX),
-    };
-    let prim = match slot.elem {
-        Elem::Prim(p) => Some(norm(p)),
-        _ => None,
-    };
-    let at = push(ops, Kind::Seq { fixed, max, prim }, slot.name)?;
-    if prim.is_none() {
-        element(plan, &slot.elem, "", ops)?;
+    /// The padding before `size` bytes aligned to `size`, then past them.
+    fn put(&mut self, size: usize) -> u8 {
+        let pad = self.pad(size);
+        if pad == DYNAMIC {
+            // Aligned to `size` at run time: known to that much from here.
+            (self.modulus, self.offset) = (size, 0);
+        } else {
+            self.offset += pad as usize;
+        }
+        self.offset = (self.offset + size) % self.modulus;
+        pad
     }
-    ops[at].end = ops.len();
-    Some(())
-}
 
-fn element<'r>(plan: &Plan<'r>, elem: &Elem, name: &'r str, ops: &mut Vec<Op<'r>>) -> Option<()> {
-    match *elem {
-        Elem::Prim(p) => push(ops, Kind::Prim(norm(p)), name).map(drop),
-        Elem::Str(bound) => push(ops, Kind::Str(bound), name).map(drop),
-        Elem::WStr => None,
-        Elem::Msg(n) => node(plan, n, name, ops),
+    /// The padding before `size` bytes aligned to `size`, if known.
+    fn pad(&self, size: usize) -> u8 {
+        if self.modulus >= size {
+            (self.offset.wrapping_neg() & (size - 1)) as u8
+        } else {
+            DYNAMIC
+        }
+    }
+
+    /// Past a number of bytes not known here, the offset known to `modulus` at most.
+    fn lose(&mut self, modulus: usize) {
+        self.modulus = self.modulus.min(modulus);
+        self.offset %= self.modulus;
+    }
+
+    /// The message of the plan's node `n`, then its fields.
+    fn node(&mut self, n: usize, name: &'r str) -> Option<()> {
+        let node = &self.plan.nodes[n];
+        let at = self.push(Kind::Struct, name)?;
+        self.ops[at].n = u32::try_from(node.slots.len()).ok()?;
+        self.ops[at].time = node.builtin == Builtin::Time;
+        if node.slots.is_empty() {
+            self.put(1);
+        }
+        for slot in &node.slots {
+            self.field(slot)?;
+        }
+        self.ops[at].end = self.ops.len();
+        Some(())
+    }
+
+    fn field(&mut self, slot: &Slot<'r>) -> Option<()> {
+        let (fixed, n) = match slot.arity {
+            Arity::Single => return self.element(&slot.elem, slot.name),
+            Arity::Fixed(n) => (true, n),
+            Arity::Bounded(n) => (false, n),
+            Arity::Unbounded => (false, u32::MAX),
+        };
+        let at = self.push(Kind::Seq, slot.name)?;
+        let op = &mut self.ops[at];
+        (op.fixed, op.n) = (fixed, n);
+        let pad = if fixed { 0 } else { self.put(4) };
+        match slot.elem {
+            Elem::Prim(p) => {
+                let size = p.size();
+                self.ops[at].elem = Some(norm(p));
+                self.ops[at].pad = pad;
+                match fixed {
+                    true if n > 0 => {
+                        self.ops[at].pad_elem = self.put(size);
+                        let rest = (n as usize - 1) * size;
+                        self.offset = (self.offset + rest) % self.modulus;
+                    }
+                    true => {}
+                    false => {
+                        // No padding if empty; after it, aligned to the element or to 4.
+                        self.ops[at].pad_elem = self.pad(size);
+                        self.lose(size.min(4));
+                    }
+                }
+            }
+            _ => {
+                self.ops[at].pad = pad;
+                // Each element starts where the last ended: nothing known.
+                self.lose(1);
+                self.element(&slot.elem, "")?;
+                self.lose(1);
+            }
+        }
+        self.ops[at].end = self.ops.len();
+        Some(())
+    }
+
+    fn element(&mut self, elem: &Elem, name: &'r str) -> Option<()> {
+        match *elem {
+            Elem::Prim(p) => {
+                let at = self.push(Kind::Prim(norm(p)), name)?;
+                self.ops[at].pad = self.put(p.size());
+            }
+            Elem::Str(bound) => {
+                let at = self.push(Kind::Str, name)?;
+                self.ops[at].n = bound.unwrap_or(u32::MAX);
+                self.ops[at].pad = self.put(4);
+                self.lose(1);
+            }
+            Elem::WStr => return None,
+            Elem::Msg(n) => self.node(n, name)?,
+        }
+        Some(())
     }
 }
 

@@ -1,6 +1,6 @@
 //! Writing a value along the tape (see `mod.rs`).
 
-use super::{Kind, Miss, Op, NANOS};
+use super::{Kind, Miss, Op, DYNAMIC, NANOS};
 use crate::def::Primitive;
 use crate::wire::HEADER;
 use serde::ser::{self, Impossible, Serialize};
@@ -31,32 +31,43 @@ struct W<'t> {
 }
 
 impl W<'_> {
-    /// A primitive of `N` bytes, aligned to `N` (counted from after the header).
+    /// A primitive of `N` bytes after `pad` bytes of padding (known from the tape, or
+    /// [`DYNAMIC`]: to a multiple of `N` counted from after the header).
     #[inline(always)]
-    fn put<const N: usize>(&mut self, bytes: [u8; N]) {
-        let pad = HEADER.len().wrapping_sub(self.buf.len()) & (N - 1);
+    fn put<const N: usize>(&mut self, pad: u8, bytes: [u8; N]) {
         if pad != 0 {
-            self.buf.resize(self.buf.len() + pad, 0);
+            self.pad(pad, N);
         }
         self.buf.extend_from_slice(&bytes);
     }
 
-    /// The count of a sequence, nothing for a fixed array (whose length must be its).
+    #[inline(never)]
+    fn pad(&mut self, pad: u8, align: usize) {
+        let pad = match pad {
+            DYNAMIC => HEADER.len().wrapping_sub(self.buf.len()) & (align - 1),
+            pad => pad as usize,
+        };
+        self.buf.resize(self.buf.len() + pad, 0);
+    }
+
+    /// The count of the sequence `op` of `len` elements, nothing for an array (whose
+    /// length must be its own).
     #[inline(always)]
-    fn count(&mut self, fixed: bool, max: u32, len: usize) -> Result<(), Miss> {
-        if fixed {
-            return if len == max as usize {
+    fn count(&mut self, op: &Op<'_>, len: usize) -> Result<(), Miss> {
+        if op.fixed {
+            return if len == op.n as usize {
                 Ok(())
             } else {
                 Err(Miss)
             };
         }
-        let len = u32::try_from(len).map_err(|_| Miss)?;
-        if len > max {
-            return Err(Miss);
+        match u32::try_from(len) {
+            Ok(len) if len <= op.n => {
+                self.put(op.pad, len.to_le_bytes());
+                Ok(())
+            }
+            _ => Err(Miss),
         }
-        self.put(len.to_le_bytes());
-        Ok(())
     }
 }
 
@@ -81,33 +92,34 @@ impl<'a, 't> Ser<'a, 't> {
         if self.op.kind != Kind::Prim(ours) {
             return Err(Miss);
         }
-        self.w.put(bytes);
+        self.w.put(self.op.pad, bytes);
         Ok(())
     }
 
     /// An array or sequence of `len` elements.
     #[inline(always)]
     fn seq(self, len: usize) -> Result<Seq<'a, 't>, Miss> {
-        let Kind::Seq { fixed, max, prim } = self.op.kind else {
+        let op = self.op;
+        if op.kind != Kind::Seq {
             return Err(Miss);
-        };
-        self.w.count(fixed, max, len)?;
-        let packed = match prim {
-            Some(p) if len > 0 => {
-                let size = p.size();
-                let pad = HEADER.len().wrapping_sub(self.w.buf.len()) & (size - 1);
-                self.w.buf.resize(self.w.buf.len() + pad, 0);
-                self.w.buf.reserve(len * size);
-                Some((p, self.w.buf.len() + len * size))
+        }
+        self.w.count(op, len)?;
+        let mut full = 0;
+        if let Some(p) = op.elem {
+            if len > 0 {
+                if op.pad_elem != 0 {
+                    self.w.pad(op.pad_elem, p.size());
+                }
+                self.w.buf.reserve(len * p.size());
             }
-            Some(p) => Some((p, self.w.buf.len())),
-            None => None,
-        };
+            full = self.w.buf.len() + len * p.size();
+        }
         Ok(Seq {
             body: self.w.pos,
-            end: self.op.end,
             w: self.w,
-            packed,
+            elem: op.elem,
+            full,
+            end: op.end,
             left: len,
         })
     }
@@ -179,9 +191,9 @@ impl<'a, 't> ser::Serializer for Ser<'a, 't> {
         if self.op.kind == Kind::Nanos {
             // builtin_interfaces/msg/Time: int32 sec (floor), uint32 nanosec.
             let sec = i32::try_from(v.div_euclid(1_000_000_000)).map_err(|_| Miss)?;
-            self.w.put(sec.to_le_bytes());
+            self.w.put(DYNAMIC, sec.to_le_bytes());
             self.w
-                .put((v.rem_euclid(1_000_000_000) as u32).to_le_bytes());
+                .put(0, (v.rem_euclid(1_000_000_000) as u32).to_le_bytes());
             return Ok(());
         }
         self.prim(Primitive::Int64, v.to_le_bytes())
@@ -212,28 +224,20 @@ impl<'a, 't> ser::Serializer for Ser<'a, 't> {
     }
     #[inline]
     fn serialize_str(self, v: &str) -> Result<(), Miss> {
-        let Kind::Str(bound) = self.op.kind else {
-            return Err(Miss);
-        };
-        if bound.is_some_and(|b| v.len() > b as usize) || v.as_bytes().contains(&0) {
+        if self.op.kind != Kind::Str || v.len() > self.op.n as usize || v.as_bytes().contains(&0) {
             return Err(Miss);
         }
         let len = u32::try_from(v.len() + 1).map_err(|_| Miss)?;
-        self.w.put(len.to_le_bytes());
+        self.w.put(self.op.pad, len.to_le_bytes());
         self.w.buf.extend_from_slice(v.as_bytes());
         self.w.buf.push(0);
         Ok(())
     }
     fn serialize_bytes(self, v: &[u8]) -> Result<(), Miss> {
-        let Kind::Seq {
-            fixed,
-            max,
-            prim: Some(Primitive::UInt8),
-        } = self.op.kind
-        else {
+        if self.op.kind != Kind::Seq || self.op.elem != Some(Primitive::UInt8) {
             return Err(Miss);
-        };
-        self.w.count(fixed, max, v.len())?;
+        }
+        self.w.count(self.op, v.len())?;
         self.w.buf.extend_from_slice(v);
         Ok(())
     }
@@ -259,14 +263,15 @@ impl<'a, 't> ser::Serializer for Ser<'a, 't> {
     }
     #[inline(always)]
     fn serialize_struct(self, name: &'static str, len: usize) -> Result<Struct<'a, 't>, Miss> {
-        let Kind::Struct { len: fields, time } = self.op.kind else {
-            return Err(Miss);
-        };
-        let time = time && len == 1 && name == "Timestamp";
-        if !time && len != fields as usize {
+        let op = self.op;
+        if op.kind != Kind::Struct {
             return Err(Miss);
         }
-        if fields == 0 {
+        let time = op.time && len == 1 && name == "Timestamp";
+        if !time && len != op.n as usize {
+            return Err(Miss);
+        }
+        if op.n == 0 {
             // rosidl's placeholder member of an empty structure.
             self.w.buf.push(0);
         }
@@ -323,7 +328,7 @@ impl ser::SerializeStruct for Struct<'_, '_> {
 
 impl Struct<'_, '_> {
     /// `Timestamp::nanos`: the Time's two fields (once).
-    #[cold]
+    #[inline]
     fn nanos<T: Serialize + ?Sized>(&mut self, key: &'static str, value: &T) -> Result<(), Miss> {
         if key != "nanos" || self.w.pos == self.end {
             return Err(Miss);
@@ -340,33 +345,36 @@ impl Struct<'_, '_> {
 /// The elements of an array or sequence.
 struct Seq<'a, 't> {
     w: &'a mut W<'t>,
-    /// Of a primitive: it, and the sample's length once all are written.
-    packed: Option<(Primitive, usize)>,
+    /// The primitive of an array of one (written packed).
+    elem: Option<Primitive>,
+    /// The sample's length once all are written (packed).
+    full: usize,
     /// The element's op (not packed).
     body: usize,
     end: usize,
     left: usize,
 }
 
-impl Seq<'_, '_> {
+impl<'t> Seq<'_, 't> {
     #[inline(always)]
     fn element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Miss> {
-        match self.packed {
-            Some((p, _)) => value.serialize(Packed {
-                buf: &mut self.w.buf,
-                p,
-            }),
-            None => {
-                self.left = self.left.checked_sub(1).ok_or(Miss)?;
-                value.serialize(Ser::at(self.w, self.body)?)
-            }
+        value.serialize(Item { seq: self })
+    }
+
+    /// The next element's serializer (not packed).
+    #[inline]
+    fn next(&mut self) -> Result<Ser<'_, 't>, Miss> {
+        if self.elem.is_some() {
+            return Err(Miss);
         }
+        self.left = self.left.checked_sub(1).ok_or(Miss)?;
+        Ser::at(self.w, self.body)
     }
 
     #[inline(always)]
     fn finish(self) -> Result<(), Miss> {
-        let all = match self.packed {
-            Some((_, len)) => self.w.buf.len() == len,
+        let all = match self.elem {
+            Some(_) => self.w.buf.len() == self.full,
             None => self.left == 0,
         };
         self.w.pos = self.end;
@@ -417,36 +425,35 @@ impl ser::SerializeTupleStruct for Seq<'_, '_> {
     }
 }
 
-/// One element of an array of the primitive `p`, aligned already (every element is as
-/// wide as the alignment it needs).
-struct Packed<'a> {
-    buf: &'a mut Vec<u8>,
-    p: Primitive,
+/// One element of an array: of a primitive, written packed (aligned already: every
+/// element is as wide as the alignment it needs); of anything else, the element's op.
+struct Item<'s, 'a, 't> {
+    seq: &'s mut Seq<'a, 't>,
 }
 
-impl Packed<'_> {
+impl Item<'_, '_, '_> {
     #[inline(always)]
     fn put<const N: usize>(self, ours: Primitive, bytes: [u8; N]) -> Result<(), Miss> {
-        if self.p != ours {
+        if self.seq.elem != Some(ours) {
             return Err(Miss);
         }
-        self.buf.extend_from_slice(&bytes);
+        self.seq.w.buf.extend_from_slice(&bytes);
         Ok(())
     }
 }
 
-impl ser::Serializer for Packed<'_> {
+impl<'s, 't> ser::Serializer for Item<'s, '_, 't> {
     type Ok = ();
     type Error = Miss;
-    type SerializeSeq = No;
-    type SerializeTuple = No;
-    type SerializeTupleStruct = No;
+    type SerializeSeq = Seq<'s, 't>;
+    type SerializeTuple = Seq<'s, 't>;
+    type SerializeTupleStruct = Seq<'s, 't>;
     type SerializeTupleVariant = No;
     type SerializeMap = No;
-    type SerializeStruct = No;
+    type SerializeStruct = Struct<'s, 't>;
     type SerializeStructVariant = No;
 
-    miss! { char str bytes none some unit variants map }
+    miss! { char none some unit variants map }
 
     #[inline(always)]
     fn serialize_bool(self, v: bool) -> Result<(), Miss> {
@@ -500,16 +507,23 @@ impl ser::Serializer for Packed<'_> {
     ) -> Result<(), Miss> {
         value.serialize(self)
     }
-    fn serialize_seq(self, _: Option<usize>) -> Result<No, Miss> {
-        Err(Miss)
+    fn serialize_str(self, v: &str) -> Result<(), Miss> {
+        self.seq.next()?.serialize_str(v)
     }
-    fn serialize_tuple(self, _: usize) -> Result<No, Miss> {
-        Err(Miss)
+    fn serialize_bytes(self, v: &[u8]) -> Result<(), Miss> {
+        self.seq.next()?.serialize_bytes(v)
     }
-    fn serialize_tuple_struct(self, _: &'static str, _: usize) -> Result<No, Miss> {
-        Err(Miss)
+    fn serialize_seq(self, len: Option<usize>) -> Result<Seq<'s, 't>, Miss> {
+        self.seq.next()?.serialize_seq(len)
     }
-    fn serialize_struct(self, _: &'static str, _: usize) -> Result<No, Miss> {
-        Err(Miss)
+    fn serialize_tuple(self, len: usize) -> Result<Seq<'s, 't>, Miss> {
+        self.seq.next()?.serialize_tuple(len)
+    }
+    fn serialize_tuple_struct(self, name: &'static str, len: usize) -> Result<Seq<'s, 't>, Miss> {
+        self.seq.next()?.serialize_tuple_struct(name, len)
+    }
+    #[inline]
+    fn serialize_struct(self, name: &'static str, len: usize) -> Result<Struct<'s, 't>, Miss> {
+        self.seq.next()?.serialize_struct(name, len)
     }
 }
