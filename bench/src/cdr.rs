@@ -278,6 +278,10 @@ impl<'r, T: Serialize + serde::de::DeserializeOwned> Case<'r, T> {
         if !serde_cdr::to_cdr_fast(&shape, &value, &mut fast) || fast != cdr {
             return Err(format!("{name}: the fast path does not write the sample"));
         }
+        serde_cdr::to_cdr(&shape, &value, &mut fast).map_err(|e| e.to_string())?;
+        if serde_cdr::write_path::<T>(&shape) != "trusted" || fast != cdr {
+            return Err(format!("{name}: the trusted writer is not taken"));
+        }
         if serde_cdr::from_cdr_fast::<T>(&shape, &cdr).is_none() {
             return Err(format!("{name}: the fast path does not read the sample"));
         }

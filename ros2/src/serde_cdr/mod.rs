@@ -155,6 +155,14 @@ pub fn to_cdr_planned<T: Serialize + ?Sized>(
     to_cdr_in(shape, value, buf)
 }
 
+/// How [`to_cdr`] writes values of `T` now: `"trusted"` (a type that mirrors the
+/// message, found so in a checked sample), `"tape"` (the fast path, checked) or `"plan"`
+/// (for tests and benchmarks; see `fast/`).
+#[doc(hidden)]
+pub fn write_path<T: Serialize + ?Sized>(shape: &Shape<'_>) -> &'static str {
+    (shape.fast.as_ref()).map_or("plan", |tape| tape.write_path::<T>())
+}
+
 /// [`to_cdr`] by the fast path alone: `false` where it misses (for tests: which types
 /// it takes).
 #[doc(hidden)]

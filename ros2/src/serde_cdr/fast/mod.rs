@@ -26,6 +26,7 @@
 
 mod de;
 mod ser;
+mod trusted;
 
 use super::plan::{Builtin, Elem, Plan, Slot};
 use crate::def::{Arity, Primitive};
@@ -152,6 +153,10 @@ pub(crate) static NANOS: Op<'static> = Op {
 /// A message flattened for the fast path, and the types found not to fit it.
 pub(crate) struct Tape<'r> {
     ops: Vec<Op<'r>>,
+    /// The message's layout if it qualifies for the trusted writer (`trusted.rs`), and
+    /// the type found to mirror it ([`trust_key`]).
+    layout: Option<trusted::Layout>,
+    trusted: AtomicUsize,
     /// `type_name` addresses of the last type written / read by the plan path after a
     /// miss.
     slow_write: AtomicUsize,
@@ -169,6 +174,8 @@ impl<'r> Tape<'r> {
         };
         make.node(plan.root(), "")?;
         Some(Tape {
+            layout: trusted::Layout::new(&make.ops),
+            trusted: AtomicUsize::new(0),
             ops: make.ops,
             slow_write: AtomicUsize::new(0),
             slow_read: AtomicUsize::new(0),
@@ -179,10 +186,22 @@ impl<'r> Tape<'r> {
     /// missed before and then were written by the plan path are not tried.
     #[inline]
     pub fn write<T: Serialize + ?Sized>(&self, value: &T, buf: &mut Vec<u8>) -> Result<(), Miss> {
+        if let Some(layout) = &self.layout {
+            if self.trusted.load(Ordering::Relaxed) == trust_key::<T>() {
+                if trusted::write(layout, value, buf).is_ok() {
+                    return Ok(());
+                }
+                // Not as the checked sample was: checked again.
+                self.trusted.store(0, Ordering::Relaxed);
+            }
+        }
         if self.slow_write.load(Ordering::Relaxed) == type_key::<T>() {
             return Err(Miss);
         }
-        ser::write(&self.ops, value, buf)
+        if ser::write(&self.ops, value, buf)? && self.layout.is_some() {
+            self.trusted.store(trust_key::<T>(), Ordering::Relaxed);
+        }
+        Ok(())
     }
 
     /// Reads a sample as a `T`, or misses (as [`Self::write`]).
@@ -192,6 +211,17 @@ impl<'r> Tape<'r> {
             return Err(Miss);
         }
         de::read(&self.ops, bytes)
+    }
+
+    /// How values of `T` are written now: `"trusted"`, `"tape"` or `"plan"` (for tests).
+    pub fn write_path<T: Serialize + ?Sized>(&self) -> &'static str {
+        if self.layout.is_some() && self.trusted.load(Ordering::Relaxed) == trust_key::<T>() {
+            "trusted"
+        } else if self.slow_write.load(Ordering::Relaxed) == type_key::<T>() {
+            "plan"
+        } else {
+            "tape"
+        }
     }
 
     /// `T` missed and the plan path wrote it: it takes the plan path from now on.
@@ -212,6 +242,16 @@ impl<'r> Tape<'r> {
 #[inline(always)]
 fn type_key<T: ?Sized>() -> usize {
     std::any::type_name::<T>().as_ptr() as usize
+}
+
+/// A number standing for the type `T` that only `T` has (as far as serde can tell): the
+/// address of the trusted writer made for `T`. Two types could share it only if that
+/// writer's code were the same for both (identical code folded by the linker), calling
+/// the same `serialize`: then they visit the same fields the same way.
+#[inline(always)]
+fn trust_key<T: Serialize + ?Sized>() -> usize {
+    let writer: fn(&trusted::Layout, &T, &mut Vec<u8>) -> Result<(), Miss> = trusted::write::<T>;
+    writer as usize
 }
 
 /// The tape being made, and what is known of the offset where it is (for the padding):
@@ -364,7 +404,7 @@ pub(crate) fn write_any<T: Serialize + ?Sized>(
     value: &T,
     buf: &mut Vec<u8>,
 ) -> Result<(), Miss> {
-    ser::write(&tape.ops, value, buf)
+    ser::write(&tape.ops, value, buf).map(drop)
 }
 
 /// [`Tape::read`] whatever the hint says (for tests).

@@ -6,21 +6,24 @@ use crate::wire::HEADER;
 use serde::ser::{self, Impossible, Serialize};
 
 /// Writes `value`, the message of `ops`, into `buf` (cleared first, capacity kept).
+/// `Ok(true)`: the trusted writer may write values of this type from now on (every Time
+/// was a `Timestamp`, and only Times were; see `trusted.rs`).
 pub(super) fn write<T: Serialize + ?Sized>(
     ops: &[Op<'_>],
     value: &T,
     buf: &mut Vec<u8>,
-) -> Result<(), Miss> {
+) -> Result<bool, Miss> {
     let mut w = W {
         ops,
         pos: 0,
         buf: std::mem::take(buf),
+        trustable: true,
     };
     w.buf.clear();
     w.buf.extend_from_slice(&HEADER);
     let done = Ser::at(&mut w, 0).and_then(|s| value.serialize(s));
     *buf = w.buf;
-    done
+    done.map(|()| w.trustable)
 }
 
 /// The sample being written and the op next on the tape.
@@ -28,6 +31,7 @@ struct W<'t> {
     ops: &'t [Op<'t>],
     pos: usize,
     buf: Vec<u8>,
+    trustable: bool,
 }
 
 impl W<'_> {
@@ -267,9 +271,14 @@ impl<'a, 't> ser::Serializer for Ser<'a, 't> {
         if op.kind != Kind::Struct {
             return Err(Miss);
         }
-        let time = op.time && len == 1 && name == "Timestamp";
+        let timestamp = len == 1 && name == "Timestamp";
+        let time = op.time && timestamp;
         if !time && len != op.n as usize {
             return Err(Miss);
+        }
+        if op.time != timestamp {
+            // A Time as its fields, or a `Timestamp` that is not a Time.
+            self.w.trustable = false;
         }
         if op.n == 0 {
             // rosidl's placeholder member of an empty structure.
