@@ -17,12 +17,26 @@
 //! the dynamic codec ([`cdr`](crate::cdr)); decoding is as bounded against hostile
 //! samples as there.
 //!
-//! Speed (the `cdr` benchmark, issue 29's target: no slower than 1.2 × postcard): the
-//! definition is compiled once per shape (`plan.rs`: nested types resolved, field names
-//! compared once per port type), an array or sequence of a primitive is aligned and
-//! sized once, its elements then written back to back and read from its bytes taken
-//! whole (`prim.rs`), and nothing is allocated per sample but the value's own strings
-//! and vectors: an error's field path is built only when there is an error.
+//! Speed (the `cdr` benchmark, issue 29's target: no slower than 1.2 × postcard): a
+//! value takes the fastest of three paths that fits it, all writing the same bytes.
+//! - The plan path (`ser.rs`, `de.rs`): the definition compiled once per shape
+//!   (`plan.rs`: nested types resolved, field names compared once per port type), an
+//!   array or sequence of a primitive aligned and sized once, its elements then written
+//!   back to back and read from its bytes taken whole (`prim.rs`); errors name the field.
+//!   It takes every value, and says what is wrong.
+//! - The tape (`fast/`): for a whole message, the definition flattened into one op per
+//!   field in serde's order, each with the padding before it where the tape knows it;
+//!   each serde call checked against its op (primitive, field name by address, number
+//!   of fields, lengths). Anything else is a miss, and the plan path runs instead; a type
+//!   that missed and then went through the plan path goes there directly from then on.
+//! - The trusted writer (`fast/trusted.rs`): a type that went through the tape once and
+//!   whose message's layout depends on nothing but sequence lengths and strings is
+//!   written by XCDR1's rules alone, the tape consulted only for its sequences; the
+//!   number of fields and of sequences visited is still checked in every sample (a miss
+//!   goes back to the tape).
+//!
+//! Nothing is allocated per sample but the value's own strings and vectors: an error's
+//! field path is built only when there is an error.
 
 mod de;
 mod fast;

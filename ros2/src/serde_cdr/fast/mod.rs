@@ -23,6 +23,16 @@
 //!
 //! ferroc's `Timestamp { nanos }` as `builtin_interfaces/msg/Time` is on the tape too
 //! (a header's stamp is in most messages).
+//!
+//! The padding before each primitive (and each length) is worked out while the tape is
+//! made, from what is known of the offset there (everything, up to the first string or
+//! sequence; to a multiple of the last alignment after that), so most fields are
+//! written and read with no alignment computed at all.
+//!
+//! A type that went through the tape without a miss may be trusted from then on
+//! (`trusted.rs`): written with no tape but for its sequences, where the message's
+//! layout allows it. The type is known by the address of its trusted writer
+//! ([`trust_key`]); a trusted sample that misses is written through the tape again.
 
 mod de;
 mod ser;
