@@ -44,10 +44,12 @@ impl Layout {
         for (i, op) in ops.iter().enumerate() {
             match op.kind {
                 Kind::Str if op.n != u32::MAX => return None,
-                Kind::Seq if op.elem.is_none() => {
-                    if ops.get(i + 1).map(|body| body.kind) != Some(Kind::Str) {
-                        return None;
-                    }
+                // A sequence of messages.
+                Kind::Seq
+                    if op.elem.is_none()
+                        && ops.get(i + 1).map(|body| body.kind) != Some(Kind::Str) =>
+                {
+                    return None
                 }
                 _ => {}
             }
@@ -119,7 +121,7 @@ impl M<'_> {
     }
 
     /// The next sequence, of `len` elements: its count written (not a fixed array's).
-    #[inline]
+    #[inline(always)]
     fn seq(&mut self, len: usize) -> Result<SeqOp, Miss> {
         let seq = *self.seqs.get(self.next).ok_or(Miss)?;
         self.next += 1;
@@ -273,7 +275,7 @@ impl<'a, 'l> ser::Serializer for Min<'a, 'l> {
     ) -> Result<(), Miss> {
         value.serialize(self)
     }
-    #[inline]
+    #[inline(always)]
     fn serialize_seq(self, len: Option<usize>) -> Result<Seq<'a, 'l>, Miss> {
         Seq::new(self.m, len.ok_or(Miss)?)
     }
