@@ -1,11 +1,14 @@
 //! `cdr` — ROS 2's wire encoding against ours (issue 29): encoding and decoding a
 //! `sensor_msgs/LaserScan` of 720 ranges (and 720 intensities) and a `nav_msgs/Odometry`
 //! as CDR the way a running part does it (`ferroc_ros2::serde_cdr`: straight from the
-//! port's serde value, guided by the message definition, what `Codec::ros2_encode` and
-//! `ros2_decode` call) against postcard of the same serde value (the codec of links
-//! between parts, `ferroc_module::codec`), and, for reference, the dynamic `Value` codec
+//! port's serde value, what `Codec::ros2_encode` and `ros2_decode` call; for these types,
+//! which mirror their messages, its fast path) against postcard of the same serde value
+//! (the codec of links between parts, `ferroc_module::codec`), and, for reference, the
+//! same codec made to take its plan path (guided by the message definition: the path of
+//! types that do not mirror their message) and the dynamic `Value` codec
 //! (`ferroc_ros2::cdr`, what the interop tests use). Variants interleave in rounds; the
-//! best round of each is reported (ns per message, lower is better).
+//! best round of each is reported (ns per message, lower is better). `--only
+//! CASE_OP_CODEC` (`odom_encode_cdr`) times that one alone, for instruction counts.
 
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::serde_cdr::{self, Shape};
@@ -211,20 +214,32 @@ fn time(n: u64, mut f: impl FnMut()) -> f64 {
 
 /// Runs the benchmark and prints its lines. Returns the process exit code.
 pub fn run(args: &[String]) -> u8 {
-    let parsed = Options::parse("cdr", args, &["messages", "rounds"], &[]).and_then(|o| {
+    let parsed = Options::parse("cdr", args, &["messages", "rounds", "only"], &[]).and_then(|o| {
+        let only = o.text("only").map(str::to_string);
+        let known = |o: &str| {
+            (["scan", "odom"].iter())
+                .any(|c| VARIANTS.iter().any(|(op, k)| o == format!("{c}_{op}_{k}")))
+        };
+        if let Some(o) = only.as_deref().filter(|o| !known(o)) {
+            return Err(format!(
+                "cdr: `--only {o}`: expected CASE_OP_CODEC, CASE scan or odom, OP encode or \
+                 decode, CODEC cdr, postcard, plan or dynamic"
+            ));
+        }
         Ok((
             o.number("messages", DEFAULT_MESSAGES, 1, 100_000_000)?,
             o.number("rounds", DEFAULT_ROUNDS, 1, 1_000)?,
+            only,
         ))
     });
-    let (n, rounds) = match parsed {
+    let (n, rounds, only) = match parsed {
         Ok(v) => v,
         Err(e) => {
             eprintln!("{e}");
             return 2;
         }
     };
-    match measure(n, rounds) {
+    match measure(n, rounds, only.as_deref()) {
         Ok(()) => 0,
         Err(e) => {
             eprintln!("cdr: {e}");
@@ -233,8 +248,7 @@ pub fn run(args: &[String]) -> u8 {
     }
 }
 
-/// One message type's three codecs, timed: [serde CDR, postcard, dynamic CDR] × [encode,
-/// decode].
+/// One message type's codecs, timed ([`VARIANTS`]).
 struct Case<'r, T> {
     name: &'static str,
     ty: TypeName,
@@ -260,6 +274,17 @@ impl<'r, T: Serialize + serde::de::DeserializeOwned> Case<'r, T> {
             return Err(format!("{name}: the serde and the dynamic CDR differ"));
         }
         let postcard = postcard::to_stdvec(&value).map_err(|e| e.to_string())?;
+        let mut fast = Vec::new();
+        if !serde_cdr::to_cdr_fast(&shape, &value, &mut fast) || fast != cdr {
+            return Err(format!("{name}: the fast path does not write the sample"));
+        }
+        serde_cdr::to_cdr(&shape, &value, &mut fast).map_err(|e| e.to_string())?;
+        if serde_cdr::write_path::<T>(&shape) != "trusted" || fast != cdr {
+            return Err(format!("{name}: the trusted writer is not taken"));
+        }
+        if serde_cdr::from_cdr_fast::<T>(&shape, &cdr).is_none() {
+            return Err(format!("{name}: the fast path does not read the sample"));
+        }
         println!("{name}: CDR {} B, postcard {} B", cdr.len(), postcard.len());
         Ok(Case {
             name,
@@ -272,50 +297,84 @@ impl<'r, T: Serialize + serde::de::DeserializeOwned> Case<'r, T> {
         })
     }
 
-    /// One round: ns per message of each of the six.
-    fn round(&self, reg: &Registry, n: u64) -> [f64; 6] {
+    /// One round: ns per message of each variant ([`VARIANTS`]); with `only`, of that one
+    /// alone (the others `NaN`: for instruction counts under callgrind).
+    fn round(&self, reg: &Registry, n: u64, only: Option<&str>) -> [f64; 8] {
         let mut buf = Vec::new();
-        [
-            time(n, || {
-                serde_cdr::to_cdr(&self.shape, black_box(&self.value), &mut buf).expect("encodes")
-            }),
-            time(n, || {
-                buf.clear();
-                buf = postcard::to_extend(black_box(&self.value), std::mem::take(&mut buf))
-                    .expect("encodes");
-            }),
-            time(n, || {
-                drop(black_box(serde_cdr::from_cdr::<T>(
-                    &self.shape,
-                    black_box(&self.cdr),
-                )))
-            }),
-            time(n, || {
-                drop(black_box(postcard::from_bytes::<T>(black_box(
-                    &self.postcard,
-                ))))
-            }),
-            time(n, || {
-                drop(black_box(cdr::encode(
-                    reg,
-                    &self.ty,
-                    black_box(&self.dynamic),
-                )))
-            }),
-            time(n, || {
-                drop(black_box(cdr::decode(reg, &self.ty, black_box(&self.cdr))))
-            }),
-        ]
+        let mut out = [f64::NAN; 8];
+        for (k, (op, codec)) in VARIANTS.iter().enumerate() {
+            if only.is_some_and(|o| o != format!("{}_{op}_{codec}", self.name)) {
+                continue;
+            }
+            out[k] = match k {
+                0 => time(n, || {
+                    serde_cdr::to_cdr(&self.shape, black_box(&self.value), &mut buf)
+                        .expect("encodes")
+                }),
+                1 => time(n, || {
+                    buf.clear();
+                    buf = postcard::to_extend(black_box(&self.value), std::mem::take(&mut buf))
+                        .expect("encodes");
+                }),
+                2 => time(n, || {
+                    serde_cdr::to_cdr_planned(&self.shape, black_box(&self.value), &mut buf)
+                        .expect("encodes")
+                }),
+                3 => time(n, || {
+                    drop(black_box(cdr::encode(
+                        reg,
+                        &self.ty,
+                        black_box(&self.dynamic),
+                    )))
+                }),
+                4 => time(n, || {
+                    drop(black_box(serde_cdr::from_cdr::<T>(
+                        &self.shape,
+                        black_box(&self.cdr),
+                    )))
+                }),
+                5 => time(n, || {
+                    drop(black_box(postcard::from_bytes::<T>(black_box(
+                        &self.postcard,
+                    ))))
+                }),
+                6 => time(n, || {
+                    drop(black_box(serde_cdr::from_cdr_planned::<T>(
+                        &self.shape,
+                        black_box(&self.cdr),
+                    )))
+                }),
+                _ => time(n, || {
+                    drop(black_box(cdr::decode(reg, &self.ty, black_box(&self.cdr))))
+                }),
+            };
+        }
+        out
     }
 }
 
-fn measure(n: u64, rounds: u64) -> Result<(), String> {
+/// What each round times: (operation, codec). `cdr`: what a running part calls
+/// (`serde_cdr::to_cdr`/`from_cdr`, the fast path for these types); `plan`: the same
+/// codec made to take its plan path (the fallback for types that do not mirror their
+/// message); `dynamic`: the `Value` codec.
+const VARIANTS: [(&str, &str); 8] = [
+    ("encode", "cdr"),
+    ("encode", "postcard"),
+    ("encode", "plan"),
+    ("encode", "dynamic"),
+    ("decode", "cdr"),
+    ("decode", "postcard"),
+    ("decode", "plan"),
+    ("decode", "dynamic"),
+];
+
+fn measure(n: u64, rounds: u64, only: Option<&str>) -> Result<(), String> {
     let reg = Registry::shipped();
     let scan = Case::new(&reg, "scan", "sensor_msgs/msg/LaserScan", scan())?;
     let odom = Case::new(&reg, "odom", "nav_msgs/msg/Odometry", odometry())?;
-    let mut best = [[f64::MAX; 6]; 2];
+    let mut best = [[f64::MAX; 8]; 2];
     for _ in 0..rounds {
-        let t = [scan.round(&reg, n), odom.round(&reg, n)];
+        let t = [scan.round(&reg, n, only), odom.round(&reg, n, only)];
         for (b, t) in best.iter_mut().zip(t) {
             for (b, t) in b.iter_mut().zip(t) {
                 *b = b.min(t);
@@ -324,18 +383,17 @@ fn measure(n: u64, rounds: u64) -> Result<(), String> {
     }
     let mut result = String::from("RESULT cdr");
     for (name, b) in [scan.name, odom.name].into_iter().zip(best) {
-        for (op, (c, p, d)) in [
-            ("encode", (b[0], b[1], b[4])),
-            ("decode", (b[2], b[3], b[5])),
-        ] {
+        for (op, b) in [("encode", &b[..4]), ("decode", &b[4..])] {
+            let (c, p, plan, d) = (b[0], b[1], b[2], b[3]);
             println!(
                 "{name} {op}: CDR from the value {c:.0} ns, postcard {p:.0} ns, ratio {:.2}; \
-                 CDR of a dynamic Value {d:.0} ns",
-                c / p
+                 by the plan path {plan:.0} ns (ratio {:.2}); CDR of a dynamic Value {d:.0} ns",
+                c / p,
+                plan / p
             );
             result.push_str(&format!(
                 " {name}_{op}_cdr_ns={c:.0} {name}_{op}_postcard_ns={p:.0} {name}_{op}_ratio={:.2} \
-                 {name}_{op}_dynamic_ns={d:.0}",
+                 {name}_{op}_plan_ns={plan:.0} {name}_{op}_dynamic_ns={d:.0}",
                 c / p
             ));
         }

@@ -220,10 +220,15 @@ fn a_length_larger_than_the_sample_is_refused_before_allocating() {
         let largest = largest();
         assert_eq!(e.path, "ranges", "{len}: {e}");
         assert!(largest < 4096, "{len}: {largest} bytes allocated");
+        // The fast path alone (tried first above) refuses it as cheaply.
+        assert!(serde_cdr::from_cdr_fast::<Arrays>(&shape, &sample).is_none());
+        assert!(self::largest() < 4096, "{len}: the fast path allocated");
     }
-    // The silent case: a length the sample holds is read.
+    // The silent case: a length the sample holds is read (by the fast path too).
     let back: Arrays = serde_cdr::from_cdr(&shape, &arrays_claiming(16)).unwrap();
     assert_eq!(back.ranges, [0.0; 16]);
+    let fast: Arrays = serde_cdr::from_cdr_fast(&shape, &arrays_claiming(16)).unwrap();
+    assert_eq!(fast, back);
 }
 
 proptest! {
@@ -238,7 +243,14 @@ proptest! {
         let mut sample = vec![0, 1, 0, 0];
         sample.extend(bytes);
         largest();
-        let _ = serde_cdr::from_cdr::<Arrays>(&shape, &sample);
+        let read = serde_cdr::from_cdr::<Arrays>(&shape, &sample).ok();
         prop_assert!(largest() < 64 * 1024);
+        // The fast path alone: no panic, no large allocation, and what it reads is
+        // what the plan path reads.
+        let fast = serde_cdr::from_cdr_fast::<Arrays>(&shape, &sample);
+        prop_assert!(largest() < 64 * 1024);
+        if fast.is_some() {
+            prop_assert_eq!(fast, read);
+        }
     }
 }

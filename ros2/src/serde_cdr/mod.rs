@@ -17,14 +17,29 @@
 //! the dynamic codec ([`cdr`](crate::cdr)); decoding is as bounded against hostile
 //! samples as there.
 //!
-//! Speed (the `cdr` benchmark, issue 29's target: no slower than 1.2 × postcard): the
-//! definition is compiled once per shape (`plan.rs`: nested types resolved, field names
-//! compared once per port type), an array or sequence of a primitive is aligned and
-//! sized once, its elements then written back to back and read from its bytes taken
-//! whole (`prim.rs`), and nothing is allocated per sample but the value's own strings
-//! and vectors: an error's field path is built only when there is an error.
+//! Speed (the `cdr` benchmark, issue 29's target: no slower than 1.2 × postcard): a
+//! value takes the fastest of three paths that fits it, all writing the same bytes.
+//! - The plan path (`ser.rs`, `de.rs`): the definition compiled once per shape
+//!   (`plan.rs`: nested types resolved, field names compared once per port type), an
+//!   array or sequence of a primitive aligned and sized once, its elements then written
+//!   back to back and read from its bytes taken whole (`prim.rs`); errors name the field.
+//!   It takes every value, and says what is wrong.
+//! - The tape (`fast/`): for a whole message, the definition flattened into one op per
+//!   field in serde's order, each with the padding before it where the tape knows it;
+//!   each serde call checked against its op (primitive, field name by address, number
+//!   of fields, lengths). Anything else is a miss, and the plan path runs instead; a type
+//!   that missed and then went through the plan path goes there directly from then on.
+//! - The trusted writer (`fast/trusted.rs`): a type that went through the tape once and
+//!   whose message's layout depends on nothing but sequence lengths and strings is
+//!   written by XCDR1's rules alone, the tape consulted only for its sequences; the
+//!   number of fields and of sequences visited is still checked in every sample (a miss
+//!   goes back to the tape).
+//!
+//! Nothing is allocated per sample but the value's own strings and vectors: an error's
+//! field path is built only when there is an error.
 
 mod de;
+mod fast;
 mod plan;
 mod prim;
 mod ser;
@@ -47,6 +62,8 @@ pub struct Shape<'r> {
     plan: Arc<Plan<'r>>,
     /// The field path: the node of each message on the way and the field's index in it.
     path: Vec<(usize, usize)>,
+    /// The message flattened for the fast path (a whole message only, see `fast/`).
+    fast: Option<Arc<fast::Tape<'r>>>,
 }
 
 impl fmt::Debug for Shape<'_> {
@@ -83,9 +100,14 @@ impl<'r> Shape<'r> {
                 };
             }
         }
+        let fast = match path.is_empty() {
+            true => fast::Tape::new(&plan).map(Arc::new),
+            false => None,
+        };
         Ok(Shape {
             plan: Arc::new(plan),
             path,
+            fast,
         })
     }
 
@@ -117,12 +139,49 @@ impl<'r> Shape<'r> {
 
 /// Writes `value` as a CDR sample of `shape` into `buf` (replacing what it held, its
 /// capacity kept).
+#[inline]
 pub fn to_cdr<T: Serialize + ?Sized>(
     shape: &Shape<'_>,
     value: &T,
     buf: &mut Vec<u8>,
 ) -> Result<(), CdrError> {
+    let Some(tape) = &shape.fast else {
+        return to_cdr_in(shape, value, buf);
+    };
+    if tape.write(value, buf).is_ok() {
+        return Ok(());
+    }
+    let planned = to_cdr_in(shape, value, buf);
+    if planned.is_ok() {
+        tape.written_slowly::<T>();
+    }
+    planned
+}
+
+/// [`to_cdr`] by the plan path alone (for tests and benchmarks: the fast path must
+/// write the same bytes).
+#[doc(hidden)]
+pub fn to_cdr_planned<T: Serialize + ?Sized>(
+    shape: &Shape<'_>,
+    value: &T,
+    buf: &mut Vec<u8>,
+) -> Result<(), CdrError> {
     to_cdr_in(shape, value, buf)
+}
+
+/// How [`to_cdr`] writes values of `T` now: `"trusted"` (a type that mirrors the
+/// message, found so in a checked sample), `"tape"` (the fast path, checked) or `"plan"`
+/// (for tests and benchmarks; see `fast/`).
+#[doc(hidden)]
+pub fn write_path<T: Serialize + ?Sized>(shape: &Shape<'_>) -> &'static str {
+    (shape.fast.as_ref()).map_or("plan", |tape| tape.write_path::<T>())
+}
+
+/// [`to_cdr`] by the fast path alone: `false` where it misses (for tests: which types
+/// it takes).
+#[doc(hidden)]
+pub fn to_cdr_fast<T: Serialize + ?Sized>(shape: &Shape<'_>, value: &T, buf: &mut Vec<u8>) -> bool {
+    (shape.fast.as_ref()).is_some_and(|tape| fast::write_any(tape, value, buf).is_ok())
 }
 
 /// [`to_cdr`] with the shape's borrow and its registry's as one lifetime.
@@ -175,8 +234,34 @@ fn write<'p, T: Serialize + ?Sized>(
 }
 
 /// Reads a CDR sample of `shape` as a value of `T`.
+#[inline]
 pub fn from_cdr<T: DeserializeOwned>(shape: &Shape<'_>, bytes: &[u8]) -> Result<T, CdrError> {
+    let Some(tape) = &shape.fast else {
+        return from_cdr_in(shape, bytes);
+    };
+    if let Ok(value) = tape.read(bytes) {
+        return Ok(value);
+    }
+    let planned = from_cdr_in(shape, bytes);
+    if planned.is_ok() {
+        tape.read_slowly::<T>();
+    }
+    planned
+}
+
+/// [`from_cdr`] by the plan path alone (for tests and benchmarks).
+#[doc(hidden)]
+pub fn from_cdr_planned<T: DeserializeOwned>(
+    shape: &Shape<'_>,
+    bytes: &[u8],
+) -> Result<T, CdrError> {
     from_cdr_in(shape, bytes)
+}
+
+/// [`from_cdr`] by the fast path alone: `None` where it misses (for tests).
+#[doc(hidden)]
+pub fn from_cdr_fast<T: DeserializeOwned>(shape: &Shape<'_>, bytes: &[u8]) -> Option<T> {
+    (shape.fast.as_ref()).and_then(|tape| fast::read_any(tape, bytes).ok())
 }
 
 /// [`from_cdr`] with the shape's borrow and its registry's as one lifetime.

@@ -2,6 +2,8 @@
 //! every kind of field (empty, full and in-between arrays, strings at their bounds).
 #![allow(dead_code)]
 
+pub mod typed;
+
 use ferroc_ros2::def::{Arity, BaseType, Message, Primitive, TypeName};
 use ferroc_ros2::{Registry, Value};
 
