@@ -536,7 +536,7 @@ fn module_names_that_match_generated_constants_get_other_constant_names() {
 
 /// A part that talks to others over Zenoh sets Zenoh's runtime threads (ferroc's,
 /// unless `ZENOH_RUNTIME` is set) first in `main`, before any thread or session
-/// (docs/zenoh.md "Tuning"); a part that talks to nobody does not link Zenoh at all.
+/// (docs/zenoh.md "Zenoh's threads"); a part that talks to nobody does not link Zenoh at all.
 #[test]
 fn linked_parts_choose_zenohs_runtime_threads_first_and_a_lone_part_does_not() {
     let call = "ferroc_zenoh::config::runtime::use_default();";
