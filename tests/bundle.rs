@@ -534,6 +534,41 @@ fn module_names_that_match_generated_constants_get_other_constant_names() {
     assert!(seen_link, "the model has a link numbered 0");
 }
 
+/// A part that talks to others over Zenoh sets Zenoh's runtime threads (ferroc's,
+/// unless `ZENOH_RUNTIME` is set) first in `main`, before any thread or session
+/// (docs/zenoh.md "Zenoh's threads"); a part that talks to nobody does not link Zenoh at all.
+#[test]
+fn linked_parts_choose_zenohs_runtime_threads_first_and_a_lone_part_does_not() {
+    let call = "ferroc_zenoh::config::runtime::use_default();";
+    let out = tempdir("zenoh_runtime");
+    let (code, err) = bundle(Path::new("models/rescue_robot.xml"), &out, &[]);
+    assert_eq!(code, 0, "{err}");
+    for part in ["robot", "station"] {
+        let file = out.join(format!("parts/{part}/src/main.rs"));
+        let main = std::fs::read_to_string(&file).unwrap();
+        let at = main
+            .find(call)
+            .unwrap_or_else(|| panic!("no `{call}` in:\n{main}"));
+        for later in ["Args::from_env", "ctrlc::set_handler", "Zenoh::with_model"] {
+            let then = main.find(later).unwrap_or_else(|| panic!("no `{later}`"));
+            assert!(at < then, "`{call}` after `{later}`:\n{main}");
+        }
+        if let Ok(fmt) = Command::new("rustfmt")
+            .args(["--edition", "2021", "--check"])
+            .arg(&file)
+            .output()
+        {
+            let diff = String::from_utf8_lossy(&fmt.stdout);
+            assert!(fmt.status.success(), "{diff}");
+        }
+    }
+    let lone = tempdir("zenoh_runtime_lone");
+    let (code, err) = bundle(Path::new("models/crash_course.xml"), &lone, &[]);
+    assert_eq!(code, 0, "{err}");
+    let main = std::fs::read_to_string(lone.join("parts/fragile_bot/src/main.rs")).unwrap();
+    assert!(!main.contains("ferroc_zenoh"), "{main}");
+}
+
 /// Issue 27 item 9: `bundle -o -` made a folder named `-`, and a bundle that ran out
 /// of disk left a half-written folder (this test failed so before the fix). Now `-` is
 /// refused, and the bundle is written beside its folder and renamed into place at the

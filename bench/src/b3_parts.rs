@@ -22,7 +22,13 @@
 //! resident memory (`VmRSS` of `/proc/PID/status`): CPU % of all programs together
 //! (100 % = one core), each program's RSS at the window's end and how much it grew
 //! over the window, in all and in private pages (`RssAnon`; `--frames 10000` for
-//! "memory flat").
+//! "memory flat"); and how many frames the consumers saw that did not come in shared
+//! memory (a transport that has none copies the frame through its socket, which
+//! shows in CPU and latency).
+//!
+//! Every program sets Zenoh's runtime threads as a bundle's part program does
+//! (`ferroc_zenoh::config::runtime`), unless `--zenoh-runtime` gives them
+//! (`--zenoh-runtime '()'`: Zenoh's own).
 
 mod roles;
 
@@ -69,6 +75,9 @@ struct Figures {
     consumers: usize,
     fps: Vec<f64>,
     missed: u64,
+    /// Frames the consumers saw that did not come in shared memory (a transport
+    /// without it: the frame copied through the socket).
+    not_shared: u64,
     producer_fps: f64,
     cpu_pct: f64,
     /// MiB at the window's end: producer, then each consumer.
@@ -208,6 +217,7 @@ impl Drop for Programs {
 struct Reports {
     fps: Vec<f64>,
     missed: u64,
+    not_shared: u64,
     latencies: Vec<u64>,
     done: usize,
     /// The consumers that reported.
@@ -227,6 +237,8 @@ impl Reports {
             };
             self.fps.push(value("fps")?);
             self.missed += value("missed")? as u64;
+            let all = value("all")? as u64;
+            self.not_shared += all.saturating_sub(value("shared")? as u64);
             self.last_seq = self.last_seq.max(value("last")? as u64);
         } else if let Some(lat) = line.strip_prefix("LAT") {
             self.latencies
@@ -313,6 +325,7 @@ fn measure(
         consumers,
         fps: reports.fps,
         missed: reports.missed,
+        not_shared: reports.not_shared,
         producer_fps: published as f64 / wall,
         cpu_pct: (end.ticks - start.ticks) as f64 / clock_ticks() / wall * 100.0,
         rss: end.rss_kib.iter().map(|k| mib(*k)).collect(),
@@ -340,19 +353,20 @@ fn report(f: Figures) -> (f64, f64) {
     let (variant, consumers) = (f.variant, f.consumers);
     println!(
         "b3-parts {variant:<10} consumers={consumers:>2}  fps mean {fps_mean:5.2} min \
-         {fps_min:5.2}  missed {}  producer {:5.2} fps  cpu {:6.1} %  RSS producer {:5.1} \
+         {fps_min:5.2}  missed {}  not in SHM {}  producer {:5.2} fps  cpu {:6.1} %  RSS producer {:5.1} \
          MiB, consumer max {rss_consumer:5.1} MiB, consumer growth max {growth_max:+.1} MiB \
          (private {anon_max:+.1})  latency p50 {p50:8.1} p99 {p99:8.1} µs (n={samples})",
-        f.missed, f.producer_fps, f.cpu_pct, f.rss[0]
+        f.missed, f.not_shared, f.producer_fps, f.cpu_pct, f.rss[0]
     );
     println!(
         "RESULT b3-parts variant={} consumers={consumers} fps_mean={fps_mean:.2} \
-         fps_min={fps_min:.2} missed={} producer_fps={:.2} cpu_pct={:.1} \
+         fps_min={fps_min:.2} missed={} not_shm={} producer_fps={:.2} cpu_pct={:.1} \
          rss_producer_mib={:.1} rss_consumer_max_mib={rss_consumer:.1} \
          rss_growth_max_mib={growth_max:.2} anon_growth_max_mib={anon_max:.2} \
          rss_growth_producer_mib={:.2} p50_us={p50:.1} p99_us={p99:.1}",
         variant.replace('-', "_"),
         f.missed,
+        f.not_shared,
         f.producer_fps,
         f.cpu_pct,
         f.rss[0],
@@ -437,7 +451,17 @@ pub fn run(args: &[String]) -> u8 {
         load_note()
     );
     let tuning = TUNING.lock().unwrap_or_else(|e| e.into_inner()).clone();
-    let tuning: Vec<String> = tuning.iter().map(|(k, v)| format!("{k}='{v}'")).collect();
+    let mut tuning: Vec<String> = tuning.iter().map(|(k, v)| format!("{k}='{v}'")).collect();
+    if !tuning.iter().any(|t| t.starts_with(RUNTIME_ENV)) {
+        // The children inherit this environment; without it they set ferroc's.
+        tuning.push(match std::env::var(RUNTIME_ENV) {
+            Ok(v) => format!("{RUNTIME_ENV}='{v}' (the environment's)"),
+            Err(_) => {
+                let ours = ferroc_zenoh::config::runtime::DEFAULT;
+                format!("{RUNTIME_ENV}='{ours}' (ferroc's, as in a bundle)")
+            }
+        });
+    }
     println!(
         "b3-parts: gossip mesh {}; every program's tuning: {}",
         if MESH.load(Ordering::Relaxed) {

@@ -13,6 +13,7 @@
 //! (`scouting: { multicast: { enabled: true } }`) keeps it.
 
 pub mod connect;
+pub mod runtime;
 
 use ferroc_runtime::link::transport::{Addresses, PartLinks};
 use ferroc_terminal::engine_error;

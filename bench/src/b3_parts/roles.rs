@@ -5,9 +5,10 @@
 //!
 //! What they print on stdout is the protocol with the parent (`super::once`):
 //! a consumer prints `READY` once it listens, then, when its window ended,
-//! `SEEN frames=… fps=… missed=…` and `LAT ns ns …`; the producer prints `START`
-//! before it publishes the first measured frame and `END` after the last, and stops
-//! when its stdin closes.
+//! `SEEN frames=… fps=… missed=… last=… all=… shared=…` (`all` frames seen, the
+//! warm-up's too, `shared` of them in shared memory) and `LAT ns ns …`; the producer
+//! prints `START` before it publishes the first measured frame and `END` after the
+//! last, and stops when its stdin closes.
 
 use super::{FRAME_BYTES, PERIOD, WARM_UP};
 use crate::b4_large::stamp_of;
@@ -49,6 +50,10 @@ struct Seen {
     last_ns: u64,
     last_seq: u64,
     missed: u64,
+    /// Every frame seen, the warm-up's too; of those, the ones that came in shared
+    /// memory (bare: counted here; ferroc: its network's count, at the end).
+    all: u64,
+    shared: u64,
 }
 static SEEN: Mutex<Seen> = Mutex::new(Seen {
     latencies: Vec::new(),
@@ -56,22 +61,27 @@ static SEEN: Mutex<Seen> = Mutex::new(Seen {
     last_ns: 0,
     last_seq: 0,
     missed: 0,
+    all: 0,
+    shared: 0,
 });
 
 fn seen() -> std::sync::MutexGuard<'static, Seen> {
     SEEN.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-/// Notes frame `data` (stamp in bytes 0..8, sequence number in 8..16).
-fn saw(data: &[u8]) {
+/// Notes frame `data` (stamp in bytes 0..8, sequence number in 8..16); `shared`:
+/// it came in shared memory (bare), `None` when the network counts it (ferroc).
+fn saw(data: &[u8], shared: Option<bool>) {
     let now = mono_ns();
     let (Some(stamp), Some(seq)) = (stamp_of(data), data.get(8..).and_then(stamp_of)) else {
         return;
     };
+    let mut s = seen();
+    s.all += 1;
+    s.shared += u64::from(shared == Some(true));
     if seq <= WARM_UP {
         return;
     }
-    let mut s = seen();
     if s.latencies.is_empty() {
         s.first_ns = now;
     } else if seq > s.last_seq + 1 {
@@ -147,7 +157,7 @@ struct Viewer {
 impl Module for Viewer {
     fn update(&mut self) {
         if self.input.changed() {
-            saw(&self.input.get().data);
+            saw(&self.input.get().data, None);
         }
     }
 }
@@ -199,8 +209,12 @@ fn addresses(index: usize, all: &[String]) -> Addresses {
     }
 }
 
-/// Part `index` of a ferroc variant, started.
-fn ferroc_part(variant: &str, index: usize, all: &[String]) -> Result<RunningApp, String> {
+/// Part `index` of a ferroc variant, started; and its network.
+fn ferroc_part(
+    variant: &str,
+    index: usize,
+    all: &[String],
+) -> Result<(RunningApp, Arc<Zenoh>), String> {
     let mut registry = Registry::new();
     registry.register::<Camera>().register::<Viewer>();
     ferroc_std::register(&mut registry);
@@ -247,12 +261,13 @@ fn ferroc_part(variant: &str, index: usize, all: &[String]) -> Result<RunningApp
         .map_err(|e| e.to_string())?;
     }
     let config = config_of(variant)?;
-    let network = Zenoh::new(APP, addresses(index, all), config.as_deref())?;
+    let network = Arc::new(Zenoh::new(APP, addresses(index, all), config.as_deref())?);
     let options = StartOptions {
-        network: Some(Arc::new(network)),
+        network: Some(Arc::clone(&network) as _),
         ..StartOptions::default()
     };
-    b.start_with(options).map_err(|e| e.to_string())
+    let app = b.start_with(options).map_err(|e| e.to_string())?;
+    Ok((app, network))
 }
 
 /// A bare Zenoh session of part `index`: ferroc's configuration of the same part
@@ -345,6 +360,9 @@ pub fn child(args: &[String]) -> u8 {
         return 2;
     };
     FRAMES.store(frames, Ordering::Relaxed);
+    // Zenoh's runtime threads as a bundle's part program has them (unless
+    // `--zenoh-runtime` set them): the bare programs too, the same configuration.
+    ferroc_zenoh::config::runtime::use_default();
     let done = if index == 0 {
         producer(variant, all)
     } else {
@@ -368,7 +386,7 @@ fn producer(variant: &str, all: &[String]) -> Result<(), String> {
         flag.store(true, Ordering::Relaxed);
     });
     if variant.starts_with("ferroc") {
-        let app = ferroc_part(variant, 0, all)?;
+        let (app, _network) = ferroc_part(variant, 0, all)?;
         while !stop.load(Ordering::Relaxed) {
             std::thread::sleep(Duration::from_millis(20));
         }
@@ -382,15 +400,19 @@ fn producer(variant: &str, all: &[String]) -> Result<(), String> {
 /// [`QUIET`]), then prints what it saw.
 fn consumer(variant: &str, index: usize, all: &[String]) -> Result<(), String> {
     let mut keep: Vec<Box<dyn std::any::Any>> = Vec::new();
+    let mut network = None;
     if variant.starts_with("ferroc") {
-        keep.push(Box::new(ferroc_part(variant, index, all)?));
+        let (app, zenoh) = ferroc_part(variant, index, all)?;
+        keep.push(Box::new(app));
+        network = Some(zenoh);
     } else {
         let s = bare_session(variant, index, all)?;
         let sub = (s.declare_subscriber(KEY))
             .callback(|sample| {
                 // The frame in place: one piece in shared memory.
+                let shared = sample.payload().as_shm().is_some();
                 if let Some(first) = sample.payload().slices().next() {
-                    saw(first);
+                    saw(first, Some(shared));
                 }
             })
             .wait()
@@ -401,17 +423,22 @@ fn consumer(variant: &str, index: usize, all: &[String]) -> Result<(), String> {
     println!("READY");
     let _ = std::io::stdout().flush();
     wait_for_window_end()?;
-    let s = std::mem::take(&mut *seen());
+    let mut s = std::mem::take(&mut *seen());
+    if let Some(network) = network {
+        s.shared = network.shm_use().received_shared;
+    }
     let span = s.last_ns.saturating_sub(s.first_ns) as f64 / 1e9;
     let fps = (s.latencies.len().saturating_sub(1)) as f64 / span.max(1e-9);
     let lat: Vec<String> = s.latencies.iter().map(u64::to_string).collect();
     let mut out = std::io::stdout().lock();
     let _ = writeln!(
         out,
-        "SEEN frames={} fps={fps:.3} missed={} last={}\nLAT {}",
+        "SEEN frames={} fps={fps:.3} missed={} last={} all={} shared={}\nLAT {}",
         s.latencies.len(),
         s.missed,
         s.last_seq,
+        s.all,
+        s.shared,
         lat.join(" ")
     );
     let _ = out.flush();

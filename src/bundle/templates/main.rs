@@ -38,6 +38,11 @@ const {{ name }}: &str = {{ path|rust_str }};
 {%- endif %}
 
 fn main() -> ExitCode {
+{%- if linked || ros2_only %}
+    // Zenoh's runtime threads: ferroc's unless ZENOH_RUNTIME is set; Zenoh reads the
+    // variable once, so before any thread or session (docs/zenoh.md "Zenoh's threads").
+    ferroc_zenoh::config::runtime::use_default();
+{%- endif %}
     let args = match Args::from_env(PROGRAM, ABOUT) {
         Ok(args) => args,
         Err(code) => return code,
