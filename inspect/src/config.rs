@@ -112,6 +112,9 @@ fn base() -> Result<Config, String> {
     set(&mut c, "mode", "\"peer\"")?;
     set(&mut c, "scouting/multicast/enabled", "false")?;
     set(&mut c, "scouting/gossip/enabled", "false")?;
+    // Inspection's messages are small; and where the computer has no usable shared
+    // memory (no /dev/shm, a read-only one) Zenoh would not open a session with it.
+    set(&mut c, "transport/shared_memory/enabled", "false")?;
     Ok(c)
 }
 
@@ -161,6 +164,10 @@ mod tests {
             .unwrap()
             .contains("tcp/127.0.0.1:47999"));
         assert_eq!(c.get_json("listen/endpoints").unwrap(), "[]");
+        for config in [&s, &c] {
+            let shm = config.get_json("transport/shared_memory/enabled");
+            assert_eq!(shm.unwrap(), "false", "no shared memory for inspection");
+        }
         assert!(client(&[]).unwrap_err().contains("--connect"));
         assert!(server("nonsense")
             .unwrap_err()

@@ -35,7 +35,7 @@ pub mod stats;
 use ferroc_runtime::link::transport::{Addresses, Connection, Delivery, Network, PartLinks};
 use ferroc_terminal::engine_error;
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use zenoh::Wait;
 
@@ -55,6 +55,9 @@ pub struct Zenoh {
     pool: Mutex<Option<Arc<shm::Pool>>>,
     /// How many values arrived in shared memory.
     received_shared: Arc<AtomicU64>,
+    /// The computer gives no usable shared memory: sessions open without it (after
+    /// one warning), and the part has no pool.
+    no_shm: AtomicBool,
 }
 
 impl Zenoh {
@@ -93,6 +96,7 @@ impl Zenoh {
             own_id,
             pool: Mutex::default(),
             received_shared: Arc::default(),
+            no_shm: AtomicBool::new(false),
         })
     }
 
@@ -103,7 +107,9 @@ impl Zenoh {
 
     /// The shared-memory settings of this part ([`shm::Settings`]).
     pub fn shm_settings(&self) -> shm::Settings {
-        shm::Settings::of(self.config.every_part())
+        let mut settings = shm::Settings::of(self.config.every_part());
+        settings.enabled &= !self.no_shm.load(Ordering::Relaxed);
+        settings
     }
 
     /// What this part's shared memory did so far: its pool (not active before a
@@ -144,6 +150,7 @@ impl Zenoh {
                 .insert_json5("id", &id)
                 .map_err(|e| engine_error(&e))?;
         }
+        self.without_unusable_shm(&mut config)?;
         zenoh::open(config).wait().map_err(|e| {
             let part = &self.addresses.part;
             let listen = &self.addresses.listen;
@@ -160,6 +167,28 @@ impl Zenoh {
                 None => format!("the part `{part}` cannot open its Zenoh session: {text}"),
             }
         })
+    }
+}
+
+impl Zenoh {
+    /// Turns shared memory off in `config` where the computer cannot give it (Zenoh
+    /// would refuse to open the session), with one warning for the part's life: its
+    /// links then travel over the network (docs/zenoh.md, "Shared memory").
+    fn without_unusable_shm(&self, config: &mut zenoh::Config) -> Result<(), String> {
+        let settings = self.shm_settings();
+        if !settings.enabled && !self.no_shm.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        if !self.no_shm.load(Ordering::Relaxed) {
+            let Some(cause) = shm::unusable() else {
+                return Ok(());
+            };
+            self.no_shm.store(true, Ordering::Relaxed);
+            shm::warn_unusable(&cause, settings.pool_size);
+        }
+        config
+            .insert_json5(shm::ENABLED_KEY, "false")
+            .map_err(|e| engine_error(&e))
     }
 }
 

@@ -94,7 +94,7 @@ pub const POOL_SIZE: usize = 64 * 1024 * 1024;
 /// over the network instead.
 pub const BLOCK_LIMIT: Duration = Duration::from_millis(500);
 
-const ENABLED_KEY: &str = "transport/shared_memory/enabled";
+pub(crate) const ENABLED_KEY: &str = "transport/shared_memory/enabled";
 const THRESHOLD_KEY: &str = "transport/shared_memory/transport_optimization/message_size_threshold";
 const POOL_KEY: &str = "transport/shared_memory/transport_optimization/pool_size";
 
@@ -222,18 +222,39 @@ fn provider(settings: Settings) -> Option<Provider> {
             asking: Mutex::default(),
         }),
         Err(e) => {
-            console::note(&format!(
-                "warning: shared memory is not usable here ({}); links between \
-                 parts on this computer travel over the network. help: check that \
-                 /dev/shm is mounted and has {} MiB free, or set \
-                 transport/shared_memory/enabled to false in --zenoh-config to \
-                 silence this",
-                ferroc_terminal::engine_error(&e),
-                settings.pool_size.div_ceil(1 << 20)
-            ));
+            warn_unusable(&ferroc_terminal::engine_error(&e), settings.pool_size);
             None
         }
     }
+}
+
+/// The one warning of a part whose computer gives no usable shared memory (`cause`,
+/// Zenoh's words), for a pool of `pool_size` bytes.
+pub(crate) fn warn_unusable(cause: &str, pool_size: usize) {
+    console::note(&format!(
+        "warning: shared memory is not usable here ({cause}); links between \
+         parts on this computer travel over the network. help: check that \
+         /dev/shm is mounted and has {} MiB free, or set \
+         transport/shared_memory/enabled to false in --zenoh-config to \
+         silence this",
+        pool_size.div_ceil(1 << 20)
+    ));
+}
+
+/// Why this computer cannot give shared memory at all, if it cannot: a small POSIX
+/// segment cannot be made (no `/dev/shm`, or a read-only one, as in some containers).
+/// Zenoh then cannot even open a session that asks for shared memory.
+#[cfg(feature = "shared-memory")]
+pub(crate) fn unusable() -> Option<String> {
+    Counting::provider(64 * 1024)
+        .err()
+        .map(|e| ferroc_terminal::engine_error(&e))
+}
+
+/// Built without shared memory: nothing to make.
+#[cfg(not(feature = "shared-memory"))]
+pub(crate) fn unusable() -> Option<String> {
+    None
 }
 
 /// Built without shared memory: never a pool, silently (the bundle chose it).
