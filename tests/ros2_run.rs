@@ -15,6 +15,9 @@ mod common;
 /// The demo with /scan, /odom and /goal_pose, beside zenoh-ros2-sdk.
 #[path = "ros2_run/demo.rs"]
 mod demo;
+/// The node and a module's service reached through a Zenoh router, as through rmw_zenohd.
+#[path = "ros2_run/router.rs"]
+mod router;
 
 use common::{build_bundle, bundle_ok, ferroc, tempdir, test_log_dir};
 use std::path::{Path, PathBuf};
