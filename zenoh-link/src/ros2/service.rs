@@ -149,10 +149,13 @@ impl Shared {
             }
         };
         drop(waiting);
-        console::report(&format!(
-            "warning: a request to the ROS 2 service `{}` was refused: {refused}",
-            self.spec.name
-        ));
+        console::report_as(
+            &format!("ROS 2 service `{}`: refused", self.spec.name),
+            &format!(
+                "warning: a request to the ROS 2 service `{}` was refused: {refused}",
+                self.spec.name
+            ),
+        );
         let _ = query.reply_err(refused).wait();
     }
 
@@ -398,10 +401,13 @@ impl Pending {
             Ok(response) => shared.answer(self.id, ANSWERED, &response),
             Err(why) => {
                 shared.answer(self.id, FAILED, &[]);
-                console::report(&format!(
-                    "warning: a reply of the ROS 2 service `{}` was dropped: {why}",
-                    shared.spec.name
-                ));
+                console::report_as(
+                    &format!("ROS 2 service `{}`: reply", shared.spec.name),
+                    &format!(
+                        "warning: a reply of the ROS 2 service `{}` was dropped: {why}",
+                        shared.spec.name
+                    ),
+                );
             }
         }
     }
