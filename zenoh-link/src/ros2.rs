@@ -7,9 +7,10 @@
 //! `ferroc_ros2::serde_cdr`), so here they are sent and received as they are.
 //!
 //! A sample without rmw_zenoh's attachment, or with a short one, is reported here
-//! (throttled, naming the topic) and dropped; a malformed CDR sample is reported and
-//! dropped by the port's receiving end the same way: the part keeps running and other
-//! topics keep flowing.
+//! (throttled per topic and kind, naming the topic) and dropped; so is a sample of the
+//! topic's type under another type hash, which rmw_zenoh would never deliver; a
+//! malformed CDR sample is reported and dropped by the port's receiving end the same
+//! way: the part keeps running and other topics keep flowing.
 
 use durability::{TopicPublisher, TopicSubscriber};
 use ferroc_ros2::def::TypeName;
@@ -180,9 +181,10 @@ fn other_hashes(
                 console::report_as(
                     &format!("ROS 2 topic `{topic}`: hash"),
                     &format!(
-                        "warning: a sample of the ROS 2 topic `{topic}` was dropped: it was sent \
-                     with another type hash, {theirs} (ours: {ours}); help: the publisher's \
-                     definition of `{ty}` differs from ours, give both sides the same one"
+                        "warning: a sample of the ROS 2 topic `{topic}` was dropped: it was \
+                         sent with another type hash, {theirs} (ours: {ours}); help: the \
+                         publisher's definition of `{ty}` differs from ours, give both sides \
+                         the same one"
                     ),
                 );
             }
