@@ -15,7 +15,8 @@ mod common;
 /// The demo with /scan, /odom and /goal_pose, beside zenoh-ros2-sdk.
 #[path = "ros2_run/demo.rs"]
 mod demo;
-/// A foreign node's flood of bad samples: reported, throttled; the part runs on.
+/// A foreign node's flood of bad samples, and of requests to a service: reported,
+/// throttled; the part runs on.
 #[path = "ros2_run/hostile.rs"]
 mod hostile;
 /// The node and a module's service reached through a Zenoh router, as through rmw_zenohd.

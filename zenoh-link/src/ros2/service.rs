@@ -186,7 +186,10 @@ impl Shared {
             ));
         };
         if kind != 0 {
-            let why = format!("the service `{name}` failed to answer (error {kind})");
+            let why = format!(
+                "the service `{name}` did not answer: {}",
+                ferroc_runtime::link::calls::error_of(kind)
+            );
             let _ = query.reply_err(why.clone()).wait();
             return Err(why);
         }
