@@ -5,8 +5,9 @@ Usage: hostile_peer.py LISTEN SECONDS
 
 Listens on LISTEN (the run connects to it; multicast scouting off) and subscribes to
 `/cmd_vel`. Once the robot moves and the node's `/enable` subscription is announced,
-floods `/enable` (std_msgs/msg/Bool) for FLOOD seconds, as fast as Zenoh takes them
-(blocking congestion control, so every sample reaches the run), with a mix of:
+floods `/enable` (std_msgs/msg/Bool) with 120,000 bad samples (or for FLOOD seconds at
+most), as fast as Zenoh takes them (blocking congestion control, so every sample
+reaches the run), with a mix of:
   - `bad_header`: rmw_zenoh's attachment, a CDR header of random bytes (not 00 01);
   - `no_attachment`: a good sample without an attachment;
   - `short_attachment`: an attachment of a random length other than 33;
@@ -32,7 +33,7 @@ import time
 import zenoh
 from rosbags.typesys import Stores, get_typestore
 
-FLOOD = 3.0
+FLOOD = 10.0
 TWIST, BOOL = 'geometry_msgs/msg/Twist', 'std_msgs/msg/Bool'
 listen, seconds = sys.argv[1], float(sys.argv[2])
 store = get_typestore(Stores.ROS2_JAZZY)
@@ -104,7 +105,8 @@ sent = {k: 0 for k in ('bad_header', 'no_attachment', 'short_attachment', 'bad_b
 with lock:
     phase = 'flood'
 started = time.time()
-while time.time() < started + FLOOD:
+# Until 120,000 bad samples went out (six per round), or FLOOD seconds at most.
+while time.time() < started + FLOOD and sent['bad_header'] * 6 < 120_000:
     for _ in range(100):
         a, b = rng.choice([(0, 0), (0, 2), (1, 0), (0xff, 0xff), (rng.randrange(2, 256), 7)])
         publisher.put(bytes([a, b, 0, 0, 1]), attachment=attachment())
