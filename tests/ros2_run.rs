@@ -15,6 +15,13 @@ mod common;
 /// The demo with /scan, /odom and /goal_pose, beside zenoh-ros2-sdk.
 #[path = "ros2_run/demo.rs"]
 mod demo;
+/// A foreign node's flood of bad samples, and of requests to a service: reported,
+/// throttled; the part runs on.
+#[path = "ros2_run/hostile.rs"]
+mod hostile;
+/// The node and a module's service reached through a Zenoh router, as through rmw_zenohd.
+#[path = "ros2_run/router.rs"]
+mod router;
 
 use common::{build_bundle, bundle_ok, ferroc, tempdir, test_log_dir};
 use std::path::{Path, PathBuf};
@@ -150,9 +157,17 @@ fn run_beside(mut peer: Command, mut run: Command) -> (serde_json::Value, String
     let run = run.wait_with_output().unwrap();
     let run_err = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "{run_err}");
-    // Nothing was dropped on the way in or out.
-    for dropped in ["went wrong", "was not published", "was dropped"] {
+    // Nothing was dropped on the way in or out (the run reports such warnings on
+    // standard output, `console::report`).
+    let run_out = String::from_utf8_lossy(&run.stdout);
+    for dropped in [
+        "went wrong",
+        "was not published",
+        "was dropped",
+        "was refused",
+    ] {
         assert!(!run_err.contains(dropped), "{run_err}");
+        assert!(!run_out.contains(dropped), "{run_out}");
     }
     let peer_err = String::from_utf8_lossy(&peer.stderr);
     assert!(peer.status.success(), "{peer_err}");

@@ -7,9 +7,10 @@
 //! `ferroc_ros2::serde_cdr`), so here they are sent and received as they are.
 //!
 //! A sample without rmw_zenoh's attachment, or with a short one, is reported here
-//! (throttled, naming the topic) and dropped; a malformed CDR sample is reported and
-//! dropped by the port's receiving end the same way: the part keeps running and other
-//! topics keep flowing.
+//! (throttled per topic and kind, naming the topic) and dropped; so is a sample of the
+//! topic's type under another type hash, which rmw_zenoh would never deliver; a
+//! malformed CDR sample is reported and dropped by the port's receiving end the same
+//! way: the part keeps running and other topics keep flowing.
 
 use durability::{TopicPublisher, TopicSubscriber};
 use ferroc_ros2::def::TypeName;
@@ -20,6 +21,7 @@ use std::sync::atomic::{AtomicI64, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{SystemTime, UNIX_EPOCH};
 use zenoh::liveliness::LivelinessToken;
+use zenoh::pubsub::Subscriber;
 use zenoh::{Session, Wait};
 
 pub mod durability;
@@ -130,39 +132,85 @@ impl Ros2Node {
     ) -> Result<Ros2Subscriber, String> {
         let (key, live, _) = self.keys(&spec, EntityKind::Subscription)?;
         let token = token(&self.session, &live, &spec.topic)?;
-        let (topic, qos) = (spec.topic.clone(), spec.qos);
-        let subscriber = TopicSubscriber::declare(&self.session, key, &qos, move |sample| {
-            let attachment = sample.attachment().map(|a| a.to_bytes().into_owned());
-            let payload = sample.payload().to_bytes();
-            match receive(attachment.as_deref(), &payload) {
-                Ok(()) => deliver(payload.into_owned()),
-                Err(why) => console::report(&format!(
-                    "warning: a sample of the ROS 2 topic `{}` was dropped: {why}",
-                    spec.topic
-                )),
-            }
-        })
-        .map_err(|e| format!("cannot subscribe to the ROS 2 topic `{topic}`: {e}"))?;
+        let (topic, qos, ty) = (spec.topic.clone(), spec.qos, spec.ty.to_string());
+        let subscriber =
+            TopicSubscriber::declare(&self.session, key.clone(), &qos, move |sample| {
+                let attachment = sample.attachment().map(|a| a.to_bytes().into_owned());
+                let payload = sample.payload().to_bytes();
+                match receive(attachment.as_deref(), &payload) {
+                    Ok(()) => deliver(payload.into_owned()),
+                    Err((kind, why)) => console::report_as(
+                        &format!("ROS 2 topic `{}`: {kind}", spec.topic),
+                        &format!(
+                            "warning: a sample of the ROS 2 topic `{}` was dropped: {why}",
+                            spec.topic
+                        ),
+                    ),
+                }
+            })
+            .map_err(|e| format!("cannot subscribe to the ROS 2 topic `{topic}`: {e}"))?;
+        let other_hashes = other_hashes(&self.session, &key, &topic, &ty)?;
         Ok(Ros2Subscriber {
             _subscriber: subscriber,
+            _other_hashes: other_hashes,
             _token: token,
         })
     }
 }
 
+/// A sample of the topic's type under another RIHS01 hash (a publisher whose
+/// definition of the message differs from ours) never reaches the subscription: its
+/// key differs, as in rmw_zenoh. This subscriber of every hash of the topic's type
+/// reports such samples (throttled, naming the topic and both hashes); ours it ignores.
+fn other_hashes(
+    session: &Session,
+    key: &str,
+    topic: &str,
+    ty: &str,
+) -> Result<Subscriber<()>, String> {
+    let (prefix, ours) = key
+        .rsplit_once('/')
+        .ok_or_else(|| format!("the topic key `{key}` has no type hash"))?;
+    let what = format!("cannot subscribe to the ROS 2 topic `{topic}`");
+    let (ours, topic, ty) = (ours.to_string(), topic.to_string(), ty.to_string());
+    session
+        .declare_subscriber(format!("{prefix}/*"))
+        .callback(move |sample| {
+            let theirs = sample.key_expr().as_str().rsplit('/').next().unwrap_or("");
+            if theirs != ours {
+                console::report_as(
+                    &format!("ROS 2 topic `{topic}`: hash"),
+                    &format!(
+                        "warning: a sample of the ROS 2 topic `{topic}` was dropped: it was \
+                         sent with another type hash, {theirs} (ours: {ours}); help: the \
+                         publisher's definition of `{ty}` differs from ours, give both sides \
+                         the same one"
+                    ),
+                );
+            }
+        })
+        .wait()
+        .map_err(|e| format!("{what}: {e}"))
+}
+
 /// Whether a sample is one for the port: rmw_zenoh's attachment and the CDR header of
-/// little-endian samples (the port's end decodes the rest).
-fn receive(attachment: Option<&[u8]>, payload: &[u8]) -> Result<(), String> {
-    let attachment = attachment.ok_or("it has no attachment (rmw_zenoh sends one with each)")?;
-    Attachment::decode(attachment).map_err(|e| e.to_string())?;
+/// little-endian samples (the port's end decodes the rest). Else what is wrong: its
+/// kind (for throttling) and the text.
+fn receive(attachment: Option<&[u8]>, payload: &[u8]) -> Result<(), (&'static str, String)> {
+    let attachment = attachment.ok_or((
+        "attachment",
+        "it has no attachment (rmw_zenoh sends one with each)".to_string(),
+    ))?;
+    Attachment::decode(attachment).map_err(|e| ("attachment", e.to_string()))?;
     match payload {
         [0x00, 0x01, _, _, ..] => Ok(()),
-        [a, b, _, _, ..] => Err(format!(
-            "its CDR header is {a:02x} {b:02x}; rmw_zenoh sends little-endian CDR (00 01)"
+        [a, b, _, _, ..] => Err((
+            "header",
+            format!("its CDR header is {a:02x} {b:02x}; rmw_zenoh sends little-endian CDR (00 01)"),
         )),
-        _ => Err(format!(
-            "it has {} bytes, not even a CDR header",
-            payload.len()
+        _ => Err((
+            "header",
+            format!("it has {} bytes, not even a CDR header", payload.len()),
         )),
     }
 }
@@ -219,6 +267,7 @@ impl Ros2Publisher {
 /// A ROS 2 subscription; dropping it ends it.
 pub struct Ros2Subscriber {
     _subscriber: TopicSubscriber,
+    _other_hashes: Subscriber<()>,
     _token: LivelinessToken,
 }
 
@@ -238,11 +287,11 @@ mod tests {
         sample.extend(std::iter::repeat_n(0u8, 40));
         sample.extend(2.5f64.to_le_bytes());
         assert!(receive(Some(&good), &sample).is_ok());
-        let short = receive(Some(&good[..20]), &sample).unwrap_err();
+        let short = receive(Some(&good[..20]), &sample).unwrap_err().1;
         assert!(short.contains("attachment has 20 bytes"), "{short}");
-        let none = receive(None, &sample).unwrap_err();
+        let none = receive(None, &sample).unwrap_err().1;
         assert!(none.contains("no attachment"), "{none}");
-        let big_endian = receive(Some(&good), &[0, 0, 0, 0, 1]).unwrap_err();
+        let big_endian = receive(Some(&good), &[0, 0, 0, 0, 1]).unwrap_err().1;
         assert!(big_endian.contains("00 00"), "{big_endian}");
         for n in 0..4 {
             assert!(receive(Some(&good), &sample[..n]).is_err());

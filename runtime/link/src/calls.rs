@@ -145,7 +145,8 @@ pub(crate) fn error_code(e: CallError) -> u8 {
     }
 }
 
-fn error_of(code: u8) -> CallError {
+/// The call error a failed answer's code stands for (what [`error_code`] wrote).
+pub fn error_of(code: u8) -> CallError {
     match code {
         1 => CallError::NotConnected,
         2 => CallError::Timeout,

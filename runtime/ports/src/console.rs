@@ -34,6 +34,17 @@ pub fn report(text: &str) {
     }
 }
 
+/// [`report`] for a text that varies from one occurrence to the next (a foreign peer's
+/// bytes in it, a length, a hash): counted by `kind` instead (e.g. the topic and what
+/// was wrong), so a flood of samples each wrong in its own way still prints only the
+/// 1st, 10th, 100th … of each kind, that occurrence's text with the count.
+pub fn report_as(kind: &str, text: &str) {
+    let shown = (REPEATS.lock().unwrap_or_else(|p| p.into_inner())).note_as(kind, text);
+    if let Some(text) = shown {
+        line(&escape(&text));
+    }
+}
+
 static REPEATS: std::sync::Mutex<Throttle> = std::sync::Mutex::new(Throttle::new());
 
 /// Counts repeated texts and says which occurrences to show.
@@ -53,19 +64,27 @@ impl Throttle {
     /// The line to print for this occurrence of `text`, if any: the first as it is,
     /// the 10th, 100th, … with how often it came.
     pub(crate) fn note(&mut self, text: &str) -> Option<String> {
+        self.note_as(text, text)
+    }
+
+    /// [`Self::note`] counting occurrences of `kind`, showing `text`.
+    pub(crate) fn note_as(&mut self, kind: &str, text: &str) -> Option<String> {
         let seen = self.seen.get_or_insert_with(Default::default);
-        let count = if let Some(n) = seen.get_mut(text) {
+        let count = if let Some(n) = seen.get_mut(kind) {
             *n += 1;
             *n
         } else if seen.len() < DISTINCT {
-            seen.insert(text.to_owned(), 1);
+            seen.insert(kind.to_owned(), 1);
             1
         } else {
             return Some(text.to_owned());
         };
         match count {
             1 => Some(text.to_owned()),
-            n if is_power_of_ten(n) => Some(format!("{text} (repeated: {n} times so far)")),
+            n if is_power_of_ten(n) && kind == text => {
+                Some(format!("{text} (repeated: {n} times so far)"))
+            }
+            n if is_power_of_ten(n) => Some(format!("{text} ({n} of this kind so far)")),
             _ => None,
         }
     }
@@ -140,6 +159,28 @@ mod tests {
         );
         // Another text is counted on its own.
         assert_eq!(t.note("warning: other").as_deref(), Some("warning: other"));
+    }
+
+    #[test]
+    fn varying_texts_of_one_kind_are_counted_together() {
+        let mut t = Throttle::new();
+        let shown: Vec<String> = (0..1000)
+            .filter_map(|n| t.note_as("topic /a: header", &format!("bad header {n}")))
+            .collect();
+        assert_eq!(
+            shown,
+            [
+                "bad header 0",
+                "bad header 9 (10 of this kind so far)",
+                "bad header 99 (100 of this kind so far)",
+                "bad header 999 (1000 of this kind so far)",
+            ]
+        );
+        // Another kind is counted on its own, the same text of another kind too.
+        assert_eq!(
+            t.note_as("topic /b: header", "bad header 0").as_deref(),
+            Some("bad header 0")
+        );
     }
 
     #[test]

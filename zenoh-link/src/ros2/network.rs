@@ -500,6 +500,39 @@ mod tests {
         assert_eq!(qos(Ros2Qos::default()), Qos::default());
     }
 
+    /// Without a file, a node's session is rmw_zenoh's: peer, the router at
+    /// `tcp/localhost:7447`, listening on `tcp/localhost:0`, no multicast, time stamps
+    /// on; a file's `connect` replaces the router (peer to peer, another router).
+    #[test]
+    fn the_session_is_rmw_zenoh_s_unless_a_file_says_otherwise() {
+        let get = |n: &Ros2Network, key: &str| n.config.get_json(key).unwrap();
+        let default = Ros2Network::new(None).unwrap();
+        assert_eq!(get(&default, "mode"), "\"peer\"");
+        assert_eq!(
+            get(&default, "connect/endpoints"),
+            "[\"tcp/localhost:7447\"]"
+        );
+        assert!(get(&default, "listen/endpoints").contains("tcp/localhost:0"));
+        assert_eq!(get(&default, "scouting/multicast/enabled"), "false");
+        assert_eq!(get(&default, "timestamping/enabled"), "true");
+        let dir = std::env::temp_dir().join(format!("ferroc-ros2-peer-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("peer.json5");
+        std::fs::write(
+            &file,
+            "{ connect: { endpoints: [\"tcp/192.168.1.20:7447\"] } }",
+        )
+        .unwrap();
+        let merged = Ros2Network::new(Some(&file)).unwrap();
+        let connect = get(&merged, "connect/endpoints");
+        assert_eq!(
+            connect, "[\"tcp/192.168.1.20:7447\"]",
+            "no router left: {connect}"
+        );
+        assert_eq!(get(&merged, "scouting/multicast/enabled"), "false");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
     #[test]
     fn a_bad_configuration_file_names_the_environment_variable() {
         let dir = std::env::temp_dir().join(format!("ferroc-ros2-cfg-{}", std::process::id()));

@@ -149,10 +149,13 @@ impl Shared {
             }
         };
         drop(waiting);
-        console::report(&format!(
-            "warning: a request to the ROS 2 service `{}` was refused: {refused}",
-            self.spec.name
-        ));
+        console::report_as(
+            &format!("ROS 2 service `{}`: refused", self.spec.name),
+            &format!(
+                "warning: a request to the ROS 2 service `{}` was refused: {refused}",
+                self.spec.name
+            ),
+        );
         let _ = query.reply_err(refused).wait();
     }
 
@@ -183,7 +186,10 @@ impl Shared {
             ));
         };
         if kind != 0 {
-            let why = format!("the service `{name}` failed to answer (error {kind})");
+            let why = format!(
+                "the service `{name}` did not answer: {}",
+                ferroc_runtime::link::calls::error_of(kind)
+            );
             let _ = query.reply_err(why.clone()).wait();
             return Err(why);
         }
@@ -398,10 +404,13 @@ impl Pending {
             Ok(response) => shared.answer(self.id, ANSWERED, &response),
             Err(why) => {
                 shared.answer(self.id, FAILED, &[]);
-                console::report(&format!(
-                    "warning: a reply of the ROS 2 service `{}` was dropped: {why}",
-                    shared.spec.name
-                ));
+                console::report_as(
+                    &format!("ROS 2 service `{}`: reply", shared.spec.name),
+                    &format!(
+                        "warning: a reply of the ROS 2 service `{}` was dropped: {why}",
+                        shared.spec.name
+                    ),
+                );
             }
         }
     }

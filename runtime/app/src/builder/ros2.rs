@@ -221,10 +221,13 @@ struct CdrEnd {
 impl Receive for CdrEnd {
     fn receive(&self, bytes: &[u8]) -> Result<(), String> {
         if let Err(why) = self.codec.ros2_decode(&self.out, &self.shape, bytes) {
-            ferroc_ports::console::report(&format!(
-                "warning: a sample of the ROS 2 topic `{}` was dropped ({}): {why}",
-                self.topic, self.describe
-            ));
+            ferroc_ports::console::report_as(
+                &format!("ROS 2 topic `{}`: decode", self.topic),
+                &format!(
+                    "warning: a sample of the ROS 2 topic `{}` was dropped ({}): {why}",
+                    self.topic, self.describe
+                ),
+            );
         }
         Ok(())
     }
