@@ -8,6 +8,7 @@
 mod common;
 
 use common::{build_bundle, ferroc, tempdir};
+use ferroc_testkit::free_address;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
@@ -20,11 +21,6 @@ impl Drop for Killed {
         let _ = self.0.kill();
         let _ = self.0.wait();
     }
-}
-
-fn free_address() -> String {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    listener.local_addr().unwrap().to_string()
 }
 
 /// `ferroc inspect --connect ADDRESS ARGS…`.

@@ -11,6 +11,7 @@
 mod common;
 
 use common::{build_bundle, bundle_ok, ferroc, tempdir};
+use ferroc_testkit::free_address;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -42,11 +43,6 @@ fn copy_model_from(source: &str, name: &str, dir: &Path) -> PathBuf {
     let model = dir.join(format!("{name}.xml"));
     copy(&root.join(source), &model);
     model
-}
-
-fn free_address() -> String {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    listener.local_addr().unwrap().to_string()
 }
 
 /// Runs every part's program in lockstep for `cycles`; their standard outputs.

@@ -7,16 +7,12 @@
 mod common;
 
 use common::{build_bundle, bundle_ok, tempdir};
+use ferroc_testkit::free_address;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-
-fn free_address() -> String {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    listener.local_addr().unwrap().to_string()
-}
 
 /// The built bundle of the fixture (its binaries' folder).
 fn programs(name: &str) -> PathBuf {

@@ -15,6 +15,7 @@
 
 mod common;
 
+use ferroc_testkit::free_port;
 use serde_json::{json, Value};
 use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
@@ -86,11 +87,6 @@ fn wait_line(p: &Proc, marker: &str, limit: Duration) -> String {
             Err(_) => panic!("no line with `{marker}`; got:\n{}", seen.join("\n")),
         }
     }
-}
-
-fn free_port() -> u16 {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    listener.local_addr().unwrap().port()
 }
 
 /// The node_modules folder with @foxglove/ws-protocol and ws, or `None` after a

@@ -15,6 +15,7 @@ mod common;
 mod record_support;
 
 use common::tempdir;
+use ferroc_testkit::free_address;
 use record_support::{channel, read, run};
 use serde_json::Value as Json;
 use std::path::Path;
@@ -212,12 +213,6 @@ fn a_channel_without_definitions_replays_with_the_model_s_team_package() {
     assert_ne!(code, 0);
     assert!(err.contains("compressed with `zstd`"), "{err}");
     assert!(!err.contains("corrupted"), "{err}");
-}
-
-/// A free loopback address (`127.0.0.1:PORT`).
-fn free_address() -> String {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    listener.local_addr().unwrap().to_string()
 }
 
 /// A bundle's program whose part has links to another part replays a ROS 2 channel

@@ -24,6 +24,7 @@ mod hostile;
 mod router;
 
 use common::{build_bundle, bundle_ok, ferroc, tempdir, test_log_dir};
+use ferroc_testkit::free_port;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
@@ -33,11 +34,6 @@ const MODEL: &str = "models/ros2_crash_course.xml";
 const SWITCH: &str = "tests/ros2/switch.xml";
 /// A module's client calling a ROS 2 service.
 const ASKER: &str = "tests/ros2/asker.xml";
-
-fn free_port() -> u16 {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    listener.local_addr().unwrap().port()
-}
 
 /// A Zenoh configuration connecting to `endpoints`, listening on loopback.
 fn zenoh_config(dir: &Path, endpoints: &[&str]) -> PathBuf {

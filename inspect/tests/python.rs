@@ -67,11 +67,7 @@ fn a_python_zenoh_client_reads_answers_and_cannot_change_without_the_token() {
     // Free-running: the Python client sees a live program.
     let app = b.start_with(StartOptions::default()).unwrap();
     let inspector = Inspector::new(catalogue, app.stats(), registry.values());
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
+    let port = ferroc_testkit::free_port();
     let config = ferroc_inspect::config::server(&format!("127.0.0.1:{port}")).unwrap();
     let parse = Box::new(|_: &ParamView, t: &str| {
         t.parse::<f64>()

@@ -76,11 +76,7 @@ fn serve() -> (Server, String) {
     assert!(app.wait_timeout(Duration::from_secs(20)));
     app.join();
     let inspector = Inspector::new(catalogue, app.stats(), registry.values());
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
+    let port = ferroc_testkit::free_port();
     let address = format!("127.0.0.1:{port}");
     let config = ferroc_inspect::config::server(&address).unwrap();
     // Numbers only, without units: the runner's parser (with units) is tested in host.
@@ -214,11 +210,7 @@ fn malformed_requests_get_errors_and_the_server_serves_on() {
 
 #[test]
 fn a_client_without_a_program_to_reach_says_so() {
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
+    let port = ferroc_testkit::free_port();
     let e = Client::connect(&[format!("127.0.0.1:{port}")])
         .err()
         .unwrap();

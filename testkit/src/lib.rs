@@ -11,6 +11,10 @@
 //! must not pass by skipping it.
 #![forbid(unsafe_code)]
 
+mod port;
+
+pub use port::{free_address, free_port};
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

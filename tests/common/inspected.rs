@@ -2,6 +2,7 @@
 //! inspect_edit, the browser test and the web API test): started on a free loopback port, its change token read from
 //! its standard error, killed when dropped.
 
+pub use ferroc_testkit::free_port;
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
@@ -23,12 +24,6 @@ impl Drop for Running {
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
-}
-
-/// A port nobody listens on right now.
-pub fn free_port() -> u16 {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    listener.local_addr().unwrap().port()
 }
 
 /// Lines of `stream`, read on a thread of their own.

@@ -9,11 +9,7 @@ use std::process::Command;
 
 /// A Zenoh configuration connecting only to a loopback port nobody listens on.
 pub fn nobody(dir: &Path) -> PathBuf {
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
+    let port = ferroc_testkit::free_port();
     let file = dir.join("zenoh-nobody.json5");
     let text = format!(
         "{{ connect: {{ endpoints: [\"tcp/127.0.0.1:{port}\"] }},\n  listen: {{ endpoints: [\"tcp/127.0.0.1:0\"] }} }}\n"

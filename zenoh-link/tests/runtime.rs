@@ -14,12 +14,6 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 use zenoh::Wait;
 
-/// A free address on 127.0.0.1.
-fn free_port() -> String {
-    let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    l.local_addr().unwrap().to_string()
-}
-
 /// Runs `runtime_program` with `ZENOH_RUNTIME` = `value` (none when `None`): what it
 /// set, and its threads' names.
 fn program(value: Option<&str>) -> (String, Vec<String>) {
@@ -83,10 +77,11 @@ fn session(part: &str, all: &BTreeMap<String, String>) -> zenoh::Session {
 #[ignore = "run by the tests above, as a program of its own"]
 fn runtime_program() {
     let set = runtime::use_default();
-    let b_only: BTreeMap<String, String> = [("b".to_string(), free_port())].into();
+    let b_only: BTreeMap<String, String> =
+        [("b".to_string(), ferroc_testkit::free_address())].into();
     let b = session("b", &b_only);
     let mut both = b_only.clone();
-    both.insert("a".into(), free_port());
+    both.insert("a".into(), ferroc_testkit::free_address());
     let a = session("a", &both);
     let got = Arc::new(AtomicBool::new(false));
     let flag = Arc::clone(&got);

@@ -155,10 +155,9 @@ pub fn callers<'r>(
     b
 }
 
-/// A free address on 127.0.0.1.
+/// A free address on 127.0.0.1 (below the ephemeral range: see `ferroc_testkit`).
 pub fn free_port() -> String {
-    let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    l.local_addr().unwrap().to_string()
+    ferroc_testkit::free_address()
 }
 
 /// Parts `a` and `b` at free addresses.
