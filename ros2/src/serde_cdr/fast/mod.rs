@@ -34,6 +34,38 @@
 //! layout allows it. The type is known by the address of its trusted writer
 //! ([`trust_key`]); a trusted sample that misses is written through the tape again.
 
+/// The serializer methods the fast writers refuse (a miss): one list for the tape's
+/// writer (`ser.rs`) and the trusted one (`trusted.rs`), each with its own `No`
+/// (`Impossible<(), Miss>`) for the compounds.
+macro_rules! miss {
+    (@ char) => { fn serialize_char(self, _: char) -> Result<(), Miss> { Err(Miss) } };
+    (@ str) => { fn serialize_str(self, _: &str) -> Result<(), Miss> { Err(Miss) } };
+    (@ bytes) => { fn serialize_bytes(self, _: &[u8]) -> Result<(), Miss> { Err(Miss) } };
+    (@ none) => { fn serialize_none(self) -> Result<(), Miss> { Err(Miss) } };
+    (@ some) => {
+        fn serialize_some<T: Serialize + ?Sized>(self, _: &T) -> Result<(), Miss> { Err(Miss) }
+    };
+    (@ unit) => {
+        fn serialize_unit(self) -> Result<(), Miss> { Err(Miss) }
+        fn serialize_unit_struct(self, _: &'static str) -> Result<(), Miss> { Err(Miss) }
+    };
+    (@ variants) => {
+        fn serialize_unit_variant(self, _: &'static str, _: u32, _: &'static str)
+            -> Result<(), Miss> { Err(Miss) }
+        fn serialize_newtype_variant<T: Serialize + ?Sized>(
+            self, _: &'static str, _: u32, _: &'static str, _: &T,
+        ) -> Result<(), Miss> { Err(Miss) }
+        fn serialize_tuple_variant(self, _: &'static str, _: u32, _: &'static str, _: usize)
+            -> Result<No, Miss> { Err(Miss) }
+        fn serialize_struct_variant(self, _: &'static str, _: u32, _: &'static str, _: usize)
+            -> Result<No, Miss> { Err(Miss) }
+    };
+    (@ map) => {
+        fn serialize_map(self, _: Option<usize>) -> Result<No, Miss> { Err(Miss) }
+    };
+    ($($what:ident)*) => { $(miss!(@ $what);)* };
+}
+
 mod de;
 mod ser;
 mod trusted;

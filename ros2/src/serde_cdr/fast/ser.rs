@@ -5,6 +5,9 @@ use crate::def::Primitive;
 use crate::wire::HEADER;
 use serde::ser::{self, Impossible, Serialize};
 
+/// What a refused compound gives (see `miss!`).
+type No = Impossible<(), Miss>;
+
 /// Writes `value`, the message of `ops`, into `buf` (cleared first, capacity kept).
 /// `Ok(true)`: the trusted writer may write values of this type from now on (every Time
 /// was a `Timestamp`, and only Times were; see `trusted.rs`).
@@ -128,38 +131,6 @@ impl<'a, 't> Ser<'a, 't> {
         })
     }
 }
-
-/// Everything the tape does not take.
-macro_rules! miss {
-    (@ char) => { fn serialize_char(self, _: char) -> Result<(), Miss> { Err(Miss) } };
-    (@ str) => { fn serialize_str(self, _: &str) -> Result<(), Miss> { Err(Miss) } };
-    (@ bytes) => { fn serialize_bytes(self, _: &[u8]) -> Result<(), Miss> { Err(Miss) } };
-    (@ none) => { fn serialize_none(self) -> Result<(), Miss> { Err(Miss) } };
-    (@ some) => {
-        fn serialize_some<T: Serialize + ?Sized>(self, _: &T) -> Result<(), Miss> { Err(Miss) }
-    };
-    (@ unit) => {
-        fn serialize_unit(self) -> Result<(), Miss> { Err(Miss) }
-        fn serialize_unit_struct(self, _: &'static str) -> Result<(), Miss> { Err(Miss) }
-    };
-    (@ variants) => {
-        fn serialize_unit_variant(self, _: &'static str, _: u32, _: &'static str)
-            -> Result<(), Miss> { Err(Miss) }
-        fn serialize_newtype_variant<T: Serialize + ?Sized>(
-            self, _: &'static str, _: u32, _: &'static str, _: &T,
-        ) -> Result<(), Miss> { Err(Miss) }
-        fn serialize_tuple_variant(self, _: &'static str, _: u32, _: &'static str, _: usize)
-            -> Result<No, Miss> { Err(Miss) }
-        fn serialize_struct_variant(self, _: &'static str, _: u32, _: &'static str, _: usize)
-            -> Result<No, Miss> { Err(Miss) }
-    };
-    (@ map) => {
-        fn serialize_map(self, _: Option<usize>) -> Result<No, Miss> { Err(Miss) }
-    };
-    ($($what:ident)*) => { $(miss!(@ $what);)* };
-}
-
-type No = Impossible<(), Miss>;
 
 impl<'a, 't> ser::Serializer for Ser<'a, 't> {
     type Ok = ();

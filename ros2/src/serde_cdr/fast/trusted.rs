@@ -19,6 +19,9 @@ use crate::def::Primitive;
 use crate::wire::HEADER;
 use serde::ser::{self, Impossible, Serialize};
 
+/// What a refused compound gives (see `miss!`).
+type No = Impossible<(), Miss>;
+
 /// A sequence on the tape.
 #[derive(Clone, Copy)]
 pub(super) struct SeqOp {
@@ -174,34 +177,6 @@ fn has_nul(bytes: &[u8]) -> bool {
     found || chunks.remainder().contains(&0)
 }
 
-/// Everything a mirroring type does not do.
-macro_rules! miss {
-    (@ char) => { fn serialize_char(self, _: char) -> Result<(), Miss> { Err(Miss) } };
-    (@ none) => {
-        fn serialize_none(self) -> Result<(), Miss> { Err(Miss) }
-        fn serialize_some<T: Serialize + ?Sized>(self, _: &T) -> Result<(), Miss> { Err(Miss) }
-    };
-    (@ unit) => {
-        fn serialize_unit(self) -> Result<(), Miss> { Err(Miss) }
-        fn serialize_unit_struct(self, _: &'static str) -> Result<(), Miss> { Err(Miss) }
-    };
-    (@ variants) => {
-        fn serialize_unit_variant(self, _: &'static str, _: u32, _: &'static str)
-            -> Result<(), Miss> { Err(Miss) }
-        fn serialize_newtype_variant<T: Serialize + ?Sized>(
-            self, _: &'static str, _: u32, _: &'static str, _: &T,
-        ) -> Result<(), Miss> { Err(Miss) }
-        fn serialize_tuple_variant(self, _: &'static str, _: u32, _: &'static str, _: usize)
-            -> Result<No, Miss> { Err(Miss) }
-        fn serialize_struct_variant(self, _: &'static str, _: u32, _: &'static str, _: usize)
-            -> Result<No, Miss> { Err(Miss) }
-        fn serialize_map(self, _: Option<usize>) -> Result<No, Miss> { Err(Miss) }
-    };
-    ($($what:ident)*) => { $(miss!(@ $what);)* };
-}
-
-type No = Impossible<(), Miss>;
-
 /// Serializes one value of a mirroring type.
 struct Min<'a, 'l> {
     m: &'a mut M<'l>,
@@ -230,7 +205,7 @@ impl<'a, 'l> ser::Serializer for Min<'a, 'l> {
     type SerializeStruct = Struct<'a, 'l>;
     type SerializeStructVariant = No;
 
-    miss! { char none unit variants }
+    miss! { char none some unit variants map }
 
     prims! {
         serialize_i8 i8, serialize_i16 i16, serialize_i32 i32, serialize_u8 u8,
@@ -432,7 +407,7 @@ impl ser::Serializer for Item<'_, '_, '_> {
     type SerializeStruct = No;
     type SerializeStructVariant = No;
 
-    miss! { char none unit variants }
+    miss! { char none some unit variants map }
 
     packed! {
         serialize_i8 Int8 i8, serialize_i16 Int16 i16, serialize_i32 Int32 i32,
