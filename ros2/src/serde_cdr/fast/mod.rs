@@ -66,6 +66,25 @@ macro_rules! miss {
     ($($what:ident)*) => { $(miss!(@ $what);)* };
 }
 
+/// A sequence, a tuple and a tuple struct written alike: each element by the writer's
+/// `Seq::element`, the end by its `Seq::finish` (both writers).
+macro_rules! seq_impls {
+    ($($tr:ident $f:ident),*) => {
+        $(impl ser::$tr for Seq<'_, '_> {
+            type Ok = ();
+            type Error = Miss;
+            #[inline(always)]
+            fn $f<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Miss> {
+                self.element(value)
+            }
+            #[inline(always)]
+            fn end(self) -> Result<(), Miss> {
+                self.finish()
+            }
+        })*
+    };
+}
+
 mod de;
 mod ser;
 mod trusted;

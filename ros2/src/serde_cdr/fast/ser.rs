@@ -366,43 +366,9 @@ impl<'t> Seq<'_, 't> {
     }
 }
 
-impl ser::SerializeSeq for Seq<'_, '_> {
-    type Ok = ();
-    type Error = Miss;
-    #[inline(always)]
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Miss> {
-        self.element(value)
-    }
-    #[inline(always)]
-    fn end(self) -> Result<(), Miss> {
-        self.finish()
-    }
-}
-
-impl ser::SerializeTuple for Seq<'_, '_> {
-    type Ok = ();
-    type Error = Miss;
-    #[inline(always)]
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Miss> {
-        self.element(value)
-    }
-    #[inline(always)]
-    fn end(self) -> Result<(), Miss> {
-        self.finish()
-    }
-}
-
-impl ser::SerializeTupleStruct for Seq<'_, '_> {
-    type Ok = ();
-    type Error = Miss;
-    #[inline(always)]
-    fn serialize_field<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Miss> {
-        self.element(value)
-    }
-    #[inline(always)]
-    fn end(self) -> Result<(), Miss> {
-        self.finish()
-    }
+seq_impls! {
+    SerializeSeq serialize_element, SerializeTuple serialize_element,
+    SerializeTupleStruct serialize_field
 }
 
 /// One element of an array: of a primitive, written packed (aligned already: every

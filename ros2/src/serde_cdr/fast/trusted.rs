@@ -356,23 +356,6 @@ impl<'a, 'l> Seq<'a, 'l> {
     }
 }
 
-macro_rules! seq_impls {
-    ($($tr:ident $f:ident),*) => {
-        $(impl ser::$tr for Seq<'_, '_> {
-            type Ok = ();
-            type Error = Miss;
-            #[inline(always)]
-            fn $f<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Miss> {
-                self.element(value)
-            }
-            #[inline(always)]
-            fn end(self) -> Result<(), Miss> {
-                self.finish()
-            }
-        })*
-    };
-}
-
 seq_impls! {
     SerializeSeq serialize_element, SerializeTuple serialize_element,
     SerializeTupleStruct serialize_field
