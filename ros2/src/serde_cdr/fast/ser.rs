@@ -132,6 +132,17 @@ impl<'a, 't> Ser<'a, 't> {
     }
 }
 
+/// The serializer methods of the primitives that take no special case, each giving its
+/// little-endian bytes to `self.$via(primitive, bytes)` (both serializers below).
+macro_rules! by_primitive {
+    ($via:ident: $($name:ident $p:ident $t:ty),*) => {
+        $(#[inline(always)]
+        fn $name(self, v: $t) -> Result<(), Miss> {
+            self.$via(Primitive::$p, v.to_le_bytes())
+        })*
+    };
+}
+
 impl<'a, 't> ser::Serializer for Ser<'a, 't> {
     type Ok = ();
     type Error = Miss;
@@ -145,21 +156,16 @@ impl<'a, 't> ser::Serializer for Ser<'a, 't> {
 
     miss! { char none some unit variants map }
 
+    by_primitive! {
+        prim:
+        serialize_i8 Int8 i8, serialize_i16 Int16 i16, serialize_i32 Int32 i32,
+        serialize_u8 UInt8 u8, serialize_u16 UInt16 u16, serialize_u32 UInt32 u32,
+        serialize_u64 UInt64 u64, serialize_f32 Float32 f32, serialize_f64 Float64 f64
+    }
+
     #[inline(always)]
     fn serialize_bool(self, v: bool) -> Result<(), Miss> {
         self.prim(Primitive::Bool, [u8::from(v)])
-    }
-    #[inline(always)]
-    fn serialize_i8(self, v: i8) -> Result<(), Miss> {
-        self.prim(Primitive::Int8, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_i16(self, v: i16) -> Result<(), Miss> {
-        self.prim(Primitive::Int16, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_i32(self, v: i32) -> Result<(), Miss> {
-        self.prim(Primitive::Int32, v.to_le_bytes())
     }
     #[inline(always)]
     fn serialize_i64(self, v: i64) -> Result<(), Miss> {
@@ -172,30 +178,6 @@ impl<'a, 't> ser::Serializer for Ser<'a, 't> {
             return Ok(());
         }
         self.prim(Primitive::Int64, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_u8(self, v: u8) -> Result<(), Miss> {
-        self.prim(Primitive::UInt8, [v])
-    }
-    #[inline(always)]
-    fn serialize_u16(self, v: u16) -> Result<(), Miss> {
-        self.prim(Primitive::UInt16, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_u32(self, v: u32) -> Result<(), Miss> {
-        self.prim(Primitive::UInt32, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_u64(self, v: u64) -> Result<(), Miss> {
-        self.prim(Primitive::UInt64, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_f32(self, v: f32) -> Result<(), Miss> {
-        self.prim(Primitive::Float32, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_f64(self, v: f64) -> Result<(), Miss> {
-        self.prim(Primitive::Float64, v.to_le_bytes())
     }
     #[inline]
     fn serialize_str(self, v: &str) -> Result<(), Miss> {
@@ -401,49 +383,17 @@ impl<'s, 't> ser::Serializer for Item<'s, '_, 't> {
 
     miss! { char none some unit variants map }
 
+    by_primitive! {
+        put:
+        serialize_i8 Int8 i8, serialize_i16 Int16 i16, serialize_i32 Int32 i32,
+        serialize_i64 Int64 i64, serialize_u8 UInt8 u8, serialize_u16 UInt16 u16,
+        serialize_u32 UInt32 u32, serialize_u64 UInt64 u64, serialize_f32 Float32 f32,
+        serialize_f64 Float64 f64
+    }
+
     #[inline(always)]
     fn serialize_bool(self, v: bool) -> Result<(), Miss> {
         self.put(Primitive::Bool, [u8::from(v)])
-    }
-    #[inline(always)]
-    fn serialize_i8(self, v: i8) -> Result<(), Miss> {
-        self.put(Primitive::Int8, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_i16(self, v: i16) -> Result<(), Miss> {
-        self.put(Primitive::Int16, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_i32(self, v: i32) -> Result<(), Miss> {
-        self.put(Primitive::Int32, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_i64(self, v: i64) -> Result<(), Miss> {
-        self.put(Primitive::Int64, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_u8(self, v: u8) -> Result<(), Miss> {
-        self.put(Primitive::UInt8, [v])
-    }
-    #[inline(always)]
-    fn serialize_u16(self, v: u16) -> Result<(), Miss> {
-        self.put(Primitive::UInt16, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_u32(self, v: u32) -> Result<(), Miss> {
-        self.put(Primitive::UInt32, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_u64(self, v: u64) -> Result<(), Miss> {
-        self.put(Primitive::UInt64, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_f32(self, v: f32) -> Result<(), Miss> {
-        self.put(Primitive::Float32, v.to_le_bytes())
-    }
-    #[inline(always)]
-    fn serialize_f64(self, v: f64) -> Result<(), Miss> {
-        self.put(Primitive::Float64, v.to_le_bytes())
     }
     #[inline(always)]
     fn serialize_newtype_struct<T: Serialize + ?Sized>(
