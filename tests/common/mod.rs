@@ -36,14 +36,22 @@ pub fn tempdir(name: &str) -> PathBuf {
     dir
 }
 
-/// `ferroc bundle MODEL -o OUT`, which must succeed.
-pub fn bundle_ok(model: &Path, out: &Path) {
-    let (code, _, stderr) = ferroc(&[
+/// `ferroc bundle MODEL -o OUT EXTRA…`: its exit code and standard error.
+pub fn bundle(model: &Path, out: &Path, extra: &[&str]) -> (i32, String) {
+    let mut args = vec![
         "bundle",
         model.to_str().unwrap(),
         "-o",
         out.to_str().unwrap(),
-    ]);
+    ];
+    args.extend(extra);
+    let (code, _, stderr) = ferroc(&args);
+    (code, stderr)
+}
+
+/// `ferroc bundle MODEL -o OUT`, which must succeed.
+pub fn bundle_ok(model: &Path, out: &Path) {
+    let (code, stderr) = bundle(model, out, &[]);
     assert_eq!(code, 0, "{stderr}");
 }
 
