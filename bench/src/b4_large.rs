@@ -20,6 +20,8 @@
 //! (a data-triggered container), in the bare subscriber's callback. The reader is a
 //! child process (`ferroc-bench b4-large-child`); variants alternate per round.
 
+mod bare;
+
 use crate::b3::load_note;
 use crate::b4_parts::{addresses, free_address, mono_ns, percentiles, session};
 use crate::options::Options;
@@ -39,7 +41,6 @@ use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-use zenoh::shm::{BlockOn, GarbageCollect, ShmProviderBuilder};
 use zenoh::Wait;
 
 /// The argument that makes `ferroc-bench` the reader.
@@ -325,58 +326,6 @@ fn cpu_ns() -> u64 {
     t.tv_sec as u64 * 1_000_000_000 + t.tv_nsec as u64
 }
 
-/// A bare writer: puts a filled, stamped value of `size` bytes every `gap` until
-/// `done`, in shared memory of its own provider (`zenoh-shm`) or as a `Vec`.
-fn bare_writer(
-    variant: &str,
-    (writer, reader): (&str, &str),
-    size: usize,
-    done: &mut dyn FnMut() -> Result<bool, String>,
-) -> Result<(), String> {
-    let config = config_of(variant)?;
-    let s = session("writer", writer, reader, config.as_deref())?;
-    let publisher = s
-        .declare_publisher(KEY)
-        .congestion_control(zenoh::qos::CongestionControl::Block)
-        .wait()
-        .map_err(|e| e.to_string())?;
-    let provider = match variant {
-        "zenoh-shm" => Some(
-            ShmProviderBuilder::default_backend(ferroc_zenoh::shm::POOL_SIZE)
-                .wait()
-                .map_err(|e| e.to_string())?,
-        ),
-        _ => None,
-    };
-    let mut next = Instant::now();
-    let mut seq = 0u64;
-    while !done()? {
-        // Sleeps to the next value as ferroc's periodic writer container does (it
-        // polled every 200 µs before: a writer process that never slept long).
-        std::thread::sleep(next.saturating_duration_since(Instant::now()));
-        next += gap(size);
-        seq += 1;
-        let put = match &provider {
-            Some(p) => {
-                let mut buf = p
-                    .alloc(size)
-                    .with_policy::<BlockOn<GarbageCollect>>()
-                    .wait()
-                    .map_err(|e| e.to_string())?;
-                fill(&mut buf[..], seq);
-                publisher.put(buf).wait()
-            }
-            None => {
-                let mut v = vec![0u8; size];
-                fill(&mut v, seq);
-                publisher.put(v).wait()
-            }
-        };
-        put.map_err(|e| e.to_string())?;
-    }
-    Ok(())
-}
-
 /// What one run of a variant measured: per value the latency and the part after the
 /// Zenoh callback (ns); the reader's CPU and wall time over those values (ns).
 type Measured = (Vec<(u64, u64)>, [u64; 2]);
@@ -433,7 +382,7 @@ fn once(variant: &str, size: usize, n: u64) -> Result<Measured, String> {
         }
         drop(app);
     } else {
-        bare_writer(variant, (&writer, &reader), size, &mut done)?;
+        bare::writer(variant, (&writer, &reader), size, &mut done)?;
     }
     let status = child.wait().map_err(|e| e.to_string())?;
     let (samples, cpu) = reading.join().map_err(|_| "reading the reader failed")?;
