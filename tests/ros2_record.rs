@@ -19,7 +19,6 @@ use common::tempdir;
 use record_support::{channel, read, run};
 use serde_json::Value as Json;
 use std::path::Path;
-use std::process::Command;
 
 const MODEL: &str = "models/ros2_crash_course.xml";
 const REPLAY: &str = "tests/ros2/replay.xml";
@@ -139,18 +138,7 @@ fn a_rosbags_bag_is_printed_and_replayed() {
         return;
     };
     let dir = tempdir("ros2_record_bag");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = Command::new(&python)
-        .arg(root.join("tests/ros2/write_bag.py"))
-        .arg(dir.join("bag"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let sent: Json = serde_json::from_slice(&out.stdout).unwrap();
+    let sent = record_support::script(&python, "write_bag.py", &[dir.join("bag").as_os_str()]);
     let bag = dir.join("bag/bag.mcap");
 
     let (code, out, err) =

@@ -153,15 +153,11 @@ fn a_team_type_bag_rosbags_wrote_replays_in_a_program_without_a_ros2_node() {
         return;
     };
     let dir = tempdir("ros2_record_team_bag");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = Command::new(&python)
-        .arg(root.join("tests/ros2/write_team_bag.py"))
-        .arg(dir.join("team_bag"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{err}");
-    let sent: Json = serde_json::from_slice(&out.stdout).unwrap();
+    let sent = record_support::script(
+        &python,
+        "write_team_bag.py",
+        &[dir.join("team_bag").as_os_str()],
+    );
     assert_eq!(sent.as_array().map(Vec::len), Some(4));
 
     run("tests/ros2/replay_team_bag.xml", &dir, &[]);
@@ -178,18 +174,11 @@ fn a_channel_without_definitions_replays_with_the_model_s_team_package() {
         return;
     };
     let dir = tempdir("ros2_record_schemaless");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = Command::new(&python)
-        .arg(root.join("tests/ros2/write_schemaless_bag.py"))
-        .arg(dir.join("schemaless.mcap"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let sent = record_support::script(
+        &python,
+        "write_schemaless_bag.py",
+        &[dir.join("schemaless.mcap").as_os_str()],
     );
-    let sent: Json = serde_json::from_slice(&out.stdout).unwrap();
 
     let err = run("tests/ros2/replay_schemaless.xml", &dir, &[]);
     assert!(!err.contains("not replayed"), "{err}");
@@ -199,15 +188,10 @@ fn a_channel_without_definitions_replays_with_the_model_s_team_package() {
     // Compressed chunks (Python mcap's default) are refused as what they are, not as a
     // corrupted file.
     let zstd = dir.join("zstd.mcap");
-    let out = Command::new(&python)
-        .arg(root.join("tests/ros2/write_schemaless_bag.py"))
-        .args([zstd.as_os_str(), "zstd".as_ref()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    record_support::script(
+        &python,
+        "write_schemaless_bag.py",
+        &[zstd.as_os_str(), "zstd".as_ref()],
     );
     let (code, _, err) = common::ferroc(&["log", "info", zstd.to_str().unwrap()]);
     assert_ne!(code, 0);
@@ -225,17 +209,7 @@ fn a_bundle_part_with_links_replays_a_ros2_channel() {
     };
     let dir = tempdir("ros2_record_bundle_linked");
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = Command::new(&python)
-        .arg(root.join("tests/ros2/write_bag.py"))
-        .arg(dir.join("bag"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let sent: Json = serde_json::from_slice(&out.stdout).unwrap();
+    let sent = record_support::script(&python, "write_bag.py", &[dir.join("bag").as_os_str()]);
 
     let bundle = dir.join("bundle");
     common::bundle_ok(&root.join("tests/ros2/replay_bag_linked.xml"), &bundle);

@@ -36,10 +36,17 @@ pub fn run(model: &str, dir: &Path, args: &[&str]) -> String {
 
 /// What Python `mcap` and `rosbags` read in `file` (`tests/ros2/record_check.py`).
 pub fn read(python: &Path, file: &Path) -> Json {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ros2/record_check.py");
-    let out = Command::new(python).arg(script).arg(file).output().unwrap();
+    script(python, "record_check.py", &[file.as_os_str()])
+}
+
+/// The JSON `tests/ros2/SCRIPT ARGS…` printed; the script must succeed.
+pub fn script(python: &Path, script: &str, args: &[&std::ffi::OsStr]) -> Json {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/ros2")
+        .join(script);
+    let out = Command::new(python).arg(path).args(args).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{err}");
+    assert!(out.status.success(), "{script}: {err}");
     serde_json::from_slice(&out.stdout).expect("one JSON object")
 }
 
