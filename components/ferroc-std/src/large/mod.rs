@@ -13,6 +13,8 @@
 //! A writer fills `data` through [`Bytes::to_mut`] (a `&mut Vec<u8>` that keeps its
 //! allocation from one pooled value to the next).
 
+mod ros2;
+
 pub use ferroc_runtime::module::Bytes;
 use serde::{Deserialize, Serialize};
 

@@ -1,0 +1,180 @@
+//! The mapping checked against the dynamic CDR codec (`ferroc_ros2::cdr`, which reads
+//! by the message definition alone, knowing nothing of these types).
+
+use super::*;
+use ferroc_ros2::cdr;
+use ferroc_ros2::def::TypeName;
+use ferroc_ros2::Registry;
+use ferroc_ros2::Value;
+
+fn shape(message: &str) -> Shape<'static> {
+    let name = TypeName::parse(message).unwrap();
+    Shape::new(Registry::shipped_shared(), &name, None).unwrap()
+}
+
+fn meta(nanos: i64, frame_id: &str) -> Ros2Meta<'_> {
+    Ros2Meta {
+        stamp: Timestamp { nanos },
+        frame_id,
+    }
+}
+
+fn decoded(message: &str, bytes: &[u8]) -> Vec<Value> {
+    let name = TypeName::parse(message).unwrap();
+    match cdr::decode(Registry::shipped_shared(), &name, bytes).unwrap() {
+        Value::Struct(fields) => fields,
+        other => panic!("{other:?}"),
+    }
+}
+
+fn header(nanos_sec: i32, nanosec: u32, frame: &str) -> Value {
+    Value::Struct(vec![
+        Value::Struct(vec![Value::I32(nanos_sec), Value::U32(nanosec)]),
+        Value::String(frame.into()),
+    ])
+}
+
+/// A 3 × 2 rgb8 image whose rows are padded to 10 bytes, data one byte longer.
+fn image() -> Image {
+    Image {
+        width: 3,
+        height: 2,
+        encoding: "rgb8".into(),
+        step: 10,
+        data: (0..21).collect::<Vec<u8>>().into(),
+    }
+}
+
+#[test]
+fn an_image_is_written_as_sensor_msgs_image_with_its_header_and_read_back() {
+    let s = shape("sensor_msgs/msg/Image");
+    let mut bytes = Vec::new();
+    let img = image();
+    img.to_cdr(&s, &meta(5_000_000_007, "camera"), &mut bytes)
+        .unwrap();
+    let fields = decoded("sensor_msgs/msg/Image", &bytes);
+    let rows: Vec<u8> = (0..20).collect();
+    assert_eq!(
+        fields,
+        vec![
+            header(5, 7, "camera"),
+            Value::U32(2),
+            Value::U32(3),
+            Value::String("rgb8".into()),
+            Value::U8(0),
+            Value::U32(10),
+            Value::Bytes(rows.clone()),
+        ],
+        "the data is cut to step × height"
+    );
+    let back = Image::from_cdr(&s, &bytes).unwrap();
+    assert_eq!(back.data[..], rows[..]);
+    assert_eq!((back.width, back.height, back.step), (3, 2, 10));
+    assert_eq!(back.encoding, "rgb8");
+}
+
+#[test]
+fn an_image_the_type_cannot_represent_is_refused_in_words() {
+    let s = shape("sensor_msgs/msg/Image");
+    let name = TypeName::parse("sensor_msgs/msg/Image").unwrap();
+    let sample = |encoding: &str, big: u8, step: u32, data: Vec<u8>| {
+        let v = Value::Struct(vec![
+            header(0, 0, ""),
+            Value::U32(2),
+            Value::U32(2),
+            Value::String(encoding.into()),
+            Value::U8(big),
+            Value::U32(step),
+            Value::Bytes(data),
+        ]);
+        cdr::encode(Registry::shipped_shared(), &name, &v).unwrap()
+    };
+    let err = Image::from_cdr(&s, &sample("mono16", 1, 4, vec![0; 8])).unwrap_err();
+    assert!(err.contains("big-endian `mono16`"), "{err}");
+    let err = Image::from_cdr(&s, &sample("mono8", 0, 2, vec![0; 3])).unwrap_err();
+    assert!(
+        err.contains("need 4 bytes") && err.contains("there are 3"),
+        "{err}"
+    );
+    // Silent: big endian says nothing about one-byte channels; longer data is fine.
+    assert!(Image::from_cdr(&s, &sample("rgb8", 1, 6, vec![0; 12])).is_ok());
+    assert!(Image::from_cdr(&s, &sample("mono8", 0, 2, vec![0; 5])).is_ok());
+    // Writing checks too: an image whose data is shorter than its rows is not sent.
+    let mut short = image();
+    short.data = vec![0; 19].into();
+    let err = short.to_cdr(&s, &meta(0, ""), &mut Vec::new()).unwrap_err();
+    assert!(err.contains("need 20 bytes"), "{err}");
+    // And another message than its own is refused by the codec (`whole`), not here.
+}
+
+#[test]
+fn a_point_cloud_is_one_row_of_sensor_msgs_point_cloud2_and_reads_back() {
+    let s = shape("sensor_msgs/msg/PointCloud2");
+    let cloud = PointCloud::xyz(&[[1.0, 2.0, 3.0], [4.0, 5.0, f32::NAN]]);
+    let mut bytes = Vec::new();
+    cloud.to_cdr(&s, &meta(-1, ""), &mut bytes).unwrap();
+    let fields = decoded("sensor_msgs/msg/PointCloud2", &bytes);
+    let field = |name: &str, offset| {
+        Value::Struct(vec![
+            Value::String(name.into()),
+            Value::U32(offset),
+            Value::U8(7),
+            Value::U32(1),
+        ])
+    };
+    assert_eq!(fields[0], header(-1, 999_999_999, ""), "before 1970");
+    assert_eq!(&fields[1..3], &[Value::U32(1), Value::U32(2)]);
+    assert_eq!(
+        fields[3],
+        Value::Array(vec![field("x", 0), field("y", 4), field("z", 8)])
+    );
+    assert_eq!(
+        &fields[4..7],
+        &[Value::Bool(false), Value::U32(12), Value::U32(24)]
+    );
+    assert_eq!(fields[7], Value::Bytes(cloud.data.to_vec()));
+    assert_eq!(fields[8], Value::Bool(false), "is_dense");
+    let back = PointCloud::from_cdr(&s, &bytes).unwrap();
+    assert_eq!(
+        (back.fields.clone(), back.point_step),
+        (cloud.fields.clone(), 12)
+    );
+    assert_eq!(back.data[..], cloud.data[..]);
+    assert!(back.f32_at(1, "z").unwrap().is_nan());
+}
+
+#[test]
+fn a_point_cloud_the_type_cannot_represent_is_refused_in_words() {
+    let s = shape("sensor_msgs/msg/PointCloud2");
+    let name = TypeName::parse("sensor_msgs/msg/PointCloud2").unwrap();
+    let sample = |big: bool, height: u32, row_step: u32, data: usize| {
+        let v = Value::Struct(vec![
+            header(0, 0, ""),
+            Value::U32(height),
+            Value::U32(2),
+            Value::Array(vec![]),
+            Value::Bool(big),
+            Value::U32(4),
+            Value::U32(row_step),
+            Value::Bytes(vec![0; data]),
+            Value::Bool(true),
+        ]);
+        cdr::encode(Registry::shipped_shared(), &name, &v).unwrap()
+    };
+    let err = PointCloud::from_cdr(&s, &sample(true, 1, 8, 8)).unwrap_err();
+    assert!(err.contains("big-endian"), "{err}");
+    let err = PointCloud::from_cdr(&s, &sample(false, 2, 12, 24)).unwrap_err();
+    assert!(err.contains("padded rows"), "{err}");
+    let err = PointCloud::from_cdr(&s, &sample(false, 2, 8, 12)).unwrap_err();
+    assert!(err.contains("need 16 bytes"), "{err}");
+    // Silent: an organised cloud (2 rows) without padding is 4 points.
+    let four = PointCloud::from_cdr(&s, &sample(false, 2, 8, 16)).unwrap();
+    assert_eq!(four.len(), 4);
+    // Writing: a partial point is not sent.
+    let mut partial = PointCloud::xyz(&[[1.0, 2.0, 3.0]]);
+    partial.data = vec![0; 13].into();
+    let err = partial
+        .to_cdr(&s, &meta(0, ""), &mut Vec::new())
+        .unwrap_err();
+    assert!(err.contains("13 bytes"), "{err}");
+}
