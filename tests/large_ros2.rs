@@ -8,6 +8,7 @@
 //!   header filled (model time, the topic's `frame-id=`), the cloud one row; our
 //!   `ferroc_std.Player` replays those channels into Image and PointCloud ports, to the
 //!   values sent (`tests/large_ros2/replay.xml`);
+//! - a bundle's program of the model records the same samples;
 //! - `ferroc run` of the same model beside a `zenoh-ros2-sdk` node
 //!   (`tests/large_ros2/sdk_image_peer.py`): it lists our topics with their types,
 //!   receives our Image and PointCloud, and its Images reach our input; its big-endian
@@ -90,6 +91,60 @@ fn rosbags_reads_recorded_images_and_clouds_as_sensor_msgs_and_our_player_replay
     let (_, err) = lockstep(MODEL, &dir, &["--record", record.to_str().unwrap()]);
     assert!(!err.contains("is not recorded"), "{err}");
     let report = record_support::read(&python, &record);
+    assert_recorded_as_sent(&report);
+
+    // Our Player reads the sensor_msgs channels back into an Image and a PointCloud.
+    let (out, _) = lockstep(REPLAY, &dir, &[]);
+    let (image, cloud) = (parse(IMAGE), parse(CLOUD));
+    let mut replayed = 0;
+    for line in out.lines() {
+        let (label, value) = line.split_once(": in/0 = ").expect("a Dump line");
+        let expected = if label == "image" { &image } else { &cloud };
+        assert_eq!(&parse(value), expected, "{line}");
+        replayed += 1;
+    }
+    assert!(replayed >= 2 * 50, "{out}");
+}
+
+/// A bundle's program of the model registers the two types with their mapping
+/// (`register_ros2`) and carries the topics' `frame-id=`: its lockstep recording reads
+/// as `ferroc run`'s does.
+#[test]
+fn a_bundle_s_program_writes_the_same_sensor_msgs() {
+    let Some(python) = ferroc_testkit::python(&["mcap", "rosbags", "numpy"]) else {
+        return;
+    };
+    let dir = tempdir("large_ros2_bundle");
+    common::bundle_ok(&root().join(MODEL), &dir.join("bundle"));
+    let main = std::fs::read_to_string(dir.join("bundle/parts/cam/src/main.rs")).unwrap();
+    for line in [
+        "registry.register_ros2::<ferroc_std::Image>();",
+        "frame_id: \"camera_optical\".into(),",
+    ] {
+        assert!(main.contains(line), "{line} not in\n{main}");
+    }
+    let program = common::build_bundle(&dir.join("bundle"))
+        .join("debug")
+        .join("large_ros2-cam");
+    let record = dir.join("bundle.mcap");
+    let out = Command::new(program)
+        .args(["-q", "--lockstep", "--for", "4s", "--record"])
+        .arg(&record)
+        .env("ZENOH_SESSION_CONFIG_URI", record_support::nobody(&dir))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && !err.contains("not recorded"),
+        "{err}"
+    );
+    assert_recorded_as_sent(&record_support::read(&python, &record));
+}
+
+/// The recording of a lockstep run of the model (`report`: what `mcap` and `rosbags`
+/// read in it) holds /image and /points as sensor_msgs, every sample the values sent.
+fn assert_recorded_as_sent(report: &Json) {
     for (topic, message, port) in [
         ("/image", "sensor_msgs/msg/Image", "cam/main/frame/out/0"),
         (
@@ -98,7 +153,7 @@ fn rosbags_reads_recorded_images_and_clouds_as_sensor_msgs_and_our_player_replay
             "cam/main/cloud/out/0",
         ),
     ] {
-        let c = record_support::channel(&report, topic, "cdr");
+        let c = record_support::channel(report, topic, "cdr");
         assert_eq!(c["schema_encoding"], "ros2msg", "{c}");
         assert_eq!(c["schema_name"], message, "{c}");
         assert_eq!(c["metadata"]["ferroc.port"], port, "{c}");
@@ -124,18 +179,6 @@ fn rosbags_reads_recorded_images_and_clouds_as_sensor_msgs_and_our_player_replay
         );
         assert_eq!(cloud, &cloud_message(stamp(i, "lidar")), "cloud {i}");
     }
-
-    // Our Player reads the sensor_msgs channels back into an Image and a PointCloud.
-    let (out, _) = lockstep(REPLAY, &dir, &[]);
-    let (image, cloud) = (parse(IMAGE), parse(CLOUD));
-    let mut replayed = 0;
-    for line in out.lines() {
-        let (label, value) = line.split_once(": in/0 = ").expect("a Dump line");
-        let expected = if label == "image" { &image } else { &cloud };
-        assert_eq!(&parse(value), expected, "{line}");
-        replayed += 1;
-    }
-    assert!(replayed >= 2 * 50, "{out}");
 }
 
 #[test]
