@@ -13,7 +13,7 @@
 //! ([`recording`], docs/recording-and-utilities.md); `Clock` publishes `timestamp`s and
 //! a tick count.
 //! `ScaleService` and `Ask` are the smallest service and client (`services.rs`).
-//! [`Image`] and [`PointCloud`] carry large data (`large.rs`).
+//! [`Image`] and [`PointCloud`] carry large data (`large/`; as ROS 2 messages `large/ros2.rs`).
 
 #![forbid(unsafe_code)]
 
