@@ -178,3 +178,63 @@ fn a_point_cloud_the_type_cannot_represent_is_refused_in_words() {
         .unwrap_err();
     assert!(err.contains("13 bytes"), "{err}");
 }
+
+/// The value table routes a mapped type's ROS 2 ends through the mapping: the frame
+/// given reaches the header, another message or one field of it is refused, and a
+/// sample is read into the port. Registered without the mapping (serde only), the same
+/// type cannot be written as the message at all.
+#[test]
+fn the_value_table_writes_and_reads_a_mapped_type_through_its_mapping() {
+    use ferroc_runtime::module::{DebugText, DynIn, DynOut, ValueTable};
+    use ferroc_runtime::port::ConnectOptions;
+    let wire = |table: &ValueTable| -> (DynOut, DynIn) {
+        let vt = table.get("ferroc_std.Image").unwrap();
+        let (out, oh) = vt.output("out");
+        let (inp, ih) = vt.input("in", None);
+        oh.connect(&ih, ConnectOptions::default()).unwrap();
+        (out, inp)
+    };
+    let mut mapped = ValueTable::default();
+    mapped.insert_ros2::<Image, DebugText>();
+    let codec = *mapped.get("ferroc_std.Image").unwrap().codec().unwrap();
+    let (out, inp) = wire(&mapped);
+    out.typed::<Image>().unwrap().publish(image());
+    let s = shape("sensor_msgs/msg/Image");
+    let mut bytes = Vec::new();
+    codec
+        .ros2_encode_framed(&inp, &s, "camera", &mut bytes)
+        .unwrap();
+    let fields = decoded("sensor_msgs/msg/Image", &bytes);
+    let Value::Struct(header) = &fields[0] else {
+        panic!("{fields:?}")
+    };
+    assert_eq!(header[1], Value::String("camera".into()), "the frame given");
+    // Stamped now: the wall clock here (no lockstep), after 2026-01-01.
+    let Value::Struct(stamp) = &header[0] else {
+        panic!("{header:?}")
+    };
+    assert!(
+        matches!(stamp[0], Value::I32(sec) if sec > 1_767_225_600),
+        "{stamp:?}"
+    );
+    let err = (codec.ros2_encode(&inp, &shape("sensor_msgs/msg/PointCloud2"), &mut Vec::new()))
+        .unwrap_err();
+    assert!(err.contains("carried as `sensor_msgs/msg/Image`"), "{err}");
+    let name = TypeName::parse("sensor_msgs/msg/Image").unwrap();
+    let data = Shape::new(Registry::shipped_shared(), &name, Some("data")).unwrap();
+    assert!(codec.ros2_encode(&inp, &data, &mut Vec::new()).is_err());
+
+    // Read back into a port of the type.
+    let (back, seen) = wire(&mapped);
+    codec.ros2_decode(&back, &s, &bytes).unwrap();
+    assert!(seen.changed());
+    assert_eq!(seen.typed::<Image>().unwrap().get().encoding, "rgb8");
+
+    // Serde only: the fields are not the message's.
+    let mut plain = ValueTable::default();
+    plain.insert_serde::<Image, DebugText>();
+    let codec = *plain.get("ferroc_std.Image").unwrap().codec().unwrap();
+    let (out, inp) = wire(&plain);
+    out.typed::<Image>().unwrap().publish(image());
+    assert!(codec.ros2_encode(&inp, &s, &mut Vec::new()).is_err());
+}
