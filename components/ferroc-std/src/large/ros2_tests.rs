@@ -238,3 +238,24 @@ fn the_value_table_writes_and_reads_a_mapped_type_through_its_mapping() {
     out.typed::<Image>().unwrap().publish(image());
     assert!(codec.ros2_encode(&inp, &s, &mut Vec::new()).is_err());
 }
+
+/// A 1080p rgb8 frame (6.2 MB, the B3 size) crosses whole: one block each way, its
+/// sample the data plus the fields around it.
+#[test]
+fn a_full_hd_frame_crosses_as_one_block() {
+    let s = shape("sensor_msgs/msg/Image");
+    let mut img = Image::new(1920, 1080, "rgb8").unwrap();
+    let data = img.data.to_mut();
+    for (i, b) in data.iter_mut().enumerate() {
+        *b = (i % 251) as u8;
+    }
+    let mut bytes = Vec::new();
+    img.to_cdr(&s, &meta(0, "camera"), &mut bytes).unwrap();
+    // The encapsulation header (4 bytes), then, aligned from the body's start: stamp
+    // (8), frame (4 + 7 → 19), height, width (20..28), "rgb8" (4 + 5 → 37),
+    // is_bigendian (38), step (40..44), the data's length (48), the data.
+    assert_eq!(bytes.len(), 4 + 48 + 6_220_800);
+    assert_eq!(&bytes[52..], &img.data[..]);
+    let back = Image::from_cdr(&s, &bytes).unwrap();
+    assert_eq!(back, img);
+}
