@@ -305,54 +305,81 @@ impl ser::SerializeStruct for Struct<'_, '_> {
     }
 }
 
-/// The elements of a sequence: primitives (packed: aligned before the first) or strings.
-struct Seq<'a, 'l> {
-    m: &'a mut M<'l>,
-    elem: Option<Primitive>,
-    /// The sample's length once all are written (packed); strings left to write.
-    full: usize,
+/// The elements of a sequence.
+enum Seq<'a, 'l> {
+    /// Of a primitive: the sample's bytes for the elements not yet written (the whole
+    /// array made room for, zeroed, when it began; aligned before the first element).
+    /// The buffer's length and capacity are not touched per element, so they stay out
+    /// of memory while the elements are written.
+    Packed { out: &'a mut [u8], elem: Primitive },
+    /// Of strings: the sample and the number of strings left to write.
+    Strings { m: &'a mut M<'l>, left: usize },
+    /// An element was not what the sequence holds, or one too many: a miss at the end.
+    Spoilt,
 }
 
 impl<'a, 'l> Seq<'a, 'l> {
     #[inline(always)]
     fn new(m: &'a mut M<'l>, len: usize) -> Result<Self, Miss> {
         let seq = m.seq(len)?;
-        let full = match seq.elem {
-            Some(p) if len > 0 => {
-                let size = p.size();
-                let pad = HEADER.len().wrapping_sub(m.buf.len()) & (size - 1);
-                if pad != 0 {
-                    m.pad(pad);
-                }
-                m.buf.reserve(len * size);
-                m.buf.len() + len * size
-            }
-            Some(_) => m.buf.len(),
-            None => len,
+        let Some(elem) = seq.elem else {
+            return Ok(Seq::Strings { m, left: len });
         };
-        Ok(Seq {
-            m,
-            elem: seq.elem,
-            full,
+        let size = elem.size();
+        let start = if len > 0 {
+            let pad = HEADER.len().wrapping_sub(m.buf.len()) & (size - 1);
+            m.buf.len() + pad
+        } else {
+            m.buf.len()
+        };
+        // `len` is at most the sequence's bound (or the array's length), and a value
+        // of that many elements is in memory already.
+        let end = len.checked_mul(size).and_then(|n| n.checked_add(start)).ok_or(Miss)?;
+        m.buf.resize(end, 0);
+        Ok(Seq::Packed {
+            out: &mut m.buf[start..],
+            elem,
         })
     }
 
     #[inline(always)]
     fn element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Miss> {
-        value.serialize(Item { seq: self })
+        let done = value.serialize(Item { seq: self });
+        if done.is_err() {
+            *self = Seq::Spoilt;
+        }
+        done
     }
 
     #[inline(always)]
     fn finish(self) -> Result<(), Miss> {
-        let all = match self.elem {
-            Some(_) => self.m.buf.len() == self.full,
-            None => self.full == 0,
+        let all = match self {
+            Seq::Packed { out, .. } => out.is_empty(),
+            Seq::Strings { left, .. } => left == 0,
+            Seq::Spoilt => false,
         };
         if all {
             Ok(())
         } else {
             Err(Miss)
         }
+    }
+
+    /// The next element, `bytes` of a `p`, written in the room made for it.
+    #[inline(always)]
+    fn fill<const N: usize>(&mut self, p: Primitive, bytes: [u8; N]) -> Result<(), Miss> {
+        let Seq::Packed { out, elem } = self else {
+            return Err(Miss);
+        };
+        if *elem != p {
+            return Err(Miss);
+        }
+        let (head, rest) = std::mem::take(out)
+            .split_first_chunk_mut::<N>()
+            .ok_or(Miss)?;
+        *head = bytes;
+        *out = rest;
+        Ok(())
     }
 }
 
@@ -370,11 +397,7 @@ macro_rules! packed {
     ($($name:ident $p:ident $t:ty),*) => {
         $(#[inline(always)]
         fn $name(self, v: $t) -> Result<(), Miss> {
-            if self.seq.elem != Some(Primitive::$p) {
-                return Err(Miss);
-            }
-            self.seq.m.buf.extend_from_slice(&v.to_le_bytes());
-            Ok(())
+            self.seq.fill(Primitive::$p, v.to_le_bytes())
         })*
     };
 }
@@ -401,18 +424,16 @@ impl ser::Serializer for Item<'_, '_, '_> {
 
     #[inline(always)]
     fn serialize_bool(self, v: bool) -> Result<(), Miss> {
-        if self.seq.elem != Some(Primitive::Bool) {
-            return Err(Miss);
-        }
-        self.seq.m.buf.push(u8::from(v));
-        Ok(())
+        self.seq.fill(Primitive::Bool, [u8::from(v)])
     }
     fn serialize_str(self, v: &str) -> Result<(), Miss> {
-        if self.seq.elem.is_some() || self.seq.full == 0 {
-            return Err(Miss);
+        match self.seq {
+            Seq::Strings { m, left } if *left > 0 => {
+                *left -= 1;
+                m.string(v)
+            }
+            _ => Err(Miss),
         }
-        self.seq.full -= 1;
-        self.seq.m.string(v)
     }
     fn serialize_bytes(self, _: &[u8]) -> Result<(), Miss> {
         Err(Miss)
