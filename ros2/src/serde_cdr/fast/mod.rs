@@ -86,6 +86,7 @@ macro_rules! seq_impls {
 }
 
 mod de;
+mod packed;
 mod ser;
 mod trusted;
 

@@ -14,6 +14,7 @@
 //! `skip_serializing_if` is a miss) and of sequences, each sequence's length against
 //! the tape and its elements' type, each string's NUL.
 
+use super::packed::Packed;
 use super::{Miss, Op};
 use crate::def::Primitive;
 use crate::wire::HEADER;
@@ -307,11 +308,8 @@ impl ser::SerializeStruct for Struct<'_, '_> {
 
 /// The elements of a sequence.
 enum Seq<'a, 'l> {
-    /// Of a primitive: the sample's bytes for the elements not yet written (the whole
-    /// array made room for, zeroed, when it began; aligned before the first element).
-    /// The buffer's length and capacity are not touched per element, so they stay out
-    /// of memory while the elements are written.
-    Packed { out: &'a mut [u8], elem: Primitive },
+    /// Of a primitive (see `packed.rs`), aligned before the first element.
+    Packed(Packed<'a>),
     /// Of strings: the sample and the number of strings left to write.
     Strings { m: &'a mut M<'l>, left: usize },
     /// An element was not what the sequence holds, or one too many: a miss at the end.
@@ -325,21 +323,13 @@ impl<'a, 'l> Seq<'a, 'l> {
         let Some(elem) = seq.elem else {
             return Ok(Seq::Strings { m, left: len });
         };
-        let size = elem.size();
-        let start = if len > 0 {
-            let pad = HEADER.len().wrapping_sub(m.buf.len()) & (size - 1);
-            m.buf.len() + pad
-        } else {
-            m.buf.len()
-        };
-        // `len` is at most the sequence's bound (or the array's length), and a value
-        // of that many elements is in memory already.
-        let end = len.checked_mul(size).and_then(|n| n.checked_add(start)).ok_or(Miss)?;
-        m.buf.resize(end, 0);
-        Ok(Seq::Packed {
-            out: &mut m.buf[start..],
-            elem,
-        })
+        if len > 0 {
+            let pad = HEADER.len().wrapping_sub(m.buf.len()) & (elem.size() - 1);
+            if pad != 0 {
+                m.pad(pad);
+            }
+        }
+        Packed::new(&mut m.buf, elem, len).map(Seq::Packed)
     }
 
     #[inline(always)]
@@ -354,7 +344,7 @@ impl<'a, 'l> Seq<'a, 'l> {
     #[inline(always)]
     fn finish(self) -> Result<(), Miss> {
         let all = match self {
-            Seq::Packed { out, .. } => out.is_empty(),
+            Seq::Packed(packed) => packed.full(),
             Seq::Strings { left, .. } => left == 0,
             Seq::Spoilt => false,
         };
@@ -363,23 +353,6 @@ impl<'a, 'l> Seq<'a, 'l> {
         } else {
             Err(Miss)
         }
-    }
-
-    /// The next element, `bytes` of a `p`, written in the room made for it.
-    #[inline(always)]
-    fn fill<const N: usize>(&mut self, p: Primitive, bytes: [u8; N]) -> Result<(), Miss> {
-        let Seq::Packed { out, elem } = self else {
-            return Err(Miss);
-        };
-        if *elem != p {
-            return Err(Miss);
-        }
-        let (head, rest) = std::mem::take(out)
-            .split_first_chunk_mut::<N>()
-            .ok_or(Miss)?;
-        *head = bytes;
-        *out = rest;
-        Ok(())
     }
 }
 
@@ -393,11 +366,21 @@ struct Item<'s, 'a, 'l> {
     seq: &'s mut Seq<'a, 'l>,
 }
 
+impl Item<'_, '_, '_> {
+    #[inline(always)]
+    fn fill<const N: usize>(self, p: Primitive, bytes: [u8; N]) -> Result<(), Miss> {
+        match self.seq {
+            Seq::Packed(packed) => packed.fill(p, bytes),
+            _ => Err(Miss),
+        }
+    }
+}
+
 macro_rules! packed {
     ($($name:ident $p:ident $t:ty),*) => {
         $(#[inline(always)]
         fn $name(self, v: $t) -> Result<(), Miss> {
-            self.seq.fill(Primitive::$p, v.to_le_bytes())
+            self.fill(Primitive::$p, v.to_le_bytes())
         })*
     };
 }
@@ -424,7 +407,7 @@ impl ser::Serializer for Item<'_, '_, '_> {
 
     #[inline(always)]
     fn serialize_bool(self, v: bool) -> Result<(), Miss> {
-        self.seq.fill(Primitive::Bool, [u8::from(v)])
+        self.fill(Primitive::Bool, [u8::from(v)])
     }
     fn serialize_str(self, v: &str) -> Result<(), Miss> {
         match self.seq {
