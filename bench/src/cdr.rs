@@ -285,6 +285,10 @@ impl<'r, T: Serialize + serde::de::DeserializeOwned> Case<'r, T> {
         if serde_cdr::from_cdr_fast::<T>(&shape, &cdr).is_none() {
             return Err(format!("{name}: the fast path does not read the sample"));
         }
+        serde_cdr::from_cdr::<T>(&shape, &cdr).map_err(|e| e.to_string())?;
+        if serde_cdr::read_path::<T>(&shape) != "trusted" {
+            return Err(format!("{name}: the trusted reader is not taken"));
+        }
         println!("{name}: CDR {} B, postcard {} B", cdr.len(), postcard.len());
         Ok(Case {
             name,

@@ -26,17 +26,18 @@ type No = Impossible<(), Miss>;
 /// A sequence on the tape.
 #[derive(Clone, Copy)]
 pub(super) struct SeqOp {
-    fixed: bool,
-    n: u32,
+    pub fixed: bool,
+    pub n: u32,
     /// Of a primitive (packed), else of strings.
-    elem: Option<Primitive>,
+    pub elem: Option<Primitive>,
 }
 
-/// What the trusted writer needs of a tape that qualifies.
+/// What the trusted writer (and reader, `trusted_read.rs`) needs of a tape that
+/// qualifies.
 pub(super) struct Layout {
-    seqs: Vec<SeqOp>,
+    pub seqs: Vec<SeqOp>,
     /// The fields a mirroring type visits (a Time's two as `Timestamp`'s one `nanos`).
-    fields: usize,
+    pub fields: usize,
 }
 
 impl Layout {
