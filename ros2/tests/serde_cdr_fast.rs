@@ -223,12 +223,20 @@ fn a_length_larger_than_the_sample_is_refused_before_allocating() {
         // The fast path alone (tried first above) refuses it as cheaply.
         assert!(serde_cdr::from_cdr_fast::<Arrays>(&shape, &sample).is_none());
         assert!(self::largest() < 4096, "{len}: the fast path allocated");
+        // So does the trusted reader (what reads a type found to mirror the message).
+        assert!(serde_cdr::from_cdr_trusted::<Arrays>(&shape, &sample).is_none());
+        assert!(
+            self::largest() < 4096,
+            "{len}: the trusted reader allocated"
+        );
     }
     // The silent case: a length the sample holds is read (by the fast path too).
     let back: Arrays = serde_cdr::from_cdr(&shape, &arrays_claiming(16)).unwrap();
     assert_eq!(back.ranges, [0.0; 16]);
     let fast: Arrays = serde_cdr::from_cdr_fast(&shape, &arrays_claiming(16)).unwrap();
     assert_eq!(fast, back);
+    let trusted: Arrays = serde_cdr::from_cdr_trusted(&shape, &arrays_claiming(16)).unwrap();
+    assert_eq!(trusted, back);
 }
 
 proptest! {
@@ -250,7 +258,13 @@ proptest! {
         let fast = serde_cdr::from_cdr_fast::<Arrays>(&shape, &sample);
         prop_assert!(largest() < 64 * 1024);
         if fast.is_some() {
-            prop_assert_eq!(fast, read);
+            prop_assert_eq!(&fast, &read);
+        }
+        // The trusted reader alone: the same.
+        let trusted = serde_cdr::from_cdr_trusted::<Arrays>(&shape, &sample);
+        prop_assert!(largest() < 64 * 1024);
+        if trusted.is_some() {
+            prop_assert_eq!(trusted, read);
         }
     }
 }

@@ -168,6 +168,60 @@ fn a_mirroring_type_is_trusted_after_one_sample_and_read_along_the_tape() {
     }
 }
 
+/// `from_cdr` as the plan path reads it: the value's text (NaN compared as text) or
+/// the error.
+fn read_as_planned(shape: &Shape<'_>, bytes: &[u8]) -> (String, String) {
+    let ours = serde_cdr::from_cdr::<JointState>(shape, bytes);
+    let planned = serde_cdr::from_cdr_planned::<JointState>(shape, bytes);
+    let text = |r: Result<JointState, ferroc_ros2::cdr::CdrError>| match r {
+        Ok(v) => format!("{v:?}"),
+        Err(e) => e.to_string(),
+    };
+    (text(ours), text(planned))
+}
+
+/// After one sample read along the tape, a mirroring type is read by the trusted
+/// reader, which reads what the plan path reads; every cut and every flipped byte of
+/// a sample is refused or read as the plan path reads it, and a good sample after
+/// them is read (trusted again).
+#[test]
+fn a_mirroring_type_is_read_trusted_and_bad_samples_are_refused_as_before() {
+    let reg = Registry::shipped();
+    let shape = Shape::new(&reg, &ty("sensor_msgs/msg/JointState"), None).unwrap();
+    let good = serde_cdr::encode(&shape, &joints(2, 5)).unwrap();
+    assert_eq!(serde_cdr::read_path::<JointState>(&shape), "tape");
+    serde_cdr::from_cdr::<JointState>(&shape, &good).unwrap();
+    assert_eq!(serde_cdr::read_path::<JointState>(&shape), "trusted");
+    for (n, stamp) in [(0, 0), (3, -1), (7, -2_500_000_001)] {
+        let bytes = serde_cdr::encode(&shape, &joints(n, stamp)).unwrap();
+        let trusted = serde_cdr::from_cdr_trusted::<JointState>(&shape, &bytes);
+        let (ours, planned) = read_as_planned(&shape, &bytes);
+        assert_eq!(format!("{:?}", trusted.unwrap()), planned, "{n} joints");
+        assert_eq!(ours, planned);
+        let mut bad = Vec::new();
+        for cut in 0..bytes.len() {
+            bad.push(bytes[..cut].to_vec());
+        }
+        for at in 4..bytes.len() {
+            for flip in [0x01, 0x80, 0xff] {
+                let mut b = bytes.clone();
+                b[at] ^= flip;
+                bad.push(b);
+            }
+        }
+        for b in &bad {
+            serde_cdr::from_cdr::<JointState>(&shape, &good).unwrap();
+            let (ours, planned) = read_as_planned(&shape, b);
+            assert_eq!(ours, planned, "{b:?}");
+            if let Some(t) = serde_cdr::from_cdr_trusted::<JointState>(&shape, b) {
+                assert_eq!(format!("{t:?}"), planned, "{b:?}");
+            }
+        }
+        serde_cdr::from_cdr::<JointState>(&shape, &good).unwrap();
+        assert_eq!(serde_cdr::read_path::<JointState>(&shape), "trusted");
+    }
+}
+
 /// `std_msgs/msg/Float64` as a plain `f64`: a wrapper only the plan path writes.
 #[test]
 fn a_type_that_does_not_mirror_its_message_takes_the_plan_path() {
@@ -182,6 +236,8 @@ fn a_type_that_does_not_mirror_its_message_takes_the_plan_path() {
     assert_eq!(bytes, planned);
     assert_eq!(serde_cdr::from_cdr::<f64>(&shape, &bytes).unwrap(), 2.5);
     assert!(serde_cdr::from_cdr_fast::<f64>(&shape, &bytes).is_none());
+    assert!(serde_cdr::from_cdr_trusted::<f64>(&shape, &bytes).is_none());
+    assert_eq!(serde_cdr::read_path::<f64>(&shape), "plan");
 
     // A struct of the message's own shape takes the fast paths (the other side).
     #[derive(Serialize, Deserialize, PartialEq, Debug)]
@@ -195,6 +251,8 @@ fn a_type_that_does_not_mirror_its_message_takes_the_plan_path() {
         serde_cdr::from_cdr_fast::<Float64>(&shape, &bytes),
         Some(value)
     );
+    serde_cdr::from_cdr::<Float64>(&shape, &bytes).unwrap();
+    assert_eq!(serde_cdr::read_path::<Float64>(&shape), "trusted");
 }
 
 /// Skips `effort` when empty: a `JointState` only while it has efforts.
@@ -263,5 +321,10 @@ fn a_timestamp_that_is_not_a_time_keeps_the_type_on_the_checked_tape() {
         assert_eq!(bytes, want);
         let back = serde_cdr::from_cdr_fast::<Stamped>(&shape, &bytes);
         assert_eq!(back.as_ref(), Some(&value));
+        assert_eq!(
+            serde_cdr::from_cdr::<Stamped>(&shape, &bytes).unwrap(),
+            value
+        );
+        assert_eq!(serde_cdr::read_path::<Stamped>(&shape), "tape");
     }
 }

@@ -33,7 +33,13 @@
 //!   whose message's layout depends on nothing but sequence lengths and strings is
 //!   written by XCDR1's rules alone, the tape consulted only for its sequences; the
 //!   number of fields and of sequences visited is still checked in every sample (a miss
-//!   goes back to the tape).
+//!   goes back to the tape). An array of a primitive is made room for once and its
+//!   elements written into it (`fast/packed.rs`, the tape's writer too).
+//! - The trusted reader (`fast/trusted_read.rs`): its reading side, for the same
+//!   messages, once a type has read a sample along the tape: each primitive read
+//!   aligned with one bounds check, the tape consulted only for sequences; every length,
+//!   bound, NUL, UTF-8 and `bool` still checked against the bytes, and the number of
+//!   fields and sequences read (a miss reads the sample along the tape).
 //!
 //! Nothing is allocated per sample but the value's own strings and vectors: an error's
 //! field path is built only when there is an error.
@@ -262,6 +268,20 @@ pub fn from_cdr_planned<T: DeserializeOwned>(
 #[doc(hidden)]
 pub fn from_cdr_fast<T: DeserializeOwned>(shape: &Shape<'_>, bytes: &[u8]) -> Option<T> {
     (shape.fast.as_ref()).and_then(|tape| fast::read_any(tape, bytes).ok())
+}
+
+/// How [`from_cdr`] reads samples as `T` now: `"trusted"` (a type that mirrors the
+/// message, found so in a sample read along the tape), `"tape"` or `"plan"` (for tests).
+#[doc(hidden)]
+pub fn read_path<T: DeserializeOwned>(shape: &Shape<'_>) -> &'static str {
+    (shape.fast.as_ref()).map_or("plan", |tape| tape.read_path::<T>())
+}
+
+/// The trusted reader alone (`fast/trusted_read.rs`), as if `T` had been found to
+/// mirror the message: `None` where it misses (for tests).
+#[doc(hidden)]
+pub fn from_cdr_trusted<T: DeserializeOwned>(shape: &Shape<'_>, bytes: &[u8]) -> Option<T> {
+    (shape.fast.as_ref()).and_then(|tape| fast::read_trusted(tape, bytes).ok())
 }
 
 /// [`from_cdr`] with the shape's borrow and its registry's as one lifetime.

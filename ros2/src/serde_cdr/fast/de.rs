@@ -7,8 +7,10 @@ use crate::def::Primitive;
 use crate::wire::HEADER;
 use serde::de::{self, DeserializeOwned, DeserializeSeed, SeqAccess, Visitor};
 
-/// Reads a sample of the message of `ops` as a `T`.
-pub(super) fn read<T: DeserializeOwned>(ops: &[Op<'_>], bytes: &[u8]) -> Result<T, Miss> {
+/// Reads a sample of the message of `ops` as a `T`; with whether the trusted reader may
+/// read values of this type from now on (every Time was read as a `Timestamp`, and only
+/// Times were; see `trusted_read.rs`).
+pub(super) fn read<T: DeserializeOwned>(ops: &[Op<'_>], bytes: &[u8]) -> Result<(T, bool), Miss> {
     // Little-endian plain CDR (the plan path explains any other header).
     if !matches!(bytes, [0x00, 0x01, _, _, ..]) {
         return Err(Miss);
@@ -18,13 +20,14 @@ pub(super) fn read<T: DeserializeOwned>(ops: &[Op<'_>], bytes: &[u8]) -> Result<
         pos: 0,
         data: bytes,
         at: HEADER.len(),
+        trustable: true,
     };
     let value = T::deserialize(De::at(&mut r, 0)?)?;
     // Writers may pad a sample to a multiple of 4.
     if r.data.len() - r.at > 3 {
         return Err(Miss);
     }
-    Ok(value)
+    Ok((value, r.trustable))
 }
 
 /// The sample being read and the op next on the tape.
@@ -34,6 +37,7 @@ struct R<'t, 'd> {
     data: &'d [u8],
     /// The offset in the sample (the header counted).
     at: usize,
+    trustable: bool,
 }
 
 impl<'d> R<'_, 'd> {
@@ -141,11 +145,7 @@ impl<'a, 't, 'd> De<'a, 't, 'd> {
                 }
                 // By value (in registers): a visitor that stops early leaves the rest
                 // of these bytes unread, the sample's offset is past them all the same.
-                v.visit_seq(PackedSeq {
-                    bytes: self.r.take(len * p.size())?,
-                    p,
-                    len,
-                })?
+                v.visit_seq(PackedSeq::new(self.r.take(len * p.size())?, p, len))?
             }
             None => {
                 let body = self.r.pos;
@@ -352,7 +352,12 @@ impl<'d> de::Deserializer<'d> for De<'_, '_, 'd> {
         if self.op.kind != Kind::Struct {
             return Err(Miss);
         }
-        if self.op.time && name == "Timestamp" && fields == ["nanos"] {
+        let timestamp = name == "Timestamp" && fields == ["nanos"];
+        if self.op.time != timestamp {
+            // A Time as its fields, or a `Timestamp` that is not a Time.
+            self.r.trustable = false;
+        }
+        if self.op.time && timestamp {
             let value = v.visit_seq(Nanos { r: self.r })?;
             self.r.pos = self.op.end;
             return Ok(value);
@@ -446,11 +451,19 @@ impl<'d> SeqAccess<'d> for Nanos<'_, '_, 'd> {
 }
 
 /// The elements of an array of the primitive `p`, from the array's bytes (taken whole:
-/// no bounds to keep but theirs).
-struct PackedSeq<'d> {
+/// no bounds to keep but theirs). Also the trusted reader's (`trusted_read.rs`).
+pub(super) struct PackedSeq<'d> {
     bytes: &'d [u8],
     p: Primitive,
     len: usize,
+}
+
+impl<'d> PackedSeq<'d> {
+    /// `len` elements of `p` in `bytes` (`len` times its size).
+    #[inline(always)]
+    pub fn new(bytes: &'d [u8], p: Primitive, len: usize) -> Self {
+        PackedSeq { bytes, p, len }
+    }
 }
 
 impl<'d> SeqAccess<'d> for PackedSeq<'d> {

@@ -33,6 +33,9 @@
 //! (`trusted.rs`): written with no tape but for its sequences, where the message's
 //! layout allows it. The type is known by the address of its trusted writer
 //! ([`trust_key`]); a trusted sample that misses is written through the tape again.
+//! Reading likewise (`trusted_read.rs`): a type that read a sample along the tape (every
+//! Time a `Timestamp`, no `Timestamp` elsewhere) is read from then on with no tape but
+//! for its sequences ([`read_key`]); a sample it misses is read along the tape.
 
 /// The serializer methods the fast writers refuse (a miss): one list for the tape's
 /// writer (`ser.rs`) and the trusted one (`trusted.rs`), each with its own `No`
@@ -86,8 +89,10 @@ macro_rules! seq_impls {
 }
 
 mod de;
+mod packed;
 mod ser;
 mod trusted;
+mod trusted_read;
 
 use super::plan::{Builtin, Elem, Plan, Slot};
 use crate::def::{Arity, Primitive};
@@ -218,6 +223,8 @@ pub(crate) struct Tape<'r> {
     /// the type found to mirror it ([`trust_key`]).
     layout: Option<trusted::Layout>,
     trusted: AtomicUsize,
+    /// The type found to mirror the message when read ([`read_key`]).
+    trusted_read: AtomicUsize,
     /// `type_name` addresses of the last type written / read by the plan path after a
     /// miss.
     slow_write: AtomicUsize,
@@ -237,6 +244,7 @@ impl<'r> Tape<'r> {
         Some(Tape {
             layout: trusted::Layout::new(&make.ops),
             trusted: AtomicUsize::new(0),
+            trusted_read: AtomicUsize::new(0),
             ops: make.ops,
             slow_write: AtomicUsize::new(0),
             slow_read: AtomicUsize::new(0),
@@ -268,10 +276,24 @@ impl<'r> Tape<'r> {
     /// Reads a sample as a `T`, or misses (as [`Self::write`]).
     #[inline]
     pub fn read<T: DeserializeOwned>(&self, bytes: &[u8]) -> Result<T, Miss> {
+        if let Some(layout) = &self.layout {
+            if self.trusted_read.load(Ordering::Relaxed) == read_key::<T>() {
+                if let Ok(value) = trusted_read::read(layout, bytes) {
+                    return Ok(value);
+                }
+                // A bad sample, or a type not as its checked sample was: along the
+                // tape, which trusts it again if it reads it.
+                self.trusted_read.store(0, Ordering::Relaxed);
+            }
+        }
         if self.slow_read.load(Ordering::Relaxed) == type_key::<T>() {
             return Err(Miss);
         }
-        de::read(&self.ops, bytes)
+        let (value, trustable) = de::read(&self.ops, bytes)?;
+        if trustable && self.layout.is_some() {
+            self.trusted_read.store(read_key::<T>(), Ordering::Relaxed);
+        }
+        Ok(value)
     }
 
     /// How values of `T` are written now: `"trusted"`, `"tape"` or `"plan"` (for tests).
@@ -279,6 +301,17 @@ impl<'r> Tape<'r> {
         if self.layout.is_some() && self.trusted.load(Ordering::Relaxed) == trust_key::<T>() {
             "trusted"
         } else if self.slow_write.load(Ordering::Relaxed) == type_key::<T>() {
+            "plan"
+        } else {
+            "tape"
+        }
+    }
+
+    /// How samples are read as `T` now: `"trusted"`, `"tape"` or `"plan"` (for tests).
+    pub fn read_path<T: DeserializeOwned>(&self) -> &'static str {
+        if self.layout.is_some() && self.trusted_read.load(Ordering::Relaxed) == read_key::<T>() {
+            "trusted"
+        } else if self.slow_read.load(Ordering::Relaxed) == type_key::<T>() {
             "plan"
         } else {
             "tape"
@@ -313,6 +346,13 @@ fn type_key<T: ?Sized>() -> usize {
 fn trust_key<T: Serialize + ?Sized>() -> usize {
     let writer: fn(&trusted::Layout, &T, &mut Vec<u8>) -> Result<(), Miss> = trusted::write::<T>;
     writer as usize
+}
+
+/// [`trust_key`] for reading: the address of the trusted reader made for `T`.
+#[inline(always)]
+fn read_key<T: DeserializeOwned>() -> usize {
+    let reader: fn(&trusted::Layout, &[u8]) -> Result<T, Miss> = trusted_read::read::<T>;
+    reader as usize
 }
 
 /// The tape being made, and what is known of the offset where it is (for the padding):
@@ -468,7 +508,14 @@ pub(crate) fn write_any<T: Serialize + ?Sized>(
     ser::write(&tape.ops, value, buf).map(drop)
 }
 
+/// The trusted reader alone, whether or not `T` was found to mirror the message (for
+/// tests: it must read what the tape reads, or miss). A miss where the message's
+/// layout does not qualify.
+pub(crate) fn read_trusted<T: DeserializeOwned>(tape: &Tape<'_>, bytes: &[u8]) -> Result<T, Miss> {
+    trusted_read::read(tape.layout.as_ref().ok_or(Miss)?, bytes)
+}
+
 /// [`Tape::read`] whatever the hint says (for tests).
 pub(crate) fn read_any<T: DeserializeOwned>(tape: &Tape<'_>, bytes: &[u8]) -> Result<T, Miss> {
-    de::read(&tape.ops, bytes)
+    de::read(&tape.ops, bytes).map(|(value, _)| value)
 }

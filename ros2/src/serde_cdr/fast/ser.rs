@@ -1,5 +1,6 @@
 //! Writing a value along the tape (see `mod.rs`).
 
+use super::packed::Packed;
 use super::{Kind, Miss, Op, DYNAMIC, NANOS};
 use crate::def::Primitive;
 use crate::wire::HEADER;
@@ -111,24 +112,20 @@ impl<'a, 't> Ser<'a, 't> {
             return Err(Miss);
         }
         self.w.count(op, len)?;
-        let mut full = 0;
-        if let Some(p) = op.elem {
-            if len > 0 {
-                if op.pad_elem != 0 {
-                    self.w.pad(op.pad_elem, p.size());
-                }
-                self.w.buf.reserve(len * p.size());
-            }
-            full = self.w.buf.len() + len * p.size();
+        let Some(p) = op.elem else {
+            return Ok(Seq::Nested {
+                body: self.w.pos,
+                w: self.w,
+                end: op.end,
+                left: len,
+            });
+        };
+        // Packed: nothing of the tape inside.
+        self.w.pos = op.end;
+        if len > 0 && op.pad_elem != 0 {
+            self.w.pad(op.pad_elem, p.size());
         }
-        Ok(Seq {
-            body: self.w.pos,
-            w: self.w,
-            elem: op.elem,
-            full,
-            end: op.end,
-            left: len,
-        })
+        Packed::new(&mut self.w.buf, p, len).map(Seq::Packed)
     }
 }
 
@@ -305,41 +302,51 @@ impl Struct<'_, '_> {
 }
 
 /// The elements of an array or sequence.
-struct Seq<'a, 't> {
-    w: &'a mut W<'t>,
-    /// The primitive of an array of one (written packed).
-    elem: Option<Primitive>,
-    /// The sample's length once all are written (packed).
-    full: usize,
-    /// The element's op (not packed).
-    body: usize,
-    end: usize,
-    left: usize,
+enum Seq<'a, 't> {
+    /// Of a primitive (see `packed.rs`).
+    Packed(Packed<'a>),
+    /// Of anything else: each element the op `body`, the tape's ops of the sequence
+    /// ending at `end`, `left` elements still to write.
+    Nested {
+        w: &'a mut W<'t>,
+        body: usize,
+        end: usize,
+        left: usize,
+    },
+    /// An element was not what the sequence holds, or one too many: a miss at the end.
+    Spoilt,
 }
 
-impl<'t> Seq<'_, 't> {
+impl<'a, 't> Seq<'a, 't> {
     #[inline(always)]
     fn element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Miss> {
-        value.serialize(Item { seq: self })
+        let done = value.serialize(Item { seq: self });
+        if done.is_err() {
+            *self = Seq::Spoilt;
+        }
+        done
     }
 
     /// The next element's serializer (not packed).
     #[inline]
     fn next(&mut self) -> Result<Ser<'_, 't>, Miss> {
-        if self.elem.is_some() {
+        let Seq::Nested { w, body, left, .. } = self else {
             return Err(Miss);
-        }
-        self.left = self.left.checked_sub(1).ok_or(Miss)?;
-        Ser::at(self.w, self.body)
+        };
+        *left = left.checked_sub(1).ok_or(Miss)?;
+        Ser::at(w, *body)
     }
 
     #[inline(always)]
     fn finish(self) -> Result<(), Miss> {
-        let all = match self.elem {
-            Some(_) => self.w.buf.len() == self.full,
-            None => self.left == 0,
+        let all = match self {
+            Seq::Packed(packed) => packed.full(),
+            Seq::Nested { w, end, left, .. } => {
+                w.pos = end;
+                left == 0
+            }
+            Seq::Spoilt => false,
         };
-        self.w.pos = self.end;
         if all {
             Ok(())
         } else {
@@ -362,11 +369,10 @@ struct Item<'s, 'a, 't> {
 impl Item<'_, '_, '_> {
     #[inline(always)]
     fn put<const N: usize>(self, ours: Primitive, bytes: [u8; N]) -> Result<(), Miss> {
-        if self.seq.elem != Some(ours) {
-            return Err(Miss);
+        match self.seq {
+            Seq::Packed(packed) => packed.fill(ours, bytes),
+            _ => Err(Miss),
         }
-        self.seq.w.buf.extend_from_slice(&bytes);
-        Ok(())
     }
 }
 

@@ -14,6 +14,7 @@
 //! `skip_serializing_if` is a miss) and of sequences, each sequence's length against
 //! the tape and its elements' type, each string's NUL.
 
+use super::packed::Packed;
 use super::{Miss, Op};
 use crate::def::Primitive;
 use crate::wire::HEADER;
@@ -25,17 +26,18 @@ type No = Impossible<(), Miss>;
 /// A sequence on the tape.
 #[derive(Clone, Copy)]
 pub(super) struct SeqOp {
-    fixed: bool,
-    n: u32,
+    pub fixed: bool,
+    pub n: u32,
     /// Of a primitive (packed), else of strings.
-    elem: Option<Primitive>,
+    pub elem: Option<Primitive>,
 }
 
-/// What the trusted writer needs of a tape that qualifies.
+/// What the trusted writer (and reader, `trusted_read.rs`) needs of a tape that
+/// qualifies.
 pub(super) struct Layout {
-    seqs: Vec<SeqOp>,
+    pub seqs: Vec<SeqOp>,
     /// The fields a mirroring type visits (a Time's two as `Timestamp`'s one `nanos`).
-    fields: usize,
+    pub fields: usize,
 }
 
 impl Layout {
@@ -305,48 +307,47 @@ impl ser::SerializeStruct for Struct<'_, '_> {
     }
 }
 
-/// The elements of a sequence: primitives (packed: aligned before the first) or strings.
-struct Seq<'a, 'l> {
-    m: &'a mut M<'l>,
-    elem: Option<Primitive>,
-    /// The sample's length once all are written (packed); strings left to write.
-    full: usize,
+/// The elements of a sequence.
+enum Seq<'a, 'l> {
+    /// Of a primitive (see `packed.rs`), aligned before the first element.
+    Packed(Packed<'a>),
+    /// Of strings: the sample and the number of strings left to write.
+    Strings { m: &'a mut M<'l>, left: usize },
+    /// An element was not what the sequence holds, or one too many: a miss at the end.
+    Spoilt,
 }
 
 impl<'a, 'l> Seq<'a, 'l> {
     #[inline(always)]
     fn new(m: &'a mut M<'l>, len: usize) -> Result<Self, Miss> {
         let seq = m.seq(len)?;
-        let full = match seq.elem {
-            Some(p) if len > 0 => {
-                let size = p.size();
-                let pad = HEADER.len().wrapping_sub(m.buf.len()) & (size - 1);
-                if pad != 0 {
-                    m.pad(pad);
-                }
-                m.buf.reserve(len * size);
-                m.buf.len() + len * size
-            }
-            Some(_) => m.buf.len(),
-            None => len,
+        let Some(elem) = seq.elem else {
+            return Ok(Seq::Strings { m, left: len });
         };
-        Ok(Seq {
-            m,
-            elem: seq.elem,
-            full,
-        })
+        if len > 0 {
+            let pad = HEADER.len().wrapping_sub(m.buf.len()) & (elem.size() - 1);
+            if pad != 0 {
+                m.pad(pad);
+            }
+        }
+        Packed::new(&mut m.buf, elem, len).map(Seq::Packed)
     }
 
     #[inline(always)]
     fn element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Miss> {
-        value.serialize(Item { seq: self })
+        let done = value.serialize(Item { seq: self });
+        if done.is_err() {
+            *self = Seq::Spoilt;
+        }
+        done
     }
 
     #[inline(always)]
     fn finish(self) -> Result<(), Miss> {
-        let all = match self.elem {
-            Some(_) => self.m.buf.len() == self.full,
-            None => self.full == 0,
+        let all = match self {
+            Seq::Packed(packed) => packed.full(),
+            Seq::Strings { left, .. } => left == 0,
+            Seq::Spoilt => false,
         };
         if all {
             Ok(())
@@ -366,15 +367,21 @@ struct Item<'s, 'a, 'l> {
     seq: &'s mut Seq<'a, 'l>,
 }
 
+impl Item<'_, '_, '_> {
+    #[inline(always)]
+    fn fill<const N: usize>(self, p: Primitive, bytes: [u8; N]) -> Result<(), Miss> {
+        match self.seq {
+            Seq::Packed(packed) => packed.fill(p, bytes),
+            _ => Err(Miss),
+        }
+    }
+}
+
 macro_rules! packed {
     ($($name:ident $p:ident $t:ty),*) => {
         $(#[inline(always)]
         fn $name(self, v: $t) -> Result<(), Miss> {
-            if self.seq.elem != Some(Primitive::$p) {
-                return Err(Miss);
-            }
-            self.seq.m.buf.extend_from_slice(&v.to_le_bytes());
-            Ok(())
+            self.fill(Primitive::$p, v.to_le_bytes())
         })*
     };
 }
@@ -401,18 +408,16 @@ impl ser::Serializer for Item<'_, '_, '_> {
 
     #[inline(always)]
     fn serialize_bool(self, v: bool) -> Result<(), Miss> {
-        if self.seq.elem != Some(Primitive::Bool) {
-            return Err(Miss);
-        }
-        self.seq.m.buf.push(u8::from(v));
-        Ok(())
+        self.fill(Primitive::Bool, [u8::from(v)])
     }
     fn serialize_str(self, v: &str) -> Result<(), Miss> {
-        if self.seq.elem.is_some() || self.seq.full == 0 {
-            return Err(Miss);
+        match self.seq {
+            Seq::Strings { m, left } if *left > 0 => {
+                *left -= 1;
+                m.string(v)
+            }
+            _ => Err(Miss),
         }
-        self.seq.full -= 1;
-        self.seq.m.string(v)
     }
     fn serialize_bytes(self, _: &[u8]) -> Result<(), Miss> {
         Err(Miss)
