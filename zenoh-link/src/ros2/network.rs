@@ -178,19 +178,13 @@ impl Ros2Ends {
     pub fn publish(&self, frame: Frame) -> Result<(), Frame> {
         if let Some(caller) = self.callers.get(&frame.link) {
             if let Err(why) = caller.call(&frame.bytes) {
-                console::report(&format!(
-                    "warning: ROS 2 service `{}`: {why}",
-                    caller.spec().name
-                ));
+                console::report(&service_warning(&caller.spec().name, &why));
             }
             return Ok(());
         }
         if let Some(server) = self.servers.get(&frame.link) {
             if let Err(why) = server.answer(&frame.bytes) {
-                console::report(&format!(
-                    "warning: ROS 2 service `{}`: {why}",
-                    server.spec().name
-                ));
+                console::report(&service_warning(&server.spec().name, &why));
             }
             return Ok(());
         }
@@ -211,6 +205,12 @@ impl Ros2Ends {
     pub fn take_arrived(&self) -> Vec<Frame> {
         self.arrived.as_ref().map_or_else(Vec::new, |a| a.take())
     }
+}
+
+/// The warning about a request or answer of the ROS 2 service `name` that went wrong
+/// (`why` does not name the service again).
+fn service_warning(name: &str, why: &str) -> String {
+    format!("warning: ROS 2 service `{name}`: {why}")
 }
 
 /// What the wire needs of a service or client end.
@@ -487,6 +487,17 @@ mod tests {
         assert_eq!(frames[1].bytes, b"99990");
         assert_eq!(frames[10].bytes, b"99999");
         assert!(arrived.take().is_empty(), "taken once");
+    }
+
+    /// A request the module's full request queue refused: the service named once.
+    #[test]
+    fn a_refused_request_s_warning_names_the_service_once() {
+        let why = super::super::service::not_answered(&ferroc_runtime::link::calls::error_of(4));
+        assert_eq!(
+            service_warning("/switch_bot/set_enabled", &why),
+            "warning: ROS 2 service `/switch_bot/set_enabled`: a request was not answered: \
+             the service's request queue is full"
+        );
     }
 
     #[test]
