@@ -15,13 +15,13 @@ mod common;
 /// The demo with /scan, /odom and /goal_pose, beside zenoh-ros2-sdk.
 #[path = "ros2_run/demo.rs"]
 mod demo;
+/// A foreign ROS 2 node of bare Zenoh flooding a topic, for hostile.rs.
+#[path = "ros2_run/flooder.rs"]
+mod flooder;
 /// A foreign node's flood of bad samples, and of requests to a service: reported,
 /// throttled; the part runs on.
 #[path = "ros2_run/hostile.rs"]
 mod hostile;
-/// A foreign ROS 2 node of bare Zenoh flooding a topic, for hostile.rs.
-#[path = "ros2_run/flooder.rs"]
-mod flooder;
 /// The node and a module's service reached through a Zenoh router, as through rmw_zenohd.
 #[path = "ros2_run/router.rs"]
 mod router;

@@ -7,7 +7,8 @@
 //! It listens on a loopback port (the run connects to it; multicast off) and subscribes
 //! to `/cmd_vel`. Once the robot moves and the node's `/enable` subscription is
 //! announced, it floods `/enable` (std_msgs/msg/Bool) with [`ROUNDS`] rounds of eight
-//! samples, blocking when Zenoh's queue is full (so every sample reaches the run): a
+//! samples, as fast as it can put them (what the link cannot carry is dropped at the
+//! sender, as by rmw_zenoh's keep-last publishers; the run receives what it can): a
 //! CDR header that is not `00 01`, no attachment, a short and a long attachment, a bool
 //! of 2..=255, the header alone, a `false` under another type hash (must not reach the
 //! robot) and a good `true`. Then it publishes a good `false` every 100 ms until the
@@ -41,7 +42,11 @@ pub fn open(listen: &str) -> Session {
     let mut config = zenoh::Config::default();
     let set = |c: &mut zenoh::Config, k: &str, v: &str| c.insert_json5(k, v).unwrap();
     set(&mut config, "mode", "\"peer\"");
-    set(&mut config, "listen/endpoints", &json!([listen]).to_string());
+    set(
+        &mut config,
+        "listen/endpoints",
+        &json!([listen]).to_string(),
+    );
     set(&mut config, "connect/endpoints", "[]");
     set(&mut config, "scouting/multicast/enabled", "false");
     zenoh::open(config).wait().unwrap()
@@ -50,7 +55,10 @@ pub fn open(listen: &str) -> Session {
 /// rmw_zenoh's attachment (attachment_helpers.cpp): sequence number and source time,
 /// each i64 little endian, the GID's length 16 and the GID.
 fn attachment(sequence: i64) -> Vec<u8> {
-    let now = SystemTime::now().duration_since(UNIX_EPOCH).unwrap().as_nanos() as i64;
+    let now = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .unwrap()
+        .as_nanos() as i64;
     let mut bytes = sequence.to_le_bytes().to_vec();
     bytes.extend(now.to_le_bytes());
     bytes.push(16);
@@ -125,14 +133,16 @@ pub fn run(session: &Session, seconds: u64) -> serde_json::Value {
     let moving = |v: &Vec<f64>| v.iter().any(|x| *x != 0.0);
     let moved = || samples.lock().unwrap().iter().any(|(_, v)| moving(v));
     let key = enable_key(session, &moved, deadline).expect("no /enable subscription, or no motion");
-    let block = CongestionControl::Block;
+    // As rmw_zenoh's publishers of a keep-last topic (rmw_publisher_data.cpp): what the
+    // link cannot take is dropped at the sender, so the flood goes at the flooder's pace.
+    let drop = CongestionControl::Drop;
     let publisher = (session.declare_publisher(key.clone()))
-        .congestion_control(block)
+        .congestion_control(drop)
         .wait()
         .unwrap();
     let (prefix, _) = key.rsplit_once('/').unwrap();
     let stray = (session.declare_publisher(format!("{prefix}/RIHS01_{}", "5a".repeat(32))))
-        .congestion_control(block)
+        .congestion_control(drop)
         .wait()
         .unwrap();
 
@@ -146,7 +156,11 @@ pub fn run(session: &Session, seconds: u64) -> serde_json::Value {
     };
     for _ in 0..ROUNDS {
         let header = [bytes.next() | 2, bytes.next(), 0, 0, 1];
-        publisher.put(header.to_vec()).attachment(next()).wait().unwrap();
+        publisher
+            .put(header.to_vec())
+            .attachment(next())
+            .wait()
+            .unwrap();
         publisher.put(bool_cdr(1)).wait().unwrap();
         let short: Vec<u8> = (0..bytes.next() % 33).collect();
         publisher.put(bool_cdr(1)).attachment(short).wait().unwrap();
@@ -154,9 +168,17 @@ pub fn run(session: &Session, seconds: u64) -> serde_json::Value {
         publisher.put(bool_cdr(1)).attachment(long).wait().unwrap();
         let bad_bool = bool_cdr(2 + bytes.next() % 254);
         publisher.put(bad_bool).attachment(next()).wait().unwrap();
-        publisher.put(vec![0, 1, 0, 0]).attachment(next()).wait().unwrap();
+        publisher
+            .put(vec![0, 1, 0, 0])
+            .attachment(next())
+            .wait()
+            .unwrap();
         stray.put(bool_cdr(0)).attachment(next()).wait().unwrap();
-        publisher.put(bool_cdr(1)).attachment(next()).wait().unwrap();
+        publisher
+            .put(bool_cdr(1))
+            .attachment(next())
+            .wait()
+            .unwrap();
     }
     let flood_seconds = started.elapsed().as_secs_f64();
     phase.store(2, Ordering::Relaxed);
@@ -165,18 +187,28 @@ pub fn run(session: &Session, seconds: u64) -> serde_json::Value {
     // The part still reads its input: a good `false` stops the robot.
     let first_false = Instant::now();
     while Instant::now() < deadline {
-        let disabled = samples.lock().unwrap().iter().filter(|(p, _)| *p == 3).count();
+        let disabled = samples
+            .lock()
+            .unwrap()
+            .iter()
+            .filter(|(p, _)| *p == 3)
+            .count();
         if disabled >= 10 {
             break;
         }
-        publisher.put(bool_cdr(0)).attachment(next()).wait().unwrap();
+        publisher
+            .put(bool_cdr(0))
+            .attachment(next())
+            .wait()
+            .unwrap();
         if first_false.elapsed() > Duration::from_millis(500) {
             phase.store(3, Ordering::Relaxed);
         }
         std::thread::sleep(Duration::from_millis(100));
     }
-    let sent: serde_json::Map<String, serde_json::Value> =
-        (KINDS.iter()).map(|k| (k.to_string(), json!(ROUNDS))).collect();
+    let sent: serde_json::Map<String, serde_json::Value> = (KINDS.iter())
+        .map(|k| (k.to_string(), json!(ROUNDS)))
+        .collect();
     let samples: Vec<serde_json::Value> = (samples.lock().unwrap().iter())
         .map(|(p, v)| json!({ "phase": PHASES[*p as usize], "linear": v[..3], "angular": v[3..] }))
         .collect();

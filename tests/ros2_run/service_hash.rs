@@ -17,7 +17,12 @@ const HASH_REPORT: &str = "was sent with another type hash";
 
 /// Runs `model` for 20 s listening on a free port beside `sdk_hash_peer.py MODE`: the
 /// peer's JSON report and text, and the run's standard output.
-fn beside_hash_peer(python: &Path, name: &str, model: &str, mode: &str) -> (serde_json::Value, String, String) {
+fn beside_hash_peer(
+    python: &Path,
+    name: &str,
+    model: &str,
+    mode: &str,
+) -> (serde_json::Value, String, String) {
     let dir = tempdir(name);
     build_runner_of(model, &dir);
     let port = free_port();
@@ -27,7 +32,10 @@ fn beside_hash_peer(python: &Path, name: &str, model: &str, mode: &str) -> (serd
         .args([mode, &port.to_string()])
         .arg(root().join("ros2/interfaces"))
         .arg("15")
-        .env("ZENOH_CONFIG_OVERRIDE", "listen/endpoints=[\"tcp/127.0.0.1:0\"]")
+        .env(
+            "ZENOH_CONFIG_OVERRIDE",
+            "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
+        )
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -56,7 +64,12 @@ fn a_call_under_another_type_hash_is_refused_reported_and_told_to_the_caller() {
         return;
     };
     let (report, text, out) = beside_hash_peer(&python, "ros2_service_hash", SWITCH_TWO, "client");
-    let theirs = report["wrong_key"].as_str().unwrap().rsplit('/').next().unwrap();
+    let theirs = report["wrong_key"]
+        .as_str()
+        .unwrap()
+        .rsplit('/')
+        .next()
+        .unwrap();
     assert_eq!(theirs, format!("RIHS01_{}", "5a".repeat(32)), "{text}");
 
     // Silent: both services answered with the right hash, before and after.
@@ -72,7 +85,11 @@ fn a_call_under_another_type_hash_is_refused_reported_and_told_to_the_caller() {
     let logged = report["sdk_logged"].as_array().unwrap();
     assert!(logged.iter().any(|l| told(l.as_str().unwrap())), "{text}");
     let errors = report["raw_errors"].as_array().unwrap();
-    assert_eq!((errors.len(), report["raw_oks"].as_u64()), (1, Some(0)), "{text}");
+    assert_eq!(
+        (errors.len(), report["raw_oks"].as_u64()),
+        (1, Some(0)),
+        "{text}"
+    );
     assert!(
         errors[0].as_str().unwrap().starts_with(
             "the ROS 2 service `/switch_bot/set_enabled` refused the request: it was sent \

@@ -14,7 +14,7 @@
 //! `tcp/localhost:7447`, multicast scouting off), with `ZENOH_SESSION_CONFIG_URI`'s file
 //! merged over it as rmw_zenoh reads it.
 
-use super::service::{Ros2Caller, Ros2Server, ServiceSpec};
+use super::service::{Ros2Caller, Ros2Server, ServiceSpec, MAX_WAITING};
 use super::{NodeSpec, Ros2Node, Ros2Publisher, Ros2Subscriber, TopicSpec};
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::{Durability, History, Qos, Reliability};
@@ -129,8 +129,10 @@ impl Ros2Ends {
     }
 
     /// A server of the module's service `s`: its requests go to the stand-in client on
-    /// the service's request link (in lockstep at the next instant, at most 10 per
-    /// service kept, as rmw_zenoh's default service QoS keeps).
+    /// the service's request link (in lockstep at the next instant, every one: each
+    /// holds one of the server's [`MAX_WAITING`] places until it is answered, so one
+    /// dropped here would keep its place, and its caller waiting, for ever; the
+    /// module's request queue refuses what it cannot take, with an answer).
     fn add_server(
         &mut self,
         node: &Ros2Node,
@@ -141,7 +143,7 @@ impl Ros2Ends {
         let link = ends::request_link(s.id);
         let (arrived, delivery) = (self.arrived.clone(), delivery.clone());
         let server = node.service_server(spec, move |bytes| match &arrived {
-            Some(queue) => queue.push(link, bytes, 10),
+            Some(queue) => queue.push(link, bytes, MAX_WAITING),
             None => delivery.deliver_bytes(link, &bytes),
         })?;
         self.servers.insert(ends::answer_link(s.id), server);

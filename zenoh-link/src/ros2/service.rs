@@ -185,9 +185,7 @@ impl Shared {
             .split_first_chunk::<8>()
             .ok_or("an answer shorter than its number")?;
         let id = u64::from_le_bytes(*id);
-        let (&kind, body) = rest
-            .split_first()
-            .ok_or("an answer without its kind")?;
+        let (&kind, body) = rest.split_first().ok_or("an answer without its kind")?;
         let Some((query, asked)) = lock(&self.waiting).remove(&id) else {
             return Err("an answer to a request nobody waits for".into());
         };

@@ -23,7 +23,9 @@ use zenoh::{Session, Wait};
 
 /// What a call or a server under another hash is told and reported.
 fn help(ty: &TypeName, whose: &str) -> String {
-    format!("help: the {whose}'s definition of `{ty}` differs from ours, give both sides the same one")
+    format!(
+        "help: the {whose}'s definition of `{ty}` differs from ours, give both sides the same one"
+    )
 }
 
 /// The last chunk of a concrete key (no wildcard), if it is not `ours`.
@@ -66,7 +68,9 @@ pub(super) fn other_hash_calls(
                 &format!("warning: a request to the ROS 2 service `{name}` was refused: {why}"),
             );
             let _ = query
-                .reply_err(format!("the ROS 2 service `{name}` refused the request: {why}"))
+                .reply_err(format!(
+                    "the ROS 2 service `{name}` refused the request: {why}"
+                ))
                 .wait();
         })
         .wait()
@@ -124,7 +128,10 @@ mod tests {
     fn only_a_concrete_key_under_another_hash_is_another_hash() {
         let ours = "RIHS01_aa";
         let prefix = "0/switch_bot/set_enabled/std_srvs::srv::dds_::SetBool_";
-        assert_eq!(other_hash(&format!("{prefix}/RIHS01_bb"), ours), Some("RIHS01_bb"));
+        assert_eq!(
+            other_hash(&format!("{prefix}/RIHS01_bb"), ours),
+            Some("RIHS01_bb")
+        );
         assert_eq!(other_hash(&format!("{prefix}/{ours}"), ours), None);
         assert_eq!(other_hash(&format!("{prefix}/*"), ours), None);
         assert_eq!(other_hash("0/**", ours), None);
