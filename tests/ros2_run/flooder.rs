@@ -37,6 +37,9 @@ const KINDS: [&str; 8] = [
 ];
 const PHASES: [&str; 4] = ["before", "flood", "after", "disabled"];
 
+/// The /cmd_vel samples received: the phase (index of [`PHASES`]) and the six values.
+type Seen = Arc<Mutex<Vec<(u8, Vec<f64>)>>>;
+
 /// A session listening on `listen` (e.g. `tcp/127.0.0.1:PORT`), peer mode, no multicast.
 pub fn open(listen: &str) -> Session {
     let mut config = zenoh::Config::default();
@@ -114,7 +117,7 @@ fn enable_key(session: &Session, moved: &dyn Fn() -> bool, deadline: Instant) ->
 pub fn run(session: &Session, seconds: u64) -> serde_json::Value {
     let deadline = Instant::now() + Duration::from_secs(seconds);
     let phase = Arc::new(AtomicU8::new(0));
-    let samples: Arc<Mutex<Vec<(u8, Vec<f64>)>>> = Arc::default();
+    let samples: Seen = Arc::default();
     let (p, s) = (Arc::clone(&phase), Arc::clone(&samples));
     let _cmd_vel = (session.declare_subscriber("0/cmd_vel/**"))
         .callback(move |sample| {
