@@ -284,3 +284,63 @@ fn in_lockstep_every_waiting_request_reaches_the_next_instant() {
         assert!(call.recv().unwrap().result().is_ok());
     }
 }
+
+/// A module's client in lockstep: every answer to its calls reaches the next instant
+/// (they were kept 10 per instant: a module with more calls answered between two
+/// instants lost the older answers, and those calls waited for ever).
+#[test]
+fn in_lockstep_every_answer_to_a_module_s_calls_reaches_the_next_instant() {
+    let session = session();
+    let response = answer(&[0; 8], 0)[9..].to_vec();
+    let server_key = key(None);
+    let _server = session
+        .declare_queryable(key(None))
+        .complete(true)
+        .callback(move |query| {
+            let _ = query.reply(server_key.clone(), response.clone()).wait();
+        })
+        .wait()
+        .unwrap();
+    let node = ends::Ros2Node {
+        part: "asker".into(),
+        domain: 0,
+        namespace: "/".into(),
+        name: "asker_bot".into(),
+        topics: Vec::new(),
+        services: Vec::new(),
+        clients: vec![ends::Ros2Service {
+            id: 0,
+            port: ("main/ask".into(), "set_enabled".into()),
+            name: NAME.into(),
+            service: "std_srvs/srv/SetBool".into(),
+            request_field: Some("data".into()),
+            response_field: None,
+        }],
+        interfaces: Vec::new(),
+    };
+    let inbox = Arc::new(Inbox::new(BTreeMap::new(), BTreeMap::new()));
+    let open = Ros2Ends::open(&session, &[node], Delivery::new(inbox), true).unwrap();
+    const CALLS: u64 = 30;
+    for id in 0..CALLS {
+        let request = [&id.to_le_bytes()[..], &cdr::HEADER[..], &[1]].concat();
+        let frame = Frame {
+            link: ends::request_link(0),
+            bytes: request,
+        };
+        assert!(open.publish(frame).is_ok());
+    }
+    let mut frames: Vec<Frame> = Vec::new();
+    until("30 answers at the instants", || {
+        frames.extend(open.take_arrived());
+        frames.len() >= CALLS as usize
+    });
+    assert_eq!(frames.len(), CALLS as usize);
+    let mut ids: Vec<u64> = (frames.iter())
+        .map(|f| {
+            assert_eq!((f.link, f.bytes[8]), (ends::answer_link(0), 0), "answered");
+            u64::from_le_bytes(f.bytes[..8].try_into().unwrap())
+        })
+        .collect();
+    ids.sort_unstable();
+    assert_eq!(ids, (0..CALLS).collect::<Vec<_>>());
+}

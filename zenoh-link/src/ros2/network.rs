@@ -151,7 +151,7 @@ impl Ros2Ends {
     }
 
     /// A client of the ROS 2 service `c` for a module's client: its answers go to the
-    /// stand-in service on the answer link (in lockstep at the next instant).
+    /// stand-in service on the answer link (in lockstep at the next instant, every one).
     fn add_caller(
         &mut self,
         node: &Ros2Node,
@@ -161,8 +161,11 @@ impl Ros2Ends {
         let spec = service_spec(c)?;
         let link = ends::answer_link(c.id);
         let (arrived, delivery) = (self.arrived.clone(), delivery.clone());
+        // Every answer is kept for the next instant: each is the one answer (or time-out)
+        // of a call the module made, whose caller waits for it, so they are as many as
+        // its calls in flight, never more (a server replying twice is answered once).
         let caller = node.service_client(spec, move |bytes| match &arrived {
-            Some(queue) => queue.push(link, bytes, 10),
+            Some(queue) => queue.push(link, bytes, usize::MAX),
             None => delivery.deliver_bytes(link, &bytes),
         })?;
         self.callers.insert(ends::request_link(c.id), caller);
