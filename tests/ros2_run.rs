@@ -15,6 +15,9 @@ mod common;
 /// The demo with /scan, /odom and /goal_pose, beside zenoh-ros2-sdk.
 #[path = "ros2_run/demo.rs"]
 mod demo;
+/// A foreign ROS 2 node of bare Zenoh flooding a topic, for hostile.rs.
+#[path = "ros2_run/flooder.rs"]
+mod flooder;
 /// A foreign node's flood of bad samples, and of requests to a service: reported,
 /// throttled; the part runs on.
 #[path = "ros2_run/hostile.rs"]
@@ -22,6 +25,9 @@ mod hostile;
 /// The node and a module's service reached through a Zenoh router, as through rmw_zenohd.
 #[path = "ros2_run/router.rs"]
 mod router;
+/// A ROS 2 service called or offered under another type hash: reported, told.
+#[path = "ros2_run/service_hash.rs"]
+mod service_hash;
 
 use common::{build_bundle, bundle_ok, ferroc, tempdir, test_log_dir};
 use ferroc_testkit::free_port;
@@ -161,6 +167,7 @@ fn run_beside(mut peer: Command, mut run: Command) -> (serde_json::Value, String
         "was not published",
         "was dropped",
         "was refused",
+        "another type hash",
     ] {
         assert!(!run_err.contains(dropped), "{run_err}");
         assert!(!run_out.contains(dropped), "{run_out}");

@@ -28,6 +28,7 @@ pub mod durability;
 pub mod interfaces;
 pub mod network;
 pub mod service;
+mod service_hash;
 
 /// A ROS 2 node: its name, namespace and domain.
 #[derive(Clone, Debug, PartialEq, Eq)]

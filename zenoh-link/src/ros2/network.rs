@@ -14,7 +14,7 @@
 //! `tcp/localhost:7447`, multicast scouting off), with `ZENOH_SESSION_CONFIG_URI`'s file
 //! merged over it as rmw_zenoh reads it.
 
-use super::service::{Ros2Caller, Ros2Server, ServiceSpec};
+use super::service::{Ros2Caller, Ros2Server, ServiceSpec, MAX_WAITING};
 use super::{NodeSpec, Ros2Node, Ros2Publisher, Ros2Subscriber, TopicSpec};
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::{Durability, History, Qos, Reliability};
@@ -129,8 +129,10 @@ impl Ros2Ends {
     }
 
     /// A server of the module's service `s`: its requests go to the stand-in client on
-    /// the service's request link (in lockstep at the next instant, at most 10 per
-    /// service kept, as rmw_zenoh's default service QoS keeps).
+    /// the service's request link (in lockstep at the next instant, every one: each
+    /// holds one of the server's [`MAX_WAITING`] places until it is answered, so one
+    /// dropped here would keep its place, and its caller waiting, for ever; the
+    /// module's request queue refuses what it cannot take, with an answer).
     fn add_server(
         &mut self,
         node: &Ros2Node,
@@ -141,7 +143,7 @@ impl Ros2Ends {
         let link = ends::request_link(s.id);
         let (arrived, delivery) = (self.arrived.clone(), delivery.clone());
         let server = node.service_server(spec, move |bytes| match &arrived {
-            Some(queue) => queue.push(link, bytes, 10),
+            Some(queue) => queue.push(link, bytes, MAX_WAITING),
             None => delivery.deliver_bytes(link, &bytes),
         })?;
         self.servers.insert(ends::answer_link(s.id), server);
@@ -149,7 +151,7 @@ impl Ros2Ends {
     }
 
     /// A client of the ROS 2 service `c` for a module's client: its answers go to the
-    /// stand-in service on the answer link (in lockstep at the next instant).
+    /// stand-in service on the answer link (in lockstep at the next instant, every one).
     fn add_caller(
         &mut self,
         node: &Ros2Node,
@@ -159,8 +161,11 @@ impl Ros2Ends {
         let spec = service_spec(c)?;
         let link = ends::answer_link(c.id);
         let (arrived, delivery) = (self.arrived.clone(), delivery.clone());
+        // Every answer is kept for the next instant: each is the one answer (or time-out)
+        // of a call the module made, whose caller waits for it, so they are as many as
+        // its calls in flight, never more (a server replying twice is answered once).
         let caller = node.service_client(spec, move |bytes| match &arrived {
-            Some(queue) => queue.push(link, bytes, 10),
+            Some(queue) => queue.push(link, bytes, usize::MAX),
             None => delivery.deliver_bytes(link, &bytes),
         })?;
         self.callers.insert(ends::request_link(c.id), caller);
@@ -178,19 +183,13 @@ impl Ros2Ends {
     pub fn publish(&self, frame: Frame) -> Result<(), Frame> {
         if let Some(caller) = self.callers.get(&frame.link) {
             if let Err(why) = caller.call(&frame.bytes) {
-                console::report(&format!(
-                    "warning: ROS 2 service `{}`: {why}",
-                    caller.spec().name
-                ));
+                console::report(&service_warning(&caller.spec().name, &why));
             }
             return Ok(());
         }
         if let Some(server) = self.servers.get(&frame.link) {
             if let Err(why) = server.answer(&frame.bytes) {
-                console::report(&format!(
-                    "warning: ROS 2 service `{}`: {why}",
-                    server.spec().name
-                ));
+                console::report(&service_warning(&server.spec().name, &why));
             }
             return Ok(());
         }
@@ -211,6 +210,12 @@ impl Ros2Ends {
     pub fn take_arrived(&self) -> Vec<Frame> {
         self.arrived.as_ref().map_or_else(Vec::new, |a| a.take())
     }
+}
+
+/// The warning about a request or answer of the ROS 2 service `name` that went wrong
+/// (`why` does not name the service again).
+fn service_warning(name: &str, why: &str) -> String {
+    format!("warning: ROS 2 service `{name}`: {why}")
 }
 
 /// What the wire needs of a service or client end.
@@ -487,6 +492,17 @@ mod tests {
         assert_eq!(frames[1].bytes, b"99990");
         assert_eq!(frames[10].bytes, b"99999");
         assert!(arrived.take().is_empty(), "taken once");
+    }
+
+    /// A request the module's full request queue refused: the service named once.
+    #[test]
+    fn a_refused_request_s_warning_names_the_service_once() {
+        let why = super::super::service::not_answered(&ferroc_runtime::link::calls::error_of(4));
+        assert_eq!(
+            service_warning("/switch_bot/set_enabled", &why),
+            "warning: ROS 2 service `/switch_bot/set_enabled`: a request was not answered: \
+             the service's request queue is full"
+        );
     }
 
     #[test]

@@ -14,14 +14,17 @@
 //! client's GID, by which the client matches it. A request that does not decode is
 //! reported (throttled, naming the service) and answered with an error reply; at most
 //! [`MAX_WAITING`] requests wait for their answers at once (more are refused), so a
-//! flood of requests cannot grow the part's memory.
+//! flood of requests cannot grow the part's memory. A call under another type hash is
+//! reported and answered with an error reply ([`super::service_hash`]).
 //!
 //! A client (`SC` token, rmw_zenoh's `ClientData`, rmw_client_data.cpp) sends each call
 //! of the module's client as a query on the service's key with the request's CDR and
 //! the client's attachment (its sequence number from 1, the time, its GID); the first
 //! reply's CDR is the answer. A reply that does not decode, an error reply, or none
-//! within 10 s answers the call as failed or timed out.
+//! within 10 s answers the call as failed or timed out. A server announcing another
+//! type hash is reported ([`super::service_hash`]).
 
+use super::service_hash::{other_hash_calls, other_hash_servers};
 use super::{token, Ros2Node, TopicSpec};
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::{self, Attachment, EntityKind, Qos};
@@ -32,6 +35,7 @@ use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use zenoh::liveliness::LivelinessToken;
+use zenoh::pubsub::Subscriber;
 use zenoh::query::{Query, Queryable};
 use zenoh::{Session, Wait};
 
@@ -60,6 +64,7 @@ impl ServiceSpec {
 pub struct Ros2Server {
     shared: Arc<Shared>,
     _queryable: Queryable<()>,
+    _other_hashes: Queryable<()>,
     _token: LivelinessToken,
 }
 
@@ -91,6 +96,7 @@ impl Ros2Node {
         };
         let (key, live, _) = self.keys(&as_topic, EntityKind::ServiceServer)?;
         let token = token(&self.session, &live, &spec.name)?;
+        let other_hashes = other_hash_calls(&self.session, &key, &spec.name, &spec.ty)?;
         let shared = Arc::new(Shared {
             registry: Arc::clone(&self.registry),
             spec,
@@ -109,6 +115,7 @@ impl Ros2Node {
         Ok(Ros2Server {
             shared,
             _queryable: queryable,
+            _other_hashes: other_hashes,
             _token: token,
         })
     }
@@ -117,7 +124,8 @@ impl Ros2Node {
 impl Ros2Server {
     /// Replies to the request an answer frame names (call number, kind, the response's
     /// CDR). An answer nobody waits for, or one that does not fit the response
-    /// message, is an error naming the service.
+    /// message, is an error (its text without the service's name, which the caller's
+    /// report puts first).
     pub fn answer(&self, bytes: &[u8]) -> Result<(), String> {
         self.shared.answer(bytes)
     }
@@ -175,29 +183,24 @@ impl Shared {
         let name = &self.spec.name;
         let (id, rest) = bytes
             .split_first_chunk::<8>()
-            .ok_or_else(|| format!("an answer of `{name}` shorter than its number"))?;
+            .ok_or("an answer shorter than its number")?;
         let id = u64::from_le_bytes(*id);
-        let (&kind, body) = rest
-            .split_first()
-            .ok_or_else(|| format!("an answer of `{name}` without its kind"))?;
+        let (&kind, body) = rest.split_first().ok_or("an answer without its kind")?;
         let Some((query, asked)) = lock(&self.waiting).remove(&id) else {
-            return Err(format!(
-                "an answer of `{name}` to a request nobody waits for"
-            ));
+            return Err("an answer to a request nobody waits for".into());
         };
         if kind != 0 {
-            let why = format!(
-                "the service `{name}` did not answer: {}",
-                ferroc_runtime::link::calls::error_of(kind)
-            );
-            let _ = query.reply_err(why.clone()).wait();
-            return Err(why);
+            let error = ferroc_runtime::link::calls::error_of(kind);
+            let _ = query
+                .reply_err(format!("the service `{name}` did not answer: {error}"))
+                .wait();
+            return Err(not_answered(&error));
         }
         let response = match self.encode(body) {
             Ok(response) => response,
             Err(why) => {
                 let _ = query.reply_err(why.clone()).wait();
-                return Err(format!("the answer of `{name}` was not sent: {why}"));
+                return Err(format!("an answer was not sent: {why}"));
             }
         };
         let attachment = Attachment {
@@ -209,7 +212,7 @@ impl Shared {
             .reply(self.key.clone(), response)
             .attachment(attachment.encode().to_vec())
             .wait()
-            .map_err(|e| format!("the answer of `{name}` was not sent: {e}"))
+            .map_err(|e| format!("an answer was not sent: {e}"))
     }
 
     /// The answer's CDR, checked against the response message.
@@ -217,6 +220,12 @@ impl Shared {
         check(&self.registry, &self.spec, "Response", body)?;
         Ok(body.to_vec())
     }
+}
+
+/// What the part reports (after the service's name) when the module's service did not
+/// answer a request: `error` says why.
+pub(super) fn not_answered(error: &dyn std::fmt::Display) -> String {
+    format!("a request was not answered: {error}")
 }
 
 /// A request as the module's service reads it: the client's attachment checked, the
@@ -259,6 +268,7 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 /// A ROS 2 service client for a module's client; dropping it ends it.
 pub struct Ros2Caller {
     shared: Arc<CallerShared>,
+    _other_servers: Subscriber<()>,
     _token: LivelinessToken,
 }
 
@@ -291,6 +301,9 @@ impl Ros2Node {
         };
         let (key, live, _) = self.keys(&as_topic, EntityKind::ServiceClient)?;
         let token = token(&self.session, &live, &spec.name)?;
+        let ours = key.rsplit('/').next().unwrap_or_default();
+        let other_servers =
+            other_hash_servers(&self.session, self.info.domain, &spec.name, &spec.ty, ours)?;
         Ok(Ros2Caller {
             shared: Arc::new(CallerShared {
                 registry: Arc::clone(&self.registry),
@@ -301,6 +314,7 @@ impl Ros2Node {
                 sequence: AtomicI64::new(0),
                 deliver: Box::new(deliver),
             }),
+            _other_servers: other_servers,
             _token: token,
         })
     }
