@@ -23,7 +23,7 @@
 mod bare;
 
 use crate::b3::load_note;
-use crate::b4_parts::{addresses, free_address, mono_ns, percentiles, session};
+use crate::b4_parts::{addresses, free_address, mono_ns, percentiles, retried, session};
 use crate::options::Options;
 use ferroc_runtime::builder::{
     Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StartOptions, StepKind,
@@ -481,7 +481,8 @@ pub fn run(args: &[String]) -> u8 {
                 if !variants[i] {
                     continue;
                 }
-                match once(VARIANTS[i], size, per_round) {
+                let what = format!("b4-large: {} {size} B", VARIANTS[i]);
+                match retried(&what, || once(VARIANTS[i], size, per_round)) {
                     Ok((mut s, [c, w])) => {
                         samples[i].append(&mut s);
                         cpu[i] = [cpu[i][0] + c, cpu[i][1] + w];
