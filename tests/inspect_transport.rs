@@ -168,7 +168,7 @@ fn the_inspector_shows_which_link_travels_by_shared_memory_and_the_pool_s_use() 
         assert!(out.contains(&line), "`{line}` not in\n{out}");
     }
     assert!(!out.contains("readers that are gone"), "{out}");
-    page_shows_transport(&inspect);
+    page_shows_transport(&inspect, false);
 
     // The viewer killed while its input held an image in place: the buffer comes back
     // to the camera's pool, and the inspector says so.
@@ -182,6 +182,7 @@ fn the_inspector_shows_which_link_travels_by_shared_memory_and_the_pool_s_use() 
     let plural = if back == 1 { "" } else { "s" };
     let line = format!("; of readers that are gone: {back} buffer{plural} back, 0 not yet\n");
     assert!(out.contains(&line), "`{line}` not in\n{out}");
+    page_shows_transport(&inspect, true);
 }
 
 /// The camera's pool once a buffer came back from the killed viewer and none is
@@ -202,8 +203,9 @@ fn came_back(inspect: &str) -> serde_json::Value {
     }
 }
 
-/// The page in a real browser (skips visibly without Chromium and playwright-core).
-fn page_shows_transport(connect: &str) {
+/// The page in a real browser (skips visibly without Chromium and playwright-core);
+/// `gone`: the viewer was killed, and the pool's row says what came back.
+fn page_shows_transport(connect: &str, gone: bool) {
     let chromium = std::env::var("FERROC_CHROMIUM").unwrap_or_else(|_| "chromium".into());
     let Some(chromium) = ferroc_testkit::command(&chromium) else {
         return;
@@ -226,6 +228,7 @@ fn page_shows_transport(connect: &str) {
         .env("FERROC_NODE_MODULES", &node_modules)
         .env("FERROC_CHROMIUM", &chromium)
         .env("FERROC_PAGE_URL", format!("http://{page}/"))
+        .env("FERROC_READER_GONE", if gone { "1" } else { "0" })
         .output()
         .expect("node runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -242,4 +245,6 @@ fn page_shows_transport(connect: &str) {
     ] {
         assert!(stdout.contains(step), "missing `{step}` in:\n{stdout}");
     }
+    let said = stdout.contains("of readers that are gone: ");
+    assert_eq!(said, gone, "what came back from gone readers: {stdout}");
 }
