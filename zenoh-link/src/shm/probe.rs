@@ -79,3 +79,44 @@ fn unusable() -> Option<String> {
 fn unusable() -> Option<String> {
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn config(enabled: bool) -> zenoh::Config {
+        let mut c = zenoh::Config::default();
+        c.insert_json5(ENABLED_KEY, &enabled.to_string()).unwrap();
+        c
+    }
+
+    fn enabled(c: &zenoh::Config) -> bool {
+        Settings::of(c).enabled
+    }
+
+    /// Shared memory off by the configuration: nothing to probe, nothing said.
+    #[test]
+    fn a_configuration_without_shared_memory_is_left_as_it_is() {
+        let (mut c, off) = (config(false), AtomicBool::new(false));
+        off_where_unusable(&mut c, &off, PARTS).unwrap();
+        assert!(!enabled(&c) && !off.load(Ordering::Relaxed));
+    }
+
+    /// This computer's /dev/shm works (the other shared-memory tests need it): the
+    /// session keeps shared memory.
+    #[test]
+    fn where_shared_memory_works_the_session_keeps_it() {
+        let (mut c, off) = (config(true), AtomicBool::new(false));
+        off_where_unusable(&mut c, &off, PARTS).unwrap();
+        assert!(enabled(&c) && !off.load(Ordering::Relaxed));
+    }
+
+    /// Once found unusable (and warned about), every later session of the same network
+    /// opens without shared memory, without probing or warning again.
+    #[test]
+    fn once_found_unusable_later_sessions_open_without_it() {
+        let (mut c, off) = (config(true), AtomicBool::new(true));
+        off_where_unusable(&mut c, &off, PARTS).unwrap();
+        assert!(!enabled(&c) && off.load(Ordering::Relaxed));
+    }
+}
