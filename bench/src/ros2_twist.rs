@@ -160,6 +160,7 @@ fn node(part: &str, port: &str) -> Ros2Node {
             message: "geometry_msgs/msg/Twist".into(),
             field: None,
             qos: Ros2Qos::default(),
+            frame_id: String::new(),
         }],
         services: Vec::new(),
         clients: Vec::new(),

@@ -63,6 +63,11 @@ pub struct Part<'p> {
     /// Rust types of the library types its ROS 2 topics carry: their values reach a
     /// message through their serde form, so they register with it.
     pub ros2_serde: Vec<String>,
+    /// Rust types of the loaded library types mapped to a ROS 2 message of their own
+    /// (`ros2=` on the `<type>`): they register with `register_ros2`, so a topic, a
+    /// recording's ROS 2 channel or a replay of one (a Player's flexible port, whose
+    /// module type names no type) writes and reads them through the mapping.
+    pub ros2_mapped: Vec<String>,
 }
 
 impl Part<'_> {
@@ -242,6 +247,10 @@ impl<'p> Split<'_, 'p> {
                 shared_memory: (u32::try_from(id).ok())
                     .and_then(|id| app.shared_memory.get(&ElementId(id)).copied())
                     .unwrap_or_default(),
+                ros2_mapped: (self.libs.types.iter())
+                    .filter(|t| t.ros2.is_some() && super::text::is_rust_type(&t.rust))
+                    .map(|t| t.rust.clone())
+                    .collect(),
                 ..Part::default()
             });
         }

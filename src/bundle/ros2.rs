@@ -141,6 +141,7 @@ fn topic(code: &mut Code, t: &Ros2Topic) {
     code.line(5, &format!("transient_local: {},", t.qos.transient_local));
     code.line(5, &format!("depth: {},", t.qos.depth));
     code.line(4, "},");
+    code.line(4, &format!("frame_id: {}.into(),", rust_str(&t.frame_id)));
     code.line(3, "},");
 }
 

@@ -495,7 +495,12 @@ fn registrations(part: &Part<'_>) -> Vec<String> {
         out.push(format!("registry.register_value::<{rust}>();"));
     }
     for rust in crossing {
-        out.push(format!("registry.register_serde::<{rust}>();"));
+        // A type mapped to a ROS 2 message of its own (`ros2=`).
+        let register = match part.ros2_mapped.iter().any(|m| m == rust) {
+            true => "register_ros2",
+            false => "register_serde",
+        };
+        out.push(format!("registry.{register}::<{rust}>();"));
     }
     for (request, response) in &part.call_types {
         out.push(format!(

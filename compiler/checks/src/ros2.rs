@@ -148,6 +148,7 @@ pub(crate) fn walked_topics<'a>(ctx: &PassContext<'a>) -> Vec<Walked<'a>> {
                 continue;
             };
             let mut walk = Walk::new(ctx, topic.direction);
+            walk.mapped = true;
             walk.target(port.ty, port.unit, &target);
             out.push(Walked {
                 topic,
@@ -178,6 +179,10 @@ pub(crate) struct Walk<'a> {
     pub reg: &'a Registry,
     /// Publishing (the port writes the message) or subscribing (it reads it).
     pub publish: bool,
+    /// A type its library maps to a message (`<type ros2=…>`) may be that whole
+    /// message: a topic's, not a field of it nor a service's request or response
+    /// (only a topic's end writes and reads through the type's mapping).
+    pub mapped: bool,
     pub found: Vec<Found>,
 }
 
@@ -187,6 +192,7 @@ impl Walk<'_> {
             libs: ctx.libraries,
             reg: registry(ctx),
             publish: dir == TopicDirection::Publish,
+            mapped: false,
             found: Vec::new(),
         }
     }
@@ -201,7 +207,10 @@ impl Walk<'_> {
     pub(crate) fn target(&mut self, port: &Type, unit: Option<&Unit>, target: &Target<'_>) {
         match target {
             Target::Message(m) => self.message(port, unit, m, None, ""),
-            Target::Field { ty, unit: expected } => self.field(port, unit, ty, *expected, ""),
+            Target::Field { ty, unit: expected } => {
+                self.mapped = false;
+                self.field(port, unit, ty, *expected, "")
+            }
         }
     }
 
@@ -228,6 +237,9 @@ impl Walk<'_> {
         };
         if let Type::Named(id, qualified) = port {
             let named = self.libs.named_type(*id);
+            if let Some(mapped) = &named.ros2 {
+                return self.mapped_type(qualified, mapped, &full, path);
+            }
             let ours: Vec<&str> = named.fields.iter().map(|(n, _, _)| n.as_str()).collect();
             let theirs: Vec<&str> = m.fields.iter().map(|f| f.name.as_str()).collect();
             if ours != theirs {
@@ -260,6 +272,23 @@ impl Walk<'_> {
                 path,
                 format!("a port of type `{port}` cannot carry the message `{full}` ({fields})"),
             );
+        }
+    }
+
+    /// A port type its library maps to the message `mapped` (`<type ros2=…>`), laid
+    /// over the message `full` at `path`.
+    fn mapped_type(&mut self, qualified: &str, mapped: &str, full: &str, path: &str) {
+        if mapped != full {
+            let why = format!(
+                "`{qualified}` is carried as `{mapped}` (its library maps it to that message), not as `{full}`"
+            );
+            return self.mismatch(path, why);
+        }
+        if !(self.mapped && path.is_empty()) {
+            let why = format!(
+                "`{qualified}` is carried as `{mapped}` only as the whole message of a topic, not inside another message, as one field or in a service"
+            );
+            self.mismatch(path, why);
         }
     }
 

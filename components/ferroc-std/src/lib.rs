@@ -13,7 +13,7 @@
 //! ([`recording`], docs/recording-and-utilities.md); `Clock` publishes `timestamp`s and
 //! a tick count.
 //! `ScaleService` and `Ask` are the smallest service and client (`services.rs`).
-//! [`Image`] and [`PointCloud`] carry large data (`large.rs`).
+//! [`Image`] and [`PointCloud`] carry large data (`large/`; as ROS 2 messages `large/ros2.rs`).
 
 #![forbid(unsafe_code)]
 
@@ -70,8 +70,9 @@ pub fn register(registry: &mut Registry) {
         .register::<Ask>()
         // `Ask` may call a `ScaleService` in another part.
         .register_call::<f64, f64>()
-        // Large data, across parts and in recordings.
-        .register_serde::<Image>()
-        .register_serde::<PointCloud>()
+        // Large data, across parts, in recordings, and as sensor_msgs/Image and
+        // PointCloud2 on ROS 2 topics (large/ros2.rs).
+        .register_ros2::<Image>()
+        .register_ros2::<PointCloud>()
         .register_behaviour::<Fusion>();
 }

@@ -77,6 +77,11 @@ pub struct Ros2Topic {
     /// Reliability, durability and depth.
     #[serde(flatten)]
     pub qos: Ros2Qos,
+    /// `frame-id=`: the `header.frame_id` a port type mapped to a message with a header
+    /// (`ferroc_std.Image` as `sensor_msgs/msg/Image`) writes; `""` if the model names
+    /// none. Absent from a plan written before it existed.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub frame_id: String,
 }
 
 /// One `<service>` (a module's service offered as a ROS 2 service) or `<client>` (a
@@ -146,6 +151,7 @@ mod tests {
                 message: "geometry_msgs/msg/Twist".into(),
                 field: None,
                 qos: Ros2Qos::default(),
+                frame_id: String::new(),
             }],
             services: Vec::new(),
             clients: Vec::new(),

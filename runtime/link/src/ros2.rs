@@ -175,6 +175,7 @@ mod tests {
             message: "robot_msgs/msg/Wheel".into(),
             field: Some("axis.x".into()),
             qos: Ros2Qos::default(),
+            frame_id: String::new(),
         }
     }
 

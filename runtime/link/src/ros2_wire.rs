@@ -102,6 +102,7 @@ mod tests {
             message: "std_msgs/msg/Float64".into(),
             field: Some("data".into()),
             qos: Ros2Qos::default(),
+            frame_id: String::new(),
         }
     }
 

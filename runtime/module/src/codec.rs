@@ -39,7 +39,7 @@ pub struct Codec {
     decode_parts: DecodeParts,
     json: fn(&DynIn, &mut Vec<u8>) -> Result<(), String>,
     from_json: fn(Option<&DynOut>, &[u8]) -> Result<(), String>,
-    ros2_encode: fn(&DynIn, &Shape<'_>, &mut Vec<u8>) -> Result<(), String>,
+    ros2_encode: fn(&DynIn, &Shape<'_>, &str, &mut Vec<u8>) -> Result<(), String>,
     ros2_decode: fn(&DynOut, &Shape<'_>, &[u8]) -> Result<(), String>,
 }
 
@@ -55,6 +55,17 @@ impl Codec {
             from_json: from_json::<T>,
             ros2_encode: ros2_encode::<T>,
             ros2_decode: ros2_decode::<T>,
+        }
+    }
+
+    /// The functions for `T`, a type its library maps to a ROS 2 message of its own
+    /// ([`Ros2Message`](crate::Ros2Message)): its ROS 2 ends write and read the message
+    /// through the type's functions instead of its serde form.
+    pub(crate) fn of_ros2<T: crate::Ros2Message>() -> Self {
+        Codec {
+            ros2_encode: crate::ros2_message::encode::<T>,
+            ros2_decode: crate::ros2_message::decode::<T>,
+            ..Self::of::<T>()
         }
     }
 
@@ -117,7 +128,20 @@ impl Codec {
         shape: &Shape<'_>,
         bytes: &mut Vec<u8>,
     ) -> Result<(), String> {
-        (self.ros2_encode)(from, shape, bytes)
+        (self.ros2_encode)(from, shape, "", bytes)
+    }
+
+    /// [`ros2_encode`](Self::ros2_encode) with the frame the model names for the topic
+    /// (`frame-id=`), which a type mapped to a message with a `header`
+    /// ([`Ros2Message`](crate::Ros2Message)) writes into it; other types ignore it.
+    pub fn ros2_encode_framed(
+        &self,
+        from: &DynIn,
+        shape: &Shape<'_>,
+        frame_id: &str,
+        bytes: &mut Vec<u8>,
+    ) -> Result<(), String> {
+        (self.ros2_encode)(from, shape, frame_id, bytes)
     }
 
     /// Decodes a CDR sample of the ROS 2 message `shape` and publishes the value on
@@ -255,6 +279,7 @@ fn from_json<T: PortValue + DeserializeOwned>(
 fn ros2_encode<T: PortValue + Serialize>(
     from: &DynIn,
     shape: &Shape<'_>,
+    _frame_id: &str,
     bytes: &mut Vec<u8>,
 ) -> Result<(), String> {
     let port = from

@@ -41,6 +41,7 @@ mod flexible;
 mod interface;
 mod param;
 mod random;
+mod ros2_message;
 mod services;
 #[doc(hidden)]
 pub mod setup;
@@ -58,6 +59,7 @@ pub use interface::{
 };
 pub use param::{ParamHandle, ParamValue, Parameter, Value};
 pub use random::{seed_from_os, Random};
+pub use ros2_message::{Ros2Message, Ros2Meta};
 pub use services::{ClientDecl, ServiceDecl};
 pub use setup::{InputDecl, OutputDecl, ParamDecl, PortDecl, Setup};
 pub use value::{CopyKind, In, Out, PooledKind, PortKind, PortValue};

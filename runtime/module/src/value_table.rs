@@ -137,6 +137,16 @@ impl ValueTable {
         self.insert_as::<T, S>(&T::model_type(), Some(Codec::of::<T>()))
     }
 
+    /// Registers `T` like [`insert_serde`](Self::insert_serde), its ROS 2 ends written
+    /// and read as the message its library maps it to ([`crate::Ros2Message`]).
+    pub fn insert_ros2<T, S>(&mut self) -> &mut Self
+    where
+        T: crate::Ros2Message + Clone,
+        S: ValueText<T>,
+    {
+        self.insert_as::<T, S>(&T::model_type(), Some(Codec::of_ros2::<T>()))
+    }
+
     /// Registers `T` under another model name than its own (the meta types, which are
     /// `f64` values with their own names).
     fn insert_as<T, S>(&mut self, model_type: &str, codec: Option<Codec>) -> &mut Self

@@ -4,9 +4,10 @@
 use crate::CheckInfo;
 use crate::PassContext;
 use ferroc_diagnostics::diagnostic::{Diagnostic, Diagnostics, Severity};
-use ferroc_model::ir::{Endpoint, Ros2Service, ServiceRole, Spanned, TopicDirection};
+use ferroc_model::ir::{Endpoint, Ros2Service, Ros2Topic, ServiceRole, Spanned, TopicDirection};
 use ferroc_model::library::{PortDir, PortRole};
 use ferroc_ros2::def::TypeName;
+use ferroc_values::types::Type;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "R101",
@@ -22,7 +23,11 @@ service type (`package/srv/Name`), a `<client>` a module's client.
 Bad:
     <publish port=\"control/drive/speed\" topic=\"cmd_vel\" type=\"geometry_msgs/msg/Twist\" field=\"linear.v\"/>
 
-Fix: `field=\"linear.x\"` (Vector3 has x, y, z).",
+Fix: `field=\"linear.x\"` (Vector3 has x, y, z).
+
+`frame-id=` on a `<publish>` names the `header.frame_id` of a port type its library
+maps to a whole message with a header (`ferroc_std.Image` as `sensor_msgs/msg/Image`);
+anywhere else no header would carry it, which is reported too.",
     fixtures: "compiler/checks/src/ros2/r101_invalid_ros2_end",
 };
 
@@ -44,10 +49,50 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
             if let Some((ep, span)) = &t.port {
                 port_kind(ctx, *ep, *span, want, None, out);
             }
+            frame(ctx, t, out);
         }
         for s in &node.services {
             service(ctx, s, out);
         }
+    }
+}
+
+/// Reports a `frame-id=` that no header would carry: the port's type is not one its
+/// library maps to the whole message (`<type ros2=…>`), or that message has no `header`.
+fn frame(ctx: &PassContext<'_>, t: &Ros2Topic, out: &mut Diagnostics) {
+    let (Some((_, span)), Some((ep, _))) = (&t.frame_id, &t.port) else {
+        return;
+    };
+    let Some(view) = ctx.app.view(ctx.libraries, *ep) else {
+        return;
+    };
+    let mapped = match view.ty {
+        Type::Named(id, _) => ctx.libraries.named_type(*id).ros2.as_deref(),
+        _ => None,
+    };
+    let has_header = |m: &str| {
+        let reg = super::registry(ctx);
+        (TypeName::parse(m).and_then(|n| reg.message(&n)))
+            .is_some_and(|msg| msg.fields.iter().any(|f| f.name == "header"))
+    };
+    let writes = t.field.is_none() && mapped.is_some_and(|m| m == t.ty.0 && has_header(m));
+    if !writes {
+        out.push(
+            Diagnostic::new(
+                &CHECK,
+                *span,
+                format!(
+                    "`frame-id=` has no effect here: a port of type `{}` as `{}` writes no header",
+                    view.ty,
+                    match &t.field {
+                        Some((f, _)) => format!("{}.{f}", t.ty.0),
+                        None => t.ty.0.clone(),
+                    }
+                ),
+            )
+            .label("written nowhere")
+            .help("frame-id= names the header.frame_id of a type its library maps to a whole message with a header (ferroc_std.Image as sensor_msgs/msg/Image, PointCloud as PointCloud2); a library type matching a message field by field carries its header itself"),
+        );
     }
 }
 

@@ -5,6 +5,7 @@ use super::Found;
 use crate::CheckInfo;
 use crate::PassContext;
 use ferroc_diagnostics::diagnostic::{Diagnostic, Diagnostics, Severity};
+use ferroc_values::types::Type;
 
 pub static CHECK: CheckInfo = CheckInfo {
     code: "R102",
@@ -21,7 +22,13 @@ ROS 2 would see garbage or drop the sample.
 Bad:
     <publish port=\"control/drive/speed\" topic=\"cmd_vel\" type=\"geometry_msgs/msg/Twist\"/>  <!-- f64 -->
 
-Fix: `field=\"linear.x\"`, or a library type with the fields `linear` and `angular`.",
+Fix: `field=\"linear.x\"`, or a library type with the fields `linear` and `angular`.
+
+A library may map one of its types to a message whose fields it does not have one for
+one (`<type ros2=\"sensor_msgs/msg/Image\">`: `ferroc_std.Image` as
+`sensor_msgs/msg/Image`, `ferroc_std.PointCloud` as `sensor_msgs/msg/PointCloud2`; its
+crate writes and reads the message): such a port matches exactly that whole message
+on a topic, nothing else.",
     fixtures: "compiler/checks/src/ros2/r102_ros2_type_mismatch",
 };
 
@@ -54,7 +61,21 @@ pub(crate) fn run(ctx: &PassContext<'_>, out: &mut Diagnostics) {
                 ),
             )
             .label("type differs from the message")
-            .help("carry one field with field=\"…\" (e.g. `linear.x`), or give the port a library type whose fields match the message's in names, order and widths"),
+            .help(help(ctx, view.ty)),
         );
+    }
+}
+
+/// The fix to suggest for a port of type `ty`.
+fn help(ctx: &PassContext<'_>, ty: &Type) -> String {
+    let mapped = match ty {
+        Type::Named(id, _) => ctx.libraries.named_type(*id).ros2.as_deref(),
+        _ => None,
+    };
+    match mapped {
+        Some(message) => format!(
+            "publish or subscribe it as the whole `{message}` (its library's mapping), or convert it in a module to a type that matches"
+        ),
+        None => "carry one field with field=\"…\" (e.g. `linear.x`), or give the port a library type whose fields match the message's in names, order and widths".into(),
     }
 }

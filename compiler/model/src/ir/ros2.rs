@@ -80,6 +80,9 @@ pub struct Ros2Topic {
     /// `durability=` written: `true` for `transient-local` (the default is volatile).
     pub transient_local: Option<Spanned<bool>>,
     pub depth: Option<Spanned<u32>>,
+    /// `frame-id=` (published ends): the `header.frame_id` of a type its library maps
+    /// to a message with a header (`ferroc_std.Image`).
+    pub frame_id: Option<Spanned<String>>,
 }
 
 impl Ros2Topic {

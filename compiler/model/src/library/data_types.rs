@@ -126,6 +126,7 @@ pub(super) fn register_types(
                 rust: t.value("rust").unwrap_or("").to_string(),
                 copy: t.value("copy") == Some("true"),
                 serde: t.value("serde") == Some("true"),
+                ros2: t.value("ros2").map(str::to_string),
                 fields: Vec::new(),
                 span: t.value_span("name"),
             });

@@ -34,6 +34,10 @@ pub struct NamedType {
     pub rust: String,
     pub copy: bool,
     pub serde: bool,
+    /// The ROS 2 message the type's crate maps it to (`ros2="sensor_msgs/msg/Image"`:
+    /// `Registry::register_ros2`), which check R102 accepts instead of matching field
+    /// by field.
+    pub ros2: Option<String>,
     pub fields: Vec<(String, Type, Option<Unit>)>,
     pub span: Span,
 }

@@ -194,6 +194,7 @@ impl Resolver<'_, '_, '_> {
                 depth: c
                     .attr("depth")
                     .and_then(|a| Some((a.value.trim().parse().ok()?, a.value_span))),
+                frame_id: text(c, "frame-id"),
             });
         }
         Some(node)

@@ -174,5 +174,10 @@ fn topic(
             transient_local: t.is_transient_local(),
             depth: t.depth.as_ref().map_or(10, |(d, _)| *d),
         },
+        frame_id: t
+            .frame_id
+            .as_ref()
+            .map(|(f, _)| f.clone())
+            .unwrap_or_default(),
     })
 }

@@ -42,6 +42,7 @@ pub(super) const TYPE: ElementSpec = ElementSpec {
         opt("copy", Bool),
         opt("serde", Bool),
         opt("unit", Text),
+        opt("ros2", Text),
     ],
     children: &["field"],
     text: false,

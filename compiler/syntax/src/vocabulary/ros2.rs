@@ -24,6 +24,19 @@ const TOPIC_ATTRS: &[AttrSpec] = &[
     opt("depth", Count),
 ];
 
+/// A published topic end of the model: a topic end's attributes and the frame a type
+/// its library maps to a message with a `header` writes there (`frame-id=`).
+const PUBLISH_ATTRS: &[AttrSpec] = &[
+    req("port", Text),
+    req("topic", Text),
+    req("type", Text),
+    opt("field", Text),
+    opt("reliability", Choice(RELIABILITY)),
+    opt("durability", Choice(DURABILITY)),
+    opt("depth", Count),
+    opt("frame-id", Text),
+];
+
 /// A topic end of an external node: no port.
 const EXTERNAL_TOPIC_ATTRS: &[AttrSpec] = &[
     req("topic", Text),
@@ -57,7 +70,7 @@ pub(super) const ROS2: ElementSpec = ElementSpec {
 pub(super) const ROS2_PUBLISH: ElementSpec = ElementSpec {
     key: "ros2-publish",
     tag: "publish",
-    attrs: TOPIC_ATTRS,
+    attrs: PUBLISH_ATTRS,
     children: &[],
     text: false,
 };

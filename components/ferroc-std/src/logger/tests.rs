@@ -91,6 +91,7 @@ fn declare(topics: &[(u32, bool, &str, &str, &str, &str)]) {
             .into(),
             field: Some(field.into()),
             qos: Ros2Qos::default(),
+            frame_id: String::new(),
         })
         .collect();
     let node = Ros2Node {
@@ -280,6 +281,7 @@ fn a_timestamp_in_a_message_is_recorded_as_builtin_interfaces_time() {
             message: "std_msgs/msg/Header".into(),
             field: Some("stamp".into()),
             qos: Ros2Qos::default(),
+            frame_id: String::new(),
         }],
         services: vec![],
         clients: vec![],

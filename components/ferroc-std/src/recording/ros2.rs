@@ -71,6 +71,8 @@ pub struct Ros2Form {
     /// Whether the port publishes the topic (else it subscribes it).
     pub publish: bool,
     shape: Shape<'static>,
+    /// The topic's `frame-id=` (a published end's; `""` if none).
+    frame_id: String,
 }
 
 impl Ros2Form {
@@ -102,13 +104,14 @@ impl Ros2Form {
             schema,
             publish: end.topic.publish,
             shape,
+            frame_id: end.topic.frame_id,
         }))
     }
 
     /// Replaces `cdr` with the latest value of `input` (of the value type whose codec
     /// is `codec`) as a CDR sample of the topic's message.
     pub fn encode(&self, codec: &Codec, input: &DynIn, cdr: &mut Vec<u8>) -> Result<(), String> {
-        codec.ros2_encode(input, &self.shape, cdr)
+        codec.ros2_encode_framed(input, &self.shape, &self.frame_id, cdr)
     }
 }
 

@@ -136,6 +136,19 @@ impl Registry {
         self
     }
 
+    /// Registers `T` like [`register_serde`](Self::register_serde), mapped to a ROS 2
+    /// message of its own ([`Ros2Message`](ferroc_module::Ros2Message): its library's
+    /// manifest says `ros2="package/msg/Name"` on the `<type>`): a port of `T`
+    /// published or subscribed as that message, or recorded on its topic, is written
+    /// and read through `T`'s functions.
+    pub fn register_ros2<T>(&mut self) -> &mut Self
+    where
+        T: ferroc_module::Ros2Message + Clone + std::fmt::Debug,
+    {
+        self.values.insert_ros2::<T, DebugText>();
+        self
+    }
+
     /// Lets calls with requests `Req` and responses `Resp` cross between parts (a
     /// client in one part calling a service in another): both are encoded like values.
     pub fn register_call<Req, Resp>(&mut self) -> &mut Self

@@ -65,13 +65,14 @@ impl Builder<'_> {
         )?;
         let hub = Arc::clone(&self.hub);
         let (link, to) = (ros2::link(topic.id), Arc::<str>::from("ROS 2"));
+        let frame_id = topic.frame_id.clone();
         let mut failed = false;
         let step = Step::new(describe.clone(), move || {
             if !input.changed() {
                 return;
             }
             let mut bytes = Vec::new();
-            match codec.ros2_encode(&input, &shape, &mut bytes) {
+            match codec.ros2_encode_framed(&input, &shape, &frame_id, &mut bytes) {
                 Ok(()) => hub.send(&to, Frame { link, bytes }),
                 Err(why) if !std::mem::replace(&mut failed, true) => {
                     ferroc_ports::console::line(&format!("warning: {describe}: not sent: {why}"))

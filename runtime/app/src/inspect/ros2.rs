@@ -107,6 +107,7 @@ mod tests {
                     transient_local: true,
                     depth: 1,
                 },
+                frame_id: String::new(),
             }],
             services: Vec::new(),
             clients: vec![Ros2Service {

@@ -12,6 +12,14 @@
 //!
 //! A writer fills `data` through [`Bytes::to_mut`] (a `&mut Vec<u8>` that keeps its
 //! allocation from one pooled value to the next).
+//!
+//! On a ROS 2 topic they are `sensor_msgs/msg/Image` and `sensor_msgs/msg/PointCloud2`
+//! (`ros2.rs`; the manifest's `ros2=` lets check R102 accept them): the header filled
+//! from the time of the sending step and the topic's `frame-id=`, a cloud as one row;
+//! a sample these types cannot represent (big endian, data shorter than its rows,
+//! padded cloud rows) is refused in words (docs/ros2.md, "Mapped types").
+
+mod ros2;
 
 pub use ferroc_runtime::module::Bytes;
 use serde::{Deserialize, Serialize};
