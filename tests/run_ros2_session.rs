@@ -188,34 +188,18 @@ fn ticks_arrive(out: &Receiver<String>, count: usize, talker: &Receiver<String>)
     }
 }
 
-/// What the talker wrote on standard error once it is stopped.
-fn stopped(talker: (Killed, Receiver<String>)) -> Vec<String> {
-    drop(talker.0);
-    talker.1.iter().collect()
-}
-
 #[test]
 fn ros2_nodes_of_a_run_without_usable_shared_memory_publish_over_the_network_after_one_warning() {
     let pair = Pair::new("run_ros2_no_shm");
-    let port = free_port();
-    let (_listener, out) = pair.listener(port, &[]);
-
     // The computer's shared memory: silent.
-    let talker = pair.talker(port, None);
-    ticks_arrive(&out, 5, &talker.1);
-    let err = stopped(talker);
+    let (err, _) = ticks_from(&pair, None);
     assert!(err.iter().all(|l| !l.contains("warning")), "{err:#?}");
 
     for how in [NoShm::ReadOnly, NoShm::Missing] {
         let Some(wrapper) = no_shm::command(how, &ferroc()) else {
             return;
         };
-        let talker = pair.talker(port, Some(wrapper));
-        // Ticks sent before the talker stopped may still be on their way: what counts
-        // is that new ones keep coming.
-        while out.try_recv().is_ok() {}
-        ticks_arrive(&out, 5, &talker.1);
-        let err = stopped(talker);
+        let (err, _) = ticks_from(&pair, Some(wrapper));
         let warnings: Vec<&String> = err.iter().filter(|l| l.contains("warning")).collect();
         assert_eq!(warnings.len(), 1, "{how:?}: {err:#?}");
         assert!(warnings[0].starts_with(WARNING), "{how:?}: {err:#?}");
@@ -230,6 +214,28 @@ fn ros2_nodes_of_a_run_without_usable_shared_memory_publish_over_the_network_aft
             "{how:?}: {err:#?}"
         );
     }
+}
+
+/// A listener of its own (on a new port: every tick it prints is this talker's) and
+/// the talker started through `wrapper`, until the listener printed 5 ticks: what the
+/// talker wrote on standard error, and the listener's thread names (read meanwhile).
+fn ticks_from(pair: &Pair, wrapper: Option<Command>) -> (Vec<String>, Vec<String>) {
+    ticks_with(pair, wrapper, &[])
+}
+
+/// [`ticks_from`] with `env` more in the listener's environment.
+fn ticks_with(
+    pair: &Pair,
+    wrapper: Option<Command>,
+    env: &[(&str, &str)],
+) -> (Vec<String>, Vec<String>) {
+    let port = free_port();
+    let (listener, out) = pair.listener(port, env);
+    let (talker, err) = pair.talker(port, wrapper);
+    ticks_arrive(&out, 5, &err);
+    let names = threads(listener.0.id());
+    drop((talker, listener));
+    (err.iter().collect(), names)
 }
 
 /// The names of the threads of the process `pid`.
@@ -248,12 +254,7 @@ fn the_runner_of_ros2_nodes_accepts_and_reads_on_zenoh_s_receive_runtime() {
     let pair = Pair::new("run_ros2_runtime");
     // ferroc's default: the listener accepted the talker's connection and reads it on
     // the receive runtime; no acceptor thread at all.
-    let port = free_port();
-    let (listener, out) = pair.listener(port, &[]);
-    let talker = pair.talker(port, None);
-    ticks_arrive(&out, 5, &talker.1);
-    let names = threads(listener.0.id());
-    drop((listener, talker));
+    let (_, names) = ticks_from(&pair, None);
     assert!(names.iter().any(|t| t.starts_with("rx-")), "{names:?}");
     assert!(
         !names.iter().any(|t| t.starts_with("acc-")),
@@ -261,10 +262,6 @@ fn the_runner_of_ros2_nodes_accepts_and_reads_on_zenoh_s_receive_runtime() {
     );
 
     // The user's choice wins: Zenoh's own threads, with its acceptor.
-    let port = free_port();
-    let (listener, out) = pair.listener(port, &[("ZENOH_RUNTIME", "()")]);
-    let talker = pair.talker(port, None);
-    ticks_arrive(&out, 5, &talker.1);
-    let names = threads(listener.0.id());
+    let (_, names) = ticks_with(&pair, None, &[("ZENOH_RUNTIME", "()")]);
     assert!(names.iter().any(|t| t == "acc-0"), "{names:?}");
 }
