@@ -23,7 +23,7 @@
 mod bare;
 
 use crate::b3::load_note;
-use crate::b4_parts::{addresses, free_address, mono_ns, percentiles, retried, session};
+use crate::b4_parts::{addresses, free_address, mono_ns, percentiles, session};
 use crate::options::Options;
 use ferroc_runtime::builder::{
     Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StartOptions, StepKind,
@@ -482,7 +482,7 @@ pub fn run(args: &[String]) -> u8 {
                     continue;
                 }
                 let what = format!("b4-large: {} {size} B", VARIANTS[i]);
-                match retried(&what, || once(VARIANTS[i], size, per_round)) {
+                match crate::b4_parts::retried(&what, || once(VARIANTS[i], size, per_round)) {
                     Ok((mut s, [c, w])) => {
                         samples[i].append(&mut s);
                         cpu[i] = [cpu[i][0] + c, cpu[i][1] + w];
