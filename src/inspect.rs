@@ -382,7 +382,8 @@ fn show_part(app: &str, part: &str, tree: &Tree, figures: Figures<'_>) -> String
 /// How the links `transport` names travel, a line each, and the pool's use:
 /// `link out of robot/cam/image to station: shared memory (120 in shared memory, 0 over
 /// the network, 0 dropped)`, `shared memory pool: 6.0 MiB of 64.0 MiB in use, for
-/// values of 4.0 KiB and more`.
+/// values of 4.0 KiB and more`, and once a reader that held buffers is gone (killed),
+/// `; of readers that are gone: 3 buffers back, 0 not yet`.
 fn show_transport(s: &mut String, transport: &TransportView) {
     use std::fmt::Write;
     for l in &transport.links {
@@ -393,9 +394,16 @@ fn show_transport(s: &mut String, transport: &TransportView) {
         );
     }
     if let Some(p) = &transport.pool {
+        let gone = match (p.reclaimed, p.gone_held) {
+            (0, 0) => String::new(),
+            (back, held) => format!(
+                "; of readers that are gone: {back} buffer{} back, {held} not yet",
+                if back == 1 { "" } else { "s" }
+            ),
+        };
         let _ = writeln!(
             s,
-            "  shared memory pool: {} of {} in use, for values of {} and more",
+            "  shared memory pool: {} of {} in use, for values of {} and more{gone}",
             size(p.used),
             size(p.size),
             size(p.threshold)

@@ -4,7 +4,8 @@
 //! image of 6,000 bytes (above the default threshold of 4 KiB: shared memory) and a
 //! number (below it: network) to the viewer part; the inspected camera program reports
 //! per link how its values went, and its pool's use, which the viewer's input keeps
-//! above zero (it reads the latest image in place, so its buffer is held).
+//! above zero (it reads the latest image in place, so its buffer is held). Once the
+//! viewer is killed (SIGKILL) while it holds that buffer, the pool says it came back.
 //!
 //! No assertion depends on speed: the test asks (bounded) until counts appear.
 
@@ -126,7 +127,7 @@ fn the_inspector_shows_which_link_travels_by_shared_memory_and_the_pool_s_use() 
     bundle_ok(&model, &dir.join("bundle"));
     let bin = build_bundle(&dir.join("bundle")).join("debug");
     let inspect = format!("127.0.0.1:{}", free_port());
-    let (_camera, _viewer) = start(&bin, &inspect);
+    let (_camera, mut viewer) = start(&bin, &inspect);
 
     let transport = settled(&inspect);
     let links = transport["links"].as_array().unwrap();
@@ -149,6 +150,11 @@ fn the_inspector_shows_which_link_travels_by_shared_memory_and_the_pool_s_use() 
     );
     assert_eq!(pool["threshold"], 4096, "{transport}");
     assert!(pool["used"].as_u64().unwrap() >= 6000, "{transport}");
+    // No reader is gone: nothing came back, nothing said about it.
+    assert_eq!(
+        (&pool["reclaimed"], &pool["gone_held"]),
+        (&0.into(), &0.into())
+    );
 
     // The text says the same.
     let (code, out, err) = ferroc(&["inspect", "--connect", &inspect, "--list"]);
@@ -161,11 +167,45 @@ fn the_inspector_shows_which_link_travels_by_shared_memory_and_the_pool_s_use() 
     ] {
         assert!(out.contains(&line), "`{line}` not in\n{out}");
     }
-    page_shows_transport(&inspect);
+    assert!(!out.contains("readers that are gone"), "{out}");
+    page_shows_transport(&inspect, false);
+
+    // The viewer killed while its input held an image in place: the buffer comes back
+    // to the camera's pool, and the inspector says so.
+    viewer.0.kill().unwrap();
+    let _ = viewer.0.wait();
+    let pool = came_back(&inspect);
+    assert_eq!(pool["gone_held"], 0, "{pool}");
+    let (code, out, err) = ferroc(&["inspect", "--connect", &inspect, "--list"]);
+    assert_eq!(code, 0, "{err}");
+    let back = pool["reclaimed"].as_u64().unwrap();
+    let plural = if back == 1 { "" } else { "s" };
+    let line = format!("; of readers that are gone: {back} buffer{plural} back, 0 not yet\n");
+    assert!(out.contains(&line), "`{line}` not in\n{out}");
+    page_shows_transport(&inspect, true);
 }
 
-/// The page in a real browser (skips visibly without Chromium and playwright-core).
-fn page_shows_transport(connect: &str) {
+/// The camera's pool once a buffer came back from the killed viewer and none is
+/// still counted for it (bounded).
+fn came_back(inspect: &str) -> serde_json::Value {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        let (code, out, err) = ferroc(&["inspect", "--connect", inspect, "--list", "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let all: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        let pool = all["transport/camera"]["transport"]["pool"].clone();
+        let n = |k: &str| pool[k].as_u64().unwrap_or(0);
+        if n("reclaimed") > 0 && n("gone_held") == 0 {
+            return pool;
+        }
+        assert!(Instant::now() < deadline, "{pool}");
+        std::thread::sleep(Duration::from_millis(200));
+    }
+}
+
+/// The page in a real browser (skips visibly without Chromium and playwright-core);
+/// `gone`: the viewer was killed, and the pool's row says what came back.
+fn page_shows_transport(connect: &str, gone: bool) {
     let chromium = std::env::var("FERROC_CHROMIUM").unwrap_or_else(|_| "chromium".into());
     let Some(chromium) = ferroc_testkit::command(&chromium) else {
         return;
@@ -188,6 +228,7 @@ fn page_shows_transport(connect: &str) {
         .env("FERROC_NODE_MODULES", &node_modules)
         .env("FERROC_CHROMIUM", &chromium)
         .env("FERROC_PAGE_URL", format!("http://{page}/"))
+        .env("FERROC_READER_GONE", if gone { "1" } else { "0" })
         .output()
         .expect("node runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -204,4 +245,6 @@ fn page_shows_transport(connect: &str) {
     ] {
         assert!(stdout.contains(step), "missing `{step}` in:\n{stdout}");
     }
+    let said = stdout.contains("of readers that are gone: ");
+    assert_eq!(said, gone, "what came back from gone readers: {stdout}");
 }

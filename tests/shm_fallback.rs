@@ -5,14 +5,16 @@
 //! - With the computer's `/dev/shm`, both links travel by shared memory (the camera's
 //!   inspection says so) and no warning is printed.
 //! - With no usable shared memory (the camera started in a mount namespace of its own
-//!   whose `/dev/shm` is an empty read-only tmpfs, as in a container without it), the
-//!   camera warns once and both values take the network, intact.
+//!   whose `/dev/shm` is an empty read-only tmpfs, or which has no `/dev/shm` at all,
+//!   as in a container without it), the camera warns once and both values take the
+//!   network, intact.
 //!
 //! No assertion depends on speed: the test waits (bounded) for lines.
 
 mod common;
 
 use common::inspected::{free_port, lines};
+use common::no_shm::{self, NoShm};
 use common::{build_bundle, bundle_ok, ferroc, tempdir, test_log_dir};
 use ferroc_std::{Image, PointCloud};
 use std::path::{Path, PathBuf};
@@ -93,28 +95,6 @@ fn model(dir: &Path, image: &str, cloud: &str) -> PathBuf {
     let file = dir.join("fallback.xml");
     std::fs::write(&file, text).unwrap();
     file
-}
-
-/// The command that starts `program` in a mount namespace of its own whose `/dev/shm`
-/// is an empty read-only tmpfs; `None` (after a visible skip) where namespaces or
-/// mounts are refused (not root, no CAP_SYS_ADMIN).
-fn without_shm(program: &Path) -> Option<Command> {
-    let unshare = ferroc_testkit::command("unshare")?;
-    let script = "mount -t tmpfs -o ro,size=64k tmpfs /dev/shm && exec \"$0\" \"$@\"";
-    let probe = Command::new(&unshare)
-        .args(["--mount", "sh", "-c", script, "true"])
-        .output()
-        .expect("unshare runs");
-    if !probe.status.success() {
-        ferroc_testkit::skip(&format!(
-            "a mount namespace without /dev/shm cannot be made here: {}",
-            String::from_utf8_lossy(&probe.stderr).trim()
-        ));
-        return None;
-    }
-    let mut command = Command::new(unshare);
-    command.args(["--mount", "sh", "-c", script]).arg(program);
-    Some(command)
 }
 
 /// The two programs, running freely; the camera started by `camera` (its program
@@ -262,27 +242,40 @@ fn without_usable_shared_memory_large_values_take_the_network_with_one_warning()
     let err = programs.stop();
     assert!(err.iter().all(|l| !l.contains("warning")), "{err:#?}");
 
-    // None usable: one warning, then both values over the network, intact.
-    let Some(unshared) = without_shm(&camera) else {
-        return;
-    };
+    // None usable: one warning, then both values over the network, intact; with a
+    // read-only /dev/shm and with none at all.
+    for how in [NoShm::ReadOnly, NoShm::Missing] {
+        let Some(unshared) = no_shm::command(how, &camera) else {
+            return;
+        };
+        falls_back_with_one_warning(&bin, unshared, &image, &cloud, how);
+    }
+}
+
+/// The camera started by `camera` (without usable shared memory, `how`) sends both
+/// values over the network, intact, after exactly one warning.
+fn falls_back_with_one_warning(bin: &Path, camera: Command, image: &str, cloud: &str, how: NoShm) {
     let inspect = format!("127.0.0.1:{}", free_port());
-    let programs = start(&bin, unshared, &[], Some(&inspect));
-    programs.both_arrive_intact(&image, &cloud);
+    let programs = start(bin, camera, &[], Some(&inspect));
+    programs.both_arrive_intact(image, cloud);
     let by = transport(&inspect);
     assert_eq!(
         by,
         [
             (IMAGE.to_owned(), "network".to_owned()),
             (CLOUD.to_owned(), "network".to_owned())
-        ]
+        ],
+        "{how:?}"
     );
     let err = programs.stop();
     let warnings: Vec<&String> = err.iter().filter(|l| l.contains("warning")).collect();
-    assert_eq!(warnings.len(), 1, "{err:#?}");
-    assert!(warnings[0].starts_with(WARNING), "{err:#?}");
+    assert_eq!(warnings.len(), 1, "{how:?}: {err:#?}");
+    assert!(warnings[0].starts_with(WARNING), "{how:?}: {err:#?}");
     assert!(
-        warnings[0].contains("travel over the network. help: check that /dev/shm is mounted"),
-        "{err:#?}"
+        warnings[0].contains(
+            "links between parts on this computer travel over the network. help: check \
+             that /dev/shm is mounted"
+        ),
+        "{how:?}: {err:#?}"
     );
 }

@@ -33,7 +33,7 @@
 mod roles;
 
 use crate::b3::load_note;
-use crate::b4_parts::{free_address, percentiles};
+use crate::b4_parts::{free_address, percentiles, retried};
 use crate::options::Options;
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
@@ -479,7 +479,8 @@ pub fn run(args: &[String]) -> u8 {
     let mut failed = 0;
     for &consumers in &counts {
         for &variant in &variants {
-            match once(variant, consumers, frames) {
+            let what = format!("b3-parts: {variant} with {consumers} consumers");
+            match retried(&what, || once(variant, consumers, frames)) {
                 Ok(f) => {
                     let (cpu, p50) = report(f);
                     table.push((variant, consumers, cpu, p50));

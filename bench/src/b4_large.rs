@@ -481,7 +481,8 @@ pub fn run(args: &[String]) -> u8 {
                 if !variants[i] {
                     continue;
                 }
-                match once(VARIANTS[i], size, per_round) {
+                let what = format!("b4-large: {} {size} B", VARIANTS[i]);
+                match crate::b4_parts::retried(&what, || once(VARIANTS[i], size, per_round)) {
                     Ok((mut s, [c, w])) => {
                         samples[i].append(&mut s);
                         cpu[i] = [cpu[i][0] + c, cpu[i][1] + w];

@@ -294,6 +294,21 @@ pub(crate) fn free_address() -> Result<String, String> {
     Ok(l.local_addr().map_err(|e| e.to_string())?.to_string())
 }
 
+/// `run` (one configuration of a benchmark, which takes its addresses from
+/// [`free_address`] itself), and once more if it fails: a port found free is closed
+/// again until the program it is for listens on it, and another program may take it
+/// meanwhile (on a busy machine, a connection's own port). The first failure is shown
+/// (`what: …`); a second one is the result.
+pub(crate) fn retried<T>(
+    what: &str,
+    mut run: impl FnMut() -> Result<T, String>,
+) -> Result<T, String> {
+    run().or_else(|e| {
+        eprintln!("{what}: {e}; once more, on other ports");
+        run()
+    })
+}
+
 /// One variant once: the reader as a child, the writer here until the child is done.
 /// Per value: the latency and the part after the Zenoh callback (ns).
 fn once(variant: &str, n: u64, gap: Duration, wait: WaitMode) -> Result<Vec<(u64, u64)>, String> {
@@ -458,7 +473,8 @@ pub fn run(args: &[String]) -> u8 {
     for round in 0..rounds as usize {
         for k in 0..2 {
             let i = (round + k) % 2;
-            match once(variants[i], per_round, gap, wait) {
+            let what = format!("b4-parts: {}", variants[i]);
+            match retried(&what, || once(variants[i], per_round, gap, wait)) {
                 Ok(mut s) => samples[i].append(&mut s),
                 Err(e) => {
                     eprintln!("b4-parts: {}: {e}", variants[i]);
@@ -491,4 +507,49 @@ pub fn run(args: &[String]) -> u8 {
         wait.as_str()
     );
     0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The race `retried` is for: the first try listens on a port another program took
+    /// after `free_address` found it free; the second finds a free one and succeeds.
+    #[test]
+    fn a_configuration_whose_port_was_taken_runs_once_more_on_another() {
+        let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let taken_address = taken.local_addr().unwrap().to_string();
+        let mut tries = Vec::new();
+        let listened = retried("test", || {
+            let address = match tries.is_empty() {
+                true => taken_address.clone(),
+                false => free_address()?,
+            };
+            tries.push(address.clone());
+            std::net::TcpListener::bind(&address)
+                .map(|_| address)
+                .map_err(|e| e.to_string())
+        });
+        assert_eq!(tries.len(), 2, "{tries:?}");
+        assert_eq!(listened, Ok(tries[1].clone()));
+        assert_ne!(tries[1], taken_address);
+        drop(taken);
+    }
+
+    /// A configuration that succeeds runs once; one that fails twice is a failure.
+    #[test]
+    fn a_configuration_runs_at_most_twice() {
+        let mut runs = 0;
+        let once = retried("test", || {
+            runs += 1;
+            Ok::<_, String>(runs)
+        });
+        assert_eq!((once, runs), (Ok(1), 1));
+        let mut runs = 0;
+        let failed: Result<(), String> = retried("test", || {
+            runs += 1;
+            Err(format!("failure {runs}"))
+        });
+        assert_eq!((failed, runs), (Err("failure 2".to_string()), 2));
+    }
 }

@@ -18,7 +18,7 @@
 //! sequence number in `linear.y`: a real Twist of 48 bytes, nothing added.
 
 use crate::b3::load_note;
-use crate::b4_parts::{addresses, free_address, mono_ns, percentiles};
+use crate::b4_parts::{addresses, free_address, mono_ns, percentiles, retried};
 use crate::options::Options;
 use ferroc_runtime::builder::{
     Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StartOptions, StepKind,
@@ -323,7 +323,8 @@ pub fn run(args: &[String]) -> u8 {
     for round in 0..rounds as usize {
         for k in 0..2 {
             let i = (round + k) % 2;
-            match once(variants[i], per_round, gap) {
+            let what = format!("ros2-twist: {}", variants[i]);
+            match retried(&what, || once(variants[i], per_round, gap)) {
                 Ok(mut s) => samples[i].append(&mut s),
                 Err(e) => {
                     eprintln!("ros2-twist: {}: {e}", variants[i]);

@@ -270,8 +270,18 @@ fn main_rs(kind: Kind, crates: &[LibraryCrate]) -> String {
          /// The allocator ferroc itself uses (applications allocate as under ferroc).\n\
          #[global_allocator]\n\
          static GLOBAL: {krate}::mimalloc::MiMalloc = {krate}::mimalloc::MiMalloc;\n\n\
-         fn main() -> std::process::ExitCode {{\n    let mut registry = {registry};\n"
+         fn main() -> std::process::ExitCode {{\n"
     );
+    if kind.more_crates().iter().any(|(_, p)| *p == "ferroc-zenoh") {
+        // Its ROS 2 nodes' session: Zenoh's runtime threads as a bundle's part program
+        // has them (docs/zenoh.md "Zenoh's threads").
+        main.push_str(
+            "    // Zenoh's runtime threads: ferroc's unless ZENOH_RUNTIME is set; Zenoh reads the\n    \
+             // variable once, so before any thread or session (docs/zenoh.md \"Zenoh's threads\").\n    \
+             ferroc_zenoh::config::runtime::use_default();\n",
+        );
+    }
+    main.push_str(&format!("    let mut registry = {registry};\n"));
     for (i, c) in crates.iter().enumerate() {
         main.push_str(&format!(
             "    // The library `{}`.\n    library_{i}::register(&mut registry);\n",
@@ -491,6 +501,26 @@ mod tests {
         // Another version is another runner.
         let key_of = |v| key(Path::new("/f"), &[lib("arm", "my-arm", Some(v))], "debug");
         assert_ne!(key_of("0.3"), key_of("0.4"));
+    }
+
+    /// A runner that opens ROS 2 nodes on Zenoh chooses Zenoh's runtime threads first,
+    /// before the registry or any thread; the others do not link Zenoh's crate.
+    #[test]
+    fn runners_of_ros2_nodes_choose_zenoh_s_runtime_threads_first() {
+        let call = "ferroc_zenoh::config::runtime::use_default();";
+        for kind in [Kind::Ros2, Kind::InspectRos2] {
+            let main = main_rs(kind, &[]);
+            let body = main
+                .split_once("fn main() -> std::process::ExitCode {\n")
+                .unwrap()
+                .1;
+            let first = body.lines().find(|l| !l.trim_start().starts_with("//"));
+            assert_eq!(first.map(str::trim), Some(call), "{main}");
+        }
+        for kind in [Kind::Plain, Kind::Inspect] {
+            let main = main_rs(kind, &[]);
+            assert!(!main.contains("ferroc_zenoh"), "{main}");
+        }
     }
 
     #[test]

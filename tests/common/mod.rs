@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod inspected;
+pub mod no_shm;
 pub mod web;
 
 use std::path::{Path, PathBuf};

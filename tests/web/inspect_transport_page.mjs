@@ -1,8 +1,9 @@
 // Drives the inspector's page for the two part programs of tests/inspect_transport.rs
 // (which passes the page's address in FERROC_PAGE_URL) in Debian's headless Chromium
 // with playwright-core: the panel "Links to other parts" says the image link travels
-// by shared memory, the number's link by network, and shows the pool's use. Every wait
-// is bounded and waits for a condition. Each passed check prints one `ok:` line the
+// by shared memory, the number's link by network, and shows the pool's use; with
+// FERROC_READER_GONE=1 (the viewer killed) the pool's row also says what came back from
+// readers that are gone. Every wait is bounded and waits for a condition. Each passed check prints one `ok:` line the
 // Rust test looks for; any failure exits 1.
 
 import { createRequire } from 'node:module';
@@ -39,7 +40,11 @@ async function run() {
     pass(`${output} → ${to}: ${shown} (${await page.textContent(`${row} .${counted}`)} values)`);
   }
   const pool = '#transport tr[data-pool="camera"]';
-  await page.waitForFunction((sel) => Number(document.querySelector(sel)?.dataset.used) > 0, pool, { timeout: WAIT });
+  if (process.env.FERROC_READER_GONE === '1') {
+    await page.waitForFunction((sel) => (document.querySelector(sel)?.textContent || '').includes('of readers that are gone'), pool, { timeout: WAIT });
+  } else {
+    await page.waitForFunction((sel) => Number(document.querySelector(sel)?.dataset.used) > 0, pool, { timeout: WAIT });
+  }
   pass('pool of camera: ' + await page.textContent(pool));
   if (problems.length) throw new Error(problems.join('\n'));
 }

@@ -150,7 +150,9 @@ impl Zenoh {
                 .insert_json5("id", &id)
                 .map_err(|e| engine_error(&e))?;
         }
-        self.without_unusable_shm(&mut config)?;
+        // Where the computer cannot give shared memory, Zenoh would refuse to open the
+        // session with it: off, after one warning for the part's life (docs/zenoh.md).
+        shm::probe::off_where_unusable(&mut config, &self.no_shm, shm::probe::PARTS)?;
         zenoh::open(config).wait().map_err(|e| {
             let part = &self.addresses.part;
             let listen = &self.addresses.listen;
@@ -167,28 +169,6 @@ impl Zenoh {
                 None => format!("the part `{part}` cannot open its Zenoh session: {text}"),
             }
         })
-    }
-}
-
-impl Zenoh {
-    /// Turns shared memory off in `config` where the computer cannot give it (Zenoh
-    /// would refuse to open the session), with one warning for the part's life: its
-    /// links then travel over the network (docs/zenoh.md, "Shared memory").
-    fn without_unusable_shm(&self, config: &mut zenoh::Config) -> Result<(), String> {
-        let settings = self.shm_settings();
-        if !settings.enabled && !self.no_shm.load(Ordering::Relaxed) {
-            return Ok(());
-        }
-        if !self.no_shm.load(Ordering::Relaxed) {
-            let Some(cause) = shm::unusable() else {
-                return Ok(());
-            };
-            self.no_shm.store(true, Ordering::Relaxed);
-            shm::warn_unusable(&cause, settings.pool_size);
-        }
-        config
-            .insert_json5(shm::ENABLED_KEY, "false")
-            .map_err(|e| engine_error(&e))
     }
 }
 

@@ -71,10 +71,13 @@ impl Stats {
         let pool = pool.and_then(|p| {
             let (size, used, threshold) = p.held()?;
             let n = |x: usize| u64::try_from(x).unwrap_or(u64::MAX);
+            let usage = p.usage();
             Some(PoolUse {
                 size: n(size),
                 used: n(used),
                 threshold: n(threshold),
+                reclaimed: usage.reclaimed,
+                gone_held: usage.gone_held,
             })
         });
         TransportUse { links, pool }
@@ -122,6 +125,7 @@ mod tests {
         assert_eq!(used.links[0].topic, "robot/camera/image");
         let p = used.pool.unwrap();
         assert_eq!((p.size, p.threshold), (1 << 20, 4096));
+        assert_eq!((p.reclaimed, p.gone_held), (0, 0), "no reader is gone");
         assert!(p.used >= 100_000, "the held value's buffer: {p:?}");
         drop(held);
         assert_eq!(stats.report(Some(&pool)).pool.unwrap().used, 0);

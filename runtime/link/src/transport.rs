@@ -253,6 +253,11 @@ pub struct PoolUse {
     pub used: u64,
     /// Values of at least this many encoded bytes go into the pool.
     pub threshold: u64,
+    /// Buffers that came back from readers whose process is gone (a reader killed
+    /// while it held values).
+    pub reclaimed: u64,
+    /// Buffers a gone reader still counts in that have not come back yet.
+    pub gone_held: u64,
 }
 
 /// [`Connection::send_encoded`] without buffers of the network's own: the value in a

@@ -16,6 +16,7 @@
 
 use super::service::{Ros2Caller, Ros2Server, ServiceSpec, MAX_WAITING};
 use super::{NodeSpec, Ros2Node, Ros2Publisher, Ros2Subscriber, TopicSpec};
+use crate::shm;
 use ferroc_ros2::def::TypeName;
 use ferroc_ros2::rmw_zenoh::{Durability, History, Qos, Reliability};
 use ferroc_runtime::console;
@@ -397,6 +398,11 @@ impl Connection for WithRos2 {
 /// runs in one process, so only the nodes go on the network).
 pub struct Ros2Network {
     config: zenoh::Config,
+    /// Whose configuration it is, for the warning where shared memory is not usable.
+    whose: shm::probe::Whose,
+    /// The computer gives no usable shared memory: the session opens without it (after
+    /// one warning).
+    no_shm: AtomicBool,
 }
 
 impl Ros2Network {
@@ -417,7 +423,18 @@ impl Ros2Network {
         let mut config = crate::config::config(&addresses, file)
             .map_err(|e| e.replacen("--zenoh-config ", named, 1))?;
         super::durability::session_settings(&mut config)?;
-        Ok(Ros2Network { config })
+        let whose = shm::probe::Whose {
+            travels: "the ROS 2 nodes' messages to others on this computer",
+            config: match named.trim_end() {
+                "--zenoh-config" => "--zenoh-config",
+                _ => "the file ZENOH_SESSION_CONFIG_URI names",
+            },
+        };
+        Ok(Ros2Network {
+            config,
+            whose,
+            no_shm: AtomicBool::new(false),
+        })
     }
 }
 
@@ -456,7 +473,11 @@ impl Network for Ros2Network {
                     .into(),
             );
         }
-        let session = zenoh::open(self.config.clone()).wait().map_err(|e| {
+        // Where the computer cannot give shared memory, Zenoh would refuse to open the
+        // session with it: off, after one warning for the run (docs/zenoh.md).
+        let mut config = self.config.clone();
+        shm::probe::off_where_unusable(&mut config, &self.no_shm, self.whose)?;
+        let session = zenoh::open(config).wait().map_err(|e| {
             format!(
                 "the ROS 2 nodes cannot open their Zenoh session: {}",
                 engine_error(&e)

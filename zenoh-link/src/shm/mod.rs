@@ -45,13 +45,15 @@
 //! buffer a module writes; `counting.rs` is the backend that sees every chunk come and
 //! go; `reclaim.rs` gives back the buffers of readers that are gone (a reader killed
 //! while it held values), `process.rs` tells whether a session's process is gone and
-//! `asking.rs` asks live readers which buffers they still hold; the tests are in
+//! `asking.rs` asks live readers which buffers they still hold; `probe.rs` finds a
+//! computer without usable shared memory before a session opens; the tests are in
 //! `tests.rs`.
 
 pub(crate) mod asking;
 #[cfg(feature = "shared-memory")]
 mod counting;
 mod lending;
+pub(crate) mod probe;
 pub mod process;
 #[cfg(feature = "shared-memory")]
 mod reclaim;
@@ -94,7 +96,7 @@ pub const POOL_SIZE: usize = 64 * 1024 * 1024;
 /// over the network instead.
 pub const BLOCK_LIMIT: Duration = Duration::from_millis(500);
 
-pub(crate) const ENABLED_KEY: &str = "transport/shared_memory/enabled";
+const ENABLED_KEY: &str = "transport/shared_memory/enabled";
 const THRESHOLD_KEY: &str = "transport/shared_memory/transport_optimization/message_size_threshold";
 const POOL_KEY: &str = "transport/shared_memory/transport_optimization/pool_size";
 
@@ -222,39 +224,14 @@ fn provider(settings: Settings) -> Option<Provider> {
             asking: Mutex::default(),
         }),
         Err(e) => {
-            warn_unusable(&ferroc_terminal::engine_error(&e), settings.pool_size);
+            probe::warn_unusable(
+                &ferroc_terminal::engine_error(&e),
+                settings.pool_size,
+                probe::PARTS,
+            );
             None
         }
     }
-}
-
-/// The one warning of a part whose computer gives no usable shared memory (`cause`,
-/// Zenoh's words), for a pool of `pool_size` bytes.
-pub(crate) fn warn_unusable(cause: &str, pool_size: usize) {
-    console::note(&format!(
-        "warning: shared memory is not usable here ({cause}); links between \
-         parts on this computer travel over the network. help: check that \
-         /dev/shm is mounted and has {} MiB free, or set \
-         transport/shared_memory/enabled to false in --zenoh-config to \
-         silence this",
-        pool_size.div_ceil(1 << 20)
-    ));
-}
-
-/// Why this computer cannot give shared memory at all, if it cannot: a small POSIX
-/// segment cannot be made (no `/dev/shm`, or a read-only one, as in some containers).
-/// Zenoh then cannot even open a session that asks for shared memory.
-#[cfg(feature = "shared-memory")]
-pub(crate) fn unusable() -> Option<String> {
-    Counting::provider(64 * 1024)
-        .err()
-        .map(|e| ferroc_terminal::engine_error(&e))
-}
-
-/// Built without shared memory: nothing to make.
-#[cfg(not(feature = "shared-memory"))]
-pub(crate) fn unusable() -> Option<String> {
-    None
 }
 
 /// Built without shared memory: never a pool, silently (the bundle chose it).

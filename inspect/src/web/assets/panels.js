@@ -68,9 +68,12 @@ export function transport(table, parts) {
   for (const p of parts.filter((x) => x.pool)) {
     const share = p.pool.size ? p.pool.used / p.pool.size : 0;
     const bar = h('span', { class: 'load' }, h('span', { style: `width:${(Math.min(1, share) * 100).toFixed(1)}%` }));
+    const back = p.pool.reclaimed || 0;
+    const notYet = p.pool.gone_held || 0;
+    const gone = back || notYet ? `; of readers that are gone: ${back} back, ${notYet} not yet` : '';
     table.append(h('tr', { 'data-pool': p.part, 'data-used': String(p.pool.used), 'data-size': String(p.pool.size) },
       h('td', {}, `shared memory pool of ${p.part}`),
-      h('td', { colspan: '4' }, bar, `${bytes(p.pool.used)} of ${bytes(p.pool.size)} in use (values of ${bytes(p.pool.threshold)} and more)`)));
+      h('td', { colspan: '4' }, bar, `${bytes(p.pool.used)} of ${bytes(p.pool.size)} in use (values of ${bytes(p.pool.threshold)} and more)${gone}`)));
   }
 }
 

@@ -27,6 +27,8 @@ pub(super) fn pool_view(p: PoolUse) -> PoolView {
         size: p.size,
         used: p.used,
         threshold: p.threshold,
+        reclaimed: p.reclaimed,
+        gone_held: p.gone_held,
     }
 }
 

@@ -231,4 +231,11 @@ pub struct PoolView {
     pub used: u64,
     /// Values of at least this many encoded bytes go into the pool.
     pub threshold: u64,
+    /// Buffers that came back from readers whose process is gone (killed while they
+    /// held values); absent from an older part (0).
+    #[serde(default)]
+    pub reclaimed: u64,
+    /// Buffers a gone reader still counts in that have not come back yet.
+    #[serde(default)]
+    pub gone_held: u64,
 }
