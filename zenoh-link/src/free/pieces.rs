@@ -19,15 +19,18 @@ use zenoh::bytes::ZBytes;
 pub(super) const LENT_MARK: u8 = b'L';
 
 /// One message of a value in `pieces` ([`Encoder::pieces`]): each lent pool buffer
-/// as it is (Zenoh sends its descriptor), the encoded bytes around them as they are.
-pub(super) fn joined(pool: Option<&Pool>, pieces: Vec<Piece>) -> ZBytes {
+/// as it is (Zenoh sends its descriptor), the encoded bytes around them as they are;
+/// and the addresses of the pool buffers in it (for the pool's ledger after the put).
+pub(super) fn joined(pool: Option<&Pool>, pieces: Vec<Piece>) -> (ZBytes, Vec<usize>) {
     let mut message = ZBytes::writer();
+    let mut buffers = Vec::new();
     for piece in pieces {
         let bytes = match piece {
             Piece::Encoded(v) => ZBytes::from(v),
             Piece::Lent(buffer) => match buffer.as_any().downcast_ref::<Lent>() {
                 Some(lent) => {
                     pool.inspect(|p| p.sent_lent());
+                    buffers.push(Pool::address(buffer.bytes()));
                     lent.shared()
                 }
                 // Lent by another network (none today): its bytes, copied.
@@ -36,7 +39,7 @@ pub(super) fn joined(pool: Option<&Pool>, pieces: Vec<Piece>) -> ZBytes {
         };
         message.append(bytes);
     }
-    message.finish()
+    (message.finish(), buffers)
 }
 
 /// One buffer of a value that arrived in several (a writer's lent buffer and the bytes
