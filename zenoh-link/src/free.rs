@@ -40,7 +40,7 @@ use zenoh::{Session, Wait};
 mod pieces;
 mod qos;
 mod routes;
-use pieces::{deliver_pieces, joined, LENT_MARK};
+use pieces::{deliver_pieces, joined, Buffers, LENT_MARK};
 pub use qos::Qos;
 use routes::Routes;
 
@@ -465,7 +465,7 @@ impl Free {
 
     /// Puts a value of the data link `id` (nothing if the full pool dropped it).
     fn put(&self, id: u32, out: &Out, payload: Payload) {
-        let buffers = Pool::addresses(&payload);
+        let buffers = Buffers::of(&payload);
         self.put_with(id, out, payload, out.attachment.clone(), buffers);
     }
 
@@ -473,15 +473,16 @@ impl Free {
     /// the pool buffers of `payload` at `buffers`. Only what the put needs comes
     /// before it: after a large value was filled the caches hold little but its
     /// bytes, and every line of code or data touched on the way costs a miss.
-    fn put_with(&self, id: u32, out: &Out, payload: Payload, links: ZBytes, buffers: Vec<usize>) {
+    fn put_with(&self, id: u32, out: &Out, payload: Payload, links: ZBytes, buffers: Buffers) {
         let (Payload::Shared(bytes) | Payload::Network(bytes)) = payload else {
             return; // dropped: the pool is full (warned)
         };
         // A value in shared memory is stamped with its publisher's next number.
-        let stamp = !buffers.is_empty();
+        let stamp = !buffers.at.is_empty();
         let (put, send) = out.order.put(&out.publisher, bytes, links, stamp);
+        buffers.listed();
         if let Some(pool) = &self.pool {
-            pool.sent(&buffers, send); // the pool's ledger notes who may hold them now
+            pool.sent(&buffers.at, send); // the pool's ledger notes who may hold them now
         }
         if let Err(e) = put {
             self.failed(&format!(
@@ -541,10 +542,13 @@ impl Connection for Free {
             }
             (Some(pool), None) => {
                 let payload = pool.payload_encoded(encoder, out.reliable, &out.name)?;
-                let buffers = Pool::addresses(&payload);
+                let buffers = Buffers::of(&payload);
                 (payload, buffers)
             }
-            (None, None) => (Payload::Network(encoder.to_vec()?.into()), Vec::new()),
+            (None, None) => {
+                let payload = Payload::Network(encoder.to_vec()?.into());
+                (payload, Buffers::default())
+            }
         };
         let attachment = match (targets, lent) {
             ([_], false) => out.attachment.clone(),

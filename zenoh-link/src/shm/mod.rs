@@ -493,10 +493,7 @@ impl Pool {
 
     /// Where the buffer `bytes` starts: its name in the pool's ledger.
     pub(crate) fn address(bytes: &[u8]) -> usize {
-        #[cfg(feature = "shared-memory")]
-        return reclaim::address(bytes);
-        #[cfg(not(feature = "shared-memory"))]
-        return bytes.as_ptr() as usize;
+        bytes.as_ptr() as usize
     }
 
     /// The buffers at `addresses` were just put, stamped `send` (publisher, number;
