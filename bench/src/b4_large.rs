@@ -19,11 +19,16 @@
 //! takes `now - stamp`: in ferroc's reader module after it read the value from its input
 //! (a data-triggered container), in the bare subscriber's callback. The reader is a
 //! child process (`ferroc-bench b4-large-child`); variants alternate per round.
+//!
+//! Every program runs as a part program does (as in `b3-parts`): Zenoh's runtime
+//! threads from ferroc's `ZENOH_RUNTIME` (`config::runtime::use_default`, unless the
+//! environment sets one), and ferroc's Zenoh configuration of its part, the bare pair
+//! too (the writer connects, the reader only listens).
 
 mod bare;
 
 use crate::b3::load_note;
-use crate::b4_parts::{addresses, free_address, mono_ns, percentiles, session};
+use crate::b4_parts::{addresses, free_address, mono_ns, percentiles};
 use crate::options::Options;
 use ferroc_runtime::builder::{
     Builder, Conversion, ModuleSpec, Registry, RunningApp, Schedule, StartOptions, StepKind,
@@ -56,6 +61,8 @@ const VARIANTS: [&str; 5] = [
     "zenoh-net",
 ];
 const WARM_UP: usize = 20;
+/// How long the reader waits for a value (the first one included) before it gives up.
+const STALLED: Duration = Duration::from_secs(20);
 const DEFAULT_MESSAGES: u64 = 300;
 const DEFAULT_ROUNDS: u64 = 2;
 
@@ -250,6 +257,8 @@ pub fn child(args: &[String]) -> u8 {
         eprintln!("{CHILD_ARG}: N must be a number");
         return 2;
     };
+    // Zenoh's runtime threads as a part program has them (the bare reader too).
+    ferroc_zenoh::config::runtime::use_default();
     let registry = registry();
     let mut keep: Vec<Box<dyn std::any::Any>> = Vec::new();
     let started = config_of(variant).and_then(|config| {
@@ -264,7 +273,7 @@ pub fn child(args: &[String]) -> u8 {
             keep.push(Box::new(app));
             return Ok(());
         }
-        let s = session("reader", writer, reader, config.as_deref())?;
+        let s = bare::session("reader", (writer, reader), config.as_deref())?;
         let sub = s
             .declare_subscriber(KEY)
             .callback(|sample| {
@@ -283,7 +292,9 @@ pub fn child(args: &[String]) -> u8 {
         eprintln!("{CHILD_ARG}: {e}");
         return 1;
     }
-    let deadline = Instant::now() + Duration::from_secs(300);
+    // Values come every 20 ms at most: one this late means the pair never connected
+    // (seen once in ~20 runs); fail soon rather than wait out the writer's deadline.
+    let (mut last, mut progress) = (0, Instant::now());
     // The reader's CPU (all its threads) and wall time from the end of the warm-up.
     let mut from: Option<(u64, u64)> = None;
     loop {
@@ -294,8 +305,13 @@ pub fn child(args: &[String]) -> u8 {
         if len >= WARM_UP + n {
             break;
         }
-        if Instant::now() > deadline {
-            eprintln!("{CHILD_ARG}: too few values arrived");
+        if len > last {
+            (last, progress) = (len, Instant::now());
+        } else if progress.elapsed() > STALLED {
+            eprintln!(
+                "{CHILD_ARG}: no value for {} s ({len} arrived)",
+                STALLED.as_secs()
+            );
             return 1;
         }
         // As rarely as before the CPU figure was added: a poller waking more often
@@ -460,6 +476,15 @@ pub fn run(args: &[String]) -> u8 {
             return 2;
         }
     };
+    // Zenoh's runtime threads as a part program has them, in the writers here and
+    // (inherited) in the readers; the environment's `ZENOH_RUNTIME` wins.
+    let runtime = match ferroc_zenoh::config::runtime::use_default() {
+        Some(ours) => format!("ZENOH_RUNTIME='{ours}' (ferroc's, as in a bundle)"),
+        None => format!(
+            "ZENOH_RUNTIME='{}' (the environment's)",
+            std::env::var(ferroc_zenoh::config::runtime::ENV).unwrap_or_default()
+        ),
+    };
     if cfg!(debug_assertions) {
         println!("b4-large: warning: not a release build; figures are meaningless");
     }
@@ -467,7 +492,8 @@ pub fn run(args: &[String]) -> u8 {
     println!(
         "b4-large: {} values per size and variant between two programs on 127.0.0.1 \
          ({rounds} rounds, +{WARM_UP} warm-up each; 64 B and 64 KB every 2 ms, 1 MB every \
-         10 ms, 6.2 MB every 20 ms); {}",
+         10 ms, 6.2 MB every 20 ms); every program {runtime}, ferroc's Zenoh configuration \
+         of its part (the bare pair too: the writer connects, the reader listens); {}",
         per_round * rounds,
         load_note()
     );

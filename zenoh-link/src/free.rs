@@ -16,7 +16,7 @@ use crate::keys::{encoding, Keys};
 use crate::shm::asking::Read;
 use crate::shm::asking::{answering, Order, Receipt, Receipts};
 use crate::shm::{Payload, Pool};
-use crate::stats::Stats;
+use crate::stats::{Stats, Way};
 use ferroc_runtime::console;
 use ferroc_runtime::link::transport::{
     call_number, send_each, Connection, Delivery, LinkKind, PartLinks, TransportUse,
@@ -40,7 +40,7 @@ use zenoh::{Session, Wait};
 mod pieces;
 mod qos;
 mod routes;
-use pieces::{deliver_pieces, joined, LENT_MARK};
+use pieces::{deliver_pieces, joined, Buffers, LENT_MARK};
 pub use qos::Qos;
 use routes::Routes;
 
@@ -135,6 +135,9 @@ struct Out {
     publisher: Publisher<'static>,
     /// The link number, the sample's attachment.
     attachment: ZBytes,
+    /// The attachment of a value sent in pieces around a lent buffer: the link number
+    /// and [`LENT_MARK`] (made once: a value's way to its put is kept short).
+    lent_attachment: ZBytes,
     /// Whether a full pool makes it wait (`true`) or drop the value.
     reliable: bool,
     /// `link robot → station (robot/x/out)`, for warnings.
@@ -160,9 +163,11 @@ fn publishers(
             .express(qos.express)
             .wait()
             .map_err(|e| format!("cannot publish the link {id}: {}", engine_error(&e)))?;
+        let lent = id.to_le_bytes().into_iter().chain([LENT_MARK]);
         let out = Out {
             publisher,
             attachment: ZBytes::from(id.to_le_bytes().to_vec()),
+            lent_attachment: ZBytes::from(lent.collect::<Vec<u8>>()),
             reliable: s.reliable,
             name: format!("link {part} → {} ({})", s.to_part, s.topic),
             order: Order::default(),
@@ -460,20 +465,24 @@ impl Free {
 
     /// Puts a value of the data link `id` (nothing if the full pool dropped it).
     fn put(&self, id: u32, out: &Out, payload: Payload) {
-        self.put_with(id, out, payload, out.attachment.clone());
+        let buffers = Buffers::of(&payload);
+        self.put_with(id, out, payload, out.attachment.clone(), buffers);
     }
 
-    /// [`put`](Self::put) with the attachment `links` (the link numbers it is for).
-    fn put_with(&self, id: u32, out: &Out, payload: Payload, links: ZBytes) {
-        let buffers = Pool::addresses(&payload);
+    /// [`put`](Self::put) with the attachment `links` (the link numbers it is for),
+    /// the pool buffers of `payload` at `buffers`. Only what the put needs comes
+    /// before it: after a large value was filled the caches hold little but its
+    /// bytes, and every line of code or data touched on the way costs a miss.
+    fn put_with(&self, id: u32, out: &Out, payload: Payload, links: ZBytes, buffers: Buffers) {
         let (Payload::Shared(bytes) | Payload::Network(bytes)) = payload else {
             return; // dropped: the pool is full (warned)
         };
         // A value in shared memory is stamped with its publisher's next number.
-        let stamp = !buffers.is_empty();
+        let stamp = !buffers.at.is_empty();
         let (put, send) = out.order.put(&out.publisher, bytes, links, stamp);
+        buffers.listed();
         if let Some(pool) = &self.pool {
-            pool.sent(&buffers, send); // the pool's ledger notes who may hold them now
+            pool.sent(&buffers.at, send); // the pool's ledger notes who may hold them now
         }
         if let Err(e) = put {
             self.failed(&format!(
@@ -501,8 +510,9 @@ impl Connection for Free {
                         Some(pool) => pool.payload(frame.bytes, out.reliable, &out.name),
                         None => Payload::Network(frame.bytes.into()),
                     };
-                    self.stats.sent([id], &payload);
+                    let way = Way::of(&payload);
                     self.put(id, out, payload);
+                    self.stats.count([id], way);
                 }
             }
             LinkKind::Request(call) => self.call(call, frame),
@@ -524,23 +534,34 @@ impl Connection for Free {
         };
         let pieces = encoder.pieces()?;
         let lent = pieces.is_some();
-        let payload = match (&self.pool, pieces) {
+        let (payload, buffers) = match (&self.pool, pieces) {
             // Bytes an output lent from the pool go as they are (no copy).
-            (pool, Some(pieces)) => Payload::Shared(joined(pool.as_deref(), pieces)),
-            (Some(pool), None) => pool.payload_encoded(encoder, out.reliable, &out.name)?,
-            (None, None) => Payload::Network(encoder.to_vec()?.into()),
+            (pool, Some(pieces)) => {
+                let (message, buffers) = joined(pool.as_deref(), pieces);
+                (Payload::Shared(message), buffers)
+            }
+            (Some(pool), None) => {
+                let payload = pool.payload_encoded(encoder, out.reliable, &out.name)?;
+                let buffers = Buffers::of(&payload);
+                (payload, buffers)
+            }
+            (None, None) => {
+                let payload = Payload::Network(encoder.to_vec()?.into());
+                (payload, Buffers::default())
+            }
         };
-        self.stats
-            .sent(targets.iter().map(|(link, _)| *link), &payload);
         let attachment = match (targets, lent) {
             ([_], false) => out.attachment.clone(),
+            ([_], true) => out.lent_attachment.clone(),
             _ => {
                 let links = targets.iter().flat_map(|(l, _)| l.to_le_bytes());
                 let mark = lent.then_some(LENT_MARK);
                 ZBytes::from(links.chain(mark).collect::<Vec<u8>>())
             }
         };
-        self.put_with(targets[0].0, out, payload, attachment);
+        let way = Way::of(&payload);
+        self.put_with(targets[0].0, out, payload, attachment, buffers);
+        (self.stats).count(targets.iter().map(|(link, _)| *link), way);
         Ok(())
     }
 

@@ -9,6 +9,24 @@ use ferroc_runtime::link::transport::{LinkUse, PartLinks, PoolUse, TransportUse}
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+/// How a value went: the kind of its [`Payload`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Way {
+    Shared,
+    Network,
+    Dropped,
+}
+
+impl Way {
+    pub(crate) fn of(payload: &Payload) -> Way {
+        match payload {
+            Payload::Shared(_) => Way::Shared,
+            Payload::Network(_) => Way::Network,
+            Payload::Dropped => Way::Dropped,
+        }
+    }
+}
+
 /// The counters of the links one part sends.
 #[derive(Default)]
 pub(crate) struct Stats {
@@ -42,15 +60,22 @@ impl Stats {
     }
 
     /// Counts a value sent on each of `links` the way `payload` says it went.
+    #[cfg(test)]
     pub(crate) fn sent(&self, links: impl IntoIterator<Item = u32>, payload: &Payload) {
+        self.count(links, Way::of(payload));
+    }
+
+    /// Counts a value sent on each of `links` the way `way` (taken from its payload
+    /// before the put, counted after it: the put comes first).
+    pub(crate) fn count(&self, links: impl IntoIterator<Item = u32>, way: Way) {
         for link in links {
             let Some(c) = self.links.get(&link) else {
                 continue;
             };
-            let counter = match payload {
-                Payload::Shared(_) => &c.shared,
-                Payload::Network(_) => &c.network,
-                Payload::Dropped => &c.dropped,
+            let counter = match way {
+                Way::Shared => &c.shared,
+                Way::Network => &c.network,
+                Way::Dropped => &c.dropped,
             };
             counter.fetch_add(1, Ordering::Relaxed);
         }

@@ -1,11 +1,44 @@
 //! The bare Zenoh writer of b4-large's `zenoh-shm` and `zenoh-net` variants: what
 //! ferroc's link is measured against, with nothing of ferroc but the session set-up.
 
-use super::{config_of, fill, gap, KEY};
-use crate::b4_parts::session;
+use super::{config_of, fill, gap, KEY, LINK};
+use crate::b4_parts::addresses;
+use ferroc_runtime::link::transport::{PartLinks, Sending};
+use ferroc_zenoh::config::{ModelShm, PartConfig};
+use std::path::Path;
 use std::time::Instant;
 use zenoh::shm::{BlockOn, GarbageCollect, ShmProviderBuilder};
 use zenoh::Wait;
+
+/// A bare Zenoh session of the part `part` (`writer` or `reader`): ferroc's
+/// configuration of the same part, who connects to whom included (the writer
+/// connects, the reader only listens), as b3-parts' bare programs have it.
+pub(super) fn session(
+    part: &str,
+    (writer, reader): (&str, &str),
+    file: Option<&Path>,
+) -> Result<zenoh::Session, String> {
+    let addresses = addresses(part, writer, reader);
+    let config = PartConfig::new(&addresses, file, ModelShm::default())?;
+    let mut links = PartLinks {
+        part: part.into(),
+        ..PartLinks::default()
+    };
+    if part == "writer" {
+        let sending = Sending {
+            to_part: LINK.to_part.into(),
+            topic: "writer/camera/out".into(),
+            model_type: LINK.model_type.into(),
+            sharing: LINK.sharing,
+            reliable: LINK.reliable,
+        };
+        links.sending.insert(LINK.id, sending);
+    } else {
+        links.receiving.insert(LINK.id, LINK.from_part.into());
+    }
+    let config = config.for_links(&addresses, &links)?;
+    zenoh::open(config).wait().map_err(|e| e.to_string())
+}
 
 /// A bare writer: puts a filled, stamped value of `size` bytes every `gap` until
 /// `done`, in shared memory of its own provider (`zenoh-shm`) or as a `Vec`.
@@ -16,7 +49,7 @@ pub(super) fn writer(
     done: &mut dyn FnMut() -> Result<bool, String>,
 ) -> Result<(), String> {
     let config = config_of(variant)?;
-    let s = session("writer", writer, reader, config.as_deref())?;
+    let s = session("writer", (writer, reader), config.as_deref())?;
     let publisher = s
         .declare_publisher(KEY)
         .congestion_control(zenoh::qos::CongestionControl::Block)

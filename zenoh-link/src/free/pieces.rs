@@ -6,10 +6,10 @@
 #[cfg(feature = "shared-memory")]
 use crate::shm::asking::Read;
 use crate::shm::asking::Receipt;
-use crate::shm::{Lent, Pool};
+use crate::shm::{Lent, Payload, Pool};
 use ferroc_runtime::link::transport::Delivery;
 use ferroc_runtime::module::bytes::Holder;
-use ferroc_runtime::module::lend::Piece;
+use ferroc_runtime::module::lend::{LentBuffer, Piece};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use zenoh::bytes::ZBytes;
@@ -19,16 +19,21 @@ use zenoh::bytes::ZBytes;
 pub(super) const LENT_MARK: u8 = b'L';
 
 /// One message of a value in `pieces` ([`Encoder::pieces`]): each lent pool buffer
-/// as it is (Zenoh sends its descriptor), the encoded bytes around them as they are.
-pub(super) fn joined(pool: Option<&Pool>, pieces: Vec<Piece>) -> ZBytes {
+/// as it is (Zenoh sends its descriptor), the encoded bytes around them as they are;
+/// and its pool buffers, for the pool's ledger after the put.
+pub(super) fn joined(pool: Option<&Pool>, pieces: Vec<Piece>) -> (ZBytes, Buffers) {
     let mut message = ZBytes::writer();
+    let mut buffers = Buffers::default();
     for piece in pieces {
         let bytes = match piece {
             Piece::Encoded(v) => ZBytes::from(v),
             Piece::Lent(buffer) => match buffer.as_any().downcast_ref::<Lent>() {
                 Some(lent) => {
                     pool.inspect(|p| p.sent_lent());
-                    lent.shared()
+                    buffers.at.push(Pool::address(buffer.bytes()));
+                    let bytes = lent.message();
+                    buffers.lent.push(buffer);
+                    bytes
                 }
                 // Lent by another network (none today): its bytes, copied.
                 None => ZBytes::from(buffer.bytes().to_vec()),
@@ -36,7 +41,34 @@ pub(super) fn joined(pool: Option<&Pool>, pieces: Vec<Piece>) -> ZBytes {
         };
         message.append(bytes);
     }
-    message.finish()
+    (message.finish(), buffers)
+}
+
+/// The pool buffers of a message: where they start, and those an output lent, which
+/// the pool's ledger lists after the put ([`Lent::message`]).
+#[derive(Default)]
+pub(super) struct Buffers {
+    pub(super) at: Vec<usize>,
+    lent: Vec<Arc<dyn LentBuffer>>,
+}
+
+impl Buffers {
+    /// The buffers of a payload the pool filled (none lent: listed already).
+    pub(super) fn of(payload: &Payload) -> Buffers {
+        Buffers {
+            at: Pool::addresses(payload),
+            lent: Vec::new(),
+        }
+    }
+
+    /// Lists the lent buffers in the pool's ledger; after the put, before `Pool::sent`.
+    pub(super) fn listed(&self) {
+        for buffer in &self.lent {
+            if let Some(lent) = buffer.as_any().downcast_ref::<Lent>() {
+                lent.listed();
+            }
+        }
+    }
 }
 
 /// One buffer of a value that arrived in several (a writer's lent buffer and the bytes

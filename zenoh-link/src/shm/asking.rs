@@ -127,7 +127,7 @@ mod with_shm {
     use super::{at_or_after, Answer, Question, Seen, ASK_TIMEOUT};
     use crate::shm::reclaim::Ledger;
     use std::collections::{BTreeSet, HashMap};
-    use std::sync::{Arc, Mutex};
+    use std::sync::{Arc, Mutex, OnceLock};
     use zenoh::bytes::ZBytes;
     use zenoh::key_expr::OwnedKeyExpr;
     use zenoh::pubsub::Publisher;
@@ -140,6 +140,8 @@ mod with_shm {
     #[derive(Default)]
     pub(crate) struct Order {
         next: Mutex<u32>,
+        /// The publisher's id, asked of Zenoh once (it goes through the session).
+        id: OnceLock<EntityGlobalId>,
     }
 
     impl Order {
@@ -158,8 +160,9 @@ mod with_shm {
             if !stamp {
                 return (put.wait(), None);
             }
+            let id = *self.id.get_or_init(|| publisher.id());
             let mut next = lock(&self.next);
-            let (id, number) = (publisher.id(), *next);
+            let number = *next;
             *next = next.wrapping_add(1);
             let put = put.source_info(SourceInfo::new(id, number)).wait();
             (put, Some((id.eid(), number)))

@@ -56,16 +56,40 @@ pub struct Lent {
 pub enum Lent {}
 
 impl Lent {
-    /// The buffer, to send: one more reference, so the module can no longer write it.
-    #[cfg(feature = "shared-memory")]
+    /// The buffer, to send: one more reference, so the module can no longer write it;
+    /// listed in the pool's ledger ([`message`](Self::message), then
+    /// [`listed`](Self::listed)).
     pub fn shared(&self) -> ZBytes {
-        let held = Arc::downgrade(&self.held);
-        self.ledger.track(&self.buffer, Some(held));
+        let message = self.message();
+        self.listed();
+        message
+    }
+
+    /// The buffer as a message's bytes: one more reference, so the module can no
+    /// longer write it. [`listed`](Self::listed) must follow before the pool hears
+    /// that it was sent (`Pool::sent`): a link puts first and lists after, since after
+    /// a large fill every line the way to the put touches costs a cache miss. The
+    /// buffer stays taken meanwhile: this `Lent` holds it.
+    #[cfg(feature = "shared-memory")]
+    pub fn message(&self) -> ZBytes {
         ZBytes::from(self.buffer.clone())
     }
 
+    /// Lists the buffer in the pool's ledger (who may hold it, reclaim.rs), as held by
+    /// its output for as long as this `Lent` lives.
+    #[cfg(feature = "shared-memory")]
+    pub fn listed(&self) {
+        let held = Arc::downgrade(&self.held);
+        self.ledger.track(&self.buffer, Some(held));
+    }
+
     #[cfg(not(feature = "shared-memory"))]
-    pub fn shared(&self) -> ZBytes {
+    pub fn message(&self) -> ZBytes {
+        match *self {}
+    }
+
+    #[cfg(not(feature = "shared-memory"))]
+    pub fn listed(&self) {
         match *self {}
     }
 }

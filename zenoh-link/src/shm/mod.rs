@@ -463,9 +463,14 @@ impl Pool {
     pub(crate) fn addresses(payload: &Payload) -> Vec<usize> {
         match payload {
             #[cfg(feature = "shared-memory")]
-            Payload::Shared(bytes) => bytes.slices().map(reclaim::address).collect(),
+            Payload::Shared(bytes) => bytes.slices().map(Pool::address).collect(),
             _ => Vec::new(),
         }
+    }
+
+    /// Where the buffer `bytes` starts: its name in the pool's ledger.
+    pub(crate) fn address(bytes: &[u8]) -> usize {
+        bytes.as_ptr() as usize
     }
 
     /// The buffers at `addresses` were just put, stamped `send` (publisher, number;

@@ -126,7 +126,7 @@ enum Sent {
 
 /// The address of a buffer's first byte, its name in the ledger.
 pub(crate) fn address(bytes: &[u8]) -> usize {
-    bytes.as_ptr() as usize
+    super::Pool::address(bytes)
 }
 
 impl Ledger {
