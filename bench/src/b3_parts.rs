@@ -15,7 +15,9 @@
 //! in `roles.rs`). The producer copies a source frame into the value (the in-process
 //! B3's memcpy), writes the frame number and, last, a `CLOCK_MONOTONIC` stamp; a
 //! consumer takes `now - stamp` in its step (ferroc: a data-triggered container's
-//! module reading its input; bare: the subscriber's callback). The first
+//! module reading its input, the container `wait="inline"` so that its cycle runs in
+//! Zenoh's callback as the bare work does, `--consumer-wait park` for a thread of its
+//! own woken by each frame; bare: the subscriber's callback). The first
 //! [`WARM_UP`] frames are not measured; the window is the next `--frames` frames. The
 //! producer tells this process where the window starts and ends; at both moments this
 //! process reads every program's CPU time (`utime + stime` of `/proc/PID/stat`) and
@@ -35,6 +37,7 @@ mod roles;
 use crate::b3::load_note;
 use crate::b4_parts::{free_address, percentiles, retried};
 use crate::options::Options;
+use ferroc_runtime::port::WaitMode;
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -68,6 +71,20 @@ pub(crate) const MESH_ENV: &str = "FERROC_B3_MESH";
 pub(crate) const ZENOH_ENV: &str = "FERROC_B3_ZENOH";
 /// `--zenoh-runtime RON`: Zenoh's runtime threads (`ZENOH_RUNTIME`) of every program.
 const RUNTIME_ENV: &str = "ZENOH_RUNTIME";
+/// `--consumer-wait MODE`: the `wait=` of ferroc's consumer containers.
+const WAIT_ENV: &str = "FERROC_B3_CONSUMER_WAIT";
+/// Without `--consumer-wait`: the Viewer's step reads 16 bytes and notes a latency,
+/// short and never blocking, which is what `wait="inline"` is for (its cycle runs in
+/// Zenoh's callback, as the bare subscriber's work does).
+const DEFAULT_WAIT: WaitMode = WaitMode::Inline;
+
+/// How ferroc's consumer containers wait for data (`--consumer-wait`, handed to the
+/// children in [`WAIT_ENV`]).
+pub(crate) fn consumer_wait() -> WaitMode {
+    let wait = std::env::var(WAIT_ENV).ok();
+    wait.and_then(|w| WaitMode::parse(&w))
+        .unwrap_or(DEFAULT_WAIT)
+}
 
 /// What one configuration measured.
 struct Figures {
@@ -417,6 +434,7 @@ pub fn run(args: &[String]) -> u8 {
             "mesh",
             "zenoh",
             "zenoh-runtime",
+            "consumer-wait",
         ],
         &[],
     )
@@ -424,6 +442,14 @@ pub fn run(args: &[String]) -> u8 {
         let mut tuning = TUNING.lock().unwrap_or_else(|e| e.into_inner());
         tuning.extend(o.text("zenoh").map(|z| (ZENOH_ENV, z.to_owned())));
         tuning.extend(o.text("zenoh-runtime").map(|r| (RUNTIME_ENV, r.to_owned())));
+        if let Some(w) = o.text("consumer-wait") {
+            if WaitMode::parse(w).is_none() {
+                return Err(format!(
+                    "b3-parts: `--consumer-wait {w}`: park, spin, adaptive or inline"
+                ));
+            }
+            tuning.push((WAIT_ENV, w.to_owned()));
+        }
         let mesh = match o.text("mesh").unwrap_or("off") {
             "on" => true,
             "off" => false,
@@ -451,7 +477,12 @@ pub fn run(args: &[String]) -> u8 {
         load_note()
     );
     let tuning = TUNING.lock().unwrap_or_else(|e| e.into_inner()).clone();
-    let mut tuning: Vec<String> = tuning.iter().map(|(k, v)| format!("{k}='{v}'")).collect();
+    let wait =
+        (tuning.iter().find(|(k, _)| *k == WAIT_ENV)).map_or(DEFAULT_WAIT.as_str(), |t| &t.1);
+    let mut tuning: Vec<String> = (tuning.iter())
+        .filter(|(k, _)| *k != WAIT_ENV)
+        .map(|(k, v)| format!("{k}='{v}'"))
+        .collect();
     if !tuning.iter().any(|t| t.starts_with(RUNTIME_ENV)) {
         // The children inherit this environment; without it they set ferroc's.
         tuning.push(match std::env::var(RUNTIME_ENV) {
@@ -463,7 +494,7 @@ pub fn run(args: &[String]) -> u8 {
         });
     }
     println!(
-        "b3-parts: gossip mesh {}; every program's tuning: {}",
+        "b3-parts: ferroc's consumers wait=\"{wait}\"; gossip mesh {}; every program's tuning: {}",
         if MESH.load(Ordering::Relaxed) {
             "on"
         } else {

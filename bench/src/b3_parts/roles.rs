@@ -28,7 +28,7 @@ use ferroc_zenoh::free::Qos;
 use ferroc_zenoh::Zenoh;
 use std::io::Write;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 use zenoh::shm::{BlockOn, GarbageCollect, ShmProviderBuilder};
 use zenoh::Wait;
@@ -64,6 +64,9 @@ static SEEN: Mutex<Seen> = Mutex::new(Seen {
     all: 0,
     shared: 0,
 });
+/// Notified when the window's last frame was seen: the consumer's main thread sleeps
+/// on it instead of polling (a poll is the harness's CPU, not what is measured).
+static LAST_SEEN: Condvar = Condvar::new();
 
 fn seen() -> std::sync::MutexGuard<'static, Seen> {
     SEEN.lock().unwrap_or_else(|e| e.into_inner())
@@ -90,6 +93,9 @@ fn saw(data: &[u8], shared: Option<bool>) {
     s.latencies.push(now.saturating_sub(stamp));
     s.last_ns = now;
     s.last_seq = s.last_seq.max(seq);
+    if seq >= WARM_UP + FRAMES.load(Ordering::Relaxed) {
+        LAST_SEEN.notify_all();
+    }
 }
 
 /// The source frame the producer copies each cycle (as the in-process B3 does).
@@ -238,10 +244,15 @@ fn ferroc_part(
         0 => Schedule::Periodic(PERIOD),
         _ => Schedule::Data,
     };
+    let options = ThreadOptions {
+        // The consumer's container; the producer's is periodic and ignores it.
+        wait: super::consumer_wait(),
+        ..ThreadOptions::default()
+    };
     b.add_thread(ThreadSpec {
         path: part.clone(),
         schedule,
-        options: ThreadOptions::default(),
+        options,
         steps: vec![(path.clone(), StepKind::Update)],
     })
     .map_err(|e| e.to_string())?;
@@ -379,20 +390,23 @@ pub fn child(args: &[String]) -> u8 {
 
 /// Runs the producer until its stdin closes.
 fn producer(variant: &str, all: &[String]) -> Result<(), String> {
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = Arc::clone(&stop);
-    std::thread::spawn(move || {
+    let until_stdin_closes = || {
         let _ = std::io::copy(&mut std::io::stdin().lock(), &mut std::io::sink());
-        flag.store(true, Ordering::Relaxed);
-    });
+    };
     if variant.starts_with("ferroc") {
         let (app, _network) = ferroc_part(variant, 0, all)?;
-        while !stop.load(Ordering::Relaxed) {
-            std::thread::sleep(Duration::from_millis(20));
-        }
+        // Blocked in `read` (a poll of a stop flag every 20 ms cost this program 50
+        // wakeups a second that the bare producer does not make).
+        until_stdin_closes();
         drop(app);
         return Ok(());
     }
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    std::thread::spawn(move || {
+        until_stdin_closes();
+        flag.store(true, Ordering::Relaxed);
+    });
     bare_producer(all, &stop)
 }
 
@@ -455,11 +469,15 @@ fn wait_for_window_end() -> Result<(), String> {
     // The warm-up at a few frames per second, plus start-up on a loaded machine.
     let limit = PERIOD * (25 * WARM_UP) as u32 + Duration::from_secs(60);
     let deadline = Instant::now() + limit;
+    let mut s = seen();
     loop {
-        // Every 100 ms: a 10 ms poll was ~13 % of a consumer program's CPU (perf), the
-        // harness's and not what is measured; the window's end is read by the parent.
-        std::thread::sleep(Duration::from_millis(100));
-        let s = seen();
+        // Woken by the window's last frame, else once a second for the other ends: a
+        // poll every 100 ms was 2–4 µs of a consumer's CPU a frame (h30c's per-thread
+        // figures), the harness's and not what is measured.
+        s = match LAST_SEEN.wait_timeout(s, Duration::from_secs(1)) {
+            Ok((s, _)) => s,
+            Err(e) => e.into_inner().0,
+        };
         let now = mono_ns();
         let measuring = !s.latencies.is_empty();
         let quiet = now.saturating_sub(s.last_ns) > QUIET.as_nanos() as u64;

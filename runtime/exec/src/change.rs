@@ -10,7 +10,8 @@
 use super::Step;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Condvar, Mutex};
+use std::sync::{Condvar, Mutex, OnceLock};
+use std::thread::Thread;
 use std::time::{Duration, Instant};
 
 /// A change of one container's steps.
@@ -38,6 +39,10 @@ pub struct ChangeSlot {
     pending: AtomicBool,
     state: Mutex<State>,
     applied: Condvar,
+    /// The thread a post wakes: the own thread of a container whose cycles run
+    /// elsewhere (`wait="inline"`), which sleeps until there is something to do.
+    /// Other containers look between their cycles.
+    waker: OnceLock<Thread>,
 }
 
 #[derive(Default)]
@@ -58,7 +63,17 @@ impl ChangeSlot {
         state.change = Some(change);
         state.exported = None;
         self.pending.store(true, Ordering::Release);
+        drop(state);
+        if let Some(thread) = self.waker.get() {
+            thread.unpark();
+        }
         Ok(())
+    }
+
+    /// Makes every [`post`](Self::post) from now on unpark `thread` (the first
+    /// thread set stays).
+    pub(crate) fn wake_on_post(&self, thread: Thread) {
+        let _ = self.waker.set(thread);
     }
 
     /// Waits up to `timeout` until the posted change has been applied; gives the

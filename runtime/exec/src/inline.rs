@@ -12,21 +12,28 @@
 //! waits. So a step must be short and must not block (the delivering thread, maybe the
 //! network's, waits for it): the compiler's S108 refuses what the model shows.
 //!
-//! A thread of the container's own stays, sleeping: it runs what must happen between
-//! cycles when no value comes (changes of the steps, [`ChangeSlot`](crate::ChangeSlot);
-//! changes of local connections are served by the session each cycle opens), ends the
-//! container when the run stops or its cycle limit is reached (closing the gate, after
-//! which no cycle runs), and is what [`RunningContainer`] joins. In lockstep the driver
-//! runs the cycles and the mode changes nothing.
+//! A thread of the container's own stays, sleeping until there is something to do: a
+//! change of the steps posted while no value comes ([`ChangeSlot`](crate::ChangeSlot)
+//! wakes it; changes of local connections are served by the session each cycle opens,
+//! and at once between cycles), the end of the run, or the cycle limit (it then closes
+//! the gate, after which no cycle runs). It is what [`RunningContainer`] joins. It does
+//! not wake periodically: a thread wakeup costs tens of microseconds of CPU on a virtual
+//! machine, and every 50 ms that was as much as an inline container saves a
+//! 50 fps consumer (bench/README.md, b3-parts). In lockstep the driver runs the cycles
+//! and the mode changes nothing.
 
-use crate::{RunningContainer, ThreadContainer};
+use crate::{ChangeSlot, RunningContainer, ThreadContainer};
 use ferroc_ports::port::{Home, InlineGate, Notify, Wakeup};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Duration;
 
-/// How often the container's own thread looks for changes and for the end of the run.
-const CHORES_EVERY: Duration = Duration::from_millis(50);
+/// How long the container's own thread sleeps when nothing wakes it: a safety net
+/// only (a post, the stop and the cycle limit each wake it).
+const IDLE_CHECK: Duration = Duration::from_secs(10);
+
+/// When a cycle ran as the own thread came for its chores: it looks again this soon.
+const CHORES_RETRY: Duration = Duration::from_millis(50);
 
 /// A cycle longer than this is reported (once per container): it held up the thread
 /// that delivered its data. The compiler's S108 holds declared budgets to the same bound.
@@ -134,6 +141,7 @@ pub(crate) fn spawn(
     limit: Option<u64>,
 ) -> std::io::Result<RunningContainer> {
     let stats = container.stats();
+    let changes = container.changes();
     let inline = Arc::new(Inline {
         gate: InlineGate::new(),
         container: Mutex::new(Some(container)),
@@ -155,7 +163,7 @@ pub(crate) fn spawn(
     let watched = Arc::clone(&wakeup);
     let join = std::thread::Builder::new()
         .name(thread_name)
-        .spawn(move || serve(&own, &watched))?;
+        .spawn(move || serve(&own, &watched, &changes))?;
     Ok(RunningContainer {
         stats,
         join,
@@ -166,17 +174,24 @@ pub(crate) fn spawn(
     })
 }
 
-/// The container's own thread: changes between cycles, and its end.
-fn serve(inline: &Inline, wakeup: &Wakeup) {
+/// The container's own thread: changes between cycles, and its end. It sleeps until
+/// unparked: by a posted change, by [`RunningContainer::nudge`] (the stop) or by the
+/// cycle that reached the limit.
+fn serve(inline: &Inline, wakeup: &Wakeup, changes: &ChangeSlot) {
     let _ = inline.owner.set(std::thread::current());
+    // Before the first look at the slot: a change posted earlier is seen by it, one
+    // posted later unparks this thread.
+    changes.wake_on_post(std::thread::current());
     ferroc_ports::stopping::watch(Arc::clone(&inline.stop));
     while !inline.over() {
         // A notification that came before the container ran inline left the flag set.
         if wakeup.take() {
             inline.gate.arrive(|| inline.cycle());
         }
-        std::thread::park_timeout(CHORES_EVERY);
-        inline.gate.chores(|| inline.chores(), || inline.cycle());
+        // A cycle running now applies what was posted before its end; one posted
+        // after that is looked at again soon.
+        let done = inline.gate.chores(|| inline.chores(), || inline.cycle());
+        std::thread::park_timeout(if done { IDLE_CHECK } else { CHORES_RETRY });
     }
     // No cycle after this; one running now (in another thread) ends first.
     while !inline.gate.close() {
@@ -191,7 +206,7 @@ fn serve(inline: &Inline, wakeup: &Wakeup) {
 
 #[cfg(test)]
 mod tests {
-    use crate::{Step, ThreadContainer, ThreadOptions, Trigger};
+    use crate::{Change, Step, ThreadContainer, ThreadOptions, Trigger};
     use ferroc_ports::port::{Notify, WaitMode, Wakeup};
     use std::sync::atomic::{AtomicBool, Ordering};
     use std::sync::{mpsc, Arc, Mutex};
@@ -304,6 +319,51 @@ mod tests {
         assert!(slow.contains("help: "), "{slow}");
         let again = super::slow_warning("robot/view", Duration::from_millis(5), &reported);
         assert_eq!(again, None, "once");
+    }
+
+    /// A change posted while no value comes is applied by the container's own thread,
+    /// woken by the post: it sleeps [`super::IDLE_CHECK`] (10 s) otherwise, so without
+    /// the wake the change would not be applied within the 5 s waited here.
+    #[test]
+    #[cfg_attr(miri, ignore)] // a thread sleeping with a timeout
+    fn a_change_posted_while_no_value_comes_wakes_the_own_thread() {
+        let wakeup = Wakeup::new();
+        let step = Step::new("robot/idle/a:update", || {});
+        let container =
+            ThreadContainer::new("robot/idle", Trigger::Data(Arc::clone(&wakeup)), vec![step]);
+        let slot = container.changes();
+        let stop = Arc::new(AtomicBool::new(false));
+        let running = container.spawn(inline(), Arc::clone(&stop), None).unwrap();
+        let (acted_tx, acted_rx) = mpsc::channel::<ThreadId>();
+        let change = || {
+            let acted = acted_tx.clone();
+            Change {
+                order: vec!["robot/idle/a:update".into()],
+                actions: vec![Box::new(move || {
+                    acted.send(std::thread::current().id()).unwrap();
+                })],
+                ..Change::default()
+            }
+        };
+        // The first may be applied by the thread's first look at the slot; once it
+        // was, the thread sleeps, and only the post of the second wakes it.
+        for _ in 0..2 {
+            slot.post(change()).map_err(|_| ()).unwrap();
+            assert!(
+                slot.wait(Duration::from_secs(5)).is_some(),
+                "the posted change was not applied: the own thread was not woken"
+            );
+            let acted = acted_rx.recv().unwrap();
+            assert_eq!(
+                acted,
+                running.join.thread().id(),
+                "on the container's own thread"
+            );
+        }
+        assert_eq!(running.stats.cycles(), 0, "no value came, no cycle ran");
+        stop.store(true, Ordering::SeqCst);
+        running.nudge();
+        running.join();
     }
 
     /// A cycle limit ends the container (its thread), as for one with a thread.
