@@ -243,15 +243,6 @@ macro_rules! exact {
     };
 }
 
-/// Everything the tape does not take.
-macro_rules! refuse {
-    ($($name:ident)*) => {
-        $(fn $name<V: Visitor<'d>>(self, _: V) -> Result<V::Value, Miss> {
-            Err(Miss)
-        })*
-    };
-}
-
 impl<'d> de::Deserializer<'d> for De<'_, '_, 'd> {
     type Error = Miss;
 
@@ -263,10 +254,7 @@ impl<'d> de::Deserializer<'d> for De<'_, '_, 'd> {
         deserialize_f32 Float32 visit_f32 f32, deserialize_f64 Float64 visit_f64 f64
     }
 
-    refuse! {
-        deserialize_any deserialize_char deserialize_option deserialize_unit deserialize_map
-        deserialize_identifier deserialize_ignored_any
-    }
+    de_shared!('d);
 
     #[inline(always)]
     fn deserialize_i64<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
@@ -296,51 +284,12 @@ impl<'d> de::Deserializer<'d> for De<'_, '_, 'd> {
         }
         v.visit_str(self.r.string(self.op.pad, self.op.n)?)
     }
-    #[inline]
-    fn deserialize_string<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
-        self.deserialize_str(v)
-    }
     fn deserialize_bytes<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
         if self.op.kind != Kind::Seq || self.op.elem != Some(Primitive::UInt8) {
             return Err(Miss);
         }
         let len = self.r.count(self.op, 1)?;
         v.visit_bytes(self.r.take(len)?)
-    }
-    fn deserialize_byte_buf<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
-        self.deserialize_bytes(v)
-    }
-    fn deserialize_unit_struct<V: Visitor<'d>>(
-        self,
-        _: &'static str,
-        _: V,
-    ) -> Result<V::Value, Miss> {
-        Err(Miss)
-    }
-    #[inline(always)]
-    fn deserialize_newtype_struct<V: Visitor<'d>>(
-        self,
-        _: &'static str,
-        v: V,
-    ) -> Result<V::Value, Miss> {
-        v.visit_newtype_struct(self)
-    }
-    #[inline]
-    fn deserialize_seq<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
-        self.elements(None, v)
-    }
-    #[inline]
-    fn deserialize_tuple<V: Visitor<'d>>(self, len: usize, v: V) -> Result<V::Value, Miss> {
-        self.elements(Some(len), v)
-    }
-    #[inline]
-    fn deserialize_tuple_struct<V: Visitor<'d>>(
-        self,
-        _: &'static str,
-        len: usize,
-        v: V,
-    ) -> Result<V::Value, Miss> {
-        self.elements(Some(len), v)
     }
     #[inline(always)]
     fn deserialize_struct<V: Visitor<'d>>(

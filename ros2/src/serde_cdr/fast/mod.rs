@@ -37,6 +37,63 @@
 //! Time a `Timestamp`, no `Timestamp` elsewhere) is read from then on with no tape but
 //! for its sequences ([`read_key`]); a sample it misses is read along the tape.
 
+/// The deserializer methods both fast readers share (`de.rs` along the tape,
+/// `trusted_read.rs` without it): what a mirroring type never asks for is a miss, and
+/// the forms serde may pick for one thing (`String` or `str`, a byte buffer or bytes; a
+/// sequence, tuple or tuple struct) go one way. Each reader has its own
+/// `deserialize_str`, `deserialize_bytes` and `elements(len, visitor)`.
+macro_rules! de_shared {
+    ($d:lifetime) => {
+        de_shared!(@refuse $d deserialize_any deserialize_char
+            deserialize_option deserialize_unit deserialize_map deserialize_identifier
+            deserialize_ignored_any);
+        #[inline]
+        fn deserialize_string<V: Visitor<$d>>(self, v: V) -> Result<V::Value, Miss> {
+            self.deserialize_str(v)
+        }
+        fn deserialize_byte_buf<V: Visitor<$d>>(self, v: V) -> Result<V::Value, Miss> {
+            self.deserialize_bytes(v)
+        }
+        fn deserialize_unit_struct<V: Visitor<$d>>(
+            self,
+            _: &'static str,
+            _: V,
+        ) -> Result<V::Value, Miss> {
+            Err(Miss)
+        }
+        #[inline(always)]
+        fn deserialize_newtype_struct<V: Visitor<$d>>(
+            self,
+            _: &'static str,
+            v: V,
+        ) -> Result<V::Value, Miss> {
+            v.visit_newtype_struct(self)
+        }
+        #[inline]
+        fn deserialize_seq<V: Visitor<$d>>(self, v: V) -> Result<V::Value, Miss> {
+            self.elements(None, v)
+        }
+        #[inline]
+        fn deserialize_tuple<V: Visitor<$d>>(self, len: usize, v: V) -> Result<V::Value, Miss> {
+            self.elements(Some(len), v)
+        }
+        #[inline]
+        fn deserialize_tuple_struct<V: Visitor<$d>>(
+            self,
+            _: &'static str,
+            len: usize,
+            v: V,
+        ) -> Result<V::Value, Miss> {
+            self.elements(Some(len), v)
+        }
+    };
+    (@refuse $d:lifetime $($name:ident)*) => {
+        $(fn $name<V: Visitor<$d>>(self, _: V) -> Result<V::Value, Miss> {
+            Err(Miss)
+        })*
+    };
+}
+
 /// The serializer methods the fast writers refuse (a miss): one list for the tape's
 /// writer (`ser.rs`) and the trusted one (`trusted.rs`), each with its own `No`
 /// (`Impossible<(), Miss>`) for the compounds.

@@ -126,15 +126,6 @@ macro_rules! prims {
     };
 }
 
-/// Everything a mirroring type does not ask for.
-macro_rules! refuse {
-    ($($name:ident)*) => {
-        $(fn $name<V: Visitor<'d>>(self, _: V) -> Result<V::Value, Miss> {
-            Err(Miss)
-        })*
-    };
-}
-
 impl<'d> de::Deserializer<'d> for Tin<'_, '_, 'd> {
     type Error = Miss;
 
@@ -146,10 +137,7 @@ impl<'d> de::Deserializer<'d> for Tin<'_, '_, 'd> {
         deserialize_f32 visit_f32 f32, deserialize_f64 visit_f64 f64
     }
 
-    refuse! {
-        deserialize_any deserialize_char deserialize_option deserialize_unit deserialize_map
-        deserialize_identifier deserialize_ignored_any
-    }
+    de_shared!('d);
 
     #[inline]
     fn deserialize_bool<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
@@ -162,51 +150,12 @@ impl<'d> de::Deserializer<'d> for Tin<'_, '_, 'd> {
     fn deserialize_str<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
         v.visit_str(self.r.string()?)
     }
-    #[inline]
-    fn deserialize_string<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
-        self.deserialize_str(v)
-    }
     fn deserialize_bytes<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
         let (seq, len) = self.r.seq(Some(1))?;
         if seq.elem != Some(Primitive::UInt8) {
             return Err(Miss);
         }
         v.visit_bytes(self.r.take(len)?)
-    }
-    fn deserialize_byte_buf<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
-        self.deserialize_bytes(v)
-    }
-    fn deserialize_unit_struct<V: Visitor<'d>>(
-        self,
-        _: &'static str,
-        _: V,
-    ) -> Result<V::Value, Miss> {
-        Err(Miss)
-    }
-    #[inline(always)]
-    fn deserialize_newtype_struct<V: Visitor<'d>>(
-        self,
-        _: &'static str,
-        v: V,
-    ) -> Result<V::Value, Miss> {
-        v.visit_newtype_struct(self)
-    }
-    #[inline]
-    fn deserialize_seq<V: Visitor<'d>>(self, v: V) -> Result<V::Value, Miss> {
-        self.elements(None, v)
-    }
-    #[inline]
-    fn deserialize_tuple<V: Visitor<'d>>(self, len: usize, v: V) -> Result<V::Value, Miss> {
-        self.elements(Some(len), v)
-    }
-    #[inline]
-    fn deserialize_tuple_struct<V: Visitor<'d>>(
-        self,
-        _: &'static str,
-        len: usize,
-        v: V,
-    ) -> Result<V::Value, Miss> {
-        self.elements(Some(len), v)
     }
     #[inline(always)]
     fn deserialize_struct<V: Visitor<'d>>(
