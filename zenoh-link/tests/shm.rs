@@ -551,22 +551,7 @@ fn one_output_to_two_parts_is_sent_once_and_both_receive_it_intact() {
     let views = [viewer("view", 0, 51.0), viewer("view2", 1, 52.0)];
     let mut b = Builder::new(&registry);
     let params = [("size".to_string(), Value::Float(SIZES[2] as f64))];
-    b.add_module(ModuleSpec {
-        path: "cam/camera",
-        type_name: "test.Camera",
-        params: &params,
-        queues: &[],
-        ports: &[],
-        violations: Default::default(),
-    })
-    .unwrap();
-    b.add_thread(ThreadSpec {
-        path: "cam".into(),
-        schedule: Schedule::Periodic(Duration::from_millis(20)),
-        options: ThreadOptions::default(),
-        steps: vec![("cam/camera".into(), StepKind::Update)],
-    })
-    .unwrap();
+    add_part(&mut b, "cam", 20, &params);
     for spec in [to(0, "view"), to(1, "view2")] {
         b.link_out(&spec, ("cam/camera", "out"), Default::default())
             .unwrap();

@@ -16,8 +16,7 @@
 mod shm_parts;
 mod support;
 
-use ferroc_runtime::builder::{Builder, ModuleSpec, Schedule, StartOptions, StepKind, ThreadSpec};
-use ferroc_runtime::container::ThreadOptions;
+use ferroc_runtime::builder::{Builder, StartOptions};
 use ferroc_runtime::module::Value;
 use shm_parts::{config_file, link, peers, registry, zenoh, Reader};
 use std::collections::BTreeMap;
@@ -65,22 +64,7 @@ fn camera_program() {
     let cam = zenoh(words[0], "cam", &peers, Some(&PathBuf::from(words[4])));
     let params = [("size".to_string(), Value::Float(FRAME as f64))];
     let mut b = Builder::new(&registry);
-    b.add_module(ModuleSpec {
-        path: "cam/camera",
-        type_name: "test.Camera",
-        params: &params,
-        queues: &[],
-        ports: &[],
-        violations: Default::default(),
-    })
-    .unwrap();
-    b.add_thread(ThreadSpec {
-        path: "cam".into(),
-        schedule: Schedule::Periodic(Duration::from_millis(2)),
-        options: ThreadOptions::default(),
-        steps: vec![("cam/camera".into(), StepKind::Update)],
-    })
-    .unwrap();
+    shm_parts::add_part(&mut b, "cam", 2, &params);
     let spec = link(words[3] == "1");
     b.link_out(&spec, ("cam/camera", "out"), Default::default())
         .unwrap();

@@ -184,6 +184,24 @@ pub fn part<'r>(
     params: &[(String, Value)],
 ) -> Builder<'r> {
     let mut b = Builder::new(registry);
+    let path = add_part(&mut b, part, ms, params);
+    if part == "cam" {
+        b.link_out(&link(true), (path, "out"), Default::default())
+    } else {
+        b.link_in(&link(true), (path, "in"), ConnectOptions::default())
+    }
+    .unwrap();
+    b
+}
+
+/// The module and thread of the part `part` ([`part`] without its link), added to `b`;
+/// the module's path.
+pub fn add_part(
+    b: &mut Builder<'_>,
+    part: &str,
+    ms: u64,
+    params: &[(String, Value)],
+) -> &'static str {
     let (path, type_name) = match part {
         "cam" => ("cam/camera", "test.Camera"),
         _ => ("view/viewer", "test.Viewer"),
@@ -204,13 +222,7 @@ pub fn part<'r>(
         steps: vec![(path.into(), StepKind::Update)],
     })
     .unwrap();
-    if part == "cam" {
-        b.link_out(&link(true), (path, "out"), Default::default())
-    } else {
-        b.link_in(&link(true), (path, "in"), ConnectOptions::default())
-    }
-    .unwrap();
-    b
+    path
 }
 
 /// The Zenoh network of `part` of the application `app`, configured by `config`.
