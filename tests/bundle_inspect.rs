@@ -7,21 +7,14 @@
 
 mod common;
 
+use common::Killed;
+
 use common::{build_bundle, ferroc, tempdir};
 use ferroc_testkit::free_address;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 /// `ferroc inspect --connect ADDRESS ARGS…`.
 fn inspect(address: &str, args: &[&str]) -> (i32, String, String) {

@@ -9,10 +9,12 @@
 
 mod common;
 
+use common::Killed;
+
 use common::inspected::{free_port, lines, wait_for_line};
 use common::{ferroc, tempdir, test_log_dir};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 const MODEL: &str = "models/ros2_crash_course.xml";
@@ -31,16 +33,6 @@ fn listening_config(dir: &Path, port: u16) -> PathBuf {
     );
     std::fs::write(&file, text).unwrap();
     file
-}
-
-/// Kills the child when the test ends, however it ends.
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
 }
 
 fn inspect(address: &str, args: &[&str]) -> (i32, String, String) {

@@ -16,26 +16,18 @@
 
 mod common;
 
+use common::Killed;
+
 use common::inspected::lines;
 use common::no_shm::{self, NoShm};
 use common::{tempdir, test_log_dir};
 use ferroc_testkit::free_port;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 
 const WARNING: &str = "warning: shared memory is not usable here";
-
-/// Kills the child when the test ends, however it ends.
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 /// The talker's and the listener's models in `dir`.
 fn models(dir: &Path) -> (PathBuf, PathBuf) {

@@ -13,28 +13,20 @@
 
 mod common;
 
+use common::Killed;
+
 use common::inspected::{free_port, lines};
 use common::no_shm::{self, NoShm};
 use common::{build_bundle, bundle_ok, ferroc, tempdir, test_log_dir};
 use ferroc_std::{Image, PointCloud};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 
 const IMAGE: &str = "camera/main/frame/out/0";
 const CLOUD: &str = "camera/main/cloud/out/0";
 const WARNING: &str = "warning: shared memory is not usable here";
-
-/// Kills the child when the test ends, however it ends.
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 /// The two values as JSON, as the model's constants give them and `Dump` prints them:
 /// a 100×60 `mono8` image (6,000 B) and a cloud of 400 points (4,800 B), their bytes a

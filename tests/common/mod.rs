@@ -118,6 +118,16 @@ impl Drop for SmallDisk {
     }
 }
 
+/// A child process killed (and reaped) when the test ends, however it ends.
+pub struct Killed(pub std::process::Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
 /// The Cargo.toml of a library crate outside ferroc's workspace: package `package`,
 /// library `lib`, the runtime of this checkout by path, a workspace of its own.
 pub fn write_library_toml(dir: &Path, package: &str, lib: &str) {
