@@ -142,26 +142,43 @@ fn sdk_beside(python: &Path, name: &str, model: &str, script: &str) -> (serde_js
     run_beside(peer, run)
 }
 
-/// Runs `run` (the model's node) beside `peer`; the JSON object the peer prints, and
-/// its text.
-fn run_beside(mut peer: Command, mut run: Command) -> (serde_json::Value, String) {
-    let peer = peer
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let run = run
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+/// What a run beside a peer left: the JSON object the peer printed and its text, the
+/// run's standard output and error.
+struct Beside {
+    report: serde_json::Value,
+    text: String,
+    out: String,
+    err: String,
+}
+
+/// Runs `peer` and `run` (the model's node) at once, their output captured, and waits
+/// for both: both must end well, the run without a panic, the peer with one JSON object.
+fn both(mut peer: Command, mut run: Command) -> Beside {
+    let piped = |c: &mut Command| c.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn();
+    let (peer, run) = (piped(&mut peer).unwrap(), piped(&mut run).unwrap());
     let peer = peer.wait_with_output().unwrap();
     let run = run.wait_with_output().unwrap();
-    let run_err = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "{run_err}");
-    // Nothing was dropped on the way in or out (the run reports such warnings on
-    // standard output, `console::report`).
-    let run_out = String::from_utf8_lossy(&run.stdout);
+    let out = String::from_utf8_lossy(&run.stdout).into_owned();
+    let err = String::from_utf8_lossy(&run.stderr).into_owned();
+    assert!(run.status.success(), "{out}\n{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    let peer_err = String::from_utf8_lossy(&peer.stderr);
+    assert!(peer.status.success(), "{peer_err}");
+    let text = String::from_utf8_lossy(&peer.stdout).into_owned();
+    let report = serde_json::from_str(text.trim()).expect("one JSON object");
+    Beside {
+        report,
+        text,
+        out,
+        err,
+    }
+}
+
+/// Runs `run` (the model's node) beside `peer` ([`both`]), where nothing may be dropped
+/// on the way in or out; the JSON object the peer prints, and its text.
+fn run_beside(peer: Command, run: Command) -> (serde_json::Value, String) {
+    let done = both(peer, run);
+    // The run reports such warnings on standard output (`console::report`).
     for dropped in [
         "went wrong",
         "was not published",
@@ -169,14 +186,10 @@ fn run_beside(mut peer: Command, mut run: Command) -> (serde_json::Value, String
         "was refused",
         "another type hash",
     ] {
-        assert!(!run_err.contains(dropped), "{run_err}");
-        assert!(!run_out.contains(dropped), "{run_out}");
+        assert!(!done.err.contains(dropped), "{}", done.err);
+        assert!(!done.out.contains(dropped), "{}", done.out);
     }
-    let peer_err = String::from_utf8_lossy(&peer.stderr);
-    assert!(peer.status.success(), "{peer_err}");
-    let text = String::from_utf8_lossy(&peer.stdout).into_owned();
-    let report = serde_json::from_str(text.trim()).expect("one JSON object");
-    (report, text)
+    (done.report, done.text)
 }
 
 #[test]

@@ -34,28 +34,12 @@ fn a_flood_of_bad_samples_is_reported_throttled_and_the_part_runs_on() {
     build_runner(&dir);
     let port = free_port();
     let config = zenoh_config(&dir, &[&format!("tcp/127.0.0.1:{port}")]);
-    let peer = Command::new(&python)
-        .arg(root().join("tests/ros2/hostile_peer.py"))
-        .args([format!("tcp/127.0.0.1:{port}").as_str(), "40"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let run = run_command(&config, &["--for", "45s"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let peer = peer.wait_with_output().unwrap();
-    let run = run.wait_with_output().unwrap();
-    let out = String::from_utf8_lossy(&run.stdout);
-    let err = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "{out}\n{err}");
-    assert!(!err.contains("panicked"), "{err}");
-    let peer_err = String::from_utf8_lossy(&peer.stderr);
-    assert!(peer.status.success(), "{peer_err}");
-    let text = String::from_utf8_lossy(&peer.stdout);
-    let report: serde_json::Value = serde_json::from_str(text.trim()).expect("one JSON object");
+    let mut peer = Command::new(&python);
+    peer.arg(root().join("tests/ros2/hostile_peer.py"))
+        .args([format!("tcp/127.0.0.1:{port}").as_str(), "40"]);
+    let Beside {
+        report, text, out, ..
+    } = both(peer, run_command(&config, &["--for", "45s"]));
 
     // The flood: at least 100,000 bad samples reached the part.
     let sent = &report["sent"];
@@ -189,28 +173,12 @@ fn a_flood_of_requests_to_a_service_is_answered_refused_or_rejected_and_the_part
     build_runner_of(SWITCH, &dir);
     let port = free_port();
     let config = zenoh_config(&dir, &[&format!("tcp/127.0.0.1:{port}")]);
-    let peer = Command::new(&python)
-        .arg(root().join("tests/ros2/hostile_service_peer.py"))
-        .args([format!("tcp/127.0.0.1:{port}").as_str(), "40"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let run = run_model(SWITCH, &config, &["--for", "45s"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let peer = peer.wait_with_output().unwrap();
-    let run = run.wait_with_output().unwrap();
-    let out = String::from_utf8_lossy(&run.stdout);
-    let err = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "{out}\n{err}");
-    assert!(!err.contains("panicked"), "{err}");
-    let peer_err = String::from_utf8_lossy(&peer.stderr);
-    assert!(peer.status.success(), "{peer_err}");
-    let text = String::from_utf8_lossy(&peer.stdout);
-    let report: serde_json::Value = serde_json::from_str(text.trim()).expect("one JSON object");
+    let mut peer = Command::new(&python);
+    peer.arg(root().join("tests/ros2/hostile_service_peer.py"))
+        .args([format!("tcp/127.0.0.1:{port}").as_str(), "40"]);
+    let Beside {
+        report, text, out, ..
+    } = both(peer, run_model(SWITCH, &config, &["--for", "45s"]));
 
     let count = |group: &str, kind: &str| report["counts"][group][kind].as_u64().unwrap();
     // Every request got its one reply.

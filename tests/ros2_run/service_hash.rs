@@ -27,34 +27,18 @@ fn beside_hash_peer(
     build_runner_of(model, &dir);
     let port = free_port();
     let config = listening_config(&dir, port);
-    let peer = Command::new(python)
-        .arg(root().join("tests/ros2/sdk_hash_peer.py"))
+    let mut peer = Command::new(python);
+    peer.arg(root().join("tests/ros2/sdk_hash_peer.py"))
         .args([mode, &port.to_string()])
         .arg(root().join("ros2/interfaces"))
         .arg("15")
         .env(
             "ZENOH_CONFIG_OVERRIDE",
             "listen/endpoints=[\"tcp/127.0.0.1:0\"]",
-        )
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let run = run_model(model, &config, &["--for", "20s"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let peer = peer.wait_with_output().unwrap();
-    let run = run.wait_with_output().unwrap();
-    let out = String::from_utf8_lossy(&run.stdout).into_owned();
-    let err = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "{out}\n{err}");
-    assert!(!err.contains("panicked"), "{err}");
-    let peer_err = String::from_utf8_lossy(&peer.stderr);
-    assert!(peer.status.success(), "{peer_err}");
-    let text = String::from_utf8_lossy(&peer.stdout).into_owned();
-    let report = serde_json::from_str(text.trim()).expect("one JSON object");
+        );
+    let Beside {
+        report, text, out, ..
+    } = both(peer, run_model(model, &config, &["--for", "20s"]));
     (report, text, out)
 }
 
