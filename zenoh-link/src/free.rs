@@ -37,9 +37,11 @@ use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::query::{Query, Queryable};
 use zenoh::{Session, Wait};
 
+mod calls;
 mod pieces;
 mod qos;
 mod routes;
+use calls::{queryables, Pending};
 use pieces::{deliver_pieces, joined, Buffers, LENT_MARK};
 pub use qos::Qos;
 use routes::Routes;
@@ -267,34 +269,6 @@ fn deliver(
     }
 }
 
-/// A queryable per service of this part called from others; its queries wait in
-/// `waiting` for the service's answer.
-fn queryables(
-    session: &Session,
-    keys: &Keys,
-    part: &str,
-    links: &PartLinks,
-    delivery: &Delivery,
-    waiting: &Arc<Mutex<HashMap<(u32, u64), Query>>>,
-) -> Result<Vec<Queryable<()>>, String> {
-    let mut queryables = Vec::new();
-    let mut services: BTreeMap<String, Vec<u32>> = BTreeMap::new();
-    for (id, call) in &links.calls_in {
-        let key = keys.service(part, &call.service)?;
-        services.entry(key.to_string()).or_default().push(*id);
-    }
-    for (key, ids) in services {
-        let (delivery, waiting) = (delivery.clone(), Arc::clone(waiting));
-        let queryable = session
-            .declare_queryable(key.clone())
-            .callback(move |query| serve(query, &ids, &waiting, &delivery))
-            .wait()
-            .map_err(|e| format!("cannot serve `{key}`: {}", engine_error(&e)))?;
-        queryables.push(queryable);
-    }
-    Ok(queryables)
-}
-
 /// How each part linked to this one names its link in reports (`link robot →
 /// station`, the writer first).
 fn linked_names(part: &str, links: &PartLinks) -> BTreeMap<String, String> {
@@ -363,53 +337,6 @@ fn report(
             }
         }
         Change::Came(_) => {}
-    }
-}
-
-/// A request for one of the calls `ids` arrived: keep the query for the answer and
-/// hand the request to the stand-in client.
-fn serve(
-    query: Query,
-    ids: &[u32],
-    waiting: &Mutex<HashMap<(u32, u64), Query>>,
-    delivery: &Delivery,
-) {
-    let call = query.attachment().and_then(|a| {
-        a.to_bytes()
-            .first_chunk::<4>()
-            .map(|b| u32::from_le_bytes(*b))
-    });
-    let Some(call) = call.filter(|c| ids.contains(c)) else {
-        return; // not a ferroc call of this part: no answer
-    };
-    let Some(bytes) = query.payload().map(|p| p.to_bytes().into_owned()) else {
-        return;
-    };
-    let Some(number) = call_number(&bytes) else {
-        return;
-    };
-    lock(waiting).insert((call, number), query);
-    delivery.deliver(&Frame {
-        link: LinkKind::Request(call).link(),
-        bytes,
-    });
-}
-
-/// One call on its way: answers the client with an error if the query ends unanswered.
-struct Pending {
-    delivery: Delivery,
-    call: u32,
-    number: u64,
-    answered: AtomicBool,
-    asked: Instant,
-}
-
-impl Drop for Pending {
-    fn drop(&mut self) {
-        if !self.answered.load(Ordering::Relaxed) {
-            let timed_out = self.asked.elapsed() >= CALL_TIMEOUT;
-            self.delivery.call_failed(self.call, self.number, timed_out);
-        }
     }
 }
 
