@@ -185,18 +185,27 @@ pub fn run(session: &Session, seconds: u64) -> serde_json::Value {
     }
     let flood_seconds = started.elapsed().as_secs_f64();
     phase.store(2, Ordering::Relaxed);
-    std::thread::sleep(Duration::from_secs(1));
+    // The robot moves on after the flood: wait (bounded) for one moving sample, not for
+    // a fixed time a loaded machine may not keep.
+    let moved_after = || (samples.lock().unwrap().iter()).any(|(p, v)| *p == 2 && moving(v));
+    while !moved_after() && Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(50));
+    }
 
     // The part still reads its input: a good `false` stops the robot.
     let first_false = Instant::now();
     while Instant::now() < deadline {
-        let disabled = samples
-            .lock()
-            .unwrap()
-            .iter()
-            .filter(|(p, _)| *p == 3)
-            .count();
-        if disabled >= 10 {
+        // Ten samples since, the last five stopped: how long the part takes to apply the
+        // `false` is up to the machine; the test checks what came.
+        let stopped = {
+            let seen = samples.lock().unwrap();
+            let disabled: Vec<_> = seen.iter().filter(|(p, _)| *p == 3).collect();
+            disabled.len() >= 10
+                && !disabled[disabled.len() - 5..]
+                    .iter()
+                    .any(|(_, v)| moving(v))
+        };
+        if stopped {
             break;
         }
         publisher
