@@ -2,6 +2,7 @@
 //! length is checked against the bytes left before anything is allocated, and anything
 //! unexpected is a [`Miss`] (the plan path then says what is wrong).
 
+use super::read::{read_at, take_at, text_of};
 use super::{Kind, Miss, Op, DYNAMIC, NANOS};
 use crate::def::Primitive;
 use crate::wire::HEADER;
@@ -50,22 +51,12 @@ impl<'d> R<'_, 'd> {
             DYNAMIC => self.at + (HEADER.len().wrapping_sub(self.at) & (N - 1)),
             pad => self.at + pad as usize,
         };
-        let data: &'d [u8] = self.data;
-        match data.get(start..).and_then(<[u8]>::first_chunk::<N>) {
-            Some(bytes) => {
-                self.at = start + N;
-                Ok(*bytes)
-            }
-            None => Err(Miss),
-        }
+        read_at(self.data, &mut self.at, start)
     }
 
     #[inline(always)]
     fn take(&mut self, n: usize) -> Result<&'d [u8], Miss> {
-        let data: &'d [u8] = self.data;
-        let bytes = data.get(self.at..).and_then(|d| d.get(..n)).ok_or(Miss)?;
-        self.at += n;
-        Ok(bytes)
+        take_at(self.data, &mut self.at, n)
     }
 
     /// Skips the padding before the first element of an array of `p`.
@@ -103,11 +94,10 @@ impl<'d> R<'_, 'd> {
     #[inline]
     fn string(&mut self, pad: u8, bound: u32) -> Result<&'d str, Miss> {
         let len = u32::from_le_bytes(self.get(pad)?) as usize;
-        let (nul, text) = (self.take(len)?).split_last().ok_or(Miss)?;
-        if *nul != 0 || text.len() > bound as usize {
+        if len > bound as usize + 1 {
             return Err(Miss);
         }
-        std::str::from_utf8(text).map_err(|_| Miss)
+        text_of(self.take(len)?)
     }
 }
 

@@ -147,6 +147,7 @@ macro_rules! seq_impls {
 
 mod de;
 mod packed;
+mod read;
 mod ser;
 mod trusted;
 mod trusted_read;

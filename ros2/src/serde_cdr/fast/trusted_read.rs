@@ -13,6 +13,7 @@
 //! sequences. Anything else is a [`Miss`]: the caller reads the sample along the tape.
 
 use super::de::PackedSeq;
+use super::read::{read_at, take_at, text_of};
 use super::trusted::{Layout, SeqOp};
 use super::Miss;
 use crate::def::Primitive;
@@ -57,22 +58,12 @@ impl<'d> R<'_, 'd> {
     #[inline(always)]
     fn get<const N: usize>(&mut self) -> Result<[u8; N], Miss> {
         let start = self.at + (HEADER.len().wrapping_sub(self.at) & (N - 1));
-        let data: &'d [u8] = self.data;
-        match data.get(start..).and_then(<[u8]>::first_chunk::<N>) {
-            Some(bytes) => {
-                self.at = start + N;
-                Ok(*bytes)
-            }
-            None => Err(Miss),
-        }
+        read_at(self.data, &mut self.at, start)
     }
 
     #[inline(always)]
     fn take(&mut self, n: usize) -> Result<&'d [u8], Miss> {
-        let data: &'d [u8] = self.data;
-        let bytes = data.get(self.at..).and_then(|d| d.get(..n)).ok_or(Miss)?;
-        self.at += n;
-        Ok(bytes)
+        take_at(self.data, &mut self.at, n)
     }
 
     /// The next sequence, its elements taking at least `min` bytes each (`None`: its
@@ -102,11 +93,7 @@ impl<'d> R<'_, 'd> {
     #[inline]
     fn string(&mut self) -> Result<&'d str, Miss> {
         let len = u32::from_le_bytes(self.get()?) as usize;
-        let (nul, text) = (self.take(len)?).split_last().ok_or(Miss)?;
-        if *nul != 0 {
-            return Err(Miss);
-        }
-        std::str::from_utf8(text).map_err(|_| Miss)
+        text_of(self.take(len)?)
     }
 }
 
