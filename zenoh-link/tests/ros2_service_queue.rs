@@ -19,7 +19,7 @@ use ferroc_runtime::link::ros2 as ends;
 use ferroc_runtime::link::transport::Delivery;
 use ferroc_runtime::link::{Frame, Inbox};
 use ferroc_zenoh::ros2::network::Ros2Ends;
-use ferroc_zenoh::ros2::service::{ServiceSpec, MAX_WAITING};
+use ferroc_zenoh::ros2::service::{Ros2Server, ServiceSpec, MAX_WAITING};
 use ferroc_zenoh::ros2::{NodeSpec, Ros2Node};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
@@ -98,23 +98,15 @@ fn error_of(replies: &FifoChannelHandler<Reply>) -> Option<String> {
         .map(|e| e.payload().try_to_string().unwrap().into_owned())
 }
 
-/// A SetBool response (`success`, `message`) as the module's answer frame for call `id`.
-fn answer(id: &[u8], kind: u8) -> Vec<u8> {
-    let ty = TypeName::parse("std_srvs/srv/SetBool_Response").unwrap();
-    let response = Value::Struct(vec![Value::Bool(true), Value::String("ok".into())]);
-    let body = cdr::encode(&Registry::shipped(), &ty, &response).unwrap();
-    [&id[..8], &[kind], &body[..]].concat()
-}
-
-#[test]
-fn at_most_64_requests_wait_an_answer_frees_a_place_and_a_full_queue_is_said_once() {
-    let session = session();
+/// The node `switch_bot` offering `std_srvs/srv/SetBool` as [`NAME`], and the requests
+/// its server delivered to the module's side.
+fn switch_bot(session: &Session) -> (Ros2Node, Ros2Server, Arc<Mutex<Vec<Vec<u8>>>>) {
     let spec = NodeSpec {
         domain: 0,
         namespace: "/".into(),
         name: "switch_bot".into(),
     };
-    let node = Ros2Node::declare(&session, Arc::new(Registry::shipped()), &spec, 0).unwrap();
+    let node = Ros2Node::declare(session, Arc::new(Registry::shipped()), &spec, 0).unwrap();
     let delivered = Arc::new(Mutex::new(Vec::<Vec<u8>>::new()));
     let into = Arc::clone(&delivered);
     let service = ServiceSpec {
@@ -126,6 +118,21 @@ fn at_most_64_requests_wait_an_answer_frees_a_place_and_a_full_queue_is_said_onc
     let server = node
         .service_server(service, move |bytes| into.lock().unwrap().push(bytes))
         .unwrap();
+    (node, server, delivered)
+}
+
+/// A SetBool response (`success`, `message`) as the module's answer frame for call `id`.
+fn answer(id: &[u8], kind: u8) -> Vec<u8> {
+    let ty = TypeName::parse("std_srvs/srv/SetBool_Response").unwrap();
+    let response = Value::Struct(vec![Value::Bool(true), Value::String("ok".into())]);
+    let body = cdr::encode(&Registry::shipped(), &ty, &response).unwrap();
+    [&id[..8], &[kind], &body[..]].concat()
+}
+
+#[test]
+fn at_most_64_requests_wait_an_answer_frees_a_place_and_a_full_queue_is_said_once() {
+    let session = session();
+    let (_node, server, delivered) = switch_bot(&session);
     let count = || delivered.lock().unwrap().len();
 
     // 100 requests, nobody answers: 64 wait, 36 are refused.
@@ -182,23 +189,7 @@ fn at_most_64_requests_wait_an_answer_frees_a_place_and_a_full_queue_is_said_onc
 #[test]
 fn a_call_under_another_hash_is_told_and_never_delivered_ours_reach_the_service() {
     let session = session();
-    let spec = NodeSpec {
-        domain: 0,
-        namespace: "/".into(),
-        name: "switch_bot".into(),
-    };
-    let node = Ros2Node::declare(&session, Arc::new(Registry::shipped()), &spec, 0).unwrap();
-    let delivered = Arc::new(Mutex::new(Vec::<Vec<u8>>::new()));
-    let into = Arc::clone(&delivered);
-    let service = ServiceSpec {
-        name: NAME.into(),
-        ty: set_bool(),
-        request_field: Some("data".into()),
-        response_field: None,
-    };
-    let server = node
-        .service_server(service, move |bytes| into.lock().unwrap().push(bytes))
-        .unwrap();
+    let (_node, server, delivered) = switch_bot(&session);
     let count = || delivered.lock().unwrap().len();
 
     let theirs = format!("RIHS01_{}", "5a".repeat(32));
