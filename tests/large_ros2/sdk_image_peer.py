@@ -14,26 +14,17 @@ three images and clouds received (every field, data as a list of bytes).
 """
 
 import json
-import logging
+import os
 import sys
 import threading
 import time
 
-port, interfaces, seconds = int(sys.argv[1]), sys.argv[2], float(sys.argv[3])
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '../ros2'))
+from sdk_start import start, wait_for_topics  # noqa: E402
 
-import zenoh_ros2_sdk as sdk  # noqa: E402
+sdk, where, deadline = start()
 
-logging.getLogger('zenoh_ros2_sdk').setLevel(logging.ERROR)
-sdk.get_registry(interfaces)
-where = {'router_ip': '127.0.0.1', 'router_port': port}
-
-deadline = time.time() + seconds
-topics = []
-while time.time() < deadline:
-    topics = sdk.get_topic_names_and_types(timeout=1.0, **where)
-    if {'/image', '/points', '/image_in'} <= {name for name, _ in topics}:
-        break
-    time.sleep(0.2)
+topics = wait_for_topics(where, deadline, {'/image', '/points', '/image_in'})
 
 
 def header(h):

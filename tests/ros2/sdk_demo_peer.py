@@ -27,7 +27,6 @@ messages received before it) and whether the robot reached it.
 """
 
 import json
-import logging
 import math
 import os
 import sys
@@ -36,27 +35,16 @@ import time
 
 from rosbags.typesys import Stores, get_typestore
 
-port, interfaces, seconds = int(sys.argv[1]), sys.argv[2], float(sys.argv[3])
+from sdk_start import start, wait_for_topics  # noqa: E402
 
-import zenoh_ros2_sdk as sdk  # noqa: E402
-
-logging.getLogger('zenoh_ros2_sdk').setLevel(logging.ERROR)
-# The definitions ferroc ships, before any entity asks for one.
-sdk.get_registry(interfaces)
-where = {'router_ip': '127.0.0.1', 'router_port': port}
+sdk, where, deadline = start()
 TOPICS = {'/cmd_vel', '/scan', '/odom', '/tf', '/goal_pose', '/enable'}
 TF = 'tf2_msgs/msg/TFMessage'
 TF_MSG = os.path.join(os.path.dirname(os.path.abspath(__file__)),
                       '../../models/interfaces/tf2_msgs/msg/TFMessage.msg')
 TF_HASH = get_typestore(Stores.ROS2_JAZZY).hash_rihs01(TF)
 
-deadline = time.time() + seconds
-topics = []
-while time.time() < deadline:
-    topics = sdk.get_topic_names_and_types(timeout=1.0, **where)
-    if TOPICS <= {name for name, _ in topics}:
-        break
-    time.sleep(0.2)
+topics = wait_for_topics(where, deadline, TOPICS)
 
 lock = threading.Lock()
 twists, scans, odoms, tfs = [], [], [], []

@@ -14,27 +14,15 @@ Prints one JSON object: topics, samples (each with `after_disable`).
 """
 
 import json
-import logging
 import sys
 import threading
 import time
 
-port, interfaces, seconds = int(sys.argv[1]), sys.argv[2], float(sys.argv[3])
+from sdk_start import start, wait_for_topics  # noqa: E402
 
-import zenoh_ros2_sdk as sdk  # noqa: E402
+sdk, where, deadline = start()
 
-logging.getLogger('zenoh_ros2_sdk').setLevel(logging.ERROR)
-# The definitions ferroc ships, before any entity asks for one.
-sdk.get_registry(interfaces)
-where = {'router_ip': '127.0.0.1', 'router_port': port}
-
-deadline = time.time() + seconds
-topics = []
-while time.time() < deadline:
-    topics = sdk.get_topic_names_and_types(timeout=1.0, **where)
-    if {'/cmd_vel', '/enable', '/ir_front'} <= {name for name, _ in topics}:
-        break
-    time.sleep(0.2)
+topics = wait_for_topics(where, deadline, {'/cmd_vel', '/enable', '/ir_front'})
 
 samples = []
 lock = threading.Lock()
