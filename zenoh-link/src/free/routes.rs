@@ -22,6 +22,9 @@ use zenoh::{Session, Wait};
 /// The most keys learnt per part.
 pub(super) const MOST: usize = 256;
 
+/// How many keys are compared before the set of all is asked.
+const FEW: usize = 8;
+
 /// The keys learnt so far, and the session they are declared in (none once closed).
 #[derive(Default)]
 pub(super) struct Routes {
@@ -31,6 +34,10 @@ pub(super) struct Routes {
 #[derive(Default)]
 struct State {
     session: Option<Session>,
+    /// The first [`FEW`] keys seen, looked at before `seen`: a part's values mostly
+    /// come on a few keys, and comparing a key is cheaper than hashing it (SipHash of
+    /// the key was ~250 instructions a value in Zenoh's receive thread).
+    first: Vec<OwnedKeyExpr>,
     seen: HashSet<OwnedKeyExpr>,
     /// Kept so that the nodes stay for as long as the session.
     declared: Vec<KeyExpr<'static>>,
@@ -48,10 +55,17 @@ impl Routes {
     pub(super) fn arrived(self: &Arc<Self>, key: &KeyExpr<'_>) {
         let session = {
             let mut state = lock(&self.state);
-            if state.seen.len() >= MOST || state.seen.contains(key.as_keyexpr()) {
+            let key = key.as_keyexpr();
+            if state.first.iter().any(|k| **k == *key) {
                 return;
             }
-            state.seen.insert(key.as_keyexpr().to_owned());
+            if state.seen.len() >= MOST || state.seen.contains(key) {
+                return;
+            }
+            state.seen.insert(key.to_owned());
+            if state.first.len() < FEW {
+                state.first.push(key.to_owned());
+            }
             match &state.session {
                 Some(session) => session.clone(),
                 None => return,

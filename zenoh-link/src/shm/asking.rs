@@ -126,7 +126,7 @@ pub(crate) use with_shm::*;
 mod with_shm {
     use super::{at_or_after, Answer, Question, Seen, ASK_TIMEOUT};
     use crate::shm::reclaim::Ledger;
-    use std::collections::{BTreeSet, HashMap};
+    use std::collections::BTreeSet;
     use std::sync::{Arc, Mutex, OnceLock};
     use zenoh::bytes::ZBytes;
     use zenoh::key_expr::OwnedKeyExpr;
@@ -173,21 +173,25 @@ mod with_shm {
     pub(crate) struct Receipts {
         /// The parts it receives from.
         writers: BTreeSet<String>,
-        seen: Arc<Mutex<HashMap<EntityGlobalId, Heard>>>,
+        seen: Arc<Mutex<Vec<Heard>>>,
     }
 
-    /// What a reader has seen of one publisher.
-    #[derive(Default)]
+    /// What a reader has seen of one publisher. Searched in a list, not hashed: a
+    /// reader hears a few publishers and holds a few numbers of each at a time (its
+    /// inputs' values), and every value arrives and is dropped through here in Zenoh's
+    /// receive thread (SipHash of the id and the number was ~1,100 instructions a
+    /// value; bench/README.md, b3-parts).
     struct Heard {
+        publisher: EntityGlobalId,
         last: u32,
         /// How many values it holds per number.
-        held: HashMap<u32, usize>,
+        held: Vec<(u32, usize)>,
     }
 
     /// Kept by a value read in place from a stamped message: while it lives, the
     /// reader says it holds that number.
     pub(crate) struct Receipt {
-        seen: Arc<Mutex<HashMap<EntityGlobalId, Heard>>>,
+        seen: Arc<Mutex<Vec<Heard>>>,
         publisher: EntityGlobalId,
         number: u32,
     }
@@ -195,12 +199,13 @@ mod with_shm {
     impl Drop for Receipt {
         fn drop(&mut self) {
             let mut seen = lock(&self.seen);
-            if let Some(p) = seen.get_mut(&self.publisher) {
-                if let Some(count) = p.held.get_mut(&self.number) {
-                    *count -= 1;
-                    if *count == 0 {
-                        p.held.remove(&self.number);
-                    }
+            let Some(p) = seen.iter_mut().find(|p| p.publisher == self.publisher) else {
+                return;
+            };
+            if let Some(at) = p.held.iter().position(|(n, _)| *n == self.number) {
+                p.held[at].1 -= 1;
+                if p.held[at].1 == 0 {
+                    p.held.swap_remove(at);
                 }
             }
         }
@@ -219,32 +224,48 @@ mod with_shm {
         /// whatever reads the value in place) is dropped. `None` if it is not stamped.
         pub(crate) fn arrived(&self, sample: &Sample) -> Option<Arc<Receipt>> {
             let info = sample.source_info()?;
-            let (publisher, number) = (*info.source_id(), info.source_sn());
+            Some(self.arrived_from(*info.source_id(), info.source_sn()))
+        }
+
+        /// [`arrived`](Self::arrived) of the value numbered `number` by `publisher`.
+        pub(crate) fn arrived_from(&self, publisher: EntityGlobalId, number: u32) -> Arc<Receipt> {
             let mut seen = lock(&self.seen);
-            let p = seen.entry(publisher).or_insert_with(|| Heard {
-                last: number,
-                held: HashMap::new(),
-            });
+            let at = match seen.iter().position(|p| p.publisher == publisher) {
+                Some(at) => at,
+                None => {
+                    seen.push(Heard {
+                        publisher,
+                        last: number,
+                        held: Vec::new(),
+                    });
+                    seen.len() - 1
+                }
+            };
+            let p = &mut seen[at];
             if at_or_after(number, p.last) {
                 p.last = number;
             }
-            *p.held.entry(number).or_default() += 1;
-            Some(Arc::new(Receipt {
+            match p.held.iter_mut().find(|(n, _)| *n == number) {
+                Some((_, count)) => *count += 1,
+                None => p.held.push((number, 1)),
+            }
+            drop(seen);
+            Arc::new(Receipt {
                 seen: Arc::clone(&self.seen),
                 publisher,
                 number,
-            }))
+            })
         }
 
         /// The answer to `question`, asked about the part `writer`, by `reader`.
         pub(crate) fn answer(&self, reader: &str, writer: &str, question: &Question) -> Answer {
             let seen = lock(&self.seen);
             let publishers = (seen.iter())
-                .filter(|(id, _)| id.zid().to_string() == question.writer)
-                .map(|(id, p)| Seen {
-                    publisher: id.eid(),
+                .filter(|p| p.publisher.zid().to_string() == question.writer)
+                .map(|p| Seen {
+                    publisher: p.publisher.eid(),
                     last: p.last,
-                    held: p.held.keys().copied().collect(),
+                    held: p.held.iter().map(|(n, _)| *n).collect(),
                 })
                 .collect();
             Answer {
@@ -325,6 +346,56 @@ mod with_shm {
 
     fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
         m.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+#[cfg(all(test, feature = "shared-memory"))]
+mod tests {
+    use super::*;
+    use zenoh::config::ZenohId;
+    use zenoh::session::EntityGlobalId;
+
+    fn publisher(zid: u8, eid: u32) -> EntityGlobalId {
+        EntityGlobalId::new(ZenohId::try_from(&[zid][..]).unwrap(), eid)
+    }
+
+    /// (last, held numbers sorted) that the reader answers for publisher `eid`.
+    fn heard(receipts: &Receipts, writer: &EntityGlobalId, eid: u32) -> Option<(u32, Vec<u32>)> {
+        let question = Question {
+            writer: writer.zid().to_string(),
+        };
+        let answer = receipts.answer("reader", "w", &question);
+        assert!(answer.receives);
+        let seen = answer.publishers.into_iter().find(|s| s.publisher == eid)?;
+        let mut held = seen.held;
+        held.sort_unstable();
+        Some((seen.last, held))
+    }
+
+    #[test]
+    fn a_number_is_held_while_any_receipt_of_it_lives_and_the_last_never_goes_back() {
+        let receipts = Receipts::new(["w".to_owned()]);
+        let (p, q, other) = (publisher(1, 7), publisher(1, 8), publisher(2, 7));
+        let five = receipts.arrived_from(p, 5);
+        let five_again = receipts.arrived_from(p, 5); // a second link of the same value
+        let six = receipts.arrived_from(p, 6);
+        let q_one = receipts.arrived_from(q, 1);
+        let elsewhere = receipts.arrived_from(other, 9);
+        assert_eq!(heard(&receipts, &p, 7), Some((6, vec![5, 6])));
+        assert_eq!(heard(&receipts, &q, 8), Some((1, vec![1])));
+        drop(five);
+        assert_eq!(heard(&receipts, &p, 7), Some((6, vec![5, 6])), "one left");
+        drop(five_again);
+        assert_eq!(heard(&receipts, &p, 7), Some((6, vec![6])));
+        // An older number (wrapping) does not move the last one back.
+        let old = receipts.arrived_from(p, u32::MAX);
+        assert_eq!(heard(&receipts, &p, 7), Some((6, vec![6, u32::MAX])));
+        drop((six, old, q_one));
+        assert_eq!(heard(&receipts, &p, 7), Some((6, vec![])));
+        assert_eq!(heard(&receipts, &q, 8), Some((1, vec![])));
+        // Another writer's session is not in this writer's answer.
+        assert_eq!(heard(&receipts, &other, 7), Some((9, vec![9])));
+        drop(elsewhere);
     }
 }
 
