@@ -42,7 +42,7 @@ mod pieces;
 mod qos;
 mod routes;
 use calls::{queryables, Pending};
-use pieces::{deliver_pieces, joined, Buffers, LENT_MARK};
+use pieces::{deliver_pieces, holders, joined, Buffers, LENT_MARK};
 pub use qos::Qos;
 use routes::Routes;
 
@@ -200,28 +200,29 @@ fn subscribers(
         let receipts = Arc::clone(receipts);
         let subscriber = session
             .declare_subscriber(keys.data_of(writer)?)
-            .callback(move |sample| {
+            .callback(move |mut sample| {
                 // The links the value is for (4 bytes each); those of this writer
                 // that go to other parts share its keys: not ours.
-                let Some(attachment) = sample.attachment() else {
+                let Some(attachment) = sample.attachment_mut().map(std::mem::take) else {
                     return;
                 };
                 let links = attachment.to_bytes();
                 let lent = links.len() % 4 == 1 && links.last() == Some(&LENT_MARK);
                 let receipt = receipts.arrived(&sample); // held while read (shm/asking.rs)
-                let links = (links.chunks_exact(4))
+                let mut links = (links.chunks_exact(4))
                     .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                    .filter(|l| ids.contains(l));
-                for link in links {
-                    let payload = sample.payload();
-                    if lent {
-                        deliver_pieces(
-                            &delivery,
-                            shm_on.then_some(&*received_shared),
-                            (link, &receipt),
-                            payload,
-                        );
-                    } else {
+                    .filter(|l| ids.contains(l))
+                    .peekable();
+                if lent && links.peek().is_some() {
+                    // The message's buffers once, for every link of ours it carries.
+                    let holders = holders(std::mem::take(sample.payload_mut()), &receipt);
+                    let shared = shm_on.then_some(&*received_shared);
+                    for link in links {
+                        deliver_pieces(&delivery, shared, link, &holders);
+                    }
+                } else if !lent {
+                    for link in links {
+                        let payload = sample.payload();
                         deliver(&delivery, &received_shared, (link, &receipt), payload);
                     }
                 }

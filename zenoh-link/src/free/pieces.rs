@@ -99,23 +99,58 @@ impl AsRef<[u8]> for Kept {
 #[cfg(feature = "shared-memory")]
 const KEEP: usize = 4096;
 
+/// Slices up to this long are copied into a [`Short`].
+#[cfg(feature = "shared-memory")]
+const SHORT: usize = 128;
+
+/// A short slice copied out of a received message (an image's header), its bytes
+/// inline: one allocation (its `Arc`) instead of two for a `Vec`.
+#[cfg(feature = "shared-memory")]
+struct Short {
+    len: u8,
+    bytes: [u8; SHORT],
+}
+
+#[cfg(feature = "shared-memory")]
+impl Short {
+    /// A copy of `slice`, if it is at most [`SHORT`] bytes long.
+    fn of(slice: &[u8]) -> Option<Short> {
+        let len = u8::try_from(slice.len())
+            .ok()
+            .filter(|l| usize::from(*l) <= SHORT)?;
+        let mut bytes = [0; SHORT];
+        bytes[..slice.len()].copy_from_slice(slice);
+        Some(Short { len, bytes })
+    }
+}
+
+#[cfg(feature = "shared-memory")]
+impl AsRef<[u8]> for Short {
+    fn as_ref(&self) -> &[u8] {
+        &self.bytes[..usize::from(self.len)]
+    }
+}
+
 /// The buffers of a value sent in pieces, each as a holder the value may keep. With
 /// shared memory: the large slices (a lent pool buffer) as they are, the small ones
 /// (the encoded bytes around it) copied. Those small ones lie in Zenoh's receive
 /// buffer, of which a link has one to reuse (`transport/link/rx/buffer_size` over the
 /// batch size): a value that kept it while its reader holds the value would make Zenoh
 /// allocate and zero a new 64 KB buffer for every message (b4-large's reader did).
-fn holders(payload: &ZBytes, receipt: &Option<Arc<Receipt>>) -> Vec<Arc<dyn Holder>> {
+/// `payload` is taken, not cloned: the message's list of slices is not copied.
+pub(super) fn holders(payload: ZBytes, receipt: &Option<Arc<Receipt>>) -> Vec<Arc<dyn Holder>> {
     #[cfg(feature = "shared-memory")]
     {
-        let message = zenoh::internal::buffers::ZBuf::from(payload.clone());
+        let message = zenoh::internal::buffers::ZBuf::from(payload);
         message
-            .zslices()
+            .into_zslices()
             .map(|slice| {
                 if slice.len() >= KEEP {
-                    Arc::new(Read::new(Kept(slice.clone()), receipt)) as Arc<dyn Holder>
-                } else {
-                    Arc::new(slice.as_slice().to_vec()) as Arc<dyn Holder>
+                    return Arc::new(Read::new(Kept(slice), receipt)) as Arc<dyn Holder>;
+                }
+                match Short::of(slice.as_slice()) {
+                    Some(short) => Arc::new(short) as Arc<dyn Holder>,
+                    None => Arc::new(slice.as_slice().to_vec()) as Arc<dyn Holder>,
                 }
             })
             .collect()
@@ -128,20 +163,20 @@ fn holders(payload: &ZBytes, receipt: &Option<Arc<Receipt>>) -> Vec<Arc<dyn Hold
         .collect()
 }
 
-/// Hands the value `payload` of the link `link`, sent in pieces around a lent buffer,
-/// to its receiving end: decoded from the buffers as they arrived (the lent one in
-/// shared memory from a writer on this computer, read in place, keeping `receipt`),
-/// counted in `received_shared` if this part has shared memory on.
+/// Hands the value of the link `link` that was sent in pieces around a lent buffer,
+/// its buffers as they arrived ([`holders`]; the lent one in shared memory from a
+/// writer on this computer, read in place), to its receiving end; counted in
+/// `received_shared` if this part has shared memory on.
 pub(super) fn deliver_pieces(
     delivery: &Delivery,
     received_shared: Option<&AtomicU64>,
-    (link, receipt): (u32, &Option<Arc<Receipt>>),
-    payload: &ZBytes,
+    link: u32,
+    holders: &[Arc<dyn Holder>],
 ) {
     if let Some(count) = received_shared {
         count.fetch_add(1, Ordering::Relaxed);
     }
-    delivery.deliver_parts(link, &holders(payload, receipt));
+    delivery.deliver_parts(link, holders);
 }
 
 #[cfg(all(test, feature = "shared-memory"))]
@@ -163,7 +198,7 @@ mod tests {
         let large = ZBytes::from(vec![7u8; KEEP]);
         let at = large.slices().next().map(<[u8]>::as_ptr);
         let message = message(&large);
-        let holders = holders(&message, &None);
+        let holders = holders(message.clone(), &None);
         let parts: Vec<&[u8]> = holders.iter().map(|h| (**h).as_ref()).collect();
         assert_eq!(parts.len(), 3);
         assert_eq!(parts[0], [1, 2, 3]);
@@ -181,7 +216,7 @@ mod tests {
     fn a_value_in_small_pieces_is_copied_whole() {
         let message = message(&ZBytes::from(vec![9u8; KEEP - 1]));
         let originals: Vec<*const u8> = message.slices().map(<[u8]>::as_ptr).collect();
-        let holders = holders(&message, &None);
+        let holders = holders(message.clone(), &None);
         let joined: Vec<u8> = holders
             .iter()
             .flat_map(|h| (**h).as_ref())
