@@ -91,11 +91,16 @@ impl<T: Send + Sync + 'static> OutputPort<T> {
         }
     }
 
-    /// Publishes `value` (moved into a pooled buffer; the buffer's old value is dropped).
-    pub fn publish(&self, value: T) {
+    /// Publishes `value` (moved into a pooled buffer; the buffer's old value is dropped
+    /// once the inputs have the new one: an input's notifier may run its reader's cycle
+    /// right there (`wait="inline"`), which the old value's drop — a received buffer
+    /// given back, its bookkeeping — would only delay).
+    pub fn publish(&self, mut value: T) {
         let mut buf = self.acquire();
-        *buf = value;
+        // Swapped, not moved out: no second copy of a large `T` on the stack.
+        std::mem::swap(&mut *buf, &mut value);
         buf.publish();
+        drop(value);
     }
 
     /// Fills a pooled buffer in place with `fill` and publishes it.

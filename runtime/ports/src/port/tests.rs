@@ -472,3 +472,41 @@ fn concurrent_publishers_and_readers() {
     }
     assert_eq!(live.load(Ordering::SeqCst), 0);
 }
+
+/// A value that logs its drop.
+struct Logged(u32, Arc<std::sync::Mutex<Vec<String>>>);
+
+impl Drop for Logged {
+    fn drop(&mut self) {
+        self.1.lock().unwrap().push(format!("drop {}", self.0));
+    }
+}
+
+/// `publish` drops the old value of the buffer it reuses after the inputs were handed
+/// the new one: an input's notifier may run the reader's cycle (`wait="inline"`), and
+/// dropping a received value (a shared-memory buffer, its bookkeeping) before that only
+/// delays the reader (bench/README.md, b3-parts).
+#[test]
+fn publish_drops_the_reused_buffers_old_value_after_the_inputs_have_the_new_one() {
+    let log = Arc::new(std::sync::Mutex::new(Vec::new()));
+    let l = Arc::clone(&log);
+    let out = OutputPort::with_init("out", move || Logged(0, Arc::clone(&l)));
+    let inp = InputPort::with_default("in", Logged(0, Arc::clone(&log)));
+    let l = Arc::clone(&log);
+    inp.set_notifier(Arc::new(move || l.lock().unwrap().push("notify".into())))
+        .map_err(|_| ())
+        .unwrap();
+    connect(&out, &inp, opts()).unwrap();
+    for n in 1..=5 {
+        log.lock().unwrap().push(format!("publish {n}"));
+        out.publish(Logged(n, Arc::clone(&log)));
+        assert_eq!(inp.get().0, n);
+    }
+    let log = log.lock().unwrap().clone();
+    for (i, entry) in log.iter().enumerate() {
+        if entry.starts_with("publish") {
+            assert_eq!(log[i + 1], "notify", "{log:?}");
+        }
+    }
+    assert!(log.iter().any(|e| e.starts_with("drop ")), "{log:?}");
+}
