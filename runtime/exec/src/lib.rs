@@ -229,9 +229,9 @@ impl ThreadContainer {
         // Several containers may take turns on this thread (the lockstep driver).
         ferroc_module::cycle::set_period(self.period());
         let started = self.clock.now();
-        self.execute_steps::<true>();
-        let took = self.clock.now().saturating_sub(started);
-        self.stats.record_cycle(took, false);
+        let ended = self.execute_steps::<true>(started);
+        self.stats
+            .record_cycle(ended.saturating_sub(started), false);
         ferroc_module::cycle::leave_cycle();
     }
 
@@ -244,43 +244,35 @@ impl ThreadContainer {
         }
     }
 
-    /// Runs every live step once; `TIMED` records each step's execution time.
-    fn execute_steps<const TIMED: bool>(&mut self) {
+    /// Runs every live step once; `TIMED` records each step's execution time, from
+    /// `started` (the clock's reading before the first step) on, and returns the
+    /// reading after the last one. One reading a step: each step starts when the one
+    /// before it ended (an inline container's cycle runs in a network callback, where
+    /// two readings a step were a tenth of the cycle's instructions).
+    fn execute_steps<const TIMED: bool>(&mut self, started: Duration) -> Duration {
+        let mut t0 = started;
         for step in self.steps.iter_mut() {
             if step.stopped {
                 continue;
             }
-            let t0 = if TIMED {
-                self.clock.now()
-            } else {
-                Duration::ZERO
-            };
             let outcome = catch_unwind(AssertUnwindSafe(|| step.run()));
             if TIMED {
+                let ended = self.clock.now();
                 if let Some((_, stats)) = step.stat.and_then(|i| self.stats.steps.get(i)) {
-                    stats.record(self.clock.now().saturating_sub(t0));
+                    stats.record(ended.saturating_sub(t0));
                 }
+                t0 = ended;
             }
             if let Err(payload) = outcome {
                 step.stopped = true;
-                if let Some(StopStep(why)) = payload.downcast_ref::<StopStep>() {
-                    self.stats.record_panic(format!(
-                        "`{}` was stopped: {why}; the other steps keep running",
-                        step.name
-                    ));
-                    continue;
+                self.stats.record_panic(stopped_note(&step.name, &*payload));
+                if TIMED {
+                    // The report is not the next step's time.
+                    t0 = self.clock.now();
                 }
-                let why = payload
-                    .downcast_ref::<&str>()
-                    .map(|s| s.to_string())
-                    .or_else(|| payload.downcast_ref::<String>().cloned())
-                    .unwrap_or_else(|| "a non-text panic payload".into());
-                self.stats.record_panic(format!(
-                    "`{}` panicked: {why}; this step is stopped, the others keep running",
-                    step.name
-                ));
             }
         }
+        t0
     }
 
     /// Runs cycles on the current thread until `stop` is set or `limit` cycles ran.
@@ -301,8 +293,7 @@ impl ThreadContainer {
                 while more(done) {
                     session.boundary();
                     let started = self.clock.now();
-                    self.execute_steps::<true>();
-                    let ended = self.clock.now();
+                    let ended = self.execute_steps::<true>(started);
                     let overrun = ended > deadline;
                     self.stats
                         .record_cycle(ended.saturating_sub(started), overrun);
@@ -326,13 +317,16 @@ impl ThreadContainer {
                     session.boundary();
                     let batch = limit.map_or(size, |l| (l - done).min(size));
                     let started = self.clock.now();
-                    self.execute_steps::<true>();
+                    let mut ended = self.execute_steps::<true>(started);
                     let mut ran = 1;
                     while ran < batch && !stop.load(Ordering::Relaxed) {
-                        self.execute_steps::<false>();
+                        self.execute_steps::<false>(started);
                         ran += 1;
                     }
-                    let took = self.clock.now().saturating_sub(started);
+                    if ran > 1 {
+                        ended = self.clock.now();
+                    }
+                    let took = ended.saturating_sub(started);
                     self.stats.record_cycles(ran, took);
                     done += ran;
                     size = next_batch(size, ran, took);
@@ -453,6 +447,20 @@ impl RunningContainer {
     pub fn join(self) {
         let _ = self.join.join();
     }
+}
+
+/// What the stats report of the step `name` that stopped with `payload` (a panic, or
+/// [`StopStep`]).
+fn stopped_note(name: &str, payload: &(dyn std::any::Any + Send)) -> String {
+    if let Some(StopStep(why)) = payload.downcast_ref::<StopStep>() {
+        return format!("`{name}` was stopped: {why}; the other steps keep running");
+    }
+    let why = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a non-text panic payload".into());
+    format!("`{name}` panicked: {why}; this step is stopped, the others keep running")
 }
 
 #[cfg(test)]

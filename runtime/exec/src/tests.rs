@@ -1,4 +1,5 @@
 use super::*;
+use std::sync::atomic::AtomicUsize;
 use std::sync::Mutex;
 
 /// A step that logs its name into `log` and advances the manual clock by `takes`.
@@ -364,4 +365,44 @@ fn a_step_reads_the_period_of_its_container() {
     );
     assert!(!cycle::in_cycle(), "after the cycles");
     assert_eq!(cycle::period(), None);
+}
+
+/// A manual clock that counts its readings.
+struct Counting(ManualClock, Arc<AtomicUsize>);
+
+impl Clock for Counting {
+    fn now(&self) -> Duration {
+        self.1.fetch_add(1, Ordering::SeqCst);
+        self.0.now()
+    }
+    fn sleep_until(&self, deadline: Duration) {
+        self.0.sleep_until(deadline);
+    }
+}
+
+/// A cycle reads the clock once before its first step and once after each step: each
+/// step is timed from the end of the one before (an inline cycle runs in a network
+/// callback, where every reading counts). The times are those of the steps.
+#[test]
+fn a_cycle_reads_the_clock_once_a_step_and_once_more() {
+    let clock = ManualClock::new();
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let ms = Duration::from_millis(1);
+    let readings = Arc::new(AtomicUsize::new(0));
+    let mut c = ThreadContainer::new(
+        "robot/view",
+        Trigger::Data(Wakeup::new()),
+        vec![
+            step(&log, &clock, "decode", 2 * ms),
+            step(&log, &clock, "detect", 3 * ms),
+            step(&log, &clock, "draw", ms),
+        ],
+    )
+    .with_clock(Arc::new(Counting(clock.clone(), Arc::clone(&readings))));
+    c.run_cycle();
+    assert_eq!(readings.load(Ordering::SeqCst), 4);
+    let stats = c.stats();
+    let means: Vec<Duration> = stats.steps.iter().map(|(_, s)| s.mean()).collect();
+    assert_eq!(means, [2 * ms, 3 * ms, ms]);
+    assert_eq!(stats.cycles(), 1);
 }
