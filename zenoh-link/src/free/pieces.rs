@@ -88,16 +88,12 @@ impl Buffers {
 
 /// A list that is most often empty or one item long (a message's pool buffers): those
 /// need no allocation on the way to the put.
+#[derive(Default)]
 pub(super) enum Few<T> {
+    #[default]
     None,
     One(T),
     Many(Vec<T>),
-}
-
-impl<T> Default for Few<T> {
-    fn default() -> Self {
-        Few::None
-    }
 }
 
 impl<T> Few<T> {
