@@ -406,11 +406,12 @@ impl Free {
             return; // dropped: the pool is full (warned)
         };
         // A value in shared memory is stamped with its publisher's next number.
-        let stamp = !buffers.at.is_empty();
+        let stamp = !buffers.at.as_slice().is_empty();
         let (put, send) = out.order.put(&out.publisher, bytes, links, stamp);
-        buffers.listed();
+        buffers.listed(self.pool.as_deref());
         if let Some(pool) = &self.pool {
-            pool.sent(&buffers.at, send); // the pool's ledger notes who may hold them now
+            // The pool's ledger notes who may hold them now.
+            pool.sent(buffers.at.as_slice(), send);
         }
         if let Err(e) = put {
             self.failed(&format!(
@@ -456,16 +457,16 @@ impl Connection for Free {
         // The links of one output share its key: one message for all of them, its
         // attachment naming each link (4 bytes each).
         let first = targets.first().and_then(|(link, _)| self.data.get(link));
-        let all_data = targets.iter().all(|(link, _)| self.data.contains_key(link));
-        let Some(out) = first.filter(|_| all_data) else {
+        let all_data = || targets[1..].iter().all(|(l, _)| self.data.contains_key(l));
+        let Some(out) = first.filter(|_| all_data()) else {
             return send_each(self, targets, encoder);
         };
         let pieces = encoder.pieces()?;
         let lent = pieces.is_some();
         let (payload, buffers) = match (&self.pool, pieces) {
             // Bytes an output lent from the pool go as they are (no copy).
-            (pool, Some(pieces)) => {
-                let (message, buffers) = joined(pool.as_deref(), pieces);
+            (_, Some(pieces)) => {
+                let (message, buffers) = joined(pieces);
                 (Payload::Shared(message), buffers)
             }
             (Some(pool), None) => {

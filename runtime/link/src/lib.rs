@@ -129,21 +129,37 @@ impl Pace {
     /// Whether to send now, given whether the writer published since the last cycle.
     #[doc(hidden)]
     pub fn send(&mut self, published: bool, now: Timestamp) -> bool {
+        self.send_at(published, || now)
+    }
+
+    /// [`send`](Self::send), reading the time from `now` only when an interval needs
+    /// it: a link that sends every value (the default) never reads the clock on its way
+    /// to the network.
+    #[doc(hidden)]
+    pub fn send_at(&mut self, published: bool, now: impl FnOnce() -> Timestamp) -> bool {
         self.waiting |= published;
         let every = match self.sharing {
             Sharing::OnChange { min_interval } => min_interval,
             Sharing::Periodic(period) => period,
         };
-        let elapsed = |last: Timestamp| {
-            u128::try_from(now.nanos.saturating_sub(last.nanos)).unwrap_or(0) >= every.as_nanos()
-        };
-        let due = self.waiting && self.last_sent.is_none_or(elapsed);
+        let due = self.waiting && (every.is_zero() || self.interval_passed(every, now()));
         if due {
-            self.last_sent = Some(now);
             // A periodic link keeps sending the latest value; on-change waits for news.
             self.waiting = matches!(self.sharing, Sharing::Periodic(_));
         }
         due
+    }
+
+    /// Whether `every` passed since the last value sent; if so `now` is the last.
+    fn interval_passed(&mut self, every: Duration, now: Timestamp) -> bool {
+        let elapsed = |last: Timestamp| {
+            u128::try_from(now.nanos.saturating_sub(last.nanos)).unwrap_or(0) >= every.as_nanos()
+        };
+        let passed = self.last_sent.is_none_or(elapsed);
+        if passed {
+            self.last_sent = Some(now);
+        }
+        passed
     }
 }
 

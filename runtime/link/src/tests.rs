@@ -24,6 +24,24 @@ fn on_change_sends_news_at_most_once_per_interval_and_keeps_the_last() {
 }
 
 #[test]
+fn a_link_that_sends_every_value_never_reads_the_clock() {
+    let clock = |_: ()| -> Timestamp { panic!("the clock was read") };
+    let mut every = Pace::new(Sharing::default());
+    assert!(every.send_at(true, || clock(())));
+    assert!(!every.send_at(false, || clock(())));
+    // With an interval it does, and keeps the time of the last value sent.
+    let mut paced = Pace::new(Sharing::OnChange {
+        min_interval: Duration::from_millis(100),
+    });
+    assert!(paced.send_at(true, || at(10)));
+    assert!(
+        !paced.send_at(true, || at(100)),
+        "within the interval from 10"
+    );
+    assert!(paced.send_at(false, || at(110)));
+}
+
+#[test]
 fn periodic_sends_the_latest_value_every_period() {
     let mut pace = Pace::new(Sharing::Periodic(Duration::from_millis(50)));
     assert!(!pace.send(false, at(0)), "no value yet");

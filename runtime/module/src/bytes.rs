@@ -147,6 +147,9 @@ thread_local! {
     static FROM: Cell<usize> = const { Cell::new(0) };
     /// The lent buffers the value this thread encodes holds, while it collects them.
     static LENT: RefCell<Option<Vec<Arc<dyn LentBuffer>>>> = const { RefCell::new(None) };
+    /// Where the last of them starts and how long it is ([`lent_now`] compares every
+    /// block of bytes with it: most are not lent, and the check must be cheap).
+    static LAST_LENT: Cell<(usize, usize)> = const { Cell::new((0, 0)) };
 }
 
 /// Runs `decode` on `holder`'s bytes; a [`Bytes`] decoded meanwhile from inside them
@@ -191,14 +194,31 @@ pub(crate) fn collect_lent<R>(encode: impl FnOnce() -> R) -> (R, Vec<Arc<dyn Len
         fn drop(&mut self) {
             let outer = self.0.take();
             LENT.with(|l| *l.borrow_mut() = outer);
+            LAST_LENT.set((0, 0));
         }
     }
     let outer = LENT.with(|l| l.borrow_mut().replace(Vec::new()));
     let restore = Restore(outer);
+    LAST_LENT.set((0, 0));
     let result = encode();
     let lent = LENT.with(|l| l.borrow_mut().take()).unwrap_or_default();
     drop(restore);
     (result, lent)
+}
+
+/// The lent buffer whose bytes `data` are, if the [`Bytes`] serialised last while
+/// [`collect_lent`] runs holds one: an encoder meeting a block of bytes knows at once
+/// whether to send it as it is.
+pub(crate) fn lent_now(data: &[u8]) -> Option<Arc<dyn LentBuffer>> {
+    if data.is_empty() || LAST_LENT.get() != (data.as_ptr() as usize, data.len()) {
+        return None;
+    }
+    LENT.with(|l| {
+        let lent = l.borrow();
+        let last = lent.as_ref()?.last()?;
+        let bytes = last.bytes();
+        (bytes.as_ptr() == data.as_ptr() && bytes.len() == data.len()).then(|| Arc::clone(last))
+    })
 }
 
 impl Default for Bytes {
@@ -289,6 +309,8 @@ impl Serialize for Bytes {
             LENT.with(|l| {
                 if let Some(lent) = l.borrow_mut().as_mut() {
                     lent.push(Arc::clone(b));
+                    let bytes = b.bytes();
+                    LAST_LENT.set((bytes.as_ptr() as usize, bytes.len()));
                 }
             });
         }

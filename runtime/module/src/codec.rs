@@ -15,13 +15,14 @@
 //! when the type is registered, working on the type-erased [`DynIn`]/[`DynOut`].
 
 use super::bytes::{self, Holder};
-use super::lend::{Chain, LentBuffer, Piece, Split};
+use super::lend::{Chain, Kept, LentBuffer, OnePass, Piece, Split};
 use super::value::PortValue;
 use super::value_table::{DynIn, DynOut};
 use ferroc_ros2::serde_cdr::{self, Shape};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::borrow::Borrow;
+use std::cell::Cell;
 use std::sync::Arc;
 
 /// [`Codec::encode_with`] for one type.
@@ -170,6 +171,9 @@ pub struct Encoder<'a> {
     /// The lent buffers the value holds ([`crate::lend`]), in the order it encodes them.
     lent: Vec<Arc<dyn LentBuffer>>,
     split: Option<&'a SplitFn<'a>>,
+    /// The bytes the size pass kept ([`OnePass`]), handed out instead of encoding the
+    /// value again: the pieces once, the whole encoding once by value or to copy.
+    kept: Cell<Option<Kept>>,
 }
 
 /// Encodes a value into pieces around the lent buffers it is handed.
@@ -184,6 +188,7 @@ impl<'a> Encoder<'a> {
             write,
             lent: Vec::new(),
             split: None,
+            kept: Cell::new(None),
         }
     }
 
@@ -192,6 +197,10 @@ impl<'a> Encoder<'a> {
     /// around them; together exactly the bytes [`write`](Self::write) writes. `None`
     /// for a value without lent buffers.
     pub fn pieces(&self) -> Result<Option<Vec<Piece>>, String> {
+        match self.kept.take() {
+            Some(Kept::Pieces(pieces)) => return Ok(Some(pieces)),
+            other => self.kept.set(other),
+        }
         match self.split {
             Some(split) if !self.lent.is_empty() => split(&self.lent).map(Some),
             _ => Ok(None),
@@ -213,11 +222,25 @@ impl<'a> Encoder<'a> {
                 buffer.len()
             ));
         }
-        (self.write)(buffer)
+        match self.kept.take() {
+            Some(Kept::Whole(bytes)) => {
+                buffer.copy_from_slice(&bytes);
+                self.kept.set(Some(Kept::Whole(bytes)));
+                Ok(())
+            }
+            other => {
+                self.kept.set(other);
+                (self.write)(buffer)
+            }
+        }
     }
 
     /// The value encoded into a new `Vec` of its exact size.
     pub fn to_vec(&self) -> Result<Vec<u8>, String> {
+        match self.kept.take() {
+            Some(Kept::Whole(bytes)) => return Ok(bytes),
+            other => self.kept.set(other),
+        }
         let mut bytes = vec![0; self.len];
         self.write(&mut bytes)?;
         Ok(bytes)
@@ -233,8 +256,10 @@ fn encode_with<T: PortValue + Serialize>(
         .ok_or_else(|| format!("`{}` does not carry {}", from.name(), T::model_type()))?;
     let value = port.get();
     let value: &T = value.borrow();
-    let (len, lent) = bytes::collect_lent(|| postcard::experimental::serialized_size(value));
-    let len = len.map_err(|e| e.to_string())?;
+    // One pass: the size, and the bytes of a small or lent value (see `OnePass`).
+    let (passed, lent) =
+        bytes::collect_lent(|| postcard::serialize_with_flavor(value, OnePass::new()));
+    let passed = passed.map_err(|e| e.to_string())?;
     let write = |buffer: &mut [u8]| {
         postcard::to_slice(value, buffer)
             .map(|_| ())
@@ -244,10 +269,11 @@ fn encode_with<T: PortValue + Serialize>(
         postcard::serialize_with_flavor(value, Split::new(lent)).map_err(|e| e.to_string())
     };
     then(&Encoder {
-        len,
+        len: passed.len,
         write: &write,
         lent,
         split: Some(&split),
+        kept: Cell::new(passed.kept),
     });
     Ok(())
 }
@@ -336,3 +362,6 @@ fn decode<T: PortValue + DeserializeOwned>(to: &DynOut, bytes: &[u8]) -> Result<
     port.publish(value);
     Ok(())
 }
+
+#[cfg(test)]
+mod tests;

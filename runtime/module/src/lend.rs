@@ -160,6 +160,107 @@ impl postcard::ser_flavors::Flavor for Split<'_> {
     }
 }
 
+/// How many encoded bytes outside lent buffers [`OnePass`] keeps before it gives up
+/// (the shared-memory threshold's default: a value this small is sent as bytes).
+pub(crate) const KEPT: usize = 4096;
+
+/// Counts a value's encoded size and, in the same pass, keeps its bytes while they stay
+/// within [`KEPT`] outside the lent buffers: as pieces around the lent buffers it
+/// meets (the [`Split`] form), or whole for a value without any. A lent value then
+/// needs one walk, not a size pass and a pieces pass: after its module filled
+/// megabytes the writer's caches hold nothing else, and every line of code and data a
+/// walk touches is a miss (bench/README.md, b4-large). A value it could not keep
+/// (larger outside lent buffers) is encoded again by the caller, as before.
+pub(crate) struct OnePass {
+    len: usize,
+    /// The bytes since the last lent buffer; `None` once the value outgrew `KEPT`.
+    current: Option<Vec<u8>>,
+    kept: usize,
+    pieces: Vec<Piece>,
+}
+
+/// What [`OnePass`] made: the encoded size, and the bytes if it kept them.
+pub(crate) struct Passed {
+    pub(crate) len: usize,
+    pub(crate) kept: Option<Kept>,
+}
+
+/// A value's encoded bytes, kept by [`OnePass`].
+pub(crate) enum Kept {
+    /// No lent buffer: the whole encoding.
+    Whole(Vec<u8>),
+    /// The pieces around its lent buffers ([`Encoder::pieces`](crate::Encoder::pieces)).
+    Pieces(Vec<Piece>),
+}
+
+impl OnePass {
+    pub(crate) fn new() -> Self {
+        OnePass {
+            len: 0,
+            current: Some(Vec::with_capacity(64)),
+            kept: 0,
+            pieces: Vec::new(),
+        }
+    }
+
+    /// Keeps `data` if there is room, else stops keeping anything.
+    fn keep(&mut self, data: &[u8]) {
+        let Some(current) = &mut self.current else {
+            return;
+        };
+        if self.kept + data.len() <= KEPT {
+            current.extend_from_slice(data);
+            self.kept += data.len();
+        } else {
+            self.current = None;
+            self.pieces = Vec::new();
+        }
+    }
+}
+
+impl postcard::ser_flavors::Flavor for OnePass {
+    type Output = Passed;
+
+    fn try_push(&mut self, data: u8) -> postcard::Result<()> {
+        self.len += 1;
+        self.keep(&[data]);
+        Ok(())
+    }
+
+    fn try_extend(&mut self, data: &[u8]) -> postcard::Result<()> {
+        self.len += data.len();
+        let Some(current) = &mut self.current else {
+            return Ok(());
+        };
+        match crate::bytes::lent_now(data) {
+            Some(buffer) => {
+                if !current.is_empty() {
+                    self.pieces.push(Piece::Encoded(std::mem::take(current)));
+                }
+                self.pieces.push(Piece::Lent(buffer));
+            }
+            None => self.keep(data),
+        }
+        Ok(())
+    }
+
+    fn finalize(mut self) -> postcard::Result<Passed> {
+        let kept = self.current.map(|current| {
+            if self.pieces.is_empty() {
+                return Kept::Whole(current);
+            }
+            if !current.is_empty() {
+                self.pieces.push(Piece::Encoded(current));
+            }
+            Kept::Pieces(self.pieces)
+        });
+        Ok(Passed {
+            len: self.len,
+            kept,
+        })
+    }
+}
+
 /// Deserialises from several buffers one after the other (a value that arrived in
 /// pieces). A block of bytes must lie within one buffer, as the writer's pieces do;
 /// one that spans two is an error (the caller then joins the buffers and decodes

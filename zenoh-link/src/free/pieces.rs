@@ -20,53 +20,100 @@ pub(super) const LENT_MARK: u8 = b'L';
 
 /// One message of a value in `pieces` ([`Encoder::pieces`]): each lent pool buffer
 /// as it is (Zenoh sends its descriptor), the encoded bytes around them as they are;
-/// and its pool buffers, for the pool's ledger after the put.
-pub(super) fn joined(pool: Option<&Pool>, pieces: Vec<Piece>) -> (ZBytes, Buffers) {
-    let mut message = ZBytes::writer();
+/// and its pool buffers, for the pool's ledger after the put. The slices go straight
+/// into the message's buffer list: this runs between a large fill and the put, where
+/// every line of code touched is a cache miss (bench/README.md, b4-large).
+#[cfg(feature = "shared-memory")]
+pub(super) fn joined(pieces: Vec<Piece>) -> (ZBytes, Buffers) {
+    use zenoh::internal::buffers::{ZBuf, ZSlice};
+    let mut message = ZBuf::empty();
     let mut buffers = Buffers::default();
     for piece in pieces {
-        let bytes = match piece {
-            Piece::Encoded(v) => ZBytes::from(v),
+        let slice = match piece {
+            Piece::Encoded(v) => ZSlice::from(v),
             Piece::Lent(buffer) => match buffer.as_any().downcast_ref::<Lent>() {
                 Some(lent) => {
-                    pool.inspect(|p| p.sent_lent());
+                    let slice = lent.slice();
                     buffers.at.push(Pool::address(buffer.bytes()));
-                    let bytes = lent.message();
                     buffers.lent.push(buffer);
-                    bytes
+                    slice
                 }
                 // Lent by another network (none today): its bytes, copied.
-                None => ZBytes::from(buffer.bytes().to_vec()),
+                None => ZSlice::from(buffer.bytes().to_vec()),
             },
         };
-        message.append(bytes);
+        message.push_zslice(slice);
     }
-    (message.finish(), buffers)
+    (ZBytes::from(message), buffers)
+}
+
+/// Without shared memory no buffer is a pool's: every piece is copied.
+#[cfg(not(feature = "shared-memory"))]
+pub(super) fn joined(pieces: Vec<Piece>) -> (ZBytes, Buffers) {
+    let mut message = ZBytes::writer();
+    for piece in pieces {
+        message.append(ZBytes::from(piece.bytes().to_vec()));
+    }
+    (message.finish(), Buffers::default())
 }
 
 /// The pool buffers of a message: where they start, and those an output lent, which
 /// the pool's ledger lists after the put ([`Lent::message`]).
 #[derive(Default)]
 pub(super) struct Buffers {
-    pub(super) at: Vec<usize>,
-    lent: Vec<Arc<dyn LentBuffer>>,
+    pub(super) at: Few<usize>,
+    lent: Few<Arc<dyn LentBuffer>>,
 }
 
 impl Buffers {
     /// The buffers of a payload the pool filled (none lent: listed already).
     pub(super) fn of(payload: &Payload) -> Buffers {
         Buffers {
-            at: Pool::addresses(payload),
-            lent: Vec::new(),
+            at: Few::Many(Pool::addresses(payload)),
+            lent: Few::None,
         }
     }
 
-    /// Lists the lent buffers in the pool's ledger; after the put, before `Pool::sent`.
-    pub(super) fn listed(&self) {
-        for buffer in &self.lent {
+    /// Lists the lent buffers in the pool's ledger and counts them as sent; after the
+    /// put, before `Pool::sent`.
+    pub(super) fn listed(&self, pool: Option<&Pool>) {
+        for buffer in self.lent.as_slice() {
             if let Some(lent) = buffer.as_any().downcast_ref::<Lent>() {
                 lent.listed();
+                pool.inspect(|p| p.sent_lent());
             }
+        }
+    }
+}
+
+/// A list that is most often empty or one item long (a message's pool buffers): those
+/// need no allocation on the way to the put.
+#[derive(Default)]
+pub(super) enum Few<T> {
+    #[default]
+    None,
+    One(T),
+    Many(Vec<T>),
+}
+
+impl<T> Few<T> {
+    #[cfg_attr(not(feature = "shared-memory"), allow(dead_code))]
+    fn push(&mut self, item: T) {
+        *self = match std::mem::take(self) {
+            Few::None => Few::One(item),
+            Few::One(first) => Few::Many(vec![first, item]),
+            Few::Many(mut all) => {
+                all.push(item);
+                Few::Many(all)
+            }
+        };
+    }
+
+    pub(super) fn as_slice(&self) -> &[T] {
+        match self {
+            Few::None => &[],
+            Few::One(item) => std::slice::from_ref(item),
+            Few::Many(all) => all,
         }
     }
 }

@@ -75,6 +75,13 @@ impl Lent {
         ZBytes::from(self.buffer.clone())
     }
 
+    /// [`message`](Self::message) as one slice of a message built slice by slice
+    /// (free/pieces.rs); the same rule: [`listed`](Self::listed) follows the put.
+    #[cfg(feature = "shared-memory")]
+    pub(crate) fn slice(&self) -> zenoh::internal::buffers::ZSlice {
+        self.buffer.clone().into()
+    }
+
     /// Lists the buffer in the pool's ledger (who may hold it, reclaim.rs), as held by
     /// its output for as long as this `Lent` lives.
     #[cfg(feature = "shared-memory")]

@@ -469,6 +469,7 @@ impl Pool {
     }
 
     /// Where the buffer `bytes` starts: its name in the pool's ledger.
+    #[cfg_attr(not(feature = "shared-memory"), allow(dead_code))] // lent buffers only
     pub(crate) fn address(bytes: &[u8]) -> usize {
         bytes.as_ptr() as usize
     }

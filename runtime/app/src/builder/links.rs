@@ -57,16 +57,19 @@ impl Builder<'_> {
         let hub = Arc::clone(&self.hub);
         let mut pace = Pace::new(spec.sharing);
         let mut failed = false;
+        // The links are all known once the application runs: copied out at the first
+        // value, not locked for every one.
+        let mut sent_to: Option<Vec<(u32, Arc<str>)>> = None;
         let step = Step::new(describe.clone(), move || {
-            if !pace.send(input.changed(), Timestamp::now()) {
+            if !pace.send_at(input.changed(), Timestamp::now) {
                 return;
             }
             // Encoded once, into the buffer it travels in (shared memory for a large
             // value to another part on this computer), for every link it goes on.
-            let targets = lock(&targets);
+            let targets = sent_to.get_or_insert_with(|| lock(&targets).clone());
             let mut sent = Ok(());
             let encoded = codec.encode_with(&input, &mut |encoder| {
-                sent = hub.send_encoded(&targets, encoder);
+                sent = hub.send_encoded(targets, encoder);
             });
             match encoded.and(sent) {
                 Ok(()) => {}
