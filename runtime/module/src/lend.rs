@@ -47,6 +47,20 @@ pub trait LentBuffer: Send + Sync + 'static {
     fn as_any(&self) -> &dyn Any;
 }
 
+/// Plain memory as a lent buffer, always writable while the output holds it: what a
+/// network without a pool may lend, and what tests lend.
+impl LentBuffer for Vec<u8> {
+    fn bytes(&self) -> &[u8] {
+        self
+    }
+    fn bytes_mut(&mut self) -> Option<&mut [u8]> {
+        Some(self)
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
 /// Lends buffers of `len` bytes: a network whose links carry an output's values.
 pub trait Lender: Send + Sync + 'static {
     /// A buffer of exactly `len` bytes, or `None` (the value is small, the pool is

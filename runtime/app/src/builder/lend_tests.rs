@@ -9,7 +9,6 @@ use ferroc_link::transport::{Connection, Delivery, Network, PartLinks};
 use ferroc_link::{Frame, LinkSpec, Sharing};
 use ferroc_module::lend::{LentBuffer, Piece};
 use ferroc_module::{Bytes, In, Module, ModuleType, Out, Setup};
-use std::any::Any;
 use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 
@@ -61,20 +60,6 @@ impl ModuleType for Reads {
     }
 }
 
-/// A buffer in plain memory, lent by [`Lending`].
-struct Plain(Vec<u8>);
-impl LentBuffer for Plain {
-    fn bytes(&self) -> &[u8] {
-        &self.0
-    }
-    fn bytes_mut(&mut self) -> Option<&mut [u8]> {
-        Some(&mut self.0)
-    }
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-}
-
 /// A network that lends buffers and records what it was sent: per value, whether it
 /// came in pieces with a lent buffer, and its bytes joined.
 #[derive(Clone, Default)]
@@ -110,7 +95,7 @@ impl Connection for Lending {
         Ok(())
     }
     fn lend(&self, len: usize) -> Option<Box<dyn LentBuffer>> {
-        Some(Box::new(Plain(vec![0; len])))
+        Some(Box::new(vec![0u8; len]))
     }
     fn end_instant(&self, _: u64, _: Vec<(Arc<str>, Frame)>, _: &AtomicBool) -> Result<(), String> {
         Ok(())

@@ -3,13 +3,11 @@
 
 use super::*;
 use crate::bytes::Bytes;
-use crate::lend::LentBuffer;
 use crate::value_table::{DebugText, ValueTable};
 use crate::DynIn;
 use ferroc_ports::port::ConnectOptions;
 use serde::ser::SerializeStruct;
 use serde::{Deserialize, Serializer};
-use std::any::Any;
 use std::cell::Cell;
 
 thread_local! {
@@ -32,20 +30,6 @@ impl Serialize for Counted {
         fields.serialize_field("name", &self.name)?;
         fields.serialize_field("data", &self.data)?;
         fields.end()
-    }
-}
-
-/// A lent buffer in plain memory.
-struct Plain(Vec<u8>);
-impl LentBuffer for Plain {
-    fn bytes(&self) -> &[u8] {
-        &self.0
-    }
-    fn bytes_mut(&mut self) -> Option<&mut [u8]> {
-        Some(&mut self.0)
-    }
-    fn as_any(&self) -> &dyn Any {
-        self
     }
 }
 
@@ -73,7 +57,7 @@ fn encoded<R>(value: Counted, ask: impl Fn(&Encoder<'_>) -> R) -> (R, usize) {
 }
 
 fn lent(len: usize) -> Counted {
-    let mut data = Bytes::lent(Box::new(Plain(vec![0; len])));
+    let mut data = Bytes::lent(Box::new(vec![0u8; len]));
     data.fill(7);
     assert!(data.is_lent());
     Counted {
