@@ -119,8 +119,13 @@ fn main() -> ExitCode {
         eprintln!("{HELP}");
         return ExitCode::from(2);
     };
+    // `ferroc-bench b4-large --help`: every benchmark's options are in the one help text.
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        println!("{HELP}");
+        return ExitCode::SUCCESS;
+    }
     match id.as_str() {
-        "-h" | "--help" | "help" => {
+        "help" => {
             println!("{HELP}");
             ExitCode::SUCCESS
         }

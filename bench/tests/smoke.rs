@@ -110,11 +110,22 @@ fn bad_arguments_are_usage_errors() {
 
 #[test]
 fn help_lists_b3_and_b4() {
-    let out = bench(&["--help"]);
-    assert!(out.status.success());
-    let text = String::from_utf8_lossy(&out.stdout);
-    for needle in ["b3 ", "b4 ", "--seconds", "--messages", "--pin"] {
-        assert!(text.contains(needle), "help without `{needle}`:\n{text}");
+    // After a benchmark's id too: `--help` there was once refused as an option
+    // without a value.
+    for args in [
+        &["--help"][..],
+        &["b4-large", "--help"],
+        &["b3-parts", "-h"],
+    ] {
+        let out = bench(args);
+        assert!(out.status.success(), "{args:?}");
+        let text = String::from_utf8_lossy(&out.stdout);
+        for needle in ["b3 ", "b4 ", "b4-large", "--seconds", "--messages", "--pin"] {
+            assert!(
+                text.contains(needle),
+                "{args:?}: help without `{needle}`:\n{text}"
+            );
+        }
     }
 }
 
