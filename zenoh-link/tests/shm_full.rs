@@ -51,17 +51,11 @@ const POOL: &str =
 #[test]
 #[ignore = "the camera program the other tests start"]
 fn camera_program() {
-    let Ok(spec) = std::env::var("FERROC_SHM_CAMERA") else {
+    let Some((words, peers)) = shm_parts::program_spec("FERROC_SHM_CAMERA") else {
         return;
     };
-    let words: Vec<&str> = spec.split(' ').collect();
-    let peers: BTreeMap<String, String> = [
-        ("cam".to_string(), words[1].to_string()),
-        ("view".to_string(), words[2].to_string()),
-    ]
-    .into();
     let registry = registry();
-    let cam = zenoh(words[0], "cam", &peers, Some(&PathBuf::from(words[4])));
+    let cam = zenoh(&words[0], "cam", &peers, Some(&PathBuf::from(&words[4])));
     let params = [("size".to_string(), Value::Float(FRAME as f64))];
     let mut b = Builder::new(&registry);
     shm_parts::add_part(&mut b, "cam", 2, &params);

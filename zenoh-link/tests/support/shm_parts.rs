@@ -385,21 +385,29 @@ impl Drop for Reader {
     }
 }
 
+/// The words of a helper program's spec in the environment variable `var` ("APP
+/// CAM_ADDR VIEW_ADDR …") and the two parts' addresses they name; `None` when the
+/// variable is not set (the program was not started by a test).
+pub fn program_spec(var: &str) -> Option<(Vec<String>, BTreeMap<String, String>)> {
+    let spec = std::env::var(var).ok()?;
+    let words: Vec<String> = spec.split(' ').map(str::to_string).collect();
+    let peers = [
+        ("cam".to_string(), words[1].clone()),
+        ("view".to_string(), words[2].clone()),
+    ]
+    .into();
+    Some((words, peers))
+}
+
 /// The reader program of tests/shm.rs (started by them; does nothing otherwise):
 /// the `view` part of `FERROC_SHM_READER` = "APP CAM_ADDR VIEW_ADDR HOLD MS" (its
 /// viewer keeping HOLD frames, stepping every MS), until its standard input closes.
 pub fn reader_program() {
-    let Ok(spec) = std::env::var("FERROC_SHM_READER") else {
+    let Some((words, peers)) = program_spec("FERROC_SHM_READER") else {
         return;
     };
-    let words: Vec<&str> = spec.split(' ').collect();
-    let peers: BTreeMap<String, String> = [
-        ("cam".to_string(), words[1].to_string()),
-        ("view".to_string(), words[2].to_string()),
-    ]
-    .into();
     let registry = registry();
-    let zenoh = zenoh(words[0], "view", &peers, None);
+    let zenoh = zenoh(&words[0], "view", &peers, None);
     let options = StartOptions {
         network: Some(Arc::clone(&zenoh) as _),
         ..StartOptions::default()
